@@ -1,0 +1,14 @@
+// Camera matrices for every pass: the raster projection and the ray
+// generation in camera.glsl agree pixel for pixel.
+#pragma once
+#include "scene.h"
+#include "shared/gpu_scene.h"
+
+namespace engine {
+
+// `previous` carries last frame's clip transform (for motion vectors); pass
+// nullptr on the first frame. The aspect ratio comes from the image, the
+// vertical field of view from the camera.
+gpu::GpuCamera makeGpuCamera(const Camera& camera, uint32_t width, uint32_t height, const gpu::GpuCamera* previous);
+
+}  // namespace engine

@@ -1,0 +1,353 @@
+#include "context.h"
+
+#include <algorithm>
+#include <cstring>
+
+namespace engine {
+
+const char* vkResultName(VkResult result) {
+  switch (result) {
+#define GI_RESULT_CASE(r) \
+  case r:                 \
+    return #r;
+    GI_RESULT_CASE(VK_SUCCESS)
+    GI_RESULT_CASE(VK_NOT_READY)
+    GI_RESULT_CASE(VK_TIMEOUT)
+    GI_RESULT_CASE(VK_INCOMPLETE)
+    GI_RESULT_CASE(VK_ERROR_OUT_OF_HOST_MEMORY)
+    GI_RESULT_CASE(VK_ERROR_OUT_OF_DEVICE_MEMORY)
+    GI_RESULT_CASE(VK_ERROR_INITIALIZATION_FAILED)
+    GI_RESULT_CASE(VK_ERROR_DEVICE_LOST)
+    GI_RESULT_CASE(VK_ERROR_LAYER_NOT_PRESENT)
+    GI_RESULT_CASE(VK_ERROR_EXTENSION_NOT_PRESENT)
+    GI_RESULT_CASE(VK_ERROR_FEATURE_NOT_PRESENT)
+    GI_RESULT_CASE(VK_ERROR_INCOMPATIBLE_DRIVER)
+    GI_RESULT_CASE(VK_ERROR_FORMAT_NOT_SUPPORTED)
+    GI_RESULT_CASE(VK_ERROR_OUT_OF_DATE_KHR)
+    GI_RESULT_CASE(VK_SUBOPTIMAL_KHR)
+    GI_RESULT_CASE(VK_ERROR_SURFACE_LOST_KHR)
+#undef GI_RESULT_CASE
+    default:
+      return "VkResult(unknown)";
+  }
+}
+
+namespace {
+
+VKAPI_ATTR VkBool32 VKAPI_CALL onValidationMessage(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                                   VkDebugUtilsMessageTypeFlagsEXT,
+                                                   const VkDebugUtilsMessengerCallbackDataEXT* data, void* user) {
+  auto* counter = static_cast<ValidationCounter*>(user);
+  if (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) {
+    counter->errors++;
+    std::fprintf(stderr, "[validation error] %s\n", data->pMessage);
+  } else if (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT) {
+    counter->warnings++;
+    std::fprintf(stderr, "[validation warning] %s\n", data->pMessage);
+  }
+  return VK_FALSE;
+}
+
+bool hasLayer(const char* name) {
+  uint32_t count = 0;
+  vkEnumerateInstanceLayerProperties(&count, nullptr);
+  std::vector<VkLayerProperties> layers(count);
+  vkEnumerateInstanceLayerProperties(&count, layers.data());
+  return std::any_of(layers.begin(), layers.end(), [&](const auto& l) { return std::strcmp(l.layerName, name) == 0; });
+}
+
+bool hasInstanceExtension(const char* name) {
+  uint32_t count = 0;
+  vkEnumerateInstanceExtensionProperties(nullptr, &count, nullptr);
+  std::vector<VkExtensionProperties> exts(count);
+  vkEnumerateInstanceExtensionProperties(nullptr, &count, exts.data());
+  return std::any_of(exts.begin(), exts.end(), [&](const auto& e) { return std::strcmp(e.extensionName, name) == 0; });
+}
+
+std::vector<std::string> deviceExtensions(VkPhysicalDevice device) {
+  uint32_t count = 0;
+  vkEnumerateDeviceExtensionProperties(device, nullptr, &count, nullptr);
+  std::vector<VkExtensionProperties> exts(count);
+  vkEnumerateDeviceExtensionProperties(device, nullptr, &count, exts.data());
+  std::vector<std::string> names;
+  for (const auto& e : exts) names.emplace_back(e.extensionName);
+  return names;
+}
+
+int deviceTypeRank(VkPhysicalDeviceType type) {
+  switch (type) {
+    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return 0;
+    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return 1;
+    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return 2;
+    case VK_PHYSICAL_DEVICE_TYPE_CPU: return 3;
+    default: return 4;
+  }
+}
+
+// The device-level requirements, checked in this order so the error names the
+// first missing piece.
+const char* const kRequiredDeviceExtensions[] = {
+    VK_KHR_RAY_QUERY_EXTENSION_NAME,
+    VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME,
+    VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME,
+};
+
+}  // namespace
+
+bool createContext(const ContextDesc& desc, Context& ctx, std::string& error) {
+  if (volkInitialize() != VK_SUCCESS) {
+    error = "No Vulkan loader was found (libvulkan.so.1); install libvulkan1 and a Vulkan driver such as mesa-vulkan-drivers.";
+    return false;
+  }
+  if (volkGetInstanceVersion() < VK_API_VERSION_1_3) {
+    error = "The Vulkan loader supports only Vulkan " + std::to_string(VK_API_VERSION_MAJOR(volkGetInstanceVersion())) +
+            "." + std::to_string(VK_API_VERSION_MINOR(volkGetInstanceVersion())) + "; the GI module needs Vulkan 1.3.";
+    return false;
+  }
+
+  std::vector<const char*> layers;
+  std::vector<const char*> extensions = desc.instanceExtensions;
+  if (desc.validation) {
+    if (!hasLayer("VK_LAYER_KHRONOS_validation")) {
+      error = "Validation was requested but VK_LAYER_KHRONOS_validation is not installed (apt-get install vulkan-validationlayers).";
+      return false;
+    }
+    layers.push_back("VK_LAYER_KHRONOS_validation");
+  }
+  ctx.debugUtils = hasInstanceExtension(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+  if (ctx.debugUtils) extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+  if (desc.validation && !ctx.debugUtils) {
+    error = "Validation was requested but VK_EXT_debug_utils is unavailable, so its messages could not be counted.";
+    return false;
+  }
+
+  VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
+  app.pApplicationName = "gi_module";
+  app.apiVersion = VK_API_VERSION_1_3;
+  VkInstanceCreateInfo instanceInfo{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+  instanceInfo.pApplicationInfo = &app;
+  instanceInfo.enabledLayerCount = uint32_t(layers.size());
+  instanceInfo.ppEnabledLayerNames = layers.data();
+  instanceInfo.enabledExtensionCount = uint32_t(extensions.size());
+  instanceInfo.ppEnabledExtensionNames = extensions.data();
+
+  VkDebugUtilsMessengerCreateInfoEXT messengerInfo{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
+  if (desc.validation) {
+    ctx.validation = std::make_unique<ValidationCounter>();
+    messengerInfo.messageSeverity =
+        VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+    messengerInfo.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
+                                VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT |
+                                VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT;
+    messengerInfo.pfnUserCallback = onValidationMessage;
+    messengerInfo.pUserData = ctx.validation.get();
+    instanceInfo.pNext = &messengerInfo;  // also catches messages from vkCreateInstance itself
+  }
+  VkResult r = vkCreateInstance(&instanceInfo, nullptr, &ctx.instance);
+  if (r != VK_SUCCESS) {
+    error = std::string("vkCreateInstance failed (") + vkResultName(r) + "); is a Vulkan 1.3 driver installed?";
+    return false;
+  }
+  volkLoadInstanceOnly(ctx.instance);
+  if (desc.validation) VK_CHECK(vkCreateDebugUtilsMessengerEXT(ctx.instance, &messengerInfo, nullptr, &ctx.messenger));
+
+  // Pick the best-ranked device (discrete first, CPU last) that matches the filter.
+  uint32_t deviceCount = 0;
+  vkEnumeratePhysicalDevices(ctx.instance, &deviceCount, nullptr);
+  std::vector<VkPhysicalDevice> devices(deviceCount);
+  vkEnumeratePhysicalDevices(ctx.instance, &deviceCount, devices.data());
+  std::string filter = desc.deviceNameFilter;
+  if (const char* env = std::getenv("GI_DEVICE")) filter = env;
+  VkPhysicalDevice best = VK_NULL_HANDLE;
+  VkPhysicalDeviceProperties bestProps{};
+  std::string bestMissing;
+  for (VkPhysicalDevice d : devices) {
+    VkPhysicalDeviceProperties props;
+    vkGetPhysicalDeviceProperties(d, &props);
+    if (!filter.empty() && std::string(props.deviceName).find(filter) == std::string::npos) continue;
+    std::vector<std::string> have = deviceExtensions(d);
+    std::string missing;
+    if (props.apiVersion < VK_API_VERSION_1_3) missing = "Vulkan 1.3";
+    for (const char* ext : kRequiredDeviceExtensions)
+      if (missing.empty() && std::find(have.begin(), have.end(), ext) == have.end()) missing = ext;
+    if (desc.swapchain && missing.empty() &&
+        std::find(have.begin(), have.end(), VK_KHR_SWAPCHAIN_EXTENSION_NAME) == have.end())
+      missing = VK_KHR_SWAPCHAIN_EXTENSION_NAME;
+    // A usable device always beats an unusable one; among equals, the better type wins.
+    bool better = best == VK_NULL_HANDLE || (missing.empty() && !bestMissing.empty()) ||
+                  (missing.empty() == bestMissing.empty() && deviceTypeRank(props.deviceType) < deviceTypeRank(bestProps.deviceType));
+    if (better) {
+      best = d;
+      bestProps = props;
+      bestMissing = missing;
+    }
+  }
+  if (best == VK_NULL_HANDLE) {
+    error = filter.empty() ? "No Vulkan device was found." : "No Vulkan device matches the name filter '" + filter + "'.";
+    return false;
+  }
+  if (!bestMissing.empty()) {
+    error = std::string("The Vulkan device '") + bestProps.deviceName + "' does not support " + bestMissing +
+            ", which the GI module needs for ray-traced lighting (on Debian 12, install mesa-vulkan-drivers from bookworm-backports).";
+    return false;
+  }
+  ctx.physicalDevice = best;
+  ctx.properties = bestProps;
+  vkGetPhysicalDeviceMemoryProperties(best, &ctx.memoryProperties);
+
+  // Feature chain: check what we need before enabling it.
+  VkPhysicalDeviceRayQueryFeaturesKHR rayQuery{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR};
+  VkPhysicalDeviceAccelerationStructureFeaturesKHR accel{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
+  accel.pNext = &rayQuery;
+  VkPhysicalDeviceVulkan13Features f13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
+  f13.pNext = &accel;
+  VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+  f12.pNext = &f13;
+  VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+  f2.pNext = &f12;
+  vkGetPhysicalDeviceFeatures2(best, &f2);
+  struct Need {
+    VkBool32 have;
+    const char* name;
+  };
+  const Need needs[] = {
+      {rayQuery.rayQuery, "the rayQuery feature"},
+      {accel.accelerationStructure, "the accelerationStructure feature"},
+      {f12.bufferDeviceAddress, "bufferDeviceAddress"},
+      {f12.scalarBlockLayout, "scalarBlockLayout"},
+      {f12.runtimeDescriptorArray, "runtimeDescriptorArray"},
+      {f12.descriptorBindingPartiallyBound, "descriptorBindingPartiallyBound"},
+      {f12.descriptorBindingVariableDescriptorCount, "descriptorBindingVariableDescriptorCount"},
+      {f12.shaderSampledImageArrayNonUniformIndexing, "shaderSampledImageArrayNonUniformIndexing"},
+      {f12.hostQueryReset, "hostQueryReset"},
+      {f12.shaderBufferInt64Atomics, "shaderBufferInt64Atomics"},
+      {f13.dynamicRendering, "dynamicRendering"},
+      {f13.synchronization2, "synchronization2"},
+      {f2.features.shaderInt64, "shaderInt64"},
+      {f2.features.shaderStorageImageWriteWithoutFormat, "shaderStorageImageWriteWithoutFormat"},
+  };
+  for (const Need& n : needs) {
+    if (!n.have) {
+      error = std::string("The Vulkan device '") + bestProps.deviceName + "' does not support " + n.name +
+              ", which the GI module needs.";
+      return false;
+    }
+  }
+  // Enable exactly what we use.
+  VkPhysicalDeviceRayQueryFeaturesKHR rayQueryOn{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR};
+  rayQueryOn.rayQuery = VK_TRUE;
+  VkPhysicalDeviceAccelerationStructureFeaturesKHR accelOn{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
+  accelOn.accelerationStructure = VK_TRUE;
+  accelOn.pNext = &rayQueryOn;
+  VkPhysicalDeviceVulkan13Features f13On{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
+  f13On.dynamicRendering = VK_TRUE;
+  f13On.synchronization2 = VK_TRUE;
+  f13On.pNext = &accelOn;
+  VkPhysicalDeviceVulkan12Features f12On{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+  f12On.bufferDeviceAddress = VK_TRUE;
+  f12On.scalarBlockLayout = VK_TRUE;
+  f12On.runtimeDescriptorArray = VK_TRUE;
+  f12On.descriptorBindingPartiallyBound = VK_TRUE;
+  f12On.descriptorBindingVariableDescriptorCount = VK_TRUE;
+  f12On.shaderSampledImageArrayNonUniformIndexing = VK_TRUE;
+  f12On.hostQueryReset = VK_TRUE;
+  f12On.shaderBufferInt64Atomics = VK_TRUE;
+  f12On.pNext = &f13On;
+  VkPhysicalDeviceFeatures2 f2On{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+  f2On.features.shaderInt64 = VK_TRUE;
+  f2On.features.shaderStorageImageWriteWithoutFormat = VK_TRUE;
+  f2On.features.shaderStorageImageReadWithoutFormat = f2.features.shaderStorageImageReadWithoutFormat;
+  f2On.pNext = &f12On;
+
+  uint32_t familyCount = 0;
+  vkGetPhysicalDeviceQueueFamilyProperties(best, &familyCount, nullptr);
+  std::vector<VkQueueFamilyProperties> families(familyCount);
+  vkGetPhysicalDeviceQueueFamilyProperties(best, &familyCount, families.data());
+  ctx.queueFamily = UINT32_MAX;
+  for (uint32_t i = 0; i < familyCount; ++i) {
+    VkQueueFlags want = VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT;
+    if ((families[i].queueFlags & want) == want && families[i].timestampValidBits > 0) {
+      ctx.queueFamily = i;
+      break;
+    }
+  }
+  if (ctx.queueFamily == UINT32_MAX) {
+    error = std::string("The Vulkan device '") + bestProps.deviceName +
+            "' has no queue family with graphics, compute and timestamps.";
+    return false;
+  }
+
+  std::vector<const char*> deviceExts(std::begin(kRequiredDeviceExtensions), std::end(kRequiredDeviceExtensions));
+  if (desc.swapchain) deviceExts.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
+  float priority = 1.0f;
+  VkDeviceQueueCreateInfo queueInfo{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+  queueInfo.queueFamilyIndex = ctx.queueFamily;
+  queueInfo.queueCount = 1;
+  queueInfo.pQueuePriorities = &priority;
+  VkDeviceCreateInfo deviceInfo{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
+  deviceInfo.pNext = &f2On;
+  deviceInfo.queueCreateInfoCount = 1;
+  deviceInfo.pQueueCreateInfos = &queueInfo;
+  deviceInfo.enabledExtensionCount = uint32_t(deviceExts.size());
+  deviceInfo.ppEnabledExtensionNames = deviceExts.data();
+  r = vkCreateDevice(best, &deviceInfo, nullptr, &ctx.device);
+  if (r != VK_SUCCESS) {
+    error = std::string("vkCreateDevice failed on '") + bestProps.deviceName + "' (" + vkResultName(r) + ").";
+    return false;
+  }
+  volkLoadDevice(ctx.device);
+  vkGetDeviceQueue(ctx.device, ctx.queueFamily, 0, &ctx.queue);
+
+  ctx.accelerationProperties.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_PROPERTIES_KHR;
+  VkPhysicalDeviceProperties2 props2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+  props2.pNext = &ctx.accelerationProperties;
+  vkGetPhysicalDeviceProperties2(best, &props2);
+
+  VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+  poolInfo.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+  poolInfo.queueFamilyIndex = ctx.queueFamily;
+  VK_CHECK(vkCreateCommandPool(ctx.device, &poolInfo, nullptr, &ctx.commandPool));
+  return true;
+}
+
+void destroyContext(Context& ctx) {
+  if (ctx.device) {
+    vkDeviceWaitIdle(ctx.device);
+    vkDestroyCommandPool(ctx.device, ctx.commandPool, nullptr);
+    vkDestroyDevice(ctx.device, nullptr);
+  }
+  if (ctx.messenger) vkDestroyDebugUtilsMessengerEXT(ctx.instance, ctx.messenger, nullptr);
+  if (ctx.instance) vkDestroyInstance(ctx.instance, nullptr);
+  ctx.device = VK_NULL_HANDLE;
+  ctx.messenger = VK_NULL_HANDLE;
+  ctx.instance = VK_NULL_HANDLE;
+}
+
+VkCommandBuffer beginOneShot(const Context& ctx) {
+  VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+  alloc.commandPool = ctx.commandPool;
+  alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  alloc.commandBufferCount = 1;
+  VkCommandBuffer cmd;
+  VK_CHECK(vkAllocateCommandBuffers(ctx.device, &alloc, &cmd));
+  VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  VK_CHECK(vkBeginCommandBuffer(cmd, &begin));
+  return cmd;
+}
+
+void endOneShotAndWait(const Context& ctx, VkCommandBuffer cmd) {
+  VK_CHECK(vkEndCommandBuffer(cmd));
+  VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+  VkFence fence;
+  VK_CHECK(vkCreateFence(ctx.device, &fenceInfo, nullptr, &fence));
+  VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+  submit.commandBufferCount = 1;
+  submit.pCommandBuffers = &cmd;
+  VK_CHECK(vkQueueSubmit(ctx.queue, 1, &submit, fence));
+  VK_CHECK(vkWaitForFences(ctx.device, 1, &fence, VK_TRUE, UINT64_MAX));
+  vkDestroyFence(ctx.device, fence, nullptr);
+  vkFreeCommandBuffers(ctx.device, ctx.commandPool, 1, &cmd);
+}
+
+}  // namespace engine

@@ -1,0 +1,62 @@
+// Vulkan instance + device + one queue. Headless by default; a windowed caller
+// passes the surface extensions GLFW asks for. Requires Vulkan 1.3 with ray
+// queries, acceleration structures and buffer device address.
+#pragma once
+#include "vk.h"
+
+#include <atomic>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace engine {
+
+struct ContextDesc {
+  bool validation = false;                      // Khronos validation layer + message counting
+  std::vector<const char*> instanceExtensions;  // e.g. from glfwGetRequiredInstanceExtensions
+  bool swapchain = false;                       // enable VK_KHR_swapchain on the device
+  std::string deviceNameFilter;                 // substring match; empty = best device (env GI_DEVICE overrides)
+};
+
+// Counts validation messages so tests can assert there were none.
+struct ValidationCounter {
+  std::atomic<uint32_t> errors{0};
+  std::atomic<uint32_t> warnings{0};
+};
+
+struct Context {
+  VkInstance instance = VK_NULL_HANDLE;
+  VkDebugUtilsMessengerEXT messenger = VK_NULL_HANDLE;
+  VkPhysicalDevice physicalDevice = VK_NULL_HANDLE;
+  VkDevice device = VK_NULL_HANDLE;
+  uint32_t queueFamily = 0;
+  VkQueue queue = VK_NULL_HANDLE;
+  VkCommandPool commandPool = VK_NULL_HANDLE;
+  VkPhysicalDeviceProperties properties{};
+  VkPhysicalDeviceMemoryProperties memoryProperties{};
+  VkPhysicalDeviceAccelerationStructurePropertiesKHR accelerationProperties{};
+  std::unique_ptr<ValidationCounter> validation;  // null when validation is off
+  bool debugUtils = false;                         // debug labels available
+
+  uint32_t validationMessages() const { return validation ? validation->errors + validation->warnings : 0; }
+};
+
+// Returns false and fills `error` with one sentence (naming the device and what
+// it lacks) when no usable device exists.
+bool createContext(const ContextDesc& desc, Context& ctx, std::string& error);
+void destroyContext(Context& ctx);
+
+// One-shot command buffer: begin, record with `record`, submit and wait.
+template <typename F>
+void submitAndWait(const Context& ctx, F&& record);
+VkCommandBuffer beginOneShot(const Context& ctx);
+void endOneShotAndWait(const Context& ctx, VkCommandBuffer cmd);
+
+template <typename F>
+void submitAndWait(const Context& ctx, F&& record) {
+  VkCommandBuffer cmd = beginOneShot(ctx);
+  record(cmd);
+  endOneShotAndWait(ctx, cmd);
+}
+
+}  // namespace engine

@@ -1,0 +1,185 @@
+#include "gbuffer.h"
+
+#include "compute_program.h"
+
+#include <cstring>
+
+#include "gbuffer.frag.h"
+#include "gbuffer.vert.h"
+
+namespace engine {
+
+GBuffer createGBuffer(const Context& ctx, VkExtent2D extent) {
+  GBuffer g;
+  g.extent = extent;
+  for (uint32_t i = 0; i < gpu::GBUFFER_COLOR_COUNT; ++i)
+    g.color[i] = createImage(ctx, extent, kGBufferFormats[i],
+                             VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT |
+                                 VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_SAMPLED_BIT);
+  g.depth = createImage(ctx, extent, kGBufferDepthFormat,
+                        VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+  // Start in the post-pass layout so recordGBuffer always transitions from GENERAL.
+  submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+    for (Image& img : g.color)
+      imageBarrier(cmd, img.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, 0,
+                   VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT);
+    imageBarrier(cmd, g.depth.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
+                 VK_PIPELINE_STAGE_2_NONE, 0, VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT,
+                 VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT, VK_IMAGE_ASPECT_DEPTH_BIT);
+  });
+  return g;
+}
+
+void destroyGBuffer(const Context& ctx, GBuffer& g) {
+  for (Image& img : g.color) destroyImage(ctx, img);
+  destroyImage(ctx, g.depth);
+  g = GBuffer{};
+}
+
+GBufferPass createGBufferPass(const Context& ctx, const SceneGpu& scene) {
+  GBufferPass p;
+  const Binding cameraBinding[] = {{gpu::GBUFFER_BINDING_CAMERA, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER}};
+  p.cameraSet = createDescriptorSet(ctx, cameraBinding);
+  p.cameraBuffer = createBuffer(ctx, sizeof(gpu::GpuCamera), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, MemoryKind::HostVisible);
+  DescriptorWriter(p.cameraSet.set).buffer(gpu::GBUFFER_BINDING_CAMERA, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, p.cameraBuffer.buffer).write(ctx);
+
+  VkDescriptorSetLayout sets[] = {scene.set.layout, p.cameraSet.layout};
+  VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(gpu::GBufferPush)};
+  VkPipelineLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+  layoutInfo.setLayoutCount = 2;
+  layoutInfo.pSetLayouts = sets;
+  layoutInfo.pushConstantRangeCount = 1;
+  layoutInfo.pPushConstantRanges = &range;
+  VK_CHECK(vkCreatePipelineLayout(ctx.device, &layoutInfo, nullptr, &p.layout));
+
+  VkShaderModule vert = createShaderModule(ctx, spv_gbuffer_vert);
+  VkShaderModule frag = createShaderModule(ctx, spv_gbuffer_frag);
+  VkPipelineShaderStageCreateInfo stages[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
+                                               {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};
+  stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
+  stages[0].module = vert;
+  stages[0].pName = "main";
+  stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
+  stages[1].module = frag;
+  stages[1].pName = "main";
+
+  VkPipelineVertexInputStateCreateInfo vertexInput{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+  VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+  assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+  VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
+  viewport.viewportCount = 1;
+  viewport.scissorCount = 1;
+  VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+  raster.polygonMode = VK_POLYGON_MODE_FILL;
+  raster.cullMode = VK_CULL_MODE_NONE;  // surfaces are two-sided for light transport
+  raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
+  raster.lineWidth = 1.0f;
+  VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+  multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+  VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+  depth.depthTestEnable = VK_TRUE;
+  depth.depthWriteEnable = VK_TRUE;
+  depth.depthCompareOp = VK_COMPARE_OP_LESS;
+  VkPipelineColorBlendAttachmentState blend[gpu::GBUFFER_COLOR_COUNT]{};
+  for (auto& b : blend) b.colorWriteMask = 0xf;
+  VkPipelineColorBlendStateCreateInfo blendState{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+  blendState.attachmentCount = gpu::GBUFFER_COLOR_COUNT;
+  blendState.pAttachments = blend;
+  VkDynamicState dynamics[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+  VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
+  dynamic.dynamicStateCount = 2;
+  dynamic.pDynamicStates = dynamics;
+  VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
+  rendering.colorAttachmentCount = gpu::GBUFFER_COLOR_COUNT;
+  rendering.pColorAttachmentFormats = kGBufferFormats;
+  rendering.depthAttachmentFormat = kGBufferDepthFormat;
+
+  VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
+  info.pNext = &rendering;
+  info.stageCount = 2;
+  info.pStages = stages;
+  info.pVertexInputState = &vertexInput;
+  info.pInputAssemblyState = &assembly;
+  info.pViewportState = &viewport;
+  info.pRasterizationState = &raster;
+  info.pMultisampleState = &multisample;
+  info.pDepthStencilState = &depth;
+  info.pColorBlendState = &blendState;
+  info.pDynamicState = &dynamic;
+  info.layout = p.layout;
+  VK_CHECK(vkCreateGraphicsPipelines(ctx.device, VK_NULL_HANDLE, 1, &info, nullptr, &p.pipeline));
+  vkDestroyShaderModule(ctx.device, vert, nullptr);
+  vkDestroyShaderModule(ctx.device, frag, nullptr);
+  return p;
+}
+
+void destroyGBufferPass(const Context& ctx, GBufferPass& p) {
+  if (p.pipeline) vkDestroyPipeline(ctx.device, p.pipeline, nullptr);
+  if (p.layout) vkDestroyPipelineLayout(ctx.device, p.layout, nullptr);
+  destroyDescriptorSet(ctx, p.cameraSet);
+  destroyBuffer(ctx, p.cameraBuffer);
+  p = GBufferPass{};
+}
+
+void recordGBuffer(const Context& ctx, VkCommandBuffer cmd, GBufferPass& pass, const Scene& scene,
+                   const SceneGpu& sceneGpu, const GBuffer& g, const gpu::GpuCamera& camera, GpuTimer* timer) {
+  std::memcpy(pass.cameraBuffer.mapped, &camera, sizeof(camera));
+  if (timer) beginPass(ctx, cmd, *timer, "gbuffer");
+  for (const Image& img : g.color)
+    imageBarrier(cmd, img.image, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                 VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT,
+                 VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+  imageBarrier(cmd, g.depth.image, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
+               VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_TRANSFER_BIT,
+               VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_TRANSFER_READ_BIT,
+               VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT, VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT |
+                                                              VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT,
+               VK_IMAGE_ASPECT_DEPTH_BIT);
+
+  VkRenderingAttachmentInfo colors[gpu::GBUFFER_COLOR_COUNT]{};
+  for (uint32_t i = 0; i < gpu::GBUFFER_COLOR_COUNT; ++i) {
+    colors[i].sType = VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO;
+    colors[i].imageView = g.color[i].view;
+    colors[i].imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+    colors[i].loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    colors[i].storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    colors[i].clearValue.color = {{0.0f, 0.0f, 0.0f, 0.0f}};
+  }
+  VkRenderingAttachmentInfo depth{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+  depth.imageView = g.depth.view;
+  depth.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+  depth.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+  depth.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+  depth.clearValue.depthStencil = {1.0f, 0};
+  VkRenderingInfo rendering{VK_STRUCTURE_TYPE_RENDERING_INFO};
+  rendering.renderArea = {{0, 0}, g.extent};
+  rendering.layerCount = 1;
+  rendering.colorAttachmentCount = gpu::GBUFFER_COLOR_COUNT;
+  rendering.pColorAttachments = colors;
+  rendering.pDepthAttachment = &depth;
+  vkCmdBeginRendering(cmd, &rendering);
+  VkViewport viewport{0.0f, 0.0f, float(g.extent.width), float(g.extent.height), 0.0f, 1.0f};
+  VkRect2D scissor{{0, 0}, g.extent};
+  vkCmdSetViewport(cmd, 0, 1, &viewport);
+  vkCmdSetScissor(cmd, 0, 1, &scissor);
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pass.pipeline);
+  VkDescriptorSet sets[] = {sceneGpu.set.set, pass.cameraSet.set};
+  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pass.layout, 0, 2, sets, 0, nullptr);
+  for (uint32_t i = 0; i < scene.instances.size(); ++i) {
+    const Mesh& mesh = scene.meshes[scene.instances[i].mesh];
+    for (uint32_t p = mesh.firstPrimitive; p < mesh.firstPrimitive + mesh.primitiveCount; ++p) {
+      gpu::GBufferPush push{i, p};
+      vkCmdPushConstants(cmd, pass.layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(push), &push);
+      if (scene.primitives[p].indexCount > 0) vkCmdDraw(cmd, scene.primitives[p].indexCount, 1, 0, 0);
+    }
+  }
+  vkCmdEndRendering(cmd);
+  for (const Image& img : g.color)
+    imageBarrier(cmd, img.image, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
+                 VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
+                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_TRANSFER_BIT,
+                 VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
+  if (timer) endPass(ctx, cmd, *timer);
+}
+
+}  // namespace engine

@@ -1,0 +1,62 @@
+#include "gpu_timer.h"
+
+namespace engine {
+
+GpuTimer createGpuTimer(const Context& ctx, uint32_t maxPasses) {
+  GpuTimer t;
+  t.capacity = maxPasses;
+  VkQueryPoolCreateInfo info{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+  info.queryType = VK_QUERY_TYPE_TIMESTAMP;
+  info.queryCount = 2 * maxPasses;
+  VK_CHECK(vkCreateQueryPool(ctx.device, &info, nullptr, &t.pool));
+  t.nsPerTick = ctx.properties.limits.timestampPeriod;
+  resetGpuTimer(ctx, t);
+  return t;
+}
+
+void destroyGpuTimer(const Context& ctx, GpuTimer& t) {
+  if (t.pool) vkDestroyQueryPool(ctx.device, t.pool, nullptr);
+  t = GpuTimer{};
+}
+
+void resetGpuTimer(const Context& ctx, GpuTimer& t) {
+  vkResetQueryPool(ctx.device, t.pool, 0, 2 * t.capacity);
+  t.names.clear();
+  t.open.clear();
+}
+
+void beginPass(const Context& ctx, VkCommandBuffer cmd, GpuTimer& t, const char* name) {
+  if (t.names.size() >= t.capacity) {
+    std::fprintf(stderr, "GpuTimer: more than %u passes in one frame\n", t.capacity);
+    std::abort();
+  }
+  if (ctx.debugUtils) {
+    VkDebugUtilsLabelEXT label{VK_STRUCTURE_TYPE_DEBUG_UTILS_LABEL_EXT};
+    label.pLabelName = name;
+    vkCmdBeginDebugUtilsLabelEXT(cmd, &label);
+  }
+  uint32_t index = uint32_t(t.names.size());
+  t.names.emplace_back(name);
+  t.open.push_back(index);
+  vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, t.pool, 2 * index);
+}
+
+void endPass(const Context& ctx, VkCommandBuffer cmd, GpuTimer& t) {
+  uint32_t index = t.open.back();
+  t.open.pop_back();
+  vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, t.pool, 2 * index + 1);
+  if (ctx.debugUtils) vkCmdEndDebugUtilsLabelEXT(cmd);
+}
+
+std::vector<PassTime> readPassTimes(const Context& ctx, const GpuTimer& t) {
+  std::vector<PassTime> out;
+  if (t.names.empty()) return out;
+  std::vector<uint64_t> ticks(2 * t.names.size());
+  VK_CHECK(vkGetQueryPoolResults(ctx.device, t.pool, 0, uint32_t(ticks.size()), ticks.size() * sizeof(uint64_t),
+                                 ticks.data(), sizeof(uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
+  for (size_t i = 0; i < t.names.size(); ++i)
+    out.push_back({t.names[i], double(ticks[2 * i + 1] - ticks[2 * i]) * t.nsPerTick * 1e-6});
+  return out;
+}
+
+}  // namespace engine

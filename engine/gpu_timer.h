@@ -1,0 +1,33 @@
+// GPU timestamps around every pass, with a debug label of the same name so
+// captures and timings read alike. Reset before recording a frame; read after
+// its fence has signalled.
+#pragma once
+#include "context.h"
+
+#include <string>
+#include <vector>
+
+namespace engine {
+
+struct PassTime {
+  std::string name;
+  double ms = 0.0;
+};
+
+struct GpuTimer {
+  VkQueryPool pool = VK_NULL_HANDLE;
+  uint32_t capacity = 0;  // passes per frame
+  std::vector<std::string> names;
+  std::vector<uint32_t> open;  // passes begun but not ended
+  double nsPerTick = 1.0;
+};
+
+GpuTimer createGpuTimer(const Context& ctx, uint32_t maxPasses = 64);
+void destroyGpuTimer(const Context& ctx, GpuTimer& timer);
+void resetGpuTimer(const Context& ctx, GpuTimer& timer);  // host-side, before recording
+void beginPass(const Context& ctx, VkCommandBuffer cmd, GpuTimer& timer, const char* name);
+void endPass(const Context& ctx, VkCommandBuffer cmd, GpuTimer& timer);
+// Waits for nothing: call once the frame's work has completed.
+std::vector<PassTime> readPassTimes(const Context& ctx, const GpuTimer& timer);
+
+}  // namespace engine

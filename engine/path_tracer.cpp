@@ -1,0 +1,133 @@
+#include "path_tracer.h"
+
+#include <chrono>
+#include <cstring>
+
+#include "path_trace.comp.h"
+
+namespace engine {
+
+PathTracer createPathTracer(const Context& ctx, const SceneGpu& scene, VkExtent2D extent) {
+  PathTracer pt;
+  pt.extent = extent;
+  const Binding bindings[] = {
+      {gpu::PT_BINDING_CAMERA, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER},
+      {gpu::PT_BINDING_FINAL, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+      {gpu::PT_BINDING_DIRECT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+      {gpu::PT_BINDING_INDIRECT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+      {gpu::PT_BINDING_ALBEDO_DEPTH, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+      {gpu::PT_BINDING_NORMAL, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+      {gpu::PT_BINDING_RAY_COUNTER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+  };
+  pt.set = createDescriptorSet(ctx, bindings);
+  pt.camera = createBuffer(ctx, sizeof(gpu::GpuCamera), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, MemoryKind::HostVisible);
+  pt.rayCounter = createBuffer(ctx, sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryKind::HostVisible);
+  std::memset(pt.rayCounter.mapped, 0, sizeof(uint32_t));
+  for (Image& img : pt.accum)
+    img = createImage(ctx, extent, VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+  submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+    for (Image& img : pt.accum)
+      imageBarrier(cmd, img.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, 0,
+                   VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+  });
+  DescriptorWriter w(pt.set.set);
+  w.buffer(gpu::PT_BINDING_CAMERA, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, pt.camera.buffer)
+      .storageImage(gpu::PT_BINDING_FINAL, pt.accum[0].view)
+      .storageImage(gpu::PT_BINDING_DIRECT, pt.accum[1].view)
+      .storageImage(gpu::PT_BINDING_INDIRECT, pt.accum[2].view)
+      .storageImage(gpu::PT_BINDING_ALBEDO_DEPTH, pt.accum[3].view)
+      .storageImage(gpu::PT_BINDING_NORMAL, pt.accum[4].view)
+      .buffer(gpu::PT_BINDING_RAY_COUNTER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, pt.rayCounter.buffer)
+      .write(ctx);
+  VkDescriptorSetLayout layouts[] = {scene.set.layout, pt.set.layout};
+  // Specialisation: skip the light loops the scene does not need.
+  const uint32_t spec[] = {scene.hasEmissiveTriangles() ? 1u : 0u, scene.hasPunctualLights() ? 1u : 0u};
+  pt.program = createComputeProgram(ctx, spv_path_trace_comp, layouts, sizeof(gpu::PathTracerPush),
+                                    {gpu::PT_GROUP_SIZE, gpu::PT_GROUP_SIZE}, spec);
+  return pt;
+}
+
+void destroyPathTracer(const Context& ctx, PathTracer& pt) {
+  destroyComputeProgram(ctx, pt.program);
+  destroyDescriptorSet(ctx, pt.set);
+  destroyBuffer(ctx, pt.camera);
+  destroyBuffer(ctx, pt.rayCounter);
+  for (Image& img : pt.accum) destroyImage(ctx, img);
+  pt = PathTracer{};
+}
+
+void recordPathTrace(const Context& ctx, VkCommandBuffer cmd, PathTracer& pt, const SceneGpu& scene,
+                     const gpu::GpuCamera& camera, const ReferenceSettings& settings, uint32_t firstSample,
+                     uint32_t samples, GpuTimer* timer) {
+  std::memcpy(pt.camera.mapped, &camera, sizeof(camera));
+  gpu::PathTracerPush push{};
+  push.seed = settings.seed;
+  push.firstSample = firstSample;
+  push.samplesPerDispatch = samples;
+  push.maxBounces = settings.maxBounces;
+  push.pixelJitter = settings.pixelJitter ? 1u : 0u;
+  push.russianRouletteStart = settings.russianRouletteStart;
+  if (timer) beginPass(ctx, cmd, *timer, "path_trace");
+  // Sums from the previous dispatch must land before this one reads them.
+  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+  VkDescriptorSet sets[] = {scene.set.set, pt.set.set};
+  dispatch(cmd, pt.program, sets, {pt.extent.width, pt.extent.height}, push);
+  if (timer) endPass(ctx, cmd, *timer);
+  pt.samples = firstSample + samples;
+}
+
+uint64_t takeRayCount(PathTracer& pt) {
+  uint32_t rays;
+  std::memcpy(&rays, pt.rayCounter.mapped, sizeof(rays));
+  std::memset(pt.rayCounter.mapped, 0, sizeof(rays));
+  return rays;
+}
+
+ReferenceImages readReferenceImages(const Context& ctx, const PathTracer& pt) {
+  uint32_t w = pt.extent.width, h = pt.extent.height;
+  float inv = pt.samples > 0 ? 1.0f / float(pt.samples) : 0.0f;
+  auto read = [&](int i) {
+    std::vector<std::byte> raw = readbackImage(ctx, pt.accum[i], VK_IMAGE_LAYOUT_GENERAL, 16);
+    std::vector<float> f(raw.size() / 4);
+    std::memcpy(f.data(), raw.data(), raw.size());
+    return f;
+  };
+  ReferenceImages out;
+  FloatImage* rgb[] = {&out.final, &out.direct, &out.indirect, &out.albedo, &out.normal};
+  const int source[] = {0, 1, 2, 3, 4};
+  for (int k = 0; k < 5; ++k) {
+    std::vector<float> f = read(source[k]);
+    *rgb[k] = FloatImage(w, h, 3);
+    if (k == 3) out.depth = FloatImage(w, h, 1);
+    for (size_t p = 0; p < size_t(w) * h; ++p) {
+      for (int c = 0; c < 3; ++c) rgb[k]->pixels[3 * p + c] = f[4 * p + c] * inv;
+      if (k == 3) out.depth.pixels[p] = f[4 * p + 3] * inv;
+    }
+  }
+  return out;
+}
+
+ReferenceRun renderReference(const Context& ctx, const SceneGpu& scene, const gpu::GpuCamera& camera,
+                             const ReferenceSettings& settings, uint32_t spp, uint32_t samplesPerSubmit) {
+  ReferenceRun run;
+  auto start = std::chrono::steady_clock::now();
+  PathTracer pt = createPathTracer(ctx, scene, {uint32_t(camera.imageSize.x), uint32_t(camera.imageSize.y)});
+  GpuTimer timer = createGpuTimer(ctx, 4);
+  takeRayCount(pt);
+  for (uint32_t done = 0; done < spp;) {
+    uint32_t n = std::min(samplesPerSubmit, spp - done);
+    resetGpuTimer(ctx, timer);
+    submitAndWait(ctx, [&](VkCommandBuffer cmd) { recordPathTrace(ctx, cmd, pt, scene, camera, settings, done, n, &timer); });
+    for (const PassTime& t : readPassTimes(ctx, timer)) run.gpuMs += t.ms;
+    run.rays += takeRayCount(pt);
+    done += n;
+  }
+  run.images = readReferenceImages(ctx, pt);
+  destroyGpuTimer(ctx, timer);
+  destroyPathTracer(ctx, pt);
+  run.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return run;
+}
+
+}  // namespace engine

@@ -1,0 +1,217 @@
+#include "resources.h"
+
+#include <cstring>
+#include <vector>
+
+namespace engine {
+
+uint32_t findMemoryType(const Context& ctx, uint32_t typeBits, VkMemoryPropertyFlags flags) {
+  for (uint32_t i = 0; i < ctx.memoryProperties.memoryTypeCount; ++i)
+    if ((typeBits & (1u << i)) && (ctx.memoryProperties.memoryTypes[i].propertyFlags & flags) == flags) return i;
+  std::fprintf(stderr, "No Vulkan memory type has the flags 0x%x (allowed types 0x%x)\n", flags, typeBits);
+  std::abort();
+}
+
+Buffer createBuffer(const Context& ctx, VkDeviceSize size, VkBufferUsageFlags usage, MemoryKind kind) {
+  Buffer b;
+  b.size = size;
+  VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+  info.size = size > 0 ? size : 16;  // zero-sized buffers are invalid; callers may have empty tables
+  info.usage = usage;
+  VK_CHECK(vkCreateBuffer(ctx.device, &info, nullptr, &b.buffer));
+  VkMemoryRequirements req;
+  vkGetBufferMemoryRequirements(ctx.device, b.buffer, &req);
+  VkMemoryAllocateFlagsInfo flags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
+  flags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;
+  VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  if (usage & VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT) alloc.pNext = &flags;
+  alloc.allocationSize = req.size;
+  alloc.memoryTypeIndex = findMemoryType(ctx, req.memoryTypeBits,
+                                         kind == MemoryKind::HostVisible
+                                             ? VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT
+                                             : VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+  VK_CHECK(vkAllocateMemory(ctx.device, &alloc, nullptr, &b.memory));
+  VK_CHECK(vkBindBufferMemory(ctx.device, b.buffer, b.memory, 0));
+  if (kind == MemoryKind::HostVisible) VK_CHECK(vkMapMemory(ctx.device, b.memory, 0, VK_WHOLE_SIZE, 0, &b.mapped));
+  if (usage & VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT) {
+    VkBufferDeviceAddressInfo addr{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
+    addr.buffer = b.buffer;
+    b.address = vkGetBufferDeviceAddress(ctx.device, &addr);
+  }
+  return b;
+}
+
+void destroyBuffer(const Context& ctx, Buffer& b) {
+  if (b.buffer) vkDestroyBuffer(ctx.device, b.buffer, nullptr);
+  if (b.memory) vkFreeMemory(ctx.device, b.memory, nullptr);
+  b = Buffer{};
+}
+
+Buffer createBufferWithData(const Context& ctx, const void* data, VkDeviceSize size, VkBufferUsageFlags usage) {
+  Buffer b = createBuffer(ctx, size, usage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryKind::DeviceLocal);
+  if (size == 0) return b;
+  Buffer staging = createBuffer(ctx, size, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryKind::HostVisible);
+  std::memcpy(staging.mapped, data, size);
+  submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+    VkBufferCopy region{0, 0, size};
+    vkCmdCopyBuffer(cmd, staging.buffer, b.buffer, 1, &region);
+  });
+  destroyBuffer(ctx, staging);
+  return b;
+}
+
+bool isDepthFormat(VkFormat format) {
+  return format == VK_FORMAT_D32_SFLOAT || format == VK_FORMAT_D24_UNORM_S8_UINT || format == VK_FORMAT_D16_UNORM;
+}
+
+Image createImage(const Context& ctx, VkExtent2D extent, VkFormat format, VkImageUsageFlags usage, uint32_t mipLevels) {
+  Image img;
+  img.format = format;
+  img.extent = extent;
+  img.mipLevels = mipLevels;
+  VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+  info.imageType = VK_IMAGE_TYPE_2D;
+  info.format = format;
+  info.extent = {extent.width, extent.height, 1};
+  info.mipLevels = mipLevels;
+  info.arrayLayers = 1;
+  info.samples = VK_SAMPLE_COUNT_1_BIT;
+  info.tiling = VK_IMAGE_TILING_OPTIMAL;
+  info.usage = usage;
+  info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  VK_CHECK(vkCreateImage(ctx.device, &info, nullptr, &img.image));
+  VkMemoryRequirements req;
+  vkGetImageMemoryRequirements(ctx.device, img.image, &req);
+  VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  alloc.allocationSize = req.size;
+  alloc.memoryTypeIndex = findMemoryType(ctx, req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+  VK_CHECK(vkAllocateMemory(ctx.device, &alloc, nullptr, &img.memory));
+  VK_CHECK(vkBindImageMemory(ctx.device, img.image, img.memory, 0));
+  VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+  view.image = img.image;
+  view.viewType = VK_IMAGE_VIEW_TYPE_2D;
+  view.format = format;
+  view.subresourceRange = {VkImageAspectFlags(isDepthFormat(format) ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT),
+                           0, mipLevels, 0, 1};
+  VK_CHECK(vkCreateImageView(ctx.device, &view, nullptr, &img.view));
+  return img;
+}
+
+void destroyImage(const Context& ctx, Image& img) {
+  if (img.view) vkDestroyImageView(ctx.device, img.view, nullptr);
+  if (img.image) vkDestroyImage(ctx.device, img.image, nullptr);
+  if (img.memory) vkFreeMemory(ctx.device, img.memory, nullptr);
+  img = Image{};
+}
+
+namespace {
+void mipBarrier(VkCommandBuffer cmd, VkImage image, uint32_t mip, VkImageLayout from, VkImageLayout to,
+                VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dstStage,
+                VkAccessFlags2 dstAccess) {
+  VkImageMemoryBarrier2 b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
+  b.srcStageMask = srcStage;
+  b.srcAccessMask = srcAccess;
+  b.dstStageMask = dstStage;
+  b.dstAccessMask = dstAccess;
+  b.oldLayout = from;
+  b.newLayout = to;
+  b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  b.image = image;
+  b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, mip, 1, 0, 1};
+  VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+  dep.imageMemoryBarrierCount = 1;
+  dep.pImageMemoryBarriers = &b;
+  vkCmdPipelineBarrier2(cmd, &dep);
+}
+}  // namespace
+
+void uploadImageWithMips(const Context& ctx, Image& img, const void* texels, size_t bytes) {
+  Buffer staging = createBuffer(ctx, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryKind::HostVisible);
+  std::memcpy(staging.mapped, texels, bytes);
+  submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+    imageBarrier(cmd, img.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                 VK_PIPELINE_STAGE_2_NONE, 0, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+    VkBufferImageCopy copy{};
+    copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    copy.imageExtent = {img.extent.width, img.extent.height, 1};
+    vkCmdCopyBufferToImage(cmd, staging.buffer, img.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &copy);
+    int32_t w = int32_t(img.extent.width), h = int32_t(img.extent.height);
+    for (uint32_t mip = 1; mip < img.mipLevels; ++mip) {
+      mipBarrier(cmd, img.image, mip - 1, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                 VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_TRANSFER_BIT,
+                 VK_ACCESS_2_TRANSFER_READ_BIT);
+      VkImageBlit blit{};
+      blit.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, mip - 1, 0, 1};
+      blit.srcOffsets[1] = {w, h, 1};
+      w = w > 1 ? w / 2 : 1;
+      h = h > 1 ? h / 2 : 1;
+      blit.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, mip, 0, 1};
+      blit.dstOffsets[1] = {w, h, 1};
+      vkCmdBlitImage(cmd, img.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, img.image,
+                     VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &blit, VK_FILTER_LINEAR);
+    }
+    // Every mip but the last is in TRANSFER_SRC now; the last is in TRANSFER_DST.
+    for (uint32_t mip = 0; mip < img.mipLevels; ++mip) {
+      VkImageLayout from = mip + 1 < img.mipLevels ? VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL : VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+      mipBarrier(cmd, img.image, mip, from, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_2_TRANSFER_BIT,
+                 VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                 VK_ACCESS_2_SHADER_READ_BIT);
+    }
+  });
+  destroyBuffer(ctx, staging);
+}
+
+std::vector<std::byte> readbackImage(const Context& ctx, const Image& img, VkImageLayout layout, size_t texelBytes) {
+  size_t bytes = size_t(img.extent.width) * img.extent.height * texelBytes;
+  Buffer staging = createBuffer(ctx, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryKind::HostVisible);
+  VkImageAspectFlags aspect = isDepthFormat(img.format) ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT;
+  submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+    imageBarrier(cmd, img.image, layout, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                 VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT, aspect);
+    VkBufferImageCopy copy{};
+    copy.imageSubresource = {aspect, 0, 0, 1};
+    copy.imageExtent = {img.extent.width, img.extent.height, 1};
+    vkCmdCopyImageToBuffer(cmd, img.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, staging.buffer, 1, &copy);
+    imageBarrier(cmd, img.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, layout, VK_PIPELINE_STAGE_2_TRANSFER_BIT,
+                 VK_ACCESS_2_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                 VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT, aspect);
+  });
+  std::vector<std::byte> out(bytes);
+  std::memcpy(out.data(), staging.mapped, bytes);
+  destroyBuffer(ctx, staging);
+  return out;
+}
+
+void imageBarrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayout to,
+                  VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dstStage,
+                  VkAccessFlags2 dstAccess, VkImageAspectFlags aspect) {
+  VkImageMemoryBarrier2 b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
+  b.srcStageMask = srcStage;
+  b.srcAccessMask = srcAccess;
+  b.dstStageMask = dstStage;
+  b.dstAccessMask = dstAccess;
+  b.oldLayout = from;
+  b.newLayout = to;
+  b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  b.image = image;
+  b.subresourceRange = {aspect, 0, VK_REMAINING_MIP_LEVELS, 0, 1};
+  VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+  dep.imageMemoryBarrierCount = 1;
+  dep.pImageMemoryBarriers = &b;
+  vkCmdPipelineBarrier2(cmd, &dep);
+}
+
+void memoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess,
+                   VkPipelineStageFlags2 dstStage, VkAccessFlags2 dstAccess) {
+  VkMemoryBarrier2 b{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
+  b.srcStageMask = srcStage;
+  b.srcAccessMask = srcAccess;
+  b.dstStageMask = dstStage;
+  b.dstAccessMask = dstAccess;
+  VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+  dep.memoryBarrierCount = 1;
+  dep.pMemoryBarriers = &b;
+  vkCmdPipelineBarrier2(cmd, &dep);
+}
+
+}  // namespace engine

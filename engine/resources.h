@@ -1,0 +1,64 @@
+// GPU buffers and images as plain structs with create/destroy functions.
+// One VkDeviceMemory per resource: scenes here hold a few hundred resources at
+// most, well under maxMemoryAllocationCount.
+#pragma once
+#include "context.h"
+
+#include <cstddef>
+#include <span>
+
+namespace engine {
+
+struct Buffer {
+  VkBuffer buffer = VK_NULL_HANDLE;
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+  VkDeviceSize size = 0;
+  void* mapped = nullptr;          // non-null for host-visible buffers
+  VkDeviceAddress address = 0;     // non-zero when created with SHADER_DEVICE_ADDRESS usage
+};
+
+struct Image {
+  VkImage image = VK_NULL_HANDLE;
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+  VkImageView view = VK_NULL_HANDLE;
+  VkFormat format = VK_FORMAT_UNDEFINED;
+  VkExtent2D extent{};
+  uint32_t mipLevels = 1;
+};
+
+enum class MemoryKind { DeviceLocal, HostVisible };
+
+Buffer createBuffer(const Context& ctx, VkDeviceSize size, VkBufferUsageFlags usage, MemoryKind kind);
+void destroyBuffer(const Context& ctx, Buffer& buffer);
+
+// Device-local buffer filled through a staging copy (waits for completion).
+Buffer createBufferWithData(const Context& ctx, const void* data, VkDeviceSize size, VkBufferUsageFlags usage);
+template <typename T>
+Buffer createBufferFrom(const Context& ctx, std::span<const T> data, VkBufferUsageFlags usage) {
+  return createBufferWithData(ctx, data.data(), data.size_bytes(), usage);
+}
+
+Image createImage(const Context& ctx, VkExtent2D extent, VkFormat format, VkImageUsageFlags usage,
+                  uint32_t mipLevels = 1);
+void destroyImage(const Context& ctx, Image& image);
+
+// Uploads tightly packed texels into mip 0, builds the other mips with blits and
+// leaves the image in SHADER_READ_ONLY_OPTIMAL.
+void uploadImageWithMips(const Context& ctx, Image& image, const void* texels, size_t bytes);
+
+// Copies an image (in `layout`) to host memory, tightly packed; waits.
+std::vector<std::byte> readbackImage(const Context& ctx, const Image& image, VkImageLayout layout, size_t texelBytes);
+
+uint32_t findMemoryType(const Context& ctx, uint32_t typeBits, VkMemoryPropertyFlags flags);
+
+// Whole-image layout transition with synchronization2 (all mips, colour or depth aspect).
+void imageBarrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayout to,
+                  VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dstStage,
+                  VkAccessFlags2 dstAccess, VkImageAspectFlags aspect = VK_IMAGE_ASPECT_COLOR_BIT);
+// Global memory barrier, for buffers and images that keep their layout.
+void memoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess,
+                   VkPipelineStageFlags2 dstStage, VkAccessFlags2 dstAccess);
+
+bool isDepthFormat(VkFormat format);
+
+}  // namespace engine

@@ -1,0 +1,229 @@
+#include "scene_gpu.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace engine {
+namespace {
+
+constexpr VkBufferUsageFlags kStorage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+constexpr VkBufferUsageFlags kBuildInput = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                                           VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR |
+                                           VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
+
+const Binding kSceneBindings[] = {
+    {gpu::SCENE_BINDING_TLAS, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR},
+    {gpu::SCENE_BINDING_POSITIONS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+    {gpu::SCENE_BINDING_NORMALS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+    {gpu::SCENE_BINDING_UVS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+    {gpu::SCENE_BINDING_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+    {gpu::SCENE_BINDING_GEOMETRIES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+    {gpu::SCENE_BINDING_INSTANCES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+    {gpu::SCENE_BINDING_MATERIALS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+    {gpu::SCENE_BINDING_EMISSIVE_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+    {gpu::SCENE_BINDING_PUNCTUAL_LIGHTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+    {gpu::SCENE_BINDING_CONSTANTS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER},
+    {gpu::SCENE_BINDING_TEXTURES, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 4096, true},
+};
+
+float luminance(const glm::vec3& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+
+template <typename T>
+Buffer upload(const Context& ctx, const std::vector<T>& data, VkBufferUsageFlags usage) {
+  return createBufferWithData(ctx, data.data(), data.size() * sizeof(T), usage);
+}
+
+std::vector<gpu::GpuInstance> gpuInstances(const Scene& scene, const std::vector<glm::mat4>& previous) {
+  std::vector<gpu::GpuInstance> out;
+  for (size_t i = 0; i < scene.instances.size(); ++i) {
+    const Instance& inst = scene.instances[i];
+    gpu::GpuInstance g{};
+    g.worldFromObject = inst.worldFromObject;
+    g.normalWorldFromObject = glm::mat4(glm::transpose(glm::inverse(glm::mat3(inst.worldFromObject))));
+    g.previousWorldFromObject = i < previous.size() ? previous[i] : inst.worldFromObject;
+    g.firstGeometry = scene.meshes[inst.mesh].firstPrimitive;
+    g.geometryCount = scene.meshes[inst.mesh].primitiveCount;
+    out.push_back(g);
+  }
+  return out;
+}
+
+// The NEE table: one entry per emissive (instance, triangle), picked in
+// proportion to world area × luminance(emission).
+std::vector<gpu::GpuEmissiveTriangle> emissiveTable(const Scene& scene, float& totalPower) {
+  std::vector<gpu::GpuEmissiveTriangle> table;
+  std::vector<double> weights;
+  for (uint32_t i = 0; i < scene.instances.size(); ++i) {
+    const Instance& inst = scene.instances[i];
+    const Mesh& mesh = scene.meshes[inst.mesh];
+    for (uint32_t p = mesh.firstPrimitive; p < mesh.firstPrimitive + mesh.primitiveCount; ++p) {
+      const Primitive& prim = scene.primitives[p];
+      const Material& mat = scene.materials[prim.material];
+      if (!mat.isEmissive()) continue;
+      for (uint32_t t = 0; t < prim.indexCount / 3; ++t) {
+        glm::vec3 v[3];
+        for (int k = 0; k < 3; ++k)
+          v[k] = glm::vec3(inst.worldFromObject *
+                           glm::vec4(scene.positions[prim.vertexOffset + scene.indices[prim.firstIndex + 3 * t + k]], 1.0f));
+        double area = 0.5 * double(glm::length(glm::cross(v[1] - v[0], v[2] - v[0])));
+        double w = area * double(luminance(mat.emission));
+        if (!(w > 0.0) || !std::isfinite(w)) continue;  // zero-area triangles can never be hit nor sampled
+        table.push_back({i, p, t, 0.0f});
+        weights.push_back(w);
+      }
+    }
+  }
+  double total = 0.0;
+  for (double w : weights) total += w;
+  double running = 0.0;
+  for (size_t k = 0; k < table.size(); ++k) {
+    running += weights[k];
+    table[k].cdf = float(running / total);
+  }
+  if (!table.empty()) table.back().cdf = 1.0f;
+  totalPower = float(total);
+  return table;
+}
+
+std::vector<gpu::GpuPunctualLight> punctualLights(const Scene& scene) {
+  std::vector<gpu::GpuPunctualLight> out;
+  for (const PunctualLight& l : scene.lights) {
+    gpu::GpuPunctualLight g{};
+    g.position = l.position;
+    g.type = uint32_t(l.type);
+    g.direction = l.direction;
+    g.range = l.range;
+    g.intensity = l.intensity;
+    g.cosInner = std::cos(l.innerConeAngle);
+    g.cosOuter = std::cos(l.outerConeAngle);
+    out.push_back(g);
+  }
+  return out;
+}
+
+uint32_t textureIndex(int32_t t) { return t >= 0 ? uint32_t(t) : gpu::NO_TEXTURE; }
+
+}  // namespace
+
+std::span<const Binding> sceneBindings() { return kSceneBindings; }
+
+void createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu) {
+  gpu.positions = upload(ctx, scene.positions, kBuildInput);
+  gpu.normals = upload(ctx, scene.normals, kStorage);
+  gpu.uvs = upload(ctx, scene.uvs, kStorage);
+  gpu.indices = upload(ctx, scene.indices, kBuildInput);
+
+  std::vector<gpu::GpuGeometry> geometries;
+  for (const Primitive& p : scene.primitives) geometries.push_back({p.firstIndex, p.vertexOffset, p.material, p.indexCount / 3});
+  gpu.geometries = upload(ctx, geometries, kStorage);
+
+  std::vector<gpu::GpuMaterial> materials;
+  for (const Material& m : scene.materials) {
+    gpu::GpuMaterial g{};
+    g.baseColor = m.baseColor;
+    g.emission = m.emission;
+    g.metallic = m.metallic;
+    g.roughness = m.roughness;
+    g.alphaCutoff = m.alphaCutoff;
+    g.baseColorTexture = textureIndex(m.baseColorTexture);
+    g.metallicRoughnessTexture = textureIndex(m.metallicRoughnessTexture);
+    g.emissiveTexture = textureIndex(m.emissiveTexture);
+    g.flags = (m.needsGlossyLobe() ? gpu::MATERIAL_FLAG_GLOSSY : 0u) |
+              (m.alphaMode == AlphaMode::Mask ? gpu::MATERIAL_FLAG_ALPHA_MASK : 0u) |
+              (m.isEmissive() ? gpu::MATERIAL_FLAG_EMISSIVE : 0u);
+    materials.push_back(g);
+  }
+  gpu.materials = upload(ctx, materials, kStorage);
+
+  std::vector<gpu::GpuInstance> instances = gpuInstances(scene, {});
+  gpu.instances = createBuffer(ctx, instances.size() * sizeof(gpu::GpuInstance), kStorage, MemoryKind::HostVisible);
+  if (!instances.empty()) std::memcpy(gpu.instances.mapped, instances.data(), instances.size() * sizeof(gpu::GpuInstance));
+  for (const Instance& inst : scene.instances) gpu.previousTransforms.push_back(inst.worldFromObject);
+
+  float totalPower = 0.0f;
+  std::vector<gpu::GpuEmissiveTriangle> emissive = emissiveTable(scene, totalPower);
+  gpu.emissiveTriangles = createBuffer(ctx, emissive.size() * sizeof(gpu::GpuEmissiveTriangle), kStorage, MemoryKind::HostVisible);
+  if (!emissive.empty()) std::memcpy(gpu.emissiveTriangles.mapped, emissive.data(), emissive.size() * sizeof(emissive[0]));
+  std::vector<gpu::GpuPunctualLight> lights = punctualLights(scene);
+  gpu.punctualLights = upload(ctx, lights, kStorage);
+
+  Bounds bounds = scene.worldBounds();
+  gpu::GpuSceneConstants& c = gpu.sceneConstants;
+  c.emissiveTriangleCount = uint32_t(emissive.size());
+  c.punctualLightCount = uint32_t(lights.size());
+  c.emissiveTotalPower = totalPower;
+  c.sceneExtent = std::max(bounds.extent(), 1e-6f);
+  c.boundsMin = bounds.empty() ? glm::vec3(0.0f) : bounds.min;
+  c.boundsMax = bounds.empty() ? glm::vec3(0.0f) : bounds.max;
+  c.rayEpsilon = 1e-4f * c.sceneExtent;
+  gpu.constants = createBuffer(ctx, sizeof(c), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, MemoryKind::HostVisible);
+  std::memcpy(gpu.constants.mapped, &c, sizeof(c));
+
+  // Textures with full mip chains; a white texel stands in when there are none.
+  std::vector<Texture> fallback;
+  if (scene.textures.empty()) fallback.push_back({"white", 1, 1, {255, 255, 255, 255}, false});
+  const std::vector<Texture>& textures = scene.textures.empty() ? fallback : scene.textures;
+  for (const Texture& t : textures) {
+    uint32_t mips = 1 + uint32_t(std::floor(std::log2(double(std::max(t.width, t.height)))));
+    Image img = createImage(ctx, {t.width, t.height}, t.srgb ? VK_FORMAT_R8G8B8A8_SRGB : VK_FORMAT_R8G8B8A8_UNORM,
+                            VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                            mips);
+    uploadImageWithMips(ctx, img, t.rgba8.data(), t.rgba8.size());
+    gpu.textures.push_back(img);
+  }
+  VkSamplerCreateInfo samplerInfo{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+  samplerInfo.magFilter = VK_FILTER_LINEAR;
+  samplerInfo.minFilter = VK_FILTER_LINEAR;
+  samplerInfo.mipmapMode = VK_SAMPLER_MIPMAP_MODE_LINEAR;
+  samplerInfo.addressModeU = samplerInfo.addressModeV = samplerInfo.addressModeW = VK_SAMPLER_ADDRESS_MODE_REPEAT;
+  samplerInfo.maxLod = VK_LOD_CLAMP_NONE;
+  VK_CHECK(vkCreateSampler(ctx.device, &samplerInfo, nullptr, &gpu.sampler));
+
+  buildSceneAcceleration(ctx, scene, gpu.positions, gpu.indices, gpu.accel);
+
+  gpu.set = createDescriptorSet(ctx, kSceneBindings, uint32_t(gpu.textures.size()));
+  DescriptorWriter w(gpu.set.set);
+  w.accelerationStructure(gpu::SCENE_BINDING_TLAS, &gpu.accel.tlas.handle)
+      .buffer(gpu::SCENE_BINDING_POSITIONS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, gpu.positions.buffer)
+      .buffer(gpu::SCENE_BINDING_NORMALS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, gpu.normals.buffer)
+      .buffer(gpu::SCENE_BINDING_UVS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, gpu.uvs.buffer)
+      .buffer(gpu::SCENE_BINDING_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, gpu.indices.buffer)
+      .buffer(gpu::SCENE_BINDING_GEOMETRIES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, gpu.geometries.buffer)
+      .buffer(gpu::SCENE_BINDING_INSTANCES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, gpu.instances.buffer)
+      .buffer(gpu::SCENE_BINDING_MATERIALS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, gpu.materials.buffer)
+      .buffer(gpu::SCENE_BINDING_EMISSIVE_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, gpu.emissiveTriangles.buffer)
+      .buffer(gpu::SCENE_BINDING_PUNCTUAL_LIGHTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, gpu.punctualLights.buffer)
+      .buffer(gpu::SCENE_BINDING_CONSTANTS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, gpu.constants.buffer);
+  for (uint32_t t = 0; t < gpu.textures.size(); ++t)
+    w.sampledImage(gpu::SCENE_BINDING_TEXTURES, gpu.textures[t].view, gpu.sampler, t);
+  w.write(ctx);
+}
+
+void recordSceneTransformUpdate(const Context& ctx, VkCommandBuffer cmd, const Scene& scene, SceneGpu& gpu) {
+  std::vector<gpu::GpuInstance> instances = gpuInstances(scene, gpu.previousTransforms);
+  if (!instances.empty()) std::memcpy(gpu.instances.mapped, instances.data(), instances.size() * sizeof(gpu::GpuInstance));
+  for (size_t i = 0; i < scene.instances.size(); ++i) gpu.previousTransforms[i] = scene.instances[i].worldFromObject;
+  float totalPower = 0.0f;
+  std::vector<gpu::GpuEmissiveTriangle> emissive = emissiveTable(scene, totalPower);
+  // Moving instances keep their triangle count; only degenerate scaling could drop entries.
+  size_t count = std::min<size_t>(emissive.size(), gpu.sceneConstants.emissiveTriangleCount);
+  if (count > 0) std::memcpy(gpu.emissiveTriangles.mapped, emissive.data(), count * sizeof(emissive[0]));
+  gpu.sceneConstants.emissiveTriangleCount = uint32_t(count);
+  gpu.sceneConstants.emissiveTotalPower = totalPower;
+  std::memcpy(gpu.constants.mapped, &gpu.sceneConstants, sizeof(gpu.sceneConstants));
+  recordTlasRebuild(ctx, cmd, scene, gpu.accel);
+}
+
+void destroySceneGpu(const Context& ctx, SceneGpu& gpu) {
+  destroyDescriptorSet(ctx, gpu.set);
+  destroySceneAcceleration(ctx, gpu.accel);
+  for (Image& img : gpu.textures) destroyImage(ctx, img);
+  if (gpu.sampler) vkDestroySampler(ctx.device, gpu.sampler, nullptr);
+  for (Buffer* b : {&gpu.positions, &gpu.normals, &gpu.uvs, &gpu.indices, &gpu.geometries, &gpu.materials, &gpu.instances,
+                    &gpu.emissiveTriangles, &gpu.punctualLights, &gpu.constants})
+    destroyBuffer(ctx, *b);
+  gpu = SceneGpu{};
+}
+
+}  // namespace engine

@@ -1,0 +1,43 @@
+// The scene uploaded for the GPU: geometry pools, materials, textures, light
+// tables, acceleration structures and the set-0 descriptor set that every
+// pass binds (layout in shaders/shared/gpu_scene.h).
+#pragma once
+#include "acceleration.h"
+#include "descriptors.h"
+#include "scene.h"
+
+#include "shared/gpu_scene.h"
+
+namespace engine {
+
+struct SceneGpu {
+  Buffer positions, normals, uvs, indices;
+  Buffer geometries, materials;
+  Buffer instances;          // host-visible GpuInstance[], rewritten on transform updates
+  Buffer emissiveTriangles;  // host-visible; a 16-byte placeholder when the scene has none
+  Buffer punctualLights;     // a 16-byte placeholder when the scene has none
+  Buffer constants;          // host-visible GpuSceneConstants
+  std::vector<Image> textures;  // at least one (a white texel) so the array is never empty
+  VkSampler sampler = VK_NULL_HANDLE;
+  SceneAcceleration accel;
+  DescriptorSet set;
+  gpu::GpuSceneConstants sceneConstants{};
+  std::vector<glm::mat4> previousTransforms;  // per instance, for motion vectors
+
+  bool hasEmissiveTriangles() const { return sceneConstants.emissiveTriangleCount > 0; }
+  bool hasPunctualLights() const { return sceneConstants.punctualLightCount > 0; }
+};
+
+// Expects a scene already Morton-sorted (mortonSortScene). Uploads and builds; waits.
+void createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu);
+void destroySceneGpu(const Context& ctx, SceneGpu& gpu);
+
+// For moving instances: rewrites transforms and the emissive table from
+// `scene`, and records a TLAS rebuild into `cmd`. The caller must ensure the
+// previous frame's GPU work has finished (the buffers are host-written).
+void recordSceneTransformUpdate(const Context& ctx, VkCommandBuffer cmd, const Scene& scene, SceneGpu& gpu);
+
+// The set-0 bindings, for pipelines that use the scene.
+std::span<const Binding> sceneBindings();
+
+}  // namespace engine

@@ -1,0 +1,30 @@
+// Shared between C++ and GLSL: the type aliases that let one struct
+// definition serve both sides. GLSL blocks use `scalar` layout, so C++ sizes
+// (checked with GPU_ASSERT_SIZE) are the GPU sizes.
+#ifndef GI_GPU_COMMON_H
+#define GI_GPU_COMMON_H
+
+#ifdef __cplusplus
+#include <cstdint>
+#include <glm/glm.hpp>
+namespace gpu {
+using uint = uint32_t;
+using vec2 = glm::vec2;
+using vec3 = glm::vec3;
+using vec4 = glm::vec4;
+using uvec2 = glm::uvec2;
+using uvec4 = glm::uvec4;
+using mat4 = glm::mat4;
+}  // namespace gpu
+#define GPU_NAMESPACE_BEGIN namespace gpu {
+#define GPU_NAMESPACE_END }
+#define GPU_ASSERT_SIZE(T, bytes) static_assert(sizeof(T) == (bytes), #T " must match its GLSL scalar layout")
+#define GPU_CONST inline constexpr uint
+#else
+#define GPU_NAMESPACE_BEGIN
+#define GPU_NAMESPACE_END
+#define GPU_ASSERT_SIZE(T, bytes)
+#define GPU_CONST const uint
+#endif
+
+#endif

@@ -1,0 +1,123 @@
+// The scene as the GPU sees it: one descriptor set (set 0) shared by the
+// reference path tracer, the G-buffer pass and the GI module.
+// Units: metres, radiance in W/(sr·m²), punctual intensity in W/sr
+// (point/spot) or irradiance in W/m² (directional), all linear RGB.
+#ifndef GI_GPU_SCENE_H
+#define GI_GPU_SCENE_H
+#include "gpu_common.h"
+
+GPU_NAMESPACE_BEGIN
+
+// Set 0 bindings.
+GPU_CONST SCENE_BINDING_TLAS = 0;              // accelerationStructureEXT
+GPU_CONST SCENE_BINDING_POSITIONS = 1;         // vec3[], object space
+GPU_CONST SCENE_BINDING_NORMALS = 2;           // vec3[], object space, unit length
+GPU_CONST SCENE_BINDING_UVS = 3;               // vec2[]
+GPU_CONST SCENE_BINDING_INDICES = 4;           // uint[], relative to GpuGeometry.vertexOffset
+GPU_CONST SCENE_BINDING_GEOMETRIES = 5;        // GpuGeometry[]
+GPU_CONST SCENE_BINDING_INSTANCES = 6;         // GpuInstance[]
+GPU_CONST SCENE_BINDING_MATERIALS = 7;         // GpuMaterial[]
+GPU_CONST SCENE_BINDING_EMISSIVE_TRIANGLES = 8;// GpuEmissiveTriangle[] (placeholder when none)
+GPU_CONST SCENE_BINDING_PUNCTUAL_LIGHTS = 9;   // GpuPunctualLight[] (placeholder when none)
+GPU_CONST SCENE_BINDING_CONSTANTS = 10;        // GpuSceneConstants (uniform)
+GPU_CONST SCENE_BINDING_TEXTURES = 11;         // sampler2D[], variable count
+GPU_CONST SCENE_BINDING_COUNT = 12;
+
+GPU_CONST MATERIAL_FLAG_GLOSSY = 1u;       // has a GGX lobe (metallic > 0 or roughness < 0.9 or a roughness texture)
+GPU_CONST MATERIAL_FLAG_ALPHA_MASK = 2u;   // alphaMode MASK: texels below alphaCutoff are holes
+GPU_CONST MATERIAL_FLAG_EMISSIVE = 4u;     // emissive (factor × strength) is non-zero
+GPU_CONST NO_TEXTURE = 0xffffffffu;
+
+struct GpuMaterial {
+  vec4 baseColor;        // linear RGBA factor, multiplied by the sRGB-decoded texture
+  vec3 emission;         // emissiveFactor × emissive_strength, W/(sr·m²) per unit texel
+  float metallic;        // [0,1]
+  float roughness;       // [0,1] perceptual; GGX alpha = roughness²
+  float alphaCutoff;     // [0,1], used with MATERIAL_FLAG_ALPHA_MASK
+  uint baseColorTexture; // index into the texture array or NO_TEXTURE
+  uint metallicRoughnessTexture; // G = roughness, B = metallic (glTF)
+  uint emissiveTexture;
+  uint flags;            // MATERIAL_FLAG_*
+  uint pad0;
+  uint pad1;
+};
+GPU_ASSERT_SIZE(GpuMaterial, 64);
+
+// One glTF primitive: a BLAS geometry. A TLAS instance's custom index is the
+// index of its mesh's first geometry; the ray query's geometry index adds to it.
+struct GpuGeometry {
+  uint firstIndex;   // into SCENE_BINDING_INDICES
+  uint vertexOffset; // added to every index
+  uint material;
+  uint triangleCount;
+};
+GPU_ASSERT_SIZE(GpuGeometry, 16);
+
+struct GpuInstance {
+  mat4 worldFromObject;
+  mat4 normalWorldFromObject;   // inverse-transpose of the upper 3×3, w unused
+  mat4 previousWorldFromObject; // last frame's transform, for motion vectors
+  uint firstGeometry;
+  uint geometryCount;
+  uint pad0;
+  uint pad1;
+};
+GPU_ASSERT_SIZE(GpuInstance, 208);
+
+// An emissive triangle, picked for next-event estimation with probability
+// proportional to its power (world area × luminance(emission)); the cumulative
+// distribution sits in `cdf`, normalised so the last entry is 1.
+struct GpuEmissiveTriangle {
+  uint instance;
+  uint geometry;   // absolute geometry index
+  uint triangle;   // within the geometry
+  float cdf;
+};
+GPU_ASSERT_SIZE(GpuEmissiveTriangle, 16);
+
+GPU_CONST PUNCTUAL_POINT = 0u;
+GPU_CONST PUNCTUAL_SPOT = 1u;
+GPU_CONST PUNCTUAL_DIRECTIONAL = 2u;
+
+struct GpuPunctualLight {
+  vec3 position;   // world, metres (unused for directional)
+  uint type;       // PUNCTUAL_*
+  vec3 direction;  // world, unit: the direction the light travels
+  float range;     // metres; 0 = infinite
+  vec3 intensity;  // colour × intensity: W/sr, or W/m² for directional
+  float cosInner;  // spot: cos(innerConeAngle)
+  float cosOuter;  // spot: cos(outerConeAngle)
+  float pad0;
+  float pad1;
+  float pad2;
+};
+GPU_ASSERT_SIZE(GpuPunctualLight, 64);
+
+struct GpuSceneConstants {
+  uint emissiveTriangleCount;
+  uint punctualLightCount;
+  float emissiveTotalPower;    // Σ area × luminance(emission), used for light pdfs
+  float sceneExtent;           // largest dimension of the scene bounds, metres
+  vec3 boundsMin;
+  float rayEpsilon;            // metres: offset for secondary ray origins, scaled to the scene
+  vec3 boundsMax;
+  float pad0;
+};
+GPU_ASSERT_SIZE(GpuSceneConstants, 48);
+
+// Camera shared by every pass. View space is right-handed, looking down -Z.
+struct GpuCamera {
+  mat4 worldFromView;
+  mat4 viewFromWorld;
+  mat4 clipFromWorld;          // Vulkan clip space (y down, depth 0..1)
+  mat4 previousClipFromWorld;
+  vec3 position;
+  float tanHalfFovY;
+  vec2 imageSize;              // pixels
+  float aspect;                // width / height
+  float pad0;
+};
+GPU_ASSERT_SIZE(GpuCamera, 288);
+
+GPU_NAMESPACE_END
+#endif

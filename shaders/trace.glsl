@@ -1,0 +1,92 @@
+// The one trace interface. Every ray in every shader goes through
+// giTraceClosest (nearest hit) or giTraceVisible (any hit = occluded), so a
+// faster traversal backend can replace ray queries here alone.
+// Alpha-masked geometry is non-opaque in the BLAS; its candidates are accepted
+// only where the base-colour alpha reaches the material's cutoff.
+#ifndef GI_TRACE_GLSL
+#define GI_TRACE_GLSL
+#include "scene.glsl"
+
+struct GiHit {
+  float t;        // < 0: miss
+  uint instance;  // index into sceneInstances
+  uint geometry;  // absolute geometry index
+  uint triangle;  // within the geometry
+  vec2 barycentrics;
+};
+
+// Rays traced by this invocation; shaders add it to their counters.
+uint giRaysTraced = 0u;
+
+bool giAlphaAccepts(uint geometry, uint triangle, vec2 bary) {
+  uint materialIndex = sceneGeometries[geometry].material;
+  GpuMaterial m = sceneMaterials[materialIndex];
+  float alpha = m.baseColor.a;
+  if (m.baseColorTexture != NO_TEXTURE) {
+    vec2 uv = sceneUv(sceneTriangle(geometry, triangle), giBarycentricWeights(bary));
+    alpha *= sceneTexture(m.baseColorTexture, uv).a;
+  }
+  return alpha >= m.alphaCutoff;
+}
+
+// Resolves non-opaque candidates of an initialised query.
+void giResolveCandidates(rayQueryEXT query) {
+  while (rayQueryProceedEXT(query)) {
+    if (rayQueryGetIntersectionTypeEXT(query, false) == gl_RayQueryCandidateIntersectionTriangleEXT) {
+      uint geometry = rayQueryGetIntersectionInstanceCustomIndexEXT(query, false) +
+                      rayQueryGetIntersectionGeometryIndexEXT(query, false);
+      uint triangle = rayQueryGetIntersectionPrimitiveIndexEXT(query, false);
+      if (giAlphaAccepts(geometry, triangle, rayQueryGetIntersectionBarycentricsEXT(query, false)))
+        rayQueryConfirmIntersectionEXT(query);
+    }
+  }
+}
+
+GiHit giTraceClosest(vec3 origin, vec3 direction, float tMin, float tMax) {
+  giRaysTraced++;
+  rayQueryEXT query;
+  rayQueryInitializeEXT(query, sceneTlas, gl_RayFlagsNoneEXT, 0xff, origin, tMin, direction, tMax);
+  giResolveCandidates(query);
+  GiHit hit;
+  hit.t = -1.0;
+  hit.instance = 0u;
+  hit.geometry = 0u;
+  hit.triangle = 0u;
+  hit.barycentrics = vec2(0.0);
+  if (rayQueryGetIntersectionTypeEXT(query, true) == gl_RayQueryCommittedIntersectionTriangleEXT) {
+    hit.t = rayQueryGetIntersectionTEXT(query, true);
+    hit.instance = rayQueryGetIntersectionInstanceIdEXT(query, true);
+    hit.geometry = rayQueryGetIntersectionInstanceCustomIndexEXT(query, true) +
+                   rayQueryGetIntersectionGeometryIndexEXT(query, true);
+    hit.triangle = rayQueryGetIntersectionPrimitiveIndexEXT(query, true);
+    hit.barycentrics = rayQueryGetIntersectionBarycentricsEXT(query, true);
+  }
+  return hit;
+}
+
+// True when nothing blocks the segment [tMin, tMax] along the ray.
+bool giTraceVisible(vec3 origin, vec3 direction, float tMin, float tMax) {
+  giRaysTraced++;
+  rayQueryEXT query;
+  rayQueryInitializeEXT(query, sceneTlas, gl_RayFlagsTerminateOnFirstHitEXT, 0xff, origin, tMin, direction, tMax);
+  giResolveCandidates(query);
+  return rayQueryGetIntersectionTypeEXT(query, true) == gl_RayQueryCommittedIntersectionNoneEXT;
+}
+
+// Offsets a ray origin off a surface by a few float ULPs along the normal, so
+// secondary rays neither re-hit their own triangle nor skip thin geometry, at
+// any distance from the origin (Wächter & Binder, Ray Tracing Gems ch. 6).
+vec3 giOffsetRay(vec3 p, vec3 n) {
+  const float kOrigin = 1.0 / 32.0;
+  const float kFloatScale = 1.0 / 65536.0;
+  const float kIntScale = 256.0;
+  ivec3 offsetInt = ivec3(kIntScale * n);
+  vec3 pInt = vec3(intBitsToFloat(floatBitsToInt(p.x) + (p.x < 0.0 ? -offsetInt.x : offsetInt.x)),
+                   intBitsToFloat(floatBitsToInt(p.y) + (p.y < 0.0 ? -offsetInt.y : offsetInt.y)),
+                   intBitsToFloat(floatBitsToInt(p.z) + (p.z < 0.0 ? -offsetInt.z : offsetInt.z)));
+  return vec3(abs(p.x) < kOrigin ? p.x + kFloatScale * n.x : pInt.x,
+              abs(p.y) < kOrigin ? p.y + kFloatScale * n.y : pInt.y,
+              abs(p.z) < kOrigin ? p.z + kFloatScale * n.z : pInt.z);
+}
+
+#endif

@@ -1,0 +1,110 @@
+#include "cli.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
+
+namespace cli {
+
+bool parse(int argc, char** argv, std::span<const Option> options, Args& args, std::string& error) {
+  for (int i = 1; i < argc; ++i) {
+    std::string arg = argv[i];
+    if (arg.rfind("--", 0) != 0) {
+      error = "unexpected argument '" + arg + "'";
+      return false;
+    }
+    std::string name = arg.substr(2);
+    auto opt = std::find_if(options.begin(), options.end(), [&](const Option& o) { return name == o.name; });
+    if (opt == options.end()) {
+      error = "unknown option '" + arg + "'";
+      return false;
+    }
+    if (opt->valueHint) {
+      if (i + 1 >= argc) {
+        error = "option '" + arg + "' needs a value (" + opt->valueHint + ")";
+        return false;
+      }
+      args.values[name] = argv[++i];
+    } else {
+      args.values[name].assign(1, '1');  // (a literal here trips GCC 12's -Wrestrict false positive)
+    }
+  }
+  return true;
+}
+
+std::string usage(const char* program, const char* synopsis, std::span<const Option> options) {
+  std::string text = std::string("usage: ") + program + " " + synopsis + "\n";
+  for (const Option& o : options) {
+    std::string left = std::string("  --") + o.name + (o.valueHint ? std::string(" ") + o.valueHint : "");
+    left.resize(std::max<size_t>(left.size() + 1, 30), ' ');
+    text += left + o.help + "\n";
+  }
+  return text;
+}
+
+bool getUint(const Args& args, const std::string& name, uint32_t fallback, uint32_t min, uint32_t max, uint32_t& out,
+             std::string& error) {
+  auto it = args.values.find(name);
+  if (it == args.values.end()) {
+    out = fallback;
+    return true;
+  }
+  const std::string& s = it->second;
+  char* end = nullptr;
+  errno = 0;
+  unsigned long long v = std::strtoull(s.c_str(), &end, 10);
+  if (s.empty() || s[0] == '-' || *end != '\0' || errno != 0 || v < min || v > max) {
+    error = "--" + name + " must be a whole number from " + std::to_string(min) + " to " + std::to_string(max) +
+            ", not '" + s + "'";
+    return false;
+  }
+  out = uint32_t(v);
+  return true;
+}
+
+bool getSize(const Args& args, const std::string& name, uint32_t fallbackW, uint32_t fallbackH, uint32_t& w,
+             uint32_t& h, std::string& error) {
+  auto it = args.values.find(name);
+  if (it == args.values.end()) {
+    w = fallbackW;
+    h = fallbackH;
+    return true;
+  }
+  unsigned long width = 0, height = 0;
+  char extra = 0;
+  if (std::sscanf(it->second.c_str(), "%lux%lu%c", &width, &height, &extra) != 2 || width < 1 || height < 1 ||
+      width > 16384 || height > 16384) {
+    error = "--" + name + " must look like 320x180 (1 to 16384 per side), not '" + it->second + "'";
+    return false;
+  }
+  w = uint32_t(width);
+  h = uint32_t(height);
+  return true;
+}
+
+bool getChoice(const Args& args, const std::string& name, const std::string& fallback,
+               std::span<const char* const> choices, std::string& out, std::string& error) {
+  auto it = args.values.find(name);
+  out = it == args.values.end() ? fallback : it->second;
+  for (const char* c : choices)
+    if (out == c) return true;
+  error = "--" + name + " must be one of";
+  for (const char* c : choices) error += std::string(" ") + c;
+  error += ", not '" + out + "'";
+  return false;
+}
+
+std::vector<std::string> splitList(const std::string& text, char separator) {
+  std::vector<std::string> out;
+  size_t start = 0;
+  while (start <= text.size()) {
+    size_t end = text.find(separator, start);
+    if (end == std::string::npos) end = text.size();
+    out.push_back(text.substr(start, end - start));
+    start = end + 1;
+  }
+  return out;
+}
+
+}  // namespace cli

@@ -1,0 +1,36 @@
+// Command-line parsing shared by the tools: `--name value` and `--flag`
+// options, strict typed getters, and one usage message. Every problem is a
+// sentence in `error`; the caller prints it with the usage and exits 2.
+#pragma once
+#include <cstdint>
+#include <map>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace cli {
+
+struct Option {
+  const char* name;      // without the leading dashes
+  const char* valueHint; // nullptr for a flag
+  const char* help;
+};
+
+struct Args {
+  std::map<std::string, std::string> values;
+  bool has(const std::string& name) const { return values.count(name) > 0; }
+};
+
+bool parse(int argc, char** argv, std::span<const Option> options, Args& args, std::string& error);
+std::string usage(const char* program, const char* synopsis, std::span<const Option> options);
+
+// Typed access; each returns false with a sentence in `error` when the value is malformed or out of range.
+bool getUint(const Args& args, const std::string& name, uint32_t fallback, uint32_t min, uint32_t max, uint32_t& out,
+             std::string& error);
+bool getSize(const Args& args, const std::string& name, uint32_t fallbackW, uint32_t fallbackH, uint32_t& w,
+             uint32_t& h, std::string& error);
+bool getChoice(const Args& args, const std::string& name, const std::string& fallback,
+               std::span<const char* const> choices, std::string& out, std::string& error);
+std::vector<std::string> splitList(const std::string& text, char separator = ',');
+
+}  // namespace cli
