@@ -223,6 +223,7 @@ bool createContext(const ContextDesc& desc, Context& ctx, std::string& error) {
       {f12.shaderBufferInt64Atomics, "shaderBufferInt64Atomics"},
       {f13.dynamicRendering, "dynamicRendering"},
       {f13.synchronization2, "synchronization2"},
+      {f13.maintenance4, "maintenance4"},  // SPIR-V 1.6 compute shaders declare LocalSizeId
       {f2.features.shaderInt64, "shaderInt64"},
       {f2.features.shaderStorageImageWriteWithoutFormat, "shaderStorageImageWriteWithoutFormat"},
   };
@@ -242,6 +243,7 @@ bool createContext(const ContextDesc& desc, Context& ctx, std::string& error) {
   VkPhysicalDeviceVulkan13Features f13On{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
   f13On.dynamicRendering = VK_TRUE;
   f13On.synchronization2 = VK_TRUE;
+  f13On.maintenance4 = VK_TRUE;
   f13On.pNext = &accelOn;
   VkPhysicalDeviceVulkan12Features f12On{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
   f12On.bufferDeviceAddress = VK_TRUE;

@@ -448,6 +448,8 @@ bool loadGltf(const std::string& path, Scene& scene, std::string& error) {
     return false;
   }
   try {
+    if (model.asset.version.rfind("2.", 0) != 0)
+      fail("asset.version is '" + model.asset.version + "'; only glTF 2.x is supported");
     for (const std::string& ext : model.extensionsRequired)
       if (std::find(std::begin(kSupportedExtensions), std::end(kSupportedExtensions), ext) == std::end(kSupportedExtensions))
         fail("requires the extension " + ext + ", which is not supported");

@@ -43,7 +43,7 @@ PathTracer createPathTracer(const Context& ctx, const SceneGpu& scene, VkExtent2
   // Specialisation: skip the light loops the scene does not need.
   const uint32_t spec[] = {scene.hasEmissiveTriangles() ? 1u : 0u, scene.hasPunctualLights() ? 1u : 0u};
   pt.program = createComputeProgram(ctx, spv_path_trace_comp, layouts, sizeof(gpu::PathTracerPush),
-                                    {gpu::PT_GROUP_SIZE, gpu::PT_GROUP_SIZE}, spec);
+                                    {PT_GROUP_SIZE, PT_GROUP_SIZE}, spec);
   return pt;
 }
 

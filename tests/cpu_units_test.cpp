@@ -1,0 +1,94 @@
+// CPU-side building blocks: Morton ordering, image files, camera maths.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "camera.h"
+#include "image_io.h"
+#include "morton.h"
+
+TEST(Morton, CodesInterleaveAxesAndOrderPreservesLocality) {
+  glm::vec3 lo(0.0f), hi(1.0f);
+  EXPECT_EQ(engine::mortonCode(lo, lo, hi), 0u);
+  EXPECT_EQ(engine::mortonCode(hi, lo, hi), (1u << 30) - 1u);  // all 30 bits set
+  // x is the most significant axis of each triple.
+  EXPECT_GT(engine::mortonCode({0.6f, 0.0f, 0.0f}, lo, hi), engine::mortonCode({0.0f, 0.6f, 0.0f}, lo, hi));
+  std::vector<glm::vec3> points = {{0.9f, 0.9f, 0.9f}, {0.1f, 0.1f, 0.1f}, {0.88f, 0.9f, 0.9f}, {0.12f, 0.1f, 0.1f}};
+  std::vector<uint32_t> order = engine::mortonOrder(points);
+  ASSERT_EQ(order.size(), 4u);
+  // Near points end up adjacent.
+  EXPECT_EQ(std::abs(int(std::find(order.begin(), order.end(), 1u) - std::find(order.begin(), order.end(), 3u))), 1);
+  EXPECT_EQ(std::abs(int(std::find(order.begin(), order.end(), 0u) - std::find(order.begin(), order.end(), 2u))), 1);
+}
+
+TEST(Morton, SceneSortKeepsEveryTriangle) {
+  engine::Scene scene;
+  for (int i = 0; i < 30; ++i) {
+    float x = float((i * 7) % 30);
+    scene.positions.insert(scene.positions.end(), {{x, 0, 0}, {x + 1, 0, 0}, {x, 1, 0}});
+    scene.normals.insert(scene.normals.end(), 3, glm::vec3(0, 0, 1));
+    scene.uvs.insert(scene.uvs.end(), 3, glm::vec2(0));
+    scene.indices.insert(scene.indices.end(), {uint32_t(3 * i), uint32_t(3 * i + 1), uint32_t(3 * i + 2)});
+  }
+  scene.primitives.push_back({0, 90, 0, 90, 0});
+  std::vector<uint32_t> before = scene.indices;
+  engine::mortonSortScene(scene);
+  std::vector<uint32_t> a = before, b = scene.indices;
+  std::sort(a.begin(), a.end());
+  std::sort(b.begin(), b.end());
+  EXPECT_EQ(a, b);
+  EXPECT_NE(before, scene.indices);
+  // Triangles stay whole: each consecutive triple is one original triangle.
+  for (size_t t = 0; t < 30; ++t) EXPECT_EQ(scene.indices[3 * t] % 3, 0u);
+}
+
+TEST(ImageIo, PfmAndExrRoundTripExactly) {
+  engine::FloatImage img(5, 3, 3);
+  for (size_t i = 0; i < img.pixels.size(); ++i) img.pixels[i] = float(i) * 0.37f - 2.0f;
+  img.at(4, 2, 1) = 1e6f;
+  std::string dir = std::filesystem::temp_directory_path();
+  for (const char* ext : {".pfm", ".exr"}) {
+    std::string path = dir + "/gi_roundtrip" + ext, error;
+    ASSERT_TRUE(engine::writeImage(path, img, error)) << error;
+    engine::FloatImage back;
+    ASSERT_TRUE(engine::readImage(path, back, error)) << error;
+    EXPECT_EQ(back.width, 5u);
+    EXPECT_EQ(back.height, 3u);
+    EXPECT_EQ(back.pixels, img.pixels) << ext;
+  }
+  std::string error;
+  EXPECT_FALSE(engine::writeImage(dir + "/x.bmp", img, error));
+  EXPECT_NE(error.find("x.bmp"), std::string::npos);
+  engine::FloatImage back;
+  EXPECT_FALSE(engine::readImage(dir + "/does_not_exist.pfm", back, error));
+}
+
+TEST(ImageIo, SrgbEncodingHandlesEdges) {
+  EXPECT_EQ(engine::linearToSrgb(0.0f), 0.0f);
+  EXPECT_EQ(engine::linearToSrgb(1.0f), 1.0f);
+  EXPECT_EQ(engine::linearToSrgb(1e9f), 1.0f);
+  EXPECT_EQ(engine::linearToSrgb(std::nanf("")), 0.0f);
+  EXPECT_NEAR(engine::linearToSrgb(0.18f), 0.4613f, 1e-3f);
+}
+
+TEST(Camera, ProjectionAndRayGenerationAgree) {
+  engine::Camera cam;
+  cam.yfov = 0.8f;
+  cam.znear = 0.1f;
+  cam.worldFromView = glm::inverse(glm::lookAt(glm::vec3(1, 2, 3), glm::vec3(0), glm::vec3(0, 1, 0)));
+  gpu::GpuCamera g = engine::makeGpuCamera(cam, 200, 100, nullptr);
+  // A world point straight ahead, and one up-right of it, project where camera.glsl's rays go.
+  glm::vec3 ahead = g.position + glm::vec3(cam.worldFromView * glm::vec4(0, 0, -5, 0));
+  glm::vec4 clip = g.clipFromWorld * glm::vec4(ahead, 1.0f);
+  EXPECT_NEAR(clip.x / clip.w, 0.0f, 1e-5f);
+  EXPECT_NEAR(clip.y / clip.w, 0.0f, 1e-5f);
+  glm::vec3 viewPoint(2.0f * g.tanHalfFovY * g.aspect, 2.0f * g.tanHalfFovY, -2.0f);  // top-right corner at depth 2
+  glm::vec4 c2 = g.clipFromWorld * (cam.worldFromView * glm::vec4(viewPoint, 1.0f));
+  EXPECT_NEAR(c2.x / c2.w, 1.0f, 1e-5f);   // right edge
+  EXPECT_NEAR(c2.y / c2.w, -1.0f, 1e-5f);  // Vulkan: top row has y = −1
+  float z = c2.z / c2.w;
+  EXPECT_GT(z, 0.0f);
+  EXPECT_LT(z, 1.0f);
+}

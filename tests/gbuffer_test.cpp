@@ -1,0 +1,70 @@
+// The raster G-buffer and the ray tracer must agree on what the camera sees:
+// same surfaces, same depth, same normals.
+#include <cstring>
+
+#include "gbuffer.h"
+#include "gpu_test.h"
+
+namespace {
+
+std::vector<float> readFloats(const engine::Context& ctx, const engine::Image& img, size_t texelBytes) {
+  std::vector<std::byte> raw = engine::readbackImage(ctx, img, VK_IMAGE_LAYOUT_GENERAL, texelBytes);
+  std::vector<float> out(raw.size() / 4);
+  std::memcpy(out.data(), raw.data(), raw.size());
+  return out;
+}
+
+float halfToFloat(uint16_t h) {
+  uint32_t sign = (h >> 15) & 1, exp = (h >> 10) & 31, mant = h & 1023;
+  float v = exp == 0 ? std::ldexp(float(mant), -24) : std::ldexp(float(mant | 1024), int(exp) - 25);
+  return sign ? -v : v;
+}
+
+}  // namespace
+
+class GBufferTest : public GpuTest {};
+
+TEST_F(GBufferTest, DepthAndNormalMatchRayTracedPrimaryHits) {
+  for (const char* scenePath : {"cornell-box-mcguire/CornellBox-Original.gltf", "cornell-simple/cornell_simple.gltf"}) {
+    LoadedScene s;
+    load(sharedScene(scenePath), s);
+    const uint32_t W = 64, H = 48;
+    gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], W, H, nullptr);
+    engine::GBuffer gbuffer = engine::createGBuffer(ctx, {W, H});
+    engine::GBufferPass pass = engine::createGBufferPass(ctx, s.gpu);
+    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { engine::recordGBuffer(ctx, cmd, pass, s.scene, s.gpu, gbuffer, cam, nullptr); });
+    std::vector<float> viewZ = readFloats(ctx, gbuffer.color[gpu::GBUFFER_VIEWZ], 4);
+    std::vector<std::byte> normalRaw = engine::readbackImage(ctx, gbuffer.color[gpu::GBUFFER_NORMAL], VK_IMAGE_LAYOUT_GENERAL, 8);
+
+    engine::ReferenceSettings settings;
+    settings.pixelJitter = false;
+    settings.maxBounces = 0;
+    engine::ReferenceImages rt = engine::renderReference(ctx, s.gpu, cam, settings, 1).images;
+
+    uint32_t compared = 0, agree = 0;
+    for (uint32_t y = 0; y < H; ++y)
+      for (uint32_t x = 0; x < W; ++x) {
+        size_t i = size_t(y) * W + x;
+        uint16_t h[4];
+        std::memcpy(h, &normalRaw[i * 8], 8);
+        glm::vec3 rasterNormal(halfToFloat(h[0]), halfToFloat(h[1]), halfToFloat(h[2]));
+        float rasterZ = viewZ[i], rtZ = rt.depth.at(x, y, 0);
+        bool rasterHit = halfToFloat(h[3]) > 0.5f, rtHit = rtZ > 0.0f;
+        ++compared;
+        if (rasterHit != rtHit) continue;  // a silhouette pixel: the two may differ by one sample position
+        if (!rasterHit) {
+          ++agree;
+          continue;
+        }
+        glm::vec3 rtNormal(rt.normal.at(x, y, 0), rt.normal.at(x, y, 1), rt.normal.at(x, y, 2));
+        bool depthOk = std::abs(rasterZ - rtZ) <= 1e-3f * rtZ;
+        bool normalOk = glm::dot(rasterNormal, rtNormal) > 0.999f;
+        if (depthOk && normalOk) ++agree;
+      }
+    // Only pixels whose centre sits on an edge may disagree.
+    EXPECT_GE(double(agree) / compared, 0.98) << scenePath << ": " << agree << " of " << compared << " pixels agree";
+    engine::destroyGBufferPass(ctx, pass);
+    engine::destroyGBuffer(ctx, gbuffer);
+    unload(s);
+  }
+}

@@ -1,0 +1,56 @@
+// Shared fixture for GPU tests: one validated Vulkan context per test suite,
+// and a check after every test that validation stayed silent.
+#pragma once
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "camera.h"
+#include "context.h"
+#include "path_tracer.h"
+#include "scene_gpu.h"
+#include "scene_loading.h"
+
+inline std::string sharedScene(const std::string& relative) { return std::string(GI_SHARED_SCENES) + "/" + relative; }
+
+struct LoadedScene {
+  engine::Scene scene;
+  engine::SceneGpu gpu;
+};
+
+class GpuTest : public ::testing::Test {
+ protected:
+  static engine::Context ctx;
+
+  static void SetUpTestSuite() {
+    engine::ContextDesc desc;
+    desc.validation = true;
+    std::string error;
+    if (!engine::createContext(desc, ctx, error)) FAIL() << error;
+  }
+  static void TearDownTestSuite() { engine::destroyContext(ctx); }
+  void TearDown() override { EXPECT_EQ(ctx.validationMessages(), 0u) << "Vulkan validation reported problems"; }
+
+  // Loads (Morton-sorted) and uploads; fails the test on a load error.
+  static void load(const std::string& path, LoadedScene& out) {
+    std::string error;
+    ASSERT_TRUE(engine::loadSceneForRendering(path, out.scene, error)) << error;
+    engine::createSceneGpu(ctx, out.scene, out.gpu);
+  }
+  static void unload(LoadedScene& s) { engine::destroySceneGpu(ctx, s.gpu); }
+
+  static engine::ReferenceImages render(const LoadedScene& s, uint32_t width, uint32_t height,
+                                        const engine::ReferenceSettings& settings, uint32_t spp) {
+    gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], width, height, nullptr);
+    return engine::renderReference(ctx, s.gpu, cam, settings, spp, 16).images;
+  }
+};
+
+inline engine::Context GpuTest::ctx;
+
+inline double meanOf(const engine::FloatImage& img, uint32_t channel) {
+  double sum = 0.0;
+  for (uint32_t y = 0; y < img.height; ++y)
+    for (uint32_t x = 0; x < img.width; ++x) sum += img.at(x, y, channel);
+  return sum / (double(img.width) * img.height);
+}
