@@ -86,6 +86,7 @@ Image createImage(const Context& ctx, VkExtent2D extent, VkFormat format, VkImag
   alloc.allocationSize = req.size;
   alloc.memoryTypeIndex = findMemoryType(ctx, req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
   VK_CHECK(vkAllocateMemory(ctx.device, &alloc, nullptr, &img.memory));
+  img.allocationSize = req.size;
   VK_CHECK(vkBindImageMemory(ctx.device, img.image, img.memory, 0));
   VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
   view.image = img.image;

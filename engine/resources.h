@@ -24,6 +24,7 @@ struct Image {
   VkFormat format = VK_FORMAT_UNDEFINED;
   VkExtent2D extent{};
   uint32_t mipLevels = 1;
+  VkDeviceSize allocationSize = 0;  // device memory behind the image, bytes
 };
 
 enum class MemoryKind { DeviceLocal, HostVisible };

@@ -44,7 +44,7 @@ void main() {
   if (dot(n, toCamera) < 0.0) n = front ? geometric : -geometric;
 
   outNormal = vec4(n, 1.0);
-  outAlbedo = vec4(m.baseColor, 1.0);
+  outAlbedo = vec4(m.baseColor, (m.flags & MATERIAL_FLAG_GLOSSY) != 0u ? 1.0 : 0.0);
   outMaterial = vec2(m.roughness, m.metallic);
   outEmission = vec4(front ? m.emission : vec3(0.0), 1.0);
   vec2 current = inClip.xy / inClip.w;

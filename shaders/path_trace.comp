@@ -1,12 +1,9 @@
 #version 460
-// Reference path tracer: progressive, unbiased for the bounce limit B.
-// Vertex 0 is the primary hit. Light reflected at vertex k (by NEE, or by
-// BSDF sampling that hits an emitter at vertex k+1) has been through k
-// indirect bounces, so it is kept for k ≤ B. Russian roulette divides by the
-// survival probability, which keeps the estimator unbiased for any B.
+// Reference path tracer: progressive, unbiased for the bounce limit B
+// (bounce accounting in path.glsl). One jittered primary ray per sample.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
-#include "lights.glsl"
+#include "path.glsl"
 #include "camera.glsl"
 #include "shared/path_tracer.h"
 
@@ -36,67 +33,17 @@ PathResult tracePath(uvec2 pixel, uint sampleIndex) {
   r.depth = 0.0;
   GiRng rng = giRngCreate(pixel, sampleIndex, pc.seed);
   vec2 jitter = pc.pixelJitter != 0u ? giRandom2(rng) : vec2(0.5);
-  vec3 origin = camera.position;
   vec3 direction = giCameraRayDirection(camera, vec2(pixel) + jitter);
-  vec3 throughput = vec3(1.0);
-  vec3 throughputDemod = vec3(1.0);
-  float previousBsdfPdf = 0.0;
-
-  for (uint depth = 0u;; ++depth) {
-    GiHit hit = giTraceClosest(origin, direction, 0.0, GI_FLT_MAX);
-    if (hit.t < 0.0) break;  // no environment: the background is black
-    GiSurface s = giSurfaceFromHit(hit, direction);
-    if (depth == 0u) {
-      r.albedo = s.material.baseColor;
-      r.normal = s.normal;
-      r.depth = giViewDepth(camera, s.position);
-    }
-    // Emission reached by BSDF sampling from vertex depth-1 (bounce depth-1).
-    if (s.frontFace && giMaxComponent(s.material.emission) > 0.0) {
-      if (depth == 0u) {
-        r.direct += s.material.emission;
-      } else {
-        float w = GI_SCENE_HAS_EMISSIVE ? giPowerHeuristic(previousBsdfPdf, giEmissiveLightPdf(s, hit.geometry, origin)) : 1.0;
-        vec3 c = s.material.emission * w;
-        if (depth == 1u) r.direct += throughput * c;
-        else {
-          r.indirect += throughput * c;
-          r.indirectDemod += throughputDemod * c;
-        }
-      }
-    }
-    if (depth > pc.maxBounces) break;
-
-    vec3 V = -direction;
-    GiBsdf b = giMakeBsdf(s.material.baseColor, s.material.metallic, s.material.roughness, s.material.flags);
-    vec3 Ld = giDirectLight(s, b, V, rng);
-    if (depth == 0u) r.direct += Ld;
-    else {
-      r.indirect += throughput * Ld;
-      r.indirectDemod += throughputDemod * Ld;
-    }
-
-    vec3 L, weight;
-    float pdf;
-    vec3 u = vec3(giRandom2(rng), giRandom(rng));
-    if (!giBsdfSample(b, s.normal, V, u, L, weight, pdf)) break;
-    if (dot(L, s.geometricNormal) <= 0.0) break;  // would pass through the surface
-    if (depth == 0u) {
-      throughputDemod = vec3(max(dot(s.normal, L), 0.0) * GI_INV_PI / pdf);
-    } else {
-      throughputDemod *= weight;
-    }
-    throughput *= weight;
-    if (depth + 1u >= pc.russianRouletteStart) {
-      float survive = clamp(giMaxComponent(throughput), 0.05, 0.95);
-      if (giRandom(rng) >= survive) break;
-      throughput /= survive;
-      throughputDemod /= survive;
-    }
-    previousBsdfPdf = pdf;
-    origin = giOffsetRay(s.position, s.geometricNormal);
-    direction = L;
-  }
+  GiHit hit = giTraceClosest(camera.position, direction, 0.0, GI_FLT_MAX);
+  if (hit.t < 0.0) return r;
+  GiSurface s = giSurfaceFromHit(hit, direction);
+  r.albedo = s.material.baseColor;
+  r.normal = s.normal;
+  r.depth = giViewDepth(camera, s.position);
+  GiPathSample p = giTracePathFromSurface(s, -direction, pc.maxBounces, pc.russianRouletteStart, rng);
+  r.direct = s.material.emission + p.direct;
+  r.indirect = p.indirect;
+  r.indirectDemod = p.indirectDemod;
   return r;
 }
 

@@ -8,7 +8,7 @@ GPU_NAMESPACE_BEGIN
 
 // Colour attachment locations (formats in engine/gbuffer.h).
 GPU_CONST GBUFFER_NORMAL = 0;    // rgba16f: world shading normal facing the camera (xyz), coverage (w)
-GPU_CONST GBUFFER_ALBEDO = 1;    // rgba8 unorm: linear base colour (rgb), alpha unused
+GPU_CONST GBUFFER_ALBEDO = 1;    // rgba8 unorm: linear base colour (rgb), 1 where the material has a GGX lobe (a)
 GPU_CONST GBUFFER_MATERIAL = 2;  // rg8 unorm: roughness, metallic
 GPU_CONST GBUFFER_EMISSION = 3;  // rgba32f: emitted radiance towards the camera, W/(sr·m²) (fp32: 1e6 must fit)
 GPU_CONST GBUFFER_MOTION = 4;    // rg16f: previous pixel position − current, in pixels

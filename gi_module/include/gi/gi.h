@@ -1,0 +1,123 @@
+// gi — a drop-in global-illumination module for Vulkan engines.
+// The engine owns the device, the frame loop, the G-buffer and the scene
+// (descriptor set 0, layout in shaders/shared/gpu_scene.h); the module owns its
+// passes and their images, and records into the engine's command buffer.
+//
+// Barrier contract for gi::recordFrame:
+//  - before: G-buffer images are in VK_IMAGE_LAYOUT_GENERAL with their writes
+//    made available to VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT reads; the TLAS
+//    build (if any) is complete for compute ray queries.
+//  - after: the output images are in GENERAL layout, written by compute
+//    shaders; the caller barriers COMPUTE_SHADER/SHADER_STORAGE_WRITE to its reader.
+//  - the module never submits, waits or presents. Only one frame may be in
+//    flight per module: call recordFrame again once the previous frame's fence
+//    has signalled (its uniform and readback buffers are host-written).
+#pragma once
+#include <volk.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "shared/gpu_scene.h"
+
+#define GI_VERSION_MAJOR 0
+#define GI_VERSION_MINOR 1
+
+namespace gi {
+
+enum class Method : uint32_t { Raw = 0 };
+const char* methodName(Method method);                      // "raw", ...
+bool methodFromName(const std::string& name, Method& out);  // false for unknown names
+
+enum class DebugView : uint32_t {
+  None = 0,        // composite = direct + diffuse albedo × indirect
+  Direct,          // direct light only (emission + first reflection)
+  Indirect,        // demodulated indirect light
+  Albedo,          // G-buffer base colour
+  Normal,          // G-buffer normal, mapped to [0,1]
+};
+
+struct RawSettings {
+  uint32_t samplesPerPixel = 1;        // paths per pixel per frame, [1, 64]
+  bool temporalAccumulation = false;   // average frames while the camera and settings stay unchanged
+  uint32_t maxAccumulatedFrames = 4096;// history cap, [1, 1<<20]; older frames fade out past it
+};
+
+struct Settings {
+  Method method = Method::Raw;
+  RawSettings raw;
+  uint32_t maxBounces = 1;             // indirect bounces B, [1, 32] (B = 0 would be direct light only)
+  uint32_t russianRouletteStart = 3;   // bounce from which paths may stop early (unbiased), [1, 64]
+  uint64_t rayBudget = 0;              // rays per frame the method may spend; 0 = unlimited
+  DebugView debugView = DebugView::None;
+  uint32_t seed = 1;                   // random sequence; the same seed and inputs give the same frames
+};
+
+struct SceneDesc {
+  VkDescriptorSetLayout layout = VK_NULL_HANDLE;  // set 0 per shaders/shared/gpu_scene.h
+  VkDescriptorSet set = VK_NULL_HANDLE;
+  bool hasEmissiveTriangles = false;              // skips emissive-light sampling when false
+  bool hasPunctualLights = false;                 // skips the punctual-light loop when false
+};
+
+struct ModuleDesc {
+  VkInstance instance = VK_NULL_HANDLE;
+  VkPhysicalDevice physicalDevice = VK_NULL_HANDLE;
+  VkDevice device = VK_NULL_HANDLE;  // created with ray queries, acceleration structures, scalar layout
+  uint32_t width = 0, height = 0;    // render size in pixels, [1, 16384]
+  SceneDesc scene;
+  bool debugLabels = false;          // VK_EXT_debug_utils is enabled on the instance
+};
+
+// G-buffer views (formats and encodings in shaders/shared/gbuffer.h), GENERAL layout.
+struct GBufferViews {
+  VkImageView normal, albedo, material, emission, motion, viewZ;
+};
+
+struct FrameInputs {
+  GBufferViews gbuffer;
+  gpu::GpuCamera camera;          // this frame's camera (previousClipFromWorld filled in)
+  gpu::GpuCamera previousCamera;  // last frame's camera; equal to `camera` on the first frame
+  uint32_t frameIndex = 0;        // increases by one per frame
+};
+
+// Module-owned images, rgba32f, GENERAL layout after recordFrame.
+struct Outputs {
+  VkImage direct, indirect, composite;            // indirect is demodulated
+  VkImageView directView, indirectView, compositeView;
+};
+
+struct PassTiming {
+  std::string name;
+  double ms = 0.0;
+};
+
+struct FrameStats {
+  uint32_t frameIndex = 0;          // the completed frame these numbers describe
+  std::vector<PassTiming> passes;   // GPU time per pass, in recording order
+  double totalMs = 0.0;
+  uint64_t raysTraced = 0;
+  uint32_t accumulatedFrames = 0;   // temporal history length behind the output
+  uint64_t memoryBytes = 0;         // device memory owned by the module
+};
+
+enum class ErrorCode : uint32_t { None = 0, MissingHandle, ZeroSize, SizeTooLarge, OutOfRange, UnknownMethod };
+struct Error {
+  ErrorCode code = ErrorCode::None;
+  std::string message;  // names the field and the value, e.g. "settings.raw.samplesPerPixel = 0 is outside [1, 64]"
+  explicit operator bool() const { return code != ErrorCode::None; }
+};
+
+struct Module;
+
+Error validate(const Settings& settings);
+Error create(const ModuleDesc& desc, const Settings& settings, Module*& out);
+void destroy(Module* module);  // the caller ensures the GPU no longer uses it
+Error setSettings(Module* module, const Settings& settings);
+void recordFrame(Module* module, VkCommandBuffer cmd, const FrameInputs& inputs);
+Outputs outputs(const Module* module);
+// Numbers from the last frame whose GPU work has completed (call after its fence).
+FrameStats stats(Module* module);
+
+}  // namespace gi

@@ -1,0 +1,254 @@
+// Module lifetime and the frame script. Each pass is one line between a
+// timestamp pair; barriers between passes are compute-to-compute.
+#include "module.h"
+
+#include <cstdint>
+#include <cstring>
+
+#include "gi_composite.comp.h"
+#include "gi_raw_trace.comp.h"
+
+namespace gi {
+namespace {
+
+constexpr VkFormat kOutputFormat = VK_FORMAT_R32G32B32A32_SFLOAT;  // fp32: radiance up to 1e6 and beyond must fit
+
+const engine::Binding kFrameBindings[] = {
+    {gpu::GI_BINDING_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER},
+    {gpu::GI_BINDING_GB_NORMAL, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_GB_ALBEDO, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_GB_MATERIAL, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_GB_EMISSION, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_GB_MOTION, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_GB_VIEWZ, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_OUT_DIRECT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_OUT_INDIRECT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_OUT_COMPOSITE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_HISTORY_DIRECT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_HISTORY_INDIRECT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_COUNTERS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+};
+
+bool sameView(const GBufferViews& a, const GBufferViews& b) { return std::memcmp(&a, &b, sizeof(a)) == 0; }
+bool sameCamera(const gpu::GpuCamera& a, const gpu::GpuCamera& b) {
+  return a.clipFromWorld == b.clipFromWorld && a.imageSize == b.imageSize;
+}
+
+Error checkDesc(const ModuleDesc& d) {
+  if (!d.instance || !d.physicalDevice || !d.device) return {ErrorCode::MissingHandle, "desc.instance, desc.physicalDevice and desc.device must be set"};
+  if (!d.scene.layout || !d.scene.set) return {ErrorCode::MissingHandle, "desc.scene.layout and desc.scene.set must be set"};
+  if (d.width == 0 || d.height == 0)
+    return {ErrorCode::ZeroSize, "desc.width × desc.height = " + std::to_string(d.width) + "×" + std::to_string(d.height) + " has a zero side"};
+  if (d.width > 16384 || d.height > 16384)
+    return {ErrorCode::SizeTooLarge, "desc.width × desc.height = " + std::to_string(d.width) + "×" + std::to_string(d.height) + " exceeds 16384 per side"};
+  return {};
+}
+
+engine::Image outputImage(Module& m) {
+  engine::Image img = engine::createImage(m.ctx, {m.desc.width, m.desc.height}, kOutputFormat,
+                                          VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
+                                              VK_IMAGE_USAGE_SAMPLED_BIT);
+  m.memoryBytes += img.allocationSize;
+  return img;
+}
+
+engine::Image* ownedImages(Module& m, size_t i) {
+  engine::Image* all[] = {&m.direct, &m.indirect, &m.composite, &m.historyDirect, &m.historyIndirect};
+  return i < 5 ? all[i] : nullptr;
+}
+
+}  // namespace
+
+void computeToComputeBarrier(VkCommandBuffer cmd) {
+  engine::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                        VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                        VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+}
+
+void beginPass(Module& m, VkCommandBuffer cmd, uint32_t slot, const char* name) {
+  uint32_t index = uint32_t(m.passNames[slot].size());
+  m.passNames[slot].emplace_back(name);
+  if (m.desc.debugLabels) {
+    VkDebugUtilsLabelEXT label{VK_STRUCTURE_TYPE_DEBUG_UTILS_LABEL_EXT};
+    label.pLabelName = name;
+    vkCmdBeginDebugUtilsLabelEXT(cmd, &label);
+  }
+  vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, m.timestamps, (slot * kMaxPasses + index) * 2);
+}
+
+void endPass(Module& m, VkCommandBuffer cmd, uint32_t slot) {
+  uint32_t index = uint32_t(m.passNames[slot].size()) - 1;
+  vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, m.timestamps, (slot * kMaxPasses + index) * 2 + 1);
+  if (m.desc.debugLabels) vkCmdEndDebugUtilsLabelEXT(cmd);
+}
+
+Error create(const ModuleDesc& desc, const Settings& settings, Module*& out) {
+  out = nullptr;
+  if (Error e = checkDesc(desc)) return e;
+  if (Error e = validate(settings)) return e;
+  // The module shares the engine's volk loader; load it for this device if the host has not.
+  if (volkGetLoadedDevice() != desc.device) {
+    if (volkInitialize() != VK_SUCCESS) return {ErrorCode::MissingHandle, "no Vulkan loader found"};
+    volkLoadInstanceOnly(desc.instance);
+    volkLoadDevice(desc.device);
+  }
+  Module* m = new Module;
+  m->desc = desc;
+  m->settings = settings;
+  m->ctx.instance = desc.instance;
+  m->ctx.physicalDevice = desc.physicalDevice;
+  m->ctx.device = desc.device;
+  vkGetPhysicalDeviceProperties(desc.physicalDevice, &m->ctx.properties);
+  vkGetPhysicalDeviceMemoryProperties(desc.physicalDevice, &m->ctx.memoryProperties);
+
+  for (size_t i = 0; engine::Image* img = ownedImages(*m, i); ++i) *img = outputImage(*m);
+  m->frameConstants = engine::createBuffer(m->ctx, sizeof(gpu::GiFrameConstants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                                           engine::MemoryKind::HostVisible);
+  m->counters = engine::createBuffer(m->ctx, sizeof(gpu::GiCounters) * (1 + kFramesInFlight),
+                                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
+                                         VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                                     engine::MemoryKind::HostVisible);
+  std::memset(m->counters.mapped, 0, m->counters.size);
+  m->memoryBytes += m->frameConstants.size + m->counters.size;
+
+  m->frameSet = engine::createDescriptorSet(m->ctx, kFrameBindings);
+  engine::DescriptorWriter w(m->frameSet.set);
+  w.buffer(gpu::GI_BINDING_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, m->frameConstants.buffer)
+      .storageImage(gpu::GI_BINDING_OUT_DIRECT, m->direct.view)
+      .storageImage(gpu::GI_BINDING_OUT_INDIRECT, m->indirect.view)
+      .storageImage(gpu::GI_BINDING_OUT_COMPOSITE, m->composite.view)
+      .storageImage(gpu::GI_BINDING_HISTORY_DIRECT, m->historyDirect.view)
+      .storageImage(gpu::GI_BINDING_HISTORY_INDIRECT, m->historyIndirect.view);
+  // The shaders' live counter is the first GiCounters; the others are per-slot copies for readback.
+  w.buffer(gpu::GI_BINDING_COUNTERS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, m->counters.buffer);
+  w.write(m->ctx);
+
+  VkDescriptorSetLayout layouts[] = {desc.scene.layout, m->frameSet.layout};
+  const uint32_t spec[] = {desc.scene.hasEmissiveTriangles ? 1u : 0u, desc.scene.hasPunctualLights ? 1u : 0u};
+  m->rawTrace = engine::createComputeProgram(m->ctx, spv_gi_raw_trace_comp, layouts, sizeof(gpu::GiRawPush),
+                                             {GI_GROUP_SIZE, GI_GROUP_SIZE}, spec);
+  m->composite_ = engine::createComputeProgram(m->ctx, spv_gi_composite_comp, layouts, sizeof(gpu::GiCompositePush),
+                                               {GI_GROUP_SIZE, GI_GROUP_SIZE}, spec);
+
+  VkQueryPoolCreateInfo q{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+  q.queryType = VK_QUERY_TYPE_TIMESTAMP;
+  q.queryCount = 2 * kMaxPasses * kFramesInFlight;
+  VK_CHECK(vkCreateQueryPool(desc.device, &q, nullptr, &m->timestamps));
+  out = m;
+  return {};
+}
+
+void destroy(Module* m) {
+  if (!m) return;
+  vkDestroyQueryPool(m->ctx.device, m->timestamps, nullptr);
+  engine::destroyComputeProgram(m->ctx, m->rawTrace);
+  engine::destroyComputeProgram(m->ctx, m->composite_);
+  engine::destroyDescriptorSet(m->ctx, m->frameSet);
+  for (size_t i = 0; engine::Image* img = ownedImages(*m, i); ++i) engine::destroyImage(m->ctx, *img);
+  engine::destroyBuffer(m->ctx, m->frameConstants);
+  engine::destroyBuffer(m->ctx, m->counters);
+  delete m;
+}
+
+Error setSettings(Module* m, const Settings& settings) {
+  if (Error e = validate(settings)) return e;
+  m->settings = settings;
+  m->historyLength = 0;  // any change invalidates accumulated frames
+  return {};
+}
+
+Outputs outputs(const Module* m) {
+  return {m->direct.image, m->indirect.image, m->composite.image, m->direct.view, m->indirect.view, m->composite.view};
+}
+
+void recordFrame(Module* m, VkCommandBuffer cmd, const FrameInputs& in) {
+  const uint32_t slot = in.frameIndex % kFramesInFlight;
+  const Settings& s = m->settings;
+  gpu::GiFrameConstants frame{in.camera, in.previousCamera, {m->desc.width, m->desc.height}, in.frameIndex, 0};
+  std::memcpy(m->frameConstants.mapped, &frame, sizeof(frame));
+  if (!sameView(in.gbuffer, m->boundGBuffer)) {
+    engine::DescriptorWriter(m->frameSet.set)
+        .storageImage(gpu::GI_BINDING_GB_NORMAL, in.gbuffer.normal)
+        .storageImage(gpu::GI_BINDING_GB_ALBEDO, in.gbuffer.albedo)
+        .storageImage(gpu::GI_BINDING_GB_MATERIAL, in.gbuffer.material)
+        .storageImage(gpu::GI_BINDING_GB_EMISSION, in.gbuffer.emission)
+        .storageImage(gpu::GI_BINDING_GB_MOTION, in.gbuffer.motion)
+        .storageImage(gpu::GI_BINDING_GB_VIEWZ, in.gbuffer.viewZ)
+        .write(m->ctx);
+    m->boundGBuffer = in.gbuffer;
+  }
+  if (!m->imagesInitialised) {
+    for (size_t i = 0; engine::Image* img = ownedImages(*m, i); ++i)
+      engine::imageBarrier(cmd, img->image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE,
+                           0, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                           VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+    m->imagesInitialised = true;
+  }
+  // History survives only while the view and the settings stay put.
+  bool accumulate = s.method == Method::Raw && s.raw.temporalAccumulation;
+  if (!accumulate || !sameCamera(in.camera, m->historyCamera)) m->historyLength = 0;
+  m->historyCamera = in.camera;
+
+  vkCmdResetQueryPool(cmd, m->timestamps, slot * kMaxPasses * 2, kMaxPasses * 2);
+  m->passNames[slot].clear();
+  vkCmdFillBuffer(cmd, m->counters.buffer, 0, sizeof(gpu::GiCounters), 0);
+  engine::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                        VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+  VkDescriptorSet sets[] = {m->desc.scene.set, m->frameSet.set};
+  const glm::uvec2 size{m->desc.width, m->desc.height};
+
+  // Pass: trace paths from the G-buffer (direct + demodulated indirect, optional temporal mean).
+  beginPass(*m, cmd, slot, "raw_trace");
+  gpu::GiRawPush raw{s.seed, s.raw.samplesPerPixel, s.maxBounces, s.russianRouletteStart,
+                     m->historyLength, s.raw.maxAccumulatedFrames, accumulate ? 1u : 0u, 0};
+  engine::dispatch(cmd, m->rawTrace, sets, size, raw);
+  endPass(*m, cmd, slot);
+  computeToComputeBarrier(cmd);
+
+  // Pass: composite (or the chosen debug view).
+  beginPass(*m, cmd, slot, "composite");
+  engine::dispatch(cmd, m->composite_, sets, size, gpu::GiCompositePush{uint32_t(s.debugView), 0});
+  endPass(*m, cmd, slot);
+
+  // Counters to this slot's readback copy.
+  engine::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                        VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+  VkBufferCopy copy{0, sizeof(gpu::GiCounters) * (1 + slot), sizeof(gpu::GiCounters)};
+  vkCmdCopyBuffer(cmd, m->counters.buffer, m->counters.buffer, 1, &copy);
+
+  if (accumulate) m->historyLength = std::min(m->historyLength + 1, s.raw.maxAccumulatedFrames);
+  m->slotFrameIndex[slot] = in.frameIndex;
+  m->slotHistory[slot] = m->historyLength;
+  m->slotRecorded[slot] = true;
+}
+
+FrameStats stats(Module* m) {
+  // Newest recorded slot first; a slot whose timestamps are not ready is still in flight.
+  uint32_t order[kFramesInFlight] = {0, 1};
+  if (m->slotFrameIndex[1] > m->slotFrameIndex[0]) std::swap(order[0], order[1]);
+  for (uint32_t slot : order) {
+    if (!m->slotRecorded[slot] || m->passNames[slot].empty()) continue;
+    uint32_t n = uint32_t(m->passNames[slot].size());
+    std::vector<uint64_t> ticks(2 * n);
+    VkResult r = vkGetQueryPoolResults(m->ctx.device, m->timestamps, slot * kMaxPasses * 2, 2 * n, ticks.size() * 8,
+                                       ticks.data(), 8, VK_QUERY_RESULT_64_BIT);
+    if (r != VK_SUCCESS) continue;
+    FrameStats st;
+    st.frameIndex = m->slotFrameIndex[slot];
+    for (uint32_t i = 0; i < n; ++i) {
+      double ms = double(ticks[2 * i + 1] - ticks[2 * i]) * m->ctx.properties.limits.timestampPeriod * 1e-6;
+      st.passes.push_back({m->passNames[slot][i], ms});
+      st.totalMs += ms;
+    }
+    gpu::GiCounters c;
+    std::memcpy(&c, static_cast<const std::byte*>(m->counters.mapped) + sizeof(gpu::GiCounters) * (1 + slot), sizeof(c));
+    st.raysTraced = c.raysTraced;
+    st.accumulatedFrames = m->slotHistory[slot];
+    st.memoryBytes = m->memoryBytes;
+    m->lastStats = st;
+    break;
+  }
+  return m->lastStats;
+}
+
+}  // namespace gi

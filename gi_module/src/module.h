@@ -1,0 +1,47 @@
+// The module's internal state. Passes are free functions over it; the frame
+// (module.cpp) calls them in order like a script.
+#pragma once
+#include "compute_program.h"
+#include "descriptors.h"
+#include "gi/gi.h"
+#include "resources.h"
+#include "shared/gi_frame.h"
+
+namespace gi {
+
+inline constexpr uint32_t kFramesInFlight = 2;  // timestamp/counter slots, so a frame's numbers survive the next
+inline constexpr uint32_t kMaxPasses = 16;
+
+struct Module {
+  engine::Context ctx;  // device handles only: the module never submits
+  ModuleDesc desc;
+  Settings settings;
+
+  engine::Image direct, indirect, composite;       // outputs
+  engine::Image historyDirect, historyIndirect;    // temporal accumulation (raw)
+  engine::Buffer frameConstants;                   // host-visible GiFrameConstants
+  engine::Buffer counters;                         // host-visible GiCounters[kFramesInFlight]
+  engine::DescriptorSet frameSet;
+  GBufferViews boundGBuffer{};                     // views currently written into frameSet
+
+  engine::ComputeProgram rawTrace, composite_;
+
+  VkQueryPool timestamps = VK_NULL_HANDLE;         // 2 per pass per slot
+  std::vector<std::string> passNames[kFramesInFlight];
+  uint32_t slotFrameIndex[kFramesInFlight] = {};
+  bool slotRecorded[kFramesInFlight] = {};
+  uint32_t slotHistory[kFramesInFlight] = {};
+
+  bool imagesInitialised = false;
+  uint32_t historyLength = 0;                      // frames in the history images
+  gpu::GpuCamera historyCamera{};                  // camera the history was gathered with
+  uint64_t memoryBytes = 0;
+  FrameStats lastStats;
+};
+
+// Pass helpers (module.cpp).
+void beginPass(Module& m, VkCommandBuffer cmd, uint32_t slot, const char* name);
+void endPass(Module& m, VkCommandBuffer cmd, uint32_t slot);
+void computeToComputeBarrier(VkCommandBuffer cmd);
+
+}  // namespace gi

@@ -1,0 +1,25 @@
+#version 460
+// The module's last pass: direct + diffuse albedo × demodulated indirect, or
+// the debug view the settings pick.
+#extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#include "gi_frame.glsl"
+
+layout(local_size_x = GI_GROUP_SIZE, local_size_y = GI_GROUP_SIZE) in;
+layout(push_constant, scalar) uniform Push { GiCompositePush pc; };
+
+void main() {
+  ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+  if (any(greaterThanEqual(gl_GlobalInvocationID.xy, giFrame.size))) return;
+  vec3 direct = imageLoad(giOutDirect, p).rgb;
+  vec3 indirect = imageLoad(giOutIndirect, p).rgb;
+  vec3 result;
+  switch (pc.debugView) {
+    case GI_DEBUG_DIRECT: result = direct; break;
+    case GI_DEBUG_INDIRECT: result = indirect; break;
+    case GI_DEBUG_ALBEDO: result = imageLoad(giGbAlbedo, p).rgb; break;
+    case GI_DEBUG_NORMAL: result = imageLoad(giGbNormal, p).xyz * 0.5 + 0.5; break;
+    default: result = direct + giGbDiffuseAlbedo(p) * indirect; break;
+  }
+  imageStore(giOutComposite, p, vec4(result, 1.0));
+}

@@ -1,0 +1,63 @@
+// Set 1 of the GI module's passes (shared/gi_frame.h) and the G-buffer decode:
+// the only place that knows how the engine's G-buffer encodes a surface.
+#ifndef GI_FRAME_GLSL
+#define GI_FRAME_GLSL
+#include "surface.glsl"
+#include "camera.glsl"
+#include "shared/gi_frame.h"
+
+layout(set = 1, binding = GI_BINDING_FRAME, scalar) uniform GiFrameBlock { GiFrameConstants giFrame; };
+layout(set = 1, binding = GI_BINDING_GB_NORMAL, rgba16f) uniform readonly image2D giGbNormal;
+layout(set = 1, binding = GI_BINDING_GB_ALBEDO, rgba8) uniform readonly image2D giGbAlbedo;
+layout(set = 1, binding = GI_BINDING_GB_MATERIAL, rg8) uniform readonly image2D giGbMaterial;
+layout(set = 1, binding = GI_BINDING_GB_EMISSION, rgba32f) uniform readonly image2D giGbEmission;
+layout(set = 1, binding = GI_BINDING_GB_MOTION, rg16f) uniform readonly image2D giGbMotion;
+layout(set = 1, binding = GI_BINDING_GB_VIEWZ, r32f) uniform readonly image2D giGbViewZ;
+layout(set = 1, binding = GI_BINDING_OUT_DIRECT, rgba32f) uniform image2D giOutDirect;
+layout(set = 1, binding = GI_BINDING_OUT_INDIRECT, rgba32f) uniform image2D giOutIndirect;
+layout(set = 1, binding = GI_BINDING_OUT_COMPOSITE, rgba32f) uniform image2D giOutComposite;
+layout(set = 1, binding = GI_BINDING_HISTORY_DIRECT, rgba32f) uniform image2D giHistoryDirect;
+layout(set = 1, binding = GI_BINDING_HISTORY_INDIRECT, rgba32f) uniform image2D giHistoryIndirect;
+layout(set = 1, binding = GI_BINDING_COUNTERS, scalar) buffer GiCountersBlock { GiCounters giCounters; };
+
+// True where the G-buffer holds geometry.
+bool giGbCovered(ivec2 p) { return imageLoad(giGbNormal, p).w > 0.5; }
+
+// The primary hit as a shading point: position from view depth along the
+// pixel-centre ray, normal and material from the G-buffer. The G-buffer stores
+// no triangle normal, so the (camera-facing) shading normal stands in for it.
+GiSurface giGbSurface(ivec2 p, out vec3 V) {
+  GiSurface s;
+  vec3 dir = giCameraRayDirection(giFrame.camera, vec2(p) + 0.5);
+  vec3 forward = -vec3(giFrame.camera.worldFromView[2]);
+  float viewZ = imageLoad(giGbViewZ, p).r;
+  s.position = giFrame.camera.position + dir * (viewZ / max(dot(dir, forward), 1e-6));
+  s.normal = normalize(imageLoad(giGbNormal, p).xyz);
+  s.geometricNormal = s.normal;
+  s.frontFace = true;
+  s.uv = vec2(0.0);
+  vec4 albedo = imageLoad(giGbAlbedo, p);
+  vec2 material = imageLoad(giGbMaterial, p).rg;
+  s.material.baseColor = albedo.rgb;
+  s.material.alpha = 1.0;
+  s.material.roughness = material.r;
+  s.material.metallic = material.g;
+  s.material.emission = imageLoad(giGbEmission, p).rgb;
+  s.material.flags = albedo.a > 0.5 ? MATERIAL_FLAG_GLOSSY : 0u;
+  V = -dir;
+  return s;
+}
+
+// The albedo that multiplies demodulated indirect light: the diffuse lobe's.
+vec3 giGbDiffuseAlbedo(ivec2 p) {
+  vec4 albedo = imageLoad(giGbAlbedo, p);
+  float metallic = albedo.a > 0.5 ? imageLoad(giGbMaterial, p).g : 0.0;
+  return (1.0 - metallic) * albedo.rgb;
+}
+
+void giCountRays(bool counted) {
+  uint rays = subgroupAdd(counted ? giRaysTraced : 0u);
+  if (subgroupElect()) atomicAdd(giCounters.raysTraced, rays);
+}
+
+#endif

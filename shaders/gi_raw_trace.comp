@@ -1,0 +1,46 @@
+#version 460
+// Method `raw`: N unfiltered paths per pixel from the G-buffer's primary hit
+// (path.glsl), direct and demodulated indirect kept apart, optionally averaged
+// over frames while nothing changes (a running mean capped at maxHistory).
+#extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#include "path.glsl"
+#include "gi_frame.glsl"
+
+layout(local_size_x = GI_GROUP_SIZE, local_size_y = GI_GROUP_SIZE) in;
+layout(push_constant, scalar) uniform Push { GiRawPush pc; };
+
+void main() {
+  ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+  bool inside = all(lessThan(gl_GlobalInvocationID.xy, giFrame.size));
+  if (inside) {
+    vec3 direct = vec3(0.0), indirect = vec3(0.0);
+    if (giGbCovered(p)) {
+      vec3 V;
+      GiSurface s = giGbSurface(p, V);
+      for (uint i = 0u; i < pc.samplesPerPixel; ++i) {
+        GiRng rng = giRngCreate(uvec2(p), giFrame.frameIndex * pc.samplesPerPixel + i, pc.seed);
+        GiPathSample path = giTracePathFromSurface(s, V, pc.maxBounces, pc.russianRouletteStart, rng);
+        direct += path.direct;
+        indirect += path.indirectDemod;
+      }
+      float inv = 1.0 / float(pc.samplesPerPixel);
+      direct = s.material.emission + direct * inv;
+      indirect *= inv;
+    }
+    if (pc.accumulate != 0u) {
+      // Running mean: weight 1/(n+1) until the cap, then an exponential average.
+      float n = float(min(pc.historyLength, pc.maxHistory - 1u));
+      float w = 1.0 / (n + 1.0);
+      if (pc.historyLength > 0u) {
+        direct = mix(imageLoad(giHistoryDirect, p).rgb, direct, w);
+        indirect = mix(imageLoad(giHistoryIndirect, p).rgb, indirect, w);
+      }
+      imageStore(giHistoryDirect, p, vec4(direct, 1.0));
+      imageStore(giHistoryIndirect, p, vec4(indirect, 1.0));
+    }
+    imageStore(giOutDirect, p, vec4(direct, 1.0));
+    imageStore(giOutIndirect, p, vec4(indirect, 1.0));
+  }
+  giCountRays(inside);
+}

@@ -1,0 +1,69 @@
+// The GI module's per-frame interface (set 1 of its compute passes): frame
+// constants, the engine's G-buffer, the module's outputs and history, and the
+// push constants of each pass.
+#ifndef GI_FRAME_H
+#define GI_FRAME_H
+#include "gpu_common.h"
+#include "gpu_scene.h"
+
+GPU_NAMESPACE_BEGIN
+
+GPU_CONST GI_BINDING_FRAME = 0;          // uniform GiFrameConstants
+GPU_CONST GI_BINDING_GB_NORMAL = 1;      // G-buffer images (shared/gbuffer.h), read-only
+GPU_CONST GI_BINDING_GB_ALBEDO = 2;
+GPU_CONST GI_BINDING_GB_MATERIAL = 3;
+GPU_CONST GI_BINDING_GB_EMISSION = 4;
+GPU_CONST GI_BINDING_GB_MOTION = 5;
+GPU_CONST GI_BINDING_GB_VIEWZ = 6;
+GPU_CONST GI_BINDING_OUT_DIRECT = 7;     // rgba32f: emission + direct light, W/(sr·m²)
+GPU_CONST GI_BINDING_OUT_INDIRECT = 8;   // rgba32f: demodulated indirect light
+GPU_CONST GI_BINDING_OUT_COMPOSITE = 9;  // rgba32f: what the debug view selects (default: the lit image)
+GPU_CONST GI_BINDING_HISTORY_DIRECT = 10;   // rgba32f: running mean of direct (rgb)
+GPU_CONST GI_BINDING_HISTORY_INDIRECT = 11; // rgba32f: running mean of demodulated indirect (rgb)
+GPU_CONST GI_BINDING_COUNTERS = 12;      // GiCounters, host-visible, one slot per frame in flight
+GPU_CONST GI_BINDING_COUNT = 13;
+#define GI_GROUP_SIZE 8u                 // 8×8 threads per group
+
+struct GiFrameConstants {
+  GpuCamera camera;
+  GpuCamera previousCamera;
+  uvec2 size;        // pixels
+  uint frameIndex;
+  uint pad0;
+};
+GPU_ASSERT_SIZE(GiFrameConstants, 592);
+
+struct GiCounters {
+  uint raysTraced;   // added to by every tracing pass
+  uint pad0;
+  uint pad1;
+  uint pad2;
+};
+GPU_ASSERT_SIZE(GiCounters, 16);
+
+struct GiRawPush {
+  uint seed;
+  uint samplesPerPixel;       // ≥ 1
+  uint maxBounces;            // ≥ 1
+  uint russianRouletteStart;
+  uint historyLength;         // frames already in the history images; 0 = start over
+  uint maxHistory;            // cap on the running mean's weight
+  uint accumulate;            // 1 = blend with history, 0 = this frame only
+  uint pad0;
+};
+GPU_ASSERT_SIZE(GiRawPush, 32);
+
+GPU_CONST GI_DEBUG_NONE = 0;
+GPU_CONST GI_DEBUG_DIRECT = 1;
+GPU_CONST GI_DEBUG_INDIRECT = 2;
+GPU_CONST GI_DEBUG_ALBEDO = 3;
+GPU_CONST GI_DEBUG_NORMAL = 4;
+
+struct GiCompositePush {
+  uint debugView;  // GI_DEBUG_*
+  uint pad0;
+};
+GPU_ASSERT_SIZE(GiCompositePush, 8);
+
+GPU_NAMESPACE_END
+#endif
