@@ -39,6 +39,19 @@ void beginPass(const Context& ctx, VkCommandBuffer cmd, GpuTimer& t, const char*
   t.names.emplace_back(name);
   t.open.push_back(index);
   vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, t.pool, 2 * index);
+  timestampFence(cmd);
+}
+
+void timestampFence(VkCommandBuffer cmd) {
+  VkMemoryBarrier2 b{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
+  b.srcStageMask = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
+  b.srcAccessMask = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
+  b.dstStageMask = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
+  b.dstAccessMask = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
+  VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+  dep.memoryBarrierCount = 1;
+  dep.pMemoryBarriers = &b;
+  vkCmdPipelineBarrier2(cmd, &dep);
 }
 
 void endPass(const Context& ctx, VkCommandBuffer cmd, GpuTimer& t) {

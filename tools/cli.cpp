@@ -25,7 +25,9 @@ bool parse(int argc, char** argv, std::span<const Option> options, Args& args, s
         error = "option '" + arg + "' needs a value (" + opt->valueHint + ")";
         return false;
       }
-      args.values[name] = argv[++i];
+      // A repeated option accumulates: "--set a=1 --set b=2" reads as "a=1,b=2".
+      std::string& slot = args.values[name];
+      slot = slot.empty() ? std::string(argv[++i]) : slot + "," + argv[++i];
     } else {
       args.values[name].assign(1, '1');  // (a literal here trips GCC 12's -Wrestrict false positive)
     }

@@ -1,6 +1,7 @@
-// Module lifetime and the frame script. Each pass is one line between a
-// timestamp pair; barriers between passes are compute-to-compute.
+// Module lifetime and the frame script. Each pass is one dispatch and the
+// barrier that publishes its writes, between a timestamp pair.
 #include "module.h"
+#include "gpu_timer.h"
 
 #include <cstdint>
 #include <cstring>
@@ -74,6 +75,7 @@ void beginPass(Module& m, VkCommandBuffer cmd, uint32_t slot, const char* name) 
     vkCmdBeginDebugUtilsLabelEXT(cmd, &label);
   }
   vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, m.timestamps, (slot * kMaxPasses + index) * 2);
+  engine::timestampFence(cmd);
 }
 
 void endPass(Module& m, VkCommandBuffer cmd, uint32_t slot) {
@@ -202,17 +204,17 @@ void recordFrame(Module* m, VkCommandBuffer cmd, const FrameInputs& in) {
   gpu::GiRawPush raw{s.seed, s.raw.samplesPerPixel, s.maxBounces, s.russianRouletteStart,
                      m->historyLength, s.raw.maxAccumulatedFrames, accumulate ? 1u : 0u, 0};
   engine::dispatch(cmd, m->rawTrace, sets, size, raw);
-  endPass(*m, cmd, slot);
   computeToComputeBarrier(cmd);
+  endPass(*m, cmd, slot);
 
   // Pass: composite (or the chosen debug view).
   beginPass(*m, cmd, slot, "composite");
   engine::dispatch(cmd, m->composite_, sets, size, gpu::GiCompositePush{uint32_t(s.debugView), 0});
+  engine::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                        VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
   endPass(*m, cmd, slot);
 
   // Counters to this slot's readback copy.
-  engine::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                        VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
   VkBufferCopy copy{0, sizeof(gpu::GiCounters) * (1 + slot), sizeof(gpu::GiCounters)};
   vkCmdCopyBuffer(cmd, m->counters.buffer, m->counters.buffer, 1, &copy);
 

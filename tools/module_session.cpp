@@ -1,0 +1,111 @@
+#include "module_session.h"
+
+#include <cstring>
+
+namespace tools {
+namespace {
+
+float halfToFloat(uint16_t h) {
+  uint32_t sign = (h >> 15) & 1, exp = (h >> 10) & 31, mant = h & 1023;
+  float v = exp == 0 ? std::ldexp(float(mant), -24)
+                     : exp == 31 ? (mant ? std::nanf("") : INFINITY) : std::ldexp(float(mant | 1024), int(exp) - 25);
+  return sign ? -v : v;
+}
+
+engine::FloatImage readRgba32(const engine::Context& ctx, VkImage image, VkExtent2D extent) {
+  engine::Image view;
+  view.image = image;
+  view.format = VK_FORMAT_R32G32B32A32_SFLOAT;
+  view.extent = extent;
+  std::vector<std::byte> raw = engine::readbackImage(ctx, view, VK_IMAGE_LAYOUT_GENERAL, 16);
+  engine::FloatImage out(extent.width, extent.height, 3);
+  for (size_t p = 0; p < size_t(extent.width) * extent.height; ++p) std::memcpy(&out.pixels[3 * p], &raw[16 * p], 12);
+  return out;
+}
+
+}  // namespace
+
+bool createModuleSession(const engine::Context& ctx, const engine::SceneGpu& scene, VkExtent2D extent,
+                         const gi::Settings& settings, ModuleSession& s, std::string& error) {
+  gi::ModuleDesc desc;
+  desc.instance = ctx.instance;
+  desc.physicalDevice = ctx.physicalDevice;
+  desc.device = ctx.device;
+  desc.width = extent.width;
+  desc.height = extent.height;
+  desc.scene = {scene.set.layout, scene.set.set, scene.hasEmissiveTriangles(), scene.hasPunctualLights()};
+  desc.debugLabels = ctx.debugUtils;
+  if (gi::Error e = gi::create(desc, settings, s.module)) {
+    error = e.message;
+    return false;
+  }
+  s.extent = extent;
+  s.gbuffer = engine::createGBuffer(ctx, extent);
+  s.gbufferPass = engine::createGBufferPass(ctx, scene);
+  s.timer = engine::createGpuTimer(ctx, 4);
+  return true;
+}
+
+void destroyModuleSession(const engine::Context& ctx, ModuleSession& s) {
+  vkDeviceWaitIdle(ctx.device);
+  gi::destroy(s.module);
+  engine::destroyGpuTimer(ctx, s.timer);
+  engine::destroyGBufferPass(ctx, s.gbufferPass);
+  engine::destroyGBuffer(ctx, s.gbuffer);
+  s = ModuleSession{};
+}
+
+FrameTiming renderModuleFrame(const engine::Context& ctx, ModuleSession& s, const engine::Scene& scene,
+                              const engine::SceneGpu& sceneGpu, const gpu::GpuCamera& camera,
+                              const gpu::GpuCamera& previousCamera, uint32_t frameIndex) {
+  engine::resetGpuTimer(ctx, s.timer);
+  gi::FrameInputs in;
+  const engine::GBuffer& g = s.gbuffer;
+  in.gbuffer = {g.color[gpu::GBUFFER_NORMAL].view, g.color[gpu::GBUFFER_ALBEDO].view, g.color[gpu::GBUFFER_MATERIAL].view,
+                g.color[gpu::GBUFFER_EMISSION].view, g.color[gpu::GBUFFER_MOTION].view, g.color[gpu::GBUFFER_VIEWZ].view};
+  in.camera = camera;
+  in.previousCamera = previousCamera;
+  in.frameIndex = frameIndex;
+  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+    // Frame script: raster the G-buffer, then the GI module's passes.
+    engine::recordGBuffer(ctx, cmd, s.gbufferPass, scene, sceneGpu, s.gbuffer, camera, &s.timer);
+    gi::recordFrame(s.module, cmd, in);
+    engine::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                          VK_PIPELINE_STAGE_2_TRANSFER_BIT | VK_PIPELINE_STAGE_2_HOST_BIT,
+                          VK_ACCESS_2_TRANSFER_READ_BIT | VK_ACCESS_2_HOST_READ_BIT);
+  });
+  FrameTiming t;
+  for (const engine::PassTime& p : engine::readPassTimes(ctx, s.timer)) t.passes.push_back({p.name, p.ms});
+  gi::FrameStats st = gi::stats(s.module);
+  t.passes.insert(t.passes.end(), st.passes.begin(), st.passes.end());
+  for (const gi::PassTiming& p : t.passes) t.totalMs += p.ms;
+  t.rays = st.raysTraced;
+  return t;
+}
+
+engine::ReferenceImages readModuleImages(const engine::Context& ctx, const ModuleSession& s) {
+  engine::ReferenceImages out;
+  gi::Outputs o = gi::outputs(s.module);
+  out.final = readRgba32(ctx, o.composite, s.extent);
+  out.direct = readRgba32(ctx, o.direct, s.extent);
+  out.indirect = readRgba32(ctx, o.indirect, s.extent);
+  size_t n = size_t(s.extent.width) * s.extent.height;
+  std::vector<std::byte> albedo = engine::readbackImage(ctx, s.gbuffer.color[gpu::GBUFFER_ALBEDO], VK_IMAGE_LAYOUT_GENERAL, 4);
+  std::vector<std::byte> normal = engine::readbackImage(ctx, s.gbuffer.color[gpu::GBUFFER_NORMAL], VK_IMAGE_LAYOUT_GENERAL, 8);
+  std::vector<std::byte> depth = engine::readbackImage(ctx, s.gbuffer.color[gpu::GBUFFER_VIEWZ], VK_IMAGE_LAYOUT_GENERAL, 4);
+  out.albedo = engine::FloatImage(s.extent.width, s.extent.height, 3);
+  out.normal = engine::FloatImage(s.extent.width, s.extent.height, 3);
+  out.depth = engine::FloatImage(s.extent.width, s.extent.height, 1);
+  for (size_t p = 0; p < n; ++p) {
+    for (int c = 0; c < 3; ++c) {
+      out.albedo.pixels[3 * p + c] = float(uint8_t(albedo[4 * p + c])) / 255.0f;
+      uint16_t h;
+      std::memcpy(&h, &normal[8 * p + 2 * c], 2);
+      out.normal.pixels[3 * p + c] = halfToFloat(h);
+    }
+    std::memcpy(&out.depth.pixels[p], &depth[4 * p], 4);
+  }
+  return out;
+}
+
+}  // namespace tools
