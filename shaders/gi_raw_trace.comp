@@ -19,7 +19,7 @@ void main() {
       vec3 V;
       GiSurface s = giGbSurface(p, V);
       for (uint i = 0u; i < pc.samplesPerPixel; ++i) {
-        GiRng rng = giRngCreate(uvec2(p), giFrame.frameIndex * pc.samplesPerPixel + i, pc.seed);
+        GiRng rng = giRngCreate(uvec2(p), giFrame.frameIndex * pc.samplesPerPixel + i, pc.seed, GI_STREAM_MODULE);
         GiPathSample path = giTracePathFromSurface(s, V, pc.maxBounces, pc.russianRouletteStart, rng);
         direct += path.direct;
         indirect += path.indirectDemod;

@@ -31,7 +31,7 @@ PathResult tracePath(uvec2 pixel, uint sampleIndex) {
   PathResult r;
   r.direct = r.indirect = r.indirectDemod = r.albedo = r.normal = vec3(0.0);
   r.depth = 0.0;
-  GiRng rng = giRngCreate(pixel, sampleIndex, pc.seed);
+  GiRng rng = giRngCreate(pixel, sampleIndex, pc.seed, GI_STREAM_REFERENCE);
   vec2 jitter = pc.pixelJitter != 0u ? giRandom2(rng) : vec2(0.5);
   vec3 direction = giCameraRayDirection(camera, vec2(pixel) + jitter);
   GiHit hit = giTraceClosest(camera.position, direction, 0.0, GI_FLT_MAX);

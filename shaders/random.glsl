@@ -1,5 +1,7 @@
-// Counter-based random numbers: a PCG hash of (pixel, sample, dimension, seed).
+// Counter-based random numbers: a PCG hash of (pixel, sample, seed, stream).
 // Deterministic and order-independent, so a seed always gives the same image.
+// Each consumer has its own stream, so the module's samples never repeat the
+// reference's (which would hide their error when the two are compared).
 #ifndef GI_RANDOM_GLSL
 #define GI_RANDOM_GLSL
 
@@ -13,9 +15,12 @@ struct GiRng {
   uint state;
 };
 
-GiRng giRngCreate(uvec2 pixel, uint sampleIndex, uint seed) {
+#define GI_STREAM_REFERENCE 0u
+#define GI_STREAM_MODULE 1u
+
+GiRng giRngCreate(uvec2 pixel, uint sampleIndex, uint seed, uint stream) {
   GiRng rng;
-  rng.state = giPcgHash(pixel.x ^ giPcgHash(pixel.y ^ giPcgHash(sampleIndex ^ giPcgHash(seed))));
+  rng.state = giPcgHash(pixel.x ^ giPcgHash(pixel.y ^ giPcgHash(sampleIndex ^ giPcgHash(seed ^ giPcgHash(stream)))));
   return rng;
 }
 

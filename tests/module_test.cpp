@@ -1,0 +1,119 @@
+// The GI module's API: named errors for impossible settings, and the raw
+// method's convergence to the reference as frames accumulate.
+#include "gpu_test.h"
+#include "metrics.h"
+#include "module_session.h"
+
+class ModuleTest : public GpuTest {};
+
+TEST_F(ModuleTest, CreateRejectsImpossibleValuesWithNamedErrors) {
+  LoadedScene s;
+  load(sharedScene("cornell-simple/cornell_simple.gltf"), s);
+  gi::ModuleDesc desc;
+  desc.instance = ctx.instance;
+  desc.physicalDevice = ctx.physicalDevice;
+  desc.device = ctx.device;
+  desc.width = 16;
+  desc.height = 16;
+  desc.scene = {s.gpu.set.layout, s.gpu.set.set, s.gpu.hasEmissiveTriangles(), s.gpu.hasPunctualLights()};
+  gi::Module* m = nullptr;
+  struct Case {
+    const char* what;
+    gi::ModuleDesc desc;
+    gi::Settings settings;
+    gi::ErrorCode code;
+    const char* field;
+  };
+  std::vector<Case> cases;
+  auto add = [&](const char* what, auto editDesc, auto editSettings, gi::ErrorCode code, const char* field) {
+    Case c{what, desc, gi::Settings{}, code, field};
+    editDesc(c.desc);
+    editSettings(c.settings);
+    cases.push_back(c);
+  };
+  auto same = [](auto&) {};
+  add("zero width", [](gi::ModuleDesc& d) { d.width = 0; }, same, gi::ErrorCode::ZeroSize, "desc.width");
+  add("huge height", [](gi::ModuleDesc& d) { d.height = 20000; }, same, gi::ErrorCode::SizeTooLarge, "desc.width");
+  add("no device", [](gi::ModuleDesc& d) { d.device = VK_NULL_HANDLE; }, same, gi::ErrorCode::MissingHandle, "desc.device");
+  add("no scene", [](gi::ModuleDesc& d) { d.scene.set = VK_NULL_HANDLE; }, same, gi::ErrorCode::MissingHandle, "desc.scene");
+  add("0 spp", same, [](gi::Settings& st) { st.raw.samplesPerPixel = 0; }, gi::ErrorCode::OutOfRange, "settings.raw.samplesPerPixel = 0");
+  add("65 spp", same, [](gi::Settings& st) { st.raw.samplesPerPixel = 65; }, gi::ErrorCode::OutOfRange, "settings.raw.samplesPerPixel = 65");
+  add("0 bounces", same, [](gi::Settings& st) { st.maxBounces = 0; }, gi::ErrorCode::OutOfRange, "settings.maxBounces = 0");
+  add("0 history", same, [](gi::Settings& st) { st.raw.maxAccumulatedFrames = 0; }, gi::ErrorCode::OutOfRange, "settings.raw.maxAccumulatedFrames");
+  add("bad method", same, [](gi::Settings& st) { st.method = gi::Method(77); }, gi::ErrorCode::UnknownMethod, "settings.method");
+  add("bad view", same, [](gi::Settings& st) { st.debugView = gi::DebugView(99); }, gi::ErrorCode::OutOfRange, "settings.debugView");
+  for (const Case& c : cases) {
+    gi::Error e = gi::create(c.desc, c.settings, m);
+    EXPECT_EQ(e.code, c.code) << c.what << ": " << e.message;
+    EXPECT_NE(e.message.find(c.field), std::string::npos) << c.what << ": " << e.message;
+    EXPECT_EQ(m, nullptr) << c.what;
+  }
+  // A valid module accepts valid settings and refuses invalid ones without changing.
+  ASSERT_FALSE(gi::create(desc, gi::Settings{}, m));
+  gi::Settings bad;
+  bad.maxBounces = 100;
+  EXPECT_EQ(gi::setSettings(m, bad).code, gi::ErrorCode::OutOfRange);
+  gi::destroy(m);
+  unload(s);
+}
+
+TEST_F(ModuleTest, RawAccumulationConvergesToTheReference) {
+  LoadedScene s;
+  load(sharedScene("cornell-box-mcguire/CornellBox-Original.gltf"), s);
+  const uint32_t W = 24, H = 24;
+  gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], W, H, nullptr);
+  engine::ReferenceSettings refSettings;
+  refSettings.maxBounces = 2;
+  refSettings.pixelJitter = false;  // the module sees the raster G-buffer: pixel centres
+  engine::ReferenceImages ref = engine::renderReference(ctx, s.gpu, cam, refSettings, 2048, 256).images;
+
+  gi::Settings settings;
+  settings.maxBounces = 2;
+  settings.raw.samplesPerPixel = 1;
+  settings.raw.temporalAccumulation = true;
+  tools::ModuleSession session;
+  std::string error;
+  ASSERT_TRUE(tools::createModuleSession(ctx, s.gpu, {W, H}, settings, session, error)) << error;
+  std::vector<double> relMse;
+  uint32_t frame = 0;
+  for (uint32_t target : {2u, 8u, 32u, 128u}) {
+    for (; frame < target; ++frame) tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, frame);
+    engine::ReferenceImages out = tools::readModuleImages(ctx, session);
+    relMse.push_back(metrics::relMse(out.final, ref.final));
+    EXPECT_EQ(gi::stats(session.module).accumulatedFrames, target);
+  }
+  // relMSE ∝ 1/N: each 4× more frames cuts it by about 4 (the reference's own
+X
+  for (size_t i = 1; i < relMse.size(); ++i) {
+    double ratio = relMse[i - 1] / relMse[i];
+    EXPECT_GT(ratio, 2.5) << "step " << i << ": " << relMse[i - 1] << " → " << relMse[i];
+    EXPECT_LT(ratio, 6.0) << "step " << i << ": " << relMse[i - 1] << " → " << relMse[i];
+  }
+  // And the mean is unbiased.
+  engine::ReferenceImages out = tools::readModuleImages(ctx, session);
+  for (uint32_t c = 0; c < 3; ++c) EXPECT_NEAR(meanOf(out.final, c), meanOf(ref.final, c), 0.02 * meanOf(ref.final, c));
+  tools::destroyModuleSession(ctx, session);
+  unload(s);
+}
+
+TEST_F(ModuleTest, StatsReportPassesRaysAndMemory) {
+  LoadedScene s;
+  load(sharedScene("cornell-simple/cornell_simple.gltf"), s);
+  gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], 16, 16, nullptr);
+  gi::Settings settings;
+  settings.raw.samplesPerPixel = 2;
+  tools::ModuleSession session;
+  std::string error;
+  ASSERT_TRUE(tools::createModuleSession(ctx, s.gpu, {16, 16}, settings, session, error)) << error;
+  tools::FrameTiming t = tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, 0);
+  gi::FrameStats st = gi::stats(session.module);
+  ASSERT_EQ(st.passes.size(), 2u);
+  EXPECT_EQ(st.passes[0].name, "raw_trace");
+  EXPECT_EQ(st.passes[1].name, "composite");
+  EXPECT_GT(st.passes[0].ms, 0.0);
+  EXPECT_GE(st.raysTraced, 16u * 16u * 2u);  // at least the shadow ray of every path
+  EXPECT_GE(st.memoryBytes, 5u * 16u * 16u * 16u);
+  EXPECT_EQ(t.passes.front().name, "gbuffer");
+  tools::destroyModuleSession(ctx, session);
+  unload(s);
+}
