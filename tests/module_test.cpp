@@ -83,7 +83,7 @@ TEST_F(ModuleTest, RawAccumulationConvergesToTheReference) {
     EXPECT_EQ(gi::stats(session.module).accumulatedFrames, target);
   }
   // relMSE ∝ 1/N: each 4× more frames cuts it by about 4 (the reference's own
-X
+  // noise, 1/16 of the last step's, is the floor).
   for (size_t i = 1; i < relMse.size(); ++i) {
     double ratio = relMse[i - 1] / relMse[i];
     EXPECT_GT(ratio, 2.5) << "step " << i << ": " << relMse[i - 1] << " → " << relMse[i];
