@@ -40,10 +40,8 @@ PathTracer createPathTracer(const Context& ctx, const SceneGpu& scene, VkExtent2
       .buffer(gpu::PT_BINDING_RAY_COUNTER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, pt.rayCounter.buffer)
       .write(ctx);
   VkDescriptorSetLayout layouts[] = {scene.set.layout, pt.set.layout};
-  // Specialisation: skip the light loops the scene does not need.
-  const uint32_t spec[] = {scene.hasEmissiveTriangles() ? 1u : 0u, scene.hasPunctualLights() ? 1u : 0u};
   pt.program = createComputeProgram(ctx, spv_path_trace_comp, layouts, sizeof(gpu::PathTracerPush),
-                                    {PT_GROUP_SIZE, PT_GROUP_SIZE}, spec);
+                                    {PT_GROUP_SIZE, PT_GROUP_SIZE}, scene.specialization());
   return pt;
 }
 

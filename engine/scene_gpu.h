@@ -2,6 +2,8 @@
 // tables, acceleration structures and the set-0 descriptor set that every
 // pass binds (layout in shaders/shared/gpu_scene.h).
 #pragma once
+#include <array>
+
 #include "acceleration.h"
 #include "descriptors.h"
 #include "scene.h"
@@ -26,6 +28,12 @@ struct SceneGpu {
 
   bool hasEmissiveTriangles() const { return sceneConstants.emissiveTriangleCount > 0; }
   bool hasPunctualLights() const { return sceneConstants.punctualLightCount > 0; }
+  bool hasAlphaMask = false;  // some material uses alphaMode MASK
+
+  // Values for the SCENE_SPEC_* specialisation constants.
+  std::array<uint32_t, SCENE_SPEC_COUNT> specialization() const {
+    return {hasEmissiveTriangles() ? 1u : 0u, hasPunctualLights() ? 1u : 0u, hasAlphaMask ? 1u : 0u};
+  }
 };
 
 // Expects a scene already Morton-sorted (mortonSortScene). Uploads and builds; waits.

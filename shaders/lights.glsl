@@ -1,14 +1,12 @@
 // Next-event estimation: one emissive triangle picked by power (with MIS
 // against BSDF sampling) and every punctual light (delta lights, no MIS).
-// Specialisation constants drop the loops a scene does not need.
+// Specialisation constants (scene.glsl) drop the loops a scene does not need.
 #ifndef GI_LIGHTS_GLSL
 #define GI_LIGHTS_GLSL
 #include "bsdf.glsl"
 #include "random.glsl"
 #include "surface.glsl"
 
-layout(constant_id = 0) const bool GI_SCENE_HAS_EMISSIVE = true;
-layout(constant_id = 1) const bool GI_SCENE_HAS_PUNCTUAL = true;
 
 // Solid-angle density with which NEE would pick the emissive point `s` seen
 // from `from` (s.frontFace must hold).

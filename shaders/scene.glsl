@@ -9,6 +9,12 @@
 #extension GL_EXT_ray_query : require
 layout(set = 0, binding = SCENE_BINDING_TLAS) uniform accelerationStructureEXT sceneTlas;
 #endif
+// What the scene contains, as specialisation constants (SCENE_SPEC_* in
+// shared/gpu_scene.h), so passes compile without the work a scene cannot need.
+layout(constant_id = SCENE_SPEC_HAS_EMISSIVE) const bool GI_SCENE_HAS_EMISSIVE = true;
+layout(constant_id = SCENE_SPEC_HAS_PUNCTUAL) const bool GI_SCENE_HAS_PUNCTUAL = true;
+layout(constant_id = SCENE_SPEC_HAS_ALPHA_MASK) const bool GI_SCENE_HAS_ALPHA_MASK = true;
+
 layout(set = 0, binding = SCENE_BINDING_POSITIONS, scalar) readonly buffer ScenePositions { vec3 scenePositions[]; };
 layout(set = 0, binding = SCENE_BINDING_NORMALS, scalar) readonly buffer SceneNormals { vec3 sceneNormals[]; };
 layout(set = 0, binding = SCENE_BINDING_UVS, scalar) readonly buffer SceneUvs { vec2 sceneUvs[]; };

@@ -45,7 +45,9 @@ void giResolveCandidates(rayQueryEXT query) {
 GiHit giTraceClosest(vec3 origin, vec3 direction, float tMin, float tMax) {
   giRaysTraced++;
   rayQueryEXT query;
-  rayQueryInitializeEXT(query, sceneTlas, gl_RayFlagsNoneEXT, 0xff, origin, tMin, direction, tMax);
+  // Without alpha-masked geometry every hit is final: let traversal skip the candidate loop.
+  uint flags = GI_SCENE_HAS_ALPHA_MASK ? gl_RayFlagsNoneEXT : gl_RayFlagsOpaqueEXT;
+  rayQueryInitializeEXT(query, sceneTlas, flags, 0xff, origin, tMin, direction, tMax);
   giResolveCandidates(query);
   GiHit hit;
   hit.t = -1.0;
@@ -68,7 +70,8 @@ GiHit giTraceClosest(vec3 origin, vec3 direction, float tMin, float tMax) {
 bool giTraceVisible(vec3 origin, vec3 direction, float tMin, float tMax) {
   giRaysTraced++;
   rayQueryEXT query;
-  rayQueryInitializeEXT(query, sceneTlas, gl_RayFlagsTerminateOnFirstHitEXT, 0xff, origin, tMin, direction, tMax);
+  uint flags = gl_RayFlagsTerminateOnFirstHitEXT | (GI_SCENE_HAS_ALPHA_MASK ? gl_RayFlagsNoneEXT : gl_RayFlagsOpaqueEXT);
+  rayQueryInitializeEXT(query, sceneTlas, flags, 0xff, origin, tMin, direction, tMax);
   giResolveCandidates(query);
   return rayQueryGetIntersectionTypeEXT(query, true) == gl_RayQueryCommittedIntersectionNoneEXT;
 }

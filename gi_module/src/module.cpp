@@ -126,7 +126,8 @@ Error create(const ModuleDesc& desc, const Settings& settings, Module*& out) {
   w.write(m->ctx);
 
   VkDescriptorSetLayout layouts[] = {desc.scene.layout, m->frameSet.layout};
-  const uint32_t spec[] = {desc.scene.hasEmissiveTriangles ? 1u : 0u, desc.scene.hasPunctualLights ? 1u : 0u};
+  const uint32_t spec[SCENE_SPEC_COUNT] = {desc.scene.hasEmissiveTriangles ? 1u : 0u,
+                                           desc.scene.hasPunctualLights ? 1u : 0u, desc.scene.hasAlphaMask ? 1u : 0u};
   m->rawTrace = engine::createComputeProgram(m->ctx, spv_gi_raw_trace_comp, layouts, sizeof(gpu::GiRawPush),
                                              {GI_GROUP_SIZE, GI_GROUP_SIZE}, spec);
   m->composite_ = engine::createComputeProgram(m->ctx, spv_gi_composite_comp, layouts, sizeof(gpu::GiCompositePush),

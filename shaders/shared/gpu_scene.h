@@ -23,6 +23,12 @@ GPU_CONST SCENE_BINDING_CONSTANTS = 10;        // GpuSceneConstants (uniform)
 GPU_CONST SCENE_BINDING_TEXTURES = 11;         // sampler2D[], variable count
 GPU_CONST SCENE_BINDING_COUNT = 12;
 
+// Specialisation constant ids every scene-reading pipeline receives (0/1 values).
+#define SCENE_SPEC_HAS_EMISSIVE 0
+#define SCENE_SPEC_HAS_PUNCTUAL 1
+#define SCENE_SPEC_HAS_ALPHA_MASK 2
+#define SCENE_SPEC_COUNT 3
+
 GPU_CONST MATERIAL_FLAG_GLOSSY = 1u;       // has a GGX lobe (metallic > 0 or roughness < 0.9 or a roughness texture)
 GPU_CONST MATERIAL_FLAG_ALPHA_MASK = 2u;   // alphaMode MASK: texels below alphaCutoff are holes
 GPU_CONST MATERIAL_FLAG_EMISSIVE = 4u;     // emissive (factor × strength) is non-zero

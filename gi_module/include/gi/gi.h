@@ -59,6 +59,7 @@ struct SceneDesc {
   VkDescriptorSet set = VK_NULL_HANDLE;
   bool hasEmissiveTriangles = false;              // skips emissive-light sampling when false
   bool hasPunctualLights = false;                 // skips the punctual-light loop when false
+  bool hasAlphaMask = true;                       // false: every hit is opaque (faster traversal)
 };
 
 struct ModuleDesc {

@@ -1,0 +1,59 @@
+#include "ray_bench.h"
+
+#include <cstring>
+
+#include "compute_program.h"
+#include "gpu_timer.h"
+#include "ray_bench.comp.h"
+#include "shared/ray_bench.h"
+
+namespace engine {
+
+RayBenchResult runRayBench(const Context& ctx, const SceneGpu& scene, const gpu::GpuCamera& camera,
+                           uint32_t pathsPerPixel, uint32_t rounds) {
+  uint32_t w = uint32_t(camera.imageSize.x), h = uint32_t(camera.imageSize.y);
+  const Binding bindings[] = {{gpu::RB_BINDING_CAMERA, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER},
+                              {gpu::RB_BINDING_OUTPUT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+                              {gpu::RB_BINDING_COUNTER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}};
+  DescriptorSet set = createDescriptorSet(ctx, bindings);
+  Buffer cameraBuffer = createBuffer(ctx, sizeof(camera), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, MemoryKind::HostVisible);
+  std::memcpy(cameraBuffer.mapped, &camera, sizeof(camera));
+  Buffer output = createBuffer(ctx, sizeof(float) * w * h, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryKind::DeviceLocal);
+  Buffer counter = createBuffer(ctx, sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryKind::HostVisible);
+  DescriptorWriter(set.set)
+      .buffer(gpu::RB_BINDING_CAMERA, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, cameraBuffer.buffer)
+      .buffer(gpu::RB_BINDING_OUTPUT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, output.buffer)
+      .buffer(gpu::RB_BINDING_COUNTER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, counter.buffer)
+      .write(ctx);
+  VkDescriptorSetLayout layouts[] = {scene.set.layout, set.layout};
+  ComputeProgram program = createComputeProgram(ctx, spv_ray_bench_comp, layouts, sizeof(gpu::RayBenchPush),
+                                                {RB_GROUP_SIZE, RB_GROUP_SIZE}, scene.specialization());
+  GpuTimer timer = createGpuTimer(ctx, 2);
+  RayBenchResult result;
+  VkDescriptorSet sets[] = {scene.set.set, set.set};
+  for (uint32_t round = 0; round <= rounds; ++round) {
+    std::memset(counter.mapped, 0, sizeof(uint32_t));
+    resetGpuTimer(ctx, timer);
+    submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+      beginPass(ctx, cmd, timer, "ray_bench");
+      dispatch(cmd, program, sets, {w, h}, gpu::RayBenchPush{round, pathsPerPixel, 0, 0});
+      memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                    VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
+      endPass(ctx, cmd, timer);
+    });
+    if (round == 0) continue;  // warm-up: first dispatches may include shader compilation
+    uint32_t rays;
+    std::memcpy(&rays, counter.mapped, sizeof(rays));
+    result.rays += rays;
+    result.gpuMs += readPassTimes(ctx, timer)[0].ms;
+  }
+  destroyGpuTimer(ctx, timer);
+  destroyComputeProgram(ctx, program);
+  destroyBuffer(ctx, counter);
+  destroyBuffer(ctx, output);
+  destroyBuffer(ctx, cameraBuffer);
+  destroyDescriptorSet(ctx, set);
+  return result;
+}
+
+}  // namespace engine

@@ -1,0 +1,71 @@
+#include "bench_configs.h"
+
+#include "cli.h"
+#include "settings_keys.h"
+
+namespace tools {
+
+void setSamplesPerPixel(gi::Settings& settings, uint32_t spp) {
+  switch (settings.method) {
+    case gi::Method::Raw: settings.raw.samplesPerPixel = spp; break;
+  }
+}
+
+bool expandConfigs(const std::vector<std::string>& methods, const std::vector<uint32_t>& spps, const std::string& sweeps,
+                   const gi::Settings& base, std::vector<BenchConfig>& out, std::string& error) {
+  // Parse "k=v1,v2,k2=v3" into (key, values).
+  std::vector<std::pair<std::string, std::vector<std::string>>> keys;
+  if (!sweeps.empty())
+    for (const std::string& token : cli::splitList(sweeps)) {
+      size_t eq = token.find('=');
+      if (eq != std::string::npos) keys.push_back({token.substr(0, eq), {token.substr(eq + 1)}});
+      else if (!keys.empty() && !token.empty()) keys.back().second.push_back(token);
+      else {
+        error = "--set: '" + token + "' is not KEY=VALUE";
+        return false;
+      }
+    }
+  for (const std::string& methodName : methods) {
+    gi::Method method;
+    if (!gi::methodFromName(methodName, method)) {
+      error = "unknown method '" + methodName + "'";
+      return false;
+    }
+    // Keys for this method: unprefixed ones, and those starting "<method>.".
+    std::vector<const std::pair<std::string, std::vector<std::string>>*> mine;
+    for (const auto& k : keys) {
+      size_t dot = k.first.find('.');
+      gi::Method owner;
+      bool prefixed = dot != std::string::npos && gi::methodFromName(k.first.substr(0, dot), owner);
+      if (!prefixed || owner == method) mine.push_back(&k);
+    }
+    // Cartesian product over the swept values (odometer order).
+    std::vector<size_t> index(mine.size(), 0);
+    while (true) {
+      for (uint32_t spp : spps) {
+        BenchConfig c;
+        c.settings = base;
+        c.settings.method = method;
+        c.spp = spp;
+        setSamplesPerPixel(c.settings, spp);
+        for (size_t i = 0; i < mine.size(); ++i) {
+          std::string assignment = mine[i]->first + "=" + mine[i]->second[index[i]];
+          if (!applySetting(c.settings, assignment, error)) return false;
+          c.settingsText += (c.settingsText.empty() ? "" : " ") + assignment;
+        }
+        if (gi::Error e = gi::validate(c.settings)) {
+          error = methodName + " " + c.settingsText + ": " + e.message;
+          return false;
+        }
+        c.label = methodName + " spp=" + std::to_string(spp) + (c.settingsText.empty() ? "" : " " + c.settingsText);
+        out.push_back(c);
+      }
+      size_t k = 0;
+      while (k < mine.size() && ++index[k] == mine[k]->second.size()) index[k++] = 0;
+      if (k == mine.size()) break;
+    }
+  }
+  return true;
+}
+
+}  // namespace tools

@@ -1,0 +1,360 @@
+// gi-bench: measures the speed/accuracy trade. For every configuration
+// (method × swept settings × spp) it renders frames through the GI module as a
+// game would, times every pass, and compares the result with a converged,
+// cached reference. Writes DIR/results.csv, images, and (through
+// plot_bench.py) DIR/tradeoff.png, DIR/insets.png and DIR/report.md.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+
+#include "bench_configs.h"
+#include "camera.h"
+#include "cli.h"
+#include "metrics.h"
+#include "module_session.h"
+#include "path_tracer.h"
+#include "ray_bench.h"
+#include "scene_loading.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const cli::Option kOptions[] = {
+    {"scene", "FILE.gltf", "scene to measure (required)"},
+    {"size", "WxH", "image size (default 320x180)"},
+    {"camera", "N", "glTF camera index (default 0)"},
+    {"methods", "A,B,...", "GI module methods to measure (required), e.g. raw"},
+    {"spp", "1,2,4,...", "samples per pixel per frame to sweep (default 1)"},
+    {"set", "KEY=V1,V2", "settings to sweep; KEY may be prefixed by a method (raw.accumulate=0,1)"},
+    {"frames", "N", "timed frames per configuration (default 8); errors are averaged over them"},
+    {"warmup", "N", "untimed frames first (default 2)"},
+    {"max-bounces", "B", "indirect bounces for methods and reference (default 4)"},
+    {"reference", "REF.exr", "use this reference image instead of rendering one"},
+    {"reference-spp", "N", "samples per pixel of a rendered reference (default 4096)"},
+    {"camera-path", nullptr, "also run a scripted camera move and report flicker against the reference's"},
+    {"path-frames", "N", "frames of the camera move (default 8)"},
+    {"path-reference-spp", "N", "samples per pixel of each camera-path reference (default reference-spp / 4)"},
+    {"out", "DIR", "output folder (default bench_out)"},
+    {"no-plots", nullptr, "skip plot_bench.py (plots and report)"},
+    {"validation", nullptr, "enable Vulkan validation"},
+    {"help", nullptr, "show this message"},
+};
+const char* kSynopsis = "--scene FILE.gltf --methods raw,... [options]";
+
+int usageError(const std::string& message) {
+  std::fprintf(stderr, "gi-bench: %s\n%s", message.c_str(), cli::usage("gi-bench", kSynopsis, kOptions).c_str());
+  return 2;
+}
+
+std::string sanitise(const std::string& text) {
+  std::string out;
+  for (char c : text) out += (std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-') ? c : '_';
+  return out;
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+// Luminance change between consecutive frames, averaged over pixels.
+double meanFrameDifference(const engine::FloatImage& a, const engine::FloatImage& b) {
+  double sum = 0.0;
+  for (size_t p = 0; p + 2 < a.pixels.size(); p += 3) {
+    double la = 0.2126 * a.pixels[p] + 0.7152 * a.pixels[p + 1] + 0.0722 * a.pixels[p + 2];
+    double lb = 0.2126 * b.pixels[p] + 0.7152 * b.pixels[p + 1] + 0.0722 * b.pixels[p + 2];
+    sum += std::abs(la - lb);
+  }
+  return sum / double(a.pixels.size() / 3);
+}
+
+// The scripted move: a sideways dolly of 1% of the scene extent per frame
+// with a 0.5° yaw, so every method sees parallax and disocclusion.
+engine::Camera pathCamera(const engine::Camera& start, float sceneExtent, uint32_t k) {
+  engine::Camera c = start;
+  glm::vec3 right = glm::vec3(start.worldFromView[0]);
+  float angle = glm::radians(0.5f) * float(k);
+  glm::mat4 yaw = glm::mat4(glm::mat3(glm::vec3(std::cos(angle), 0, -std::sin(angle)), glm::vec3(0, 1, 0),
+                                      glm::vec3(std::sin(angle), 0, std::cos(angle))));
+  c.worldFromView = start.worldFromView * yaw;
+  c.worldFromView[3] = start.worldFromView[3] + glm::vec4(right * (0.01f * sceneExtent * float(k)), 0.0f);
+  return c;
+}
+
+struct Reference {
+  engine::FloatImage final, indirect;
+};
+
+// Loads the cached reference for `key` or renders (pixel centres, to match the
+// raster G-buffer) and caches it.
+bool reference(const engine::Context& ctx, const engine::SceneGpu& sceneGpu, const gpu::GpuCamera& camera,
+               uint32_t bounces, uint32_t spp, const fs::path& dir, const std::string& key, Reference& out,
+               std::string& error) {
+  fs::path finalPath = dir / ("ref_" + key + "_final.exr"), indirectPath = dir / ("ref_" + key + "_indirect.exr");
+  if (fs::exists(finalPath) && fs::exists(indirectPath))
+    return engine::readImage(finalPath, out.final, error) && engine::readImage(indirectPath, out.indirect, error);
+  std::printf("gi-bench: rendering reference %s (%u spp)...\n", key.c_str(), spp);
+  std::fflush(stdout);
+  engine::ReferenceSettings settings;
+  settings.maxBounces = bounces;
+  settings.pixelJitter = false;
+  settings.seed = 0x5eed;
+  engine::ReferenceRun run = engine::renderReference(ctx, sceneGpu, camera, settings, spp, 8);
+  out.final = run.images.final;
+  out.indirect = run.images.indirect;
+  return engine::writeImage(finalPath, out.final, error) && engine::writeImage(indirectPath, out.indirect, error);
+}
+
+struct Row {
+  tools::BenchConfig config;
+  double totalMs = 0.0, traceMs = 0.0;
+  std::map<std::string, double> passMs;
+  std::vector<std::string> passOrder;
+  double rays = 0.0;
+  metrics::ImageError final, indirect;
+  uint64_t memory = 0;
+  double speedup = 0.0;
+  double flickerRatio = -1.0;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  cli::Args args;
+  std::string error;
+  if (!cli::parse(argc, argv, kOptions, args, error)) return usageError(error);
+  if (args.has("help")) {
+    std::printf("%s", cli::usage("gi-bench", kSynopsis, kOptions).c_str());
+    return 0;
+  }
+  if (!args.has("scene") || !args.has("methods")) return usageError("--scene and --methods are required");
+  uint32_t width, height, cameraIndex, frames, warmup, bounces, refSpp, pathFrames, pathRefSpp;
+  if (!cli::getSize(args, "size", 320, 180, width, height, error) ||
+      !cli::getUint(args, "camera", 0, 0, 1u << 20, cameraIndex, error) ||
+      !cli::getUint(args, "frames", 8, 1, 100000, frames, error) ||
+      !cli::getUint(args, "warmup", 2, 0, 100000, warmup, error) ||
+      !cli::getUint(args, "max-bounces", 4, 1, 32, bounces, error) ||
+      !cli::getUint(args, "reference-spp", 4096, 1, 1u << 24, refSpp, error) ||
+      !cli::getUint(args, "path-frames", 8, 2, 1000, pathFrames, error) ||
+      !cli::getUint(args, "path-reference-spp", std::max(1u, refSpp / 4), 1, 1u << 24, pathRefSpp, error))
+    return usageError(error);
+  std::vector<uint32_t> spps;
+  for (const std::string& s : cli::splitList(args.has("spp") ? args.values["spp"] : "1")) {
+    cli::Args one;
+    one.values["spp"] = s;
+    uint32_t v;
+    if (!cli::getUint(one, "spp", 1, 1, 64, v, error)) return usageError(error);
+    spps.push_back(v);
+  }
+  gi::Settings base;
+  base.maxBounces = bounces;
+  base.seed = 7;
+  std::vector<tools::BenchConfig> configs;
+  if (!tools::expandConfigs(cli::splitList(args.values["methods"]), spps, args.values["set"], base, configs, error))
+    return usageError(error);
+
+  fs::path dir = args.has("out") ? args.values["out"] : "bench_out";
+  std::error_code ec;
+  fs::create_directories(dir / "images", ec);
+  if (ec) {
+    std::fprintf(stderr, "gi-bench: %s: cannot create the output folder (%s)\n", dir.c_str(), ec.message().c_str());
+    return 1;
+  }
+  engine::Scene scene;
+  if (!engine::loadSceneForRendering(args.values["scene"], scene, error)) {
+    std::fprintf(stderr, "gi-bench: %s\n", error.c_str());
+    return 1;
+  }
+  if (cameraIndex >= scene.cameras.size()) {
+    std::fprintf(stderr, "gi-bench: %s: camera %u does not exist\n", scene.sourcePath.c_str(), cameraIndex);
+    return 1;
+  }
+  engine::ContextDesc desc;
+  desc.validation = args.has("validation");
+  engine::Context ctx;
+  if (!engine::createContext(desc, ctx, error)) {
+    std::fprintf(stderr, "gi-bench: %s\n", error.c_str());
+    return 1;
+  }
+  engine::SceneGpu sceneGpu;
+  engine::createSceneGpu(ctx, scene, sceneGpu);
+  const engine::Camera& startCamera = scene.cameras[cameraIndex];
+  gpu::GpuCamera camera = engine::makeGpuCamera(startCamera, width, height, nullptr);
+  std::string sceneName = fs::path(scene.sourcePath).stem().string();
+  std::string key = sanitise(sceneName) + "_cam" + std::to_string(cameraIndex) + "_" + std::to_string(width) + "x" +
+                    std::to_string(height) + "_b" + std::to_string(bounces) + "_s" + std::to_string(refSpp);
+
+  Reference ref;
+  bool ok = true;
+  if (args.has("reference")) {
+    ok = engine::readImage(args.values["reference"], ref.final, error);
+    ref.indirect = engine::FloatImage();  // indirect errors need a rendered reference
+    if (ok && (ref.final.width != width || ref.final.height != height)) {
+      error = args.values["reference"] + ": the reference is " + std::to_string(ref.final.width) + "x" +
+              std::to_string(ref.final.height) + ", not " + std::to_string(width) + "x" + std::to_string(height);
+      ok = false;
+    }
+  } else {
+    ok = reference(ctx, sceneGpu, camera, bounces, refSpp, dir, key, ref, error);
+  }
+  if (!ok) {
+    std::fprintf(stderr, "gi-bench: %s\n", error.c_str());
+    engine::destroySceneGpu(ctx, sceneGpu);
+    engine::destroyContext(ctx);
+    return 1;
+  }
+  engine::writeImage((dir / "images" / "reference.pfm").string(), ref.final, error);
+
+  // Camera-path references (cached like the main one).
+  std::vector<Reference> pathRefs;
+  double refFlicker = 0.0;
+  if (args.has("camera-path")) {
+    for (uint32_t k = 0; k < pathFrames && ok; ++k) {
+      gpu::GpuCamera c = engine::makeGpuCamera(pathCamera(startCamera, sceneGpu.sceneConstants.sceneExtent, k), width, height, nullptr);
+      Reference r;
+      ok = reference(ctx, sceneGpu, c, bounces, pathRefSpp, dir,
+                     key + "_path" + std::to_string(k) + "_s" + std::to_string(pathRefSpp), r, error);
+      pathRefs.push_back(r);
+    }
+    for (uint32_t k = 1; k < pathRefs.size(); ++k) refFlicker += meanFrameDifference(pathRefs[k].final, pathRefs[k - 1].final);
+    refFlicker /= double(pathRefs.size() - 1);
+  }
+
+  engine::RayBenchResult bare = engine::runRayBench(ctx, sceneGpu, camera);
+  std::printf("gi-bench: bare ray queries on %s: %.3f Mrays/s\n", ctx.properties.deviceName, bare.mraysPerSecond());
+
+  std::vector<Row> rows;
+  for (const tools::BenchConfig& config : configs) {
+    Row row;
+    row.config = config;
+    tools::ModuleSession session;
+    if (!tools::createModuleSession(ctx, sceneGpu, {width, height}, config.settings, session, error)) {
+      std::fprintf(stderr, "gi-bench: %s: %s\n", config.label.c_str(), error.c_str());
+      ok = false;
+      break;
+    }
+    std::map<std::string, std::vector<double>> passSamples;
+    std::vector<double> totals, rays;
+    std::vector<metrics::ImageError> finals, indirects;
+    uint32_t frame = 0;
+    for (; frame < warmup; ++frame) tools::renderModuleFrame(ctx, session, scene, sceneGpu, camera, camera, frame);
+    engine::ReferenceImages out;
+    for (uint32_t f = 0; f < frames; ++f, ++frame) {
+      tools::FrameTiming t = tools::renderModuleFrame(ctx, session, scene, sceneGpu, camera, camera, frame);
+      for (const gi::PassTiming& p : t.passes) {
+        if (!passSamples.count(p.name)) row.passOrder.push_back(p.name);
+        passSamples[p.name].push_back(p.ms);
+      }
+      totals.push_back(t.totalMs);
+      rays.push_back(double(t.rays));
+      out = tools::readModuleImages(ctx, session);
+      finals.push_back(metrics::compare(out.final, ref.final));
+      if (!ref.indirect.pixels.empty()) indirects.push_back(metrics::compare(out.indirect, ref.indirect));
+    }
+    for (const auto& [name, samples] : passSamples) {
+      row.passMs[name] = median(samples);
+      if (name.find("trace") != std::string::npos) row.traceMs += row.passMs[name];
+    }
+    row.totalMs = median(totals);
+    for (double r : rays) row.rays += r / double(rays.size());
+    auto average = [](const std::vector<metrics::ImageError>& v) {
+      metrics::ImageError a;
+      for (const auto& e : v) {
+        a.mse += e.mse / double(v.size());
+        a.relMse += e.relMse / double(v.size());
+        a.ssim += e.ssim / double(v.size());
+      }
+      a.psnr = metrics::psnrFromMse(a.mse);
+      return a;
+    };
+    row.final = average(finals);
+    if (!indirects.empty()) row.indirect = average(indirects);
+    row.memory = gi::stats(session.module).memoryBytes;
+    engine::writeImage((dir / "images" / (sanitise(config.label) + ".pfm")).string(), out.final, error);
+
+    if (args.has("camera-path")) {
+      // Warm up at the start of the path, then move.
+      gpu::GpuCamera previous = camera;
+      double flicker = 0.0;
+      engine::FloatImage last;
+      for (uint32_t k = 0; k < pathFrames; ++k, ++frame) {
+        gpu::GpuCamera c = engine::makeGpuCamera(pathCamera(startCamera, sceneGpu.sceneConstants.sceneExtent, k), width,
+                                                 height, &previous);
+        tools::renderModuleFrame(ctx, session, scene, sceneGpu, c, previous, frame);
+        engine::FloatImage now = tools::readModuleImages(ctx, session).final;
+        if (k > 0) flicker += meanFrameDifference(now, last);
+        last = std::move(now);
+        previous = c;
+      }
+      flicker /= double(pathFrames - 1);
+      row.flickerRatio = refFlicker > 0.0 ? flicker / refFlicker : 0.0;
+    }
+    tools::destroyModuleSession(ctx, session);
+    std::printf("gi-bench: %-40s %9.2f ms  MSE %.4e  relMSE %.4e  SSIM %.4f\n", config.label.c_str(), row.totalMs,
+                row.final.mse, row.final.relMse, row.final.ssim);
+    std::fflush(stdout);
+    rows.push_back(row);
+  }
+
+  // Equal-error speed-up against raw MC measured in the same run.
+  std::vector<double> rawTimes, rawErrors;
+  for (const Row& r : rows)
+    if (r.config.settings.method == gi::Method::Raw && !r.config.settings.raw.temporalAccumulation) {
+      rawTimes.push_back(r.totalMs);
+      rawErrors.push_back(r.final.mse);
+    }
+  double c = metrics::fitInverseLaw(rawTimes, rawErrors);
+  for (Row& r : rows) r.speedup = metrics::equalErrorSpeedup(c, r.totalMs, r.final.mse);
+
+  fs::path csvPath = dir / "results.csv";
+  std::ofstream csv(csvPath);
+  csv << "scene,method,settings,spp,frames,total_ms,pass_ms,rays,mrays_per_s,rq_efficiency,mse,relmse,psnr,ssim,"
+         "mse_indirect,relmse_indirect,psnr_indirect,ssim_indirect,memory_bytes,equal_error_speedup,flicker_ratio,label\n";
+  for (const Row& r : rows) {
+    std::string passes;
+    for (const std::string& name : r.passOrder) {
+      char item[128];
+      std::snprintf(item, sizeof(item), "%s%s:%.3f", passes.empty() ? "" : ";", name.c_str(), r.passMs.at(name));
+      passes += item;
+    }
+    double mrays = r.traceMs > 0.0 ? r.rays / (r.traceMs * 1e3) : 0.0;
+    char line[1024];
+    std::snprintf(line, sizeof(line),
+                  "%s,%s,\"%s\",%u,%u,%.4f,%s,%.0f,%.4f,%.4f,%.6e,%.6e,%.4f,%.6f,%.6e,%.6e,%.4f,%.6f,%llu,%.4f,%s,\"%s\"\n",
+                  sceneName.c_str(), gi::methodName(r.config.settings.method), r.config.settingsText.c_str(), r.config.spp,
+                  frames, r.totalMs, passes.c_str(), r.rays, mrays, bare.mraysPerSecond() > 0 ? mrays / bare.mraysPerSecond() : 0.0,
+                  r.final.mse, r.final.relMse, r.final.psnr, r.final.ssim, r.indirect.mse, r.indirect.relMse,
+                  r.indirect.psnr, r.indirect.ssim, (unsigned long long)r.memory, r.speedup,
+                  r.flickerRatio >= 0.0 ? std::to_string(r.flickerRatio).c_str() : "", r.config.label.c_str());
+    csv << line;
+  }
+  csv.close();
+  std::ofstream meta(dir / "run.txt");
+  meta << "scene " << scene.sourcePath << "\ndevice " << ctx.properties.deviceName << "\nsize " << width << "x" << height
+       << "\nmax_bounces " << bounces << "\nreference " << (args.has("reference") ? args.values["reference"] : key)
+       << "\nreference_spp " << refSpp << "\nframes " << frames << "\nwarmup " << warmup
+       << "\nbare_mrays_per_s " << bare.mraysPerSecond() << "\n";
+  meta.close();
+  std::printf("gi-bench: wrote %s\n", csvPath.c_str());
+  std::fflush(stdout);
+
+  uint32_t messages = ctx.validationMessages();
+  engine::destroySceneGpu(ctx, sceneGpu);
+  engine::destroyContext(ctx);
+  if (!ok) return 1;
+  if (!args.has("no-plots")) {
+    std::string python = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
+    std::string cmd = python + " \"" GI_SOURCE_DIR "/tools/plot_bench.py\" \"" + dir.string() + "\"";
+    if (std::system(cmd.c_str()) != 0) std::fprintf(stderr, "gi-bench: plot_bench.py failed; results.csv is complete\n");
+  }
+  if (messages > 0) {
+    std::fprintf(stderr, "gi-bench: %u Vulkan validation message(s)\n", messages);
+    return 3;
+  }
+  return 0;
+}
