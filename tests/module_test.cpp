@@ -96,6 +96,36 @@ TEST_F(ModuleTest, RawAccumulationConvergesToTheReference) {
   unload(s);
 }
 
+TEST_F(ModuleTest, RayBudgetCapsTheSampleCount) {
+  LoadedScene s;
+  load(sharedScene("cornell-box-mcguire/CornellBox-Original.gltf"), s);
+  const uint32_t W = 16, H = 16;
+  gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], W, H, nullptr);
+  gi::Settings settings;
+  settings.raw.samplesPerPixel = 16;
+  tools::ModuleSession session;
+  std::string error;
+  ASSERT_TRUE(tools::createModuleSession(ctx, s.gpu, {W, H}, settings, session, error)) << error;
+  tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, 0);
+  gi::FrameStats unlimited = gi::stats(session.module);
+  EXPECT_EQ(unlimited.samplesPerPixel, 16u);
+  // A budget of a quarter of what 16 spp costs gives about 4 spp.
+  settings.rayBudget = unlimited.raysTraced / 4;
+  ASSERT_FALSE(gi::setSettings(session.module, settings));
+  for (uint32_t f = 1; f < 4; ++f) tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, f);
+  gi::FrameStats limited = gi::stats(session.module);
+  EXPECT_GE(limited.samplesPerPixel, 3u);
+  EXPECT_LE(limited.samplesPerPixel, 5u);
+  EXPECT_LE(double(limited.raysTraced), 1.15 * double(settings.rayBudget));
+  // A budget below one path per pixel still traces one (the floor is documented).
+  settings.rayBudget = 1;
+  ASSERT_FALSE(gi::setSettings(session.module, settings));
+  for (uint32_t f = 4; f < 6; ++f) tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, f);
+  EXPECT_EQ(gi::stats(session.module).samplesPerPixel, 1u);
+  tools::destroyModuleSession(ctx, session);
+  unload(s);
+}
+
 TEST_F(ModuleTest, StatsReportPassesRaysAndMemory) {
   LoadedScene s;
   load(sharedScene("cornell-simple/cornell_simple.gltf"), s);

@@ -3,6 +3,7 @@
 #include "module.h"
 #include "gpu_timer.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 
@@ -56,6 +57,20 @@ engine::Image outputImage(Module& m) {
 engine::Image* ownedImages(Module& m, size_t i) {
   engine::Image* all[] = {&m.direct, &m.indirect, &m.composite, &m.historyDirect, &m.historyIndirect};
   return i < 5 ? all[i] : nullptr;
+}
+
+// The ray budget: paths per pixel such that pixels × spp × (rays per path, as
+// measured on the previous frame) stays within settings.rayBudget.
+uint32_t samplesWithinBudget(const Module& m, uint32_t requested, uint32_t frameIndex) {
+  if (m.settings.rayBudget == 0 || frameIndex == 0) return requested;
+  uint32_t previous = (frameIndex - 1) % kFramesInFlight;
+  if (!m.slotRecorded[previous] || m.slotSpp[previous] == 0) return requested;
+  gpu::GiCounters c;
+  std::memcpy(&c, static_cast<const std::byte*>(m.counters.mapped) + sizeof(gpu::GiCounters) * (1 + previous), sizeof(c));
+  double paths = double(m.desc.width) * m.desc.height * m.slotSpp[previous];
+  double raysPerPath = c.raysTraced > 0 ? double(c.raysTraced) / paths : 1.0;
+  double affordable = double(m.settings.rayBudget) / (double(m.desc.width) * m.desc.height * raysPerPath);
+  return uint32_t(std::clamp(affordable, 1.0, double(requested)));
 }
 
 }  // namespace
@@ -200,9 +215,11 @@ void recordFrame(Module* m, VkCommandBuffer cmd, const FrameInputs& in) {
   VkDescriptorSet sets[] = {m->desc.scene.set, m->frameSet.set};
   const glm::uvec2 size{m->desc.width, m->desc.height};
 
+  uint32_t spp = samplesWithinBudget(*m, s.raw.samplesPerPixel, in.frameIndex);
+
   // Pass: trace paths from the G-buffer (direct + demodulated indirect, optional temporal mean).
   beginPass(*m, cmd, slot, "raw_trace");
-  gpu::GiRawPush raw{s.seed, s.raw.samplesPerPixel, s.maxBounces, s.russianRouletteStart,
+  gpu::GiRawPush raw{s.seed, spp, s.maxBounces, s.russianRouletteStart,
                      m->historyLength, s.raw.maxAccumulatedFrames, accumulate ? 1u : 0u, 0};
   engine::dispatch(cmd, m->rawTrace, sets, size, raw);
   computeToComputeBarrier(cmd);
@@ -222,6 +239,7 @@ void recordFrame(Module* m, VkCommandBuffer cmd, const FrameInputs& in) {
   if (accumulate) m->historyLength = std::min(m->historyLength + 1, s.raw.maxAccumulatedFrames);
   m->slotFrameIndex[slot] = in.frameIndex;
   m->slotHistory[slot] = m->historyLength;
+  m->slotSpp[slot] = spp;
   m->slotRecorded[slot] = true;
 }
 
@@ -247,6 +265,7 @@ FrameStats stats(Module* m) {
     std::memcpy(&c, static_cast<const std::byte*>(m->counters.mapped) + sizeof(gpu::GiCounters) * (1 + slot), sizeof(c));
     st.raysTraced = c.raysTraced;
     st.accumulatedFrames = m->slotHistory[slot];
+    st.samplesPerPixel = m->slotSpp[slot];
     st.memoryBytes = m->memoryBytes;
     m->lastStats = st;
     break;

@@ -31,6 +31,7 @@ struct Module {
   uint32_t slotFrameIndex[kFramesInFlight] = {};
   bool slotRecorded[kFramesInFlight] = {};
   uint32_t slotHistory[kFramesInFlight] = {};
+  uint32_t slotSpp[kFramesInFlight] = {};
 
   bool imagesInitialised = false;
   uint32_t historyLength = 0;                      // frames in the history images

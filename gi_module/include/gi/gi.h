@@ -49,7 +49,8 @@ struct Settings {
   RawSettings raw;
   uint32_t maxBounces = 1;             // indirect bounces B, [1, 32] (B = 0 would be direct light only)
   uint32_t russianRouletteStart = 3;   // bounce from which paths may stop early (unbiased), [1, 64]
-  uint64_t rayBudget = 0;              // rays per frame the method may spend; 0 = unlimited
+  uint64_t rayBudget = 0;              // rays per frame; 0 = unlimited. The module lowers its sample
+                                       // count (never below 1 spp) from the rays per path it last measured
   DebugView debugView = DebugView::None;
   uint32_t seed = 1;                   // random sequence; the same seed and inputs give the same frames
 };
@@ -100,6 +101,7 @@ struct FrameStats {
   double totalMs = 0.0;
   uint64_t raysTraced = 0;
   uint32_t accumulatedFrames = 0;   // temporal history length behind the output
+  uint32_t samplesPerPixel = 0;     // paths per pixel actually traced (after the ray budget)
   uint64_t memoryBytes = 0;         // device memory owned by the module
 };
 

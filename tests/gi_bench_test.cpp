@@ -1,0 +1,64 @@
+// gi-bench end to end on a tiny image: every configuration gets a CSV row, and
+// the plots and report appear; bad input is refused with a sentence.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sys/wait.h>
+
+namespace {
+
+int runBench(const std::string& args, std::string& output) {
+  std::string cmd = std::string(GI_BENCH_BINARY) + " " + args + " 2>&1";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  if (!pipe) return -1;
+  char buffer[512];
+  output.clear();
+  while (fgets(buffer, sizeof(buffer), pipe)) output += buffer;
+  int status = pclose(pipe);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+}  // namespace
+
+TEST(GiBenchTool, WritesResultsPlotsAndReport) {
+  std::filesystem::path dir = std::filesystem::temp_directory_path() / "gi_bench_test";
+  std::filesystem::remove_all(dir);
+  std::string out;
+  int rc = runBench("--scene " + std::string(GI_SHARED_SCENES) + "/cornell-box-mcguire/CornellBox-Original.gltf"
+                    " --size 32x24 --methods raw --spp 1,2 --set raw.accumulate=0 --frames 2 --warmup 0 --max-bounces 2"
+                    " --reference-spp 32 --camera-path --path-frames 3 --path-reference-spp 8 --validation --out " + dir.string(),
+                    out);
+  ASSERT_EQ(rc, 0) << out;
+  std::ifstream csv(dir / "results.csv");
+  std::string header, line;
+  std::getline(csv, header);
+  EXPECT_NE(header.find("relmse"), std::string::npos);
+  EXPECT_NE(header.find("equal_error_speedup"), std::string::npos);
+  int rows = 0;
+  while (std::getline(csv, line)) {
+    ++rows;
+    EXPECT_NE(line.find("raw_trace:"), std::string::npos) << line;
+  }
+  EXPECT_EQ(rows, 2);
+  for (const char* f : {"tradeoff.png", "insets.png", "report.md", "run.txt", "images/reference.pfm"})
+    EXPECT_TRUE(std::filesystem::exists(dir / f)) << f;
+  // The reference is cached: a second run renders none.
+  rc = runBench("--scene " + std::string(GI_SHARED_SCENES) + "/cornell-box-mcguire/CornellBox-Original.gltf"
+                " --size 32x24 --methods raw --spp 1 --frames 1 --warmup 0 --max-bounces 2 --reference-spp 32 --no-plots"
+                " --out " + dir.string(),
+                out);
+  ASSERT_EQ(rc, 0) << out;
+  EXPECT_EQ(out.find("rendering reference"), std::string::npos) << out;
+}
+
+TEST(GiBenchTool, RefusesBadInput) {
+  std::string out;
+  EXPECT_EQ(runBench("--scene x.gltf --methods magic", out), 2) << out;
+  EXPECT_NE(out.find("unknown method 'magic'"), std::string::npos) << out;
+  EXPECT_EQ(runBench("--scene x.gltf --methods raw --spp 0", out), 2) << out;
+  EXPECT_EQ(runBench("--scene x.gltf --methods raw --set raw.spp=0", out), 2) << out;
+  EXPECT_EQ(runBench("--scene x.gltf --methods raw --set nonsense=1", out), 2) << out;
+  EXPECT_EQ(runBench("--methods raw", out), 2) << out;
+  EXPECT_EQ(runBench("--scene /no/such.gltf --methods raw", out), 1) << out;
+}
