@@ -162,6 +162,23 @@ void uploadImageWithMips(const Context& ctx, Image& img, const void* texels, siz
   destroyBuffer(ctx, staging);
 }
 
+void uploadImage(const Context& ctx, Image& img, const void* texels, size_t bytes, VkImageLayout finalLayout) {
+  Buffer staging = createBuffer(ctx, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryKind::HostVisible);
+  std::memcpy(staging.mapped, texels, bytes);
+  submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+    imageBarrier(cmd, img.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_PIPELINE_STAGE_2_NONE,
+                 0, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+    VkBufferImageCopy copy{};
+    copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    copy.imageExtent = {img.extent.width, img.extent.height, 1};
+    vkCmdCopyBufferToImage(cmd, staging.buffer, img.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &copy);
+    imageBarrier(cmd, img.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, finalLayout, VK_PIPELINE_STAGE_2_TRANSFER_BIT,
+                 VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                 VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
+  });
+  destroyBuffer(ctx, staging);
+}
+
 std::vector<std::byte> readbackImage(const Context& ctx, const Image& img, VkImageLayout layout, size_t texelBytes) {
   size_t bytes = size_t(img.extent.width) * img.extent.height * texelBytes;
   Buffer staging = createBuffer(ctx, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryKind::HostVisible);

@@ -47,6 +47,9 @@ void destroyImage(const Context& ctx, Image& image);
 // leaves the image in SHADER_READ_ONLY_OPTIMAL.
 void uploadImageWithMips(const Context& ctx, Image& image, const void* texels, size_t bytes);
 
+// Uploads tightly packed texels into mip 0 of a single-mip image and leaves it in `finalLayout`; waits.
+void uploadImage(const Context& ctx, Image& image, const void* texels, size_t bytes, VkImageLayout finalLayout);
+
 // Copies an image (in `layout`) to host memory, tightly packed; waits.
 std::vector<std::byte> readbackImage(const Context& ctx, const Image& image, VkImageLayout layout, size_t texelBytes);
 

@@ -19,7 +19,14 @@ void main() {
     case GI_DEBUG_INDIRECT: result = indirect; break;
     case GI_DEBUG_ALBEDO: result = imageLoad(giGbAlbedo, p).rgb; break;
     case GI_DEBUG_NORMAL: result = imageLoad(giGbNormal, p).xyz * 0.5 + 0.5; break;
-    default: result = direct + giGbDiffuseAlbedo(p) * indirect; break;
+    case GI_DEBUG_GUIDANCE: result = imageLoad(giGuidance, p).xyz; break;
+    case GI_DEBUG_GUIDANCE_DEPTH: result = vec3(imageLoad(giGuidance, p).w); break;
+    case GI_DEBUG_FILTER_IN_OUT:
+      result = p.x < int(giFrame.size.x / 2u) ? imageLoad(giNoisyIndirect, p).rgb : indirect;
+      break;
+    case GI_DEBUG_GIF_COEFFICIENTS: result = vec3(imageLoad(giDebug, p).rg, 0.0); break;
+    // Filters may overshoot below zero; radiance cannot.
+    default: result = direct + giGbDiffuseAlbedo(p) * max(indirect, vec3(0.0)); break;
   }
   imageStore(giOutComposite, p, vec4(result, 1.0));
 }

@@ -19,19 +19,29 @@ layout(set = 1, binding = GI_BINDING_OUT_COMPOSITE, rgba32f) uniform image2D giO
 layout(set = 1, binding = GI_BINDING_HISTORY_DIRECT, rgba32f) uniform image2D giHistoryDirect;
 layout(set = 1, binding = GI_BINDING_HISTORY_INDIRECT, rgba32f) uniform image2D giHistoryIndirect;
 layout(set = 1, binding = GI_BINDING_COUNTERS, scalar) buffer GiCountersBlock { GiCounters giCounters; };
+layout(set = 1, binding = GI_BINDING_NOISY_INDIRECT, rgba32f) uniform image2D giNoisyIndirect;
+layout(set = 1, binding = GI_BINDING_GUIDANCE, rgba32f) uniform image2D giGuidance;
+layout(set = 1, binding = GI_BINDING_POSITION, rgba32f) uniform image2D giPosition;
+layout(set = 1, binding = GI_BINDING_DEBUG, rgba32f) uniform image2D giDebug;
 
 // True where the G-buffer holds geometry.
 bool giGbCovered(ivec2 p) { return imageLoad(giGbNormal, p).w > 0.5; }
+
+// World position of pixel p's primary hit from its view depth.
+vec3 giGbPosition(ivec2 p, out vec3 dir) {
+  dir = giCameraRayDirection(giFrame.camera, vec2(p) + 0.5);
+  vec3 forward = -vec3(giFrame.camera.worldFromView[2]);
+  float viewZ = imageLoad(giGbViewZ, p).r;
+  return giFrame.camera.position + dir * (viewZ / max(dot(dir, forward), 1e-6));
+}
 
 // The primary hit as a shading point: position from view depth along the
 // pixel-centre ray, normal and material from the G-buffer. The G-buffer stores
 // no triangle normal, so the (camera-facing) shading normal stands in for it.
 GiSurface giGbSurface(ivec2 p, out vec3 V) {
   GiSurface s;
-  vec3 dir = giCameraRayDirection(giFrame.camera, vec2(p) + 0.5);
-  vec3 forward = -vec3(giFrame.camera.worldFromView[2]);
-  float viewZ = imageLoad(giGbViewZ, p).r;
-  s.position = giFrame.camera.position + dir * (viewZ / max(dot(dir, forward), 1e-6));
+  vec3 dir;
+  s.position = giGbPosition(p, dir);
   s.normal = normalize(imageLoad(giGbNormal, p).xyz);
   s.geometricNormal = s.normal;
   s.frontFace = true;

@@ -40,7 +40,8 @@ void main() {
       imageStore(giHistoryIndirect, p, vec4(indirect, 1.0));
     }
     imageStore(giOutDirect, p, vec4(direct, 1.0));
-    imageStore(giOutIndirect, p, vec4(indirect, 1.0));
+    imageStore(giOutIndirect, p, vec4(indirect, 1.0));   // filters overwrite this one
+    imageStore(giNoisyIndirect, p, vec4(indirect, 1.0));
   }
   giCountRays(inside);
 }

@@ -29,7 +29,8 @@ uint giPickEmissiveTriangle(float u) {
   return lo;
 }
 
-vec3 giSampleEmissive(GiSurface s, GiBsdf b, vec3 V, inout GiRng rng) {
+// withMis: weight against BSDF sampling (the caller also adds BSDF-sampled emission).
+vec3 giSampleEmissive(GiSurface s, GiBsdf b, vec3 V, bool withMis, inout GiRng rng) {
   GpuEmissiveTriangle e = sceneEmissiveTriangles[giPickEmissiveTriangle(giRandom(rng))];
   uvec3 tri = sceneTriangle(e.geometry, e.triangle);
   vec2 u = giRandom2(rng);
@@ -57,7 +58,7 @@ vec3 giSampleEmissive(GiSurface s, GiBsdf b, vec3 V, inout GiRng rng) {
   vec3 seg = target - origin;
   float segLength = length(seg);
   if (!(segLength > 0.0) || !giTraceVisible(origin, seg / segLength, 0.0, segLength)) return vec3(0.0);
-  float mis = giPowerHeuristic(lightPdf, giBsdfPdf(b, s.normal, V, L));
+  float mis = withMis ? giPowerHeuristic(lightPdf, giBsdfPdf(b, s.normal, V, L)) : 1.0;
   return f * Le * (mis / lightPdf);
 }
 
@@ -100,10 +101,10 @@ vec3 giSamplePunctual(GiSurface s, GiBsdf b, vec3 V) {
 }
 
 // Reflected direct light at s towards V: f·cos·L / pdf for one emissive
-// sample plus all punctual lights.
-vec3 giDirectLight(GiSurface s, GiBsdf b, vec3 V, inout GiRng rng) {
+// sample plus all punctual lights. withMis as in giSampleEmissive.
+vec3 giDirectLight(GiSurface s, GiBsdf b, vec3 V, bool withMis, inout GiRng rng) {
   vec3 sum = vec3(0.0);
-  if (GI_SCENE_HAS_EMISSIVE && sceneConstants.emissiveTriangleCount > 0u) sum += giSampleEmissive(s, b, V, rng);
+  if (GI_SCENE_HAS_EMISSIVE && sceneConstants.emissiveTriangleCount > 0u) sum += giSampleEmissive(s, b, V, withMis, rng);
   if (GI_SCENE_HAS_PUNCTUAL) sum += giSamplePunctual(s, b, V);
   return sum;
 }

@@ -42,7 +42,7 @@ GiPathSample giTracePathFromSurface(GiSurface vertex0, vec3 V, uint maxBounces, 
       V = -direction;
     }
     GiBsdf b = giMakeBsdf(s.material.baseColor, s.material.metallic, s.material.roughness, s.material.flags);
-    vec3 Ld = giDirectLight(s, b, V, rng);
+    vec3 Ld = giDirectLight(s, b, V, true, rng);
     if (depth == 0u) r.direct += Ld;
     else {
       r.indirect += throughput * Ld;

@@ -8,6 +8,9 @@ namespace tools {
 void setSamplesPerPixel(gi::Settings& settings, uint32_t spp) {
   switch (settings.method) {
     case gi::Method::Raw: settings.raw.samplesPerPixel = spp; break;
+    case gi::Method::Gif: settings.gif.samplesPerPixel = spp; break;
+    case gi::Method::Bilateral: settings.bilateral.samplesPerPixel = spp; break;
+    case gi::Method::Atrous: settings.atrous.samplesPerPixel = spp; break;
   }
 }
 

@@ -9,6 +9,7 @@
 
 #include "camera.h"
 #include "cli.h"
+#include "bench_configs.h"
 #include "module_session.h"
 #include "settings_keys.h"
 #include "context.h"
@@ -22,7 +23,7 @@ const cli::Option kOptions[] = {
     {"scene", "FILE.gltf", "scene to render (required)"},
     {"size", "WxH", "image size in pixels (default 320x180)"},
     {"camera", "N", "glTF camera index (default 0; a default camera is made when the file has none)"},
-    {"method", "NAME", "reference (default) or a GI module method: raw"},
+    {"method", "NAME", "reference (default) or a GI module method: raw, gif, bilateral, atrous"},
     {"set", "KEY=V", "a GI module setting, repeatable (keys: see --help)"},
     {"spp", "N", "samples per pixel per frame (default 64)"},
     {"frames", "N", "frames to accumulate (default 1); total samples = spp × frames"},
@@ -34,7 +35,7 @@ const cli::Option kOptions[] = {
     {"validation", nullptr, "enable Vulkan validation; any message makes the run fail"},
     {"help", nullptr, "show this message"},
 };
-const char* const kMethods[] = {"reference", "raw"};
+const char* const kMethods[] = {"reference", "raw", "gif", "bilateral", "atrous"};
 const char* const kAovs[] = {"final", "direct", "indirect", "albedo", "normal", "depth"};
 const char* kSynopsis = "--scene FILE.gltf [options]";
 
@@ -73,7 +74,7 @@ int main(int argc, char** argv) {
     gi::methodFromName(method, moduleSettings.method);
     moduleSettings.maxBounces = bounces;
     moduleSettings.seed = seed;
-    moduleSettings.raw.samplesPerPixel = spp;
+    tools::setSamplesPerPixel(moduleSettings, spp);
     moduleSettings.raw.temporalAccumulation = frames > 1;  // a static camera: average the frames
     if (args.has("set"))
       for (const std::string& assignment : cli::splitList(args.values["set"]))

@@ -33,7 +33,8 @@ bool createModuleSession(const engine::Context& ctx, const engine::SceneGpu& sce
   desc.device = ctx.device;
   desc.width = extent.width;
   desc.height = extent.height;
-  desc.scene = {scene.set.layout, scene.set.set, scene.hasEmissiveTriangles(), scene.hasPunctualLights(), scene.hasAlphaMask};
+  desc.scene = {scene.set.layout, scene.set.set, scene.hasEmissiveTriangles(), scene.hasPunctualLights(), scene.hasAlphaMask,
+                scene.sceneConstants.sceneExtent};
   desc.debugLabels = ctx.debugUtils;
   if (gi::Error e = gi::create(desc, settings, s.module)) {
     error = e.message;

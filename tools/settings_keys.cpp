@@ -1,6 +1,7 @@
 #include "settings_keys.h"
 
 #include <cerrno>
+#include <cmath>
 #include <cstdlib>
 #include <functional>
 
@@ -10,21 +11,46 @@ namespace {
 struct Key {
   const char* name;
   const char* meaning;
-  std::function<void(gi::Settings&, uint64_t)> set;
+  bool integer;  // whole numbers only
+  std::function<void(gi::Settings&, double)> set;
 };
+
+#define GI_KEY_U(name, meaning, field) {name, meaning, true, [](gi::Settings& s, double v) { s.field = uint32_t(v); }}
+#define GI_KEY_F(name, meaning, field) {name, meaning, false, [](gi::Settings& s, double v) { s.field = float(v); }}
 
 const std::vector<Key>& keys() {
   static const std::vector<Key> table = {
-      {"raw.spp", "raw: paths per pixel per frame", [](gi::Settings& s, uint64_t v) { s.raw.samplesPerPixel = uint32_t(v); }},
-      {"raw.accumulate", "raw: 1 = temporal accumulation", [](gi::Settings& s, uint64_t v) { s.raw.temporalAccumulation = v != 0; }},
-      {"raw.history", "raw: accumulation cap in frames", [](gi::Settings& s, uint64_t v) { s.raw.maxAccumulatedFrames = uint32_t(v); }},
-      {"bounces", "indirect bounces", [](gi::Settings& s, uint64_t v) { s.maxBounces = uint32_t(v); }},
-      {"rr_start", "Russian roulette start bounce", [](gi::Settings& s, uint64_t v) { s.russianRouletteStart = uint32_t(v); }},
-      {"ray_budget", "rays per frame (0 = unlimited)", [](gi::Settings& s, uint64_t v) { s.rayBudget = v; }},
-      {"seed", "random seed", [](gi::Settings& s, uint64_t v) { s.seed = uint32_t(v); }},
+      GI_KEY_U("bounces", "indirect bounces", maxBounces),
+      GI_KEY_U("rr_start", "Russian roulette start bounce", russianRouletteStart),
+      {"ray_budget", "rays per frame (0 = unlimited)", true, [](gi::Settings& s, double v) { s.rayBudget = uint64_t(v); }},
+      GI_KEY_U("seed", "random seed", seed),
+      {"view", "debug view: 0 none, 1 direct, 2 indirect, 3 albedo, 4 normal, 5 guidance, 6 guidance depth, 7 filter in|out, 8 gif coefficients",
+       true, [](gi::Settings& s, double v) { s.debugView = gi::DebugView(uint32_t(v)); }},
+      GI_KEY_U("raw.spp", "raw: paths per pixel per frame", raw.samplesPerPixel),
+      {"raw.accumulate", "raw: 1 = temporal accumulation", true, [](gi::Settings& s, double v) { s.raw.temporalAccumulation = v != 0; }},
+      GI_KEY_U("raw.history", "raw: accumulation cap in frames", raw.maxAccumulatedFrames),
+      GI_KEY_U("gif.spp", "gif: indirect paths per guide ray", gif.samplesPerPixel),
+      GI_KEY_U("gif.radius", "gif: window radius, pixels", gif.radius),
+      GI_KEY_F("gif.eps_normal", "gif: ridge term of the normal channels", gif.epsilonNormal),
+      GI_KEY_F("gif.eps_depth", "gif: ridge term of the depth channel", gif.epsilonDepth),
+      GI_KEY_U("gif.dims", "gif: guidance dimensions 1, 3 or 4", gif.guidanceDimensions),
+      GI_KEY_U("gif.supersamples", "gif: extra eye rays per pixel", gif.supersamples),
+      GI_KEY_U("bilateral.spp", "bilateral: paths per pixel", bilateral.samplesPerPixel),
+      GI_KEY_U("bilateral.radius", "bilateral: radius, pixels", bilateral.radius),
+      GI_KEY_F("bilateral.sigma_spatial", "bilateral: spatial sigma, pixels", bilateral.sigmaSpatial),
+      GI_KEY_F("bilateral.sigma_normal", "bilateral: normal sigma", bilateral.sigmaNormal),
+      GI_KEY_F("bilateral.sigma_depth", "bilateral: relative depth sigma", bilateral.sigmaDepth),
+      GI_KEY_U("atrous.spp", "atrous: paths per pixel", atrous.samplesPerPixel),
+      GI_KEY_U("atrous.iterations", "atrous: wavelet iterations", atrous.iterations),
+      GI_KEY_F("atrous.sigma_color", "atrous: colour sigma", atrous.sigmaColor),
+      GI_KEY_F("atrous.sigma_normal", "atrous: normal sigma", atrous.sigmaNormal),
+      GI_KEY_F("atrous.sigma_position", "atrous: position sigma, fraction of depth", atrous.sigmaPosition),
   };
   return table;
 }
+
+#undef GI_KEY_U
+#undef GI_KEY_F
 
 }  // namespace
 
@@ -40,9 +66,10 @@ bool applySetting(gi::Settings& settings, const std::string& assignment, std::st
     std::string value = assignment.substr(eq + 1);
     char* end = nullptr;
     errno = 0;
-    unsigned long long v = std::strtoull(value.c_str(), &end, 10);
-    if (value.empty() || value[0] == '-' || *end != '\0' || errno != 0) {
-      error = "setting '" + name + "' must be a whole number, not '" + value + "'";
+    double v = std::strtod(value.c_str(), &end);
+    bool whole = v >= 0.0 && v <= 1.8e19 && std::floor(v) == v;
+    if (value.empty() || *end != '\0' || errno != 0 || !std::isfinite(v) || (k.integer && !whole)) {
+      error = "setting '" + name + "' must be " + (k.integer ? "a whole number" : "a finite number") + ", not '" + value + "'";
       return false;
     }
     k.set(settings, v);

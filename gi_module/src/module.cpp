@@ -8,7 +8,9 @@
 #include <cstring>
 
 #include "gi_composite.comp.h"
+#include "gi_guidance.comp.h"
 #include "gi_raw_trace.comp.h"
+#include "gi_supersample.comp.h"
 
 namespace gi {
 namespace {
@@ -29,6 +31,10 @@ const engine::Binding kFrameBindings[] = {
     {gpu::GI_BINDING_HISTORY_DIRECT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
     {gpu::GI_BINDING_HISTORY_INDIRECT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
     {gpu::GI_BINDING_COUNTERS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+    {gpu::GI_BINDING_NOISY_INDIRECT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_GUIDANCE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_POSITION, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_DEBUG, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
 };
 
 bool sameView(const GBufferViews& a, const GBufferViews& b) { return std::memcmp(&a, &b, sizeof(a)) == 0; }
@@ -55,8 +61,17 @@ engine::Image outputImage(Module& m) {
 }
 
 engine::Image* ownedImages(Module& m, size_t i) {
-  engine::Image* all[] = {&m.direct, &m.indirect, &m.composite, &m.historyDirect, &m.historyIndirect};
-  return i < 5 ? all[i] : nullptr;
+  engine::Image* all[] = {&m.direct,        &m.indirect, &m.composite, &m.historyDirect, &m.historyIndirect,
+                          &m.noisyIndirect, &m.guidance, &m.position,  &m.debug};
+  return i < std::size(all) ? all[i] : nullptr;
+}
+
+// Filter images (several MB) exist only once a filter method has been chosen.
+void ensureFilters(Module& m) {
+  if (!usesScreenFilters(m.settings.method) || m.filters.set.set) return;
+  m.filters = createScreenFilters(m.ctx, m.desc.width, m.desc.height,
+                                  {m.guidance.view, m.position.view, m.noisyIndirect.view, m.indirect.view, m.debug.view});
+  m.memoryBytes += m.filters.memoryBytes;
 }
 
 // The ray budget: paths per pixel such that pixels × spp × (rays per path, as
@@ -79,6 +94,11 @@ void computeToComputeBarrier(VkCommandBuffer cmd) {
   engine::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                         VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                         VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+}
+
+PassHooks passHooks(Module& m, uint32_t slot) {
+  return {[&m, slot](VkCommandBuffer cmd, const char* name) { beginPass(m, cmd, slot, name); },
+          [&m, slot](VkCommandBuffer cmd) { endPass(m, cmd, slot); }};
 }
 
 void beginPass(Module& m, VkCommandBuffer cmd, uint32_t slot, const char* name) {
@@ -135,7 +155,11 @@ Error create(const ModuleDesc& desc, const Settings& settings, Module*& out) {
       .storageImage(gpu::GI_BINDING_OUT_INDIRECT, m->indirect.view)
       .storageImage(gpu::GI_BINDING_OUT_COMPOSITE, m->composite.view)
       .storageImage(gpu::GI_BINDING_HISTORY_DIRECT, m->historyDirect.view)
-      .storageImage(gpu::GI_BINDING_HISTORY_INDIRECT, m->historyIndirect.view);
+      .storageImage(gpu::GI_BINDING_HISTORY_INDIRECT, m->historyIndirect.view)
+      .storageImage(gpu::GI_BINDING_NOISY_INDIRECT, m->noisyIndirect.view)
+      .storageImage(gpu::GI_BINDING_GUIDANCE, m->guidance.view)
+      .storageImage(gpu::GI_BINDING_POSITION, m->position.view)
+      .storageImage(gpu::GI_BINDING_DEBUG, m->debug.view);
   // The shaders' live counter is the first GiCounters; the others are per-slot copies for readback.
   w.buffer(gpu::GI_BINDING_COUNTERS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, m->counters.buffer);
   w.write(m->ctx);
@@ -143,10 +167,12 @@ Error create(const ModuleDesc& desc, const Settings& settings, Module*& out) {
   VkDescriptorSetLayout layouts[] = {desc.scene.layout, m->frameSet.layout};
   const uint32_t spec[SCENE_SPEC_COUNT] = {desc.scene.hasEmissiveTriangles ? 1u : 0u,
                                            desc.scene.hasPunctualLights ? 1u : 0u, desc.scene.hasAlphaMask ? 1u : 0u};
-  m->rawTrace = engine::createComputeProgram(m->ctx, spv_gi_raw_trace_comp, layouts, sizeof(gpu::GiRawPush),
-                                             {GI_GROUP_SIZE, GI_GROUP_SIZE}, spec);
-  m->composite_ = engine::createComputeProgram(m->ctx, spv_gi_composite_comp, layouts, sizeof(gpu::GiCompositePush),
-                                               {GI_GROUP_SIZE, GI_GROUP_SIZE}, spec);
+  const glm::uvec2 tile{GI_GROUP_SIZE, GI_GROUP_SIZE};
+  m->rawTrace = engine::createComputeProgram(m->ctx, spv_gi_raw_trace_comp, layouts, sizeof(gpu::GiRawPush), tile, spec);
+  m->composite_ = engine::createComputeProgram(m->ctx, spv_gi_composite_comp, layouts, sizeof(gpu::GiCompositePush), tile, spec);
+  m->guidancePass = engine::createComputeProgram(m->ctx, spv_gi_guidance_comp, layouts, 0, tile, spec);
+  m->supersample = engine::createComputeProgram(m->ctx, spv_gi_supersample_comp, layouts, sizeof(gpu::GiSupersamplePush), tile, spec);
+  ensureFilters(*m);
 
   VkQueryPoolCreateInfo q{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
   q.queryType = VK_QUERY_TYPE_TIMESTAMP;
@@ -159,8 +185,9 @@ Error create(const ModuleDesc& desc, const Settings& settings, Module*& out) {
 void destroy(Module* m) {
   if (!m) return;
   vkDestroyQueryPool(m->ctx.device, m->timestamps, nullptr);
-  engine::destroyComputeProgram(m->ctx, m->rawTrace);
-  engine::destroyComputeProgram(m->ctx, m->composite_);
+  for (engine::ComputeProgram* p : {&m->rawTrace, &m->composite_, &m->guidancePass, &m->supersample})
+    engine::destroyComputeProgram(m->ctx, *p);
+  if (m->filters.set.set) destroyScreenFilters(m->ctx, m->filters);
   engine::destroyDescriptorSet(m->ctx, m->frameSet);
   for (size_t i = 0; engine::Image* img = ownedImages(*m, i); ++i) engine::destroyImage(m->ctx, *img);
   engine::destroyBuffer(m->ctx, m->frameConstants);
@@ -172,6 +199,7 @@ Error setSettings(Module* m, const Settings& settings) {
   if (Error e = validate(settings)) return e;
   m->settings = settings;
   m->historyLength = 0;  // any change invalidates accumulated frames
+  ensureFilters(*m);
   return {};
 }
 
@@ -182,7 +210,8 @@ Outputs outputs(const Module* m) {
 void recordFrame(Module* m, VkCommandBuffer cmd, const FrameInputs& in) {
   const uint32_t slot = in.frameIndex % kFramesInFlight;
   const Settings& s = m->settings;
-  gpu::GiFrameConstants frame{in.camera, in.previousCamera, {m->desc.width, m->desc.height}, in.frameIndex, 0};
+  gpu::GiFrameConstants frame{in.camera, in.previousCamera, {m->desc.width, m->desc.height}, in.frameIndex,
+                              std::max(m->desc.scene.extent, 1e-6f)};
   std::memcpy(m->frameConstants.mapped, &frame, sizeof(frame));
   if (!sameView(in.gbuffer, m->boundGBuffer)) {
     engine::DescriptorWriter(m->frameSet.set)
@@ -215,7 +244,7 @@ void recordFrame(Module* m, VkCommandBuffer cmd, const FrameInputs& in) {
   VkDescriptorSet sets[] = {m->desc.scene.set, m->frameSet.set};
   const glm::uvec2 size{m->desc.width, m->desc.height};
 
-  uint32_t spp = samplesWithinBudget(*m, s.raw.samplesPerPixel, in.frameIndex);
+  uint32_t spp = samplesWithinBudget(*m, tracedSamplesPerPixel(s), in.frameIndex);
 
   // Pass: trace paths from the G-buffer (direct + demodulated indirect, optional temporal mean).
   beginPass(*m, cmd, slot, "raw_trace");
@@ -225,12 +254,42 @@ void recordFrame(Module* m, VkCommandBuffer cmd, const FrameInputs& in) {
   computeToComputeBarrier(cmd);
   endPass(*m, cmd, slot);
 
+  if (usesScreenFilters(s.method)) {
+    // Pass: the filters' guidance (normal, scaled depth) and world positions from the G-buffer.
+    beginPass(*m, cmd, slot, "guidance");
+    engine::dispatch(cmd, m->guidancePass, sets, size, nullptr, 0);
+    computeToComputeBarrier(cmd);
+    endPass(*m, cmd, slot);
+    // Passes: the chosen filter, noisy indirect → indirect.
+    PassHooks hooks = passHooks(*m, slot);
+    if (s.method == Method::Gif) {
+      GuidedFilterParams gif{s.gif.radius, s.gif.epsilonNormal, s.gif.epsilonDepth, s.gif.guidanceDimensions,
+                             s.debugView == DebugView::GifCoefficients};
+      recordGuidedFilter(cmd, m->filters, gif, hooks);
+    } else if (s.method == Method::Bilateral) {
+      const BilateralSettings& b = s.bilateral;
+      recordBilateral(cmd, m->filters, {b.radius, b.sigmaSpatial, b.sigmaNormal, b.sigmaDepth}, hooks);
+    } else {
+      const AtrousSettings& a = s.atrous;
+      recordAtrous(cmd, m->filters, a.iterations, a.sigmaColor, a.sigmaNormal, a.sigmaPosition, hooks);
+    }
+  }
+
   // Pass: composite (or the chosen debug view).
   beginPass(*m, cmd, slot, "composite");
   engine::dispatch(cmd, m->composite_, sets, size, gpu::GiCompositePush{uint32_t(s.debugView), 0});
+  computeToComputeBarrier(cmd);
+  endPass(*m, cmd, slot);
+
+  if (s.method == Method::Gif && s.gif.supersamples > 0 && s.debugView == DebugView::None) {
+    // Pass: extra eye rays with their own direct light and geometry-aware indirect lookup.
+    beginPass(*m, cmd, slot, "gif_supersample");
+    engine::dispatch(cmd, m->supersample, sets, size, gpu::GiSupersamplePush{s.seed, s.gif.supersamples});
+    computeToComputeBarrier(cmd);
+    endPass(*m, cmd, slot);
+  }
   engine::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                         VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
-  endPass(*m, cmd, slot);
 
   // Counters to this slot's readback copy.
   VkBufferCopy copy{0, sizeof(gpu::GiCounters) * (1 + slot), sizeof(gpu::GiCounters)};

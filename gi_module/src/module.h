@@ -5,6 +5,7 @@
 #include "descriptors.h"
 #include "gi/gi.h"
 #include "resources.h"
+#include "screen_filters.h"
 #include "shared/gi_frame.h"
 
 namespace gi {
@@ -19,12 +20,15 @@ struct Module {
 
   engine::Image direct, indirect, composite;       // outputs
   engine::Image historyDirect, historyIndirect;    // temporal accumulation (raw)
+  engine::Image noisyIndirect;                     // demodulated indirect before filtering
+  engine::Image guidance, position, debug;         // filter guidance, world position, filter debug/temp
+  ScreenFilters filters;                           // created on first use of a filter method
   engine::Buffer frameConstants;                   // host-visible GiFrameConstants
   engine::Buffer counters;                         // host-visible GiCounters[kFramesInFlight]
   engine::DescriptorSet frameSet;
   GBufferViews boundGBuffer{};                     // views currently written into frameSet
 
-  engine::ComputeProgram rawTrace, composite_;
+  engine::ComputeProgram rawTrace, composite_, guidancePass, supersample;
 
   VkQueryPool timestamps = VK_NULL_HANDLE;         // 2 per pass per slot
   std::vector<std::string> passNames[kFramesInFlight];
@@ -41,6 +45,7 @@ struct Module {
 };
 
 // Pass helpers (module.cpp).
+PassHooks passHooks(Module& m, uint32_t slot);
 void beginPass(Module& m, VkCommandBuffer cmd, uint32_t slot, const char* name);
 void endPass(Module& m, VkCommandBuffer cmd, uint32_t slot);
 void computeToComputeBarrier(VkCommandBuffer cmd);

@@ -7,6 +7,15 @@
 namespace gi {
 namespace {
 
+Error outOfRangeF(const char* field, double value, double lo, double hi, bool openLow) {
+  char text[256];
+  std::snprintf(text, sizeof(text), "%s = %g is outside %s%g, %g]", field, value, openLow ? "(" : "[", lo, hi);
+  return {ErrorCode::OutOfRange, text};
+}
+
+// Finite and inside [lo, hi] (or (lo, hi] when openLow): NaN fails every comparison.
+bool inRange(double v, double lo, double hi, bool openLow) { return (openLow ? v > lo : v >= lo) && v <= hi; }
+
 Error outOfRange(const char* field, uint64_t value, uint64_t lo, uint64_t hi) {
   char text[256];
   std::snprintf(text, sizeof(text), "%s = %llu is outside [%llu, %llu]", field, (unsigned long long)value,
@@ -19,12 +28,15 @@ Error outOfRange(const char* field, uint64_t value, uint64_t lo, uint64_t hi) {
 const char* methodName(Method method) {
   switch (method) {
     case Method::Raw: return "raw";
+    case Method::Gif: return "gif";
+    case Method::Bilateral: return "bilateral";
+    case Method::Atrous: return "atrous";
   }
   return "unknown";
 }
 
 bool methodFromName(const std::string& name, Method& out) {
-  for (Method m : {Method::Raw})
+  for (Method m : {Method::Raw, Method::Gif, Method::Bilateral, Method::Atrous})
     if (name == methodName(m)) {
       out = m;
       return true;
@@ -33,17 +45,49 @@ bool methodFromName(const std::string& name, Method& out) {
 }
 
 Error validate(const Settings& s) {
-  if (uint32_t(s.method) > uint32_t(Method::Raw)) return {ErrorCode::UnknownMethod, "settings.method is not a known method"};
+  if (uint32_t(s.method) >= kMethodCount) return {ErrorCode::UnknownMethod, "settings.method is not a known method"};
   if (s.maxBounces < 1 || s.maxBounces > 32) return outOfRange("settings.maxBounces", s.maxBounces, 1, 32);
   if (s.russianRouletteStart < 1 || s.russianRouletteStart > 64)
     return outOfRange("settings.russianRouletteStart", s.russianRouletteStart, 1, 64);
-  if (uint32_t(s.debugView) > uint32_t(DebugView::Normal))
-    return outOfRange("settings.debugView", uint32_t(s.debugView), 0, uint32_t(DebugView::Normal));
+  if (uint32_t(s.debugView) > uint32_t(DebugView::GifCoefficients))
+    return outOfRange("settings.debugView", uint32_t(s.debugView), 0, uint32_t(DebugView::GifCoefficients));
   if (s.raw.samplesPerPixel < 1 || s.raw.samplesPerPixel > 64)
     return outOfRange("settings.raw.samplesPerPixel", s.raw.samplesPerPixel, 1, 64);
   if (s.raw.maxAccumulatedFrames < 1 || s.raw.maxAccumulatedFrames > (1u << 20))
     return outOfRange("settings.raw.maxAccumulatedFrames", s.raw.maxAccumulatedFrames, 1, 1u << 20);
+  const GifSettings& g = s.gif;
+  if (g.samplesPerPixel < 1 || g.samplesPerPixel > 64) return outOfRange("settings.gif.samplesPerPixel", g.samplesPerPixel, 1, 64);
+  if (g.radius < 1 || g.radius > 128) return outOfRange("settings.gif.radius", g.radius, 1, 128);
+  if (!inRange(g.epsilonNormal, 0, 1e6, false)) return outOfRangeF("settings.gif.epsilonNormal", g.epsilonNormal, 0, 1e6, false);
+  if (!inRange(g.epsilonDepth, 0, 1e6, false)) return outOfRangeF("settings.gif.epsilonDepth", g.epsilonDepth, 0, 1e6, false);
+  if (g.guidanceDimensions != 1 && g.guidanceDimensions != 3 && g.guidanceDimensions != 4)
+    return {ErrorCode::OutOfRange, "settings.gif.guidanceDimensions = " + std::to_string(g.guidanceDimensions) + " is not 1, 3 or 4"};
+  if (g.supersamples > 16) return outOfRange("settings.gif.supersamples", g.supersamples, 0, 16);
+  const BilateralSettings& b = s.bilateral;
+  if (b.samplesPerPixel < 1 || b.samplesPerPixel > 64) return outOfRange("settings.bilateral.samplesPerPixel", b.samplesPerPixel, 1, 64);
+  if (b.radius < 1 || b.radius > 64) return outOfRange("settings.bilateral.radius", b.radius, 1, 64);
+  if (!inRange(b.sigmaSpatial, 0, 1e4, true)) return outOfRangeF("settings.bilateral.sigmaSpatial", b.sigmaSpatial, 0, 1e4, true);
+  if (!inRange(b.sigmaNormal, 0, 1e4, true)) return outOfRangeF("settings.bilateral.sigmaNormal", b.sigmaNormal, 0, 1e4, true);
+  if (!inRange(b.sigmaDepth, 0, 1e4, true)) return outOfRangeF("settings.bilateral.sigmaDepth", b.sigmaDepth, 0, 1e4, true);
+  const AtrousSettings& a = s.atrous;
+  if (a.samplesPerPixel < 1 || a.samplesPerPixel > 64) return outOfRange("settings.atrous.samplesPerPixel", a.samplesPerPixel, 1, 64);
+  if (a.iterations < 1 || a.iterations > 8) return outOfRange("settings.atrous.iterations", a.iterations, 1, 8);
+  if (!inRange(a.sigmaColor, 0, 1e6, true)) return outOfRangeF("settings.atrous.sigmaColor", a.sigmaColor, 0, 1e6, true);
+  if (!inRange(a.sigmaNormal, 0, 1e4, true)) return outOfRangeF("settings.atrous.sigmaNormal", a.sigmaNormal, 0, 1e4, true);
+  if (!inRange(a.sigmaPosition, 0, 1e4, true)) return outOfRangeF("settings.atrous.sigmaPosition", a.sigmaPosition, 0, 1e4, true);
   return {};
 }
+
+uint32_t tracedSamplesPerPixel(const Settings& s) {
+  switch (s.method) {
+    case Method::Raw: return s.raw.samplesPerPixel;
+    case Method::Gif: return s.gif.samplesPerPixel;
+    case Method::Bilateral: return s.bilateral.samplesPerPixel;
+    case Method::Atrous: return s.atrous.samplesPerPixel;
+  }
+  return 1;
+}
+
+bool usesScreenFilters(Method m) { return m == Method::Gif || m == Method::Bilateral || m == Method::Atrous; }
 
 }  // namespace gi

@@ -21,7 +21,11 @@ GPU_CONST GI_BINDING_OUT_COMPOSITE = 9;  // rgba32f: what the debug view selects
 GPU_CONST GI_BINDING_HISTORY_DIRECT = 10;   // rgba32f: running mean of direct (rgb)
 GPU_CONST GI_BINDING_HISTORY_INDIRECT = 11; // rgba32f: running mean of demodulated indirect (rgb)
 GPU_CONST GI_BINDING_COUNTERS = 12;      // GiCounters, host-visible, one slot per frame in flight
-GPU_CONST GI_BINDING_COUNT = 13;
+GPU_CONST GI_BINDING_NOISY_INDIRECT = 13;// rgba32f: demodulated indirect before any filter
+GPU_CONST GI_BINDING_GUIDANCE = 14;      // rgba32f: filter guidance (shared/gi_filters.h contract)
+GPU_CONST GI_BINDING_POSITION = 15;      // rgba32f: world position (xyz), view depth (w; 0 = background)
+GPU_CONST GI_BINDING_DEBUG = 16;         // rgba32f: a filter's debug output (the filters' temp image)
+GPU_CONST GI_BINDING_COUNT = 17;
 #define GI_GROUP_SIZE 8u                 // 8×8 threads per group
 
 struct GiFrameConstants {
@@ -29,7 +33,7 @@ struct GiFrameConstants {
   GpuCamera previousCamera;
   uvec2 size;        // pixels
   uint frameIndex;
-  uint pad0;
+  float depthScale;  // metres: view depth is divided by it for the filters' guidance (the scene extent, fixed)
 };
 GPU_ASSERT_SIZE(GiFrameConstants, 592);
 
@@ -59,10 +63,21 @@ GPU_CONST GI_DEBUG_INDIRECT = 2;
 GPU_CONST GI_DEBUG_ALBEDO = 3;
 GPU_CONST GI_DEBUG_NORMAL = 4;
 
+GPU_CONST GI_DEBUG_GUIDANCE = 5;
+GPU_CONST GI_DEBUG_GUIDANCE_DEPTH = 6;
+GPU_CONST GI_DEBUG_FILTER_IN_OUT = 7;
+GPU_CONST GI_DEBUG_GIF_COEFFICIENTS = 8;
+
 struct GiCompositePush {
   uint debugView;  // GI_DEBUG_*
   uint pad0;
 };
+
+struct GiSupersamplePush {
+  uint seed;
+  uint supersamples;  // extra eye rays per pixel
+};
+GPU_ASSERT_SIZE(GiSupersamplePush, 8);
 GPU_ASSERT_SIZE(GiCompositePush, 8);
 
 GPU_NAMESPACE_END

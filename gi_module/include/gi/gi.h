@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "gi/settings.h"
 #include "shared/gpu_scene.h"
 
 #define GI_VERSION_MAJOR 0
@@ -26,41 +27,13 @@
 
 namespace gi {
 
-enum class Method : uint32_t { Raw = 0 };
-const char* methodName(Method method);                      // "raw", ...
-bool methodFromName(const std::string& name, Method& out);  // false for unknown names
-
-enum class DebugView : uint32_t {
-  None = 0,        // composite = direct + diffuse albedo × indirect
-  Direct,          // direct light only (emission + first reflection)
-  Indirect,        // demodulated indirect light
-  Albedo,          // G-buffer base colour
-  Normal,          // G-buffer normal, mapped to [0,1]
-};
-
-struct RawSettings {
-  uint32_t samplesPerPixel = 1;        // paths per pixel per frame, [1, 64]
-  bool temporalAccumulation = false;   // average frames while the camera and settings stay unchanged
-  uint32_t maxAccumulatedFrames = 4096;// history cap, [1, 1<<20]; older frames fade out past it
-};
-
-struct Settings {
-  Method method = Method::Raw;
-  RawSettings raw;
-  uint32_t maxBounces = 1;             // indirect bounces B, [1, 32] (B = 0 would be direct light only)
-  uint32_t russianRouletteStart = 3;   // bounce from which paths may stop early (unbiased), [1, 64]
-  uint64_t rayBudget = 0;              // rays per frame; 0 = unlimited. The module lowers its sample
-                                       // count (never below 1 spp) from the rays per path it last measured
-  DebugView debugView = DebugView::None;
-  uint32_t seed = 1;                   // random sequence; the same seed and inputs give the same frames
-};
-
 struct SceneDesc {
   VkDescriptorSetLayout layout = VK_NULL_HANDLE;  // set 0 per shaders/shared/gpu_scene.h
   VkDescriptorSet set = VK_NULL_HANDLE;
   bool hasEmissiveTriangles = false;              // skips emissive-light sampling when false
   bool hasPunctualLights = false;                 // skips the punctual-light loop when false
   bool hasAlphaMask = true;                       // false: every hit is opaque (faster traversal)
+  float extent = 1.0f;                            // largest side of the scene bounds, metres: scales depth guidance
 };
 
 struct ModuleDesc {

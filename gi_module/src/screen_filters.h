@@ -1,0 +1,50 @@
+// The screen-space filters as an image operator with its own descriptor set:
+// guided filter, cross-bilateral and à-trous. Independent of the scene and of
+// the module's frame, so tests drive it on synthetic images.
+#pragma once
+#include <functional>
+
+#include "compute_program.h"
+#include "descriptors.h"
+#include "resources.h"
+#include "shared/gi_filters.h"
+
+namespace gi {
+
+struct FilterTargets {
+  VkImageView guidance, position, input, output, temp;  // rgba32f, GENERAL layout (contract in shared/gi_filters.h)
+};
+
+// Timestamp/label hooks around each pass; empty functions are allowed.
+struct PassHooks {
+  std::function<void(VkCommandBuffer, const char*)> begin;
+  std::function<void(VkCommandBuffer)> end;
+};
+
+struct ScreenFilters {
+  engine::Image a[FILTER_STACK], b[FILTER_STACK];  // window statistics and the box filter's intermediate
+  engine::DescriptorSet set;
+  engine::ComputeProgram moments, box, coefficients, output, bilateral, atrous;
+  uint32_t width = 0, height = 0;
+  uint64_t memoryBytes = 0;
+  bool initialised = false;  // images moved to GENERAL layout
+};
+
+struct GuidedFilterParams {
+  uint32_t radius = 24;
+  float epsilonNormal = 0.01f, epsilonDepth = 0.02f;
+  uint32_t guidanceDimensions = 4;
+  bool writeCoefficientView = false;  // also write |a|, |b| to the temp image (debug view)
+};
+
+ScreenFilters createScreenFilters(const engine::Context& ctx, uint32_t width, uint32_t height, const FilterTargets& targets);
+void destroyScreenFilters(const engine::Context& ctx, ScreenFilters& f);
+
+// Each reads the targets' input and writes their output (and temp as noted),
+// ending with a barrier that makes the output visible to compute shaders.
+void recordGuidedFilter(VkCommandBuffer cmd, ScreenFilters& f, const GuidedFilterParams& params, const PassHooks& hooks);
+void recordBilateral(VkCommandBuffer cmd, ScreenFilters& f, const gpu::BilateralPush& params, const PassHooks& hooks);
+void recordAtrous(VkCommandBuffer cmd, ScreenFilters& f, uint32_t iterations, float sigmaColor, float sigmaNormal,
+                  float sigmaPosition, const PassHooks& hooks);
+
+}  // namespace gi

@@ -1,0 +1,25 @@
+#version 460
+// The filters' guidance from the G-buffer: normal scaled to [0,1] and view
+// depth divided by a fixed scene-derived constant (guidance, shared/gi_filters.h),
+// and world position with view depth (position).
+#extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#include "gi_frame.glsl"
+
+layout(local_size_x = GI_GROUP_SIZE, local_size_y = GI_GROUP_SIZE) in;
+
+void main() {
+  ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+  if (any(greaterThanEqual(gl_GlobalInvocationID.xy, giFrame.size))) return;
+  if (!giGbCovered(p)) {
+    imageStore(giGuidance, p, vec4(0.5, 0.5, 0.5, 0.0));
+    imageStore(giPosition, p, vec4(0.0));
+    return;
+  }
+  vec3 n = normalize(imageLoad(giGbNormal, p).xyz);
+  float viewZ = imageLoad(giGbViewZ, p).r;
+  vec3 dir;
+  vec3 position = giGbPosition(p, dir);
+  imageStore(giGuidance, p, vec4(n * 0.5 + 0.5, viewZ / giFrame.depthScale));
+  imageStore(giPosition, p, vec4(position, viewZ));
+}

@@ -1,0 +1,37 @@
+#version 460
+// Guided filter, step 3: q = mean(a)ᵀ · I + mean(b), with the coefficients of
+// every window that covers the pixel averaged by the box passes.
+#extension GL_GOOGLE_include_directive : require
+#include "filters.glsl"
+
+layout(local_size_x = FILTER_GROUP_SIZE, local_size_y = FILTER_GROUP_SIZE) in;
+layout(push_constant, scalar) uniform Push { GuidedMomentsPush pc; };
+
+void main() {
+  ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+  if (any(greaterThanEqual(p, filterSize()))) return;
+  vec4 g = imageLoad(filterGuidance, p);
+  vec4 I = pc.guidanceDimensions == 1u ? vec4((g.x + g.y + g.z) / 3.0, 0.0, 0.0, 0.0)
+         : pc.guidanceDimensions == 3u ? vec4(g.xyz, 0.0) : g;
+  float coeff[16];
+  for (uint img = 0u; img < GIF_COEFF_IMAGES; ++img) {
+    vec4 v = imageLoad(filterA[img], p);
+    coeff[4 * img] = v.x;
+    coeff[4 * img + 1] = v.y;
+    coeff[4 * img + 2] = v.z;
+    coeff[4 * img + 3] = v.w;
+  }
+  vec3 q;
+  for (int c = 0; c < 3; ++c) {
+    float v = coeff[GIF_COEFF_B + c];
+    for (int i = 0; i < 4; ++i) v += coeff[3 * i + c] * I[i];
+    q[c] = v;
+  }
+  imageStore(filterOutput, p, vec4(q, 1.0));
+  if (pc.writeCoefficientView != 0u) {
+    float a2 = 0.0;
+    for (int i = 0; i < 12; ++i) a2 += coeff[i] * coeff[i];
+    vec3 b = vec3(coeff[GIF_COEFF_B], coeff[GIF_COEFF_B + 1], coeff[GIF_COEFF_B + 2]);
+    imageStore(filterTemp, p, vec4(sqrt(a2), length(b), 0.0, 1.0));
+  }
+}

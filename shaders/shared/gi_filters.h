@@ -1,0 +1,78 @@
+// Screen-space filters (guided, cross-bilateral, à-trous): their own set 0,
+// independent of the scene, so they run on any images (and in tests on
+// synthetic ones). Images are rgba32f.
+#ifndef GI_FILTERS_H
+#define GI_FILTERS_H
+#include "gpu_common.h"
+
+GPU_NAMESPACE_BEGIN
+
+GPU_CONST FILTER_BINDING_GUIDANCE = 0;  // xyz: normal·0.5+0.5 in [0,1]; w: view depth / depth scale
+GPU_CONST FILTER_BINDING_POSITION = 1;  // xyz: world position, metres; w: view depth in metres, 0 for background
+GPU_CONST FILTER_BINDING_INPUT = 2;     // rgb: the noisy image
+GPU_CONST FILTER_BINDING_OUTPUT = 3;    // rgb: the filtered image
+GPU_CONST FILTER_BINDING_A = 4;         // FILTER_STACK images: window statistics, then coefficients
+GPU_CONST FILTER_BINDING_B = 5;         // FILTER_STACK images: the box filter's intermediate
+GPU_CONST FILTER_BINDING_TEMP = 6;      // ping-pong image for à-trous; the guided filter's coefficient view
+#define FILTER_STACK 8u                 // 32 channels: the 29 window moments of 4-D guidance and RGB input
+#define FILTER_GROUP_SIZE 8u            // 8×8 threads for per-pixel passes
+#define FILTER_LINE_GROUP 64u           // 64 rows or columns per group for the box filter
+
+// Moments layout (channel c sits in image c/4, component c%4):
+//  0..3 guidance I; 4..13 upper triangle of I·Iᵀ (00 01 02 03 11 12 13 22 23 33);
+//  14..16 input p (rgb); 17..28 I_i·p_c at 17 + 3i + c.
+// Coefficients layout: 0..11 a at 3i + c; 12..14 b (rgb).
+#define GIF_CH_I 0
+#define GIF_CH_II 4
+#define GIF_CH_P 14
+#define GIF_CH_IP 17
+#define GIF_MOMENT_IMAGES 8u
+#define GIF_COEFF_B 12
+#define GIF_COEFF_IMAGES 4u
+
+struct GuidedMomentsPush {
+  uint guidanceDimensions;  // 1 (grey normal), 3 (normal), 4 (normal + depth)
+  uint writeCoefficientView;// gif_output: 1 = also write (|a|, |b|) to the temp image
+  uint pad1;
+  uint pad2;
+};
+GPU_ASSERT_SIZE(GuidedMomentsPush, 16);
+
+struct BoxPush {
+  uint radius;      // window half-size in pixels; windows are clipped at the borders
+  uint vertical;    // 0: rows, A → B; 1: columns, B → A
+  uint imageCount;  // how many of the FILTER_STACK images hold data
+  uint pad0;
+};
+GPU_ASSERT_SIZE(BoxPush, 16);
+
+struct GuidedCoefficientsPush {
+  float epsilonNormal;  // ridge term for the normal channels (in guidance units²)
+  float epsilonDepth;   // ridge term for the depth channel
+  uint pad0;
+  uint pad1;
+};
+GPU_ASSERT_SIZE(GuidedCoefficientsPush, 16);
+
+struct BilateralPush {
+  uint radius;          // pixels
+  float sigmaSpatial;   // pixels
+  float sigmaNormal;    // on |Δ(normal·0.5+0.5)|
+  float sigmaDepth;     // on |Δ guidance depth|, relative to the centre's depth
+};
+GPU_ASSERT_SIZE(BilateralPush, 16);
+
+struct AtrousPush {
+  uint iteration;       // 0-based; the tap spacing is 2^iteration
+  uint source;          // 0 input, 1 output, 2 temp
+  uint destination;     // 1 output, 2 temp
+  float sigmaColor;     // colour edge stop at iteration 0; halved every iteration
+  float sigmaNormal;    // on |Δ(normal·0.5+0.5)|²
+  float sigmaPosition;  // world distance as a fraction of the centre's view depth
+  uint pad0;
+  uint pad1;
+};
+GPU_ASSERT_SIZE(AtrousPush, 32);
+
+GPU_NAMESPACE_END
+#endif
