@@ -42,25 +42,30 @@ bool expandConfigs(const std::vector<std::string>& methods, const std::vector<ui
       bool prefixed = dot != std::string::npos && gi::methodFromName(k.first.substr(0, dot), owner);
       if (!prefixed || owner == method) mine.push_back(&k);
     }
+    // A swept "<method>.spp" replaces --spp for that method.
+    bool sppSwept = false;
+    for (const auto* k : mine) sppSwept |= k->first == methodName + ".spp";
+    const std::vector<uint32_t> one = {0};
     // Cartesian product over the swept values (odometer order).
     std::vector<size_t> index(mine.size(), 0);
     while (true) {
-      for (uint32_t spp : spps) {
+      for (uint32_t spp : sppSwept ? one : spps) {
         BenchConfig c;
         c.settings = base;
         c.settings.method = method;
-        c.spp = spp;
-        setSamplesPerPixel(c.settings, spp);
+        if (!sppSwept) setSamplesPerPixel(c.settings, spp);
         for (size_t i = 0; i < mine.size(); ++i) {
           std::string assignment = mine[i]->first + "=" + mine[i]->second[index[i]];
           if (!applySetting(c.settings, assignment, error)) return false;
           c.settingsText += (c.settingsText.empty() ? "" : " ") + assignment;
         }
+        c.spp = gi::tracedSamplesPerPixel(c.settings);
         if (gi::Error e = gi::validate(c.settings)) {
           error = methodName + " " + c.settingsText + ": " + e.message;
           return false;
         }
-        c.label = methodName + " spp=" + std::to_string(spp) + (c.settingsText.empty() ? "" : " " + c.settingsText);
+        c.label = methodName + (sppSwept ? "" : " spp=" + std::to_string(c.spp)) +
+                  (c.settingsText.empty() ? "" : " " + c.settingsText);
         out.push_back(c);
       }
       size_t k = 0;

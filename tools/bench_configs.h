@@ -17,7 +17,8 @@ struct BenchConfig {
 
 // `sweeps` is the value of --set: "raw.accumulate=0,1,bounces=1,2" (a token
 // without '=' adds a value to the previous key). Keys prefixed by a method
-// name apply only to that method. Returns false with a sentence in `error`.
+// name apply only to that method; sweeping "<method>.spp" replaces `spps`
+// for that method. Returns false with a sentence in `error`.
 bool expandConfigs(const std::vector<std::string>& methods, const std::vector<uint32_t>& spps,
                    const std::string& sweeps, const gi::Settings& base, std::vector<BenchConfig>& out,
                    std::string& error);
