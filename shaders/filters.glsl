@@ -11,6 +11,7 @@ layout(set = 0, binding = FILTER_BINDING_OUTPUT, rgba32f) uniform image2D filter
 layout(set = 0, binding = FILTER_BINDING_A, rgba32f) uniform image2D filterA[FILTER_STACK];
 layout(set = 0, binding = FILTER_BINDING_B, rgba32f) uniform image2D filterB[FILTER_STACK];
 layout(set = 0, binding = FILTER_BINDING_TEMP, rgba32f) uniform image2D filterTemp;
+layout(set = 0, binding = FILTER_BINDING_PARAMS, rgba32f) uniform image2D filterParams;
 
 ivec2 filterSize() { return imageSize(filterInput); }
 

@@ -25,8 +25,21 @@ void main() {
       result = p.x < int(giFrame.size.x / 2u) ? imageLoad(giNoisyIndirect, p).rgb : indirect;
       break;
     case GI_DEBUG_GIF_COEFFICIENTS: result = vec3(imageLoad(giDebug, p).rg, 0.0); break;
+    // AAF maps (Mehta et al. Fig. 6f–g): distances over the scene extent, samples over 100, width over 32 px.
+    case GI_DEBUG_AAF_ZMIN: result = vec3(imageLoad(giAafParams, p).x / pc.sceneExtent); break;
+    case GI_DEBUG_AAF_ZMAX: result = vec3(imageLoad(giAafParams, p).y / pc.sceneExtent); break;
+    case GI_DEBUG_AAF_SAMPLES: result = vec3(imageLoad(giAafParams, p).z / 100.0); break;
+    case GI_DEBUG_AAF_FILTER_WIDTH: {
+      float depth = imageLoad(giGbViewZ, p).r;
+      result = vec3(depth > 0.0 ? imageLoad(giAafParams, p).w / (depth * pc.pixelScale) / 32.0 : 0.0);
+      break;
+    }
     // Filters may overshoot below zero; radiance cannot.
-    default: result = direct + giGbDiffuseAlbedo(p) * max(indirect, vec3(0.0)); break;
+    default:
+      // aaf_ao: the indirect image holds occlusion (reflectors radiate 1); AO = 1 − occlusion.
+      result = pc.ambientOcclusion != 0u ? vec3(1.0) - clamp(indirect, 0.0, 1.0)
+                                         : direct + giGbDiffuseAlbedo(p) * max(indirect, vec3(0.0));
+      break;
   }
   imageStore(giOutComposite, p, vec4(result, 1.0));
 }

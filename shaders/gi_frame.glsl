@@ -23,6 +23,8 @@ layout(set = 1, binding = GI_BINDING_NOISY_INDIRECT, rgba32f) uniform image2D gi
 layout(set = 1, binding = GI_BINDING_GUIDANCE, rgba32f) uniform image2D giGuidance;
 layout(set = 1, binding = GI_BINDING_POSITION, rgba32f) uniform image2D giPosition;
 layout(set = 1, binding = GI_BINDING_DEBUG, rgba32f) uniform image2D giDebug;
+layout(set = 1, binding = GI_BINDING_AAF_PARAMS, rgba32f) uniform image2D giAafParams;
+layout(set = 1, binding = GI_BINDING_AAF_SUM, rgba32f) uniform image2D giAafSum;
 
 // True where the G-buffer holds geometry.
 bool giGbCovered(ivec2 p) { return imageLoad(giGbNormal, p).w > 0.5; }

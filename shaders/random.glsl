@@ -18,6 +18,7 @@ struct GiRng {
 #define GI_STREAM_REFERENCE 0u
 #define GI_STREAM_MODULE 1u
 #define GI_STREAM_SUPERSAMPLE 2u
+#define GI_STREAM_AAF 3u
 
 GiRng giRngCreate(uvec2 pixel, uint sampleIndex, uint seed, uint stream) {
   GiRng rng;

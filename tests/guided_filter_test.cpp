@@ -96,7 +96,8 @@ class GuidedFilterTest : public GpuTest {
     for (engine::Image& img : images)
       img = engine::createImage(ctx, {W, H}, VK_FORMAT_R32G32B32A32_SFLOAT,
                                 VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
-    filters = gi::createScreenFilters(ctx, W, H, {images[0].view, images[1].view, images[2].view, images[3].view, images[4].view});
+    filters = gi::createScreenFilters(ctx, W, H, {images[0].view, images[1].view, images[2].view, images[3].view, images[4].view, images[4].view});
+    gi::ensureGuidedStack(ctx, filters);
     Rgba zero(size_t(W) * H * 4, 0.0f);
     for (engine::Image& img : images) engine::uploadImage(ctx, img, zero.data(), zero.size() * 4, VK_IMAGE_LAYOUT_GENERAL);
   }

@@ -197,3 +197,72 @@ TEST_F(ModuleTest, EveryMethodAndDebugViewRunsAndStaysFinite) {
   tools::destroyModuleSession(ctx, session);
   unload(s);
 }
+
+// Mehta et al. Fig. 10: raising μ narrows the filters and raises the sample
+// counts, so the error against the reference falls.
+TEST_F(ModuleTest, AafErrorFallsAsMuGrows) {
+  LoadedScene s;
+  load(sharedScene("cornell-box-mcguire/CornellBox-Original.gltf"), s);
+  const uint32_t W = 32, H = 32;
+  gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], W, H, nullptr);
+  engine::ReferenceSettings refSettings;
+  refSettings.maxBounces = 2;
+  refSettings.pixelJitter = false;
+  engine::ReferenceImages ref = engine::renderReference(ctx, s.gpu, cam, refSettings, 2048, 256).images;
+  gi::Settings settings;
+  settings.method = gi::Method::Aaf;
+  settings.maxBounces = 2;
+  tools::ModuleSession session;
+  std::string error;
+  ASSERT_TRUE(tools::createModuleSession(ctx, s.gpu, {W, H}, settings, session, error)) << error;
+  std::vector<double> errors;
+  std::vector<uint32_t> spp;
+  uint32_t frame = 0;
+  for (float mu : {0.5f, 1.0f, 2.0f, 4.0f}) {
+    settings.aaf.mu = mu;
+    ASSERT_FALSE(gi::setSettings(session.module, settings));
+    double e = 0.0;
+    for (int k = 0; k < 2; ++k) {  // two frames: an error estimate with less luck in it
+      tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, frame++);
+      e += metrics::mse(tools::readModuleImages(ctx, session).indirect, ref.indirect) / 2.0;
+    }
+    errors.push_back(e);
+    spp.push_back(gi::stats(session.module).samplesPerPixel);
+  }
+  for (size_t i = 1; i < errors.size(); ++i) {
+    EXPECT_LT(errors[i], errors[i - 1]) << "mu step " << i;
+    EXPECT_GE(spp[i], spp[i - 1]) << "mu step " << i;
+  }
+  tools::destroyModuleSession(ctx, session);
+  unload(s);
+}
+
+TEST_F(ModuleTest, AmbientOcclusionIsInUnitRangeAndOneOverAnOpenPlane) {
+  for (const char* path : {"pointlight-plane/pointlight_plane.gltf", "cornell-box-mcguire/CornellBox-Original.gltf"}) {
+    LoadedScene s;
+    load(sharedScene(path), s);
+    gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], 24, 24, nullptr);
+    gi::Settings settings;
+    settings.method = gi::Method::AafAo;
+    tools::ModuleSession session;
+    std::string error;
+    ASSERT_TRUE(tools::createModuleSession(ctx, s.gpu, {24, 24}, settings, session, error)) << error;
+    tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, 0);
+    engine::ReferenceImages out = tools::readModuleImages(ctx, session);
+    bool open = std::string(path).find("plane") != std::string::npos;
+    double mean = 0.0;
+    for (float v : out.final.pixels) {
+      ASSERT_GE(v, 0.0f);
+      ASSERT_LE(v, 1.0f);
+      if (open) {
+        ASSERT_EQ(v, 1.0f) << "nothing above the plane occludes it";
+      }
+      mean += v / double(out.final.pixels.size());
+    }
+    if (!open) {
+      EXPECT_LT(mean, 0.9) << "inside the box, walls occlude";
+    }
+    tools::destroyModuleSession(ctx, session);
+    unload(s);
+  }
+}

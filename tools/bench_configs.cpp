@@ -11,6 +11,8 @@ void setSamplesPerPixel(gi::Settings& settings, uint32_t spp) {
     case gi::Method::Gif: settings.gif.samplesPerPixel = spp; break;
     case gi::Method::Bilateral: settings.bilateral.samplesPerPixel = spp; break;
     case gi::Method::Atrous: settings.atrous.samplesPerPixel = spp; break;
+    case gi::Method::Aaf:
+    case gi::Method::AafAo: break;  // adaptive: μ is the quality knob
   }
 }
 
@@ -49,7 +51,7 @@ bool expandConfigs(const std::vector<std::string>& methods, const std::vector<ui
     // Cartesian product over the swept values (odometer order).
     std::vector<size_t> index(mine.size(), 0);
     while (true) {
-      for (uint32_t spp : sppSwept ? one : spps) {
+      for (uint32_t spp : sppSwept || gi::isAaf(method) ? one : spps) {
         BenchConfig c;
         c.settings = base;
         c.settings.method = method;
@@ -64,7 +66,7 @@ bool expandConfigs(const std::vector<std::string>& methods, const std::vector<ui
           error = methodName + " " + c.settingsText + ": " + e.message;
           return false;
         }
-        c.label = methodName + (sppSwept ? "" : " spp=" + std::to_string(c.spp)) +
+        c.label = methodName + (sppSwept || c.spp == 0 ? "" : " spp=" + std::to_string(c.spp)) +
                   (c.settingsText.empty() ? "" : " " + c.settingsText);
         out.push_back(c);
       }

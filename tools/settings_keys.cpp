@@ -24,7 +24,7 @@ const std::vector<Key>& keys() {
       GI_KEY_U("rr_start", "Russian roulette start bounce", russianRouletteStart),
       {"ray_budget", "rays per frame (0 = unlimited)", true, [](gi::Settings& s, double v) { s.rayBudget = uint64_t(v); }},
       GI_KEY_U("seed", "random seed", seed),
-      {"view", "debug view: 0 none, 1 direct, 2 indirect, 3 albedo, 4 normal, 5 guidance, 6 guidance depth, 7 filter in|out, 8 gif coefficients",
+      {"view", "debug view: 0 none, 1 direct, 2 indirect, 3 albedo, 4 normal, 5 guidance, 6 guidance depth, 7 filter in|out, 8 gif coefficients, 9 aaf z_min, 10 aaf z_max, 11 aaf spp, 12 aaf filter width",
        true, [](gi::Settings& s, double v) { s.debugView = gi::DebugView(uint32_t(v)); }},
       GI_KEY_U("raw.spp", "raw: paths per pixel per frame", raw.samplesPerPixel),
       {"raw.accumulate", "raw: 1 = temporal accumulation", true, [](gi::Settings& s, double v) { s.raw.temporalAccumulation = v != 0; }},
@@ -45,6 +45,9 @@ const std::vector<Key>& keys() {
       GI_KEY_F("atrous.sigma_color", "atrous: colour sigma", atrous.sigmaColor),
       GI_KEY_F("atrous.sigma_normal", "atrous: normal sigma", atrous.sigmaNormal),
       GI_KEY_F("atrous.sigma_position", "atrous: position sigma, fraction of depth", atrous.sigmaPosition),
+      GI_KEY_F("aaf.mu", "aaf, aaf_ao: filter scale mu", aaf.mu),
+      GI_KEY_F("aaf.alpha", "aaf, aaf_ao: pixel band limit alpha", aaf.alpha),
+      GI_KEY_F("aaf.normal_limit", "aaf, aaf_ao: normal rejection angle, degrees", aaf.normalLimitDegrees),
   };
   return table;
 }

@@ -4,13 +4,17 @@
 #include "gpu_timer.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 
 #include "gi_composite.comp.h"
 #include "gi_guidance.comp.h"
 #include "gi_raw_trace.comp.h"
+#include "aaf_adaptive.comp.h"
+#include "aaf_sample.comp.h"
 #include "gi_supersample.comp.h"
+#include "shared/aaf.h"
 
 namespace gi {
 namespace {
@@ -35,6 +39,8 @@ const engine::Binding kFrameBindings[] = {
     {gpu::GI_BINDING_GUIDANCE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
     {gpu::GI_BINDING_POSITION, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
     {gpu::GI_BINDING_DEBUG, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_AAF_PARAMS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_AAF_SUM, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
 };
 
 bool sameView(const GBufferViews& a, const GBufferViews& b) { return std::memcmp(&a, &b, sizeof(a)) == 0; }
@@ -62,17 +68,27 @@ engine::Image outputImage(Module& m) {
 
 engine::Image* ownedImages(Module& m, size_t i) {
   engine::Image* all[] = {&m.direct,        &m.indirect, &m.composite, &m.historyDirect, &m.historyIndirect,
-                          &m.noisyIndirect, &m.guidance, &m.position,  &m.debug};
+                          &m.noisyIndirect, &m.guidance, &m.position,  &m.debug,         &m.aafParams,
+                          &m.aafSum};
   return i < std::size(all) ? all[i] : nullptr;
 }
 
 // Filter images (several MB) exist only once a filter method has been chosen.
 void ensureFilters(Module& m) {
-  if (!usesScreenFilters(m.settings.method) || m.filters.set.set) return;
-  m.filters = createScreenFilters(m.ctx, m.desc.width, m.desc.height,
-                                  {m.guidance.view, m.position.view, m.noisyIndirect.view, m.indirect.view, m.debug.view});
-  m.memoryBytes += m.filters.memoryBytes;
+  if (!usesScreenFilters(m.settings.method)) return;
+  if (!m.filters.set.set)
+    m.filters = createScreenFilters(m.ctx, m.desc.width, m.desc.height,
+                                    {m.guidance.view, m.position.view, m.noisyIndirect.view, m.indirect.view, m.debug.view,
+                                     m.aafParams.view});
+  if (m.settings.method == Method::Gif && !m.filters.a[0].image) {
+    uint64_t before = m.filters.memoryBytes;
+    ensureGuidedStack(m.ctx, m.filters);
+    m.memoryBytes += m.filters.memoryBytes - before;
+  }
 }
+
+// World size of a pixel per metre of view depth.
+float pixelScale(const gpu::GpuCamera& c) { return 2.0f * c.tanHalfFovY / c.imageSize.y; }
 
 // The ray budget: paths per pixel such that pixels × spp × (rays per path, as
 // measured on the previous frame) stays within settings.rayBudget.
@@ -86,6 +102,18 @@ uint32_t samplesWithinBudget(const Module& m, uint32_t requested, uint32_t frame
   double raysPerPath = c.raysTraced > 0 ? double(c.raysTraced) / paths : 1.0;
   double affordable = double(m.settings.rayBudget) / (double(m.desc.width) * m.desc.height * raysPerPath);
   return uint32_t(std::clamp(affordable, 1.0, double(requested)));
+}
+
+// AAF's budget in samples: rayBudget over the rays per sample measured last frame.
+uint32_t aafSampleBudget(const Module& m, uint32_t frameIndex) {
+  if (m.settings.rayBudget == 0 || frameIndex == 0) return 0;
+  uint32_t previous = (frameIndex - 1) % kFramesInFlight;
+  if (!m.slotRecorded[previous]) return 0;
+  gpu::GiCounters c;
+  std::memcpy(&c, static_cast<const std::byte*>(m.counters.mapped) + sizeof(gpu::GiCounters) * (1 + previous), sizeof(c));
+  double raysPerSample = c.tracedSamples > 0 ? double(c.raysTraced) / double(c.tracedSamples) : 4.0;
+  double budget = double(m.settings.rayBudget) / raysPerSample;
+  return uint32_t(std::clamp(budget, 1.0, 4.0e9));
 }
 
 }  // namespace
@@ -159,7 +187,9 @@ Error create(const ModuleDesc& desc, const Settings& settings, Module*& out) {
       .storageImage(gpu::GI_BINDING_NOISY_INDIRECT, m->noisyIndirect.view)
       .storageImage(gpu::GI_BINDING_GUIDANCE, m->guidance.view)
       .storageImage(gpu::GI_BINDING_POSITION, m->position.view)
-      .storageImage(gpu::GI_BINDING_DEBUG, m->debug.view);
+      .storageImage(gpu::GI_BINDING_DEBUG, m->debug.view)
+      .storageImage(gpu::GI_BINDING_AAF_PARAMS, m->aafParams.view)
+      .storageImage(gpu::GI_BINDING_AAF_SUM, m->aafSum.view);
   // The shaders' live counter is the first GiCounters; the others are per-slot copies for readback.
   w.buffer(gpu::GI_BINDING_COUNTERS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, m->counters.buffer);
   w.write(m->ctx);
@@ -172,6 +202,8 @@ Error create(const ModuleDesc& desc, const Settings& settings, Module*& out) {
   m->composite_ = engine::createComputeProgram(m->ctx, spv_gi_composite_comp, layouts, sizeof(gpu::GiCompositePush), tile, spec);
   m->guidancePass = engine::createComputeProgram(m->ctx, spv_gi_guidance_comp, layouts, 0, tile, spec);
   m->supersample = engine::createComputeProgram(m->ctx, spv_gi_supersample_comp, layouts, sizeof(gpu::GiSupersamplePush), tile, spec);
+  m->aafSample = engine::createComputeProgram(m->ctx, spv_aaf_sample_comp, layouts, sizeof(gpu::AafPush), tile, spec);
+  m->aafAdaptive = engine::createComputeProgram(m->ctx, spv_aaf_adaptive_comp, layouts, sizeof(gpu::AafPush), tile, spec);
   ensureFilters(*m);
 
   VkQueryPoolCreateInfo q{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
@@ -185,7 +217,7 @@ Error create(const ModuleDesc& desc, const Settings& settings, Module*& out) {
 void destroy(Module* m) {
   if (!m) return;
   vkDestroyQueryPool(m->ctx.device, m->timestamps, nullptr);
-  for (engine::ComputeProgram* p : {&m->rawTrace, &m->composite_, &m->guidancePass, &m->supersample})
+  for (engine::ComputeProgram* p : {&m->rawTrace, &m->composite_, &m->guidancePass, &m->supersample, &m->aafSample, &m->aafAdaptive})
     engine::destroyComputeProgram(m->ctx, *p);
   if (m->filters.set.set) destroyScreenFilters(m->ctx, m->filters);
   engine::destroyDescriptorSet(m->ctx, m->frameSet);
@@ -244,15 +276,29 @@ void recordFrame(Module* m, VkCommandBuffer cmd, const FrameInputs& in) {
   VkDescriptorSet sets[] = {m->desc.scene.set, m->frameSet.set};
   const glm::uvec2 size{m->desc.width, m->desc.height};
 
-  uint32_t spp = samplesWithinBudget(*m, tracedSamplesPerPixel(s), in.frameIndex);
-
-  // Pass: trace paths from the G-buffer (direct + demodulated indirect, optional temporal mean).
-  beginPass(*m, cmd, slot, "raw_trace");
-  gpu::GiRawPush raw{s.seed, spp, s.maxBounces, s.russianRouletteStart,
-                     m->historyLength, s.raw.maxAccumulatedFrames, accumulate ? 1u : 0u, 0};
-  engine::dispatch(cmd, m->rawTrace, sets, size, raw);
-  computeToComputeBarrier(cmd);
-  endPass(*m, cmd, slot);
+  uint32_t spp = 0;
+  if (isAaf(s.method)) {
+    // Passes: 16 stratified rays give reflector distances, β and n per pixel; then the remaining n − 16.
+    gpu::AafPush aaf{s.aaf.mu, s.aaf.alpha, m->desc.scene.extent, s.seed, s.method == Method::AafAo ? 1u : 0u,
+                     aafSampleBudget(*m, in.frameIndex), s.maxBounces, s.russianRouletteStart};
+    beginPass(*m, cmd, slot, "aaf_sample");
+    engine::dispatch(cmd, m->aafSample, sets, size, aaf);
+    computeToComputeBarrier(cmd);
+    endPass(*m, cmd, slot);
+    beginPass(*m, cmd, slot, "aaf_adaptive");
+    engine::dispatch(cmd, m->aafAdaptive, sets, size, aaf);
+    computeToComputeBarrier(cmd);
+    endPass(*m, cmd, slot);
+  } else {
+    spp = samplesWithinBudget(*m, tracedSamplesPerPixel(s), in.frameIndex);
+    // Pass: trace paths from the G-buffer (direct + demodulated indirect, optional temporal mean).
+    beginPass(*m, cmd, slot, "raw_trace");
+    gpu::GiRawPush raw{s.seed, spp, s.maxBounces, s.russianRouletteStart,
+                       m->historyLength, s.raw.maxAccumulatedFrames, accumulate ? 1u : 0u, 0};
+    engine::dispatch(cmd, m->rawTrace, sets, size, raw);
+    computeToComputeBarrier(cmd);
+    endPass(*m, cmd, slot);
+  }
 
   if (usesScreenFilters(s.method)) {
     // Pass: the filters' guidance (normal, scaled depth) and world positions from the G-buffer.
@@ -262,7 +308,9 @@ void recordFrame(Module* m, VkCommandBuffer cmd, const FrameInputs& in) {
     endPass(*m, cmd, slot);
     // Passes: the chosen filter, noisy indirect → indirect.
     PassHooks hooks = passHooks(*m, slot);
-    if (s.method == Method::Gif) {
+    if (isAaf(s.method)) {
+      recordAafFilter(cmd, m->filters, std::cos(s.aaf.normalLimitDegrees * 3.14159265f / 180.0f), pixelScale(in.camera), hooks);
+    } else if (s.method == Method::Gif) {
       GuidedFilterParams gif{s.gif.radius, s.gif.epsilonNormal, s.gif.epsilonDepth, s.gif.guidanceDimensions,
                              s.debugView == DebugView::GifCoefficients};
       recordGuidedFilter(cmd, m->filters, gif, hooks);
@@ -277,7 +325,9 @@ void recordFrame(Module* m, VkCommandBuffer cmd, const FrameInputs& in) {
 
   // Pass: composite (or the chosen debug view).
   beginPass(*m, cmd, slot, "composite");
-  engine::dispatch(cmd, m->composite_, sets, size, gpu::GiCompositePush{uint32_t(s.debugView), 0});
+  gpu::GiCompositePush composite{uint32_t(s.debugView), s.method == Method::AafAo ? 1u : 0u, m->desc.scene.extent,
+                                 pixelScale(in.camera)};
+  engine::dispatch(cmd, m->composite_, sets, size, composite);
   computeToComputeBarrier(cmd);
   endPass(*m, cmd, slot);
 
@@ -325,6 +375,8 @@ FrameStats stats(Module* m) {
     st.raysTraced = c.raysTraced;
     st.accumulatedFrames = m->slotHistory[slot];
     st.samplesPerPixel = m->slotSpp[slot];
+    uint32_t pixels = m->desc.width * m->desc.height;
+    if (c.tracedSamples > 0 && pixels > 0) st.samplesPerPixel = (c.tracedSamples + pixels / 2) / pixels;  // AAF: mean
     st.memoryBytes = m->memoryBytes;
     m->lastStats = st;
     break;

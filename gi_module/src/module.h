@@ -22,13 +22,14 @@ struct Module {
   engine::Image historyDirect, historyIndirect;    // temporal accumulation (raw)
   engine::Image noisyIndirect;                     // demodulated indirect before filtering
   engine::Image guidance, position, debug;         // filter guidance, world position, filter debug/temp
+  engine::Image aafParams, aafSum;                 // AAF per-pixel z_min, z_max, samples, β; sample sums
   ScreenFilters filters;                           // created on first use of a filter method
   engine::Buffer frameConstants;                   // host-visible GiFrameConstants
   engine::Buffer counters;                         // host-visible GiCounters[kFramesInFlight]
   engine::DescriptorSet frameSet;
   GBufferViews boundGBuffer{};                     // views currently written into frameSet
 
-  engine::ComputeProgram rawTrace, composite_, guidancePass, supersample;
+  engine::ComputeProgram rawTrace, composite_, guidancePass, supersample, aafSample, aafAdaptive;
 
   VkQueryPool timestamps = VK_NULL_HANDLE;         // 2 per pass per slot
   std::vector<std::string> passNames[kFramesInFlight];

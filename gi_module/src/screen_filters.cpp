@@ -2,12 +2,14 @@
 
 #include <cstdint>
 
+#include "aaf_filter.comp.h"
 #include "atrous.comp.h"
 #include "bilateral.comp.h"
 #include "gif_box.comp.h"
 #include "gif_coefficients.comp.h"
 #include "gif_moments.comp.h"
 #include "gif_output.comp.h"
+#include "shared/aaf.h"
 
 namespace gi {
 namespace {
@@ -29,7 +31,7 @@ void pass(VkCommandBuffer cmd, const ScreenFilters& f, const PassHooks& hooks, c
 }
 
 void ensureInitialised(VkCommandBuffer cmd, ScreenFilters& f) {
-  if (f.initialised) return;
+  if (f.initialised || !f.a[0].image) return;
   for (uint32_t i = 0; i < FILTER_STACK; ++i)
     for (engine::Image* img : {&f.a[i], &f.b[i]})
       engine::imageBarrier(cmd, img->image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, 0,
@@ -44,11 +46,6 @@ ScreenFilters createScreenFilters(const engine::Context& ctx, uint32_t width, ui
   ScreenFilters f;
   f.width = width;
   f.height = height;
-  for (uint32_t i = 0; i < FILTER_STACK; ++i)
-    for (engine::Image* img : {&f.a[i], &f.b[i]}) {
-      *img = engine::createImage(ctx, {width, height}, VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_USAGE_STORAGE_BIT);
-      f.memoryBytes += img->allocationSize;
-    }
   const engine::Binding bindings[] = {
       {gpu::FILTER_BINDING_GUIDANCE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
       {gpu::FILTER_BINDING_POSITION, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
@@ -57,6 +54,7 @@ ScreenFilters createScreenFilters(const engine::Context& ctx, uint32_t width, ui
       {gpu::FILTER_BINDING_A, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, FILTER_STACK},
       {gpu::FILTER_BINDING_B, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, FILTER_STACK},
       {gpu::FILTER_BINDING_TEMP, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+      {gpu::FILTER_BINDING_PARAMS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
   };
   f.set = engine::createDescriptorSet(ctx, bindings);
   engine::DescriptorWriter w(f.set.set);
@@ -64,11 +62,8 @@ ScreenFilters createScreenFilters(const engine::Context& ctx, uint32_t width, ui
       .storageImage(gpu::FILTER_BINDING_POSITION, t.position)
       .storageImage(gpu::FILTER_BINDING_INPUT, t.input)
       .storageImage(gpu::FILTER_BINDING_OUTPUT, t.output)
-      .storageImage(gpu::FILTER_BINDING_TEMP, t.temp);
-  for (uint32_t i = 0; i < FILTER_STACK; ++i) {
-    w.storageImage(gpu::FILTER_BINDING_A, f.a[i].view, i);
-    w.storageImage(gpu::FILTER_BINDING_B, f.b[i].view, i);
-  }
+      .storageImage(gpu::FILTER_BINDING_TEMP, t.temp)
+      .storageImage(gpu::FILTER_BINDING_PARAMS, t.params);
   w.write(ctx);
   VkDescriptorSetLayout layouts[] = {f.set.layout};
   const glm::uvec2 tile{FILTER_GROUP_SIZE, FILTER_GROUP_SIZE}, line{FILTER_LINE_GROUP, 1};
@@ -78,11 +73,26 @@ ScreenFilters createScreenFilters(const engine::Context& ctx, uint32_t width, ui
   f.output = engine::createComputeProgram(ctx, spv_gif_output_comp, layouts, sizeof(gpu::GuidedMomentsPush), tile);
   f.bilateral = engine::createComputeProgram(ctx, spv_bilateral_comp, layouts, sizeof(gpu::BilateralPush), tile);
   f.atrous = engine::createComputeProgram(ctx, spv_atrous_comp, layouts, sizeof(gpu::AtrousPush), tile);
+  f.aaf = engine::createComputeProgram(ctx, spv_aaf_filter_comp, layouts, sizeof(gpu::AafFilterPush), tile);
   return f;
 }
 
+void ensureGuidedStack(const engine::Context& ctx, ScreenFilters& f) {
+  if (f.a[0].image) return;
+  engine::DescriptorWriter w(f.set.set);
+  for (uint32_t i = 0; i < FILTER_STACK; ++i) {
+    for (engine::Image* img : {&f.a[i], &f.b[i]}) {
+      *img = engine::createImage(ctx, {f.width, f.height}, VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_USAGE_STORAGE_BIT);
+      f.memoryBytes += img->allocationSize;
+    }
+    w.storageImage(gpu::FILTER_BINDING_A, f.a[i].view, i);
+    w.storageImage(gpu::FILTER_BINDING_B, f.b[i].view, i);
+  }
+  w.write(ctx);
+}
+
 void destroyScreenFilters(const engine::Context& ctx, ScreenFilters& f) {
-  for (engine::ComputeProgram* p : {&f.moments, &f.box, &f.coefficients, &f.output, &f.bilateral, &f.atrous})
+  for (engine::ComputeProgram* p : {&f.moments, &f.box, &f.coefficients, &f.output, &f.bilateral, &f.atrous, &f.aaf})
     engine::destroyComputeProgram(ctx, *p);
   engine::destroyDescriptorSet(ctx, f.set);
   for (uint32_t i = 0; i < FILTER_STACK; ++i) {
@@ -93,6 +103,10 @@ void destroyScreenFilters(const engine::Context& ctx, ScreenFilters& f) {
 }
 
 void recordGuidedFilter(VkCommandBuffer cmd, ScreenFilters& f, const GuidedFilterParams& p, const PassHooks& hooks) {
+  if (!f.a[0].image) {
+    std::fprintf(stderr, "recordGuidedFilter: ensureGuidedStack was not called\n");
+    std::abort();
+  }
   ensureInitialised(cmd, f);
   const glm::uvec2 size{f.width, f.height};
   const gpu::GuidedMomentsPush dims{p.guidanceDimensions, p.writeCoefficientView ? 1u : 0u, 0, 0};
@@ -105,6 +119,11 @@ void recordGuidedFilter(VkCommandBuffer cmd, ScreenFilters& f, const GuidedFilte
   pass(cmd, f, hooks, "gif_box_rows", f.box, {f.height, 1}, gpu::BoxPush{p.radius, 0, GIF_COEFF_IMAGES, 0});
   pass(cmd, f, hooks, "gif_box_columns", f.box, {f.width, 1}, gpu::BoxPush{p.radius, 1, GIF_COEFF_IMAGES, 0});
   pass(cmd, f, hooks, "gif_output", f.output, size, dims);
+}
+
+void recordAafFilter(VkCommandBuffer cmd, ScreenFilters& f, float cosNormalLimit, float pixelScale, const PassHooks& hooks) {
+  pass(cmd, f, hooks, "aaf_filter_rows", f.aaf, {f.width, f.height}, gpu::AafFilterPush{0, cosNormalLimit, pixelScale, 0});
+  pass(cmd, f, hooks, "aaf_filter_columns", f.aaf, {f.width, f.height}, gpu::AafFilterPush{1, cosNormalLimit, pixelScale, 0});
 }
 
 void recordBilateral(VkCommandBuffer cmd, ScreenFilters& f, const gpu::BilateralPush& params, const PassHooks& hooks) {

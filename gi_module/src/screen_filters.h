@@ -12,7 +12,7 @@
 namespace gi {
 
 struct FilterTargets {
-  VkImageView guidance, position, input, output, temp;  // rgba32f, GENERAL layout (contract in shared/gi_filters.h)
+  VkImageView guidance, position, input, output, temp, params;  // rgba32f, GENERAL layout (contract in shared/gi_filters.h)
 };
 
 // Timestamp/label hooks around each pass; empty functions are allowed.
@@ -22,9 +22,9 @@ struct PassHooks {
 };
 
 struct ScreenFilters {
-  engine::Image a[FILTER_STACK], b[FILTER_STACK];  // window statistics and the box filter's intermediate
+  engine::Image a[FILTER_STACK], b[FILTER_STACK];  // the guided filter's window statistics (created on its first use)
   engine::DescriptorSet set;
-  engine::ComputeProgram moments, box, coefficients, output, bilateral, atrous;
+  engine::ComputeProgram moments, box, coefficients, output, bilateral, atrous, aaf;
   uint32_t width = 0, height = 0;
   uint64_t memoryBytes = 0;
   bool initialised = false;  // images moved to GENERAL layout
@@ -38,6 +38,8 @@ struct GuidedFilterParams {
 };
 
 ScreenFilters createScreenFilters(const engine::Context& ctx, uint32_t width, uint32_t height, const FilterTargets& targets);
+// Allocates the guided filter's 16 statistics images (16 × width × height × 16 bytes) once.
+void ensureGuidedStack(const engine::Context& ctx, ScreenFilters& f);
 void destroyScreenFilters(const engine::Context& ctx, ScreenFilters& f);
 
 // Each reads the targets' input and writes their output (and temp as noted),
@@ -46,5 +48,7 @@ void recordGuidedFilter(VkCommandBuffer cmd, ScreenFilters& f, const GuidedFilte
 void recordBilateral(VkCommandBuffer cmd, ScreenFilters& f, const gpu::BilateralPush& params, const PassHooks& hooks);
 void recordAtrous(VkCommandBuffer cmd, ScreenFilters& f, uint32_t iterations, float sigmaColor, float sigmaNormal,
                   float sigmaPosition, const PassHooks& hooks);
+// Axis-aligned filtering's separable Gaussian (β per pixel from the params image); uses temp.
+void recordAafFilter(VkCommandBuffer cmd, ScreenFilters& f, float cosNormalLimit, float pixelScale, const PassHooks& hooks);
 
 }  // namespace gi

@@ -31,12 +31,14 @@ const char* methodName(Method method) {
     case Method::Gif: return "gif";
     case Method::Bilateral: return "bilateral";
     case Method::Atrous: return "atrous";
+    case Method::Aaf: return "aaf";
+    case Method::AafAo: return "aaf_ao";
   }
   return "unknown";
 }
 
 bool methodFromName(const std::string& name, Method& out) {
-  for (Method m : {Method::Raw, Method::Gif, Method::Bilateral, Method::Atrous})
+  for (Method m : {Method::Raw, Method::Gif, Method::Bilateral, Method::Atrous, Method::Aaf, Method::AafAo})
     if (name == methodName(m)) {
       out = m;
       return true;
@@ -49,8 +51,8 @@ Error validate(const Settings& s) {
   if (s.maxBounces < 1 || s.maxBounces > 32) return outOfRange("settings.maxBounces", s.maxBounces, 1, 32);
   if (s.russianRouletteStart < 1 || s.russianRouletteStart > 64)
     return outOfRange("settings.russianRouletteStart", s.russianRouletteStart, 1, 64);
-  if (uint32_t(s.debugView) > uint32_t(DebugView::GifCoefficients))
-    return outOfRange("settings.debugView", uint32_t(s.debugView), 0, uint32_t(DebugView::GifCoefficients));
+  if (uint32_t(s.debugView) > uint32_t(DebugView::AafFilterWidth))
+    return outOfRange("settings.debugView", uint32_t(s.debugView), 0, uint32_t(DebugView::AafFilterWidth));
   if (s.raw.samplesPerPixel < 1 || s.raw.samplesPerPixel > 64)
     return outOfRange("settings.raw.samplesPerPixel", s.raw.samplesPerPixel, 1, 64);
   if (s.raw.maxAccumulatedFrames < 1 || s.raw.maxAccumulatedFrames > (1u << 20))
@@ -75,6 +77,11 @@ Error validate(const Settings& s) {
   if (!inRange(a.sigmaColor, 0, 1e6, true)) return outOfRangeF("settings.atrous.sigmaColor", a.sigmaColor, 0, 1e6, true);
   if (!inRange(a.sigmaNormal, 0, 1e4, true)) return outOfRangeF("settings.atrous.sigmaNormal", a.sigmaNormal, 0, 1e4, true);
   if (!inRange(a.sigmaPosition, 0, 1e4, true)) return outOfRangeF("settings.atrous.sigmaPosition", a.sigmaPosition, 0, 1e4, true);
+  const AafSettings& f = s.aaf;
+  if (!inRange(f.mu, 0, 16, true)) return outOfRangeF("settings.aaf.mu", f.mu, 0, 16, true);
+  if (!inRange(f.alpha, 0, 1, true)) return outOfRangeF("settings.aaf.alpha", f.alpha, 0, 1, true);
+  if (!inRange(f.normalLimitDegrees, 0, 180, false))
+    return outOfRangeF("settings.aaf.normalLimitDegrees", f.normalLimitDegrees, 0, 180, false);
   return {};
 }
 
@@ -84,10 +91,13 @@ uint32_t tracedSamplesPerPixel(const Settings& s) {
     case Method::Gif: return s.gif.samplesPerPixel;
     case Method::Bilateral: return s.bilateral.samplesPerPixel;
     case Method::Atrous: return s.atrous.samplesPerPixel;
+    case Method::Aaf:
+    case Method::AafAo: return 0;  // adaptive: chosen per pixel
   }
   return 1;
 }
 
-bool usesScreenFilters(Method m) { return m == Method::Gif || m == Method::Bilateral || m == Method::Atrous; }
+bool usesScreenFilters(Method m) { return m != Method::Raw; }
+bool isAaf(Method m) { return m == Method::Aaf || m == Method::AafAo; }
 
 }  // namespace gi

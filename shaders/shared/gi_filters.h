@@ -13,7 +13,8 @@ GPU_CONST FILTER_BINDING_INPUT = 2;     // rgb: the noisy image
 GPU_CONST FILTER_BINDING_OUTPUT = 3;    // rgb: the filtered image
 GPU_CONST FILTER_BINDING_A = 4;         // FILTER_STACK images: window statistics, then coefficients
 GPU_CONST FILTER_BINDING_B = 5;         // FILTER_STACK images: the box filter's intermediate
-GPU_CONST FILTER_BINDING_TEMP = 6;      // ping-pong image for à-trous; the guided filter's coefficient view
+GPU_CONST FILTER_BINDING_TEMP = 6;      // ping-pong image for à-trous and AAF; the guided filter's coefficient view
+GPU_CONST FILTER_BINDING_PARAMS = 7;    // AAF: z_min, z_max (metres), samples, β (metres)
 #define FILTER_STACK 8u                 // 32 channels: the 29 window moments of 4-D guidance and RGB input
 #define FILTER_GROUP_SIZE 8u            // 8×8 threads for per-pixel passes
 #define FILTER_LINE_GROUP 64u           // 64 rows or columns per group for the box filter

@@ -25,7 +25,9 @@ GPU_CONST GI_BINDING_NOISY_INDIRECT = 13;// rgba32f: demodulated indirect before
 GPU_CONST GI_BINDING_GUIDANCE = 14;      // rgba32f: filter guidance (shared/gi_filters.h contract)
 GPU_CONST GI_BINDING_POSITION = 15;      // rgba32f: world position (xyz), view depth (w; 0 = background)
 GPU_CONST GI_BINDING_DEBUG = 16;         // rgba32f: a filter's debug output (the filters' temp image)
-GPU_CONST GI_BINDING_COUNT = 17;
+GPU_CONST GI_BINDING_AAF_PARAMS = 17;    // rgba32f: AAF z_min, z_max, samples, β (metres)
+GPU_CONST GI_BINDING_AAF_SUM = 18;       // rgba32f: AAF Σ demodulated indirect samples (rgb), count (a)
+GPU_CONST GI_BINDING_COUNT = 19;
 #define GI_GROUP_SIZE 8u                 // 8×8 threads per group
 
 struct GiFrameConstants {
@@ -38,10 +40,10 @@ struct GiFrameConstants {
 GPU_ASSERT_SIZE(GiFrameConstants, 592);
 
 struct GiCounters {
-  uint raysTraced;   // added to by every tracing pass
+  uint raysTraced;        // added to by every tracing pass
+  uint requestedSamples;  // AAF pass 1: Σ n(μ) over pixels
+  uint tracedSamples;     // AAF pass 2: Σ samples actually traced
   uint pad0;
-  uint pad1;
-  uint pad2;
 };
 GPU_ASSERT_SIZE(GiCounters, 16);
 
@@ -67,10 +69,16 @@ GPU_CONST GI_DEBUG_GUIDANCE = 5;
 GPU_CONST GI_DEBUG_GUIDANCE_DEPTH = 6;
 GPU_CONST GI_DEBUG_FILTER_IN_OUT = 7;
 GPU_CONST GI_DEBUG_GIF_COEFFICIENTS = 8;
+GPU_CONST GI_DEBUG_AAF_ZMIN = 9;
+GPU_CONST GI_DEBUG_AAF_ZMAX = 10;
+GPU_CONST GI_DEBUG_AAF_SAMPLES = 11;
+GPU_CONST GI_DEBUG_AAF_FILTER_WIDTH = 12;
 
 struct GiCompositePush {
-  uint debugView;  // GI_DEBUG_*
-  uint pad0;
+  uint debugView;      // GI_DEBUG_*
+  uint ambientOcclusion;  // 1: the indirect image holds occlusion; show AO = 1 − occlusion
+  float sceneExtent;   // metres, scales the AAF distance views
+  float pixelScale;    // world pixel size per metre of depth, for the AAF filter-width view
 };
 
 struct GiSupersamplePush {
@@ -78,7 +86,7 @@ struct GiSupersamplePush {
   uint supersamples;  // extra eye rays per pixel
 };
 GPU_ASSERT_SIZE(GiSupersamplePush, 8);
-GPU_ASSERT_SIZE(GiCompositePush, 8);
+GPU_ASSERT_SIZE(GiCompositePush, 16);
 
 GPU_NAMESPACE_END
 #endif

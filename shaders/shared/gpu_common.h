@@ -20,11 +20,23 @@ using mat4 = glm::mat4;
 #define GPU_NAMESPACE_END }
 #define GPU_ASSERT_SIZE(T, bytes) static_assert(sizeof(T) == (bytes), #T " must match its GLSL scalar layout")
 #define GPU_CONST inline constexpr uint
+#define GPU_FN inline
+#include <algorithm>
+#include <cmath>
+namespace gpu {
+using std::acos;
+using std::clamp;
+using std::max;
+using std::min;
+using std::pow;
+using std::sqrt;
+}  // namespace gpu
 #else
 #define GPU_NAMESPACE_BEGIN
 #define GPU_NAMESPACE_END
 #define GPU_ASSERT_SIZE(T, bytes)
 #define GPU_CONST const uint
+#define GPU_FN
 #endif
 
 #endif

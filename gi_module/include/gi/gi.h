@@ -74,7 +74,7 @@ struct FrameStats {
   double totalMs = 0.0;
   uint64_t raysTraced = 0;
   uint32_t accumulatedFrames = 0;   // temporal history length behind the output
-  uint32_t samplesPerPixel = 0;     // paths per pixel actually traced (after the ray budget)
+  uint32_t samplesPerPixel = 0;     // paths per pixel actually traced (after the ray budget; AAF: the mean)
   uint64_t memoryBytes = 0;         // device memory owned by the module
 };
 

@@ -11,9 +11,12 @@ enum class Method : uint32_t {
   Gif,        // guided image filter on demodulated indirect (Bauszat et al. 2011)
   Bilateral,  // cross-bilateral baseline
   Atrous,     // edge-avoiding à-trous baseline (Dammertz et al. 2010)
+  Aaf,        // axis-aligned filtering with adaptive sampling (Mehta et al. 2013)
+  AafAo,      // the same machinery for ambient occlusion (reflectors radiate 1): the indirect
+              // output holds occlusion, the composite AO = 1 − occlusion, both in [0,1]
 };
-inline constexpr uint32_t kMethodCount = 4;
-const char* methodName(Method method);                      // "raw", "gif", "bilateral", "atrous"
+inline constexpr uint32_t kMethodCount = 6;
+const char* methodName(Method method);                      // "raw", "gif", "bilateral", "atrous", "aaf", "aaf_ao"
 bool methodFromName(const std::string& name, Method& out);  // false for unknown names
 
 enum class DebugView : uint32_t {
@@ -26,6 +29,10 @@ enum class DebugView : uint32_t {
   GuidanceDepth,   // filter guidance: depth channel
   FilterInOut,     // left half: noisy indirect; right half: filtered
   GifCoefficients, // guided filter: |a| (r), |b| (g) per pixel
+  AafZMin,         // AAF: nearest reflector distance / scene extent
+  AafZMax,         // AAF: farthest reflector distance / scene extent
+  AafSamples,      // AAF: samples per pixel / 100
+  AafFilterWidth,  // AAF: filter σ in pixels / 32
 };
 
 struct RawSettings {
@@ -59,12 +66,19 @@ struct AtrousSettings {
   float sigmaPosition = 0.05f;   // world distance as a fraction of the centre's view depth, (0, 1e4]
 };
 
+struct AafSettings {
+  float mu = 0.9f;                  // filter scale μ, (0, 16]: > 1 narrows filters and raises sample counts
+  float alpha = 0.3f;               // pixel-space band limit α, (0, 1]
+  float normalLimitDegrees = 10.0f; // neighbours whose normals differ more are not filtered in, [0, 180]
+};
+
 struct Settings {
   Method method = Method::Raw;
   RawSettings raw;
   GifSettings gif;
   BilateralSettings bilateral;
   AtrousSettings atrous;
+  AafSettings aaf;                     // also used by aaf_ao
   uint32_t maxBounces = 1;             // indirect bounces B, [1, 32] (B = 0 would be direct light only)
   uint32_t russianRouletteStart = 3;   // bounce from which paths may stop early (unbiased), [1, 64]
   uint64_t rayBudget = 0;              // rays per frame; 0 = unlimited. The module lowers its sample
@@ -75,6 +89,7 @@ struct Settings {
 
 // The knob --spp and the ray budget act on: the active method's paths per pixel.
 uint32_t tracedSamplesPerPixel(const Settings& settings);
-bool usesScreenFilters(Method method);  // gif, bilateral, atrous
+bool usesScreenFilters(Method method);  // every method but raw
+bool isAaf(Method method);              // aaf, aaf_ao: adaptive sample counts (tracedSamplesPerPixel is 0)
 
 }  // namespace gi

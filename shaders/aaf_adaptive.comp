@@ -1,0 +1,46 @@
+#version 460
+// Axis-aligned filtering, pass 2: the remaining n − 16 samples per pixel,
+// scaled down uniformly when the frame's sample budget is smaller than what
+// pass 1 asked for. Writes the noisy demodulated indirect (the filter's input).
+#extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#include "aaf.glsl"
+
+layout(local_size_x = GI_GROUP_SIZE, local_size_y = GI_GROUP_SIZE) in;
+
+void main() {
+  ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+  bool inside = all(lessThan(gl_GlobalInvocationID.xy, giFrame.size));
+  uint traced = 0u;
+  if (inside) {
+    vec4 params = imageLoad(giAafParams, p);
+    vec4 sum = imageLoad(giAafSum, p);
+    if (sum.a > 0.0) {
+      vec3 V;
+      GiSurface s = giGbSurface(p, V);
+      GiRng rng = giRngCreate(uvec2(p), giFrame.frameIndex, pc.seed ^ 0x68bc21ebu, GI_STREAM_AAF);
+      float extra = max(params.z - float(AAF_INITIAL_SAMPLES), 0.0);
+      if (pc.sampleBudget > 0u) {
+        float pixels = float(giFrame.size.x * giFrame.size.y);
+        float initial = pixels * float(AAF_INITIAL_SAMPLES);
+        float wanted = max(float(giCounters.requestedSamples) - initial, 1.0);
+        float scale = clamp((float(pc.sampleBudget) - initial) / wanted, 0.0, 1.0);
+        extra = floor(extra * scale + giRandom(rng));  // unbiased rounding of the scaled count
+      }
+      for (uint i = 0u; i < uint(extra); ++i) {
+        float t;
+        sum.rgb += aafSample(s, giRandom2(rng), rng, t);
+      }
+      sum.a += float(uint(extra));
+      params.z = sum.a;
+      traced = uint(sum.a);
+      imageStore(giAafParams, p, params);
+    }
+    vec3 indirect = sum.a > 0.0 ? sum.rgb / sum.a : vec3(0.0);
+    imageStore(giNoisyIndirect, p, vec4(indirect, 1.0));
+    imageStore(giOutIndirect, p, vec4(indirect, 1.0));
+  }
+  uint total = subgroupAdd(traced);
+  if (subgroupElect()) atomicAdd(giCounters.tracedSamples, total);
+  giCountRays(inside);
+}

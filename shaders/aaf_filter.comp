@@ -1,0 +1,45 @@
+#version 460
+// Axis-aligned filtering, pass 3 (Mehta et al. 2013 §5): a separable
+// screen-space Gaussian whose σ is the centre pixel's world-space β, weighted
+// by world distance, rejecting neighbours whose normals differ by more than
+// the limit angle. Rows: input → temp; columns: temp → output.
+#extension GL_GOOGLE_include_directive : require
+#include "filters.glsl"
+#include "shared/aaf.h"
+
+layout(local_size_x = FILTER_GROUP_SIZE, local_size_y = FILTER_GROUP_SIZE) in;
+layout(push_constant, scalar) uniform Push { AafFilterPush pc; };
+
+void main() {
+  ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+  ivec2 size = filterSize();
+  if (any(greaterThanEqual(p, size))) return;
+  vec4 centre = imageLoad(filterPosition, p);
+  vec4 source = pc.vertical == 0u ? imageLoad(filterInput, p) : imageLoad(filterTemp, p);
+  vec3 result = source.rgb;
+  float beta = imageLoad(filterParams, p).w;
+  if (centre.w > 0.0 && beta > 0.0) {
+    vec3 n = imageLoad(filterGuidance, p).xyz * 2.0 - 1.0;
+    float pixel = centre.w * pc.pixelScale;
+    int radius = int(min(ceil(3.0 * beta / max(pixel, 1e-30)), float(AAF_MAX_RADIUS_PIXELS)));
+    ivec2 axis = pc.vertical == 0u ? ivec2(1, 0) : ivec2(0, 1);
+    float inv = 0.5 / (beta * beta);
+    vec3 sum = vec3(0.0);
+    float weightSum = 0.0;
+    for (int k = -radius; k <= radius; ++k) {
+      ivec2 q = p + axis * k;
+      if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) continue;
+      vec4 x = imageLoad(filterPosition, q);
+      if (x.w <= 0.0) continue;
+      vec3 nq = imageLoad(filterGuidance, q).xyz * 2.0 - 1.0;
+      if (dot(n, nq) < pc.cosNormalLimit * length(n) * length(nq)) continue;
+      vec3 d = x.xyz - centre.xyz;
+      float w = exp(-dot(d, d) * inv);
+      sum += w * (pc.vertical == 0u ? imageLoad(filterInput, q).rgb : imageLoad(filterTemp, q).rgb);
+      weightSum += w;
+    }
+    result = weightSum > 0.0 ? sum / weightSum : source.rgb;
+  }
+  if (pc.vertical == 0u) imageStore(filterTemp, p, vec4(result, 1.0));
+  else imageStore(filterOutput, p, vec4(result, 1.0));
+}

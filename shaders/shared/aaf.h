@@ -1,0 +1,62 @@
+// Axis-aligned filtering (Mehta et al. 2013): the per-pixel filter width and
+// sample count, shared verbatim by C++ (tests) and GLSL (aaf_*.comp), and the
+// passes' interface. Distances in metres; β is a world-space Gaussian σ.
+#ifndef GI_AAF_H
+#define GI_AAF_H
+#include "gpu_common.h"
+
+GPU_NAMESPACE_BEGIN
+
+#define AAF_OMEGA_DIFFUSE 2.8            // Ω_h^max for a Lambertian receiver (eq. 18)
+#define AAF_GAMMA_DIFFUSE 0.4            // γ for the cosine lobe (§4.3)
+#define AAF_INITIAL_SAMPLES 16u          // pass 1: 4×4 stratified cosine rays
+#define AAF_ZMIN_FRACTION 0.02           // z_min ≥ 2% of the scene's largest dimension
+#define AAF_MAX_SAMPLES_PER_MU 100.0     // n ≤ 100·μ
+#define AAF_MAX_RADIUS_PIXELS 32         // the screen-space Gaussian is cut at 3σ or this
+
+// Ω_h^max for a Blinn-Phong receiver of exponent m (eq. 18).
+GPU_FN float aafOmegaGlossy(float m) { return 3.6f + 0.084f * m; }
+// γ for a Blinn-Phong lobe: arccos(c^(1/m)) / (π/2), c = cos(π/4) (§4.3).
+GPU_FN float aafGammaGlossy(float m) { return acos(pow(0.70710678f, 1.0f / m)) / 1.57079633f; }
+
+GPU_FN float aafClampZMin(float zMin, float sceneExtent) { return max(zMin, float(AAF_ZMIN_FRACTION) * sceneExtent); }
+
+// Ω_x^r = μ·min(Ω_h^max / z_min, α / d) (eq. 15); d = world size of a pixel.
+GPU_FN float aafBandwidth(float mu, float omegaMax, float zMin, float alpha, float d) {
+  return mu * min(omegaMax / zMin, alpha / d);
+}
+// β = 2 / Ω_x^r: the world-space standard deviation of the filter (eq. 16).
+GPU_FN float aafBeta(float mu, float omegaMax, float zMin, float alpha, float d) {
+  return 2.0f / aafBandwidth(mu, omegaMax, zMin, alpha, d);
+}
+// n(μ) = γ·(μ·Ω·√A_p/z_min + α)²·Ω²·(1 + μ·z_max/z_min)², A_p = d² (eq. 21),
+// clamped to [16, 100·μ] (the upper clamp never below 16).
+GPU_FN float aafSamples(float mu, float omegaMax, float gamma, float zMin, float zMax, float alpha, float d) {
+  float a = mu * omegaMax * d / zMin + alpha;
+  float b = 1.0f + mu * zMax / zMin;
+  float n = gamma * a * a * omegaMax * omegaMax * b * b;
+  return clamp(n, float(AAF_INITIAL_SAMPLES), max(float(AAF_INITIAL_SAMPLES), float(AAF_MAX_SAMPLES_PER_MU) * mu));
+}
+
+struct AafPush {
+  float mu;             // filter scale μ (> 1 converges)
+  float alpha;          // pixel-space band limit α
+  float sceneExtent;    // metres
+  uint seed;
+  uint ambientOcclusion;// 1: reflectors radiate 1, the output is AO in [0,1]
+  uint sampleBudget;    // pass 2: total samples the frame may take (0 = unlimited)
+  uint maxBounces;      // indirect bounces
+  uint russianRouletteStart;
+};
+GPU_ASSERT_SIZE(AafPush, 32);
+
+struct AafFilterPush {
+  uint vertical;        // 0: along rows (input → temp); 1: along columns (temp → output)
+  float cosNormalLimit; // neighbours whose normals differ by more than the limit angle are rejected
+  float pixelScale;     // world size of a pixel per metre of view depth: 2·tan(fovY/2) / height
+  uint pad0;
+};
+GPU_ASSERT_SIZE(AafFilterPush, 16);
+
+GPU_NAMESPACE_END
+#endif

@@ -1,0 +1,110 @@
+// AAF's separable screen-space Gaussian against a brute-force 2-D Gaussian,
+// and its normal rejection, on synthetic images.
+#include <cstring>
+#include <random>
+
+#include "gpu_test.h"
+#include "screen_filters.h"
+#include "shared/aaf.h"
+
+namespace {
+constexpr uint32_t W = 48, H = 40;
+constexpr float kPixel = 0.01f;  // metres per pixel at depth 1 with pixelScale = 0.01
+}  // namespace
+
+class AafFilterTest : public GpuTest {
+ protected:
+  engine::Image images[6];  // guidance, position, input, output, temp, params
+  gi::ScreenFilters filters;
+
+  void SetUp() override {
+    for (engine::Image& img : images)
+      img = engine::createImage(ctx, {W, H}, VK_FORMAT_R32G32B32A32_SFLOAT,
+                                VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+    filters = gi::createScreenFilters(ctx, W, H, {images[0].view, images[1].view, images[2].view, images[3].view,
+                                                  images[4].view, images[5].view});
+    std::vector<float> zero(size_t(W) * H * 4, 0.0f);
+    for (engine::Image& img : images) engine::uploadImage(ctx, img, zero.data(), zero.size() * 4, VK_IMAGE_LAYOUT_GENERAL);
+  }
+  void TearDown() override {
+    gi::destroyScreenFilters(ctx, filters);
+    for (engine::Image& img : images) engine::destroyImage(ctx, img);
+    GpuTest::TearDown();
+  }
+  void upload(int index, const std::vector<float>& rgba) {
+    engine::uploadImage(ctx, images[index], rgba.data(), rgba.size() * 4, VK_IMAGE_LAYOUT_GENERAL);
+  }
+  std::vector<float> filter(float cosLimit) {
+    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { gi::recordAafFilter(cmd, filters, cosLimit, kPixel, {}); });
+    std::vector<std::byte> raw = engine::readbackImage(ctx, images[3], VK_IMAGE_LAYOUT_GENERAL, 16);
+    std::vector<float> out(size_t(W) * H);
+    for (size_t p = 0; p < out.size(); ++p) std::memcpy(&out[p], &raw[16 * p], 4);  // red channel
+    return out;
+  }
+  // A plane facing the camera at depth 1: world x, y = pixel × 1 cm.
+  void plane(float beta, const std::vector<glm::vec3>& normals) {
+    std::vector<float> guidance(size_t(W) * H * 4), position(size_t(W) * H * 4), params(size_t(W) * H * 4);
+    for (uint32_t y = 0; y < H; ++y)
+      for (uint32_t x = 0; x < W; ++x) {
+        size_t i = (size_t(y) * W + x) * 4;
+        glm::vec3 n = normals[size_t(y) * W + x] * 0.5f + 0.5f;
+        float g[4] = {n.x, n.y, n.z, 0.1f}, pos[4] = {x * kPixel, y * kPixel, 0.0f, 1.0f}, prm[4] = {1, 1, 16, beta};
+        std::memcpy(&guidance[i], g, 16);
+        std::memcpy(&position[i], pos, 16);
+        std::memcpy(&params[i], prm, 16);
+      }
+    upload(0, guidance);
+    upload(1, position);
+    upload(5, params);
+  }
+};
+
+TEST_F(AafFilterTest, SeparableMatchesBruteForceWhereBetaIsConstant) {
+  const float beta = 3.0f * kPixel;  // σ of three pixels: the kernel reaches 9
+  plane(beta, std::vector<glm::vec3>(size_t(W) * H, glm::vec3(0, 0, 1)));
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::vector<float> input(size_t(W) * H * 4);
+  for (float& v : input) v = u(rng);
+  upload(2, input);
+  std::vector<float> out = filter(std::cos(10.0f * 3.14159265f / 180.0f));
+  // Brute force: one 2-D Gaussian in world distance over the same clipped 19×19 window.
+  const int r = 9;
+  double worst = 0.0;
+  for (int y = 0; y < int(H); ++y)
+    for (int x = 0; x < int(W); ++x) {
+      double sum = 0.0, wsum = 0.0;
+      for (int dy = -r; dy <= r; ++dy)
+        for (int dx = -r; dx <= r; ++dx) {
+          int xx = x + dx, yy = y + dy;
+          if (xx < 0 || yy < 0 || xx >= int(W) || yy >= int(H)) continue;
+          double d2 = (dx * dx + dy * dy) * double(kPixel) * kPixel;
+          double w = std::exp(-d2 / (2.0 * beta * beta));
+          sum += w * input[(size_t(yy) * W + xx) * 4];
+          wsum += w;
+        }
+      worst = std::max(worst, std::abs(sum / wsum - out[size_t(y) * W + x]));
+    }
+  EXPECT_LT(worst, 1e-4);
+}
+
+TEST_F(AafFilterTest, NormalThresholdStopsFilteringAcrossARightAngle) {
+  std::vector<glm::vec3> normals(size_t(W) * H);
+  std::vector<float> input(size_t(W) * H * 4);
+  for (uint32_t y = 0; y < H; ++y)
+    for (uint32_t x = 0; x < W; ++x) {
+      bool left = x < W / 2;
+      normals[size_t(y) * W + x] = left ? glm::vec3(0, 0, 1) : glm::vec3(1, 0, 0);
+      for (int c = 0; c < 4; ++c) input[(size_t(y) * W + x) * 4 + c] = left ? 0.0f : 1.0f;
+    }
+  plane(6.0f * kPixel, normals);
+  upload(2, input);
+  std::vector<float> out = filter(std::cos(10.0f * 3.14159265f / 180.0f));
+  for (uint32_t y = 0; y < H; ++y) {
+    EXPECT_EQ(out[size_t(y) * W + W / 2 - 1], 0.0f) << "row " << y;  // nothing leaks from the other face
+    EXPECT_EQ(out[size_t(y) * W + W / 2], 1.0f) << "row " << y;
+  }
+  // With the limit opened to 180°, the edge blurs.
+  std::vector<float> open = filter(-1.0f);
+  EXPECT_GT(open[size_t(H / 2) * W + W / 2 - 1], 0.1f);
+}

@@ -1,0 +1,43 @@
+// Axis-aligned filtering's formulas (shared/aaf.h, the same code the shaders
+// run) against values worked out by hand.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "shared/aaf.h"
+
+TEST(AafMath, FilterWidthTakesTheSmallerBandLimit) {
+  // μ = 0.9, Ω = 2.8, z_min = 0.5 m, α = 0.3, d = 0.01 m:
+  // Ω/z_min = 5.6 < α/d = 30, so Ω_x = 0.9·5.6 = 5.04 and β = 2/5.04.
+  EXPECT_NEAR(gpu::aafBandwidth(0.9f, 2.8f, 0.5f, 0.3f, 0.01f), 5.04f, 1e-5f);
+  EXPECT_NEAR(gpu::aafBeta(0.9f, 2.8f, 0.5f, 0.3f, 0.01f), 2.0f / 5.04f, 1e-6f);
+  // A near reflector (z_min = 0.05 m) and a large pixel (d = 0.1 m): α/d = 3 < Ω/z_min = 56.
+  EXPECT_NEAR(gpu::aafBandwidth(0.9f, 2.8f, 0.05f, 0.3f, 0.1f), 0.9f * 3.0f, 1e-5f);
+  EXPECT_NEAR(gpu::aafBeta(0.9f, 2.8f, 0.05f, 0.3f, 0.1f), 2.0f / 2.7f, 1e-6f);
+}
+
+TEST(AafMath, SampleCountAndBothClamps) {
+  // γ(μΩ√A_p/z_min + α)²·Ω²·(1 + μ z_max/z_min)² with μ = 1, Ω = 2.8, γ = 0.4,
+  // z_min = 0.1, z_max = 1, α = 0.3, d = 0.01: (0.28 + 0.3)²·7.84·11²·0.4 = 127.65…
+  double expected = 0.4 * std::pow(1.0 * 2.8 * 0.01 / 0.1 + 0.3, 2) * 2.8 * 2.8 * std::pow(1.0 + 1.0 / 0.1, 2);
+  EXPECT_NEAR(expected, 127.65, 0.01);
+  // That exceeds 100·μ = 100: the upper clamp.
+  EXPECT_FLOAT_EQ(gpu::aafSamples(1.0f, 2.8f, 0.4f, 0.1f, 1.0f, 0.3f, 0.01f), 100.0f);
+  // Between the clamps the formula shows through: z_min = 0.2, z_max = 1, μ = 1 gives
+  // 0.4·(0.14 + 0.3)²·7.84·6² = 21.86.
+  EXPECT_NEAR(gpu::aafSamples(1.0f, 2.8f, 0.4f, 0.2f, 1.0f, 0.3f, 0.01f), 0.4f * 0.44f * 0.44f * 7.84f * 36.0f, 1e-3f);
+  EXPECT_NEAR(0.4 * 0.44 * 0.44 * 7.84 * 36.0, 21.86, 0.01);
+  // Far, flat surroundings ask for fewer than 16: the lower clamp.
+  EXPECT_FLOAT_EQ(gpu::aafSamples(0.9f, 2.8f, 0.4f, 5.0f, 5.0f, 0.3f, 0.01f), 16.0f);
+  // μ small enough that 100·μ < 16 still allows the 16 initial samples.
+  EXPECT_FLOAT_EQ(gpu::aafSamples(0.1f, 2.8f, 0.4f, 0.1f, 1.0f, 0.3f, 0.01f), 16.0f);
+}
+
+TEST(AafMath, ZMinClampAndGlossyBandLimit) {
+  EXPECT_FLOAT_EQ(gpu::aafClampZMin(0.0f, 10.0f), 0.2f);  // 2% of a 10 m scene
+  EXPECT_FLOAT_EQ(gpu::aafClampZMin(0.5f, 10.0f), 0.5f);
+  // Eq. 18: Ω_h,s = 3.6 + 0.084 m; the paper's m = 20 gives γ = 0.11.
+  EXPECT_NEAR(gpu::aafOmegaGlossy(20.0f), 3.6f + 1.68f, 1e-5f);
+  EXPECT_NEAR(gpu::aafGammaGlossy(20.0f), 0.118f, 0.001f);  // the paper rounds it to 0.11
+  EXPECT_GT(gpu::aafOmegaGlossy(100.0f), gpu::aafOmegaGlossy(20.0f));
+}
