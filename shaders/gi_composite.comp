@@ -35,6 +35,19 @@ void main() {
       break;
     }
     // Filters may overshoot below zero; radiance cannot.
+    // Hash map views (the lookup pass leaves key, LOD, samples, found in the debug image).
+    case GI_DEBUG_HASH_CELLS: {
+      uint key = uint(imageLoad(giDebug, p).x);
+      result = key == 0u ? vec3(0.0) : vec3(uvec3(key, key >> 8u, key >> 16u) & 255u) / 255.0;
+      break;
+    }
+    case GI_DEBUG_HASH_LOD: result = vec3(clamp((imageLoad(giDebug, p).y + 12.0) / 16.0, 0.0, 1.0)); break;
+    case GI_DEBUG_HASH_SAMPLES: result = vec3(imageLoad(giDebug, p).z / 100.0); break;
+    case GI_DEBUG_HASH_FOUND: {
+      float f = imageLoad(giDebug, p).w;
+      result = f == 1.0 ? vec3(0.0, 1.0, 0.0) : f > 0.0 ? vec3(1.0, 1.0, 0.0) : vec3(1.0, 0.0, 0.0);
+      break;
+    }
     default:
       // aaf_ao: the indirect image holds occlusion (reflectors radiate 1); AO = 1 − occlusion.
       result = pc.ambientOcclusion != 0u ? vec3(1.0) - clamp(indirect, 0.0, 1.0)

@@ -19,6 +19,7 @@ struct GiRng {
 #define GI_STREAM_MODULE 1u
 #define GI_STREAM_SUPERSAMPLE 2u
 #define GI_STREAM_AAF 3u
+#define GI_STREAM_HASH 4u
 
 GiRng giRngCreate(uvec2 pixel, uint sampleIndex, uint seed, uint stream) {
   GiRng rng;

@@ -13,6 +13,8 @@ void setSamplesPerPixel(gi::Settings& settings, uint32_t spp) {
     case gi::Method::Atrous: settings.atrous.samplesPerPixel = spp; break;
     case gi::Method::Aaf:
     case gi::Method::AafAo: break;  // adaptive: μ is the quality knob
+    case gi::Method::Sspsf: settings.sspsf.samplesPerPixel = spp; break;
+    case gi::Method::Hpsf: settings.hpsf.samplesPerPixel = spp; break;
   }
 }
 

@@ -23,7 +23,7 @@ const cli::Option kOptions[] = {
     {"scene", "FILE.gltf", "scene to render (required)"},
     {"size", "WxH", "image size in pixels (default 320x180)"},
     {"camera", "N", "glTF camera index (default 0; a default camera is made when the file has none)"},
-    {"method", "NAME", "reference (default) or a GI module method: raw, gif, bilateral, atrous, aaf, aaf_ao"},
+    {"method", "NAME", "reference (default) or a GI module method: raw, gif, bilateral, atrous, aaf, aaf_ao, sspsf, hpsf"},
     {"set", "KEY=V", "a GI module setting, repeatable (keys: see --help)"},
     {"spp", "N", "samples per pixel per frame (default 64)"},
     {"frames", "N", "frames to accumulate (default 1); total samples = spp × frames"},
@@ -35,7 +35,7 @@ const cli::Option kOptions[] = {
     {"validation", nullptr, "enable Vulkan validation; any message makes the run fail"},
     {"help", nullptr, "show this message"},
 };
-const char* const kMethods[] = {"reference", "raw", "gif", "bilateral", "atrous", "aaf", "aaf_ao"};
+const char* const kMethods[] = {"reference", "raw", "gif", "bilateral", "atrous", "aaf", "aaf_ao", "sspsf", "hpsf"};
 const char* const kAovs[] = {"final", "direct", "indirect", "albedo", "normal", "depth"};
 const char* kSynopsis = "--scene FILE.gltf [options]";
 

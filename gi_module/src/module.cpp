@@ -87,6 +87,22 @@ void ensureFilters(Module& m) {
   }
 }
 
+// The hash map exists once hpsf is chosen, at the capacity the settings ask for.
+void ensureHashGrid(Module& m) {
+  if (m.settings.method != Method::Hpsf) return;
+  uint32_t capacity = hashCapacity(m.settings.hpsf, m.desc.width, m.desc.height);
+  if (m.hash.capacity == capacity) return;
+  if (m.hash.capacity) {  // a new capacity starts an empty map (the caller let the last frame finish)
+    m.memoryBytes -= m.hash.memoryBytes;
+    destroyHashGrid(m.ctx, m.hash);
+  }
+  const uint32_t spec[SCENE_SPEC_COUNT] = {m.desc.scene.hasEmissiveTriangles ? 1u : 0u,
+                                           m.desc.scene.hasPunctualLights ? 1u : 0u, m.desc.scene.hasAlphaMask ? 1u : 0u};
+  VkDescriptorSetLayout layouts[2] = {m.desc.scene.layout, m.frameSet.layout};
+  m.hash = createHashGrid(m.ctx, capacity, m.desc.width, m.desc.height, layouts, spec, kFramesInFlight);
+  m.memoryBytes += m.hash.memoryBytes;
+}
+
 // World size of a pixel per metre of view depth.
 float pixelScale(const gpu::GpuCamera& c) { return 2.0f * c.tanHalfFovY / c.imageSize.y; }
 
@@ -205,6 +221,7 @@ Error create(const ModuleDesc& desc, const Settings& settings, Module*& out) {
   m->aafSample = engine::createComputeProgram(m->ctx, spv_aaf_sample_comp, layouts, sizeof(gpu::AafPush), tile, spec);
   m->aafAdaptive = engine::createComputeProgram(m->ctx, spv_aaf_adaptive_comp, layouts, sizeof(gpu::AafPush), tile, spec);
   ensureFilters(*m);
+  ensureHashGrid(*m);
 
   VkQueryPoolCreateInfo q{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
   q.queryType = VK_QUERY_TYPE_TIMESTAMP;
@@ -220,6 +237,7 @@ void destroy(Module* m) {
   for (engine::ComputeProgram* p : {&m->rawTrace, &m->composite_, &m->guidancePass, &m->supersample, &m->aafSample, &m->aafAdaptive})
     engine::destroyComputeProgram(m->ctx, *p);
   if (m->filters.set.set) destroyScreenFilters(m->ctx, m->filters);
+  if (m->hash.capacity) destroyHashGrid(m->ctx, m->hash);
   engine::destroyDescriptorSet(m->ctx, m->frameSet);
   for (size_t i = 0; engine::Image* img = ownedImages(*m, i); ++i) engine::destroyImage(m->ctx, *img);
   engine::destroyBuffer(m->ctx, m->frameConstants);
@@ -232,6 +250,7 @@ Error setSettings(Module* m, const Settings& settings) {
   m->settings = settings;
   m->historyLength = 0;  // any change invalidates accumulated frames
   ensureFilters(*m);
+  ensureHashGrid(*m);
   return {};
 }
 
@@ -289,6 +308,31 @@ void recordFrame(Module* m, VkCommandBuffer cmd, const FrameInputs& in) {
     engine::dispatch(cmd, m->aafAdaptive, sets, size, aaf);
     computeToComputeBarrier(cmd);
     endPass(*m, cmd, slot);
+  } else if (s.method == Method::Hpsf) {
+    spp = samplesWithinBudget(*m, tracedSamplesPerPixel(s), in.frameIndex);
+    const HpsfSettings& h = s.hpsf;
+    bool strict = h.eviction == EvictionPolicy::Strict;
+    gpu::HgPush push{m->hash.capacity, h.probeWindow, h.filterWidth, pixelScale(in.camera), h.jitter, h.normalBits,
+                     h.stochasticLod ? 1u : 0u, h.clampSigma, in.frameIndex, strict ? 2u : h.historyFrames,
+                     strict ? 1u : h.staleFrames, h.minSamples, s.seed, spp, s.maxBounces, s.russianRouletteStart};
+    VkDescriptorSet hashSets[] = {m->desc.scene.set, m->frameSet.set, m->hash.set.set};
+    recordHashGridFrameStart(cmd, m->hash);
+    // Pass: paths from the G-buffer; their indirect radiance goes into the filter vertex's cell.
+    beginPass(*m, cmd, slot, "hpsf_insert");
+    engine::dispatch(cmd, m->hash.insert, hashSets, size, push);
+    computeToComputeBarrier(cmd);
+    endPass(*m, cmd, slot);
+    // Pass: fold the frame's sums into each cell's history; evict stale cells.
+    beginPass(*m, cmd, slot, "hpsf_resolve");
+    engine::dispatch(cmd, m->hash.resolve, hashSets, {m->hash.capacity, 1}, push);
+    computeToComputeBarrier(cmd);
+    endPass(*m, cmd, slot);
+    // Pass: each pixel reads its cell (or keeps its own sample).
+    beginPass(*m, cmd, slot, "hpsf_lookup");
+    engine::dispatch(cmd, m->hash.lookup, hashSets, size, push);
+    computeToComputeBarrier(cmd);
+    endPass(*m, cmd, slot);
+    recordHashGridTelemetryCopy(cmd, m->hash, slot);
   } else {
     spp = samplesWithinBudget(*m, tracedSamplesPerPixel(s), in.frameIndex);
     // Pass: trace paths from the G-buffer (direct + demodulated indirect, optional temporal mean).
@@ -308,7 +352,12 @@ void recordFrame(Module* m, VkCommandBuffer cmd, const FrameInputs& in) {
     endPass(*m, cmd, slot);
     // Passes: the chosen filter, noisy indirect → indirect.
     PassHooks hooks = passHooks(*m, slot);
-    if (isAaf(s.method)) {
+    if (s.method == Method::Sspsf) {
+      const SspsfSettings& ss = s.sspsf;
+      recordSspsf(cmd, m->filters,
+                  {ss.window, ss.filterWidth, pixelScale(in.camera), std::cos(ss.normalLimitDegrees * 3.14159265f / 180.0f)},
+                  hooks);
+    } else if (isAaf(s.method)) {
       recordAafFilter(cmd, m->filters, std::cos(s.aaf.normalLimitDegrees * 3.14159265f / 180.0f), pixelScale(in.camera), hooks);
     } else if (s.method == Method::Gif) {
       GuidedFilterParams gif{s.gif.radius, s.gif.epsilonNormal, s.gif.epsilonDepth, s.gif.guidanceDimensions,
@@ -349,6 +398,7 @@ void recordFrame(Module* m, VkCommandBuffer cmd, const FrameInputs& in) {
   m->slotFrameIndex[slot] = in.frameIndex;
   m->slotHistory[slot] = m->historyLength;
   m->slotSpp[slot] = spp;
+  m->slotMethod[slot] = s.method;
   m->slotRecorded[slot] = true;
 }
 
@@ -378,6 +428,17 @@ FrameStats stats(Module* m) {
     uint32_t pixels = m->desc.width * m->desc.height;
     if (c.tracedSamples > 0 && pixels > 0) st.samplesPerPixel = (c.tracedSamples + pixels / 2) / pixels;  // AAF: mean
     st.memoryBytes = m->memoryBytes;
+    if (m->slotMethod[slot] == Method::Hpsf && m->hash.capacity) {
+      gpu::HgTelemetry t = readHashGridTelemetry(m->hash, slot);
+      st.hash.capacity = m->hash.capacity;
+      st.hash.occupied = t.occupied;
+      st.hash.inserts = t.inserts;
+      st.hash.failedInserts = t.failedInserts;
+      st.hash.meanProbe = t.inserts ? float(t.probeSum) / float(t.inserts) : 0.0f;
+      st.hash.maxProbe = t.probeMax;
+      st.hash.evicted = t.evicted;
+      st.hash.overflows = t.overflows;
+    }
     m->lastStats = st;
     break;
   }

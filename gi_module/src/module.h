@@ -5,6 +5,7 @@
 #include "descriptors.h"
 #include "gi/gi.h"
 #include "resources.h"
+#include "hash_grid.h"
 #include "screen_filters.h"
 #include "shared/gi_frame.h"
 
@@ -24,6 +25,7 @@ struct Module {
   engine::Image guidance, position, debug;         // filter guidance, world position, filter debug/temp
   engine::Image aafParams, aafSum;                 // AAF per-pixel z_min, z_max, samples, β; sample sums
   ScreenFilters filters;                           // created on first use of a filter method
+  HashGrid hash;                                   // created on first use of hpsf; persists across frames
   engine::Buffer frameConstants;                   // host-visible GiFrameConstants
   engine::Buffer counters;                         // host-visible GiCounters[kFramesInFlight]
   engine::DescriptorSet frameSet;
@@ -37,6 +39,7 @@ struct Module {
   bool slotRecorded[kFramesInFlight] = {};
   uint32_t slotHistory[kFramesInFlight] = {};
   uint32_t slotSpp[kFramesInFlight] = {};
+  Method slotMethod[kFramesInFlight] = {};
 
   bool imagesInitialised = false;
   uint32_t historyLength = 0;                      // frames in the history images

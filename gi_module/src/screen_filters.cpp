@@ -9,6 +9,7 @@
 #include "gif_coefficients.comp.h"
 #include "gif_moments.comp.h"
 #include "gif_output.comp.h"
+#include "sspsf.comp.h"
 #include "shared/aaf.h"
 
 namespace gi {
@@ -74,6 +75,7 @@ ScreenFilters createScreenFilters(const engine::Context& ctx, uint32_t width, ui
   f.bilateral = engine::createComputeProgram(ctx, spv_bilateral_comp, layouts, sizeof(gpu::BilateralPush), tile);
   f.atrous = engine::createComputeProgram(ctx, spv_atrous_comp, layouts, sizeof(gpu::AtrousPush), tile);
   f.aaf = engine::createComputeProgram(ctx, spv_aaf_filter_comp, layouts, sizeof(gpu::AafFilterPush), tile);
+  f.sspsf = engine::createComputeProgram(ctx, spv_sspsf_comp, layouts, sizeof(gpu::SspsfPush), tile);
   return f;
 }
 
@@ -92,7 +94,7 @@ void ensureGuidedStack(const engine::Context& ctx, ScreenFilters& f) {
 }
 
 void destroyScreenFilters(const engine::Context& ctx, ScreenFilters& f) {
-  for (engine::ComputeProgram* p : {&f.moments, &f.box, &f.coefficients, &f.output, &f.bilateral, &f.atrous, &f.aaf})
+  for (engine::ComputeProgram* p : {&f.moments, &f.box, &f.coefficients, &f.output, &f.bilateral, &f.atrous, &f.aaf, &f.sspsf})
     engine::destroyComputeProgram(ctx, *p);
   engine::destroyDescriptorSet(ctx, f.set);
   for (uint32_t i = 0; i < FILTER_STACK; ++i) {
@@ -124,6 +126,10 @@ void recordGuidedFilter(VkCommandBuffer cmd, ScreenFilters& f, const GuidedFilte
 void recordAafFilter(VkCommandBuffer cmd, ScreenFilters& f, float cosNormalLimit, float pixelScale, const PassHooks& hooks) {
   pass(cmd, f, hooks, "aaf_filter_rows", f.aaf, {f.width, f.height}, gpu::AafFilterPush{0, cosNormalLimit, pixelScale, 0});
   pass(cmd, f, hooks, "aaf_filter_columns", f.aaf, {f.width, f.height}, gpu::AafFilterPush{1, cosNormalLimit, pixelScale, 0});
+}
+
+void recordSspsf(VkCommandBuffer cmd, ScreenFilters& f, const gpu::SspsfPush& params, const PassHooks& hooks) {
+  pass(cmd, f, hooks, "sspsf", f.sspsf, {f.width, f.height}, params);
 }
 
 void recordBilateral(VkCommandBuffer cmd, ScreenFilters& f, const gpu::BilateralPush& params, const PassHooks& hooks) {

@@ -24,7 +24,7 @@ struct PassHooks {
 struct ScreenFilters {
   engine::Image a[FILTER_STACK], b[FILTER_STACK];  // the guided filter's window statistics (created on its first use)
   engine::DescriptorSet set;
-  engine::ComputeProgram moments, box, coefficients, output, bilateral, atrous, aaf;
+  engine::ComputeProgram moments, box, coefficients, output, bilateral, atrous, aaf, sspsf;
   uint32_t width = 0, height = 0;
   uint64_t memoryBytes = 0;
   bool initialised = false;  // images moved to GENERAL layout
@@ -48,6 +48,8 @@ void recordGuidedFilter(VkCommandBuffer cmd, ScreenFilters& f, const GuidedFilte
 void recordBilateral(VkCommandBuffer cmd, ScreenFilters& f, const gpu::BilateralPush& params, const PassHooks& hooks);
 void recordAtrous(VkCommandBuffer cmd, ScreenFilters& f, uint32_t iterations, float sigmaColor, float sigmaNormal,
                   float sigmaPosition, const PassHooks& hooks);
+// Screen-space path filtering over a window (Meijer §4.1).
+void recordSspsf(VkCommandBuffer cmd, ScreenFilters& f, const gpu::SspsfPush& params, const PassHooks& hooks);
 // Axis-aligned filtering's separable Gaussian (β per pixel from the params image); uses temp.
 void recordAafFilter(VkCommandBuffer cmd, ScreenFilters& f, float cosNormalLimit, float pixelScale, const PassHooks& hooks);
 

@@ -33,12 +33,15 @@ const char* methodName(Method method) {
     case Method::Atrous: return "atrous";
     case Method::Aaf: return "aaf";
     case Method::AafAo: return "aaf_ao";
+    case Method::Sspsf: return "sspsf";
+    case Method::Hpsf: return "hpsf";
   }
   return "unknown";
 }
 
 bool methodFromName(const std::string& name, Method& out) {
-  for (Method m : {Method::Raw, Method::Gif, Method::Bilateral, Method::Atrous, Method::Aaf, Method::AafAo})
+  for (Method m : {Method::Raw, Method::Gif, Method::Bilateral, Method::Atrous, Method::Aaf, Method::AafAo, Method::Sspsf,
+                   Method::Hpsf})
     if (name == methodName(m)) {
       out = m;
       return true;
@@ -51,8 +54,8 @@ Error validate(const Settings& s) {
   if (s.maxBounces < 1 || s.maxBounces > 32) return outOfRange("settings.maxBounces", s.maxBounces, 1, 32);
   if (s.russianRouletteStart < 1 || s.russianRouletteStart > 64)
     return outOfRange("settings.russianRouletteStart", s.russianRouletteStart, 1, 64);
-  if (uint32_t(s.debugView) > uint32_t(DebugView::AafFilterWidth))
-    return outOfRange("settings.debugView", uint32_t(s.debugView), 0, uint32_t(DebugView::AafFilterWidth));
+  if (uint32_t(s.debugView) > uint32_t(DebugView::HashFound))
+    return outOfRange("settings.debugView", uint32_t(s.debugView), 0, uint32_t(DebugView::HashFound));
   if (s.raw.samplesPerPixel < 1 || s.raw.samplesPerPixel > 64)
     return outOfRange("settings.raw.samplesPerPixel", s.raw.samplesPerPixel, 1, 64);
   if (s.raw.maxAccumulatedFrames < 1 || s.raw.maxAccumulatedFrames > (1u << 20))
@@ -82,7 +85,37 @@ Error validate(const Settings& s) {
   if (!inRange(f.alpha, 0, 1, true)) return outOfRangeF("settings.aaf.alpha", f.alpha, 0, 1, true);
   if (!inRange(f.normalLimitDegrees, 0, 180, false))
     return outOfRangeF("settings.aaf.normalLimitDegrees", f.normalLimitDegrees, 0, 180, false);
+  const SspsfSettings& ss = s.sspsf;
+  if (ss.samplesPerPixel < 1 || ss.samplesPerPixel > 64) return outOfRange("settings.sspsf.samplesPerPixel", ss.samplesPerPixel, 1, 64);
+  if (ss.window < 1 || ss.window > 31 || ss.window % 2 == 0)
+    return {ErrorCode::OutOfRange, "settings.sspsf.window = " + std::to_string(ss.window) + " is not an odd number in [1, 31]"};
+  if (!inRange(ss.filterWidth, 0.5, 256, false)) return outOfRangeF("settings.sspsf.filterWidth", ss.filterWidth, 0.5, 256, false);
+  if (!inRange(ss.normalLimitDegrees, 0, 180, false))
+    return outOfRangeF("settings.sspsf.normalLimitDegrees", ss.normalLimitDegrees, 0, 180, false);
+  const HpsfSettings& h = s.hpsf;
+  if (h.samplesPerPixel < 1 || h.samplesPerPixel > 64) return outOfRange("settings.hpsf.samplesPerPixel", h.samplesPerPixel, 1, 64);
+  if (h.capacity != 0 && (h.capacity & (h.capacity - 1)) != 0)
+    return {ErrorCode::NotPowerOfTwo, "settings.hpsf.capacity = " + std::to_string(h.capacity) + " is not a power of two"};
+  if (h.capacity != 0 && (h.capacity < (1u << 10) || h.capacity > (1u << 21)))
+    return outOfRange("settings.hpsf.capacity", h.capacity, 1u << 10, 1u << 21);
+  if (h.probeWindow < 1 || h.probeWindow > 64) return outOfRange("settings.hpsf.probeWindow", h.probeWindow, 1, 64);
+  if (!inRange(h.filterWidth, 0.5, 256, false)) return outOfRangeF("settings.hpsf.filterWidth", h.filterWidth, 0.5, 256, false);
+  if (!inRange(h.jitter, 0, 2, false)) return outOfRangeF("settings.hpsf.jitter", h.jitter, 0, 2, false);
+  if (h.normalBits > 3) return outOfRange("settings.hpsf.normalBits", h.normalBits, 0, 3);
+  if (!inRange(h.clampSigma, 0, 100, false)) return outOfRangeF("settings.hpsf.clampSigma", h.clampSigma, 0, 100, false);
+  if (uint32_t(h.eviction) > uint32_t(EvictionPolicy::Aging)) return outOfRange("settings.hpsf.eviction", uint32_t(h.eviction), 0, 1);
+  if (h.historyFrames < 2 || h.historyFrames > 10000) return outOfRange("settings.hpsf.historyFrames", h.historyFrames, 2, 10000);
+  if (h.staleFrames < 1 || h.staleFrames > 100000) return outOfRange("settings.hpsf.staleFrames", h.staleFrames, 1, 100000);
+  if (h.minSamples < 1 || h.minSamples > 1000000) return outOfRange("settings.hpsf.minSamples", h.minSamples, 1, 1000000);
   return {};
+}
+
+uint32_t hashCapacity(const HpsfSettings& s, uint32_t width, uint32_t height) {
+  if (s.capacity != 0) return s.capacity;
+  uint64_t want = uint64_t(width) * height * 4;
+  uint32_t c = 1u << 10;
+  while (c < want && c < (1u << 21)) c <<= 1;
+  return c;
 }
 
 uint32_t tracedSamplesPerPixel(const Settings& s) {
@@ -93,11 +126,13 @@ uint32_t tracedSamplesPerPixel(const Settings& s) {
     case Method::Atrous: return s.atrous.samplesPerPixel;
     case Method::Aaf:
     case Method::AafAo: return 0;  // adaptive: chosen per pixel
+    case Method::Sspsf: return s.sspsf.samplesPerPixel;
+    case Method::Hpsf: return s.hpsf.samplesPerPixel;
   }
   return 1;
 }
 
-bool usesScreenFilters(Method m) { return m != Method::Raw; }
+bool usesScreenFilters(Method m) { return m != Method::Raw && m != Method::Hpsf; }
 bool isAaf(Method m) { return m == Method::Aaf || m == Method::AafAo; }
 
 }  // namespace gi

@@ -63,6 +63,14 @@ struct BilateralPush {
 };
 GPU_ASSERT_SIZE(BilateralPush, 16);
 
+struct SspsfPush {
+  uint window;          // odd window side in pixels (9 in the thesis)
+  float filterWidth;    // pixels: the position kernel's σ is half the HPSF cell size for this width
+  float pixelAngle;     // metres per metre of distance per pixel
+  float cosNormal;      // neighbours whose normals differ more are not filtered in
+};
+GPU_ASSERT_SIZE(SspsfPush, 16);
+
 struct AtrousPush {
   uint iteration;       // 0-based; the tap spacing is 2^iteration
   uint source;          // 0 input, 1 output, 2 temp

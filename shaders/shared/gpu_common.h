@@ -24,12 +24,21 @@ using mat4 = glm::mat4;
 #include <algorithm>
 #include <cmath>
 namespace gpu {
+using std::abs;
 using std::acos;
+using std::ceil;
 using std::clamp;
+using std::exp2;
+using std::floor;
+using std::log2;
 using std::max;
 using std::min;
 using std::pow;
 using std::sqrt;
+using std::uint64_t;
+using glm::cross;
+using glm::dot;
+using glm::normalize;
 }  // namespace gpu
 #else
 #define GPU_NAMESPACE_BEGIN

@@ -76,9 +76,20 @@ struct FrameStats {
   uint32_t accumulatedFrames = 0;   // temporal history length behind the output
   uint32_t samplesPerPixel = 0;     // paths per pixel actually traced (after the ray budget; AAF: the mean)
   uint64_t memoryBytes = 0;         // device memory owned by the module
+  struct Hash {                     // HPSF hash map telemetry (zero for other methods)
+    uint32_t capacity = 0;          // cells
+    uint32_t occupied = 0;          // live cells after this frame's resolve
+    uint32_t inserts = 0;           // samples stored
+    uint32_t failedInserts = 0;     // samples that found no slot within the probe window
+    float meanProbe = 0.0f;         // slots probed per successful insert
+    uint32_t maxProbe = 0;
+    uint32_t evicted = 0;           // cells removed this frame
+    uint32_t overflows = 0;         // samples clamped to the fixed-point range
+    float occupancy() const { return capacity ? float(occupied) / float(capacity) : 0.0f; }
+  } hash;
 };
 
-enum class ErrorCode : uint32_t { None = 0, MissingHandle, ZeroSize, SizeTooLarge, OutOfRange, UnknownMethod };
+enum class ErrorCode : uint32_t { None = 0, MissingHandle, ZeroSize, SizeTooLarge, OutOfRange, UnknownMethod, NotPowerOfTwo };
 struct Error {
   ErrorCode code = ErrorCode::None;
   std::string message;  // names the field and the value, e.g. "settings.raw.samplesPerPixel = 0 is outside [1, 64]"

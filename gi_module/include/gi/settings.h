@@ -14,9 +14,11 @@ enum class Method : uint32_t {
   Aaf,        // axis-aligned filtering with adaptive sampling (Mehta et al. 2013)
   AafAo,      // the same machinery for ambient occlusion (reflectors radiate 1): the indirect
               // output holds occlusion, the composite AO = 1 − occlusion, both in [0,1]
+  Sspsf,      // screen-space path filtering (Meijer 2019 §4.1)
+  Hpsf,       // hashed path space filtering on a persistent world-space hash map (§4.2)
 };
-inline constexpr uint32_t kMethodCount = 6;
-const char* methodName(Method method);                      // "raw", "gif", "bilateral", "atrous", "aaf", "aaf_ao"
+inline constexpr uint32_t kMethodCount = 8;
+const char* methodName(Method method);  // "raw", "gif", "bilateral", "atrous", "aaf", "aaf_ao", "sspsf", "hpsf"
 bool methodFromName(const std::string& name, Method& out);  // false for unknown names
 
 enum class DebugView : uint32_t {
@@ -33,6 +35,10 @@ enum class DebugView : uint32_t {
   AafZMax,         // AAF: farthest reflector distance / scene extent
   AafSamples,      // AAF: samples per pixel / 100
   AafFilterWidth,  // AAF: filter σ in pixels / 32
+  HashCells,       // HPSF: each pixel's cell, coloured by its key
+  HashLod,         // HPSF: the cell's level of detail
+  HashSamples,     // HPSF: samples behind the cell's mean / 100
+  HashFound,       // HPSF: green = cell used, yellow = too few samples, red = no cell (fallback)
 };
 
 struct RawSettings {
@@ -72,6 +78,33 @@ struct AafSettings {
   float normalLimitDegrees = 10.0f; // neighbours whose normals differ more are not filtered in, [0, 180]
 };
 
+struct SspsfSettings {
+  uint32_t samplesPerPixel = 1;   // [1, 64]
+  uint32_t window = 9;            // odd window side in pixels, [1, 31]
+  float filterWidth = 16.0f;      // pixels, [0.5, 256]: the position kernel matches the HPSF cell of this width
+  float normalLimitDegrees = 25.0f;  // [0, 180]
+};
+
+enum class EvictionPolicy : uint32_t {
+  Strict = 0,  // Meijer: a cell survives only if touched again next frame (2-frame history)
+  Aging,       // SHaRC-style: history capped at historyFrames, evicted after staleFrames untouched
+};
+
+struct HpsfSettings {
+  uint32_t samplesPerPixel = 1;   // [1, 64]
+  uint32_t capacity = 0;          // cells, a power of two in [2^10, 2^21]; 0 = the next power of two ≥ 4 × pixels
+  uint32_t probeWindow = 16;      // linear-probing limit in slots, [1, 64]
+  float filterWidth = 16.0f;      // pixels, [0.5, 256]: cell size = width × pixel footprint × distance, to a power of two
+  float jitter = 0.6f;            // tangent-plane jitter in cells, [0, 2]; 0 = off
+  uint32_t normalBits = 2;        // normal quantisation bits per component, [0, 3]
+  bool stochasticLod = true;      // pick between the two nearest levels at random (hides LOD seams)
+  float clampSigma = 3.0f;        // clamp samples above mean + k·σ of the cell, [0 = off, 100]
+  EvictionPolicy eviction = EvictionPolicy::Aging;
+  uint32_t historyFrames = 20;    // aging: frames of history kept, [2, 10000]
+  uint32_t staleFrames = 60;      // aging: frames untouched before eviction, [1, 100000]
+  uint32_t minSamples = 1;        // fewer samples in the cell: the pixel keeps its own, [1, 1e6]
+};
+
 struct Settings {
   Method method = Method::Raw;
   RawSettings raw;
@@ -79,6 +112,8 @@ struct Settings {
   BilateralSettings bilateral;
   AtrousSettings atrous;
   AafSettings aaf;                     // also used by aaf_ao
+  SspsfSettings sspsf;
+  HpsfSettings hpsf;
   uint32_t maxBounces = 1;             // indirect bounces B, [1, 32] (B = 0 would be direct light only)
   uint32_t russianRouletteStart = 3;   // bounce from which paths may stop early (unbiased), [1, 64]
   uint64_t rayBudget = 0;              // rays per frame; 0 = unlimited. The module lowers its sample
@@ -89,7 +124,9 @@ struct Settings {
 
 // The knob --spp and the ray budget act on: the active method's paths per pixel.
 uint32_t tracedSamplesPerPixel(const Settings& settings);
-bool usesScreenFilters(Method method);  // every method but raw
+// The hash map capacity in cells for a render size (settings.hpsf.capacity, or its default).
+uint32_t hashCapacity(const HpsfSettings& settings, uint32_t width, uint32_t height);
+bool usesScreenFilters(Method method);  // every method but raw and hpsf
 bool isAaf(Method method);              // aaf, aaf_ao: adaptive sample counts (tracedSamplesPerPixel is 0)
 
 }  // namespace gi

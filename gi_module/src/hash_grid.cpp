@@ -1,0 +1,86 @@
+#include "hash_grid.h"
+
+#include <cstring>
+
+#include "hpsf_insert.comp.h"
+#include "hpsf_lookup.comp.h"
+#include "hpsf_resolve.comp.h"
+#include "shared/gi_frame.h"
+
+namespace gi {
+
+HashGrid createHashGrid(const engine::Context& ctx, uint32_t capacity, uint32_t width, uint32_t height,
+                        const VkDescriptorSetLayout layouts[2], std::span<const uint32_t> spec, uint32_t slots) {
+  HashGrid g;
+  g.capacity = capacity;
+  const VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+  g.keys = engine::createBuffer(ctx, sizeof(uint32_t) * capacity, usage, engine::MemoryKind::DeviceLocal);
+  g.accum = engine::createBuffer(ctx, sizeof(gpu::HgAccum) * capacity, usage, engine::MemoryKind::DeviceLocal);
+  g.cells = engine::createBuffer(ctx, sizeof(gpu::HgCell) * capacity, usage, engine::MemoryKind::DeviceLocal);
+  g.telemetry = engine::createBuffer(ctx, sizeof(gpu::HgTelemetry) * (1 + slots), usage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                                     engine::MemoryKind::HostVisible);
+  std::memset(g.telemetry.mapped, 0, g.telemetry.size);
+  g.pixelCell = engine::createImage(ctx, {width, height}, VK_FORMAT_R32_UINT, VK_IMAGE_USAGE_STORAGE_BIT);
+  g.memoryBytes = g.keys.size + g.accum.size + g.cells.size + g.telemetry.size + g.pixelCell.allocationSize;
+  const engine::Binding bindings[] = {
+      {gpu::HG_BINDING_KEYS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+      {gpu::HG_BINDING_ACCUM, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+      {gpu::HG_BINDING_CELLS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+      {gpu::HG_BINDING_TELEMETRY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+      {gpu::HG_BINDING_PIXEL_CELL, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+  };
+  g.set = engine::createDescriptorSet(ctx, bindings);
+  engine::DescriptorWriter(g.set.set)
+      .buffer(gpu::HG_BINDING_KEYS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.keys.buffer)
+      .buffer(gpu::HG_BINDING_ACCUM, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.accum.buffer)
+      .buffer(gpu::HG_BINDING_CELLS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.cells.buffer)
+      .buffer(gpu::HG_BINDING_TELEMETRY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.telemetry.buffer)
+      .storageImage(gpu::HG_BINDING_PIXEL_CELL, g.pixelCell.view)
+      .write(ctx);
+  VkDescriptorSetLayout all[] = {layouts[0], layouts[1], g.set.layout};
+  const glm::uvec2 tile{GI_GROUP_SIZE, GI_GROUP_SIZE};
+  g.insert = engine::createComputeProgram(ctx, spv_hpsf_insert_comp, all, sizeof(gpu::HgPush), tile, spec);
+  g.resolve = engine::createComputeProgram(ctx, spv_hpsf_resolve_comp, all, sizeof(gpu::HgPush), {64, 1}, spec);
+  g.lookup = engine::createComputeProgram(ctx, spv_hpsf_lookup_comp, all, sizeof(gpu::HgPush), tile, spec);
+  return g;
+}
+
+void destroyHashGrid(const engine::Context& ctx, HashGrid& g) {
+  for (engine::ComputeProgram* p : {&g.insert, &g.resolve, &g.lookup}) engine::destroyComputeProgram(ctx, *p);
+  engine::destroyDescriptorSet(ctx, g.set);
+  for (engine::Buffer* b : {&g.keys, &g.accum, &g.cells, &g.telemetry}) engine::destroyBuffer(ctx, *b);
+  engine::destroyImage(ctx, g.pixelCell);
+  g = HashGrid{};
+}
+
+void recordHashGridFrameStart(VkCommandBuffer cmd, HashGrid& g) {
+  if (!g.cleared) {
+    vkCmdFillBuffer(cmd, g.keys.buffer, 0, VK_WHOLE_SIZE, 0);
+    vkCmdFillBuffer(cmd, g.accum.buffer, 0, VK_WHOLE_SIZE, 0);
+    vkCmdFillBuffer(cmd, g.cells.buffer, 0, VK_WHOLE_SIZE, 0);
+    engine::imageBarrier(cmd, g.pixelCell.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
+                         VK_PIPELINE_STAGE_2_NONE, 0, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                         VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+    g.cleared = true;
+  }
+  vkCmdFillBuffer(cmd, g.telemetry.buffer, 0, sizeof(gpu::HgTelemetry), 0);
+  engine::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                        VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                        VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+}
+
+void recordHashGridTelemetryCopy(VkCommandBuffer cmd, HashGrid& g, uint32_t slot) {
+  engine::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                        VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+  VkBufferCopy copy{0, sizeof(gpu::HgTelemetry) * (1 + slot), sizeof(gpu::HgTelemetry)};
+  vkCmdCopyBuffer(cmd, g.telemetry.buffer, g.telemetry.buffer, 1, &copy);
+}
+
+gpu::HgTelemetry readHashGridTelemetry(const HashGrid& g, uint32_t slot) {
+  gpu::HgTelemetry t{};
+  if (g.telemetry.mapped)
+    std::memcpy(&t, static_cast<const std::byte*>(g.telemetry.mapped) + sizeof(gpu::HgTelemetry) * (1 + slot), sizeof(t));
+  return t;
+}
+
+}  // namespace gi

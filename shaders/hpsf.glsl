@@ -1,0 +1,50 @@
+// Set 2 of the path-space-filtering passes: the hash map (shared/hash_grid.h)
+// and its insert-or-find with bounded linear probing (Meijer Alg. 4).
+#ifndef GI_HPSF_GLSL
+#define GI_HPSF_GLSL
+#include "shared/hash_grid.h"
+
+layout(set = 2, binding = HG_BINDING_KEYS, scalar) buffer HgKeys { uint hgKeys[]; };
+layout(set = 2, binding = HG_BINDING_ACCUM, scalar) buffer HgAccums { HgAccum hgAccum[]; };
+layout(set = 2, binding = HG_BINDING_CELLS, scalar) buffer HgCells { HgCell hgCells[]; };
+layout(set = 2, binding = HG_BINDING_TELEMETRY, scalar) buffer HgTelemetryBlock { HgTelemetry hgTelemetry; };
+layout(set = 2, binding = HG_BINDING_PIXEL_CELL, r32ui) uniform uimage2D hgPixelCell;
+
+// The slot holding `key` (claimed if free), or -1 when the probe window is full.
+int hgInsertOrFind(uint index, uint key, uint capacity, uint window, out uint probes) {
+  for (uint i = 0u; i < window; ++i) {
+    uint slot = (index + i) & (capacity - 1u);
+    uint previous = atomicCompSwap(hgKeys[slot], HG_EMPTY_KEY, key);
+    if (previous == HG_EMPTY_KEY || previous == key) {
+      probes = i + 1u;
+      return int(slot);
+    }
+  }
+  probes = window;
+  return -1;
+}
+
+// Read-only lookup (no claim): the slot holding `key`, or -1.
+int hgFind(uint index, uint key, uint capacity, uint window) {
+  for (uint i = 0u; i < window; ++i) {
+    uint slot = (index + i) & (capacity - 1u);
+    uint k = hgKeys[slot];
+    if (k == key) return int(slot);
+    if (k == HG_EMPTY_KEY) return -1;
+  }
+  return -1;
+}
+
+// Adds one sample: 5 atomics (r, g, b, luminance², count).
+void hgAccumulate(int slot, vec3 radiance, inout bool overflowed) {
+  vec3 v = radiance;
+  if (any(greaterThan(v, vec3(float(HG_MAX_SAMPLE))))) overflowed = true;
+  float lum = dot(v, vec3(0.2126, 0.7152, 0.0722));
+  atomicAdd(hgAccum[slot].r, hgToFixed(v.r));
+  atomicAdd(hgAccum[slot].g, hgToFixed(v.g));
+  atomicAdd(hgAccum[slot].b, hgToFixed(v.b));
+  atomicAdd(hgAccum[slot].lum2, hgToFixed(min(lum * lum, float(HG_MAX_SAMPLE))));
+  atomicAdd(hgAccum[slot].count, 1u);
+}
+
+#endif

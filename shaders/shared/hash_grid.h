@@ -1,0 +1,165 @@
+// Path space filtering's world-space hash map (Meijer 2019 Alg. 2–5, Binder et
+// al. 2018), with an aging policy after NVIDIA SHaRC. Everything here is
+// shared verbatim by C++ (CPU reference tests) and GLSL (hpsf_*.comp).
+// Positions in metres; radiance is demodulated (a white Lambertian's).
+#ifndef GI_HASH_GRID_H
+#define GI_HASH_GRID_H
+// GLSL users enable GL_EXT_shader_explicit_arithmetic_types_int64 (and
+// GL_EXT_shader_atomic_int64 for the sums) before including this header.
+#include "gpu_common.h"
+
+GPU_NAMESPACE_BEGIN
+
+GPU_CONST HG_EMPTY_KEY = 0u;             // keys are never 0 (hgVerificationKey sets bit 0)
+#define HG_FIXED_POINT_SCALE 65536.0     // radiance is summed as uint64 in units of 2^-16
+#define HG_MAX_SAMPLE 1.0e9              // a sample above this (after clamping) counts as an overflow
+#define HG_COORD_LIMIT 1073741824.0      // |cell coordinate| < 2^30 keeps int32 arithmetic exact
+
+// Set 2 of the hash passes.
+GPU_CONST HG_BINDING_KEYS = 0;       // uint[capacity]: verification keys, 0 = empty
+GPU_CONST HG_BINDING_ACCUM = 1;      // HgAccum[capacity]: this frame's sums (atomics), cleared by resolve
+GPU_CONST HG_BINDING_CELLS = 2;      // HgCell[capacity]: resolved history
+GPU_CONST HG_BINDING_TELEMETRY = 3;  // HgTelemetry: counters of the current frame
+GPU_CONST HG_BINDING_PIXEL_CELL = 4; // r32ui image: cell index + 1 per pixel, 0 = none
+
+struct HgAccum {
+  uint64_t r, g, b;   // Σ radiance · HG_FIXED_POINT_SCALE
+  uint64_t lum2;      // Σ luminance² · HG_FIXED_POINT_SCALE (for the second moment)
+  uint count;         // samples this frame
+  uint pad0;
+};
+
+struct HgCell {
+  vec3 mean;          // resolved mean demodulated radiance
+  float lumMoment2;   // resolved mean of luminance²
+  float frames;       // frames of history behind the mean (capped)
+  uint lastSeen;      // frame index of the last update
+  int lod;            // the cell's level of detail (log2 of its size)
+  uint samples;       // samples behind the mean (capped with the history)
+};
+
+struct HgTelemetry {
+  uint occupied;      // live cells after resolve
+  uint failedInserts; // samples that found no free slot in the probe window
+  uint probeSum;      // Σ probe lengths of successful inserts
+  uint probeMax;      // longest probe
+  uint inserts;       // successful inserts (samples stored)
+  uint evicted;       // cells removed by the eviction policy this frame
+  uint overflows;     // samples clamped to HG_MAX_SAMPLE
+  uint pad0;
+};
+
+GPU_FN uint hgHashPcg(uint v) {
+  uint state = v * 747796405u + 2891336453u;
+  uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+  return (word >> 22u) ^ word;
+}
+
+// Murmur3's finaliser: a hash unrelated to PCG, for the verification key.
+GPU_FN uint hgHashMurmur(uint h) {
+  h ^= h >> 16u;
+  h *= 0x85ebca6bu;
+  h ^= h >> 13u;
+  h *= 0xc2b2ae35u;
+  h ^= h >> 16u;
+  return h;
+}
+
+// A cell: integer coordinates at a level of detail plus quantised normal bits.
+struct HgDescriptor {
+  int x, y, z;
+  int lod;
+  uint normalBits;
+};
+
+GPU_FN uint hgIndexHash(HgDescriptor d) {
+  uint h = hgHashPcg(uint(d.x));
+  h = hgHashPcg(h ^ uint(d.y));
+  h = hgHashPcg(h ^ uint(d.z));
+  h = hgHashPcg(h ^ uint(d.lod));
+  return hgHashPcg(h ^ d.normalBits);
+}
+
+GPU_FN uint hgVerificationKey(HgDescriptor d) {
+  uint h = hgHashMurmur(uint(d.x) + 0x9e3779b9u);
+  h = hgHashMurmur(h ^ (uint(d.y) + 0x7f4a7c15u));
+  h = hgHashMurmur(h ^ (uint(d.z) + 0x94d049bbu));
+  h = hgHashMurmur(h ^ (uint(d.lod) + 0x2545f491u));
+  return hgHashMurmur(h ^ d.normalBits) | 1u;  // never HG_EMPTY_KEY
+}
+
+// Cell size (log2, metres) from Alg. 3: the world footprint of `filterWidth`
+// pixels at `travel` metres from the camera, where a pixel spans
+// `pixelAngle` metres per metre of distance. `u` in [0,1) picks between the
+// two nearest powers of two in proportion (stochastic LOD; u = 0 always takes
+// the lower one, as in the thesis).
+GPU_FN int hgLod(float filterWidth, float pixelAngle, float travel, float u) {
+  float w = max(filterWidth * pixelAngle * travel, 1e-30f);
+  float l = log2(w);
+  float lo = floor(l);
+  return int(lo) + ((l - lo) > u && u > 0.0f ? 1 : 0);
+}
+
+// The smallest LOD whose coordinates stay below HG_COORD_LIMIT at |p|.
+GPU_FN int hgMinLodFor(float maxAbsCoordinate) {
+  return int(ceil(log2(max(maxAbsCoordinate, 1e-30f) / float(HG_COORD_LIMIT)))) + 1;
+}
+
+GPU_FN uint hgNormalBits(vec3 n, uint bits) {
+  if (bits == 0u) return 0u;
+  float levels = float(1u << bits);
+  uint qx = uint(clamp((n.x * 0.5f + 0.5f) * levels, 0.0f, levels - 1.0f));
+  uint qy = uint(clamp((n.y * 0.5f + 0.5f) * levels, 0.0f, levels - 1.0f));
+  uint qz = uint(clamp((n.z * 0.5f + 0.5f) * levels, 0.0f, levels - 1.0f));
+  return (qx << (2u * bits)) | (qy << bits) | qz | (bits << 28u);
+}
+
+// Quantises p (already jittered) at `lod`, raised if needed so no coordinate overflows.
+GPU_FN HgDescriptor hgDescriptor(vec3 p, vec3 n, int lod, uint normalBitCount) {
+  float m = max(abs(p.x), max(abs(p.y), abs(p.z)));
+  HgDescriptor d;
+  d.lod = max(lod, hgMinLodFor(m));
+  float inv = exp2(-float(d.lod));
+  d.x = int(floor(p.x * inv));
+  d.y = int(floor(p.y * inv));
+  d.z = int(floor(p.z * inv));
+  d.normalBits = hgNormalBits(n, normalBitCount);
+  return d;
+}
+
+// Offset in the tangent plane of n: (u − 0.5, v − 0.5) · jitter · cell size.
+// Zero mean, orthogonal to n.
+GPU_FN vec3 hgJitter(vec3 n, vec2 uv, float jitter, float cellSize) {
+  vec3 a = abs(n.x) > 0.9f ? vec3(0.0f, 1.0f, 0.0f) : vec3(1.0f, 0.0f, 0.0f);
+  vec3 t = normalize(cross(n, a));
+  vec3 b = cross(n, t);
+  return (t * (uv.x - 0.5f) + b * (uv.y - 0.5f)) * (jitter * cellSize);
+}
+
+// Fixed point makes the sums order-independent: lavapipe and a GPU, or two
+// runs with different thread timing, add up to the same bits.
+GPU_FN uint64_t hgToFixed(float v) { return uint64_t(clamp(v, 0.0f, float(HG_MAX_SAMPLE)) * float(HG_FIXED_POINT_SCALE)); }
+GPU_FN float hgFromFixed(uint64_t v, uint count) { return float(v) / float(HG_FIXED_POINT_SCALE) / float(max(count, 1u)); }
+
+struct HgPush {
+  uint capacity;          // power of two
+  uint probeWindow;       // linear probing limit, slots
+  float filterWidth;      // pixels
+  float pixelAngle;       // metres per metre of distance per pixel
+  float jitter;           // fraction of a cell, 0 = off
+  uint normalBits;        // 0–3 bits per normal component
+  uint stochasticLod;     // 1: choose between the two nearest levels at random
+  float clampSigma;       // k: samples above mean + k·σ are clamped (0 = off)
+  uint frameIndex;
+  uint historyCap;        // frames of history a cell keeps
+  uint staleFrames;       // cells untouched this long are evicted
+  uint minSamples;        // below this a pixel falls back to its own sample
+  uint seed;
+  uint samplesPerPixel;
+  uint maxBounces;
+  uint russianRouletteStart;
+};
+GPU_ASSERT_SIZE(HgPush, 64);
+
+GPU_NAMESPACE_END
+#endif
