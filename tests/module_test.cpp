@@ -41,6 +41,11 @@ TEST_F(ModuleTest, CreateRejectsImpossibleValuesWithNamedErrors) {
   add("0 bounces", same, [](gi::Settings& st) { st.maxBounces = 0; }, gi::ErrorCode::OutOfRange, "settings.maxBounces = 0");
   add("0 history", same, [](gi::Settings& st) { st.raw.maxAccumulatedFrames = 0; }, gi::ErrorCode::OutOfRange, "settings.raw.maxAccumulatedFrames");
   add("bad method", same, [](gi::Settings& st) { st.method = gi::Method(77); }, gi::ErrorCode::UnknownMethod, "settings.method");
+  add("capacity 3000", same, [](gi::Settings& st) { st.hpsf.capacity = 3000; }, gi::ErrorCode::NotPowerOfTwo, "settings.hpsf.capacity = 3000");
+  add("capacity 2^22", same, [](gi::Settings& st) { st.hpsf.capacity = 1u << 22; }, gi::ErrorCode::OutOfRange, "settings.hpsf.capacity");
+  add("negative width", same, [](gi::Settings& st) { st.hpsf.filterWidth = -4.0f; }, gi::ErrorCode::OutOfRange, "settings.hpsf.filterWidth");
+  add("NaN epsilon", same, [](gi::Settings& st) { st.gif.epsilonNormal = std::nanf(""); }, gi::ErrorCode::OutOfRange, "settings.gif.epsilonNormal");
+  add("even window", same, [](gi::Settings& st) { st.sspsf.window = 8; }, gi::ErrorCode::OutOfRange, "settings.sspsf.window");
   add("bad view", same, [](gi::Settings& st) { st.debugView = gi::DebugView(99); }, gi::ErrorCode::OutOfRange, "settings.debugView");
   for (const Case& c : cases) {
     gi::Error e = gi::create(c.desc, c.settings, m);

@@ -9,15 +9,16 @@
 
 namespace gi {
 
-HashGrid createHashGrid(const engine::Context& ctx, uint32_t capacity, uint32_t width, uint32_t height,
-                        const VkDescriptorSetLayout layouts[2], std::span<const uint32_t> spec, uint32_t slots) {
+HashGrid createHashGrid(const engine::Context& ctx, uint32_t capacity, uint32_t width, uint32_t height, uint32_t slots) {
   HashGrid g;
   g.capacity = capacity;
-  const VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+  // Transfer source too, so tools and tests can read the map back.
+  const VkBufferUsageFlags usage =
+      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
   g.keys = engine::createBuffer(ctx, sizeof(uint32_t) * capacity, usage, engine::MemoryKind::DeviceLocal);
   g.accum = engine::createBuffer(ctx, sizeof(gpu::HgAccum) * capacity, usage, engine::MemoryKind::DeviceLocal);
   g.cells = engine::createBuffer(ctx, sizeof(gpu::HgCell) * capacity, usage, engine::MemoryKind::DeviceLocal);
-  g.telemetry = engine::createBuffer(ctx, sizeof(gpu::HgTelemetry) * (1 + slots), usage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+  g.telemetry = engine::createBuffer(ctx, sizeof(gpu::HgTelemetry) * (1 + slots), usage,
                                      engine::MemoryKind::HostVisible);
   std::memset(g.telemetry.mapped, 0, g.telemetry.size);
   g.pixelCell = engine::createImage(ctx, {width, height}, VK_FORMAT_R32_UINT, VK_IMAGE_USAGE_STORAGE_BIT);
@@ -37,12 +38,16 @@ HashGrid createHashGrid(const engine::Context& ctx, uint32_t capacity, uint32_t 
       .buffer(gpu::HG_BINDING_TELEMETRY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.telemetry.buffer)
       .storageImage(gpu::HG_BINDING_PIXEL_CELL, g.pixelCell.view)
       .write(ctx);
+  return g;
+}
+
+void createHashGridPrograms(const engine::Context& ctx, HashGrid& g, const VkDescriptorSetLayout layouts[2],
+                            std::span<const uint32_t> spec) {
   VkDescriptorSetLayout all[] = {layouts[0], layouts[1], g.set.layout};
   const glm::uvec2 tile{GI_GROUP_SIZE, GI_GROUP_SIZE};
   g.insert = engine::createComputeProgram(ctx, spv_hpsf_insert_comp, all, sizeof(gpu::HgPush), tile, spec);
   g.resolve = engine::createComputeProgram(ctx, spv_hpsf_resolve_comp, all, sizeof(gpu::HgPush), {64, 1}, spec);
   g.lookup = engine::createComputeProgram(ctx, spv_hpsf_lookup_comp, all, sizeof(gpu::HgPush), tile, spec);
-  return g;
 }
 
 void destroyHashGrid(const engine::Context& ctx, HashGrid& g) {

@@ -22,9 +22,11 @@ struct HashGrid {
   bool cleared = false;      // buffers zeroed on the GPU
 };
 
-// `layouts` are sets 0 and 1 (scene, frame); `spec` the scene specialisation.
-HashGrid createHashGrid(const engine::Context& ctx, uint32_t capacity, uint32_t width, uint32_t height,
-                        const VkDescriptorSetLayout layouts[2], std::span<const uint32_t> spec, uint32_t slots);
+// The buffers, image and set 2; `slots` telemetry copies for readback.
+HashGrid createHashGrid(const engine::Context& ctx, uint32_t capacity, uint32_t width, uint32_t height, uint32_t slots);
+// The insert/resolve/lookup programs: `layouts` are sets 0 and 1 (scene, frame).
+void createHashGridPrograms(const engine::Context& ctx, HashGrid& grid, const VkDescriptorSetLayout layouts[2],
+                            std::span<const uint32_t> spec);
 void destroyHashGrid(const engine::Context& ctx, HashGrid& grid);
 
 // Zeroes the map on first use and resets the live telemetry (transfer, then a barrier to compute).

@@ -99,7 +99,8 @@ void ensureHashGrid(Module& m) {
   const uint32_t spec[SCENE_SPEC_COUNT] = {m.desc.scene.hasEmissiveTriangles ? 1u : 0u,
                                            m.desc.scene.hasPunctualLights ? 1u : 0u, m.desc.scene.hasAlphaMask ? 1u : 0u};
   VkDescriptorSetLayout layouts[2] = {m.desc.scene.layout, m.frameSet.layout};
-  m.hash = createHashGrid(m.ctx, capacity, m.desc.width, m.desc.height, layouts, spec, kFramesInFlight);
+  m.hash = createHashGrid(m.ctx, capacity, m.desc.width, m.desc.height, kFramesInFlight);
+  createHashGridPrograms(m.ctx, m.hash, layouts, spec);
   m.memoryBytes += m.hash.memoryBytes;
 }
 

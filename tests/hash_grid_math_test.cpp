@@ -1,0 +1,110 @@
+// The hash map's CPU-visible pieces (shared/hash_grid.h, the same code the
+// shaders run): hashing, descriptors, jitter, LOD and fixed point.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+#include <set>
+
+#include "shared/hash_grid.h"
+
+using gpu::HgDescriptor;
+
+TEST(HashGridMath, HashesAreDeterministicAndDifferBetweenFunctions) {
+  HgDescriptor d{12, -7, 300, -3, 5};
+  EXPECT_EQ(gpu::hgIndexHash(d), gpu::hgIndexHash(d));
+  EXPECT_EQ(gpu::hgVerificationKey(d), gpu::hgVerificationKey(d));
+  EXPECT_NE(gpu::hgIndexHash(d), gpu::hgVerificationKey(d));
+  // Over many descriptors: keys are never empty, and the two hashes are unrelated
+  // (descriptors sharing an index hash almost never share a verification key).
+  std::set<std::pair<uint32_t, uint32_t>> pairs;
+  size_t sameLowBits = 0;
+  for (int x = -20; x < 20; ++x)
+    for (int y = -20; y < 20; ++y)
+      for (int lod = -2; lod < 2; ++lod) {
+        HgDescriptor e{x, y, 7, lod, 0};
+        uint32_t index = gpu::hgIndexHash(e), key = gpu::hgVerificationKey(e);
+        EXPECT_NE(key, gpu::HG_EMPTY_KEY);
+        pairs.insert({index, key});
+        sameLowBits += (index & 0xffffu) == (key & 0xffffu);
+      }
+  EXPECT_EQ(pairs.size(), 40u * 40u * 4u);  // no two cells collide in both hashes
+  EXPECT_LT(sameLowBits, 5u);
+  // Changing any field changes the key.
+  HgDescriptor f = d;
+  f.normalBits = 6;
+  EXPECT_NE(gpu::hgVerificationKey(f), gpu::hgVerificationKey(d));
+  f = d;
+  f.lod = -2;
+  EXPECT_NE(gpu::hgIndexHash(f), gpu::hgIndexHash(d));
+}
+
+TEST(HashGridMath, JitterHasZeroMeanAndStaysInTheTangentPlane) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (glm::vec3 n : {glm::vec3(0, 0, 1), glm::normalize(glm::vec3(1, 2, -3)), glm::vec3(1, 0, 0)}) {
+    glm::dvec3 sum(0.0);
+    const int count = 20000;
+    for (int i = 0; i < count; ++i) {
+      glm::vec3 j = gpu::hgJitter(n, glm::vec2(u(rng), u(rng)), 0.6f, 2.0f);
+      EXPECT_NEAR(glm::dot(j, n), 0.0f, 1e-5f);
+      EXPECT_LE(glm::length(j), 0.6f * 2.0f * 0.71f);  // at most half the jitter span along each axis
+      sum += glm::dvec3(j);
+    }
+    EXPECT_LT(glm::length(sum / double(count)), 0.01);  // 0.6·2/√12/√20000 ≈ 0.0025 per axis
+  }
+}
+
+TEST(HashGridMath, LodRisesMonotonicallyWithDistance) {
+  int previous = -1000;
+  for (float travel = 0.01f; travel < 1e5f; travel *= 1.3f) {
+    int lod = gpu::hgLod(16.0f, 0.002f, travel, 0.0f);
+    EXPECT_GE(lod, previous);
+    previous = lod;
+  }
+  // The cell is the footprint rounded down to a power of two: 16 px · 0.002 · 10 m = 0.32 m → 0.25 m.
+  EXPECT_EQ(gpu::hgLod(16.0f, 0.002f, 10.0f, 0.0f), -2);
+  // Stochastic LOD picks the upper level in proportion to the fractional part.
+  int upper = 0;
+  for (int i = 1; i <= 1000; ++i) upper += gpu::hgLod(16.0f, 0.002f, 10.0f, float(i) / 1001.0f) == -1;
+  float fraction = std::log2(0.32f) - std::floor(std::log2(0.32f));  // 0.356
+  EXPECT_NEAR(upper / 1000.0f, fraction, 0.01f);
+}
+
+TEST(HashGridMath, CoordinatesFarFromTheOriginQuantiseWithoutOverflowOrAliasing) {
+  glm::vec3 n(0, 1, 0);
+  for (float far : {1e3f, 1e4f, 1e5f, -1e5f}) {
+    // A fine level: cells of 1/64 m; points 1 m apart must stay in different cells.
+    HgDescriptor a = gpu::hgDescriptor(glm::vec3(far, 2.0f, far), n, -6, 0);
+    HgDescriptor b = gpu::hgDescriptor(glm::vec3(far + 1.0f, 2.0f, far), n, -6, 0);
+    EXPECT_NE(a.x, b.x) << far;
+    EXPECT_EQ(a.lod, -6);
+    EXPECT_LT(std::abs(double(a.x)), HG_COORD_LIMIT);
+    // An absurdly fine level is raised until the coordinates fit in int32.
+    HgDescriptor c = gpu::hgDescriptor(glm::vec3(far, 0.0f, 0.0f), n, -40, 0);
+    EXPECT_GT(c.lod, -40);
+    EXPECT_LT(std::abs(double(c.x)), 2.0 * HG_COORD_LIMIT);
+    EXPECT_NE(gpu::hgVerificationKey(a), gpu::hgVerificationKey(b));
+  }
+}
+
+TEST(HashGridMath, FixedPointSumsDoNotDependOnOrder) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(0.0f, 1000.0f);
+  std::vector<float> values(5000);
+  for (float& v : values) v = u(rng) * u(rng) / 1000.0f;
+  uint64_t reference = 0;
+  for (float v : values) reference += gpu::hgToFixed(v);
+  for (int shuffle = 0; shuffle < 20; ++shuffle) {
+    std::shuffle(values.begin(), values.end(), rng);
+    uint64_t sum = 0;
+    for (float v : values) sum += gpu::hgToFixed(v);
+    EXPECT_EQ(sum, reference);
+  }
+  double exact = 0.0;
+  for (float v : values) exact += v;
+  EXPECT_NEAR(gpu::hgFromFixed(reference, uint32_t(values.size())), exact / values.size(), 1e-3);
+  // Negative or huge values clamp instead of wrapping.
+  EXPECT_EQ(gpu::hgToFixed(-5.0f), 0u);
+  EXPECT_EQ(gpu::hgToFixed(1e30f), gpu::hgToFixed(float(HG_MAX_SAMPLE)));
+}

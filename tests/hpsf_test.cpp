@@ -1,0 +1,94 @@
+// Hashed path space filtering through the module: what reaches the cells,
+// the telemetry, and convergence over frames.
+#include "gpu_test.h"
+#include "metrics.h"
+#include "module_session.h"
+#include "procedural_scene.h"
+
+class HpsfTest : public GpuTest {};
+
+// A floor whose left half has albedo (1, 0, 0) next to a grey wall lit by a
+// white point light. The cells store the radiance arriving at the floor,
+// never pre-multiplied by its albedo, so the red half's cells keep the green
+// and blue light that a neighbour (and the composite, if the albedo changed)
+// could use.
+TEST_F(HpsfTest, ZeroAlbedoChannelLosesNothingANeighbourCouldUse) {
+  testscene::Description d;
+  d.quads.push_back({{{-1, 0, 1}, {0, 0, 1}, {0, 0, -1}, {-1, 0, -1}}, glm::vec3(1, 0, 0)});      // red floor half
+  d.quads.push_back({{{0, 0, 1}, {1, 0, 1}, {1, 0, -1}, {0, 0, -1}}, glm::vec3(0.8f)});          // grey floor half
+  d.quads.push_back({{{-1, 0, -1}, {1, 0, -1}, {1, 2, -1}, {-1, 2, -1}}, glm::vec3(0.8f)});      // grey back wall
+  d.lights.push_back({{0, 1.5f, 0.5f}, glm::vec3(2.0f)});
+  d.eye = {0, 1.2f, 2.2f};
+  d.target = {0, 0, -0.3f};
+  LoadedScene s;
+  load(testscene::write(d, "hpsf_zero_albedo"), s);
+  gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], 32, 32, nullptr);
+  gi::Settings settings;
+  settings.method = gi::Method::Hpsf;
+  settings.hpsf.samplesPerPixel = 4;
+  tools::ModuleSession session;
+  std::string error;
+  ASSERT_TRUE(tools::createModuleSession(ctx, s.gpu, {32, 32}, settings, session, error)) << error;
+  for (uint32_t f = 0; f < 4; ++f) tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, f);
+  engine::ReferenceImages out = tools::readModuleImages(ctx, session);
+  double redFloorGreen = 0.0, redFloorPixels = 0.0;
+  for (uint32_t y = 0; y < 32; ++y)
+    for (uint32_t x = 0; x < 32; ++x) {
+      bool redFloor = out.albedo.at(x, y, 0) > 0.9f && out.albedo.at(x, y, 1) < 0.01f;
+      if (!redFloor) continue;
+      redFloorGreen += out.indirect.at(x, y, 1);
+      redFloorPixels += 1.0;
+      EXPECT_NEAR(out.indirect.at(x, y, 1), out.indirect.at(x, y, 2), 1e-4f);  // white light off grey: g = b
+    }
+  ASSERT_GT(redFloorPixels, 20.0);
+  EXPECT_GT(redFloorGreen / redFloorPixels, 0.01) << "green light arriving at the red floor was lost";
+  // The composite multiplies by the albedo only at the end: no green there.
+  for (uint32_t y = 0; y < 32; ++y)
+    for (uint32_t x = 0; x < 32; ++x)
+      if (out.albedo.at(x, y, 1) < 0.01f && out.albedo.at(x, y, 0) > 0.9f) {
+        EXPECT_EQ(out.final.at(x, y, 1), 0.0f);
+      }
+  tools::destroyModuleSession(ctx, session);
+  unload(s);
+}
+
+TEST_F(HpsfTest, TelemetryAndErrorOverFramesForBothEvictionPolicies) {
+  LoadedScene s;
+  load(sharedScene("cornell-box-mcguire/CornellBox-Original.gltf"), s);
+  const uint32_t W = 32, H = 32;
+  gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], W, H, nullptr);
+  engine::ReferenceSettings refSettings;
+  refSettings.maxBounces = 2;
+  refSettings.pixelJitter = false;
+  engine::ReferenceImages ref = engine::renderReference(ctx, s.gpu, cam, refSettings, 1024, 256).images;
+  for (gi::EvictionPolicy policy : {gi::EvictionPolicy::Strict, gi::EvictionPolicy::Aging}) {
+    gi::Settings settings;
+    settings.method = gi::Method::Hpsf;
+    settings.maxBounces = 2;
+    settings.hpsf.eviction = policy;
+    tools::ModuleSession session;
+    std::string error;
+    ASSERT_TRUE(tools::createModuleSession(ctx, s.gpu, {W, H}, settings, session, error)) << error;
+    std::vector<double> errors;
+    for (uint32_t f = 0; f < 16; ++f) {
+      tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, f);
+      if (f == 0 || f == 15) errors.push_back(metrics::mse(tools::readModuleImages(ctx, session).indirect, ref.indirect));
+    }
+    gi::FrameStats st = gi::stats(session.module);
+    EXPECT_EQ(st.hash.capacity, 4096u);  // next power of two ≥ 4 × 32 × 32
+    EXPECT_GT(st.hash.occupied, 0u);
+    EXPECT_LE(st.hash.occupied, st.hash.capacity);
+    EXPECT_EQ(st.hash.failedInserts, 0u);
+    EXPECT_GT(st.hash.inserts, W * H / 2);
+    EXPECT_GE(st.hash.meanProbe, 1.0f);
+    EXPECT_LE(st.hash.maxProbe, settings.hpsf.probeWindow);
+    bool strict = policy == gi::EvictionPolicy::Strict;
+    if (strict) {
+      EXPECT_LT(errors[1], errors[0]) << "two frames of history beat one";
+    } else {
+      EXPECT_LT(errors[1], 0.5 * errors[0]) << "history accumulates over frames";
+    }
+    tools::destroyModuleSession(ctx, session);
+  }
+  unload(s);
+}
