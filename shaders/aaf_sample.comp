@@ -39,7 +39,8 @@ void main() {
       zMin = aafClampZMin(zMin, pc.sceneExtent);
       zMax = max(zMax, zMin);
       float d = imageLoad(giGbViewZ, p).r * 2.0 * giFrame.camera.tanHalfFovY / giFrame.camera.imageSize.y;
-      float n = aafSamples(pc.mu, AAF_OMEGA_DIFFUSE, AAF_GAMMA_DIFFUSE, zMin, zMax, pc.alpha, d);
+      float n = pc.uniformSamples > 0u ? float(pc.uniformSamples)
+                                       : aafSamples(pc.mu, AAF_OMEGA_DIFFUSE, AAF_GAMMA_DIFFUSE, zMin, zMax, pc.alpha, d);
       params = vec4(zMin, zMax, n, aafBeta(pc.mu, AAF_OMEGA_DIFFUSE, zMin, pc.alpha, d));
       requested = uint(n);
     }

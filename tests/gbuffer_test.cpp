@@ -24,10 +24,20 @@ float halfToFloat(uint16_t h) {
 
 class GBufferTest : public GpuTest {};
 
+// Raster and ray tracing must agree: same surfaces, depths and normals, also
+// after an instance moves and the TLAS is rebuilt (which also yields motion).
 TEST_F(GBufferTest, DepthAndNormalMatchRayTracedPrimaryHits) {
-  for (const char* scenePath : {"cornell-box-mcguire/CornellBox-Original.gltf", "cornell-simple/cornell_simple.gltf"}) {
+  for (const char* scenePath : {"cornell-box-mcguire/CornellBox-Original.gltf", "cornell-simple/cornell_simple.gltf", "moved"}) {
     LoadedScene s;
-    load(sharedScene(scenePath), s);
+    bool moved = std::string(scenePath) == "moved";
+    load(sharedScene(moved ? "cornell-simple/cornell_simple.gltf" : scenePath), s);
+    if (moved) {
+      // Move every instance of the shared box mesh 0.2 m along x and rebuild the TLAS.
+      uint32_t boxMesh = s.scene.instances.back().mesh;
+      for (engine::Instance& inst : s.scene.instances)
+        if (inst.mesh == boxMesh) inst.worldFromObject[3] += glm::vec4(0.2f, 0.0f, 0.0f, 0.0f);
+      engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { engine::recordSceneTransformUpdate(ctx, cmd, s.scene, s.gpu); });
+    }
     const uint32_t W = 64, H = 48;
     gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], W, H, nullptr);
     engine::GBuffer gbuffer = engine::createGBuffer(ctx, {W, H});
@@ -63,6 +73,17 @@ TEST_F(GBufferTest, DepthAndNormalMatchRayTracedPrimaryHits) {
       }
     // Only pixels whose centre sits on an edge may disagree.
     EXPECT_GE(double(agree) / compared, 0.98) << scenePath << ": " << agree << " of " << compared << " pixels agree";
+    if (moved) {
+      // The moved instances carry motion: some pixels point back to where they were.
+      std::vector<std::byte> motion = engine::readbackImage(ctx, gbuffer.color[gpu::GBUFFER_MOTION], VK_IMAGE_LAYOUT_GENERAL, 4);
+      uint32_t moving = 0;
+      for (size_t i = 0; i < size_t(W) * H; ++i) {
+        uint16_t h[2];
+        std::memcpy(h, &motion[4 * i], 4);
+        moving += std::abs(halfToFloat(h[0])) > 0.5f;
+      }
+      EXPECT_GT(moving, 20u);
+    }
     engine::destroyGBufferPass(ctx, pass);
     engine::destroyGBuffer(ctx, gbuffer);
     unload(s);

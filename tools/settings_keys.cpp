@@ -48,6 +48,7 @@ const std::vector<Key>& keys() {
       GI_KEY_F("aaf.mu", "aaf, aaf_ao: filter scale mu", aaf.mu),
       GI_KEY_F("aaf.alpha", "aaf, aaf_ao: pixel band limit alpha", aaf.alpha),
       GI_KEY_F("aaf.normal_limit", "aaf, aaf_ao: normal rejection angle, degrees", aaf.normalLimitDegrees),
+      GI_KEY_U("aaf.uniform", "aaf, aaf_ao: 0 = adaptive, N = N samples in every pixel", aaf.uniformSamples),
       GI_KEY_U("sspsf.spp", "sspsf: paths per pixel", sspsf.samplesPerPixel),
       GI_KEY_U("sspsf.window", "sspsf: odd window side, pixels", sspsf.window),
       GI_KEY_F("sspsf.width", "sspsf: filter width, pixels", sspsf.filterWidth),

@@ -300,7 +300,7 @@ void recordFrame(Module* m, VkCommandBuffer cmd, const FrameInputs& in) {
   if (isAaf(s.method)) {
     // Passes: 16 stratified rays give reflector distances, β and n per pixel; then the remaining n − 16.
     gpu::AafPush aaf{s.aaf.mu, s.aaf.alpha, m->desc.scene.extent, s.seed, s.method == Method::AafAo ? 1u : 0u,
-                     aafSampleBudget(*m, in.frameIndex), s.maxBounces, s.russianRouletteStart};
+                     aafSampleBudget(*m, in.frameIndex), s.maxBounces, s.russianRouletteStart, s.aaf.uniformSamples, 0, 0, 0};
     beginPass(*m, cmd, slot, "aaf_sample");
     engine::dispatch(cmd, m->aafSample, sets, size, aaf);
     computeToComputeBarrier(cmd);

@@ -83,6 +83,8 @@ Error validate(const Settings& s) {
   const AafSettings& f = s.aaf;
   if (!inRange(f.mu, 0, 16, true)) return outOfRangeF("settings.aaf.mu", f.mu, 0, 16, true);
   if (!inRange(f.alpha, 0, 1, true)) return outOfRangeF("settings.aaf.alpha", f.alpha, 0, 1, true);
+  if (f.uniformSamples != 0 && (f.uniformSamples < 16 || f.uniformSamples > 1024))
+    return {ErrorCode::OutOfRange, "settings.aaf.uniformSamples = " + std::to_string(f.uniformSamples) + " is neither 0 nor in [16, 1024]"};
   if (!inRange(f.normalLimitDegrees, 0, 180, false))
     return outOfRangeF("settings.aaf.normalLimitDegrees", f.normalLimitDegrees, 0, 180, false);
   const SspsfSettings& ss = s.sspsf;

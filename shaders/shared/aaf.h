@@ -47,8 +47,12 @@ struct AafPush {
   uint sampleBudget;    // pass 2: total samples the frame may take (0 = unlimited)
   uint maxBounces;      // indirect bounces
   uint russianRouletteStart;
+  uint uniformSamples;  // 0: n(μ) per pixel; otherwise this many samples everywhere
+  uint pad0;
+  uint pad1;
+  uint pad2;
 };
-GPU_ASSERT_SIZE(AafPush, 32);
+GPU_ASSERT_SIZE(AafPush, 48);
 
 struct AafFilterPush {
   uint vertical;        // 0: along rows (input → temp); 1: along columns (temp → output)

@@ -76,6 +76,8 @@ struct AafSettings {
   float mu = 0.9f;                  // filter scale μ, (0, 16]: > 1 narrows filters and raises sample counts
   float alpha = 0.3f;               // pixel-space band limit α, (0, 1]
   float normalLimitDegrees = 10.0f; // neighbours whose normals differ more are not filtered in, [0, 180]
+  uint32_t uniformSamples = 0;      // 0 = adaptive (eq. 21); N ≥ 16 = N samples in every pixel (Fig. 10's
+                                    // "filtered uniform" curve), [0, 1024]
 };
 
 struct SspsfSettings {
