@@ -16,6 +16,7 @@
 #include "path_tracer.h"
 #include "scene_gpu.h"
 #include "scene_loading.h"
+#include "window.h"
 
 namespace {
 
@@ -33,6 +34,7 @@ const cli::Option kOptions[] = {
     {"out", "FILE", "output image: .exr or .pfm (linear) or .png (sRGB)"},
     {"stats", "FILE.json", "write device, timings, rays and wall time as JSON"},
     {"validation", nullptr, "enable Vulkan validation; any message makes the run fail"},
+    {"window", nullptr, "show the frames in a GLFW window (module methods; needs a display)"},
     {"help", nullptr, "show this message"},
 };
 const char* const kMethods[] = {"reference", "raw", "gif", "bilateral", "atrous", "aaf", "aaf_ao", "sspsf", "hpsf"};
@@ -95,6 +97,15 @@ int main(int argc, char** argv) {
 
   engine::ContextDesc desc;
   desc.validation = args.has("validation") || std::getenv("GI_VALIDATION") != nullptr;
+  bool windowed = args.has("window");
+  if (windowed && method == "reference") return usageError("--window shows module methods (raw, gif, ...), not the reference");
+  if (windowed) {
+    if (!engine::windowInstanceExtensions(desc.instanceExtensions, error)) {
+      std::fprintf(stderr, "gi-render: %s\n", error.c_str());
+      return 1;
+    }
+    desc.swapchain = true;
+  }
   engine::Context ctx;
   if (!engine::createContext(desc, ctx, error)) {
     std::fprintf(stderr, "gi-render: %s\n", error.c_str());
@@ -120,12 +131,30 @@ int main(int argc, char** argv) {
       engine::destroyContext(ctx);
       return 2;
     }
+    engine::Window window;
+    if (windowed && !engine::createWindow(ctx, width, height, "gi-render", window, error)) {
+      std::fprintf(stderr, "gi-render: %s\n", error.c_str());
+      tools::destroyModuleSession(ctx, session);
+      engine::destroySceneGpu(ctx, sceneGpu);
+      engine::destroyContext(ctx);
+      return 1;
+    }
     for (uint32_t f = 0; f < frames; ++f) {
+      if (windowed) {
+        // Windowed: the same frame script into the window's command buffer, then present.
+        uint32_t image = 0;
+        if (engine::windowShouldClose(window)) break;
+        if (!engine::beginWindowFrame(ctx, window, image)) continue;
+        tools::recordModuleFrame(ctx, window.cmd, session, scene, sceneGpu, camera, camera, f);
+        engine::endWindowFrame(ctx, window, image, gi::outputs(session.module).composite, {width, height});
+        continue;
+      }
       tools::FrameTiming t = tools::renderModuleFrame(ctx, session, scene, sceneGpu, camera, camera, f);
       for (const gi::PassTiming& p : t.passes) passMs[p.name] += p.ms;
       run.gpuMs += t.totalMs;
       run.rays += t.rays;
     }
+    if (windowed) engine::destroyWindow(ctx, window);
     run.images = tools::readModuleImages(ctx, session);
     tools::destroyModuleSession(ctx, session);
   }

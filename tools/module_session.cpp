@@ -56,9 +56,9 @@ void destroyModuleSession(const engine::Context& ctx, ModuleSession& s) {
   s = ModuleSession{};
 }
 
-FrameTiming renderModuleFrame(const engine::Context& ctx, ModuleSession& s, const engine::Scene& scene,
-                              const engine::SceneGpu& sceneGpu, const gpu::GpuCamera& camera,
-                              const gpu::GpuCamera& previousCamera, uint32_t frameIndex) {
+void recordModuleFrame(const engine::Context& ctx, VkCommandBuffer cmd, ModuleSession& s, const engine::Scene& scene,
+                       const engine::SceneGpu& sceneGpu, const gpu::GpuCamera& camera, const gpu::GpuCamera& previousCamera,
+                       uint32_t frameIndex) {
   engine::resetGpuTimer(ctx, s.timer);
   gi::FrameInputs in;
   const engine::GBuffer& g = s.gbuffer;
@@ -67,13 +67,19 @@ FrameTiming renderModuleFrame(const engine::Context& ctx, ModuleSession& s, cons
   in.camera = camera;
   in.previousCamera = previousCamera;
   in.frameIndex = frameIndex;
+  // Frame script: raster the G-buffer, then the GI module's passes.
+  engine::recordGBuffer(ctx, cmd, s.gbufferPass, scene, sceneGpu, s.gbuffer, camera, &s.timer);
+  gi::recordFrame(s.module, cmd, in);
+  engine::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                        VK_PIPELINE_STAGE_2_TRANSFER_BIT | VK_PIPELINE_STAGE_2_HOST_BIT,
+                        VK_ACCESS_2_TRANSFER_READ_BIT | VK_ACCESS_2_HOST_READ_BIT);
+}
+
+FrameTiming renderModuleFrame(const engine::Context& ctx, ModuleSession& s, const engine::Scene& scene,
+                              const engine::SceneGpu& sceneGpu, const gpu::GpuCamera& camera,
+                              const gpu::GpuCamera& previousCamera, uint32_t frameIndex) {
   engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
-    // Frame script: raster the G-buffer, then the GI module's passes.
-    engine::recordGBuffer(ctx, cmd, s.gbufferPass, scene, sceneGpu, s.gbuffer, camera, &s.timer);
-    gi::recordFrame(s.module, cmd, in);
-    engine::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                          VK_PIPELINE_STAGE_2_TRANSFER_BIT | VK_PIPELINE_STAGE_2_HOST_BIT,
-                          VK_ACCESS_2_TRANSFER_READ_BIT | VK_ACCESS_2_HOST_READ_BIT);
+    recordModuleFrame(ctx, cmd, s, scene, sceneGpu, camera, previousCamera, frameIndex);
   });
   FrameTiming t;
   for (const engine::PassTime& p : engine::readPassTimes(ctx, s.timer)) t.passes.push_back({p.name, p.ms});

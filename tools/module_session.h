@@ -29,6 +29,11 @@ bool createModuleSession(const engine::Context& ctx, const engine::SceneGpu& sce
                          const gi::Settings& settings, ModuleSession& session, std::string& error);
 void destroyModuleSession(const engine::Context& ctx, ModuleSession& session);
 
+// Records one frame (G-buffer raster, then the module) into `cmd`; submits nothing.
+void recordModuleFrame(const engine::Context& ctx, VkCommandBuffer cmd, ModuleSession& session, const engine::Scene& scene,
+                       const engine::SceneGpu& sceneGpu, const gpu::GpuCamera& camera, const gpu::GpuCamera& previousCamera,
+                       uint32_t frameIndex);
+
 // Records and runs one frame; waits for it and returns its GPU timings.
 FrameTiming renderModuleFrame(const engine::Context& ctx, ModuleSession& session, const engine::Scene& scene,
                               const engine::SceneGpu& sceneGpu, const gpu::GpuCamera& camera,

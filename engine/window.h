@@ -1,0 +1,40 @@
+// A GLFW window with a Vulkan swapchain, for the engine's windowed mode. The
+// instance must be created with windowInstanceExtensions() and the device
+// with ContextDesc::swapchain. Frames are presented by blitting an image.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "context.h"
+
+struct GLFWwindow;
+
+namespace engine {
+
+struct Window {
+  GLFWwindow* handle = nullptr;
+  VkSurfaceKHR surface = VK_NULL_HANDLE;
+  VkSwapchainKHR swapchain = VK_NULL_HANDLE;
+  VkFormat format = VK_FORMAT_UNDEFINED;  // an sRGB format: linear radiance blits encode on write
+  VkExtent2D extent{};
+  std::vector<VkImage> images;
+  VkSemaphore imageAcquired = VK_NULL_HANDLE;
+  VkSemaphore renderDone = VK_NULL_HANDLE;
+  VkFence frameDone = VK_NULL_HANDLE;
+  VkCommandBuffer cmd = VK_NULL_HANDLE;
+};
+
+// Initialises GLFW; false (with a sentence in `error`) when there is no display or no Vulkan support.
+bool windowInstanceExtensions(std::vector<const char*>& out, std::string& error);
+bool createWindow(const Context& ctx, uint32_t width, uint32_t height, const char* title, Window& window, std::string& error);
+void destroyWindow(const Context& ctx, Window& window);
+bool windowShouldClose(const Window& window);  // also polls events
+
+// Waits for the previous frame, acquires an image and begins the frame's
+// command buffer. Returns false when the swapchain had to be recreated (skip the frame).
+bool beginWindowFrame(const Context& ctx, Window& window, uint32_t& imageIndex);
+// Blits `source` (GENERAL layout, any colour format) scaled to the swapchain
+// image, submits the frame's command buffer and presents.
+void endWindowFrame(const Context& ctx, Window& window, uint32_t imageIndex, VkImage source, VkExtent2D sourceExtent);
+
+}  // namespace engine
