@@ -86,6 +86,13 @@ engine::Camera pathCamera(const engine::Camera& start, float sceneExtent, uint32
   return c;
 }
 
+// Passes that trace rays (their time is what the ray-query efficiency divides by).
+bool isTracingPass(const std::string& name) {
+  for (const char* tracing : {"raw_trace", "aaf_sample", "aaf_adaptive", "hpsf_insert", "gif_supersample"})
+    if (name == tracing) return true;
+  return false;
+}
+
 struct Reference {
   engine::FloatImage final, indirect;
 };
@@ -258,7 +265,7 @@ int main(int argc, char** argv) {
     }
     for (const auto& [name, samples] : passSamples) {
       row.passMs[name] = median(samples);
-      if (name.find("trace") != std::string::npos) row.traceMs += row.passMs[name];
+      if (isTracingPass(name)) row.traceMs += row.passMs[name];
     }
     row.totalMs = median(totals);
     for (double r : rays) row.rays += r / double(rays.size());
