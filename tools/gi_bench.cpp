@@ -38,6 +38,7 @@ const cli::Option kOptions[] = {
     {"camera-path", nullptr, "also run a scripted camera move and report flicker against the reference's"},
     {"path-frames", "N", "frames of the camera move (default 8)"},
     {"path-reference-spp", "N", "samples per pixel of each camera-path reference (default reference-spp / 4)"},
+    {"series", nullptr, "also write series.csv: the error after every timed frame (for temporal methods)"},
     {"out", "DIR", "output folder (default bench_out)"},
     {"no-plots", nullptr, "skip plot_bench.py (plots and report)"},
     {"validation", nullptr, "enable Vulkan validation"},
@@ -127,6 +128,8 @@ struct Row {
   uint64_t memory = 0;
   double speedup = 0.0;
   double flickerRatio = -1.0;
+  float hashOccupancy = 0.0f;
+  uint32_t hashFailed = 0;
 };
 
 }  // namespace
@@ -200,7 +203,14 @@ int main(int argc, char** argv) {
   bool ok = true;
   if (args.has("reference")) {
     ok = engine::readImage(args.values["reference"], ref.final, error);
-    ref.indirect = engine::FloatImage();  // indirect errors need a rendered reference
+    // A reference cached by gi-bench (…_final.exr) has its indirect AOV beside it.
+    std::string indirectPath = args.values["reference"];
+    size_t at = indirectPath.rfind("_final.exr");
+    if (ok && at != std::string::npos && at + 10 == indirectPath.size()) {
+      indirectPath.replace(at, 10, "_indirect.exr");
+      std::string ignored;
+      if (fs::exists(indirectPath) && !engine::readImage(indirectPath, ref.indirect, ignored)) ref.indirect = engine::FloatImage();
+    }
     if (ok && (ref.final.width != width || ref.final.height != height)) {
       error = args.values["reference"] + ": the reference is " + std::to_string(ref.final.width) + "x" +
               std::to_string(ref.final.height) + ", not " + std::to_string(width) + "x" + std::to_string(height);
@@ -236,6 +246,11 @@ int main(int argc, char** argv) {
   std::printf("gi-bench: bare ray queries on %s: %.3f Mrays/s\n", ctx.properties.deviceName, bare.mraysPerSecond());
 
   std::vector<Row> rows;
+  std::ofstream series;
+  if (args.has("series")) {
+    series.open(dir / "series.csv");
+    series << "label,frame,mse,relmse,mse_indirect,hash_occupancy\n";
+  }
   for (const tools::BenchConfig& config : configs) {
     Row row;
     row.config = config;
@@ -262,6 +277,9 @@ int main(int argc, char** argv) {
       out = tools::readModuleImages(ctx, session);
       finals.push_back(metrics::compare(out.final, ref.final));
       if (!ref.indirect.pixels.empty()) indirects.push_back(metrics::compare(out.indirect, ref.indirect));
+      if (series.is_open())
+        series << '"' << config.label << "\"," << frame + 1 << ',' << finals.back().mse << ',' << finals.back().relMse << ','
+               << (indirects.empty() ? 0.0 : indirects.back().mse) << ',' << gi::stats(session.module).hash.occupancy() << "\n";
     }
     for (const auto& [name, samples] : passSamples) {
       row.passMs[name] = median(samples);
@@ -281,7 +299,10 @@ int main(int argc, char** argv) {
     };
     row.final = average(finals);
     if (!indirects.empty()) row.indirect = average(indirects);
-    row.memory = gi::stats(session.module).memoryBytes;
+    gi::FrameStats finalStats = gi::stats(session.module);
+    row.memory = finalStats.memoryBytes;
+    row.hashOccupancy = finalStats.hash.occupancy();
+    row.hashFailed = finalStats.hash.failedInserts;
     engine::writeImage((dir / "images" / (sanitise(config.label) + ".pfm")).string(), out.final, error);
 
     if (args.has("camera-path")) {
@@ -321,7 +342,8 @@ int main(int argc, char** argv) {
   fs::path csvPath = dir / "results.csv";
   std::ofstream csv(csvPath);
   csv << "scene,method,settings,spp,frames,total_ms,pass_ms,rays,mrays_per_s,rq_efficiency,mse,relmse,psnr,ssim,"
-         "mse_indirect,relmse_indirect,psnr_indirect,ssim_indirect,memory_bytes,equal_error_speedup,flicker_ratio,label\n";
+         "mse_indirect,relmse_indirect,psnr_indirect,ssim_indirect,memory_bytes,equal_error_speedup,flicker_ratio,"
+         "hash_occupancy,hash_failed_inserts,label\n";
   for (const Row& r : rows) {
     std::string passes;
     for (const std::string& name : r.passOrder) {
@@ -332,12 +354,13 @@ int main(int argc, char** argv) {
     double mrays = r.traceMs > 0.0 ? r.rays / (r.traceMs * 1e3) : 0.0;
     char line[1024];
     std::snprintf(line, sizeof(line),
-                  "%s,%s,\"%s\",%u,%u,%.4f,%s,%.0f,%.4f,%.4f,%.6e,%.6e,%.4f,%.6f,%.6e,%.6e,%.4f,%.6f,%llu,%.4f,%s,\"%s\"\n",
+                  "%s,%s,\"%s\",%u,%u,%.4f,%s,%.0f,%.4f,%.4f,%.6e,%.6e,%.4f,%.6f,%.6e,%.6e,%.4f,%.6f,%llu,%.4f,%s,%.4f,%u,\"%s\"\n",
                   sceneName.c_str(), gi::methodName(r.config.settings.method), r.config.settingsText.c_str(), r.config.spp,
                   frames, r.totalMs, passes.c_str(), r.rays, mrays, bare.mraysPerSecond() > 0 ? mrays / bare.mraysPerSecond() : 0.0,
                   r.final.mse, r.final.relMse, r.final.psnr, r.final.ssim, r.indirect.mse, r.indirect.relMse,
                   r.indirect.psnr, r.indirect.ssim, (unsigned long long)r.memory, r.speedup,
-                  r.flickerRatio >= 0.0 ? std::to_string(r.flickerRatio).c_str() : "", r.config.label.c_str());
+                  r.flickerRatio >= 0.0 ? std::to_string(r.flickerRatio).c_str() : "", double(r.hashOccupancy), r.hashFailed,
+                  r.config.label.c_str());
     csv << line;
   }
   csv.close();

@@ -108,6 +108,30 @@ def main(out_dir):
         fig.savefig(os.path.join(out_dir, "insets.png"), dpi=110)
         plt.close(fig)
 
+    # Error over frames (gi-bench --series).
+    series_path = os.path.join(out_dir, "series.csv")
+    has_series = os.path.exists(series_path)
+    if has_series:
+        with open(series_path) as f:
+            series = list(csv.DictReader(f))
+        fig, ax = plt.subplots(figsize=(6.4, 4.4))
+        labels = []
+        for s in series:
+            if s["label"] not in labels:
+                labels.append(s["label"])
+        for label in labels:
+            pts = [(int(s["frame"]), float(s["mse"])) for s in series if s["label"] == label]
+            ax.plot([p[0] for p in pts], [p[1] for p in pts], "o-", ms=3, label=label)
+        ax.set_yscale("log")
+        ax.set_xlabel("frames rendered")
+        ax.set_ylabel("MSE vs reference (final image)")
+        ax.set_title("%s: error over frames" % rows[0]["scene"])
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7)
+        fig.tight_layout()
+        fig.savefig(os.path.join(out_dir, "series.png"), dpi=110)
+        plt.close(fig)
+
     # Report.
     lines = ["# gi-bench report: %s" % rows[0]["scene"], ""]
     for key in ("scene", "device", "size", "max_bounces", "reference", "reference_spp", "frames", "warmup", "bare_mrays_per_s"):
@@ -121,7 +145,14 @@ def main(out_dir):
             float(r["rq_efficiency"]), float(r["mse"]), float(r["relmse"]), float(r["psnr"]), float(r["ssim"]),
             ("%.3e" % float(r["mse_indirect"])) if float(r["mse_indirect"]) > 0 else "n/a",
             float(r["equal_error_speedup"]), r["flicker_ratio"] or "n/a"))
+    if any(float(r.get("hash_occupancy") or 0) > 0 for r in rows):
+        lines += ["", "| configuration | hash occupancy | failed inserts |", "|---|---|---|"]
+        for r in rows:
+            if float(r.get("hash_occupancy") or 0) > 0:
+                lines.append("| %s | %.3f | %s |" % (r["label"], float(r["hash_occupancy"]), r["hash_failed_inserts"]))
     lines += ["", "![trade-off](tradeoff.png)", "", "![insets](insets.png)", ""]
+    if has_series:
+        lines += ["![error over frames](series.png)", ""]
     with open(os.path.join(out_dir, "report.md"), "w") as f:
         f.write("\n".join(lines))
     print("plot_bench: wrote tradeoff.png, insets.png and report.md in", out_dir)
