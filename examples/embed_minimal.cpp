@@ -1,0 +1,111 @@
+// The smallest game loop that embeds the GI module: init, then per frame
+// update the camera, raster the G-buffer, gi::recordFrame, composite into the
+// frame, present (here: keep the last frame and write it as a PNG).
+//
+//   embed_minimal SCENE.gltf OUT.png [FRAMES]
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <cstdlib>
+
+#include "camera.h"
+#include "gbuffer.h"
+#include "gi/gi.h"
+#include "image_io.h"
+#include "scene_gpu.h"
+#include "scene_loading.h"
+
+int main(int argc, char** argv) {
+  if (argc < 3) {
+    std::fprintf(stderr, "usage: embed_minimal SCENE.gltf OUT.png [FRAMES]\n");
+    return 2;
+  }
+  const uint32_t width = 160, height = 120, frames = argc > 3 ? uint32_t(std::atoi(argv[3])) : 8;
+
+  // --- init: the engine's side -------------------------------------------------
+  engine::Scene scene;
+  std::string error;
+  if (!engine::loadSceneForRendering(argv[1], scene, error)) {
+    std::fprintf(stderr, "%s\n", error.c_str());
+    return 1;
+  }
+  engine::ContextDesc contextDesc;
+  contextDesc.validation = std::getenv("GI_VALIDATION") != nullptr;
+  engine::Context ctx;
+  if (!engine::createContext(contextDesc, ctx, error)) {
+    std::fprintf(stderr, "%s\n", error.c_str());
+    return 1;
+  }
+  engine::SceneGpu sceneGpu;
+  engine::createSceneGpu(ctx, scene, sceneGpu);  // set 0: what the module traces against
+  engine::GBuffer gbuffer = engine::createGBuffer(ctx, {width, height});
+  engine::GBufferPass gbufferPass = engine::createGBufferPass(ctx, sceneGpu);
+
+  // --- init: the module ----------------------------------------------------------
+  gi::ModuleDesc desc;
+  desc.instance = ctx.instance;
+  desc.physicalDevice = ctx.physicalDevice;
+  desc.device = ctx.device;
+  desc.width = width;
+  desc.height = height;
+  desc.scene = {sceneGpu.set.layout, sceneGpu.set.set, sceneGpu.hasEmissiveTriangles(), sceneGpu.hasPunctualLights(),
+                sceneGpu.hasAlphaMask, sceneGpu.sceneConstants.sceneExtent};
+  gi::Settings settings;
+  settings.method = gi::Method::Gif;  // guided filtering of 1-spp indirect light
+  settings.maxBounces = 2;
+  gi::Module* gi = nullptr;
+  if (gi::Error e = gi::create(desc, settings, gi)) {
+    std::fprintf(stderr, "gi::create: %s\n", e.message.c_str());
+    return 1;
+  }
+  const gi::GBufferViews views{gbuffer.color[gpu::GBUFFER_NORMAL].view, gbuffer.color[gpu::GBUFFER_ALBEDO].view,
+                               gbuffer.color[gpu::GBUFFER_MATERIAL].view, gbuffer.color[gpu::GBUFFER_EMISSION].view,
+                               gbuffer.color[gpu::GBUFFER_MOTION].view, gbuffer.color[gpu::GBUFFER_VIEWZ].view};
+
+  // --- the game loop -------------------------------------------------------------
+  gpu::GpuCamera previous{};
+  for (uint32_t frame = 0; frame < frames; ++frame) {
+    // Update: a slow orbit of the scene's camera around its up axis.
+    engine::Camera camera = scene.cameras[0];
+    float angle = 0.01f * float(frame);
+    glm::mat4 turn = glm::mat4(glm::mat3(glm::vec3(std::cos(angle), 0, -std::sin(angle)), glm::vec3(0, 1, 0),
+                                         glm::vec3(std::sin(angle), 0, std::cos(angle))));
+    camera.worldFromView = camera.worldFromView * turn;
+    gpu::GpuCamera current = engine::makeGpuCamera(camera, width, height, frame ? &previous : nullptr);
+
+    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+      // Raster the G-buffer; it leaves the images in GENERAL, visible to compute (the module's contract).
+      engine::recordGBuffer(ctx, cmd, gbufferPass, scene, sceneGpu, gbuffer, current, nullptr);
+      // Global illumination: records passes, never submits.
+      gi::recordFrame(gi, cmd, {views, current, frame ? previous : current, frame});
+      // Composite → the frame: a game would barrier, then sample gi::outputs(gi).composite in its post chain.
+      engine::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                            VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+    });
+    gi::FrameStats stats = gi::stats(gi);  // the frame above has finished: its numbers are in
+    std::printf("frame %u: %.2f ms GI, %llu rays\n", frame, stats.totalMs, (unsigned long long)stats.raysTraced);
+    previous = current;
+  }
+
+  // "Present": read the composite back and write it.
+  engine::Image composite;
+  composite.image = gi::outputs(gi).composite;
+  composite.format = VK_FORMAT_R32G32B32A32_SFLOAT;
+  composite.extent = {width, height};
+  std::vector<std::byte> raw = engine::readbackImage(ctx, composite, VK_IMAGE_LAYOUT_GENERAL, 16);
+  engine::FloatImage image(width, height, 3);
+  for (size_t p = 0; p < size_t(width) * height; ++p) std::memcpy(&image.pixels[3 * p], &raw[16 * p], 12);
+  bool written = engine::writeImage(argv[2], image, error);
+  if (!written) std::fprintf(stderr, "%s\n", error.c_str());
+
+  // --- shutdown ------------------------------------------------------------------
+  vkDeviceWaitIdle(ctx.device);
+  gi::destroy(gi);
+  engine::destroyGBufferPass(ctx, gbufferPass);
+  engine::destroyGBuffer(ctx, gbuffer);
+  engine::destroySceneGpu(ctx, sceneGpu);
+  uint32_t messages = ctx.validationMessages();
+  engine::destroyContext(ctx);
+  if (messages) std::fprintf(stderr, "%u validation messages\n", messages);
+  return written && messages == 0 ? 0 : 1;
+}
