@@ -15,7 +15,8 @@ GBuffer createGBuffer(const Context& ctx, VkExtent2D extent) {
   for (uint32_t i = 0; i < gpu::GBUFFER_COLOR_COUNT; ++i)
     g.color[i] = createImage(ctx, extent, kGBufferFormats[i],
                              VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT |
-                                 VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_SAMPLED_BIT);
+                                 VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT |
+                                 VK_IMAGE_USAGE_SAMPLED_BIT);
   g.depth = createImage(ctx, extent, kGBufferDepthFormat,
                         VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
   // Start in the post-pass layout so recordGBuffer always transitions from GENERAL.

@@ -21,7 +21,8 @@ vec3 aafSample(GiSurface s, vec2 u, inout GiRng rng, out float hitDistance) {
   if (pc.ambientOcclusion != 0u) return vec3(1.0);
   GiSurface y = giSurfaceFromHit(hit, dir);
   GiPathSample path = giTracePathFromSurface(y, -dir, pc.maxBounces - 1u, pc.russianRouletteStart, rng);
-  return path.direct + path.indirect;
+  vec3 radiance = path.direct + path.indirect;
+  return giKeepSample(radiance, vec3(0.0)) ? radiance : vec3(0.0);
 }
 
 #endif

@@ -16,7 +16,7 @@ void main() {
   if (inside) {
     vec4 params = vec4(0.0), sum = vec4(0.0);
     vec3 direct = vec3(0.0);
-    if (giGbCovered(p)) {
+    if (giGbCoveredCounting(p)) {
       vec3 V;
       GiSurface s = giGbSurface(p, V);
       GiRng rng = giRngCreate(uvec2(p), giFrame.frameIndex, pc.seed, GI_STREAM_AAF);

@@ -27,7 +27,27 @@ layout(set = 1, binding = GI_BINDING_AAF_PARAMS, rgba32f) uniform image2D giAafP
 layout(set = 1, binding = GI_BINDING_AAF_SUM, rgba32f) uniform image2D giAafSum;
 
 // True where the G-buffer holds geometry.
-bool giGbCovered(ivec2 p) { return imageLoad(giGbNormal, p).w > 0.5; }
+bool giGbCoveredRaw(ivec2 p) { return imageLoad(giGbNormal, p).w > 0.5; }
+
+// Geometry whose G-buffer values are all finite and sane. NaN or Inf coming
+// in from the engine stops here: such a pixel is treated as background, so it
+// cannot spread through filters, caches or history (counted by the first
+// pass through giGbCoveredCounting).
+bool giGbValid(ivec2 p) {
+  vec4 n = imageLoad(giGbNormal, p);
+  float z = imageLoad(giGbViewZ, p).r;
+  return giIsFinite(n.xyz) && dot(n.xyz, n.xyz) > 1e-12 && !isnan(z) && !isinf(z) && z > 0.0 &&
+         giIsFinite(imageLoad(giGbAlbedo, p).rgb) && giIsFinite(imageLoad(giGbEmission, p).rgb);
+}
+bool giGbCovered(ivec2 p) { return giGbCoveredRaw(p) && giGbValid(p); }
+
+uint giSanitizedPixels = 0u;  // this invocation's count, added by giCountRays
+bool giGbCoveredCounting(ivec2 p) {
+  if (!giGbCoveredRaw(p)) return false;
+  if (giGbValid(p)) return true;
+  giSanitizedPixels++;
+  return false;
+}
 
 // World position of pixel p's primary hit from its view depth.
 vec3 giGbPosition(ivec2 p, out vec3 dir) {
@@ -62,6 +82,7 @@ GiSurface giGbSurface(ivec2 p, out vec3 V) {
 
 // The albedo that multiplies demodulated indirect light: the diffuse lobe's.
 vec3 giGbDiffuseAlbedo(ivec2 p) {
+  if (!giGbCovered(p)) return vec3(0.0);
   vec4 albedo = imageLoad(giGbAlbedo, p);
   float metallic = albedo.a > 0.5 ? imageLoad(giGbMaterial, p).g : 0.0;
   return (1.0 - metallic) * albedo.rgb;
@@ -69,7 +90,19 @@ vec3 giGbDiffuseAlbedo(ivec2 p) {
 
 void giCountRays(bool counted) {
   uint rays = subgroupAdd(counted ? giRaysTraced : 0u);
-  if (subgroupElect()) atomicAdd(giCounters.raysTraced, rays);
+  uint sanitized = subgroupAdd(counted ? giSanitizedPixels : 0u);
+  if (subgroupElect()) {
+    atomicAdd(giCounters.raysTraced, rays);
+    if (sanitized > 0u) atomicAdd(giCounters.sanitized, sanitized);
+  }
+}
+
+// A path sample that came back non-finite (a degenerate triangle, an overflow)
+// is dropped and counted rather than averaged in.
+bool giKeepSample(vec3 a, vec3 b) {
+  if (giIsFinite(a) && giIsFinite(b)) return true;
+  giSanitizedPixels++;
+  return false;
 }
 
 #endif

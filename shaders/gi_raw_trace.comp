@@ -15,16 +15,19 @@ void main() {
   bool inside = all(lessThan(gl_GlobalInvocationID.xy, giFrame.size));
   if (inside) {
     vec3 direct = vec3(0.0), indirect = vec3(0.0);
-    if (giGbCovered(p)) {
+    if (giGbCoveredCounting(p)) {
       vec3 V;
       GiSurface s = giGbSurface(p, V);
+      float kept = 0.0;
       for (uint i = 0u; i < pc.samplesPerPixel; ++i) {
         GiRng rng = giRngCreate(uvec2(p), giFrame.frameIndex * pc.samplesPerPixel + i, pc.seed, GI_STREAM_MODULE);
         GiPathSample path = giTracePathFromSurface(s, V, pc.maxBounces, pc.russianRouletteStart, rng);
+        if (!giKeepSample(path.direct, path.indirectDemod)) continue;
+        kept += 1.0;
         direct += path.direct;
         indirect += path.indirectDemod;
       }
-      float inv = 1.0 / float(pc.samplesPerPixel);
+      float inv = 1.0 / max(kept, 1.0);
       direct = s.material.emission + direct * inv;
       indirect *= inv;
     }

@@ -271,3 +271,56 @@ TEST_F(ModuleTest, AmbientOcclusionIsInUnitRangeAndOneOverAnOpenPlane) {
     unload(s);
   }
 }
+
+// NaN and Inf arriving in the G-buffer stop at the module boundary: the pixels
+// count as background, are reported in the stats, and do not poison history.
+TEST_F(ModuleTest, NonFiniteGBufferValuesDoNotSpread) {
+  LoadedScene s;
+  load(sharedScene("cornell-box-mcguire/CornellBox-Original.gltf"), s);
+  const uint32_t W = 24, H = 24;
+  gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], W, H, nullptr);
+  // raw with history and hpsf with its cache: the two places a NaN could persist.
+  for (gi::Method method : {gi::Method::Raw, gi::Method::Hpsf}) {
+    gi::Settings settings;
+    settings.method = method;
+    settings.raw.temporalAccumulation = true;
+    tools::ModuleSession session;
+    std::string error;
+    ASSERT_TRUE(tools::createModuleSession(ctx, s.gpu, {W, H}, settings, session, error)) << error;
+    const engine::GBuffer& g = session.gbuffer;
+    gi::GBufferViews views{g.color[gpu::GBUFFER_NORMAL].view, g.color[gpu::GBUFFER_ALBEDO].view,
+                           g.color[gpu::GBUFFER_MATERIAL].view, g.color[gpu::GBUFFER_EMISSION].view,
+                           g.color[gpu::GBUFFER_MOTION].view, g.color[gpu::GBUFFER_VIEWZ].view};
+    for (uint32_t frame = 0; frame < 3; ++frame) {
+      engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+        engine::recordGBuffer(ctx, cmd, session.gbufferPass, s.scene, s.gpu, session.gbuffer, cam, nullptr);
+        if (frame == 1) {  // frame 1: the engine hands over NaN depths and infinite emission
+          VkClearColorValue nan{{std::nanf(""), 0, 0, 0}}, inf{{INFINITY, INFINITY, INFINITY, 1}};
+          VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+          vkCmdClearColorImage(cmd, g.color[gpu::GBUFFER_VIEWZ].image, VK_IMAGE_LAYOUT_GENERAL, &nan, 1, &range);
+          vkCmdClearColorImage(cmd, g.color[gpu::GBUFFER_EMISSION].image, VK_IMAGE_LAYOUT_GENERAL, &inf, 1, &range);
+          engine::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                                VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+        }
+        gi::recordFrame(session.module, cmd, {views, cam, cam, frame});
+        engine::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                              VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+      });
+      gi::FrameStats st = gi::stats(session.module);
+      engine::ReferenceImages out = tools::readModuleImages(ctx, session);
+      double sum = 0.0;
+      for (const engine::FloatImage* img : {&out.final, &out.direct, &out.indirect})
+        for (float v : img->pixels) {
+          ASSERT_TRUE(std::isfinite(v)) << gi::methodName(method) << " frame " << frame;
+          sum += v;
+        }
+      if (frame == 1) {
+        EXPECT_GE(st.sanitized, W * H / 2) << gi::methodName(method) << ": the covered pixels were dropped and counted";
+      } else {
+        EXPECT_GT(sum, 0.0) << gi::methodName(method) << " frame " << frame << " recovers";
+      }
+    }
+    tools::destroyModuleSession(ctx, session);
+  }
+  unload(s);
+}

@@ -4,6 +4,7 @@
 #include "gpu_timer.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -42,6 +43,12 @@ const engine::Binding kFrameBindings[] = {
     {gpu::GI_BINDING_AAF_PARAMS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
     {gpu::GI_BINDING_AAF_SUM, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
 };
+
+// The SCENE_SPEC_* specialisation values for this module's scene.
+std::array<uint32_t, SCENE_SPEC_COUNT> sceneSpecialization(const Module& m) {
+  return {m.desc.scene.hasEmissiveTriangles ? 1u : 0u, m.desc.scene.hasPunctualLights ? 1u : 0u,
+          m.desc.scene.hasAlphaMask ? 1u : 0u};
+}
 
 bool sameView(const GBufferViews& a, const GBufferViews& b) { return std::memcmp(&a, &b, sizeof(a)) == 0; }
 bool sameCamera(const gpu::GpuCamera& a, const gpu::GpuCamera& b) {
@@ -96,12 +103,31 @@ void ensureHashGrid(Module& m) {
     m.memoryBytes -= m.hash.memoryBytes;
     destroyHashGrid(m.ctx, m.hash);
   }
-  const uint32_t spec[SCENE_SPEC_COUNT] = {m.desc.scene.hasEmissiveTriangles ? 1u : 0u,
-                                           m.desc.scene.hasPunctualLights ? 1u : 0u, m.desc.scene.hasAlphaMask ? 1u : 0u};
   VkDescriptorSetLayout layouts[2] = {m.desc.scene.layout, m.frameSet.layout};
   m.hash = createHashGrid(m.ctx, capacity, m.desc.width, m.desc.height, kFramesInFlight);
-  createHashGridPrograms(m.ctx, m.hash, layouts, spec);
+  createHashGridPrograms(m.ctx, m.hash, layouts, sceneSpecialization(m));
   m.memoryBytes += m.hash.memoryBytes;
+}
+
+// Each method's programs are compiled when it is first chosen: a module that
+// only ever runs one method compiles only that method's shaders.
+void ensurePrograms(Module& m) {
+  const Settings& s = m.settings;
+  VkDescriptorSetLayout layouts[] = {m.desc.scene.layout, m.frameSet.layout};
+  const glm::uvec2 tile{GI_GROUP_SIZE, GI_GROUP_SIZE};
+  auto spec = sceneSpecialization(m);
+  auto make = [&](engine::ComputeProgram& p, std::span<const uint32_t> spirv, uint32_t push) {
+    if (!p.pipeline) p = engine::createComputeProgram(m.ctx, spirv, layouts, push, tile, spec);
+  };
+  bool pathsFromGBuffer = s.method != Method::Hpsf && !isAaf(s.method);
+  if (pathsFromGBuffer) make(m.rawTrace, spv_gi_raw_trace_comp, sizeof(gpu::GiRawPush));
+  if (usesScreenFilters(s.method)) make(m.guidancePass, spv_gi_guidance_comp, 0);
+  if (s.method == Method::Gif && s.gif.supersamples > 0)
+    make(m.supersample, spv_gi_supersample_comp, sizeof(gpu::GiSupersamplePush));
+  if (isAaf(s.method)) {
+    make(m.aafSample, spv_aaf_sample_comp, sizeof(gpu::AafPush));
+    make(m.aafAdaptive, spv_aaf_adaptive_comp, sizeof(gpu::AafPush));
+  }
 }
 
 // World size of a pixel per metre of view depth.
@@ -212,15 +238,9 @@ Error create(const ModuleDesc& desc, const Settings& settings, Module*& out) {
   w.write(m->ctx);
 
   VkDescriptorSetLayout layouts[] = {desc.scene.layout, m->frameSet.layout};
-  const uint32_t spec[SCENE_SPEC_COUNT] = {desc.scene.hasEmissiveTriangles ? 1u : 0u,
-                                           desc.scene.hasPunctualLights ? 1u : 0u, desc.scene.hasAlphaMask ? 1u : 0u};
-  const glm::uvec2 tile{GI_GROUP_SIZE, GI_GROUP_SIZE};
-  m->rawTrace = engine::createComputeProgram(m->ctx, spv_gi_raw_trace_comp, layouts, sizeof(gpu::GiRawPush), tile, spec);
-  m->composite_ = engine::createComputeProgram(m->ctx, spv_gi_composite_comp, layouts, sizeof(gpu::GiCompositePush), tile, spec);
-  m->guidancePass = engine::createComputeProgram(m->ctx, spv_gi_guidance_comp, layouts, 0, tile, spec);
-  m->supersample = engine::createComputeProgram(m->ctx, spv_gi_supersample_comp, layouts, sizeof(gpu::GiSupersamplePush), tile, spec);
-  m->aafSample = engine::createComputeProgram(m->ctx, spv_aaf_sample_comp, layouts, sizeof(gpu::AafPush), tile, spec);
-  m->aafAdaptive = engine::createComputeProgram(m->ctx, spv_aaf_adaptive_comp, layouts, sizeof(gpu::AafPush), tile, spec);
+  m->composite_ = engine::createComputeProgram(m->ctx, spv_gi_composite_comp, layouts, sizeof(gpu::GiCompositePush),
+                                               {GI_GROUP_SIZE, GI_GROUP_SIZE}, sceneSpecialization(*m));
+  ensurePrograms(*m);
   ensureFilters(*m);
   ensureHashGrid(*m);
 
@@ -250,6 +270,7 @@ Error setSettings(Module* m, const Settings& settings) {
   if (Error e = validate(settings)) return e;
   m->settings = settings;
   m->historyLength = 0;  // any change invalidates accumulated frames
+  ensurePrograms(*m);
   ensureFilters(*m);
   ensureHashGrid(*m);
   return {};
@@ -424,6 +445,7 @@ FrameStats stats(Module* m) {
     gpu::GiCounters c;
     std::memcpy(&c, static_cast<const std::byte*>(m->counters.mapped) + sizeof(gpu::GiCounters) * (1 + slot), sizeof(c));
     st.raysTraced = c.raysTraced;
+    st.sanitized = c.sanitized;
     st.accumulatedFrames = m->slotHistory[slot];
     st.samplesPerPixel = m->slotSpp[slot];
     uint32_t pixels = m->desc.width * m->desc.height;

@@ -43,7 +43,7 @@ struct GiCounters {
   uint raysTraced;        // added to by every tracing pass
   uint requestedSamples;  // AAF pass 1: Σ n(μ) over pixels
   uint tracedSamples;     // AAF pass 2: Σ samples actually traced
-  uint pad0;
+  uint sanitized;         // non-finite G-buffer pixels and path samples dropped at the module boundary
 };
 GPU_ASSERT_SIZE(GiCounters, 16);
 

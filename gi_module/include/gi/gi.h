@@ -75,6 +75,7 @@ struct FrameStats {
   uint64_t raysTraced = 0;
   uint32_t accumulatedFrames = 0;   // temporal history length behind the output
   uint32_t samplesPerPixel = 0;     // paths per pixel actually traced (after the ray budget; AAF: the mean)
+  uint32_t sanitized = 0;           // non-finite G-buffer pixels and path samples dropped (treated as background)
   uint64_t memoryBytes = 0;         // device memory owned by the module
   struct Hash {                     // HPSF hash map telemetry (zero for other methods)
     uint32_t capacity = 0;          // cells
