@@ -146,10 +146,12 @@ def main(out_dir):
             ("%.3e" % float(r["mse_indirect"])) if float(r["mse_indirect"]) > 0 else "n/a",
             float(r["equal_error_speedup"]), r["flicker_ratio"] or "n/a"))
     if any(float(r.get("hash_occupancy") or 0) > 0 for r in rows):
-        lines += ["", "| configuration | hash occupancy | failed inserts |", "|---|---|---|"]
+        lines += ["", "| configuration | hash occupancy | failed inserts | mean probe | max probe | evicted |",
+                  "|---|---|---|---|---|---|"]
         for r in rows:
             if float(r.get("hash_occupancy") or 0) > 0:
-                lines.append("| %s | %.3f | %s |" % (r["label"], float(r["hash_occupancy"]), r["hash_failed_inserts"]))
+                lines.append("| %s | %.3f | %s | %s | %s | %s |" % (r["label"], float(r["hash_occupancy"]), r["hash_failed_inserts"],
+                                                            r["hash_mean_probe"], r["hash_max_probe"], r["hash_evicted"]))
     lines += ["", "![trade-off](tradeoff.png)", "", "![insets](insets.png)", ""]
     if has_series:
         lines += ["![error over frames](series.png)", ""]
