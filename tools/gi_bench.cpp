@@ -129,6 +129,7 @@ struct Row {
   double speedup = 0.0;
   double flickerRatio = -1.0;
   gi::FrameStats::Hash hash;  // telemetry of the last timed frame
+  uint32_t tracedSpp = 0;      // paths per pixel the module traced (AAF: its adaptive mean)
 };
 
 }  // namespace
@@ -301,6 +302,7 @@ int main(int argc, char** argv) {
     gi::FrameStats finalStats = gi::stats(session.module);
     row.memory = finalStats.memoryBytes;
     row.hash = finalStats.hash;
+    row.tracedSpp = finalStats.samplesPerPixel;
     engine::writeImage((dir / "images" / (sanitise(config.label) + ".pfm")).string(), out.final, error);
 
     if (args.has("camera-path")) {
@@ -341,7 +343,7 @@ int main(int argc, char** argv) {
   std::ofstream csv(csvPath);
   csv << "scene,method,settings,spp,frames,total_ms,pass_ms,rays,mrays_per_s,rq_efficiency,mse,relmse,psnr,ssim,"
          "mse_indirect,relmse_indirect,psnr_indirect,ssim_indirect,memory_bytes,equal_error_speedup,flicker_ratio,"
-         "hash_occupancy,hash_failed_inserts,hash_mean_probe,hash_max_probe,hash_evicted,label\n";
+         "hash_occupancy,hash_failed_inserts,hash_mean_probe,hash_max_probe,hash_evicted,traced_spp,label\n";
   for (const Row& r : rows) {
     std::string passes;
     for (const std::string& name : r.passOrder) {
@@ -352,13 +354,14 @@ int main(int argc, char** argv) {
     double mrays = r.traceMs > 0.0 ? r.rays / (r.traceMs * 1e3) : 0.0;
     char line[1024];
     std::snprintf(line, sizeof(line),
-                  "%s,%s,\"%s\",%u,%u,%.4f,%s,%.0f,%.4f,%.4f,%.6e,%.6e,%.4f,%.6f,%.6e,%.6e,%.4f,%.6f,%llu,%.4f,%s,%.4f,%u,%.3f,%u,%u,\"%s\"\n",
+                  "%s,%s,\"%s\",%u,%u,%.4f,%s,%.0f,%.4f,%.4f,%.6e,%.6e,%.4f,%.6f,%.6e,%.6e,%.4f,%.6f,%llu,%.4f,%s,%.4f,%u,%.3f,%u,%u,%u,\"%s\"\n",
                   sceneName.c_str(), gi::methodName(r.config.settings.method), r.config.settingsText.c_str(), r.config.spp,
                   frames, r.totalMs, passes.c_str(), r.rays, mrays, bare.mraysPerSecond() > 0 ? mrays / bare.mraysPerSecond() : 0.0,
                   r.final.mse, r.final.relMse, r.final.psnr, r.final.ssim, r.indirect.mse, r.indirect.relMse,
                   r.indirect.psnr, r.indirect.ssim, (unsigned long long)r.memory, r.speedup,
                   r.flickerRatio >= 0.0 ? std::to_string(r.flickerRatio).c_str() : "", double(r.hash.occupancy()),
-                  r.hash.failedInserts, double(r.hash.meanProbe), r.hash.maxProbe, r.hash.evicted, r.config.label.c_str());
+                  r.hash.failedInserts, double(r.hash.meanProbe), r.hash.maxProbe, r.hash.evicted, r.tracedSpp,
+                  r.config.label.c_str());
     csv << line;
   }
   csv.close();

@@ -117,6 +117,7 @@ int main(int argc, char** argv) {
 
   engine::ReferenceRun run;
   std::map<std::string, double> passMs;  // summed over frames
+  uint32_t tracedSpp = spp;              // module methods: what the last frame traced (AAF: its adaptive mean)
   if (method == "reference") {
     engine::ReferenceSettings settings;
     settings.maxBounces = bounces;
@@ -156,6 +157,7 @@ int main(int argc, char** argv) {
     }
     if (windowed) engine::destroyWindow(ctx, window);
     run.images = tools::readModuleImages(ctx, session);
+    tracedSpp = gi::stats(session.module).samplesPerPixel;
     tools::destroyModuleSession(ctx, session);
   }
 
@@ -192,6 +194,7 @@ int main(int argc, char** argv) {
     j["seed"] = seed;
     j["triangles"] = scene.triangleCount();
     j["passes_ms"] = passMs;
+    j["traced_spp_last_frame"] = tracedSpp;
     j["gpu_ms_total"] = run.gpuMs;
     j["rays"] = run.rays;
     j["mrays_per_second"] = mraysPerSecond;
