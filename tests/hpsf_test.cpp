@@ -92,3 +92,27 @@ TEST_F(HpsfTest, TelemetryAndErrorOverFramesForBothEvictionPolicies) {
   }
   unload(s);
 }
+
+// gi::invalidate drops the cache: the next frame starts from an empty map.
+TEST_F(HpsfTest, InvalidateEmptiesTheCache) {
+  LoadedScene s;
+  load(sharedScene("cornell-box-mcguire/CornellBox-Original.gltf"), s);
+  gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], 24, 24, nullptr);
+  gi::Settings settings;
+  settings.method = gi::Method::Hpsf;
+  tools::ModuleSession session;
+  std::string error;
+  ASSERT_TRUE(tools::createModuleSession(ctx, s.gpu, {24, 24}, settings, session, error)) << error;
+  tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, 0);
+  uint32_t firstFrameOccupancy = gi::stats(session.module).hash.occupied;
+  // Jitter and stochastic LOD touch new cells every frame: with aging they pile up.
+  for (uint32_t f = 1; f < 6; ++f) tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, f);
+  EXPECT_GT(gi::stats(session.module).hash.occupied, firstFrameOccupancy);
+  gi::invalidate(session.module, gi::Invalidate::LightsChanged);
+  tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, 6);
+  gi::FrameStats after = gi::stats(session.module);
+  EXPECT_LE(after.hash.occupied, firstFrameOccupancy + firstFrameOccupancy / 4);
+  for (float v : tools::readModuleImages(ctx, session).final.pixels) ASSERT_TRUE(std::isfinite(v));
+  tools::destroyModuleSession(ctx, session);
+  unload(s);
+}

@@ -276,6 +276,11 @@ Error setSettings(Module* m, const Settings& settings) {
   return {};
 }
 
+void invalidate(Module* m, Invalidate) {
+  m->historyLength = 0;
+  m->hash.cleared = false;  // re-zeroed at the start of the next frame
+}
+
 Outputs outputs(const Module* m) {
   return {m->direct.image, m->indirect.image, m->composite.image, m->direct.view, m->indirect.view, m->composite.view};
 }

@@ -103,6 +103,13 @@ Error validate(const Settings& settings);
 Error create(const ModuleDesc& desc, const Settings& settings, Module*& out);
 void destroy(Module* module);  // the caller ensures the GPU no longer uses it
 Error setSettings(Module* module, const Settings& settings);
+
+// For engines that know what changed: drop cached light so stale radiance is
+// never shown. All: temporal history and the hash map. LightsChanged: every
+// cache holds light, so today it drops the same; kept apart so the module can
+// later keep what lights do not affect. Takes effect in the next recordFrame.
+enum class Invalidate : uint32_t { All, LightsChanged };
+void invalidate(Module* module, Invalidate what);
 void recordFrame(Module* module, VkCommandBuffer cmd, const FrameInputs& inputs);
 Outputs outputs(const Module* module);
 // Numbers from the last frame whose GPU work has completed (call after its fence).
