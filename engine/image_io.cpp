@@ -83,6 +83,13 @@ bool readPfm(const std::string& path, FloatImage& img, std::string& error) {
 
 }  // namespace
 
+float halfToFloat(uint16_t h) {
+  uint32_t sign = (h >> 15) & 1, exp = (h >> 10) & 31, mant = h & 1023;
+  float v = exp == 0 ? std::ldexp(float(mant), -24)
+                     : exp == 31 ? (mant ? std::nanf("") : INFINITY) : std::ldexp(float(mant | 1024), int(exp) - 25);
+  return sign ? -v : v;
+}
+
 float linearToSrgb(float v) {
   if (!(v > 0.0f)) return 0.0f;  // also maps NaN to black
   if (v >= 1.0f) return 1.0f;

@@ -22,5 +22,6 @@ bool writeImage(const std::string& path, const FloatImage& image, std::string& e
 bool readImage(const std::string& path, FloatImage& image, std::string& error);  // .exr or .pfm
 
 float linearToSrgb(float linear);
+float halfToFloat(uint16_t half);  // IEEE 754 binary16, for reading rgba16f/rg16f images back
 
 }  // namespace engine

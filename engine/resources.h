@@ -55,10 +55,11 @@ std::vector<std::byte> readbackImage(const Context& ctx, const Image& image, VkI
 
 uint32_t findMemoryType(const Context& ctx, uint32_t typeBits, VkMemoryPropertyFlags flags);
 
-// Whole-image layout transition with synchronization2 (all mips, colour or depth aspect).
+// Layout transition with synchronization2: all mips by default, colour or depth aspect.
 void imageBarrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayout to,
                   VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dstStage,
-                  VkAccessFlags2 dstAccess, VkImageAspectFlags aspect = VK_IMAGE_ASPECT_COLOR_BIT);
+                  VkAccessFlags2 dstAccess, VkImageAspectFlags aspect = VK_IMAGE_ASPECT_COLOR_BIT,
+                  uint32_t baseMip = 0, uint32_t mipCount = VK_REMAINING_MIP_LEVELS);
 // Global memory barrier, for buffers and images that keep their layout.
 void memoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess,
                    VkPipelineStageFlags2 dstStage, VkAccessFlags2 dstAccess);

@@ -14,11 +14,7 @@ std::vector<float> readFloats(const engine::Context& ctx, const engine::Image& i
   return out;
 }
 
-float halfToFloat(uint16_t h) {
-  uint32_t sign = (h >> 15) & 1, exp = (h >> 10) & 31, mant = h & 1023;
-  float v = exp == 0 ? std::ldexp(float(mant), -24) : std::ldexp(float(mant | 1024), int(exp) - 25);
-  return sign ? -v : v;
-}
+using engine::halfToFloat;
 
 }  // namespace
 

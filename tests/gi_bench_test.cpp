@@ -4,20 +4,11 @@
 
 #include <filesystem>
 #include <fstream>
-#include <sys/wait.h>
+#include "run_process.h"
 
 namespace {
 
-int runBench(const std::string& args, std::string& output) {
-  std::string cmd = std::string(GI_BENCH_BINARY) + " " + args + " 2>&1";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (!pipe) return -1;
-  char buffer[512];
-  output.clear();
-  while (fgets(buffer, sizeof(buffer), pipe)) output += buffer;
-  int status = pclose(pipe);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-}
+int runBench(const std::string& args, std::string& output) { return runProcess(GI_BENCH_BINARY, args, output); }
 
 }  // namespace
 

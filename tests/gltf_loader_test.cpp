@@ -6,9 +6,9 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <sys/wait.h>
 
 #include "gltf_loader.h"
+#include "run_process.h"
 
 namespace {
 
@@ -39,16 +39,7 @@ const Malformed kMalformed[] = {
     {"wrong_version.gltf", "asset.version"},
 };
 
-int runTool(const std::string& args, std::string& output) {
-  std::string cmd = std::string(GI_RENDER_BINARY) + " " + args + " 2>&1";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (!pipe) return -1;
-  char buffer[512];
-  output.clear();
-  while (fgets(buffer, sizeof(buffer), pipe)) output += buffer;
-  int status = pclose(pipe);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-}
+int runTool(const std::string& args, std::string& output) { return runProcess(GI_RENDER_BINARY, args, output); }
 
 }  // namespace
 

@@ -5,13 +5,6 @@
 namespace tools {
 namespace {
 
-float halfToFloat(uint16_t h) {
-  uint32_t sign = (h >> 15) & 1, exp = (h >> 10) & 31, mant = h & 1023;
-  float v = exp == 0 ? std::ldexp(float(mant), -24)
-                     : exp == 31 ? (mant ? std::nanf("") : INFINITY) : std::ldexp(float(mant | 1024), int(exp) - 25);
-  return sign ? -v : v;
-}
-
 engine::FloatImage readRgba32(const engine::Context& ctx, VkImage image, VkExtent2D extent) {
   engine::Image view;
   view.image = image;
@@ -108,7 +101,7 @@ engine::ReferenceImages readModuleImages(const engine::Context& ctx, const Modul
       out.albedo.pixels[3 * p + c] = float(uint8_t(albedo[4 * p + c])) / 255.0f;
       uint16_t h;
       std::memcpy(&h, &normal[8 * p + 2 * c], 2);
-      out.normal.pixels[3 * p + c] = halfToFloat(h);
+      out.normal.pixels[3 * p + c] = engine::halfToFloat(h);
     }
     std::memcpy(&out.depth.pixels[p], &depth[4 * p], 4);
   }
