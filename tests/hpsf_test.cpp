@@ -2,7 +2,7 @@
 // the telemetry, and convergence over frames.
 #include "gpu_test.h"
 #include "metrics.h"
-#include "module_session.h"
+#include "module_test_helpers.h"
 #include "procedural_scene.h"
 
 class HpsfTest : public GpuTest {};
@@ -27,8 +27,7 @@ TEST_F(HpsfTest, ZeroAlbedoChannelLosesNothingANeighbourCouldUse) {
   settings.method = gi::Method::Hpsf;
   settings.hpsf.samplesPerPixel = 4;
   tools::ModuleSession session;
-  std::string error;
-  ASSERT_TRUE(tools::createModuleSession(ctx, s.gpu, {32, 32}, settings, session, error)) << error;
+  ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {32, 32}, settings, session));
   for (uint32_t f = 0; f < 4; ++f) tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, f);
   engine::ReferenceImages out = tools::readModuleImages(ctx, session);
   double redFloorGreen = 0.0, redFloorPixels = 0.0;
@@ -57,18 +56,14 @@ TEST_F(HpsfTest, TelemetryAndErrorOverFramesForBothEvictionPolicies) {
   load(sharedScene("cornell-box-mcguire/CornellBox-Original.gltf"), s);
   const uint32_t W = 32, H = 32;
   gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], W, H, nullptr);
-  engine::ReferenceSettings refSettings;
-  refSettings.maxBounces = 2;
-  refSettings.pixelJitter = false;
-  engine::ReferenceImages ref = engine::renderReference(ctx, s.gpu, cam, refSettings, 1024, 256).images;
+  engine::ReferenceImages ref = pixelCentreReference(ctx, s, cam, 2, 1024);
   for (gi::EvictionPolicy policy : {gi::EvictionPolicy::Strict, gi::EvictionPolicy::Aging}) {
     gi::Settings settings;
     settings.method = gi::Method::Hpsf;
     settings.maxBounces = 2;
     settings.hpsf.eviction = policy;
     tools::ModuleSession session;
-    std::string error;
-    ASSERT_TRUE(tools::createModuleSession(ctx, s.gpu, {W, H}, settings, session, error)) << error;
+    ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {W, H}, settings, session));
     std::vector<double> errors;
     for (uint32_t f = 0; f < 16; ++f) {
       tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, f);
@@ -101,8 +96,7 @@ TEST_F(HpsfTest, InvalidateEmptiesTheCache) {
   gi::Settings settings;
   settings.method = gi::Method::Hpsf;
   tools::ModuleSession session;
-  std::string error;
-  ASSERT_TRUE(tools::createModuleSession(ctx, s.gpu, {24, 24}, settings, session, error)) << error;
+  ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {24, 24}, settings, session));
   tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, 0);
   uint32_t firstFrameOccupancy = gi::stats(session.module).hash.occupied;
   // Jitter and stochastic LOD touch new cells every frame: with aging they pile up.

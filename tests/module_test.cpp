@@ -2,7 +2,7 @@
 // method's convergence to the reference as frames accumulate.
 #include "gpu_test.h"
 #include "metrics.h"
-#include "module_session.h"
+#include "module_test_helpers.h"
 
 class ModuleTest : public GpuTest {};
 
@@ -67,18 +67,14 @@ TEST_F(ModuleTest, RawAccumulationConvergesToTheReference) {
   load(sharedScene("cornell-box-mcguire/CornellBox-Original.gltf"), s);
   const uint32_t W = 24, H = 24;
   gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], W, H, nullptr);
-  engine::ReferenceSettings refSettings;
-  refSettings.maxBounces = 2;
-  refSettings.pixelJitter = false;  // the module sees the raster G-buffer: pixel centres
-  engine::ReferenceImages ref = engine::renderReference(ctx, s.gpu, cam, refSettings, 2048, 256).images;
+  engine::ReferenceImages ref = pixelCentreReference(ctx, s, cam, 2, 2048);
 
   gi::Settings settings;
   settings.maxBounces = 2;
   settings.raw.samplesPerPixel = 1;
   settings.raw.temporalAccumulation = true;
   tools::ModuleSession session;
-  std::string error;
-  ASSERT_TRUE(tools::createModuleSession(ctx, s.gpu, {W, H}, settings, session, error)) << error;
+  ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {W, H}, settings, session));
   std::vector<double> relMse;
   uint32_t frame = 0;
   for (uint32_t target : {2u, 8u, 32u, 128u}) {
@@ -109,8 +105,7 @@ TEST_F(ModuleTest, RayBudgetCapsTheSampleCount) {
   gi::Settings settings;
   settings.raw.samplesPerPixel = 16;
   tools::ModuleSession session;
-  std::string error;
-  ASSERT_TRUE(tools::createModuleSession(ctx, s.gpu, {W, H}, settings, session, error)) << error;
+  ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {W, H}, settings, session));
   tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, 0);
   gi::FrameStats unlimited = gi::stats(session.module);
   EXPECT_EQ(unlimited.samplesPerPixel, 16u);
@@ -138,8 +133,7 @@ TEST_F(ModuleTest, StatsReportPassesRaysAndMemory) {
   gi::Settings settings;
   settings.raw.samplesPerPixel = 2;
   tools::ModuleSession session;
-  std::string error;
-  ASSERT_TRUE(tools::createModuleSession(ctx, s.gpu, {16, 16}, settings, session, error)) << error;
+  ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {16, 16}, settings, session));
   tools::FrameTiming t = tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, 0);
   gi::FrameStats st = gi::stats(session.module);
   ASSERT_EQ(st.passes.size(), 2u);
@@ -162,8 +156,7 @@ TEST_F(ModuleTest, EveryMethodAndDebugViewRunsAndStaysFinite) {
   gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], W, H, nullptr);
   gi::Settings settings;
   tools::ModuleSession session;
-  std::string error;
-  ASSERT_TRUE(tools::createModuleSession(ctx, s.gpu, {W, H}, settings, session, error)) << error;
+  ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {W, H}, settings, session));
   uint32_t frame = 0;
   auto check = [&](const char* what) {
     tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, frame++);
@@ -210,16 +203,12 @@ TEST_F(ModuleTest, AafErrorFallsAsMuGrows) {
   load(sharedScene("cornell-box-mcguire/CornellBox-Original.gltf"), s);
   const uint32_t W = 32, H = 32;
   gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], W, H, nullptr);
-  engine::ReferenceSettings refSettings;
-  refSettings.maxBounces = 2;
-  refSettings.pixelJitter = false;
-  engine::ReferenceImages ref = engine::renderReference(ctx, s.gpu, cam, refSettings, 2048, 256).images;
+  engine::ReferenceImages ref = pixelCentreReference(ctx, s, cam, 2, 2048);
   gi::Settings settings;
   settings.method = gi::Method::Aaf;
   settings.maxBounces = 2;
   tools::ModuleSession session;
-  std::string error;
-  ASSERT_TRUE(tools::createModuleSession(ctx, s.gpu, {W, H}, settings, session, error)) << error;
+  ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {W, H}, settings, session));
   std::vector<double> errors;
   std::vector<uint32_t> spp;
   uint32_t frame = 0;
@@ -250,8 +239,7 @@ TEST_F(ModuleTest, AmbientOcclusionIsInUnitRangeAndOneOverAnOpenPlane) {
     gi::Settings settings;
     settings.method = gi::Method::AafAo;
     tools::ModuleSession session;
-    std::string error;
-    ASSERT_TRUE(tools::createModuleSession(ctx, s.gpu, {24, 24}, settings, session, error)) << error;
+    ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {24, 24}, settings, session));
     tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, 0);
     engine::ReferenceImages out = tools::readModuleImages(ctx, session);
     bool open = std::string(path).find("plane") != std::string::npos;
@@ -285,8 +273,7 @@ TEST_F(ModuleTest, NonFiniteGBufferValuesDoNotSpread) {
     settings.method = method;
     settings.raw.temporalAccumulation = true;
     tools::ModuleSession session;
-    std::string error;
-    ASSERT_TRUE(tools::createModuleSession(ctx, s.gpu, {W, H}, settings, session, error)) << error;
+    ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {W, H}, settings, session));
     const engine::GBuffer& g = session.gbuffer;
     gi::GBufferViews views{g.color[gpu::GBUFFER_NORMAL].view, g.color[gpu::GBUFFER_ALBEDO].view,
                            g.color[gpu::GBUFFER_MATERIAL].view, g.color[gpu::GBUFFER_EMISSION].view,
