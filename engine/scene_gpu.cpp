@@ -157,7 +157,6 @@ void createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu) {
   c.sceneExtent = std::max(bounds.extent(), 1e-6f);
   c.boundsMin = bounds.empty() ? glm::vec3(0.0f) : bounds.min;
   c.boundsMax = bounds.empty() ? glm::vec3(0.0f) : bounds.max;
-  c.rayEpsilon = 1e-4f * c.sceneExtent;
   gpu.constants = createBuffer(ctx, sizeof(c), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, MemoryKind::HostVisible);
   std::memcpy(gpu.constants.mapped, &c, sizeof(c));
 

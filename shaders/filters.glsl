@@ -15,4 +15,12 @@ layout(set = 0, binding = FILTER_BINDING_PARAMS, rgba32f) uniform image2D filter
 
 ivec2 filterSize() { return imageSize(filterInput); }
 
+// The guided filter's guidance vector for 1 (grey normal), 3 (normal) or 4
+// (normal + depth) dimensions; unused channels are zero, so their
+// coefficients solve to zero.
+vec4 gifGuidance(ivec2 p, uint dimensions) {
+  vec4 g = imageLoad(filterGuidance, p);
+  return dimensions == 1u ? vec4((g.x + g.y + g.z) / 3.0, 0.0, 0.0, 0.0) : dimensions == 3u ? vec4(g.xyz, 0.0) : g;
+}
+
 #endif

@@ -10,10 +10,7 @@ layout(push_constant, scalar) uniform Push { GuidedMomentsPush pc; };
 void main() {
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(p, filterSize()))) return;
-  vec4 g = imageLoad(filterGuidance, p);
-  // Fewer dimensions: unused channels are zero, so their coefficients solve to zero.
-  vec4 I = pc.guidanceDimensions == 1u ? vec4((g.x + g.y + g.z) / 3.0, 0.0, 0.0, 0.0)
-         : pc.guidanceDimensions == 3u ? vec4(g.xyz, 0.0) : g;
+  vec4 I = gifGuidance(p, pc.guidanceDimensions);
   vec3 q = imageLoad(filterInput, p).rgb;
   float m[32];
   for (int i = 0; i < 32; ++i) m[i] = 0.0;

@@ -10,9 +10,7 @@ layout(push_constant, scalar) uniform Push { GuidedMomentsPush pc; };
 void main() {
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(p, filterSize()))) return;
-  vec4 g = imageLoad(filterGuidance, p);
-  vec4 I = pc.guidanceDimensions == 1u ? vec4((g.x + g.y + g.z) / 3.0, 0.0, 0.0, 0.0)
-         : pc.guidanceDimensions == 3u ? vec4(g.xyz, 0.0) : g;
+  vec4 I = gifGuidance(p, pc.guidanceDimensions);
   float coeff[16];
   for (uint img = 0u; img < GIF_COEFF_IMAGES; ++img) {
     vec4 v = imageLoad(filterA[img], p);

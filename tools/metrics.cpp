@@ -19,36 +19,29 @@ std::vector<double> clampedLuminance(const engine::FloatImage& img) {
   return out;
 }
 
-// Separable Gaussian blur with the window renormalised at the borders.
-std::vector<double> blur(const std::vector<double>& v, uint32_t w, uint32_t h) {
+// One axis of a separable Gaussian (σ = 1.5, radius 5), renormalised at the borders.
+std::vector<double> blurAxis(const std::vector<double>& v, uint32_t w, uint32_t h, bool vertical) {
   constexpr int kRadius = 5;
   constexpr double kSigma = 1.5;
   double weights[2 * kRadius + 1];
   for (int i = -kRadius; i <= kRadius; ++i) weights[i + kRadius] = std::exp(-0.5 * i * i / (kSigma * kSigma));
-  std::vector<double> tmp(v.size()), out(v.size());
+  std::vector<double> out(v.size());
   for (uint32_t y = 0; y < h; ++y)
     for (uint32_t x = 0; x < w; ++x) {
       double sum = 0.0, norm = 0.0;
       for (int i = -kRadius; i <= kRadius; ++i) {
-        int xx = int(x) + i;
-        if (xx < 0 || xx >= int(w)) continue;
-        sum += weights[i + kRadius] * v[size_t(y) * w + xx];
-        norm += weights[i + kRadius];
-      }
-      tmp[size_t(y) * w + x] = sum / norm;
-    }
-  for (uint32_t y = 0; y < h; ++y)
-    for (uint32_t x = 0; x < w; ++x) {
-      double sum = 0.0, norm = 0.0;
-      for (int i = -kRadius; i <= kRadius; ++i) {
-        int yy = int(y) + i;
-        if (yy < 0 || yy >= int(h)) continue;
-        sum += weights[i + kRadius] * tmp[size_t(yy) * w + x];
+        int xx = int(x) + (vertical ? 0 : i), yy = int(y) + (vertical ? i : 0);
+        if (xx < 0 || xx >= int(w) || yy < 0 || yy >= int(h)) continue;
+        sum += weights[i + kRadius] * v[size_t(yy) * w + xx];
         norm += weights[i + kRadius];
       }
       out[size_t(y) * w + x] = sum / norm;
     }
   return out;
+}
+
+std::vector<double> blur(const std::vector<double>& v, uint32_t w, uint32_t h) {
+  return blurAxis(blurAxis(v, w, h, false), w, h, true);
 }
 
 }  // namespace

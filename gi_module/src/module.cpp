@@ -130,8 +130,17 @@ void ensurePrograms(Module& m) {
   }
 }
 
+float cosDegrees(float degrees) { return std::cos(degrees * 3.14159265f / 180.0f); }
+
 // World size of a pixel per metre of view depth.
 float pixelScale(const gpu::GpuCamera& c) { return 2.0f * c.tanHalfFovY / c.imageSize.y; }
+
+// The counters a frame slot copied back (valid once that frame has completed).
+gpu::GiCounters slotCounters(const Module& m, uint32_t slot) {
+  gpu::GiCounters c;
+  std::memcpy(&c, static_cast<const std::byte*>(m.counters.mapped) + sizeof(gpu::GiCounters) * (1 + slot), sizeof(c));
+  return c;
+}
 
 // The ray budget: paths per pixel such that pixels × spp × (rays per path, as
 // measured on the previous frame) stays within settings.rayBudget.
@@ -139,8 +148,7 @@ uint32_t samplesWithinBudget(const Module& m, uint32_t requested, uint32_t frame
   if (m.settings.rayBudget == 0 || frameIndex == 0) return requested;
   uint32_t previous = (frameIndex - 1) % kFramesInFlight;
   if (!m.slotRecorded[previous] || m.slotSpp[previous] == 0) return requested;
-  gpu::GiCounters c;
-  std::memcpy(&c, static_cast<const std::byte*>(m.counters.mapped) + sizeof(gpu::GiCounters) * (1 + previous), sizeof(c));
+  gpu::GiCounters c = slotCounters(m, previous);
   double paths = double(m.desc.width) * m.desc.height * m.slotSpp[previous];
   double raysPerPath = c.raysTraced > 0 ? double(c.raysTraced) / paths : 1.0;
   double affordable = double(m.settings.rayBudget) / (double(m.desc.width) * m.desc.height * raysPerPath);
@@ -152,8 +160,7 @@ uint32_t aafSampleBudget(const Module& m, uint32_t frameIndex) {
   if (m.settings.rayBudget == 0 || frameIndex == 0) return 0;
   uint32_t previous = (frameIndex - 1) % kFramesInFlight;
   if (!m.slotRecorded[previous]) return 0;
-  gpu::GiCounters c;
-  std::memcpy(&c, static_cast<const std::byte*>(m.counters.mapped) + sizeof(gpu::GiCounters) * (1 + previous), sizeof(c));
+  gpu::GiCounters c = slotCounters(m, previous);
   double raysPerSample = c.tracedSamples > 0 ? double(c.raysTraced) / double(c.tracedSamples) : 4.0;
   double budget = double(m.settings.rayBudget) / raysPerSample;
   return uint32_t(std::clamp(budget, 1.0, 4.0e9));
@@ -165,6 +172,22 @@ void computeToComputeBarrier(VkCommandBuffer cmd) {
   engine::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                         VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                         VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+}
+
+// One pass of the frame script: label and timestamps around a dispatch and
+// the barrier that publishes its writes to the next compute pass.
+void runPass(Module& m, VkCommandBuffer cmd, uint32_t slot, const char* name, const engine::ComputeProgram& program,
+             std::span<const VkDescriptorSet> sets, glm::uvec2 threads, const void* push, uint32_t pushSize) {
+  beginPass(m, cmd, slot, name);
+  engine::dispatch(cmd, program, sets, threads, push, pushSize);
+  computeToComputeBarrier(cmd);
+  endPass(m, cmd, slot);
+}
+
+template <typename Push>
+void runPassWith(Module& m, VkCommandBuffer cmd, uint32_t slot, const char* name, const engine::ComputeProgram& program,
+                 std::span<const VkDescriptorSet> sets, glm::uvec2 threads, const Push& push) {
+  runPass(m, cmd, slot, name, program, sets, threads, &push, sizeof(Push));
 }
 
 PassHooks passHooks(Module& m, uint32_t slot) {
@@ -327,14 +350,8 @@ void recordFrame(Module* m, VkCommandBuffer cmd, const FrameInputs& in) {
     // Passes: 16 stratified rays give reflector distances, β and n per pixel; then the remaining n − 16.
     gpu::AafPush aaf{s.aaf.mu, s.aaf.alpha, m->desc.scene.extent, s.seed, s.method == Method::AafAo ? 1u : 0u,
                      aafSampleBudget(*m, in.frameIndex), s.maxBounces, s.russianRouletteStart, s.aaf.uniformSamples, 0, 0, 0};
-    beginPass(*m, cmd, slot, "aaf_sample");
-    engine::dispatch(cmd, m->aafSample, sets, size, aaf);
-    computeToComputeBarrier(cmd);
-    endPass(*m, cmd, slot);
-    beginPass(*m, cmd, slot, "aaf_adaptive");
-    engine::dispatch(cmd, m->aafAdaptive, sets, size, aaf);
-    computeToComputeBarrier(cmd);
-    endPass(*m, cmd, slot);
+    runPassWith(*m, cmd, slot, "aaf_sample", m->aafSample, sets, size, aaf);
+    runPassWith(*m, cmd, slot, "aaf_adaptive", m->aafAdaptive, sets, size, aaf);
   } else if (s.method == Method::Hpsf) {
     spp = samplesWithinBudget(*m, tracedSamplesPerPixel(s), in.frameIndex);
     const HpsfSettings& h = s.hpsf;
@@ -345,47 +362,32 @@ void recordFrame(Module* m, VkCommandBuffer cmd, const FrameInputs& in) {
     VkDescriptorSet hashSets[] = {m->desc.scene.set, m->frameSet.set, m->hash.set.set};
     recordHashGridFrameStart(cmd, m->hash);
     // Pass: paths from the G-buffer; their indirect radiance goes into the filter vertex's cell.
-    beginPass(*m, cmd, slot, "hpsf_insert");
-    engine::dispatch(cmd, m->hash.insert, hashSets, size, push);
-    computeToComputeBarrier(cmd);
-    endPass(*m, cmd, slot);
+    runPassWith(*m, cmd, slot, "hpsf_insert", m->hash.insert, hashSets, size, push);
     // Pass: fold the frame's sums into each cell's history; evict stale cells.
-    beginPass(*m, cmd, slot, "hpsf_resolve");
-    engine::dispatch(cmd, m->hash.resolve, hashSets, {m->hash.capacity, 1}, push);
-    computeToComputeBarrier(cmd);
-    endPass(*m, cmd, slot);
+    runPassWith(*m, cmd, slot, "hpsf_resolve", m->hash.resolve, hashSets, {m->hash.capacity, 1}, push);
     // Pass: each pixel reads its cell (or keeps its own sample).
-    beginPass(*m, cmd, slot, "hpsf_lookup");
-    engine::dispatch(cmd, m->hash.lookup, hashSets, size, push);
-    computeToComputeBarrier(cmd);
-    endPass(*m, cmd, slot);
+    runPassWith(*m, cmd, slot, "hpsf_lookup", m->hash.lookup, hashSets, size, push);
     recordHashGridTelemetryCopy(cmd, m->hash, slot);
   } else {
     spp = samplesWithinBudget(*m, tracedSamplesPerPixel(s), in.frameIndex);
     // Pass: trace paths from the G-buffer (direct + demodulated indirect, optional temporal mean).
-    beginPass(*m, cmd, slot, "raw_trace");
     gpu::GiRawPush raw{s.seed, spp, s.maxBounces, s.russianRouletteStart,
                        m->historyLength, s.raw.maxAccumulatedFrames, accumulate ? 1u : 0u, 0};
-    engine::dispatch(cmd, m->rawTrace, sets, size, raw);
-    computeToComputeBarrier(cmd);
-    endPass(*m, cmd, slot);
+    runPassWith(*m, cmd, slot, "raw_trace", m->rawTrace, sets, size, raw);
   }
 
   if (usesScreenFilters(s.method)) {
     // Pass: the filters' guidance (normal, scaled depth) and world positions from the G-buffer.
-    beginPass(*m, cmd, slot, "guidance");
-    engine::dispatch(cmd, m->guidancePass, sets, size, nullptr, 0);
-    computeToComputeBarrier(cmd);
-    endPass(*m, cmd, slot);
+    runPass(*m, cmd, slot, "guidance", m->guidancePass, sets, size, nullptr, 0);
     // Passes: the chosen filter, noisy indirect → indirect.
     PassHooks hooks = passHooks(*m, slot);
     if (s.method == Method::Sspsf) {
       const SspsfSettings& ss = s.sspsf;
       recordSspsf(cmd, m->filters,
-                  {ss.window, ss.filterWidth, pixelScale(in.camera), std::cos(ss.normalLimitDegrees * 3.14159265f / 180.0f)},
+                  {ss.window, ss.filterWidth, pixelScale(in.camera), cosDegrees(ss.normalLimitDegrees)},
                   hooks);
     } else if (isAaf(s.method)) {
-      recordAafFilter(cmd, m->filters, std::cos(s.aaf.normalLimitDegrees * 3.14159265f / 180.0f), pixelScale(in.camera), hooks);
+      recordAafFilter(cmd, m->filters, cosDegrees(s.aaf.normalLimitDegrees), pixelScale(in.camera), hooks);
     } else if (s.method == Method::Gif) {
       GuidedFilterParams gif{s.gif.radius, s.gif.epsilonNormal, s.gif.epsilonDepth, s.gif.guidanceDimensions,
                              s.debugView == DebugView::GifCoefficients};
@@ -400,19 +402,13 @@ void recordFrame(Module* m, VkCommandBuffer cmd, const FrameInputs& in) {
   }
 
   // Pass: composite (or the chosen debug view).
-  beginPass(*m, cmd, slot, "composite");
   gpu::GiCompositePush composite{uint32_t(s.debugView), s.method == Method::AafAo ? 1u : 0u, m->desc.scene.extent,
                                  pixelScale(in.camera)};
-  engine::dispatch(cmd, m->composite_, sets, size, composite);
-  computeToComputeBarrier(cmd);
-  endPass(*m, cmd, slot);
+  runPassWith(*m, cmd, slot, "composite", m->composite_, sets, size, composite);
 
   if (s.method == Method::Gif && s.gif.supersamples > 0 && s.debugView == DebugView::None) {
     // Pass: extra eye rays with their own direct light and geometry-aware indirect lookup.
-    beginPass(*m, cmd, slot, "gif_supersample");
-    engine::dispatch(cmd, m->supersample, sets, size, gpu::GiSupersamplePush{s.seed, s.gif.supersamples});
-    computeToComputeBarrier(cmd);
-    endPass(*m, cmd, slot);
+    runPassWith(*m, cmd, slot, "gif_supersample", m->supersample, sets, size, gpu::GiSupersamplePush{s.seed, s.gif.supersamples});
   }
   engine::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                         VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
@@ -447,8 +443,7 @@ FrameStats stats(Module* m) {
       st.passes.push_back({m->passNames[slot][i], ms});
       st.totalMs += ms;
     }
-    gpu::GiCounters c;
-    std::memcpy(&c, static_cast<const std::byte*>(m->counters.mapped) + sizeof(gpu::GiCounters) * (1 + slot), sizeof(c));
+    gpu::GiCounters c = slotCounters(*m, slot);
     st.raysTraced = c.raysTraced;
     st.sanitized = c.sanitized;
     st.accumulatedFrames = m->slotHistory[slot];

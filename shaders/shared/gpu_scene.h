@@ -105,7 +105,7 @@ struct GpuSceneConstants {
   float emissiveTotalPower;    // Σ area × luminance(emission), used for light pdfs
   float sceneExtent;           // largest dimension of the scene bounds, metres
   vec3 boundsMin;
-  float rayEpsilon;            // metres: offset for secondary ray origins, scaled to the scene
+  float pad1;                  // (secondary rays offset by ULPs, giOffsetRay: no scene-scaled epsilon)
   vec3 boundsMax;
   float pad0;
 };
