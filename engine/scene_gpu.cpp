@@ -135,7 +135,10 @@ void createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu) {
     materials.push_back(g);
   }
   gpu.materials = upload(ctx, materials, kStorage);
-  for (const Material& m : scene.materials) gpu.hasAlphaMask |= m.alphaMode == AlphaMode::Mask;
+  for (const Material& m : scene.materials) {
+    gpu.hasAlphaMask |= m.alphaMode == AlphaMode::Mask;
+    gpu.hasGlossyMaterials |= m.needsGlossyLobe();
+  }
 
   std::vector<gpu::GpuInstance> instances = gpuInstances(scene, {});
   gpu.instances = createBuffer(ctx, instances.size() * sizeof(gpu::GpuInstance), kStorage, MemoryKind::HostVisible);

@@ -29,6 +29,7 @@ struct SceneGpu {
   bool hasEmissiveTriangles() const { return sceneConstants.emissiveTriangleCount > 0; }
   bool hasPunctualLights() const { return sceneConstants.punctualLightCount > 0; }
   bool hasAlphaMask = false;  // some material uses alphaMode MASK
+  bool hasGlossyMaterials = false;  // some material has a GGX lobe (MATERIAL_FLAG_GLOSSY)
 
   // Values for the SCENE_SPEC_* specialisation constants.
   std::array<uint32_t, SCENE_SPEC_COUNT> specialization() const {

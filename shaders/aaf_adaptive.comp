@@ -1,7 +1,8 @@
 #version 460
 // Axis-aligned filtering, pass 2: the remaining n − 16 samples per pixel,
 // scaled down uniformly when the frame's sample budget is smaller than what
-// pass 1 asked for. Writes the noisy demodulated indirect (the filter's input).
+// pass 1 asked for. Writes the noisy demodulated indirect (the filter's
+// input) and, on glossy receivers, the mean specular terms (filtered in place).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #include "aaf.glsl"
@@ -15,9 +16,15 @@ void main() {
   if (inside) {
     vec4 params = imageLoad(giAafParams, p);
     vec4 sum = imageLoad(giAafSum, p);
+    vec4 glossy = vec4(0.0), edge = vec4(0.0);
+    if (pc.glossy != 0u) {
+      glossy = imageLoad(giAafGlossy, p);
+      edge = imageLoad(giAafGlossyEdge, p);
+    }
     if (sum.a > 0.0) {
       vec3 V;
       GiSurface s = giGbSurface(p, V);
+      GiBsdf b = giMakeBsdf(s.material.baseColor, s.material.metallic, s.material.roughness, s.material.flags);
       GiRng rng = giRngCreate(uvec2(p), giFrame.frameIndex, pc.seed ^ 0x68bc21ebu, GI_STREAM_AAF);
       float extra = max(params.z - float(AAF_INITIAL_SAMPLES), 0.0);
       if (pc.sampleBudget > 0u) {
@@ -28,17 +35,25 @@ void main() {
         extra = floor(extra * scale + giRandom(rng));  // unbiased rounding of the scaled count
       }
       for (uint i = 0u; i < uint(extra); ++i) {
-        float t;
-        sum.rgb += aafSample(s, giRandom2(rng), rng, t);
+        vec2 u = giRandom2(rng);
+        AafSample r = aafSample(s, b, V, vec3(u, aafLobeChoice(b, rng)), rng);
+        sum.rgb += r.diffuse;
+        glossy.rgb += r.specular;
+        edge.rgb += r.specularEdge;
       }
       sum.a += float(uint(extra));
       params.z = sum.a;
       traced = uint(sum.a);
       imageStore(giAafParams, p, params);
     }
-    vec3 indirect = sum.a > 0.0 ? sum.rgb / sum.a : vec3(0.0);
+    float inv = sum.a > 0.0 ? 1.0 / sum.a : 0.0;
+    vec3 indirect = sum.rgb * inv;
     imageStore(giNoisyIndirect, p, vec4(indirect, 1.0));
     imageStore(giOutIndirect, p, vec4(indirect, 1.0));
+    if (pc.glossy != 0u) {
+      imageStore(giAafGlossy, p, vec4(glossy.rgb * inv, glossy.a));
+      imageStore(giAafGlossyEdge, p, vec4(edge.rgb * inv, edge.a));
+    }
   }
   uint total = subgroupAdd(traced);
   if (subgroupElect()) atomicAdd(giCounters.tracedSamples, total);

@@ -2,7 +2,10 @@
 // Axis-aligned filtering, pass 3 (Mehta et al. 2013 §5): a separable
 // screen-space Gaussian whose σ is the centre pixel's world-space β, weighted
 // by world distance, rejecting neighbours whose normals differ by more than
-// the limit angle. Rows: input → temp; columns: temp → output.
+// the limit angle, and neighbours without a β of their own (another receiver
+// class: the glossy term is filtered only among glossy receivers).
+// Rows: input → temp (β carried in temp.a); columns: temp → output. The
+// columns pass reads β only from temp, so output may be the input image.
 #extension GL_GOOGLE_include_directive : require
 #include "filters.glsl"
 #include "shared/aaf.h"
@@ -17,7 +20,7 @@ void main() {
   vec4 centre = imageLoad(filterPosition, p);
   vec4 source = pc.vertical == 0u ? imageLoad(filterInput, p) : imageLoad(filterTemp, p);
   vec3 result = source.rgb;
-  float beta = imageLoad(filterParams, p).w;
+  float beta = pc.vertical == 0u ? imageLoad(filterParams, p).w : source.w;
   if (centre.w > 0.0 && beta > 0.0) {
     vec3 n = imageLoad(filterGuidance, p).xyz * 2.0 - 1.0;
     float pixel = centre.w * pc.pixelScale;
@@ -31,15 +34,17 @@ void main() {
       if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) continue;
       vec4 x = imageLoad(filterPosition, q);
       if (x.w <= 0.0) continue;
+      vec4 v = pc.vertical == 0u ? imageLoad(filterInput, q) : imageLoad(filterTemp, q);
+      if ((pc.vertical == 0u ? imageLoad(filterParams, q).w : v.w) <= 0.0) continue;
       vec3 nq = imageLoad(filterGuidance, q).xyz * 2.0 - 1.0;
       if (dot(n, nq) < pc.cosNormalLimit * length(n) * length(nq)) continue;
       vec3 d = x.xyz - centre.xyz;
       float w = exp(-dot(d, d) * inv);
-      sum += w * (pc.vertical == 0u ? imageLoad(filterInput, q).rgb : imageLoad(filterTemp, q).rgb);
+      sum += w * v.rgb;
       weightSum += w;
     }
     result = weightSum > 0.0 ? sum / weightSum : source.rgb;
   }
-  if (pc.vertical == 0u) imageStore(filterTemp, p, vec4(result, 1.0));
+  if (pc.vertical == 0u) imageStore(filterTemp, p, vec4(result, beta));
   else imageStore(filterOutput, p, vec4(result, 1.0));
 }

@@ -1,8 +1,10 @@
 #version 460
 // Axis-aligned filtering, pass 1 (Mehta et al. 2013 §5): 16 stratified
-// cosine rays per pixel give z_min and z_max and the first 16 radiance
-// samples; direct light is computed here too. From them: the filter's world
-// σ β (eqs. 15–16) and the sample count n (eq. 21), clamped as in the paper.
+// rays per pixel give z_min and z_max and the first 16 radiance samples;
+// direct light is computed here too. From them: the filter's world σ β
+// (eqs. 15–16) and the sample count n (eq. 21), clamped as in the paper.
+// Glossy receivers also get β for their specular lobe's band limit (eq. 18
+// with the Blinn-Phong exponent of their GGX lobe), and n covers both lobes.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #include "aaf.glsl"
@@ -14,7 +16,7 @@ void main() {
   bool inside = all(lessThan(gl_GlobalInvocationID.xy, giFrame.size));
   uint requested = 0u;
   if (inside) {
-    vec4 params = vec4(0.0), sum = vec4(0.0);
+    vec4 params = vec4(0.0), sum = vec4(0.0), glossy = vec4(0.0), edge = vec4(0.0);
     vec3 direct = vec3(0.0);
     if (giGbCoveredCounting(p)) {
       vec3 V;
@@ -25,12 +27,14 @@ void main() {
       if (pc.ambientOcclusion == 0u) direct += giDirectLight(s, b, V, false, rng);
       float zMin = GI_FLT_MAX, zMax = 0.0;
       for (uint i = 0u; i < AAF_INITIAL_SAMPLES; ++i) {
-        vec2 u = (vec2(float(i % 4u), float(i / 4u)) + giRandom2(rng)) * 0.25;  // 4×4 strata
-        float t;
-        sum.rgb += aafSample(s, u, rng, t);
-        if (t >= 0.0) {
-          zMin = min(zMin, t);
-          zMax = max(zMax, t);
+        vec2 stratum = (vec2(float(i % 4u), float(i / 4u)) + giRandom2(rng)) * 0.25;  // 4×4 strata
+        AafSample r = aafSample(s, b, V, vec3(stratum, aafLobeChoice(b, rng)), rng);
+        sum.rgb += r.diffuse;
+        glossy.rgb += r.specular;
+        edge.rgb += r.specularEdge;
+        if (r.hitDistance >= 0.0) {
+          zMin = min(zMin, r.hitDistance);
+          zMax = max(zMax, r.hitDistance);
         }
       }
       sum.a = float(AAF_INITIAL_SAMPLES);
@@ -41,12 +45,22 @@ void main() {
       float d = imageLoad(giGbViewZ, p).r * 2.0 * giFrame.camera.tanHalfFovY / giFrame.camera.imageSize.y;
       float n = pc.uniformSamples > 0u ? float(pc.uniformSamples)
                                        : aafSamples(pc.mu, AAF_OMEGA_DIFFUSE, AAF_GAMMA_DIFFUSE, zMin, zMax, pc.alpha, d);
+      if (aafGlossyReceiver(b)) {
+        float m = aafPhongExponent(b.alpha);
+        float omega = aafOmegaGlossy(m);
+        if (pc.uniformSamples == 0u) n = max(n, aafSamples(pc.mu, omega, aafGammaGlossy(m), zMin, zMax, pc.alpha, d));
+        glossy.a = edge.a = aafBeta(pc.mu, omega, zMin, pc.alpha, d);
+      }
       params = vec4(zMin, zMax, n, aafBeta(pc.mu, AAF_OMEGA_DIFFUSE, zMin, pc.alpha, d));
       requested = uint(n);
     }
     imageStore(giOutDirect, p, vec4(direct, 1.0));
     imageStore(giAafParams, p, params);
     imageStore(giAafSum, p, sum);
+    if (pc.glossy != 0u) {
+      imageStore(giAafGlossy, p, glossy);
+      imageStore(giAafGlossyEdge, p, edge);
+    }
   }
   uint total = subgroupAdd(requested);
   if (subgroupElect()) atomicAdd(giCounters.requestedSamples, total);

@@ -43,20 +43,28 @@ float giGgxVis(float nl, float nv, float a2) {
   return 0.5 / max(gv + gl, 1e-12);
 }
 
-vec3 giFresnel(vec3 f0, float vh) { return f0 + (1.0 - f0) * pow(1.0 - clamp(vh, 0.0, 1.0), 5.0); }
+// The GGX lobe without its Fresnel factor, D·Vis·cos(N, L), and Schlick's
+// weight s = (1 − V·H)^5. With F = f0 + (1 − f0)·s the lobe is
+// f0·(1 − s)·lobe + s·lobe: linear in f0, so a filter can keep f0 out of the
+// radiance it averages and multiply it back afterwards.
+float giSpecularLobe(GiBsdf b, vec3 N, vec3 V, vec3 L, out float schlick) {
+  float nl = dot(N, L);
+  schlick = 0.0;
+  if (nl <= 0.0 || b.specularProbability <= 0.0) return 0.0;
+  float nv = max(dot(N, V), 1e-6);
+  vec3 H = normalize(V + L);
+  float a2 = b.alpha * b.alpha;
+  schlick = pow(1.0 - clamp(dot(V, H), 0.0, 1.0), 5.0);
+  return giGgxD(max(dot(N, H), 0.0), a2) * giGgxVis(nl, nv, a2) * nl;
+}
 
 // f(V, L) · cos(N, L).
 vec3 giBsdfEval(GiBsdf b, vec3 N, vec3 V, vec3 L) {
   float nl = dot(N, L);
   if (nl <= 0.0) return vec3(0.0);
-  vec3 f = b.diffuse * GI_INV_PI;
-  if (b.specularProbability > 0.0) {
-    float nv = max(dot(N, V), 1e-6);
-    vec3 H = normalize(V + L);
-    float a2 = b.alpha * b.alpha;
-    f += giGgxD(max(dot(N, H), 0.0), a2) * giGgxVis(nl, nv, a2) * giFresnel(b.f0, dot(V, H));
-  }
-  return f * nl;
+  float schlick;
+  float lobe = giSpecularLobe(b, N, V, L, schlick);
+  return b.diffuse * (GI_INV_PI * nl) + lobe * (b.f0 + (1.0 - b.f0) * schlick);
 }
 
 // Solid-angle density of giBsdfSample choosing L.

@@ -1,6 +1,6 @@
 #version 460
 // The module's last pass: direct + diffuse albedo × demodulated indirect, or
-// the debug view the settings pick.
+// the debug view the settings pick. AAF adds its glossy receivers' specular term.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #include "gi_frame.glsl"
@@ -52,6 +52,9 @@ void main() {
       // aaf_ao: the indirect image holds occlusion (reflectors radiate 1); AO = 1 − occlusion.
       result = pc.ambientOcclusion != 0u ? vec3(1.0) - clamp(indirect, 0.0, 1.0)
                                          : direct + giGbDiffuseAlbedo(p) * max(indirect, vec3(0.0));
+      // AAF on glossy receivers: f0 applied after filtering (bsdf.glsl's split of Schlick's Fresnel).
+      if (pc.aafSpecular != 0u && pc.ambientOcclusion == 0u)
+        result += max(giGbSpecularF0(p) * imageLoad(giAafGlossy, p).rgb + imageLoad(giAafGlossyEdge, p).rgb, vec3(0.0));
       break;
   }
   imageStore(giOutComposite, p, vec4(result, 1.0));

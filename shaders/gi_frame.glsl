@@ -25,6 +25,8 @@ layout(set = 1, binding = GI_BINDING_POSITION, rgba32f) uniform image2D giPositi
 layout(set = 1, binding = GI_BINDING_DEBUG, rgba32f) uniform image2D giDebug;
 layout(set = 1, binding = GI_BINDING_AAF_PARAMS, rgba32f) uniform image2D giAafParams;
 layout(set = 1, binding = GI_BINDING_AAF_SUM, rgba32f) uniform image2D giAafSum;
+layout(set = 1, binding = GI_BINDING_AAF_GLOSSY, rgba32f) uniform image2D giAafGlossy;
+layout(set = 1, binding = GI_BINDING_AAF_GLOSSY_EDGE, rgba32f) uniform image2D giAafGlossyEdge;
 
 // True where the G-buffer holds geometry.
 bool giGbCoveredRaw(ivec2 p) { return imageLoad(giGbNormal, p).w > 0.5; }
@@ -86,6 +88,13 @@ vec3 giGbDiffuseAlbedo(ivec2 p) {
   vec4 albedo = imageLoad(giGbAlbedo, p);
   float metallic = albedo.a > 0.5 ? imageLoad(giGbMaterial, p).g : 0.0;
   return (1.0 - metallic) * albedo.rgb;
+}
+
+// f0 of the glossy lobe (0 where the pixel has none): multiplies AAF's filtered specular term.
+vec3 giGbSpecularF0(ivec2 p) {
+  if (!giGbCovered(p)) return vec3(0.0);
+  vec4 albedo = imageLoad(giGbAlbedo, p);
+  return albedo.a > 0.5 ? mix(vec3(0.04), albedo.rgb, imageLoad(giGbMaterial, p).g) : vec3(0.0);
 }
 
 void giCountRays(bool counted) {

@@ -35,7 +35,7 @@ class AafFilterTest : public GpuTest {
     engine::uploadImage(ctx, images[index], rgba.data(), rgba.size() * 4, VK_IMAGE_LAYOUT_GENERAL);
   }
   std::vector<float> filter(float cosLimit) {
-    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { gi::recordAafFilter(cmd, filters, cosLimit, kPixel, {}); });
+    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { gi::recordAafFilter(cmd, filters, filters.set.set, "test", cosLimit, kPixel, {}); });
     std::vector<std::byte> raw = engine::readbackImage(ctx, images[3], VK_IMAGE_LAYOUT_GENERAL, 16);
     std::vector<float> out(size_t(W) * H);
     for (size_t p = 0; p < out.size(); ++p) std::memcpy(&out[p], &raw[16 * p], 4);  // red channel

@@ -40,4 +40,14 @@ TEST(AafMath, ZMinClampAndGlossyBandLimit) {
   EXPECT_NEAR(gpu::aafOmegaGlossy(20.0f), 3.6f + 1.68f, 1e-5f);
   EXPECT_NEAR(gpu::aafGammaGlossy(20.0f), 0.118f, 0.001f);  // the paper rounds it to 0.11
   EXPECT_GT(gpu::aafOmegaGlossy(100.0f), gpu::aafOmegaGlossy(20.0f));
+  // GGX α → Blinn-Phong m = 2/α² − 2 (Walter et al. 2007): α = 0.5 gives m = 6; α = 1 would give 0, clamped to 1.
+  EXPECT_FLOAT_EQ(gpu::aafPhongExponent(0.5f), 6.0f);
+  EXPECT_FLOAT_EQ(gpu::aafPhongExponent(1.0f), 1.0f);
+  // A glossy receiver's band limit is wider than a diffuse one's, so its β is narrower
+  // (roughness 0.5 → α = 0.25 → m = 30 → Ω = 6.12, β = 2·z_min/(μ·Ω) where z_min limits).
+  float m = gpu::aafPhongExponent(0.25f);
+  EXPECT_FLOAT_EQ(m, 30.0f);
+  EXPECT_NEAR(gpu::aafBeta(1.0f, gpu::aafOmegaGlossy(m), 0.5f, 0.3f, 0.001f), 2.0f * 0.5f / 6.12f, 1e-5f);
+  EXPECT_LT(gpu::aafBeta(1.0f, gpu::aafOmegaGlossy(m), 0.5f, 0.3f, 0.001f),
+            gpu::aafBeta(1.0f, AAF_OMEGA_DIFFUSE, 0.5f, 0.3f, 0.001f));
 }

@@ -15,7 +15,7 @@ TEST_F(ModuleTest, CreateRejectsImpossibleValuesWithNamedErrors) {
   desc.device = ctx.device;
   desc.width = 16;
   desc.height = 16;
-  desc.scene = {s.gpu.set.layout, s.gpu.set.set, s.gpu.hasEmissiveTriangles(), s.gpu.hasPunctualLights(), s.gpu.hasAlphaMask};
+  desc.scene = tools::sceneDesc(s.gpu);
   gi::Module* m = nullptr;
   struct Case {
     const char* what;

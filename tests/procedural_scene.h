@@ -17,6 +17,8 @@ struct Quad {
   glm::vec3 corner[4];  // counter-clockwise seen from the side the normal points to
   glm::vec3 albedo{0.5f};
   glm::vec3 emission{0.0f};
+  float roughness = 1.0f;  // below 0.9 (or metallic > 0) the material gets a GGX lobe
+  float metallic = 0.0f;
 };
 
 struct PointLight {
@@ -78,7 +80,7 @@ inline std::string write(const Description& d, const std::string& name) {
     accessors.push_back({{"bufferView", v0 + 1}, {"componentType", 5126}, {"count", 4}, {"type", "VEC3"}});
     accessors.push_back({{"bufferView", v0 + 2}, {"componentType", 5125}, {"count", 6}, {"type", "SCALAR"}});
     nlohmann::json mat = {{"pbrMetallicRoughness",
-                           {{"baseColorFactor", {q.albedo.x, q.albedo.y, q.albedo.z, 1.0}}, {"metallicFactor", 0.0}, {"roughnessFactor", 1.0}}}};
+                           {{"baseColorFactor", {q.albedo.x, q.albedo.y, q.albedo.z, 1.0}}, {"metallicFactor", q.metallic}, {"roughnessFactor", q.roughness}}}};
     float e = std::max(q.emission.x, std::max(q.emission.y, q.emission.z));
     if (e > 0.0f) {
       mat["emissiveFactor"] = {q.emission.x / e, q.emission.y / e, q.emission.z / e};

@@ -18,6 +18,11 @@ engine::FloatImage readRgba32(const engine::Context& ctx, VkImage image, VkExten
 
 }  // namespace
 
+gi::SceneDesc sceneDesc(const engine::SceneGpu& scene) {
+  return {scene.set.layout,    scene.set.set, scene.hasEmissiveTriangles(), scene.hasPunctualLights(),
+          scene.hasAlphaMask,  scene.sceneConstants.sceneExtent, scene.hasGlossyMaterials};
+}
+
 bool createModuleSession(const engine::Context& ctx, const engine::SceneGpu& scene, VkExtent2D extent,
                          const gi::Settings& settings, ModuleSession& s, std::string& error) {
   gi::ModuleDesc desc;
@@ -26,8 +31,7 @@ bool createModuleSession(const engine::Context& ctx, const engine::SceneGpu& sce
   desc.device = ctx.device;
   desc.width = extent.width;
   desc.height = extent.height;
-  desc.scene = {scene.set.layout, scene.set.set, scene.hasEmissiveTriangles(), scene.hasPunctualLights(), scene.hasAlphaMask,
-                scene.sceneConstants.sceneExtent};
+  desc.scene = sceneDesc(scene);
   desc.debugLabels = ctx.debugUtils;
   if (gi::Error e = gi::create(desc, settings, s.module)) {
     error = e.message;

@@ -25,6 +25,8 @@ struct FrameTiming {
   uint64_t rays = 0;
 };
 
+// What the module needs to know about a loaded scene.
+gi::SceneDesc sceneDesc(const engine::SceneGpu& scene);
 bool createModuleSession(const engine::Context& ctx, const engine::SceneGpu& scene, VkExtent2D extent,
                          const gi::Settings& settings, ModuleSession& session, std::string& error);
 void destroyModuleSession(const engine::Context& ctx, ModuleSession& session);

@@ -42,6 +42,8 @@ const engine::Binding kFrameBindings[] = {
     {gpu::GI_BINDING_DEBUG, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
     {gpu::GI_BINDING_AAF_PARAMS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
     {gpu::GI_BINDING_AAF_SUM, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_AAF_GLOSSY, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_AAF_GLOSSY_EDGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
 };
 
 // The SCENE_SPEC_* specialisation values for this module's scene.
@@ -65,8 +67,8 @@ Error checkDesc(const ModuleDesc& d) {
   return {};
 }
 
-engine::Image outputImage(Module& m) {
-  engine::Image img = engine::createImage(m.ctx, {m.desc.width, m.desc.height}, kOutputFormat,
+engine::Image outputImage(Module& m, VkExtent2D extent) {
+  engine::Image img = engine::createImage(m.ctx, extent, kOutputFormat,
                                           VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
                                               VK_IMAGE_USAGE_SAMPLED_BIT);
   m.memoryBytes += img.allocationSize;
@@ -76,9 +78,12 @@ engine::Image outputImage(Module& m) {
 engine::Image* ownedImages(Module& m, size_t i) {
   engine::Image* all[] = {&m.direct,        &m.indirect, &m.composite, &m.historyDirect, &m.historyIndirect,
                           &m.noisyIndirect, &m.guidance, &m.position,  &m.debug,         &m.aafParams,
-                          &m.aafSum};
+                          &m.aafSum,        &m.aafGlossy, &m.aafGlossyEdge};
   return i < std::size(all) ? all[i] : nullptr;
 }
+
+// AAF's separate specular term runs only for aaf on a scene with glossy materials.
+bool aafSpecular(const Module& m) { return m.settings.method == Method::Aaf && m.desc.scene.hasGlossyMaterials; }
 
 // Filter images (several MB) exist only once a filter method has been chosen.
 void ensureFilters(Module& m) {
@@ -87,6 +92,13 @@ void ensureFilters(Module& m) {
     m.filters = createScreenFilters(m.ctx, m.desc.width, m.desc.height,
                                     {m.guidance.view, m.position.view, m.noisyIndirect.view, m.indirect.view, m.debug.view,
                                      m.aafParams.view});
+  if (aafSpecular(m) && !m.filters.aafGlossySets[0].set) {
+    // The glossy terms are filtered in place: β in their alpha, the filter's temp image shared.
+    engine::Image* terms[] = {&m.aafGlossy, &m.aafGlossyEdge};
+    for (int i = 0; i < 2; ++i)
+      m.filters.aafGlossySets[i] = createFilterSet(
+          m.ctx, {m.guidance.view, m.position.view, terms[i]->view, terms[i]->view, m.debug.view, terms[i]->view});
+  }
   if (m.settings.method == Method::Gif && !m.filters.a[0].image) {
     uint64_t before = m.filters.memoryBytes;
     ensureGuidedStack(m.ctx, m.filters);
@@ -232,7 +244,10 @@ Error create(const ModuleDesc& desc, const Settings& settings, Module*& out) {
   vkGetPhysicalDeviceProperties(desc.physicalDevice, &m->ctx.properties);
   vkGetPhysicalDeviceMemoryProperties(desc.physicalDevice, &m->ctx.memoryProperties);
 
-  for (size_t i = 0; engine::Image* img = ownedImages(*m, i); ++i) *img = outputImage(*m);
+  for (size_t i = 0; engine::Image* img = ownedImages(*m, i); ++i) {
+    bool unused = (img == &m->aafGlossy || img == &m->aafGlossyEdge) && !desc.scene.hasGlossyMaterials;
+    *img = outputImage(*m, unused ? VkExtent2D{1, 1} : VkExtent2D{desc.width, desc.height});
+  }
   m->frameConstants = engine::createBuffer(m->ctx, sizeof(gpu::GiFrameConstants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                                            engine::MemoryKind::HostVisible);
   m->counters = engine::createBuffer(m->ctx, sizeof(gpu::GiCounters) * (1 + kFramesInFlight),
@@ -255,7 +270,9 @@ Error create(const ModuleDesc& desc, const Settings& settings, Module*& out) {
       .storageImage(gpu::GI_BINDING_POSITION, m->position.view)
       .storageImage(gpu::GI_BINDING_DEBUG, m->debug.view)
       .storageImage(gpu::GI_BINDING_AAF_PARAMS, m->aafParams.view)
-      .storageImage(gpu::GI_BINDING_AAF_SUM, m->aafSum.view);
+      .storageImage(gpu::GI_BINDING_AAF_SUM, m->aafSum.view)
+      .storageImage(gpu::GI_BINDING_AAF_GLOSSY, m->aafGlossy.view)
+      .storageImage(gpu::GI_BINDING_AAF_GLOSSY_EDGE, m->aafGlossyEdge.view);
   // The shaders' live counter is the first GiCounters; the others are per-slot copies for readback.
   w.buffer(gpu::GI_BINDING_COUNTERS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, m->counters.buffer);
   w.write(m->ctx);
@@ -349,7 +366,8 @@ void recordFrame(Module* m, VkCommandBuffer cmd, const FrameInputs& in) {
   if (isAaf(s.method)) {
     // Passes: 16 stratified rays give reflector distances, β and n per pixel; then the remaining n − 16.
     gpu::AafPush aaf{s.aaf.mu, s.aaf.alpha, m->desc.scene.extent, s.seed, s.method == Method::AafAo ? 1u : 0u,
-                     aafSampleBudget(*m, in.frameIndex), s.maxBounces, s.russianRouletteStart, s.aaf.uniformSamples, 0, 0, 0};
+                     aafSampleBudget(*m, in.frameIndex), s.maxBounces, s.russianRouletteStart, s.aaf.uniformSamples,
+                     aafSpecular(*m) ? 1u : 0u, 0, 0};
     runPassWith(*m, cmd, slot, "aaf_sample", m->aafSample, sets, size, aaf);
     runPassWith(*m, cmd, slot, "aaf_adaptive", m->aafAdaptive, sets, size, aaf);
   } else if (s.method == Method::Hpsf) {
@@ -387,7 +405,12 @@ void recordFrame(Module* m, VkCommandBuffer cmd, const FrameInputs& in) {
                   {ss.window, ss.filterWidth, pixelScale(in.camera), cosDegrees(ss.normalLimitDegrees)},
                   hooks);
     } else if (isAaf(s.method)) {
-      recordAafFilter(cmd, m->filters, cosDegrees(s.aaf.normalLimitDegrees), pixelScale(in.camera), hooks);
+      float cosLimit = cosDegrees(s.aaf.normalLimitDegrees);
+      recordAafFilter(cmd, m->filters, m->filters.set.set, "diffuse", cosLimit, pixelScale(in.camera), hooks);
+      if (aafSpecular(*m)) {  // glossy receivers: their specular terms, with the glossy β
+        recordAafFilter(cmd, m->filters, m->filters.aafGlossySets[0].set, "glossy", cosLimit, pixelScale(in.camera), hooks);
+        recordAafFilter(cmd, m->filters, m->filters.aafGlossySets[1].set, "glossy_edge", cosLimit, pixelScale(in.camera), hooks);
+      }
     } else if (s.method == Method::Gif) {
       GuidedFilterParams gif{s.gif.radius, s.gif.epsilonNormal, s.gif.epsilonDepth, s.gif.guidanceDimensions,
                              s.debugView == DebugView::GifCoefficients};
@@ -403,7 +426,7 @@ void recordFrame(Module* m, VkCommandBuffer cmd, const FrameInputs& in) {
 
   // Pass: composite (or the chosen debug view).
   gpu::GiCompositePush composite{uint32_t(s.debugView), s.method == Method::AafAo ? 1u : 0u, m->desc.scene.extent,
-                                 pixelScale(in.camera)};
+                                 pixelScale(in.camera), aafSpecular(*m) ? 1u : 0u, 0, 0, 0};
   runPassWith(*m, cmd, slot, "composite", m->composite_, sets, size, composite);
 
   if (s.method == Method::Gif && s.gif.supersamples > 0 && s.debugView == DebugView::None) {

@@ -24,6 +24,7 @@ struct Module {
   engine::Image noisyIndirect;                     // demodulated indirect before filtering
   engine::Image guidance, position, debug;         // filter guidance, world position, filter debug/temp
   engine::Image aafParams, aafSum;                 // AAF per-pixel z_min, z_max, samples, β; sample sums
+  engine::Image aafGlossy, aafGlossyEdge;          // AAF specular terms (1×1 unless the scene has glossy materials)
   ScreenFilters filters;                           // created on first use of a filter method
   HashGrid hash;                                   // created on first use of hpsf; persists across frames
   engine::Buffer frameConstants;                   // host-visible GiFrameConstants

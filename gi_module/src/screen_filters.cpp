@@ -1,6 +1,7 @@
 #include "screen_filters.h"
 
 #include <cstdint>
+#include <string>
 
 #include "aaf_filter.comp.h"
 #include "atrous.comp.h"
@@ -23,12 +24,18 @@ void publish(VkCommandBuffer cmd) {
 
 // One pass: hooks around a dispatch and the barrier that publishes it.
 template <typename Push>
-void pass(VkCommandBuffer cmd, const ScreenFilters& f, const PassHooks& hooks, const char* name,
-          const engine::ComputeProgram& program, glm::uvec2 threads, const Push& push) {
+void passOn(VkCommandBuffer cmd, VkDescriptorSet set, const PassHooks& hooks, const char* name,
+            const engine::ComputeProgram& program, glm::uvec2 threads, const Push& push) {
   if (hooks.begin) hooks.begin(cmd, name);
-  engine::dispatch(cmd, program, std::span(&f.set.set, 1), threads, push);
+  engine::dispatch(cmd, program, std::span(&set, 1), threads, push);
   publish(cmd);
   if (hooks.end) hooks.end(cmd);
+}
+
+template <typename Push>
+void pass(VkCommandBuffer cmd, const ScreenFilters& f, const PassHooks& hooks, const char* name,
+          const engine::ComputeProgram& program, glm::uvec2 threads, const Push& push) {
+  passOn(cmd, f.set.set, hooks, name, program, threads, push);
 }
 
 void ensureInitialised(VkCommandBuffer cmd, ScreenFilters& f) {
@@ -43,10 +50,7 @@ void ensureInitialised(VkCommandBuffer cmd, ScreenFilters& f) {
 
 }  // namespace
 
-ScreenFilters createScreenFilters(const engine::Context& ctx, uint32_t width, uint32_t height, const FilterTargets& t) {
-  ScreenFilters f;
-  f.width = width;
-  f.height = height;
+engine::DescriptorSet createFilterSet(const engine::Context& ctx, const FilterTargets& t) {
   const engine::Binding bindings[] = {
       {gpu::FILTER_BINDING_GUIDANCE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
       {gpu::FILTER_BINDING_POSITION, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
@@ -57,15 +61,23 @@ ScreenFilters createScreenFilters(const engine::Context& ctx, uint32_t width, ui
       {gpu::FILTER_BINDING_TEMP, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
       {gpu::FILTER_BINDING_PARAMS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
   };
-  f.set = engine::createDescriptorSet(ctx, bindings);
-  engine::DescriptorWriter w(f.set.set);
-  w.storageImage(gpu::FILTER_BINDING_GUIDANCE, t.guidance)
+  engine::DescriptorSet set = engine::createDescriptorSet(ctx, bindings);
+  engine::DescriptorWriter(set.set)
+      .storageImage(gpu::FILTER_BINDING_GUIDANCE, t.guidance)
       .storageImage(gpu::FILTER_BINDING_POSITION, t.position)
       .storageImage(gpu::FILTER_BINDING_INPUT, t.input)
       .storageImage(gpu::FILTER_BINDING_OUTPUT, t.output)
       .storageImage(gpu::FILTER_BINDING_TEMP, t.temp)
-      .storageImage(gpu::FILTER_BINDING_PARAMS, t.params);
-  w.write(ctx);
+      .storageImage(gpu::FILTER_BINDING_PARAMS, t.params)
+      .write(ctx);
+  return set;
+}
+
+ScreenFilters createScreenFilters(const engine::Context& ctx, uint32_t width, uint32_t height, const FilterTargets& t) {
+  ScreenFilters f;
+  f.width = width;
+  f.height = height;
+  f.set = createFilterSet(ctx, t);
   VkDescriptorSetLayout layouts[] = {f.set.layout};
   const glm::uvec2 tile{FILTER_GROUP_SIZE, FILTER_GROUP_SIZE}, line{FILTER_LINE_GROUP, 1};
   f.moments = engine::createComputeProgram(ctx, spv_gif_moments_comp, layouts, sizeof(gpu::GuidedMomentsPush), tile);
@@ -97,6 +109,8 @@ void destroyScreenFilters(const engine::Context& ctx, ScreenFilters& f) {
   for (engine::ComputeProgram* p : {&f.moments, &f.box, &f.coefficients, &f.output, &f.bilateral, &f.atrous, &f.aaf, &f.sspsf})
     engine::destroyComputeProgram(ctx, *p);
   engine::destroyDescriptorSet(ctx, f.set);
+  for (engine::DescriptorSet& set : f.aafGlossySets)
+    if (set.set) engine::destroyDescriptorSet(ctx, set);
   for (uint32_t i = 0; i < FILTER_STACK; ++i) {
     engine::destroyImage(ctx, f.a[i]);
     engine::destroyImage(ctx, f.b[i]);
@@ -123,9 +137,11 @@ void recordGuidedFilter(VkCommandBuffer cmd, ScreenFilters& f, const GuidedFilte
   pass(cmd, f, hooks, "gif_output", f.output, size, dims);
 }
 
-void recordAafFilter(VkCommandBuffer cmd, ScreenFilters& f, float cosNormalLimit, float pixelScale, const PassHooks& hooks) {
-  pass(cmd, f, hooks, "aaf_filter_rows", f.aaf, {f.width, f.height}, gpu::AafFilterPush{0, cosNormalLimit, pixelScale, 0});
-  pass(cmd, f, hooks, "aaf_filter_columns", f.aaf, {f.width, f.height}, gpu::AafFilterPush{1, cosNormalLimit, pixelScale, 0});
+void recordAafFilter(VkCommandBuffer cmd, const ScreenFilters& f, VkDescriptorSet targets, const char* term,
+                     float cosNormalLimit, float pixelScale, const PassHooks& hooks) {
+  std::string name = std::string("aaf_filter_") + term;
+  passOn(cmd, targets, hooks, (name + "_rows").c_str(), f.aaf, {f.width, f.height}, gpu::AafFilterPush{0, cosNormalLimit, pixelScale, 0});
+  passOn(cmd, targets, hooks, (name + "_columns").c_str(), f.aaf, {f.width, f.height}, gpu::AafFilterPush{1, cosNormalLimit, pixelScale, 0});
 }
 
 void recordSspsf(VkCommandBuffer cmd, ScreenFilters& f, const gpu::SspsfPush& params, const PassHooks& hooks) {

@@ -24,6 +24,7 @@ struct PassHooks {
 struct ScreenFilters {
   engine::Image a[FILTER_STACK], b[FILTER_STACK];  // the guided filter's window statistics (created on its first use)
   engine::DescriptorSet set;
+  engine::DescriptorSet aafGlossySets[2];  // AAF's specular terms filtered in place (created when the scene is glossy)
   engine::ComputeProgram moments, box, coefficients, output, bilateral, atrous, aaf, sspsf;
   uint32_t width = 0, height = 0;
   uint64_t memoryBytes = 0;
@@ -37,6 +38,9 @@ struct GuidedFilterParams {
   bool writeCoefficientView = false;  // also write |a|, |b| to the temp image (debug view)
 };
 
+// A descriptor set of the filters' layout over other targets: the same
+// programs then filter other images (AAF's glossy terms).
+engine::DescriptorSet createFilterSet(const engine::Context& ctx, const FilterTargets& targets);
 ScreenFilters createScreenFilters(const engine::Context& ctx, uint32_t width, uint32_t height, const FilterTargets& targets);
 // Allocates the guided filter's 16 statistics images (16 × width × height × 16 bytes) once.
 void ensureGuidedStack(const engine::Context& ctx, ScreenFilters& f);
@@ -50,7 +54,11 @@ void recordAtrous(VkCommandBuffer cmd, ScreenFilters& f, uint32_t iterations, fl
                   float sigmaPosition, const PassHooks& hooks);
 // Screen-space path filtering over a window (Meijer §4.1).
 void recordSspsf(VkCommandBuffer cmd, ScreenFilters& f, const gpu::SspsfPush& params, const PassHooks& hooks);
-// Axis-aligned filtering's separable Gaussian (β per pixel from the params image); uses temp.
-void recordAafFilter(VkCommandBuffer cmd, ScreenFilters& f, float cosNormalLimit, float pixelScale, const PassHooks& hooks);
+// Axis-aligned filtering's separable Gaussian (β per pixel from the params
+// image's alpha; pixels with β = 0 neither filter nor contribute); uses temp.
+// `targets` is f.set or a set from createFilterSet.
+// `term` names the passes (aaf_filter_<term>_rows/_columns).
+void recordAafFilter(VkCommandBuffer cmd, const ScreenFilters& f, VkDescriptorSet targets, const char* term,
+                     float cosNormalLimit, float pixelScale, const PassHooks& hooks);
 
 }  // namespace gi

@@ -16,6 +16,9 @@ GPU_NAMESPACE_BEGIN
 
 // Ω_h^max for a Blinn-Phong receiver of exponent m (eq. 18).
 GPU_FN float aafOmegaGlossy(float m) { return 3.6f + 0.084f * m; }
+// The Blinn-Phong exponent equivalent to a GGX lobe of width α = roughness²
+// (Walter et al. 2007: m = 2/α² − 2), at least 1 so γ stays finite.
+GPU_FN float aafPhongExponent(float ggxAlpha) { return max(2.0f / (ggxAlpha * ggxAlpha) - 2.0f, 1.0f); }
 // γ for a Blinn-Phong lobe: arccos(c^(1/m)) / (π/2), c = cos(π/4) (§4.3).
 GPU_FN float aafGammaGlossy(float m) { return acos(pow(0.70710678f, 1.0f / m)) / 1.57079633f; }
 
@@ -48,7 +51,7 @@ struct AafPush {
   uint maxBounces;      // indirect bounces
   uint russianRouletteStart;
   uint uniformSamples;  // 0: n(μ) per pixel; otherwise this many samples everywhere
-  uint pad0;
+  uint glossy;          // 1: the scene has glossy materials; their receivers get a separately filtered specular term
   uint pad1;
   uint pad2;
 };

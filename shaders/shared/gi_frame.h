@@ -27,7 +27,9 @@ GPU_CONST GI_BINDING_POSITION = 15;      // rgba32f: world position (xyz), view 
 GPU_CONST GI_BINDING_DEBUG = 16;         // rgba32f: a filter's debug output (the filters' temp image)
 GPU_CONST GI_BINDING_AAF_PARAMS = 17;    // rgba32f: AAF z_min, z_max, samples, β (metres)
 GPU_CONST GI_BINDING_AAF_SUM = 18;       // rgba32f: AAF Σ demodulated indirect samples (rgb), count (a)
-GPU_CONST GI_BINDING_COUNT = 19;
+GPU_CONST GI_BINDING_AAF_GLOSSY = 19;    // rgba32f: AAF glossy receivers: Σ, then mean, of lobe·(1 − s)·L (rgb); β_glossy (a)
+GPU_CONST GI_BINDING_AAF_GLOSSY_EDGE = 20; // rgba32f: the same for lobe·s·L (Schlick's s); specular = f0·glossy + edge
+GPU_CONST GI_BINDING_COUNT = 21;
 #define GI_GROUP_SIZE 8u                 // 8×8 threads per group
 
 struct GiFrameConstants {
@@ -83,6 +85,10 @@ struct GiCompositePush {
   uint ambientOcclusion;  // 1: the indirect image holds occlusion; show AO = 1 − occlusion
   float sceneExtent;   // metres, scales the AAF distance views
   float pixelScale;    // world pixel size per metre of depth, for the AAF filter-width view
+  uint aafSpecular;    // 1: add AAF's filtered specular term (f0·glossy + edge) on glossy receivers
+  uint pad0;
+  uint pad1;
+  uint pad2;
 };
 
 struct GiSupersamplePush {
@@ -90,7 +96,7 @@ struct GiSupersamplePush {
   uint supersamples;  // extra eye rays per pixel
 };
 GPU_ASSERT_SIZE(GiSupersamplePush, 8);
-GPU_ASSERT_SIZE(GiCompositePush, 16);
+GPU_ASSERT_SIZE(GiCompositePush, 32);
 
 GPU_NAMESPACE_END
 #endif

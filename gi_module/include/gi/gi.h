@@ -34,6 +34,7 @@ struct SceneDesc {
   bool hasPunctualLights = false;                 // skips the punctual-light loop when false
   bool hasAlphaMask = true;                       // false: every hit is opaque (faster traversal)
   float extent = 1.0f;                            // largest side of the scene bounds, metres: scales depth guidance
+  bool hasGlossyMaterials = false;                // some material has a glossy lobe: AAF filters its specular term separately
 };
 
 struct ModuleDesc {
