@@ -21,7 +21,7 @@ void main() {
   d.lod = 0;
   d.normalBits = 0u;
   uint probes;
-  int slot = hgInsertOrFind(hgIndexHash(d), hgVerificationKey(d), pc.capacity, pc.window, probes);
+  int slot = hgInsertOrFind(0u, hgIndexHash(d), hgVerificationKey(d), pc.capacity, pc.window, probes);
   if (slot < 0) {
     atomicAdd(hgTelemetry.failedInserts, 1u);
     return;

@@ -10,10 +10,11 @@ layout(set = 2, binding = HG_BINDING_CELLS, scalar) buffer HgCells { HgCell hgCe
 layout(set = 2, binding = HG_BINDING_TELEMETRY, scalar) buffer HgTelemetryBlock { HgTelemetry hgTelemetry; };
 layout(set = 2, binding = HG_BINDING_PIXEL_CELL, r32ui) uniform uimage2D hgPixelCell;
 
-// The slot holding `key` (claimed if free), or -1 when the probe window is full.
-int hgInsertOrFind(uint index, uint key, uint capacity, uint window, out uint probes) {
+// The global slot holding `key` in the table starting at `table` (claimed if
+// free), or -1 when the probe window is full.
+int hgInsertOrFind(uint table, uint index, uint key, uint capacity, uint window, out uint probes) {
   for (uint i = 0u; i < window; ++i) {
-    uint slot = (index + i) & (capacity - 1u);
+    uint slot = table + ((index + i) & (capacity - 1u));
     uint previous = atomicCompSwap(hgKeys[slot], HG_EMPTY_KEY, key);
     if (previous == HG_EMPTY_KEY || previous == key) {
       probes = i + 1u;
@@ -24,10 +25,10 @@ int hgInsertOrFind(uint index, uint key, uint capacity, uint window, out uint pr
   return -1;
 }
 
-// Read-only lookup (no claim): the slot holding `key`, or -1.
-int hgFind(uint index, uint key, uint capacity, uint window) {
+// Read-only lookup (no claim): the global slot holding `key`, or -1.
+int hgFind(uint table, uint index, uint key, uint capacity, uint window) {
   for (uint i = 0u; i < window; ++i) {
-    uint slot = (index + i) & (capacity - 1u);
+    uint slot = table + ((index + i) & (capacity - 1u));
     uint k = hgKeys[slot];
     if (k == key) return int(slot);
     if (k == HG_EMPTY_KEY) return -1;

@@ -44,13 +44,23 @@ void main() {
         int lod = hgLod(pc.filterWidth, pc.pixelAngle, travel, pc.stochasticLod != 0u ? giRandom(rng) : 0.0);
         vec3 jittered = s.position + hgJitter(s.normal, giRandom2(rng), pc.jitter, exp2(float(lod)));
         HgDescriptor d = hgDescriptor(jittered, s.normal, lod, pc.normalBits);
-        int slot = hgInsertOrFind(hgIndexHash(d), hgVerificationKey(d), pc.capacity, pc.probeWindow, probes);
+        uint index = hgIndexHash(d), key = hgVerificationKey(d);
+        int slot = hgInsertOrFind(pc.table, index, key, pc.capacity, pc.probeWindow, probes);
         if (slot < 0) {
           failed = 1u;
         } else {
           // Outliers are clamped against the cell's history (mean + kσ of luminance), so one
-          // firefly cannot poison the cache.
+          // firefly cannot poison the cache. With strict eviction the history is the same
+          // key's cell in the previous frame's table, which this cell links to and keeps alive.
           HgCell history = hgCells[slot];
+          if (pc.strict != 0u) {
+            int previous = hgFind(pc.previousTable, index, key, pc.capacity, pc.probeWindow);
+            if (previous >= 0) {
+              history = hgCells[previous];
+              hgCells[slot].previous = uint(previous) + 1u;  // every writer of this key writes the same value
+              hgCells[previous].lastSeen = pc.frameIndex;
+            }
+          }
           vec3 sample_ = indirect;
           if (pc.clampSigma > 0.0 && history.samples >= 8u) {
             float mean = dot(history.mean, vec3(0.2126, 0.7152, 0.0722));

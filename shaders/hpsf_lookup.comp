@@ -1,7 +1,7 @@
 #version 460
 // Hashed path space filtering, lookup (Meijer Alg. 5): each pixel reads the
 // resolved mean of its own cell, or keeps its own sample when the cell is
-// missing or holds too few samples.
+// missing or holds too few samples. Leaves the hash debug views' data in giDebug.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
@@ -24,6 +24,18 @@ void main() {
     uint key = hgKeys[cell - 1u];
     // Debug: cell colour from its key, LOD, samples, and whether the cell was used.
     debug = vec4(float(key & 0xffffffu), float(c.lod), float(c.samples), c.samples >= pc.minSamples ? 1.0 : 0.5);
+  }
+  if (pc.debugView == GI_DEBUG_HASH_OCCUPANCY) {
+    // Occupied share of the probe window starting at the pixel's cell: where
+    // it nears 1, inserts there are about to fail. No cell: the window was full.
+    float used = float(pc.probeWindow);
+    if (cell > 0u) {
+      uint table = (cell - 1u) - (cell - 1u) % pc.capacity;
+      used = 0.0;
+      for (uint i = 0u; i < pc.probeWindow; ++i)
+        used += hgKeys[table + ((cell - 1u + i) & (pc.capacity - 1u))] != HG_EMPTY_KEY ? 1.0 : 0.0;
+    }
+    debug.w = used / float(pc.probeWindow);
   }
   imageStore(giOutIndirect, p, vec4(result, 1.0));
   imageStore(giDebug, p, debug);

@@ -1,9 +1,7 @@
 #version 460
-// Hashed path space filtering, resolve: once per cell and frame, folds this
-// frame's sums into the cell's history (a running mean capped at
-// historyCap frames, SHaRC-style), evicts cells untouched for staleFrames,
-// and counts what is left. Strict eviction (Meijer) is historyCap 2,
-// staleFrames 1: a cell lives on only if touched again the next frame.
+// Hashed path space filtering, resolve: once per cell and frame, turns the
+// frame's sums into the mean the lookup reads, applies the eviction policy,
+// and counts what is left.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #extension GL_EXT_scalar_block_layout : require
@@ -14,40 +12,80 @@
 layout(local_size_x = 64) in;
 layout(push_constant, scalar) uniform Push { HgPush pc; };
 
-void main() {
-  uint slot = gl_GlobalInvocationID.x;
-  uint live = 0u, evicted = 0u;
-  if (slot < pc.capacity && hgKeys[slot] != HG_EMPTY_KEY) {
+// Strict eviction: the cell's mean is the exact fixed-point sum of this
+// frame's samples and the last frame's samples of the same key; cells of the
+// last frame's table that nobody found this frame die with it.
+void resolveStrict(uint i, inout uint live, inout uint evicted) {
+  uint slot = pc.table + i;
+  if (hgKeys[slot] != HG_EMPTY_KEY) {
     HgAccum a = hgAccum[slot];
     HgCell c = hgCells[slot];
-    if (a.count > 0u) {
-      vec3 frameMean = vec3(hgFromFixed(a.r, a.count), hgFromFixed(a.g, a.count), hgFromFixed(a.b, a.count));
-      float frameM2 = hgFromFixed(a.lum2, a.count);
-      float w = 1.0 / (min(c.frames, float(pc.historyCap) - 1.0) + 1.0);
-      c.mean = c.frames > 0.0 ? mix(c.mean, frameMean, w) : frameMean;
-      c.lumMoment2 = c.frames > 0.0 ? mix(c.lumMoment2, frameM2, w) : frameM2;
-      c.frames = min(c.frames + 1.0, float(pc.historyCap));
-      // Samples behind the mean: this frame's plus the share of history the cap keeps.
-      c.samples = a.count + uint(float(c.samples) * (1.0 - w));
-      c.lastSeen = pc.frameIndex;
-      hgCells[slot] = c;
-      hgAccum[slot].r = 0ul;
-      hgAccum[slot].g = 0ul;
-      hgAccum[slot].b = 0ul;
-      hgAccum[slot].lum2 = 0ul;
-      hgAccum[slot].count = 0u;
-      live = 1u;
-    } else if (pc.frameIndex - c.lastSeen >= pc.staleFrames || c.frames == 0.0) {
-      hgKeys[slot] = HG_EMPTY_KEY;
-      hgCells[slot].mean = vec3(0.0);
-      hgCells[slot].lumMoment2 = 0.0;
-      hgCells[slot].frames = 0.0;
-      hgCells[slot].lastSeen = 0u;
-      hgCells[slot].samples = 0u;
-      evicted = 1u;
-    } else {
-      live = 1u;
+    c.frames = 1.0;
+    if (c.previous > 0u) {
+      HgAccum b = hgAccum[c.previous - 1u];
+      a.r += b.r;
+      a.g += b.g;
+      a.b += b.b;
+      a.lum2 += b.lum2;
+      a.count += b.count;
+      c.frames = 2.0;
     }
+    c.mean = vec3(hgFromFixed(a.r, a.count), hgFromFixed(a.g, a.count), hgFromFixed(a.b, a.count));
+    c.lumMoment2 = hgFromFixed(a.lum2, a.count);
+    c.samples = a.count;
+    c.lastSeen = pc.frameIndex;
+    hgCells[slot] = c;
+    live = 1u;
+  }
+  uint previous = pc.previousTable + i;
+  if (hgKeys[previous] != HG_EMPTY_KEY && hgCells[previous].lastSeen != pc.frameIndex) evicted = 1u;
+}
+
+// Aging eviction (SHaRC-style): a running mean capped at historyCap frames;
+// cells untouched for staleFrames are evicted.
+void resolveAging(uint slot, inout uint live, inout uint evicted) {
+  if (hgKeys[slot] == HG_EMPTY_KEY) return;
+  HgAccum a = hgAccum[slot];
+  HgCell c = hgCells[slot];
+  if (a.count > 0u) {
+    vec3 frameMean = vec3(hgFromFixed(a.r, a.count), hgFromFixed(a.g, a.count), hgFromFixed(a.b, a.count));
+    float frameM2 = hgFromFixed(a.lum2, a.count);
+    float w = 1.0 / (min(c.frames, float(pc.historyCap) - 1.0) + 1.0);
+    c.mean = c.frames > 0.0 ? mix(c.mean, frameMean, w) : frameMean;
+    c.lumMoment2 = c.frames > 0.0 ? mix(c.lumMoment2, frameM2, w) : frameM2;
+    c.frames = min(c.frames + 1.0, float(pc.historyCap));
+    // Samples behind the mean: all of them while the mean weighs every frame
+    // equally; once the cap turns it into an exponential average, this
+    // frame's plus the (1 − w) share of the history it keeps.
+    float kept = c.frames < float(pc.historyCap) ? 1.0 : 1.0 - w;
+    c.samples = a.count + uint(float(c.samples) * kept + 0.5);
+    c.lastSeen = pc.frameIndex;
+    hgCells[slot] = c;
+    hgAccum[slot].r = 0ul;
+    hgAccum[slot].g = 0ul;
+    hgAccum[slot].b = 0ul;
+    hgAccum[slot].lum2 = 0ul;
+    hgAccum[slot].count = 0u;
+    live = 1u;
+  } else if (pc.frameIndex - c.lastSeen >= pc.staleFrames || c.frames == 0.0) {
+    hgKeys[slot] = HG_EMPTY_KEY;
+    hgCells[slot].mean = vec3(0.0);
+    hgCells[slot].lumMoment2 = 0.0;
+    hgCells[slot].frames = 0.0;
+    hgCells[slot].lastSeen = 0u;
+    hgCells[slot].samples = 0u;
+    evicted = 1u;
+  } else {
+    live = 1u;
+  }
+}
+
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  uint live = 0u, evicted = 0u;
+  if (i < pc.capacity) {
+    if (pc.strict != 0u) resolveStrict(i, live, evicted);
+    else resolveAging(pc.table + i, live, evicted);
   }
   uint sumLive = subgroupAdd(live), sumEvicted = subgroupAdd(evicted);
   if (subgroupElect()) {

@@ -12,7 +12,7 @@ class HashGridTest : public GpuTest {};
 TEST_F(HashGridTest, InsertAndFindUnderLoadLoseNothingBelowCapacity) {
   const uint32_t capacity = 1024, repeats = 3;
   engine::DescriptorSet empty = engine::createDescriptorSet(ctx, {});
-  gi::HashGrid grid = gi::createHashGrid(ctx, capacity, 8, 8, 1);
+  gi::HashGrid grid = gi::createHashGrid(ctx, capacity, 1, 8, 8, 1);
   VkDescriptorSetLayout all[] = {empty.layout, empty.layout, grid.set.layout};
   struct Push {
     uint32_t capacity, window, keyCount, repeats;
@@ -23,7 +23,7 @@ TEST_F(HashGridTest, InsertAndFindUnderLoadLoseNothingBelowCapacity) {
     uint32_t keys = uint32_t(load * capacity);
     grid.cleared = false;  // start from an empty map
     engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
-      gi::recordHashGridFrameStart(cmd, grid);
+      gi::recordHashGridFrameStart(cmd, grid, 0);
       // The probe window spans the table, so any free slot can be found.
       engine::dispatch(cmd, stress, sets, {keys * repeats, 1}, Push{capacity, capacity, keys, repeats});
       gi::recordHashGridTelemetryCopy(cmd, grid, 0);

@@ -110,3 +110,91 @@ TEST_F(HpsfTest, InvalidateEmptiesTheCache) {
   tools::destroyModuleSession(ctx, session);
   unload(s);
 }
+
+// Strict eviction (Meijer): two tables swap every frame. Without jitter the
+// same pixels land in the same cells each frame, so every cell holds exactly
+// this frame's and the last frame's samples: twice frame 0's count, never
+// more, and no cell is evicted. Aging keeps adding history instead.
+TEST_F(HpsfTest, StrictEvictionHoldsExactlyTwoFramesOfSamples) {
+  LoadedScene s;
+  load(sharedScene("cornell-box-mcguire/CornellBox-Original.gltf"), s);
+  const uint32_t W = 24, H = 24;
+  gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], W, H, nullptr);
+  for (gi::EvictionPolicy policy : {gi::EvictionPolicy::Strict, gi::EvictionPolicy::Aging}) {
+    gi::Settings settings;
+    settings.method = gi::Method::Hpsf;
+    settings.hpsf.eviction = policy;
+    settings.hpsf.jitter = 0.0f;
+    settings.hpsf.stochasticLod = false;
+    settings.debugView = gi::DebugView::HashSamples;  // samples behind the pixel's cell / 100
+    tools::ModuleSession session;
+    ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {W, H}, settings, session));
+    std::vector<engine::FloatImage> samples;
+    std::vector<gi::FrameStats> stats;
+    for (uint32_t f = 0; f < 4; ++f) {
+      tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, f);
+      samples.push_back(tools::readModuleImages(ctx, session).final);
+      stats.push_back(gi::stats(session.module));
+    }
+    bool strict = policy == gi::EvictionPolicy::Strict;
+    size_t cells = 0, grew = 0;
+    for (size_t i = 0; i < samples[0].pixels.size(); i += 3) {
+      float first = samples[0].pixels[i];
+      if (first <= 0.0f) continue;
+      ++cells;
+      for (uint32_t f = 1; f < 4; ++f)
+        if (strict) {
+          ASSERT_EQ(samples[f].pixels[i], 2.0f * first) << "pixel " << i / 3 << " frame " << f;
+        }
+      grew += samples[3].pixels[i] > 2.0f * first;
+    }
+    ASSERT_GT(cells, size_t(W * H / 2));
+    if (strict) {
+      for (uint32_t f = 1; f < 4; ++f) {
+        EXPECT_EQ(stats[f].hash.occupied, stats[0].hash.occupied);
+        EXPECT_EQ(stats[f].hash.evicted, 0u);
+      }
+    } else {
+      EXPECT_EQ(grew, cells) << "aging keeps more than two frames";
+    }
+    tools::destroyModuleSession(ctx, session);
+  }
+  unload(s);
+}
+
+// With jitter the cells move every frame: strict eviction drops the last
+// frame's cells that nobody found again, so the map holds one frame's cells.
+TEST_F(HpsfTest, StrictEvictionDropsCellsNotFoundAgain) {
+  LoadedScene s;
+  load(sharedScene("cornell-box-mcguire/CornellBox-Original.gltf"), s);
+  gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], 24, 24, nullptr);
+  gi::Settings settings;
+  settings.method = gi::Method::Hpsf;
+  settings.hpsf.eviction = gi::EvictionPolicy::Strict;
+  settings.debugView = gi::DebugView::HashOccupancy;
+  tools::ModuleSession session;
+  ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {24, 24}, settings, session));
+  uint32_t evicted = 0;
+  for (uint32_t f = 0; f < 6; ++f) {
+    tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, f);
+    gi::FrameStats st = gi::stats(session.module);
+    EXPECT_LE(st.hash.occupied, st.hash.inserts) << "only cells inserted this frame live";
+    if (f > 0) evicted += st.hash.evicted;
+  }
+  EXPECT_GT(evicted, 0u);
+  // The occupancy view: a probe window's share of used slots, green (0) to red (1), on covered pixels.
+  engine::ReferenceImages out = tools::readModuleImages(ctx, session);
+  size_t coloured = 0;
+  for (size_t i = 0; i < out.final.pixels.size(); i += 3) {
+    float r = out.final.pixels[i], g = out.final.pixels[i + 1];
+    ASSERT_GE(r, 0.0f);
+    ASSERT_LE(r, 1.0f);
+    if (r + g > 0.0f) {
+      EXPECT_NEAR(r + g, 1.0f, 1e-6f);
+      ++coloured;
+    }
+  }
+  EXPECT_GT(coloured, out.final.pixels.size() / 6);
+  tools::destroyModuleSession(ctx, session);
+  unload(s);
+}

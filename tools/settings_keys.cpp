@@ -24,7 +24,7 @@ const std::vector<Key>& keys() {
       GI_KEY_U("rr_start", "Russian roulette start bounce", russianRouletteStart),
       {"ray_budget", "rays per frame (0 = unlimited)", true, [](gi::Settings& s, double v) { s.rayBudget = uint64_t(v); }},
       GI_KEY_U("seed", "random seed", seed),
-      {"view", "debug view: 0 none, 1 direct, 2 indirect, 3 albedo, 4 normal, 5 guidance, 6 guidance depth, 7 filter in|out, 8 gif coefficients, 9 aaf z_min, 10 aaf z_max, 11 aaf spp, 12 aaf filter width, 13 hash cells, 14 hash lod, 15 hash samples, 16 hash found",
+      {"view", "debug view: 0 none, 1 direct, 2 indirect, 3 albedo, 4 normal, 5 guidance, 6 guidance depth, 7 filter in|out, 8 gif coefficients, 9 aaf z_min, 10 aaf z_max, 11 aaf spp, 12 aaf filter width, 13 hash cells, 14 hash lod, 15 hash samples, 16 hash found, 17 hash occupancy",
        true, [](gi::Settings& s, double v) { s.debugView = gi::DebugView(uint32_t(v)); }},
       GI_KEY_U("raw.spp", "raw: paths per pixel per frame", raw.samplesPerPixel),
       {"raw.accumulate", "raw: 1 = temporal accumulation", true, [](gi::Settings& s, double v) { s.raw.temporalAccumulation = v != 0; }},

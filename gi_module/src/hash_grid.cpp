@@ -9,15 +9,18 @@
 
 namespace gi {
 
-HashGrid createHashGrid(const engine::Context& ctx, uint32_t capacity, uint32_t width, uint32_t height, uint32_t slots) {
+HashGrid createHashGrid(const engine::Context& ctx, uint32_t capacity, uint32_t tables, uint32_t width, uint32_t height,
+                        uint32_t slots) {
   HashGrid g;
   g.capacity = capacity;
+  g.tables = tables;
+  const VkDeviceSize n = VkDeviceSize(capacity) * tables;
   // Transfer source too, so tools and tests can read the map back.
   const VkBufferUsageFlags usage =
       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
-  g.keys = engine::createBuffer(ctx, sizeof(uint32_t) * capacity, usage, engine::MemoryKind::DeviceLocal);
-  g.accum = engine::createBuffer(ctx, sizeof(gpu::HgAccum) * capacity, usage, engine::MemoryKind::DeviceLocal);
-  g.cells = engine::createBuffer(ctx, sizeof(gpu::HgCell) * capacity, usage, engine::MemoryKind::DeviceLocal);
+  g.keys = engine::createBuffer(ctx, sizeof(uint32_t) * n, usage, engine::MemoryKind::DeviceLocal);
+  g.accum = engine::createBuffer(ctx, sizeof(gpu::HgAccum) * n, usage, engine::MemoryKind::DeviceLocal);
+  g.cells = engine::createBuffer(ctx, sizeof(gpu::HgCell) * n, usage, engine::MemoryKind::DeviceLocal);
   g.telemetry = engine::createBuffer(ctx, sizeof(gpu::HgTelemetry) * (1 + slots), usage,
                                      engine::MemoryKind::HostVisible);
   std::memset(g.telemetry.mapped, 0, g.telemetry.size);
@@ -58,7 +61,16 @@ void destroyHashGrid(const engine::Context& ctx, HashGrid& g) {
   g = HashGrid{};
 }
 
-void recordHashGridFrameStart(VkCommandBuffer cmd, HashGrid& g) {
+uint32_t hashTableBase(const HashGrid& g, uint32_t frameIndex) { return (frameIndex % g.tables) * g.capacity; }
+uint32_t previousHashTableBase(const HashGrid& g, uint32_t frameIndex) { return ((frameIndex + 1) % g.tables) * g.capacity; }
+
+void recordHashGridFrameStart(VkCommandBuffer cmd, HashGrid& g, uint32_t frameIndex) {
+  if (g.cleared && g.tables == 2) {  // strict: the table written this frame starts empty
+    VkDeviceSize base = hashTableBase(g, frameIndex);
+    vkCmdFillBuffer(cmd, g.keys.buffer, base * sizeof(uint32_t), g.capacity * sizeof(uint32_t), 0);
+    vkCmdFillBuffer(cmd, g.accum.buffer, base * sizeof(gpu::HgAccum), g.capacity * sizeof(gpu::HgAccum), 0);
+    vkCmdFillBuffer(cmd, g.cells.buffer, base * sizeof(gpu::HgCell), g.capacity * sizeof(gpu::HgCell), 0);
+  }
   if (!g.cleared) {
     vkCmdFillBuffer(cmd, g.keys.buffer, 0, VK_WHOLE_SIZE, 0);
     vkCmdFillBuffer(cmd, g.accum.buffer, 0, VK_WHOLE_SIZE, 0);

@@ -12,7 +12,8 @@
 namespace gi {
 
 struct HashGrid {
-  uint32_t capacity = 0;
+  uint32_t capacity = 0;     // slots per table
+  uint32_t tables = 1;       // 2 for strict eviction (swapped every frame), 1 for aging
   engine::Buffer keys, accum, cells;
   engine::Buffer telemetry;  // host-visible HgTelemetry[1 + slots]: [0] is live, the rest per-frame copies
   engine::Image pixelCell;   // r32ui
@@ -22,15 +23,21 @@ struct HashGrid {
   bool cleared = false;      // buffers zeroed on the GPU
 };
 
-// The buffers, image and set 2; `slots` telemetry copies for readback.
-HashGrid createHashGrid(const engine::Context& ctx, uint32_t capacity, uint32_t width, uint32_t height, uint32_t slots);
+// The buffers (`tables` tables of `capacity` slots), image and set 2; `slots`
+// telemetry copies for readback.
+HashGrid createHashGrid(const engine::Context& ctx, uint32_t capacity, uint32_t tables, uint32_t width, uint32_t height,
+                        uint32_t slots);
 // The insert/resolve/lookup programs: `layouts` are sets 0 and 1 (scene, frame).
 void createHashGridPrograms(const engine::Context& ctx, HashGrid& grid, const VkDescriptorSetLayout layouts[2],
                             std::span<const uint32_t> spec);
 void destroyHashGrid(const engine::Context& ctx, HashGrid& grid);
 
-// Zeroes the map on first use and resets the live telemetry (transfer, then a barrier to compute).
-void recordHashGridFrameStart(VkCommandBuffer cmd, HashGrid& grid);
+// First slot of the table written in frame `frameIndex`, and of the one it reads as the last frame.
+uint32_t hashTableBase(const HashGrid& grid, uint32_t frameIndex);
+uint32_t previousHashTableBase(const HashGrid& grid, uint32_t frameIndex);
+// Zeroes the map on first use, and with two tables the one this frame
+// writes; resets the live telemetry (transfer, then a barrier to compute).
+void recordHashGridFrameStart(VkCommandBuffer cmd, HashGrid& grid, uint32_t frameIndex);
 // Copies the live telemetry into slot `slot` for readback (after the passes).
 void recordHashGridTelemetryCopy(VkCommandBuffer cmd, HashGrid& grid, uint32_t slot);
 gpu::HgTelemetry readHashGridTelemetry(const HashGrid& grid, uint32_t slot);

@@ -106,17 +106,19 @@ void ensureFilters(Module& m) {
   }
 }
 
-// The hash map exists once hpsf is chosen, at the capacity the settings ask for.
+// The hash map exists once hpsf is chosen, at the capacity the settings ask
+// for, with two tables for strict eviction.
 void ensureHashGrid(Module& m) {
   if (m.settings.method != Method::Hpsf) return;
   uint32_t capacity = hashCapacity(m.settings.hpsf, m.desc.width, m.desc.height);
-  if (m.hash.capacity == capacity) return;
+  uint32_t tables = m.settings.hpsf.eviction == EvictionPolicy::Strict ? 2 : 1;
+  if (m.hash.capacity == capacity && m.hash.tables == tables) return;
   if (m.hash.capacity) {  // a new capacity starts an empty map (the caller let the last frame finish)
     m.memoryBytes -= m.hash.memoryBytes;
     destroyHashGrid(m.ctx, m.hash);
   }
   VkDescriptorSetLayout layouts[2] = {m.desc.scene.layout, m.frameSet.layout};
-  m.hash = createHashGrid(m.ctx, capacity, m.desc.width, m.desc.height, kFramesInFlight);
+  m.hash = createHashGrid(m.ctx, capacity, tables, m.desc.width, m.desc.height, kFramesInFlight);
   createHashGridPrograms(m.ctx, m.hash, layouts, sceneSpecialization(m));
   m.memoryBytes += m.hash.memoryBytes;
 }
@@ -375,10 +377,11 @@ void recordFrame(Module* m, VkCommandBuffer cmd, const FrameInputs& in) {
     const HpsfSettings& h = s.hpsf;
     bool strict = h.eviction == EvictionPolicy::Strict;
     gpu::HgPush push{m->hash.capacity, h.probeWindow, h.filterWidth, pixelScale(in.camera), h.jitter, h.normalBits,
-                     h.stochasticLod ? 1u : 0u, h.clampSigma, in.frameIndex, strict ? 2u : h.historyFrames,
-                     strict ? 1u : h.staleFrames, h.minSamples, s.seed, spp, s.maxBounces, s.russianRouletteStart};
+                     h.stochasticLod ? 1u : 0u, h.clampSigma, in.frameIndex, h.historyFrames, h.staleFrames, h.minSamples,
+                     s.seed, spp, s.maxBounces, s.russianRouletteStart, hashTableBase(m->hash, in.frameIndex),
+                     previousHashTableBase(m->hash, in.frameIndex), strict ? 1u : 0u, uint32_t(s.debugView)};
     VkDescriptorSet hashSets[] = {m->desc.scene.set, m->frameSet.set, m->hash.set.set};
-    recordHashGridFrameStart(cmd, m->hash);
+    recordHashGridFrameStart(cmd, m->hash, in.frameIndex);
     // Pass: paths from the G-buffer; their indirect radiance goes into the filter vertex's cell.
     runPassWith(*m, cmd, slot, "hpsf_insert", m->hash.insert, hashSets, size, push);
     // Pass: fold the frame's sums into each cell's history; evict stale cells.

@@ -54,8 +54,8 @@ Error validate(const Settings& s) {
   if (s.maxBounces < 1 || s.maxBounces > 32) return outOfRange("settings.maxBounces", s.maxBounces, 1, 32);
   if (s.russianRouletteStart < 1 || s.russianRouletteStart > 64)
     return outOfRange("settings.russianRouletteStart", s.russianRouletteStart, 1, 64);
-  if (uint32_t(s.debugView) > uint32_t(DebugView::HashFound))
-    return outOfRange("settings.debugView", uint32_t(s.debugView), 0, uint32_t(DebugView::HashFound));
+  if (uint32_t(s.debugView) > uint32_t(DebugView::HashOccupancy))
+    return outOfRange("settings.debugView", uint32_t(s.debugView), 0, uint32_t(DebugView::HashOccupancy));
   if (s.raw.samplesPerPixel < 1 || s.raw.samplesPerPixel > 64)
     return outOfRange("settings.raw.samplesPerPixel", s.raw.samplesPerPixel, 1, 64);
   if (s.raw.maxAccumulatedFrames < 1 || s.raw.maxAccumulatedFrames > (1u << 20))

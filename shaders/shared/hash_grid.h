@@ -15,10 +15,13 @@ GPU_CONST HG_EMPTY_KEY = 0u;             // keys are never 0 (hgVerificationKey 
 #define HG_MAX_SAMPLE 1.0e9              // a sample above this (after clamping) counts as an overflow
 #define HG_COORD_LIMIT 1073741824.0      // |cell coordinate| < 2^30 keeps int32 arithmetic exact
 
-// Set 2 of the hash passes.
-GPU_CONST HG_BINDING_KEYS = 0;       // uint[capacity]: verification keys, 0 = empty
-GPU_CONST HG_BINDING_ACCUM = 1;      // HgAccum[capacity]: this frame's sums (atomics), cleared by resolve
-GPU_CONST HG_BINDING_CELLS = 2;      // HgCell[capacity]: resolved history
+// Set 2 of the hash passes. The buffers hold one table of `capacity` slots
+// (aging eviction) or two (strict eviction, Meijer: the tables swap every
+// frame; the one written this frame starts empty, the other holds the last
+// frame). Slot indices in the shaders are global: table base + slot.
+GPU_CONST HG_BINDING_KEYS = 0;       // uint[tables·capacity]: verification keys, 0 = empty
+GPU_CONST HG_BINDING_ACCUM = 1;      // HgAccum[tables·capacity]: a frame's sums (atomics); aging clears them in resolve
+GPU_CONST HG_BINDING_CELLS = 2;      // HgCell[tables·capacity]: resolved means
 GPU_CONST HG_BINDING_TELEMETRY = 3;  // HgTelemetry: counters of the current frame
 GPU_CONST HG_BINDING_PIXEL_CELL = 4; // r32ui image: cell index + 1 per pixel, 0 = none
 
@@ -36,6 +39,7 @@ struct HgCell {
   uint lastSeen;      // frame index of the last update
   int lod;            // the cell's level of detail (log2 of its size)
   uint samples;       // samples behind the mean (capped with the history)
+  uint previous;      // strict: global slot + 1 of the same key in the previous frame's table, 0 = none
 };
 
 struct HgTelemetry {
@@ -158,8 +162,12 @@ struct HgPush {
   uint samplesPerPixel;
   uint maxBounces;
   uint russianRouletteStart;
+  uint table;             // first slot of the table written this frame
+  uint previousTable;     // strict: first slot of the previous frame's table (= table with aging)
+  uint strict;            // 1: two swapped tables, a cell's mean is this frame's and the last frame's samples
+  uint debugView;         // GI_DEBUG_*: the lookup measures probe-window occupancy only for its view
 };
-GPU_ASSERT_SIZE(HgPush, 64);
+GPU_ASSERT_SIZE(HgPush, 80);
 
 GPU_NAMESPACE_END
 #endif

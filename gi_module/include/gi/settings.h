@@ -39,6 +39,7 @@ enum class DebugView : uint32_t {
   HashLod,         // HPSF: the cell's level of detail
   HashSamples,     // HPSF: samples behind the cell's mean / 100
   HashFound,       // HPSF: green = cell used, yellow = too few samples, red = no cell (fallback)
+  HashOccupancy,   // HPSF: how full the probe window around the pixel's cell is, green (empty) → red (full; red also = no cell)
 };
 
 struct RawSettings {
@@ -88,7 +89,7 @@ struct SspsfSettings {
 };
 
 enum class EvictionPolicy : uint32_t {
-  Strict = 0,  // Meijer: a cell survives only if touched again next frame (2-frame history)
+  Strict = 0,  // Meijer: two tables swapped every frame; a cell averages this frame's and the last frame's samples
   Aging,       // SHaRC-style: history capped at historyFrames, evicted after staleFrames untouched
 };
 
