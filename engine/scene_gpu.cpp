@@ -149,8 +149,10 @@ void createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu) {
   std::vector<gpu::GpuEmissiveTriangle> emissive = emissiveTable(scene, totalPower);
   gpu.emissiveTriangles = createBuffer(ctx, emissive.size() * sizeof(gpu::GpuEmissiveTriangle), kStorage, MemoryKind::HostVisible);
   if (!emissive.empty()) std::memcpy(gpu.emissiveTriangles.mapped, emissive.data(), emissive.size() * sizeof(emissive[0]));
-  std::vector<gpu::GpuPunctualLight> lights = punctualLights(scene);
-  gpu.punctualLights = upload(ctx, lights, kStorage);
+  std::vector<gpu::GpuPunctualLight> lights = punctualLights(scene);  // host-visible: lights may move
+  gpu.punctualLights = createBuffer(ctx, std::max<size_t>(lights.size(), 1) * sizeof(gpu::GpuPunctualLight), kStorage,
+                                    MemoryKind::HostVisible);
+  if (!lights.empty()) std::memcpy(gpu.punctualLights.mapped, lights.data(), lights.size() * sizeof(lights[0]));
 
   Bounds bounds = scene.worldBounds();
   gpu::GpuSceneConstants& c = gpu.sceneConstants;
@@ -215,6 +217,9 @@ void recordSceneTransformUpdate(const Context& ctx, VkCommandBuffer cmd, const S
   gpu.sceneConstants.emissiveTriangleCount = uint32_t(count);
   gpu.sceneConstants.emissiveTotalPower = totalPower;
   std::memcpy(gpu.constants.mapped, &gpu.sceneConstants, sizeof(gpu.sceneConstants));
+  std::vector<gpu::GpuPunctualLight> lights = punctualLights(scene);
+  if (!lights.empty() && lights.size() == gpu.sceneConstants.punctualLightCount)
+    std::memcpy(gpu.punctualLights.mapped, lights.data(), lights.size() * sizeof(lights[0]));
   recordTlasRebuild(ctx, cmd, scene, gpu.accel);
 }
 

@@ -41,8 +41,8 @@ struct SceneGpu {
 void createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu);
 void destroySceneGpu(const Context& ctx, SceneGpu& gpu);
 
-// For moving instances: rewrites transforms and the emissive table from
-// `scene`, and records a TLAS rebuild into `cmd`. The caller must ensure the
+// For moving instances and lights: rewrites transforms, the emissive table
+// and the punctual lights from `scene`, and records a TLAS rebuild into `cmd`. The caller must ensure the
 // previous frame's GPU work has finished (the buffers are host-written).
 void recordSceneTransformUpdate(const Context& ctx, VkCommandBuffer cmd, const Scene& scene, SceneGpu& gpu);
 

@@ -34,11 +34,11 @@ def main():
     rows = []
     for mu, a in zip(mus, adaptive):
         mean = float(a["traced_spp"])
-        n = max(1, round(mean))
+        n = max(16, round(mean))  # every covered pixel takes at least the 16 initial samples
         u = bench(gi_bench, scene, size, ref_spp, out, f"aaf.mu={mu},aaf.uniform={n}")[0]
         covered = float(u["traced_spp"]) / n
         if covered > 0 and round(mean / covered) != n:  # background pixels take no samples: match per covered pixel
-            n = round(mean / covered)
+            n = max(16, round(mean / covered))
             u = bench(gi_bench, scene, size, ref_spp, out, f"aaf.mu={mu},aaf.uniform={n}")[0]
         rows.append({"mu": mu, "uniform_n": n, "spp_adaptive": a["traced_spp"], "spp_uniform": u["traced_spp"],
                      "mse_indirect_adaptive": a["mse_indirect"], "mse_indirect_uniform": u["mse_indirect"],

@@ -1,0 +1,30 @@
+// Scene motion for the demo and the dynamic-scene benchmarks: one light and
+// one object move on closed paths, so a cache's temporal behaviour shows.
+// The light is a punctual light if the scene has one, otherwise the emissive
+// instance with the most power; the object is the instance named like a
+// "block" or "box", otherwise the smallest non-emissive instance.
+#pragma once
+#include <glm/glm.hpp>
+
+#include "scene.h"
+
+namespace engine {
+
+struct SceneAnimation {
+  int punctualLight = -1;   // index into scene.lights, or -1
+  int lightInstance = -1;   // index into scene.instances (emissive), or -1
+  int objectInstance = -1;  // index into scene.instances, or -1
+  glm::vec3 lightBase{0.0f};     // punctual light position at t = 0
+  glm::mat4 lightInstanceBase{1.0f}, objectBase{1.0f};
+  glm::vec3 objectCenter{0.0f};  // world-space centre of the object's bounds at t = 0
+  float radius = 0.0f;           // metres: the light's circle, a fraction of the scene extent
+  float periodSeconds = 8.0f;    // one loop of both paths
+};
+
+// Picks what moves; an animation with nothing to move (no light, no object) is valid and does nothing.
+SceneAnimation makeSceneAnimation(const Scene& scene);
+// Sets the moving light and object to their pose at `seconds` (periodic).
+// Upload with recordSceneTransformUpdate.
+void animateScene(const SceneAnimation& animation, float seconds, Scene& scene);
+
+}  // namespace engine
