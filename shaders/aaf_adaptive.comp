@@ -28,8 +28,7 @@ void main() {
       GiRng rng = giRngCreate(uvec2(p), giFrame.frameIndex, pc.seed ^ 0x68bc21ebu, GI_STREAM_AAF);
       float extra = max(params.z - float(AAF_INITIAL_SAMPLES), 0.0);
       if (pc.sampleBudget > 0u) {
-        float pixels = float(giFrame.size.x * giFrame.size.y);
-        float initial = pixels * float(AAF_INITIAL_SAMPLES);
+        float initial = float(giCounters.coveredPixels) * float(AAF_INITIAL_SAMPLES);  // pass 1's, already spent
         float wanted = max(float(giCounters.requestedSamples) - initial, 1.0);
         float scale = clamp((float(pc.sampleBudget) - initial) / wanted, 0.0, 1.0);
         extra = floor(extra * scale + giRandom(rng));  // unbiased rounding of the scaled count

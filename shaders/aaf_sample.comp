@@ -14,7 +14,7 @@ layout(local_size_x = GI_GROUP_SIZE, local_size_y = GI_GROUP_SIZE) in;
 void main() {
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   bool inside = all(lessThan(gl_GlobalInvocationID.xy, giFrame.size));
-  uint requested = 0u;
+  uint requested = 0u, covered = 0u;
   if (inside) {
     vec4 params = vec4(0.0), sum = vec4(0.0), glossy = vec4(0.0), edge = vec4(0.0);
     vec3 direct = vec3(0.0);
@@ -53,6 +53,7 @@ void main() {
       }
       params = vec4(zMin, zMax, n, aafBeta(pc.mu, AAF_OMEGA_DIFFUSE, zMin, pc.alpha, d));
       requested = uint(n);
+      covered = 1u;
     }
     imageStore(giOutDirect, p, vec4(direct, 1.0));
     imageStore(giAafParams, p, params);
@@ -62,7 +63,10 @@ void main() {
       imageStore(giAafGlossyEdge, p, edge);
     }
   }
-  uint total = subgroupAdd(requested);
-  if (subgroupElect()) atomicAdd(giCounters.requestedSamples, total);
+  uint total = subgroupAdd(requested), coveredTotal = subgroupAdd(covered);
+  if (subgroupElect()) {
+    atomicAdd(giCounters.requestedSamples, total);
+    atomicAdd(giCounters.coveredPixels, coveredTotal);
+  }
   giCountRays(inside);
 }

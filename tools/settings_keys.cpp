@@ -8,77 +8,83 @@
 namespace tools {
 namespace {
 
-struct Key {
-  const char* name;
-  const char* meaning;
-  bool integer;  // whole numbers only
-  std::function<void(gi::Settings&, double)> set;
-};
+using Key = SettingKey;
 
-#define GI_KEY_U(name, meaning, field) {name, meaning, true, [](gi::Settings& s, double v) { s.field = uint32_t(v); }}
-#define GI_KEY_F(name, meaning, field) {name, meaning, false, [](gi::Settings& s, double v) { s.field = float(v); }}
+#define GI_KEY_U(name, meaning, field, lo, hi)                                                                   \
+  {name, meaning, true, lo, hi, [](gi::Settings& s, double v) { s.field = uint32_t(v); },                      \
+   [](const gi::Settings& s) { return double(s.field); }}
+#define GI_KEY_F(name, meaning, field, lo, hi)                                                                   \
+  {name, meaning, false, lo, hi, [](gi::Settings& s, double v) { s.field = float(v); },                        \
+   [](const gi::Settings& s) { return double(s.field); }}
+#define GI_KEY_B(name, meaning, field)                                                                           \
+  {name, meaning, true, 0, 1, [](gi::Settings& s, double v) { s.field = v != 0; },                             \
+   [](const gi::Settings& s) { return s.field ? 1.0 : 0.0; }}
 
-const std::vector<Key>& keys() {
+}  // namespace
+
+const std::vector<SettingKey>& settingTable() {
   static const std::vector<Key> table = {
-      GI_KEY_U("bounces", "indirect bounces", maxBounces),
-      GI_KEY_U("rr_start", "Russian roulette start bounce", russianRouletteStart),
-      {"ray_budget", "rays per frame (0 = unlimited)", true, [](gi::Settings& s, double v) { s.rayBudget = uint64_t(v); }},
-      GI_KEY_U("seed", "random seed", seed),
+      GI_KEY_U("bounces", "indirect bounces", maxBounces, 1, 16),
+      GI_KEY_U("rr_start", "Russian roulette start bounce", russianRouletteStart, 1, 16),
+      {"ray_budget", "rays per frame (0 = unlimited)", true, 0, 1e9, [](gi::Settings& s, double v) { s.rayBudget = uint64_t(v); },
+       [](const gi::Settings& s) { return double(s.rayBudget); }},
+      GI_KEY_U("seed", "random seed", seed, 0, 1000),
       {"view", "debug view: 0 none, 1 direct, 2 indirect, 3 albedo, 4 normal, 5 guidance, 6 guidance depth, 7 filter in|out, 8 gif coefficients, 9 aaf z_min, 10 aaf z_max, 11 aaf spp, 12 aaf filter width, 13 hash cells, 14 hash lod, 15 hash samples, 16 hash found, 17 hash occupancy",
-       true, [](gi::Settings& s, double v) { s.debugView = gi::DebugView(uint32_t(v)); }},
-      GI_KEY_U("raw.spp", "raw: paths per pixel per frame", raw.samplesPerPixel),
-      {"raw.accumulate", "raw: 1 = temporal accumulation", true, [](gi::Settings& s, double v) { s.raw.temporalAccumulation = v != 0; }},
-      GI_KEY_U("raw.history", "raw: accumulation cap in frames", raw.maxAccumulatedFrames),
-      GI_KEY_U("gif.spp", "gif: indirect paths per guide ray", gif.samplesPerPixel),
-      GI_KEY_U("gif.radius", "gif: window radius, pixels", gif.radius),
-      GI_KEY_F("gif.eps_normal", "gif: ridge term of the normal channels", gif.epsilonNormal),
-      GI_KEY_F("gif.eps_depth", "gif: ridge term of the depth channel", gif.epsilonDepth),
-      GI_KEY_U("gif.dims", "gif: guidance dimensions 1, 3 or 4", gif.guidanceDimensions),
-      GI_KEY_U("gif.supersamples", "gif: extra eye rays per pixel", gif.supersamples),
-      GI_KEY_U("bilateral.spp", "bilateral: paths per pixel", bilateral.samplesPerPixel),
-      GI_KEY_U("bilateral.radius", "bilateral: radius, pixels", bilateral.radius),
-      GI_KEY_F("bilateral.sigma_spatial", "bilateral: spatial sigma, pixels", bilateral.sigmaSpatial),
-      GI_KEY_F("bilateral.sigma_normal", "bilateral: normal sigma", bilateral.sigmaNormal),
-      GI_KEY_F("bilateral.sigma_depth", "bilateral: relative depth sigma", bilateral.sigmaDepth),
-      GI_KEY_U("atrous.spp", "atrous: paths per pixel", atrous.samplesPerPixel),
-      GI_KEY_U("atrous.iterations", "atrous: wavelet iterations", atrous.iterations),
-      GI_KEY_F("atrous.sigma_color", "atrous: colour sigma", atrous.sigmaColor),
-      GI_KEY_F("atrous.sigma_normal", "atrous: normal sigma", atrous.sigmaNormal),
-      GI_KEY_F("atrous.sigma_position", "atrous: position sigma, fraction of depth", atrous.sigmaPosition),
-      GI_KEY_F("aaf.mu", "aaf, aaf_ao: filter scale mu", aaf.mu),
-      GI_KEY_F("aaf.alpha", "aaf, aaf_ao: pixel band limit alpha", aaf.alpha),
-      GI_KEY_F("aaf.normal_limit", "aaf, aaf_ao: normal rejection angle, degrees", aaf.normalLimitDegrees),
-      GI_KEY_U("aaf.uniform", "aaf, aaf_ao: 0 = adaptive, N = N samples in every pixel", aaf.uniformSamples),
-      GI_KEY_U("sspsf.spp", "sspsf: paths per pixel", sspsf.samplesPerPixel),
-      GI_KEY_U("sspsf.window", "sspsf: odd window side, pixels", sspsf.window),
-      GI_KEY_F("sspsf.width", "sspsf: filter width, pixels", sspsf.filterWidth),
-      GI_KEY_F("sspsf.normal_limit", "sspsf: normal rejection angle, degrees", sspsf.normalLimitDegrees),
-      GI_KEY_U("hpsf.spp", "hpsf: paths per pixel", hpsf.samplesPerPixel),
-      GI_KEY_U("hpsf.capacity", "hpsf: cells, power of two (0 = auto)", hpsf.capacity),
-      GI_KEY_U("hpsf.probe", "hpsf: probe window, slots", hpsf.probeWindow),
-      GI_KEY_F("hpsf.width", "hpsf: filter width, pixels", hpsf.filterWidth),
-      GI_KEY_F("hpsf.jitter", "hpsf: jitter, cells", hpsf.jitter),
-      GI_KEY_U("hpsf.normal_bits", "hpsf: normal bits per component", hpsf.normalBits),
-      {"hpsf.stochastic_lod", "hpsf: 1 = stochastic LOD", true, [](gi::Settings& s, double v) { s.hpsf.stochasticLod = v != 0; }},
-      GI_KEY_F("hpsf.clamp", "hpsf: outlier clamp k (0 = off)", hpsf.clampSigma),
-      {"hpsf.aging", "hpsf: 1 = aging eviction, 0 = strict", true,
-       [](gi::Settings& s, double v) { s.hpsf.eviction = v != 0 ? gi::EvictionPolicy::Aging : gi::EvictionPolicy::Strict; }},
-      GI_KEY_U("hpsf.history", "hpsf: history frames (aging)", hpsf.historyFrames),
-      GI_KEY_U("hpsf.stale", "hpsf: stale frames before eviction (aging)", hpsf.staleFrames),
-      GI_KEY_U("hpsf.min_samples", "hpsf: minimum samples to use a cell", hpsf.minSamples),
+       true, 0, 17, [](gi::Settings& s, double v) { s.debugView = gi::DebugView(uint32_t(v)); },
+       [](const gi::Settings& s) { return double(uint32_t(s.debugView)); }},
+      GI_KEY_U("raw.spp", "raw: paths per pixel per frame", raw.samplesPerPixel, 1, 64),
+      GI_KEY_B("raw.accumulate", "raw: 1 = temporal accumulation", raw.temporalAccumulation),
+      GI_KEY_U("raw.history", "raw: accumulation cap in frames", raw.maxAccumulatedFrames, 1, 1024),
+      GI_KEY_U("gif.spp", "gif: indirect paths per guide ray", gif.samplesPerPixel, 1, 64),
+      GI_KEY_U("gif.radius", "gif: window radius, pixels", gif.radius, 1, 64),
+      GI_KEY_F("gif.eps_normal", "gif: ridge term of the normal channels", gif.epsilonNormal, 0.0001, 1),
+      GI_KEY_F("gif.eps_depth", "gif: ridge term of the depth channel", gif.epsilonDepth, 0.0001, 1),
+      GI_KEY_U("gif.dims", "gif: guidance dimensions 1, 3 or 4", gif.guidanceDimensions, 1, 4),
+      GI_KEY_U("gif.supersamples", "gif: extra eye rays per pixel", gif.supersamples, 0, 16),
+      GI_KEY_U("bilateral.spp", "bilateral: paths per pixel", bilateral.samplesPerPixel, 1, 64),
+      GI_KEY_U("bilateral.radius", "bilateral: radius, pixels", bilateral.radius, 1, 32),
+      GI_KEY_F("bilateral.sigma_spatial", "bilateral: spatial sigma, pixels", bilateral.sigmaSpatial, 0.5, 32),
+      GI_KEY_F("bilateral.sigma_normal", "bilateral: normal sigma", bilateral.sigmaNormal, 0.01, 1),
+      GI_KEY_F("bilateral.sigma_depth", "bilateral: relative depth sigma", bilateral.sigmaDepth, 0.001, 1),
+      GI_KEY_U("atrous.spp", "atrous: paths per pixel", atrous.samplesPerPixel, 1, 64),
+      GI_KEY_U("atrous.iterations", "atrous: wavelet iterations", atrous.iterations, 1, 8),
+      GI_KEY_F("atrous.sigma_color", "atrous: colour sigma", atrous.sigmaColor, 0.01, 10),
+      GI_KEY_F("atrous.sigma_normal", "atrous: normal sigma", atrous.sigmaNormal, 1, 256),
+      GI_KEY_F("atrous.sigma_position", "atrous: position sigma, fraction of depth", atrous.sigmaPosition, 0.001, 1),
+      GI_KEY_F("aaf.mu", "aaf, aaf_ao: filter scale mu", aaf.mu, 0.1, 8),
+      GI_KEY_F("aaf.alpha", "aaf, aaf_ao: pixel band limit alpha", aaf.alpha, 0.05, 2),
+      GI_KEY_F("aaf.normal_limit", "aaf, aaf_ao: normal rejection angle, degrees", aaf.normalLimitDegrees, 0, 90),
+      GI_KEY_U("aaf.uniform", "aaf, aaf_ao: 0 = adaptive, N = N samples in every pixel", aaf.uniformSamples, 0, 1024),
+      GI_KEY_U("sspsf.spp", "sspsf: paths per pixel", sspsf.samplesPerPixel, 1, 64),
+      GI_KEY_U("sspsf.window", "sspsf: odd window side, pixels", sspsf.window, 1, 31),
+      GI_KEY_F("sspsf.width", "sspsf: filter width, pixels", sspsf.filterWidth, 0.5, 256),
+      GI_KEY_F("sspsf.normal_limit", "sspsf: normal rejection angle, degrees", sspsf.normalLimitDegrees, 0, 180),
+      GI_KEY_U("hpsf.spp", "hpsf: paths per pixel", hpsf.samplesPerPixel, 1, 64),
+      GI_KEY_U("hpsf.capacity", "hpsf: cells, power of two (0 = auto)", hpsf.capacity, 0, 2097152),
+      GI_KEY_U("hpsf.probe", "hpsf: probe window, slots", hpsf.probeWindow, 1, 64),
+      GI_KEY_F("hpsf.width", "hpsf: filter width, pixels", hpsf.filterWidth, 0.5, 256),
+      GI_KEY_F("hpsf.jitter", "hpsf: jitter, cells", hpsf.jitter, 0, 2),
+      GI_KEY_U("hpsf.normal_bits", "hpsf: normal bits per component", hpsf.normalBits, 0, 3),
+      GI_KEY_B("hpsf.stochastic_lod", "hpsf: 1 = stochastic LOD", hpsf.stochasticLod),
+      GI_KEY_F("hpsf.clamp", "hpsf: outlier clamp k (0 = off)", hpsf.clampSigma, 0, 100),
+      {"hpsf.aging", "hpsf: 1 = aging eviction, 0 = strict", true, 0, 1,
+       [](gi::Settings& s, double v) { s.hpsf.eviction = v != 0 ? gi::EvictionPolicy::Aging : gi::EvictionPolicy::Strict; },
+       [](const gi::Settings& s) { return s.hpsf.eviction == gi::EvictionPolicy::Aging ? 1.0 : 0.0; }},
+      GI_KEY_U("hpsf.history", "hpsf: history frames (aging)", hpsf.historyFrames, 2, 1000),
+      GI_KEY_U("hpsf.stale", "hpsf: stale frames before eviction (aging)", hpsf.staleFrames, 1, 1000),
+      GI_KEY_U("hpsf.min_samples", "hpsf: minimum samples to use a cell", hpsf.minSamples, 1, 1000),
   };
   return table;
 }
 
 #undef GI_KEY_U
 #undef GI_KEY_F
-
-}  // namespace
+#undef GI_KEY_B
 
 bool applySetting(gi::Settings& settings, const std::string& assignment, std::string& error) {
   size_t eq = assignment.find('=');
   std::string name = assignment.substr(0, eq);
-  for (const Key& k : keys()) {
+  for (const Key& k : settingTable()) {
     if (name != k.name) continue;
     if (eq == std::string::npos) {
       error = "setting '" + name + "' needs a value (" + name + "=N)";
@@ -97,13 +103,13 @@ bool applySetting(gi::Settings& settings, const std::string& assignment, std::st
     return true;
   }
   error = "unknown setting '" + name + "'; known:";
-  for (const Key& k : keys()) error += std::string(" ") + k.name;
+  for (const Key& k : settingTable()) error += std::string(" ") + k.name;
   return false;
 }
 
 std::vector<std::string> settingKeys() {
   std::vector<std::string> out;
-  for (const Key& k : keys()) out.push_back(std::string(k.name) + "  (" + k.meaning + ")");
+  for (const Key& k : settingTable()) out.push_back(std::string(k.name) + "  (" + k.meaning + ")");
   return out;
 }
 

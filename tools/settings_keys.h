@@ -2,12 +2,25 @@
 // One table maps each key to its field, so gi-render, gi-bench and the demo
 // agree on names; the module validates the values.
 #pragma once
+#include <functional>
 #include <string>
 #include <vector>
 
 #include "gi/gi.h"
 
 namespace tools {
+
+// One setting: its command-line name, meaning with units, and a range for
+// sliders (the module's validate() holds the real limits).
+struct SettingKey {
+  const char* name;      // "bounces", or "<method>.<knob>" ("aaf." keys serve aaf and aaf_ao)
+  const char* meaning;
+  bool integer;          // whole numbers only
+  double sliderMin, sliderMax;
+  std::function<void(gi::Settings&, double)> set;
+  std::function<double(const gi::Settings&)> get;
+};
+const std::vector<SettingKey>& settingTable();
 
 // Applies "key=value"; false with a sentence in `error` for an unknown key or a malformed value.
 bool applySetting(gi::Settings& settings, const std::string& assignment, std::string& error);

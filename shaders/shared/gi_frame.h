@@ -46,8 +46,12 @@ struct GiCounters {
   uint requestedSamples;  // AAF pass 1: Σ n(μ) over pixels
   uint tracedSamples;     // AAF pass 2: Σ samples actually traced
   uint sanitized;         // non-finite G-buffer pixels and path samples dropped at the module boundary
+  uint coveredPixels;     // AAF pass 1: pixels with geometry (each takes the 16 initial samples)
+  uint pad0;
+  uint pad1;
+  uint pad2;
 };
-GPU_ASSERT_SIZE(GiCounters, 16);
+GPU_ASSERT_SIZE(GiCounters, 32);
 
 struct GiRawPush {
   uint seed;

@@ -1,0 +1,62 @@
+#include "display_pass.h"
+
+#include <cstring>
+
+#include "display.comp.h"
+#include "image_io.h"
+#include "shared/display.h"
+
+namespace demo {
+
+DisplayPass createDisplayPass(const engine::Context& ctx, VkExtent2D extent, VkImageView source) {
+  DisplayPass d;
+  d.extent = extent;
+  d.image = engine::createImage(ctx, extent, kDisplayFormat,
+                                VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT |
+                                    VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+    engine::imageBarrier(cmd, d.image.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, 0,
+                         VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+  });
+  const engine::Binding bindings[] = {{gpu::DISPLAY_BINDING_SOURCE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+                                      {gpu::DISPLAY_BINDING_TARGET, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}};
+  d.set = engine::createDescriptorSet(ctx, bindings);
+  engine::DescriptorWriter(d.set.set)
+      .storageImage(gpu::DISPLAY_BINDING_SOURCE, source)
+      .storageImage(gpu::DISPLAY_BINDING_TARGET, d.image.view)
+      .write(ctx);
+  VkDescriptorSetLayout layouts[] = {d.set.layout};
+  d.program = engine::createComputeProgram(ctx, spv_display_comp, layouts, sizeof(gpu::DisplayPush),
+                                           {DISPLAY_GROUP_SIZE, DISPLAY_GROUP_SIZE});
+  return d;
+}
+
+void destroyDisplayPass(const engine::Context& ctx, DisplayPass& d) {
+  engine::destroyComputeProgram(ctx, d.program);
+  engine::destroyDescriptorSet(ctx, d.set);
+  engine::destroyImage(ctx, d.image);
+  d = DisplayPass{};
+}
+
+void recordDisplay(VkCommandBuffer cmd, const DisplayPass& d, float exposure) {
+  engine::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_TRANSFER_BIT,
+                        VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_TRANSFER_READ_BIT,
+                        VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                        VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+  engine::dispatch(cmd, d.program, std::span(&d.set.set, 1), {d.extent.width, d.extent.height},
+                   gpu::DisplayPush{exposure, 0, 0, 0});
+}
+
+engine::FloatImage readDisplay(const engine::Context& ctx, const DisplayPass& d) {
+  std::vector<std::byte> bytes = engine::readbackImage(ctx, d.image, VK_IMAGE_LAYOUT_GENERAL, 8);
+  engine::FloatImage out(d.extent.width, d.extent.height, 3);
+  for (size_t p = 0; p < size_t(d.extent.width) * d.extent.height; ++p)
+    for (int c = 0; c < 3; ++c) {
+      uint16_t h;
+      std::memcpy(&h, &bytes[p * 8 + size_t(c) * 2], 2);
+      out.pixels[p * 3 + size_t(c)] = engine::halfToFloat(h);
+    }
+  return out;
+}
+
+}  // namespace demo

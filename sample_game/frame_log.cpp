@@ -1,0 +1,40 @@
+#include "frame_log.h"
+
+#include <algorithm>
+#include <map>
+
+namespace demo {
+
+bool openFrameLog(FrameLog& log, const std::string& path, std::string& error) {
+  log.file.open(path);
+  if (!log.file) {
+    error = path + ": cannot write the benchmark CSV";
+    return false;
+  }
+  return true;
+}
+
+void writeFrameRow(FrameLog& log, uint32_t frame, double seconds, double cpuMs, double gbufferMs, const gi::FrameStats& stats) {
+  std::map<std::string, double> passMs;
+  for (const gi::PassTiming& p : stats.passes) {
+    if (!passMs.count(p.name) && log.rows == 0) log.passColumns.push_back(p.name);
+    passMs[p.name] += p.ms;
+  }
+  if (log.rows == 0) {
+    log.file << "frame,seconds,cpu_ms,gbuffer_ms,module_ms,rays,spp";
+    for (const std::string& name : log.passColumns) log.file << ',' << name << "_ms";
+    log.file << ",other_ms\n";
+  }
+  // Passes that were not in the first frame (the method changed) go to other_ms.
+  double other = 0.0;
+  for (const auto& [name, ms] : passMs)
+    if (std::find(log.passColumns.begin(), log.passColumns.end(), name) == log.passColumns.end()) other += ms;
+  log.file << frame << ',' << seconds << ',' << cpuMs << ',' << gbufferMs << ',' << stats.totalMs << ',' << stats.raysTraced
+           << ',' << stats.samplesPerPixel;
+  for (const std::string& name : log.passColumns) log.file << ',' << (passMs.count(name) ? passMs[name] : 0.0);
+  log.file << ',' << other << '\n';
+  log.file.flush();
+  ++log.rows;
+}
+
+}  // namespace demo

@@ -1,0 +1,360 @@
+// The walkthrough demo: a GLFW window over the default scene with the GI
+// module, a free camera and a scripted walkthrough, a moving light and
+// object, and a Dear ImGui overlay with every tunable. Without a display it
+// runs headless and writes the walkthrough's frames as PNG plus a CSV.
+//
+//   sample_game [--scene FILE.gltf] [--method M] [--frames N] [--benchmark N] [--out DIR] ...
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+#include <imgui_impl_glfw.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include "animation.h"
+#include "camera.h"
+#include "cli.h"
+#include "display_pass.h"
+#include "frame_log.h"
+#include "free_camera.h"
+#include "image_io.h"
+#include "module_session.h"
+#include "overlay.h"
+#include "overlay_renderer.h"
+#include "scene_gpu.h"
+#include "scene_loading.h"
+#include "settings_keys.h"
+#include "window.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const cli::Option kOptions[] = {
+    {"scene", "FILE.gltf", "scene to walk through (default assets/cornell_box/cornell_box.gltf)"},
+    {"method", "M", "GI method at start: raw, gif, bilateral, atrous, aaf, aaf_ao, sspsf, hpsf (default hpsf)"},
+    {"set", "KEY=V,...", "module settings at start (see gi-render --help for the keys)"},
+    {"size", "WxH", "render size of the GI module (default 320x180)"},
+    {"window-size", "WxH", "window and overlay size (default 960x540)"},
+    {"frames", "N", "stop after N frames (default: until the window closes; 30 headless)"},
+    {"benchmark", "N", "walk the scripted path for N frames, write the per-pass CSV, exit"},
+    {"budget-ms", "MS", "start in budget mode holding the module's GPU time at MS"},
+    {"out", "DIR", "where screenshots, headless frames and the CSV go (default sample_game_out)"},
+    {"screenshot-at", "N", "also save a screenshot (with the overlay) of frame N"},
+    {"headless", nullptr, "no window even if a display is available"},
+    {"no-animation", nullptr, "keep the light and the object still"},
+    {"still", nullptr, "a static scene: no animation and no walkthrough (the camera stays at the scene's)"},
+    {"validation", nullptr, "enable Vulkan validation (exit status 3 if it reports anything)"},
+};
+
+struct Options {
+  std::string scene = GI_DEFAULT_SCENE;
+  gi::Settings settings;
+  uint32_t width = 320, height = 180, windowWidth = 960, windowHeight = 540;
+  uint32_t frames = 0, benchmark = 0, screenshotAt = UINT32_MAX;
+  float budgetMs = 0.0f;
+  fs::path out = "sample_game_out";
+  bool headless = false, animate = true, walkthrough = true, validation = false;
+};
+
+int usageError(const std::string& message) {
+  std::fprintf(stderr, "sample_game: %s\n\n%s", message.c_str(),
+               cli::usage("sample_game", "[options]", kOptions).c_str());
+  return 2;
+}
+
+bool parseOptions(int argc, char** argv, Options& o, std::string& error) {
+  cli::Args args;
+  if (!cli::parse(argc, argv, kOptions, args, error)) return false;
+  if (args.has("scene")) o.scene = args.values["scene"];
+  o.settings.method = gi::Method::Hpsf;
+  o.settings.maxBounces = 2;
+  if (args.has("method") && !gi::methodFromName(args.values["method"], o.settings.method)) {
+    error = "unknown method '" + args.values["method"] + "'";
+    return false;
+  }
+  if (args.has("set"))
+    for (const std::string& a : cli::splitList(args.values["set"]))
+      if (!tools::applySetting(o.settings, a, error)) return false;
+  if (gi::Error e = gi::validate(o.settings)) {
+    error = e.message;
+    return false;
+  }
+  uint32_t budget = 0, screenshot = 0;
+  if (!cli::getSize(args, "size", 320, 180, o.width, o.height, error) ||
+      !cli::getSize(args, "window-size", 960, 540, o.windowWidth, o.windowHeight, error) ||
+      !cli::getUint(args, "frames", 0, 0, 1u << 30, o.frames, error) ||
+      !cli::getUint(args, "benchmark", 0, 0, 1u << 30, o.benchmark, error) ||
+      !cli::getUint(args, "budget-ms", 0, 0, 100000, budget, error) ||
+      !cli::getUint(args, "screenshot-at", 0, 0, 1u << 30, screenshot, error))
+    return false;
+  o.budgetMs = float(budget);
+  if (args.has("screenshot-at")) o.screenshotAt = screenshot;
+  if (args.has("out")) o.out = args.values["out"];
+  o.headless = args.has("headless") || std::getenv("DISPLAY") == nullptr || *std::getenv("DISPLAY") == '\0';
+  o.animate = !args.has("no-animation") && !args.has("still");
+  o.walkthrough = !args.has("still");
+  o.validation = args.has("validation") || std::getenv("GI_VALIDATION") != nullptr;
+  return true;
+}
+
+// Keyboard and mouse for the free camera and the demo's keys, unless ImGui wants them.
+struct Keys {
+  bool walkthroughToggle = false, screenshot = false;
+};
+demo::CameraInput pollInput(GLFWwindow* w, float extent, Keys& keys, bool& previousP, bool& previousF12,
+                            glm::dvec2& previousMouse) {
+  demo::CameraInput in;
+  in.speed = 0.25f * extent * (glfwGetKey(w, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS ? 4.0f : 1.0f);
+  const ImGuiIO& io = ImGui::GetIO();
+  glm::dvec2 mouse;
+  glfwGetCursorPos(w, &mouse.x, &mouse.y);
+  if (!io.WantCaptureMouse && glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS)
+    in.look = glm::vec2(mouse - previousMouse);
+  previousMouse = mouse;
+  if (io.WantCaptureKeyboard) return in;
+  auto key = [&](int k) { return glfwGetKey(w, k) == GLFW_PRESS ? 1.0f : 0.0f; };
+  in.move = {key(GLFW_KEY_D) - key(GLFW_KEY_A), key(GLFW_KEY_E) - key(GLFW_KEY_Q), key(GLFW_KEY_S) - key(GLFW_KEY_W)};
+  bool p = key(GLFW_KEY_P) > 0.0f, f12 = key(GLFW_KEY_F12) > 0.0f;
+  keys.walkthroughToggle = p && !previousP;
+  keys.screenshot = f12 && !previousF12;
+  previousP = p;
+  previousF12 = f12;
+  if (key(GLFW_KEY_ESCAPE) > 0.0f) glfwSetWindowShouldClose(w, GLFW_TRUE);
+  return in;
+}
+
+bool saveDisplay(const engine::Context& ctx, const demo::DisplayPass& display, const fs::path& path, bool announce) {
+  std::string error;
+  if (!engine::writeImage(path.string(), demo::readDisplay(ctx, display), error)) {
+    std::fprintf(stderr, "sample_game: %s\n", error.c_str());
+    return false;
+  }
+  if (announce) std::printf("screenshot %s\n", path.string().c_str());
+  return true;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  std::string error;
+  if (!parseOptions(argc, argv, o, error)) return usageError(error);
+  if (o.headless && o.frames == 0) o.frames = o.benchmark ? o.benchmark : 30;
+  if (o.benchmark) o.frames = o.benchmark;
+  std::error_code ec;
+  fs::create_directories(o.out, ec);
+  if (ec) {
+    std::fprintf(stderr, "sample_game: %s: cannot create the output directory (%s)\n", o.out.string().c_str(),
+                 ec.message().c_str());
+    return 1;
+  }
+
+  engine::Scene scene;
+  if (!engine::loadSceneForRendering(o.scene, scene, error)) {
+    std::fprintf(stderr, "sample_game: %s\n", error.c_str());
+    return 1;
+  }
+  engine::ContextDesc contextDesc;
+  contextDesc.validation = o.validation;
+  if (!o.headless) {
+    if (engine::windowInstanceExtensions(contextDesc.instanceExtensions, error)) contextDesc.swapchain = true;
+    else {
+      std::printf("sample_game: %s; running headless\n", error.c_str());
+      o.headless = true;
+      if (o.frames == 0) o.frames = 30;
+    }
+  }
+  if (o.headless)
+    std::printf("sample_game: no display: running headless, writing the walkthrough's frames (PNG) and benchmark.csv to %s\n",
+                o.out.string().c_str());
+  engine::Context ctx;
+  if (!engine::createContext(contextDesc, ctx, error)) {
+    std::fprintf(stderr, "sample_game: %s\n", error.c_str());
+    return 1;
+  }
+  engine::SceneGpu sceneGpu;
+  engine::createSceneGpu(ctx, scene, sceneGpu);
+  tools::ModuleSession session;
+  if (!tools::createModuleSession(ctx, sceneGpu, {o.width, o.height}, o.settings, session, error)) {
+    std::fprintf(stderr, "sample_game: %s\n", error.c_str());
+    return 2;
+  }
+  engine::Window window;
+  if (!o.headless && !engine::createWindow(ctx, o.windowWidth, o.windowHeight, "GI module: sample game", window, error)) {
+    std::fprintf(stderr, "sample_game: %s\n", error.c_str());
+    return 1;
+  }
+  const VkExtent2D displaySize{o.windowWidth, o.windowHeight};
+  demo::DisplayPass display = demo::createDisplayPass(ctx, displaySize, gi::outputs(session.module).compositeView);
+
+  ImGui::CreateContext();
+  ImGui::StyleColorsDark();
+  ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini next to the user's files
+  if (!o.headless) ImGui_ImplGlfw_InitForVulkan(window.handle, true);
+  demo::OverlayRenderer overlay = demo::createOverlayRenderer(ctx, demo::kDisplayFormat);
+
+  demo::OverlayState ui;
+  ui.animate = o.animate;
+  ui.walkthrough = o.walkthrough;
+  ui.budgetMode = o.budgetMs > 0.0f;
+  if (ui.budgetMode) ui.budget.targetMs = o.budgetMs;
+  const float extent = scene.worldBounds().extent();
+  demo::Walkthrough path{demo::freeCameraFrom(scene.cameras[0]), extent};
+  demo::FreeCamera freeCamera = path.start;
+  engine::SceneAnimation animation = engine::makeSceneAnimation(scene);
+  gi::Settings settings = o.settings, applied = o.settings;  // what the panel edits, what the module runs
+
+  demo::FrameLog log;
+  bool logging = o.headless || o.benchmark > 0;
+  if (logging && !demo::openFrameLog(log, (o.out / "benchmark.csv").string(), error)) {
+    std::fprintf(stderr, "sample_game: %s\n", error.c_str());
+    return 1;
+  }
+
+  Keys keys;
+  bool previousP = false, previousF12 = false, screenshotPending = false;
+  glm::dvec2 previousMouse(0.0);
+  gpu::GpuCamera previousCamera{};
+  using Clock = std::chrono::steady_clock;
+  Clock::time_point start = Clock::now(), lastFrame = start;
+  double cpuMs = 0.0, moduleMsSum = 0.0, seconds = 0.0, lastSeconds = 0.0;
+  uint32_t measured = 0, frame = 0;
+  const bool fixedStep = o.headless || o.benchmark > 0;  // a deterministic path: 30 frames per walkthrough second
+
+  // Once frame `completed` has finished on the GPU: its numbers, the CSV row, a screenshot.
+  auto completedFrame = [&](uint32_t completed) {
+    gi::FrameStats stats = gi::stats(session.module);
+    double gbufferMs = 0.0;
+    for (const engine::PassTime& p : engine::readPassTimes(ctx, session.timer)) gbufferMs += p.ms;
+    demo::recordFrameNumbers(ui, stats, gbufferMs, cpuMs);
+    if (logging) demo::writeFrameRow(log, completed, lastSeconds, cpuMs, gbufferMs, stats);
+    moduleMsSum += stats.totalMs;
+    ++measured;
+    if (screenshotPending || completed == o.screenshotAt) {
+      char name[64];
+      std::snprintf(name, sizeof(name), "screenshot_%05u.png", completed);
+      saveDisplay(ctx, display, o.out / name, true);
+      screenshotPending = false;
+    }
+    return stats;
+  };
+
+  for (; o.frames == 0 || frame < o.frames; ++frame) {
+    uint32_t image = 0;
+    if (!o.headless) {
+      if (engine::windowShouldClose(window)) break;
+      if (!engine::beginWindowFrame(ctx, window, image)) {
+        --frame;
+        continue;
+      }
+    }
+    // The previous frame has completed: its numbers, screenshots and the budget's next step.
+    Clock::time_point now = Clock::now();
+    cpuMs = std::chrono::duration<double, std::milli>(now - lastFrame).count();
+    lastFrame = now;
+    if (frame > 0) {
+      gi::FrameStats stats = completedFrame(frame - 1);
+      if (ui.budgetMode) {
+        settings.rayBudget = applied.rayBudget = gi::updateBudget(ui.budget, stats);
+        gi::setSettings(session.module, applied);
+      }
+    }
+
+    // Input, camera and the moving scene.
+    ImGuiIO& io = ImGui::GetIO();
+    if (o.headless) {
+      io.DisplaySize = ImVec2(float(displaySize.width), float(displaySize.height));
+      io.DeltaTime = 1.0f / 30.0f;
+    } else {
+      ImGui_ImplGlfw_NewFrame();
+      int ww = 1, wh = 1;
+      glfwGetWindowSize(window.handle, &ww, &wh);
+      io.MousePos.x *= float(displaySize.width) / float(std::max(ww, 1));  // the overlay lives in display pixels
+      io.MousePos.y *= float(displaySize.height) / float(std::max(wh, 1));
+      io.DisplaySize = ImVec2(float(displaySize.width), float(displaySize.height));
+      io.DisplayFramebufferScale = ImVec2(1.0f, 1.0f);
+    }
+    float dt = fixedStep ? 1.0f / 30.0f : float(cpuMs * 1e-3);
+    seconds += dt;
+    if (!o.headless) {
+      demo::CameraInput input = pollInput(window.handle, extent, keys, previousP, previousF12, previousMouse);
+      if (keys.walkthroughToggle) ui.walkthrough = !ui.walkthrough;
+      if (keys.screenshot) ui.screenshotRequested = true;
+      if (!ui.walkthrough) demo::updateFreeCamera(freeCamera, input, dt);
+    }
+    if (ui.walkthrough) freeCamera = demo::walkthroughCamera(path, seconds);
+    gpu::GpuCamera camera =
+        engine::makeGpuCamera(demo::toCamera(freeCamera), o.width, o.height, frame > 0 ? &previousCamera : nullptr);
+
+    ImGui::NewFrame();
+    gi::FrameStats shown = gi::stats(session.module);
+    if (demo::buildOverlay(ui, settings, shown)) {
+      if (gi::Error e = gi::setSettings(session.module, settings)) {
+        ui.settingsError = e.message;  // the module keeps running what it had
+        settings = applied;
+      } else {
+        ui.settingsError.clear();
+        applied = settings;
+      }
+    }
+    if (ui.screenshotRequested) {
+      screenshotPending = true;
+      ui.screenshotRequested = false;
+    }
+    ImGui::Render();
+
+    auto record = [&](VkCommandBuffer cmd) {
+      if (ui.animate) {
+        engine::animateScene(animation, seconds, scene);
+        engine::recordSceneTransformUpdate(ctx, cmd, scene, sceneGpu);
+        if (ui.tellModuleLightsMoved) gi::invalidate(session.module, gi::Invalidate::LightsChanged);
+      }
+      tools::recordModuleFrame(ctx, cmd, session, scene, sceneGpu, camera, frame > 0 ? previousCamera : camera, frame);
+      demo::recordDisplay(cmd, display, ui.exposure);
+      demo::recordOverlay(ctx, cmd, overlay, *ImGui::GetDrawData(), display.image.image, display.image.view, displaySize);
+    };
+    if (o.headless) {
+      engine::submitAndWait(ctx, record);
+      char name[64];
+      std::snprintf(name, sizeof(name), "frame_%05u.png", frame);
+      if (!o.benchmark && !saveDisplay(ctx, display, o.out / name, false)) return 1;
+    } else {
+      record(window.cmd);
+      engine::endWindowFrame(ctx, window, image, display.image.image, displaySize);
+    }
+    previousCamera = camera;
+    lastSeconds = seconds;
+  }
+
+  vkDeviceWaitIdle(ctx.device);
+  cpuMs = std::chrono::duration<double, std::milli>(Clock::now() - lastFrame).count();
+  if (frame > 0) completedFrame(frame - 1);
+  double wall = std::chrono::duration<double>(Clock::now() - start).count();
+  std::printf("frames %u in %.1f s; module %.2f ms GPU per frame (mean)", frame, wall,
+              measured ? moduleMsSum / measured : 0.0);
+  if (ui.budgetMode)
+    std::printf("; budget mode: target %.1f ms, last frame %.2f ms, ray budget %.3g", ui.budget.targetMs,
+                gi::stats(session.module).totalMs, double(settings.rayBudget));
+  std::printf("\n");
+  if (logging) std::printf("csv %s\n", (o.out / "benchmark.csv").string().c_str());
+
+  demo::destroyOverlayRenderer(ctx, overlay);
+  if (!o.headless) ImGui_ImplGlfw_Shutdown();
+  ImGui::DestroyContext();
+  demo::destroyDisplayPass(ctx, display);
+  if (!o.headless) engine::destroyWindow(ctx, window);
+  tools::destroyModuleSession(ctx, session);
+  engine::destroySceneGpu(ctx, sceneGpu);
+  uint32_t messages = ctx.validationMessages();
+  engine::destroyContext(ctx);
+  if (o.validation && messages > 0) {
+    std::fprintf(stderr, "sample_game: Vulkan validation reported %u messages\n", messages);
+    return 3;
+  }
+  return 0;
+}

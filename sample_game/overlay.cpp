@@ -1,0 +1,164 @@
+#include "overlay.h"
+
+#include <imgui.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+#include <vector>
+
+#include "settings_keys.h"
+
+namespace demo {
+namespace {
+
+constexpr gi::Method kMethods[] = {gi::Method::Raw,   gi::Method::Gif,   gi::Method::Bilateral, gi::Method::Atrous,
+                                   gi::Method::Aaf,   gi::Method::AafAo, gi::Method::Sspsf,     gi::Method::Hpsf};
+constexpr const char* kViews[] = {"none (lit image)", "direct",           "indirect (demodulated)", "albedo",
+                                  "normal",           "guidance",         "guidance depth",         "filter in | out",
+                                  "gif coefficients", "aaf z_min",        "aaf z_max",              "aaf samples per pixel",
+                                  "aaf filter width", "hash cells",       "hash level of detail",   "hash samples per cell",
+                                  "hash cell found",  "hash occupancy"};
+static_assert(std::size(kViews) == size_t(gi::DebugView::HashOccupancy) + 1);
+
+// Keys with this prefix belong to the method ("aaf." serves aaf and aaf_ao).
+std::string methodPrefix(gi::Method m) { return std::string(gi::isAaf(m) ? "aaf" : gi::methodName(m)) + "."; }
+
+// A slider per tunable of the active method, plus the method-independent ones.
+bool tunables(gi::Settings& settings) {
+  bool changed = false;
+  const std::string prefix = methodPrefix(settings.method);
+  for (const tools::SettingKey& k : tools::settingTable()) {
+    std::string name = k.name;
+    bool global = name.find('.') == std::string::npos;
+    if (global && (name == "view" || name == "ray_budget" || name == "seed")) continue;  // own widgets
+    if (!global && name.compare(0, prefix.size(), prefix) != 0) continue;
+    // The meaning without its "method: " prefix (the method is chosen above), units included.
+    std::string meaning = k.meaning;
+    size_t colon = meaning.find(": ");
+    if (!global && colon != std::string::npos) meaning = meaning.substr(colon + 2);
+    const char* label = meaning.c_str();
+    double value = k.get(settings);
+    if (k.integer && k.sliderMin == 0 && k.sliderMax == 1) {
+      if (meaning.rfind("1 = ", 0) == 0) meaning = meaning.substr(4);  // "1 = aging eviction, 0 = strict"
+      label = meaning.c_str();
+      bool on = value != 0.0;
+      if (ImGui::Checkbox(label, &on)) k.set(settings, on ? 1.0 : 0.0), changed = true;
+    } else if (k.integer) {
+      int v = int(value);
+      if (ImGui::SliderInt(label, &v, int(k.sliderMin), int(k.sliderMax))) k.set(settings, double(std::max(v, 0))), changed = true;
+    } else {
+      float v = float(value);
+      bool logarithmic = k.sliderMax / std::max(k.sliderMin, 1e-9) > 100.0;
+      if (ImGui::SliderFloat(label, &v, float(k.sliderMin), float(k.sliderMax), "%.4g",
+                             logarithmic ? ImGuiSliderFlags_Logarithmic : 0))
+        k.set(settings, double(v)), changed = true;
+    }
+  }
+  return changed;
+}
+
+// The last frame's passes as one stacked bar, each pass a colour, with its legend.
+void passBar(const gi::FrameStats& stats, double gbufferMs) {
+  std::vector<std::pair<std::string, double>> passes;
+  if (gbufferMs > 0.0) passes.push_back({"gbuffer", gbufferMs});
+  for (const gi::PassTiming& p : stats.passes) {
+    auto it = std::find_if(passes.begin(), passes.end(), [&](const auto& q) { return q.first == p.name; });
+    if (it != passes.end()) it->second += p.ms;  // passes run several times a frame add up
+    else passes.push_back({p.name, p.ms});
+  }
+  double total = 0.0;
+  for (const auto& p : passes) total += p.second;
+  if (total <= 0.0) return;
+  ImDrawList* draw = ImGui::GetWindowDrawList();
+  ImVec2 origin = ImGui::GetCursorScreenPos();
+  float width = ImGui::GetContentRegionAvail().x, height = 18.0f, x = origin.x;
+  for (size_t i = 0; i < passes.size(); ++i) {
+    float w = float(passes[i].second / total) * width;
+    ImU32 colour = ImColor::HSV(float(i) / float(passes.size()), 0.65f, 0.9f);
+    draw->AddRectFilled(ImVec2(x, origin.y), ImVec2(x + w, origin.y + height), colour);
+    x += w;
+  }
+  ImGui::Dummy(ImVec2(width, height));
+  for (size_t i = 0; i < passes.size(); ++i) {
+    ImGui::ColorButton(passes[i].first.c_str(), ImColor::HSV(float(i) / float(passes.size()), 0.65f, 0.9f),
+                       ImGuiColorEditFlags_NoTooltip, ImVec2(10, 10));
+    ImGui::SameLine();
+    ImGui::Text("%-22s %8.2f ms", passes[i].first.c_str(), passes[i].second);
+  }
+}
+
+}  // namespace
+
+void recordFrameNumbers(OverlayState& state, const gi::FrameStats& stats, double gbufferMs, double cpuFrameMs) {
+  state.totalMsHistory.push_back(float(stats.totalMs));
+  while (state.totalMsHistory.size() > 120) state.totalMsHistory.pop_front();
+  state.gbufferMs = gbufferMs;
+  state.cpuFrameMs = cpuFrameMs;
+}
+
+bool buildOverlay(OverlayState& state, gi::Settings& settings, const gi::FrameStats& stats) {
+  bool changed = false;
+  ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(440, ImGui::GetIO().DisplaySize.y - 16), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowBgAlpha(0.8f);
+  ImGui::Begin("GI module");
+  ImGui::PushItemWidth(ImGui::GetWindowWidth() * 0.42f);
+
+  int method = int(std::find(std::begin(kMethods), std::end(kMethods), settings.method) - std::begin(kMethods));
+  const char* names[std::size(kMethods)];
+  for (size_t i = 0; i < std::size(kMethods); ++i) names[i] = gi::methodName(kMethods[i]);
+  if (ImGui::Combo("method", &method, names, int(std::size(kMethods)))) {
+    settings.method = kMethods[size_t(method)];
+    changed = true;
+  }
+  int view = int(settings.debugView);
+  if (ImGui::Combo("debug view", &view, kViews, int(std::size(kViews)))) {
+    settings.debugView = gi::DebugView(uint32_t(view));
+    changed = true;
+  }
+  ImGui::SliderFloat("exposure", &state.exposure, 0.05f, 20.0f, "%.3g", ImGuiSliderFlags_Logarithmic);
+  if (ImGui::CollapsingHeader("tunables", ImGuiTreeNodeFlags_DefaultOpen)) changed |= tunables(settings);
+  if (!state.settingsError.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.3f, 1), "%s", state.settingsError.c_str());
+
+  if (ImGui::CollapsingHeader("frame", ImGuiTreeNodeFlags_DefaultOpen)) {
+    ImGui::Text("module %.2f ms GPU   gbuffer %.2f ms   frame %.1f ms CPU", stats.totalMs, state.gbufferMs, state.cpuFrameMs);
+    ImGui::Text("rays %.3g   spp %u   sanitized %u   memory %.1f MiB", double(stats.raysTraced), stats.samplesPerPixel,
+                stats.sanitized, double(stats.memoryBytes) / 1048576.0);
+    std::vector<float> history(state.totalMsHistory.begin(), state.totalMsHistory.end());
+    if (!history.empty())
+      ImGui::PlotLines("module ms", history.data(), int(history.size()), 0, nullptr, 0.0f,
+                       *std::max_element(history.begin(), history.end()) * 1.2f, ImVec2(0, 50));
+    passBar(stats, state.gbufferMs);
+  }
+  if (settings.method == gi::Method::Hpsf && ImGui::CollapsingHeader("hash map", ImGuiTreeNodeFlags_DefaultOpen)) {
+    const gi::FrameStats::Hash& h = stats.hash;
+    ImGui::Text("occupancy %.1f%% (%u of %u cells)", 100.0 * h.occupancy(), h.occupied, h.capacity);
+    ImGui::Text("inserts %u   failed %u   evicted %u", h.inserts, h.failedInserts, h.evicted);
+    ImGui::Text("probe mean %.2f   max %u   overflows %u", double(h.meanProbe), h.maxProbe, h.overflows);
+  }
+  if (ImGui::CollapsingHeader("budget", ImGuiTreeNodeFlags_DefaultOpen)) {
+    if (ImGui::Checkbox("budget mode: hold the module's GPU time", &state.budgetMode) && !state.budgetMode) {
+      settings.rayBudget = 0;
+      state.budget.rayBudget = 0;
+      changed = true;
+    }
+    float target = float(state.budget.targetMs);
+    if (ImGui::InputFloat("target ms", &target, 1.0f, 10.0f, "%.1f")) state.budget.targetMs = std::max(target, 0.1f);
+    if (state.budgetMode)
+      ImGui::Text("achieved %.2f ms (%+.0f%%): ray budget %.3g, %u spp", stats.totalMs,
+                  100.0 * (stats.totalMs / state.budget.targetMs - 1.0), double(settings.rayBudget), stats.samplesPerPixel);
+  }
+  if (ImGui::CollapsingHeader("scene", ImGuiTreeNodeFlags_DefaultOpen)) {
+    ImGui::Checkbox("walkthrough (P)", &state.walkthrough);
+    ImGui::Checkbox("move the light and an object", &state.animate);
+    ImGui::Checkbox("tell the module when lights move (gi::invalidate)", &state.tellModuleLightsMoved);
+    if (ImGui::Button("screenshot (F12)")) state.screenshotRequested = true;
+    ImGui::TextDisabled("right mouse: look   WASD/QE: move   shift: faster");
+  }
+  ImGui::PopItemWidth();
+  ImGui::End();
+  return changed;
+}
+
+}  // namespace demo

@@ -1,0 +1,33 @@
+// Draws Dear ImGui's draw lists into a colour image with its own small
+// graphics pipeline (dynamic rendering, one font texture). The engine loads
+// Vulkan through volk, so ImGui's stock Vulkan backend (which links the
+// loader's symbols directly) is not used.
+#pragma once
+#include "compute_program.h"
+#include "descriptors.h"
+#include "resources.h"
+
+struct ImDrawData;
+
+namespace demo {
+
+struct OverlayRenderer {
+  VkPipelineLayout layout = VK_NULL_HANDLE;
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  engine::DescriptorSet set;
+  engine::Image font;
+  VkSampler sampler = VK_NULL_HANDLE;
+  engine::Buffer vertices, indices;  // host-visible, grown on demand; one frame in flight
+};
+
+// Uploads ImGui's font atlas (call after ImGui::CreateContext) and builds the
+// pipeline for `targetFormat`.
+OverlayRenderer createOverlayRenderer(const engine::Context& ctx, VkFormat targetFormat);
+void destroyOverlayRenderer(const engine::Context& ctx, OverlayRenderer& renderer);
+
+// Draws over `target` (GENERAL layout, COLOR_ATTACHMENT usage; left in GENERAL).
+// The previous frame that used the renderer's buffers must have completed.
+void recordOverlay(const engine::Context& ctx, VkCommandBuffer cmd, OverlayRenderer& renderer, const ImDrawData& data,
+                   VkImage target, VkImageView targetView, VkExtent2D extent);
+
+}  // namespace demo
