@@ -12,17 +12,19 @@
 namespace demo {
 namespace {
 
-constexpr gi::Method kMethods[] = {gi::Method::Raw,   gi::Method::Gif,   gi::Method::Bilateral, gi::Method::Atrous,
-                                   gi::Method::Aaf,   gi::Method::AafAo, gi::Method::Sspsf,     gi::Method::Hpsf};
+constexpr gi::Method kMethods[] = {gi::Method::Raw,   gi::Method::Gif,  gi::Method::Bilateral, gi::Method::Atrous,
+                                   gi::Method::Aaf,   gi::Method::AafAo, gi::Method::Sspsf,    gi::Method::Hpsf,
+                                   gi::Method::Nhpsf, gi::Method::Anhpsf};
+static_assert(std::size(kMethods) == gi::kMethodCount);
 constexpr const char* kViews[] = {"none (lit image)", "direct",           "indirect (demodulated)", "albedo",
                                   "normal",           "guidance",         "guidance depth",         "filter in | out",
                                   "gif coefficients", "aaf z_min",        "aaf z_max",              "aaf samples per pixel",
                                   "aaf filter width", "hash cells",       "hash level of detail",   "hash samples per cell",
-                                  "hash cell found",  "hash occupancy"};
-static_assert(std::size(kViews) == size_t(gi::DebugView::HashOccupancy) + 1);
+                                  "hash cell found",  "hash occupancy",   "continuation depth"};
+static_assert(std::size(kViews) == size_t(gi::DebugView::ContinuationDepth) + 1);
 
-// Keys with this prefix belong to the method ("aaf." serves aaf and aaf_ao).
-std::string methodPrefix(gi::Method m) { return std::string(gi::isAaf(m) ? "aaf" : gi::methodName(m)) + "."; }
+// Keys with this prefix belong to the method ("aaf." serves aaf and aaf_ao, "hpsf." the hash methods).
+std::string methodPrefix(gi::Method m) { return std::string(gi::methodName(tools::keyOwner(m))) + "."; }
 
 // A slider per tunable of the active method, plus the method-independent ones.
 bool tunables(gi::Settings& settings) {
@@ -131,11 +133,14 @@ bool buildOverlay(OverlayState& state, gi::Settings& settings, const gi::FrameSt
                        *std::max_element(history.begin(), history.end()) * 1.2f, ImVec2(0, 50));
     passBar(stats, state.gbufferMs);
   }
-  if (settings.method == gi::Method::Hpsf && ImGui::CollapsingHeader("hash map", ImGuiTreeNodeFlags_DefaultOpen)) {
+  if (gi::usesHashGrid(settings.method) && ImGui::CollapsingHeader("hash map", ImGuiTreeNodeFlags_DefaultOpen)) {
     const gi::FrameStats::Hash& h = stats.hash;
     ImGui::Text("occupancy %.1f%% (%u of %u cells)", 100.0 * h.occupancy(), h.occupied, h.capacity);
     ImGui::Text("inserts %u   failed %u   evicted %u", h.inserts, h.failedInserts, h.evicted);
     ImGui::Text("probe mean %.2f   max %u   overflows %u", double(h.meanProbe), h.maxProbe, h.overflows);
+    ImGui::Text("stale cells reset %u", h.staleResets);
+    if (settings.method == gi::Method::Anhpsf)
+      ImGui::Text("continuation: mean depth %.2f, transported %.3g", double(h.meanContinuationDepth), h.transported);
   }
   if (ImGui::CollapsingHeader("budget", ImGuiTreeNodeFlags_DefaultOpen)) {
     if (ImGui::Checkbox("budget mode: hold the module's GPU time", &state.budgetMode) && !state.budgetMode) {

@@ -53,6 +53,7 @@ void main() {
       result = imageLoad(giGbNormal, p).w > 0.5 ? vec3(f, 1.0 - f, 0.0) : vec3(0.0);
       break;
     }
+    case GI_DEBUG_CONTINUATION_DEPTH: result = vec3(clamp(imageLoad(giDebug, p).x, 0.0, 1.0)); break;
     default:
       // aaf_ao: the indirect image holds occlusion (reflectors radiate 1); AO = 1 − occlusion.
       result = pc.ambientOcclusion != 0u ? vec3(1.0) - clamp(indirect, 0.0, 1.0)

@@ -21,12 +21,13 @@ void main() {
   d.lod = 0;
   d.normalBits = 0u;
   uint probes;
-  int slot = hgInsertOrFind(0u, hgIndexHash(d), hgVerificationKey(d), pc.capacity, pc.window, probes);
+  bool created;
+  int slot = hgInsertOrFind(0u, hgIndexHash(d), hgVerificationKey(d), pc.capacity, pc.window, probes, created);
   if (slot < 0) {
     atomicAdd(hgTelemetry.failedInserts, 1u);
     return;
   }
   bool overflowed = false;
-  hgAccumulate(slot, vec3(1.0, 2.0, 0.5), overflowed);
+  hgAccumulate(slot, vec3(1.0, 2.0, 0.5), 1u, overflowed);
   atomicMax(hgTelemetry.probeMax, probes);
 }

@@ -9,15 +9,18 @@ layout(set = 2, binding = HG_BINDING_ACCUM, scalar) buffer HgAccums { HgAccum hg
 layout(set = 2, binding = HG_BINDING_CELLS, scalar) buffer HgCells { HgCell hgCells[]; };
 layout(set = 2, binding = HG_BINDING_TELEMETRY, scalar) buffer HgTelemetryBlock { HgTelemetry hgTelemetry; };
 layout(set = 2, binding = HG_BINDING_PIXEL_CELL, r32ui) uniform uimage2D hgPixelCell;
+layout(set = 2, binding = HG_BINDING_CONTINUATION, scalar) buffer HgWalks { HgWalk hgWalks[]; };
 
 // The global slot holding `key` in the table starting at `table` (claimed if
-// free), or -1 when the probe window is full.
-int hgInsertOrFind(uint table, uint index, uint key, uint capacity, uint window, out uint probes) {
+// free: `created`), or -1 when the probe window is full.
+int hgInsertOrFind(uint table, uint index, uint key, uint capacity, uint window, out uint probes, out bool created) {
+  created = false;
   for (uint i = 0u; i < window; ++i) {
     uint slot = table + ((index + i) & (capacity - 1u));
     uint previous = atomicCompSwap(hgKeys[slot], HG_EMPTY_KEY, key);
     if (previous == HG_EMPTY_KEY || previous == key) {
       probes = i + 1u;
+      created = previous == HG_EMPTY_KEY;
       return int(slot);
     }
   }
@@ -36,16 +39,18 @@ int hgFind(uint table, uint index, uint key, uint capacity, uint window) {
   return -1;
 }
 
-// Adds one sample: 5 atomics (r, g, b, luminance², count).
-void hgAccumulate(int slot, vec3 radiance, inout bool overflowed) {
+// Adds one sample (count 1: 5 atomics, r, g, b, luminance², count), or more
+// light for a sample already counted (count 0: r, g, b only).
+void hgAccumulate(int slot, vec3 radiance, uint count, inout bool overflowed) {
   vec3 v = radiance;
   if (any(greaterThan(v, vec3(float(HG_MAX_SAMPLE))))) overflowed = true;
-  float lum = dot(v, vec3(0.2126, 0.7152, 0.0722));
   atomicAdd(hgAccum[slot].r, hgToFixed(v.r));
   atomicAdd(hgAccum[slot].g, hgToFixed(v.g));
   atomicAdd(hgAccum[slot].b, hgToFixed(v.b));
+  if (count == 0u) return;
+  float lum = dot(v, vec3(0.2126, 0.7152, 0.0722));
   atomicAdd(hgAccum[slot].lum2, hgToFixed(min(lum * lum, float(HG_MAX_SAMPLE))));
-  atomicAdd(hgAccum[slot].count, 1u);
+  atomicAdd(hgAccum[slot].count, count);
 }
 
 #endif

@@ -8,17 +8,13 @@
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_shader_atomic_int64 : require
-#include "path.glsl"
-#include "gi_frame.glsl"
-#include "hpsf.glsl"
+#include "hpsf_walk.glsl"
 
 layout(local_size_x = GI_GROUP_SIZE, local_size_y = GI_GROUP_SIZE) in;
-layout(push_constant, scalar) uniform Push { HgPush pc; };
 
 void main() {
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   bool inside = all(lessThan(gl_GlobalInvocationID.xy, giFrame.size));
-  uint probes = 0u, failed = 0u, inserted = 0u, overflowCount = 0u;
   if (inside) {
     vec3 direct = vec3(0.0), indirect = vec3(0.0);
     uint cell = 0u;
@@ -40,57 +36,17 @@ void main() {
       bool filterVertex = (s.material.flags & MATERIAL_FLAG_GLOSSY) == 0u;  // the first diffuse vertex
       if (filterVertex) {
         GiRng rng = giRngCreate(uvec2(p), pc.frameIndex, pc.seed, GI_STREAM_HASH);
-        float travel = distance(giFrame.camera.position, s.position);
-        int lod = hgLod(pc.filterWidth, pc.pixelAngle, travel, pc.stochasticLod != 0u ? giRandom(rng) : 0.0);
-        vec3 jittered = s.position + hgJitter(s.normal, giRandom2(rng), pc.jitter, exp2(float(lod)));
-        HgDescriptor d = hgDescriptor(jittered, s.normal, lod, pc.normalBits);
-        uint index = hgIndexHash(d), key = hgVerificationKey(d);
-        int slot = hgInsertOrFind(pc.table, index, key, pc.capacity, pc.probeWindow, probes);
-        if (slot < 0) {
-          failed = 1u;
-        } else {
-          // Outliers are clamped against the cell's history (mean + kσ of luminance), so one
-          // firefly cannot poison the cache. With strict eviction the history is the same
-          // key's cell in the previous frame's table, which this cell links to and keeps alive.
-          HgCell history = hgCells[slot];
-          if (pc.strict != 0u) {
-            int previous = hgFind(pc.previousTable, index, key, pc.capacity, pc.probeWindow);
-            if (previous >= 0) {
-              history = hgCells[previous];
-              hgCells[slot].previous = uint(previous) + 1u;  // every writer of this key writes the same value
-              hgCells[previous].lastSeen = pc.frameIndex;
-            }
-          }
-          vec3 sample_ = indirect;
-          if (pc.clampSigma > 0.0 && history.samples >= 8u) {
-            float mean = dot(history.mean, vec3(0.2126, 0.7152, 0.0722));
-            float sigma = sqrt(max(history.lumMoment2 - mean * mean, 0.0));
-            float limit = mean + pc.clampSigma * sigma;
-            float lum = dot(sample_, vec3(0.2126, 0.7152, 0.0722));
-            if (lum > limit && lum > 0.0) sample_ *= limit / lum;
-          }
-          bool overflowed = false;
-          hgAccumulate(slot, sample_, overflowed);
-          overflowCount = overflowed ? 1u : 0u;
-          hgCells[slot].lod = d.lod;  // every writer of this key writes the same value
-          cell = uint(slot) + 1u;
-          inserted = 1u;
-        }
+        HgDescriptor d = hgVertexDescriptor(s.position, s.normal, 1.0, rng);
+        vec3 probeOrigin = giOffsetRay(s.position, s.geometricNormal);
+        vec3 probeDirection = giCosineSample(s.normal, giRandom2(rng));
+        int slot = hgInsertSample(hgIndexHash(d), hgVerificationKey(d), indirect, 1u, d.lod, probeOrigin, probeDirection);
+        if (slot >= 0) cell = uint(slot) + 1u;
       }
     }
     imageStore(giOutDirect, p, vec4(direct, 1.0));
     imageStore(giNoisyIndirect, p, vec4(indirect, 1.0));
     imageStore(hgPixelCell, p, uvec4(cell));
   }
-  // Telemetry: one atomic per subgroup and counter.
-  uint sumInserted = subgroupAdd(inserted), sumFailed = subgroupAdd(failed), sumProbes = subgroupAdd(probes);
-  uint maxProbes = subgroupMax(probes), sumOverflow = subgroupAdd(overflowCount);
-  if (subgroupElect()) {
-    if (sumInserted > 0u) atomicAdd(hgTelemetry.inserts, sumInserted);
-    if (sumFailed > 0u) atomicAdd(hgTelemetry.failedInserts, sumFailed);
-    if (sumProbes > 0u) atomicAdd(hgTelemetry.probeSum, sumProbes);
-    if (maxProbes > 0u) atomicMax(hgTelemetry.probeMax, maxProbes);
-    if (sumOverflow > 0u) atomicAdd(hgTelemetry.overflows, sumOverflow);
-  }
+  hgFlushTelemetry();
   giCountRays(inside);
 }

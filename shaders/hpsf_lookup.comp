@@ -37,6 +37,10 @@ void main() {
     }
     debug.w = used / float(pc.probeWindow);
   }
+  if (pc.debugView == GI_DEBUG_CONTINUATION_DEPTH && pc.mode == HG_MODE_ANHPSF) {
+    uint depth = hgWalks[uint(p.y) * giFrame.size.x + uint(p.x)].state & 0xffffu;
+    debug.x = float(depth) / float(pc.depth);
+  }
   imageStore(giOutIndirect, p, vec4(result, 1.0));
   imageStore(giDebug, p, debug);
 }

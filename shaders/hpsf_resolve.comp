@@ -8,6 +8,7 @@
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_shader_atomic_int64 : require
 #include "hpsf.glsl"
+#include "hpsf_probe.glsl"
 
 layout(local_size_x = 64) in;
 layout(push_constant, scalar) uniform Push { HgPush pc; };
@@ -43,10 +44,26 @@ void resolveStrict(uint i, inout uint live, inout uint evicted) {
 
 // Aging eviction (SHaRC-style): a running mean capped at historyCap frames;
 // cells untouched for staleFrames are evicted.
-void resolveAging(uint slot, inout uint live, inout uint evicted) {
+void resolveAging(uint slot, inout uint live, inout uint evicted, inout uint reset) {
   if (hgKeys[slot] == HG_EMPTY_KEY) return;
   HgAccum a = hgAccum[slot];
   HgCell c = hgCells[slot];
+  // Stale radiance: every validationInterval frames (staggered over cells)
+  // the probe is re-traced; if the scene answers differently, the history
+  // restarts from this frame's samples (or the cell goes, if it has none).
+  if (pc.validationInterval > 0u && c.frames > 0.0 && (slot + pc.frameIndex) % pc.validationInterval == 0u &&
+      (c.probeDistance != 0.0 || c.probeLight != 0.0)) {
+    float distance_, light;
+    hgTraceProbe(c.probeOrigin, c.probeDirection, hgKeys[slot], distance_, light);
+    if (!hgProbeMatches(c.probeDistance, c.probeLight, distance_, light)) {
+      c.frames = 0.0;
+      c.samples = 0u;
+      c.probeDistance = distance_;
+      c.probeLight = light;
+      hgCells[slot] = c;
+      reset = 1u;
+    }
+  }
   if (a.count > 0u) {
     vec3 frameMean = vec3(hgFromFixed(a.r, a.count), hgFromFixed(a.g, a.count), hgFromFixed(a.b, a.count));
     float frameM2 = hgFromFixed(a.lum2, a.count);
@@ -82,14 +99,15 @@ void resolveAging(uint slot, inout uint live, inout uint evicted) {
 
 void main() {
   uint i = gl_GlobalInvocationID.x;
-  uint live = 0u, evicted = 0u;
+  uint live = 0u, evicted = 0u, reset = 0u;
   if (i < pc.capacity) {
     if (pc.strict != 0u) resolveStrict(i, live, evicted);
-    else resolveAging(pc.table + i, live, evicted);
+    else resolveAging(pc.table + i, live, evicted, reset);
   }
-  uint sumLive = subgroupAdd(live), sumEvicted = subgroupAdd(evicted);
+  uint sumLive = subgroupAdd(live), sumEvicted = subgroupAdd(evicted), sumReset = subgroupAdd(reset);
   if (subgroupElect()) {
     if (sumLive > 0u) atomicAdd(hgTelemetry.occupied, sumLive);
     if (sumEvicted > 0u) atomicAdd(hgTelemetry.evicted, sumEvicted);
+    if (sumReset > 0u) atomicAdd(hgTelemetry.staleResets, sumReset);
   }
 }

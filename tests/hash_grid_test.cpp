@@ -12,7 +12,7 @@ class HashGridTest : public GpuTest {};
 TEST_F(HashGridTest, InsertAndFindUnderLoadLoseNothingBelowCapacity) {
   const uint32_t capacity = 1024, repeats = 3;
   engine::DescriptorSet empty = engine::createDescriptorSet(ctx, {});
-  gi::HashGrid grid = gi::createHashGrid(ctx, capacity, 1, 8, 8, 1);
+  gi::HashGrid grid = gi::createHashGrid(ctx, capacity, 1, 8, 8, 1, false);
   VkDescriptorSetLayout all[] = {empty.layout, empty.layout, grid.set.layout};
   struct Push {
     uint32_t capacity, window, keyCount, repeats;

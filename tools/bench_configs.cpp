@@ -14,7 +14,9 @@ void setSamplesPerPixel(gi::Settings& settings, uint32_t spp) {
     case gi::Method::Aaf:
     case gi::Method::AafAo: break;  // adaptive: μ is the quality knob
     case gi::Method::Sspsf: settings.sspsf.samplesPerPixel = spp; break;
-    case gi::Method::Hpsf: settings.hpsf.samplesPerPixel = spp; break;
+    case gi::Method::Hpsf:
+    case gi::Method::Nhpsf:
+    case gi::Method::Anhpsf: settings.hpsf.samplesPerPixel = spp; break;
   }
 }
 
@@ -44,11 +46,11 @@ bool expandConfigs(const std::vector<std::string>& methods, const std::vector<ui
       size_t dot = k.first.find('.');
       gi::Method owner;
       bool prefixed = dot != std::string::npos && gi::methodFromName(k.first.substr(0, dot), owner);
-      if (!prefixed || owner == method) mine.push_back(&k);
+      if (!prefixed || owner == keyOwner(method)) mine.push_back(&k);
     }
     // A swept "<method>.spp" replaces --spp for that method.
     bool sppSwept = false;
-    for (const auto* k : mine) sppSwept |= k->first == methodName + ".spp";
+    for (const auto* k : mine) sppSwept |= k->first == std::string(gi::methodName(keyOwner(method))) + ".spp";
     const std::vector<uint32_t> one = {0};
     // Cartesian product over the swept values (odometer order).
     std::vector<size_t> index(mine.size(), 0);

@@ -24,7 +24,7 @@ const cli::Option kOptions[] = {
     {"scene", "FILE.gltf", "scene to render (required)"},
     {"size", "WxH", "image size in pixels (default 320x180)"},
     {"camera", "N", "glTF camera index (default 0; a default camera is made when the file has none)"},
-    {"method", "NAME", "reference (default) or a GI module method: raw, gif, bilateral, atrous, aaf, aaf_ao, sspsf, hpsf"},
+    {"method", "NAME", "reference (default) or a GI module method: raw, gif, bilateral, atrous, aaf, aaf_ao, sspsf, hpsf, nhpsf, anhpsf"},
     {"set", "KEY=V", "a GI module setting, repeatable (keys: see --help)"},
     {"spp", "N", "samples per pixel per frame (default 64)"},
     {"frames", "N", "frames to accumulate (default 1); total samples = spp × frames"},
@@ -37,7 +37,7 @@ const cli::Option kOptions[] = {
     {"window", nullptr, "show the frames in a GLFW window (module methods; needs a display)"},
     {"help", nullptr, "show this message"},
 };
-const char* const kMethods[] = {"reference", "raw", "gif", "bilateral", "atrous", "aaf", "aaf_ao", "sspsf", "hpsf"};
+const char* const kMethods[] = {"reference", "raw", "gif", "bilateral", "atrous", "aaf", "aaf_ao", "sspsf", "hpsf", "nhpsf", "anhpsf"};
 const char* const kAovs[] = {"final", "direct", "indirect", "albedo", "normal", "depth"};
 const char* kSynopsis = "--scene FILE.gltf [options]";
 
@@ -117,6 +117,7 @@ int main(int argc, char** argv) {
 
   engine::ReferenceRun run;
   std::map<std::string, double> passMs;  // summed over frames
+  gi::FrameStats::Hash lastHash;        // module methods: the last frame's hash telemetry
   uint32_t tracedSpp = spp;              // module methods: what the last frame traced (AAF: its adaptive mean)
   if (method == "reference") {
     engine::ReferenceSettings settings;
@@ -158,6 +159,7 @@ int main(int argc, char** argv) {
     if (windowed) engine::destroyWindow(ctx, window);
     run.images = tools::readModuleImages(ctx, session);
     tracedSpp = gi::stats(session.module).samplesPerPixel;
+    lastHash = gi::stats(session.module).hash;
     tools::destroyModuleSession(ctx, session);
   }
 
@@ -195,6 +197,11 @@ int main(int argc, char** argv) {
     j["triangles"] = scene.triangleCount();
     j["passes_ms"] = passMs;
     j["traced_spp_last_frame"] = tracedSpp;
+    if (lastHash.capacity)
+      j["hash_last_frame"] = {{"capacity", lastHash.capacity},        {"occupied", lastHash.occupied},
+                              {"inserts", lastHash.inserts},          {"failed_inserts", lastHash.failedInserts},
+                              {"evicted", lastHash.evicted},          {"stale_resets", lastHash.staleResets},
+                              {"transported", lastHash.transported}, {"mean_continuation_depth", lastHash.meanContinuationDepth}};
     j["gpu_ms_total"] = run.gpuMs;
     j["rays"] = run.rays;
     j["mrays_per_second"] = mraysPerSecond;

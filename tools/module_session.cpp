@@ -53,6 +53,18 @@ void destroyModuleSession(const engine::Context& ctx, ModuleSession& s) {
   s = ModuleSession{};
 }
 
+bool resizeModuleSession(const engine::Context& ctx, ModuleSession& s, VkExtent2D extent, std::string& error) {
+  vkDeviceWaitIdle(ctx.device);
+  if (gi::Error e = gi::resize(s.module, extent.width, extent.height)) {
+    error = e.message;
+    return false;
+  }
+  engine::destroyGBuffer(ctx, s.gbuffer);
+  s.gbuffer = engine::createGBuffer(ctx, extent);
+  s.extent = extent;
+  return true;
+}
+
 void recordModuleFrame(const engine::Context& ctx, VkCommandBuffer cmd, ModuleSession& s, const engine::Scene& scene,
                        const engine::SceneGpu& sceneGpu, const gpu::GpuCamera& camera, const gpu::GpuCamera& previousCamera,
                        uint32_t frameIndex) {

@@ -30,6 +30,8 @@ gi::SceneDesc sceneDesc(const engine::SceneGpu& scene);
 bool createModuleSession(const engine::Context& ctx, const engine::SceneGpu& scene, VkExtent2D extent,
                          const gi::Settings& settings, ModuleSession& session, std::string& error);
 void destroyModuleSession(const engine::Context& ctx, ModuleSession& session);
+// A new render size: waits for the device, makes a G-buffer of that size and resizes the module.
+bool resizeModuleSession(const engine::Context& ctx, ModuleSession& session, VkExtent2D extent, std::string& error);
 
 // Records one frame (G-buffer raster, then the module) into `cmd`; submits nothing.
 void recordModuleFrame(const engine::Context& ctx, VkCommandBuffer cmd, ModuleSession& session, const engine::Scene& scene,

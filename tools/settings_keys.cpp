@@ -29,8 +29,8 @@ const std::vector<SettingKey>& settingTable() {
       {"ray_budget", "rays per frame (0 = unlimited)", true, 0, 1e9, [](gi::Settings& s, double v) { s.rayBudget = uint64_t(v); },
        [](const gi::Settings& s) { return double(s.rayBudget); }},
       GI_KEY_U("seed", "random seed", seed, 0, 1000),
-      {"view", "debug view: 0 none, 1 direct, 2 indirect, 3 albedo, 4 normal, 5 guidance, 6 guidance depth, 7 filter in|out, 8 gif coefficients, 9 aaf z_min, 10 aaf z_max, 11 aaf spp, 12 aaf filter width, 13 hash cells, 14 hash lod, 15 hash samples, 16 hash found, 17 hash occupancy",
-       true, 0, 17, [](gi::Settings& s, double v) { s.debugView = gi::DebugView(uint32_t(v)); },
+      {"view", "debug view: 0 none, 1 direct, 2 indirect, 3 albedo, 4 normal, 5 guidance, 6 guidance depth, 7 filter in|out, 8 gif coefficients, 9 aaf z_min, 10 aaf z_max, 11 aaf spp, 12 aaf filter width, 13 hash cells, 14 hash lod, 15 hash samples, 16 hash found, 17 hash occupancy, 18 continuation depth",
+       true, 0, 18, [](gi::Settings& s, double v) { s.debugView = gi::DebugView(uint32_t(v)); },
        [](const gi::Settings& s) { return double(uint32_t(s.debugView)); }},
       GI_KEY_U("raw.spp", "raw: paths per pixel per frame", raw.samplesPerPixel, 1, 64),
       GI_KEY_B("raw.accumulate", "raw: 1 = temporal accumulation", raw.temporalAccumulation),
@@ -73,6 +73,10 @@ const std::vector<SettingKey>& settingTable() {
       GI_KEY_U("hpsf.history", "hpsf: history frames (aging)", hpsf.historyFrames, 2, 1000),
       GI_KEY_U("hpsf.stale", "hpsf: stale frames before eviction (aging)", hpsf.staleFrames, 1, 1000),
       GI_KEY_U("hpsf.min_samples", "hpsf: minimum samples to use a cell", hpsf.minSamples, 1, 1000),
+      GI_KEY_U("hpsf.validation", "hpsf: re-trace each cell's probe every N frames (aging; 0 = off)", hpsf.validationInterval, 0, 64),
+      GI_KEY_U("hpsf.path_depth", "hpsf: nhpsf path segments per frame", hpsf.pathDepth, 1, 16),
+      GI_KEY_U("hpsf.continuation_depth", "hpsf: anhpsf longest continued path, segments", hpsf.continuationDepth, 2, 16),
+      GI_KEY_F("hpsf.secondary_width", "hpsf: nhpsf/anhpsf cell width scale after the first vertex", hpsf.secondaryWidthScale, 1, 16),
   };
   return table;
 }
@@ -80,6 +84,12 @@ const std::vector<SettingKey>& settingTable() {
 #undef GI_KEY_U
 #undef GI_KEY_F
 #undef GI_KEY_B
+
+gi::Method keyOwner(gi::Method m) {
+  if (m == gi::Method::AafAo) return gi::Method::Aaf;
+  if (gi::usesHashGrid(m)) return gi::Method::Hpsf;
+  return m;
+}
 
 bool applySetting(gi::Settings& settings, const std::string& assignment, std::string& error) {
   size_t eq = assignment.find('=');

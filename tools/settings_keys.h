@@ -21,6 +21,8 @@ struct SettingKey {
   std::function<double(const gi::Settings&)> get;
 };
 const std::vector<SettingKey>& settingTable();
+// The method whose name prefixes a method's keys: aaf_ao uses "aaf.", nhpsf and anhpsf use "hpsf.".
+gi::Method keyOwner(gi::Method method);
 
 // Applies "key=value"; false with a sentence in `error` for an unknown key or a malformed value.
 bool applySetting(gi::Settings& settings, const std::string& assignment, std::string& error);

@@ -1,16 +1,18 @@
 #include "hash_grid.h"
 
+#include <algorithm>
 #include <cstring>
 
 #include "hpsf_insert.comp.h"
 #include "hpsf_lookup.comp.h"
 #include "hpsf_resolve.comp.h"
+#include "nhpsf_paths.comp.h"
 #include "shared/gi_frame.h"
 
 namespace gi {
 
 HashGrid createHashGrid(const engine::Context& ctx, uint32_t capacity, uint32_t tables, uint32_t width, uint32_t height,
-                        uint32_t slots) {
+                        uint32_t slots, bool walks) {
   HashGrid g;
   g.capacity = capacity;
   g.tables = tables;
@@ -24,14 +26,17 @@ HashGrid createHashGrid(const engine::Context& ctx, uint32_t capacity, uint32_t 
   g.telemetry = engine::createBuffer(ctx, sizeof(gpu::HgTelemetry) * (1 + slots), usage,
                                      engine::MemoryKind::HostVisible);
   std::memset(g.telemetry.mapped, 0, g.telemetry.size);
+  g.walkPixels = walks ? width * height : 0;
+  g.walks = engine::createBuffer(ctx, sizeof(gpu::HgWalk) * std::max(g.walkPixels, 1u), usage, engine::MemoryKind::DeviceLocal);
   g.pixelCell = engine::createImage(ctx, {width, height}, VK_FORMAT_R32_UINT, VK_IMAGE_USAGE_STORAGE_BIT);
-  g.memoryBytes = g.keys.size + g.accum.size + g.cells.size + g.telemetry.size + g.pixelCell.allocationSize;
+  g.memoryBytes = g.keys.size + g.accum.size + g.cells.size + g.telemetry.size + g.walks.size + g.pixelCell.allocationSize;
   const engine::Binding bindings[] = {
       {gpu::HG_BINDING_KEYS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
       {gpu::HG_BINDING_ACCUM, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
       {gpu::HG_BINDING_CELLS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
       {gpu::HG_BINDING_TELEMETRY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
       {gpu::HG_BINDING_PIXEL_CELL, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+      {gpu::HG_BINDING_CONTINUATION, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
   };
   g.set = engine::createDescriptorSet(ctx, bindings);
   engine::DescriptorWriter(g.set.set)
@@ -40,23 +45,28 @@ HashGrid createHashGrid(const engine::Context& ctx, uint32_t capacity, uint32_t 
       .buffer(gpu::HG_BINDING_CELLS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.cells.buffer)
       .buffer(gpu::HG_BINDING_TELEMETRY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.telemetry.buffer)
       .storageImage(gpu::HG_BINDING_PIXEL_CELL, g.pixelCell.view)
+      .buffer(gpu::HG_BINDING_CONTINUATION, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.walks.buffer)
       .write(ctx);
   return g;
 }
 
-void createHashGridPrograms(const engine::Context& ctx, HashGrid& g, const VkDescriptorSetLayout layouts[2],
-                            std::span<const uint32_t> spec) {
+void ensureHashGridPrograms(const engine::Context& ctx, HashGrid& g, const VkDescriptorSetLayout layouts[2],
+                            std::span<const uint32_t> spec, uint32_t mode) {
   VkDescriptorSetLayout all[] = {layouts[0], layouts[1], g.set.layout};
   const glm::uvec2 tile{GI_GROUP_SIZE, GI_GROUP_SIZE};
-  g.insert = engine::createComputeProgram(ctx, spv_hpsf_insert_comp, all, sizeof(gpu::HgPush), tile, spec);
-  g.resolve = engine::createComputeProgram(ctx, spv_hpsf_resolve_comp, all, sizeof(gpu::HgPush), {64, 1}, spec);
-  g.lookup = engine::createComputeProgram(ctx, spv_hpsf_lookup_comp, all, sizeof(gpu::HgPush), tile, spec);
+  auto make = [&](engine::ComputeProgram& p, std::span<const uint32_t> spirv, glm::uvec2 group) {
+    if (!p.pipeline) p = engine::createComputeProgram(ctx, spirv, all, sizeof(gpu::HgPush), group, spec);
+  };
+  if (mode == gpu::HG_MODE_HPSF) make(g.insert, spv_hpsf_insert_comp, tile);
+  else make(g.paths, spv_nhpsf_paths_comp, tile);
+  make(g.resolve, spv_hpsf_resolve_comp, {64, 1});
+  make(g.lookup, spv_hpsf_lookup_comp, tile);
 }
 
 void destroyHashGrid(const engine::Context& ctx, HashGrid& g) {
-  for (engine::ComputeProgram* p : {&g.insert, &g.resolve, &g.lookup}) engine::destroyComputeProgram(ctx, *p);
+  for (engine::ComputeProgram* p : {&g.insert, &g.paths, &g.resolve, &g.lookup}) engine::destroyComputeProgram(ctx, *p);
   engine::destroyDescriptorSet(ctx, g.set);
-  for (engine::Buffer* b : {&g.keys, &g.accum, &g.cells, &g.telemetry}) engine::destroyBuffer(ctx, *b);
+  for (engine::Buffer* b : {&g.keys, &g.accum, &g.cells, &g.telemetry, &g.walks}) engine::destroyBuffer(ctx, *b);
   engine::destroyImage(ctx, g.pixelCell);
   g = HashGrid{};
 }
@@ -75,6 +85,7 @@ void recordHashGridFrameStart(VkCommandBuffer cmd, HashGrid& g, uint32_t frameIn
     vkCmdFillBuffer(cmd, g.keys.buffer, 0, VK_WHOLE_SIZE, 0);
     vkCmdFillBuffer(cmd, g.accum.buffer, 0, VK_WHOLE_SIZE, 0);
     vkCmdFillBuffer(cmd, g.cells.buffer, 0, VK_WHOLE_SIZE, 0);
+    vkCmdFillBuffer(cmd, g.walks.buffer, 0, VK_WHOLE_SIZE, 0);  // state 0: no live walk
     engine::imageBarrier(cmd, g.pixelCell.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
                          VK_PIPELINE_STAGE_2_NONE, 0, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                          VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);

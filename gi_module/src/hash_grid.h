@@ -16,20 +16,23 @@ struct HashGrid {
   uint32_t tables = 1;       // 2 for strict eviction (swapped every frame), 1 for aging
   engine::Buffer keys, accum, cells;
   engine::Buffer telemetry;  // host-visible HgTelemetry[1 + slots]: [0] is live, the rest per-frame copies
+  engine::Buffer walks;      // HgWalk per pixel (anhpsf), else one placeholder
+  uint32_t walkPixels = 0;   // pixels with a walk slot (0: the placeholder)
   engine::Image pixelCell;   // r32ui
   engine::DescriptorSet set;
-  engine::ComputeProgram insert, resolve, lookup;
+  engine::ComputeProgram insert, paths, resolve, lookup;  // paths: nhpsf/anhpsf (built on first use)
   uint64_t memoryBytes = 0;
   bool cleared = false;      // buffers zeroed on the GPU
 };
 
 // The buffers (`tables` tables of `capacity` slots), image and set 2; `slots`
-// telemetry copies for readback.
+// telemetry copies for readback; a walk per pixel when `walks` (anhpsf).
 HashGrid createHashGrid(const engine::Context& ctx, uint32_t capacity, uint32_t tables, uint32_t width, uint32_t height,
-                        uint32_t slots);
-// The insert/resolve/lookup programs: `layouts` are sets 0 and 1 (scene, frame).
-void createHashGridPrograms(const engine::Context& ctx, HashGrid& grid, const VkDescriptorSetLayout layouts[2],
-                            std::span<const uint32_t> spec);
+                        uint32_t slots, bool walks);
+// The programs the mode needs (insert for hpsf, paths for nhpsf/anhpsf; resolve
+// and lookup always): `layouts` are sets 0 and 1 (scene, frame).
+void ensureHashGridPrograms(const engine::Context& ctx, HashGrid& grid, const VkDescriptorSetLayout layouts[2],
+                            std::span<const uint32_t> spec, uint32_t mode);
 void destroyHashGrid(const engine::Context& ctx, HashGrid& grid);
 
 // First slot of the table written in frame `frameIndex`, and of the one it reads as the last frame.

@@ -68,11 +68,8 @@ Error checkDesc(const ModuleDesc& d) {
 }
 
 engine::Image outputImage(Module& m, VkExtent2D extent) {
-  engine::Image img = engine::createImage(m.ctx, extent, kOutputFormat,
-                                          VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
-                                              VK_IMAGE_USAGE_SAMPLED_BIT);
-  m.memoryBytes += img.allocationSize;
-  return img;
+  return engine::createImage(m.ctx, extent, kOutputFormat,
+                             VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_SAMPLED_BIT);
 }
 
 engine::Image* ownedImages(Module& m, size_t i) {
@@ -99,28 +96,29 @@ void ensureFilters(Module& m) {
       m.filters.aafGlossySets[i] = createFilterSet(
           m.ctx, {m.guidance.view, m.position.view, terms[i]->view, terms[i]->view, m.debug.view, terms[i]->view});
   }
-  if (m.settings.method == Method::Gif && !m.filters.a[0].image) {
-    uint64_t before = m.filters.memoryBytes;
-    ensureGuidedStack(m.ctx, m.filters);
-    m.memoryBytes += m.filters.memoryBytes - before;
-  }
+  if (m.settings.method == Method::Gif && !m.filters.a[0].image) ensureGuidedStack(m.ctx, m.filters);
 }
 
-// The hash map exists once hpsf is chosen, at the capacity the settings ask
-// for, with two tables for strict eviction.
+uint32_t hashMode(Method method) {
+  return method == Method::Nhpsf ? gpu::HG_MODE_NHPSF : method == Method::Anhpsf ? gpu::HG_MODE_ANHPSF : gpu::HG_MODE_HPSF;
+}
+
+// The hash map exists once a hash method is chosen, at the capacity the
+// settings ask for, with two tables for strict eviction and a walk per pixel
+// for anhpsf. Its programs are built for the modes used.
 void ensureHashGrid(Module& m) {
-  if (m.settings.method != Method::Hpsf) return;
+  if (!usesHashGrid(m.settings.method)) return;
   uint32_t capacity = hashCapacity(m.settings.hpsf, m.desc.width, m.desc.height);
   uint32_t tables = m.settings.hpsf.eviction == EvictionPolicy::Strict ? 2 : 1;
-  if (m.hash.capacity == capacity && m.hash.tables == tables) return;
-  if (m.hash.capacity) {  // a new capacity starts an empty map (the caller let the last frame finish)
-    m.memoryBytes -= m.hash.memoryBytes;
-    destroyHashGrid(m.ctx, m.hash);
-  }
+  bool walks = m.settings.method == Method::Anhpsf;
   VkDescriptorSetLayout layouts[2] = {m.desc.scene.layout, m.frameSet.layout};
-  m.hash = createHashGrid(m.ctx, capacity, tables, m.desc.width, m.desc.height, kFramesInFlight);
-  createHashGridPrograms(m.ctx, m.hash, layouts, sceneSpecialization(m));
-  m.memoryBytes += m.hash.memoryBytes;
+  if (m.hash.capacity == capacity && m.hash.tables == tables && (m.hash.walkPixels > 0) == walks) {
+    ensureHashGridPrograms(m.ctx, m.hash, layouts, sceneSpecialization(m), hashMode(m.settings.method));
+    return;
+  }
+  if (m.hash.capacity) destroyHashGrid(m.ctx, m.hash);  // a new map starts empty (the caller let the last frame finish)
+  m.hash = createHashGrid(m.ctx, capacity, tables, m.desc.width, m.desc.height, kFramesInFlight, walks);
+  ensureHashGridPrograms(m.ctx, m.hash, layouts, sceneSpecialization(m), hashMode(m.settings.method));
 }
 
 // Each method's programs are compiled when it is first chosen: a module that
@@ -133,7 +131,7 @@ void ensurePrograms(Module& m) {
   auto make = [&](engine::ComputeProgram& p, std::span<const uint32_t> spirv, uint32_t push) {
     if (!p.pipeline) p = engine::createComputeProgram(m.ctx, spirv, layouts, push, tile, spec);
   };
-  bool pathsFromGBuffer = s.method != Method::Hpsf && !isAaf(s.method);
+  bool pathsFromGBuffer = !usesHashGrid(s.method) && !isAaf(s.method);
   if (pathsFromGBuffer) make(m.rawTrace, spv_gi_raw_trace_comp, sizeof(gpu::GiRawPush));
   if (usesScreenFilters(s.method)) make(m.guidancePass, spv_gi_guidance_comp, 0);
   if (s.method == Method::Gif && s.gif.supersamples > 0)
@@ -178,6 +176,49 @@ uint32_t aafSampleBudget(const Module& m, uint32_t frameIndex) {
   double raysPerSample = c.tracedSamples > 0 ? double(c.raysTraced) / double(c.tracedSamples) : 4.0;
   double budget = double(m.settings.rayBudget) / raysPerSample;
   return uint32_t(std::clamp(budget, 1.0, 4.0e9));
+}
+
+// Everything whose size follows the render size: the module's images (bound
+// in the frame set), the filters' images and the hash map (its default
+// capacity and the walks are per pixel). Created at create() and resize().
+void createSizedResources(Module& m) {
+  for (size_t i = 0; engine::Image* img = ownedImages(m, i); ++i) {
+    bool unused = (img == &m.aafGlossy || img == &m.aafGlossyEdge) && !m.desc.scene.hasGlossyMaterials;
+    *img = outputImage(m, unused ? VkExtent2D{1, 1} : VkExtent2D{m.desc.width, m.desc.height});
+  }
+  engine::DescriptorWriter(m.frameSet.set)
+      .storageImage(gpu::GI_BINDING_OUT_DIRECT, m.direct.view)
+      .storageImage(gpu::GI_BINDING_OUT_INDIRECT, m.indirect.view)
+      .storageImage(gpu::GI_BINDING_OUT_COMPOSITE, m.composite.view)
+      .storageImage(gpu::GI_BINDING_HISTORY_DIRECT, m.historyDirect.view)
+      .storageImage(gpu::GI_BINDING_HISTORY_INDIRECT, m.historyIndirect.view)
+      .storageImage(gpu::GI_BINDING_NOISY_INDIRECT, m.noisyIndirect.view)
+      .storageImage(gpu::GI_BINDING_GUIDANCE, m.guidance.view)
+      .storageImage(gpu::GI_BINDING_POSITION, m.position.view)
+      .storageImage(gpu::GI_BINDING_DEBUG, m.debug.view)
+      .storageImage(gpu::GI_BINDING_AAF_PARAMS, m.aafParams.view)
+      .storageImage(gpu::GI_BINDING_AAF_SUM, m.aafSum.view)
+      .storageImage(gpu::GI_BINDING_AAF_GLOSSY, m.aafGlossy.view)
+      .storageImage(gpu::GI_BINDING_AAF_GLOSSY_EDGE, m.aafGlossyEdge.view)
+      .write(m.ctx);
+  m.imagesInitialised = false;
+  m.boundGBuffer = {};  // the caller's G-buffer is re-bound on the next frame
+  m.historyLength = 0;
+  ensureFilters(m);
+  ensureHashGrid(m);
+}
+
+void destroySizedResources(Module& m) {
+  if (m.filters.set.set) destroyScreenFilters(m.ctx, m.filters);
+  if (m.hash.capacity) destroyHashGrid(m.ctx, m.hash);
+  for (size_t i = 0; engine::Image* img = ownedImages(m, i); ++i) engine::destroyImage(m.ctx, *img);
+}
+
+// Device memory the module holds now.
+uint64_t memoryBytes(Module& m) {
+  uint64_t bytes = m.frameConstants.size + m.counters.size + m.filters.memoryBytes + m.hash.memoryBytes;
+  for (size_t i = 0; const engine::Image* img = ownedImages(m, i); ++i) bytes += img->allocationSize;
+  return bytes;
 }
 
 }  // namespace
@@ -246,10 +287,6 @@ Error create(const ModuleDesc& desc, const Settings& settings, Module*& out) {
   vkGetPhysicalDeviceProperties(desc.physicalDevice, &m->ctx.properties);
   vkGetPhysicalDeviceMemoryProperties(desc.physicalDevice, &m->ctx.memoryProperties);
 
-  for (size_t i = 0; engine::Image* img = ownedImages(*m, i); ++i) {
-    bool unused = (img == &m->aafGlossy || img == &m->aafGlossyEdge) && !desc.scene.hasGlossyMaterials;
-    *img = outputImage(*m, unused ? VkExtent2D{1, 1} : VkExtent2D{desc.width, desc.height});
-  }
   m->frameConstants = engine::createBuffer(m->ctx, sizeof(gpu::GiFrameConstants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                                            engine::MemoryKind::HostVisible);
   m->counters = engine::createBuffer(m->ctx, sizeof(gpu::GiCounters) * (1 + kFramesInFlight),
@@ -257,34 +294,18 @@ Error create(const ModuleDesc& desc, const Settings& settings, Module*& out) {
                                          VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
                                      engine::MemoryKind::HostVisible);
   std::memset(m->counters.mapped, 0, m->counters.size);
-  m->memoryBytes += m->frameConstants.size + m->counters.size;
 
   m->frameSet = engine::createDescriptorSet(m->ctx, kFrameBindings);
-  engine::DescriptorWriter w(m->frameSet.set);
-  w.buffer(gpu::GI_BINDING_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, m->frameConstants.buffer)
-      .storageImage(gpu::GI_BINDING_OUT_DIRECT, m->direct.view)
-      .storageImage(gpu::GI_BINDING_OUT_INDIRECT, m->indirect.view)
-      .storageImage(gpu::GI_BINDING_OUT_COMPOSITE, m->composite.view)
-      .storageImage(gpu::GI_BINDING_HISTORY_DIRECT, m->historyDirect.view)
-      .storageImage(gpu::GI_BINDING_HISTORY_INDIRECT, m->historyIndirect.view)
-      .storageImage(gpu::GI_BINDING_NOISY_INDIRECT, m->noisyIndirect.view)
-      .storageImage(gpu::GI_BINDING_GUIDANCE, m->guidance.view)
-      .storageImage(gpu::GI_BINDING_POSITION, m->position.view)
-      .storageImage(gpu::GI_BINDING_DEBUG, m->debug.view)
-      .storageImage(gpu::GI_BINDING_AAF_PARAMS, m->aafParams.view)
-      .storageImage(gpu::GI_BINDING_AAF_SUM, m->aafSum.view)
-      .storageImage(gpu::GI_BINDING_AAF_GLOSSY, m->aafGlossy.view)
-      .storageImage(gpu::GI_BINDING_AAF_GLOSSY_EDGE, m->aafGlossyEdge.view);
   // The shaders' live counter is the first GiCounters; the others are per-slot copies for readback.
-  w.buffer(gpu::GI_BINDING_COUNTERS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, m->counters.buffer);
-  w.write(m->ctx);
-
+  engine::DescriptorWriter(m->frameSet.set)
+      .buffer(gpu::GI_BINDING_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, m->frameConstants.buffer)
+      .buffer(gpu::GI_BINDING_COUNTERS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, m->counters.buffer)
+      .write(m->ctx);
   VkDescriptorSetLayout layouts[] = {desc.scene.layout, m->frameSet.layout};
   m->composite_ = engine::createComputeProgram(m->ctx, spv_gi_composite_comp, layouts, sizeof(gpu::GiCompositePush),
                                                {GI_GROUP_SIZE, GI_GROUP_SIZE}, sceneSpecialization(*m));
+  createSizedResources(*m);
   ensurePrograms(*m);
-  ensureFilters(*m);
-  ensureHashGrid(*m);
 
   VkQueryPoolCreateInfo q{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
   q.queryType = VK_QUERY_TYPE_TIMESTAMP;
@@ -299,10 +320,8 @@ void destroy(Module* m) {
   vkDestroyQueryPool(m->ctx.device, m->timestamps, nullptr);
   for (engine::ComputeProgram* p : {&m->rawTrace, &m->composite_, &m->guidancePass, &m->supersample, &m->aafSample, &m->aafAdaptive})
     engine::destroyComputeProgram(m->ctx, *p);
-  if (m->filters.set.set) destroyScreenFilters(m->ctx, m->filters);
-  if (m->hash.capacity) destroyHashGrid(m->ctx, m->hash);
+  destroySizedResources(*m);
   engine::destroyDescriptorSet(m->ctx, m->frameSet);
-  for (size_t i = 0; engine::Image* img = ownedImages(*m, i); ++i) engine::destroyImage(m->ctx, *img);
   engine::destroyBuffer(m->ctx, m->frameConstants);
   engine::destroyBuffer(m->ctx, m->counters);
   delete m;
@@ -315,6 +334,18 @@ Error setSettings(Module* m, const Settings& settings) {
   ensurePrograms(*m);
   ensureFilters(*m);
   ensureHashGrid(*m);
+  return {};
+}
+
+Error resize(Module* m, uint32_t width, uint32_t height) {
+  ModuleDesc desc = m->desc;
+  desc.width = width;
+  desc.height = height;
+  if (Error e = checkDesc(desc)) return e;
+  if (width == m->desc.width && height == m->desc.height) return {};
+  destroySizedResources(*m);
+  m->desc = desc;
+  createSizedResources(*m);
   return {};
 }
 
@@ -372,18 +403,27 @@ void recordFrame(Module* m, VkCommandBuffer cmd, const FrameInputs& in) {
                      aafSpecular(*m) ? 1u : 0u, 0, 0};
     runPassWith(*m, cmd, slot, "aaf_sample", m->aafSample, sets, size, aaf);
     runPassWith(*m, cmd, slot, "aaf_adaptive", m->aafAdaptive, sets, size, aaf);
-  } else if (s.method == Method::Hpsf) {
+  } else if (usesHashGrid(s.method)) {
     spp = samplesWithinBudget(*m, tracedSamplesPerPixel(s), in.frameIndex);
     const HpsfSettings& h = s.hpsf;
     bool strict = h.eviction == EvictionPolicy::Strict;
     gpu::HgPush push{m->hash.capacity, h.probeWindow, h.filterWidth, pixelScale(in.camera), h.jitter, h.normalBits,
                      h.stochasticLod ? 1u : 0u, h.clampSigma, in.frameIndex, h.historyFrames, h.staleFrames, h.minSamples,
                      s.seed, spp, s.maxBounces, s.russianRouletteStart, hashTableBase(m->hash, in.frameIndex),
-                     previousHashTableBase(m->hash, in.frameIndex), strict ? 1u : 0u, uint32_t(s.debugView)};
+                     previousHashTableBase(m->hash, in.frameIndex), strict ? 1u : 0u, uint32_t(s.debugView),
+                     hashMode(s.method), s.method == Method::Nhpsf ? h.pathDepth : h.continuationDepth,
+                     h.secondaryWidthScale, strict ? 0u : h.validationInterval};
     VkDescriptorSet hashSets[] = {m->desc.scene.set, m->frameSet.set, m->hash.set.set};
     recordHashGridFrameStart(cmd, m->hash, in.frameIndex);
-    // Pass: paths from the G-buffer; their indirect radiance goes into the filter vertex's cell.
-    runPassWith(*m, cmd, slot, "hpsf_insert", m->hash.insert, hashSets, size, push);
+    if (s.method == Method::Hpsf) {
+      // Pass: paths from the G-buffer; their indirect radiance goes into the filter vertex's cell.
+      runPassWith(*m, cmd, slot, "hpsf_insert", m->hash.insert, hashSets, size, push);
+    } else {
+      // Pass: path segments from the G-buffer (nhpsf: pathDepth of them; anhpsf: the primary one and
+      // one of each pixel's continued path); each diffuse vertex's cell gets what its segment brings.
+      runPassWith(*m, cmd, slot, s.method == Method::Nhpsf ? "nhpsf_paths" : "anhpsf_paths", m->hash.paths, hashSets,
+                  size, push);
+    }
     // Pass: fold the frame's sums into each cell's history; evict stale cells.
     runPassWith(*m, cmd, slot, "hpsf_resolve", m->hash.resolve, hashSets, {m->hash.capacity, 1}, push);
     // Pass: each pixel reads its cell (or keeps its own sample).
@@ -476,8 +516,8 @@ FrameStats stats(Module* m) {
     st.samplesPerPixel = m->slotSpp[slot];
     uint32_t pixels = m->desc.width * m->desc.height;
     if (c.tracedSamples > 0 && pixels > 0) st.samplesPerPixel = (c.tracedSamples + pixels / 2) / pixels;  // AAF: mean
-    st.memoryBytes = m->memoryBytes;
-    if (m->slotMethod[slot] == Method::Hpsf && m->hash.capacity) {
+    st.memoryBytes = memoryBytes(*m);
+    if (usesHashGrid(m->slotMethod[slot]) && m->hash.capacity) {
       gpu::HgTelemetry t = readHashGridTelemetry(m->hash, slot);
       st.hash.capacity = m->hash.capacity;
       st.hash.occupied = t.occupied;
@@ -487,6 +527,9 @@ FrameStats stats(Module* m) {
       st.hash.maxProbe = t.probeMax;
       st.hash.evicted = t.evicted;
       st.hash.overflows = t.overflows;
+      st.hash.staleResets = t.staleResets;
+      st.hash.transported = double(t.transported) / HG_FIXED_POINT_SCALE;
+      st.hash.meanContinuationDepth = t.continued ? float(t.depthSum) / float(t.continued) : 0.0f;
     }
     m->lastStats = st;
     break;

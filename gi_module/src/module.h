@@ -45,7 +45,6 @@ struct Module {
   bool imagesInitialised = false;
   uint32_t historyLength = 0;                      // frames in the history images
   gpu::GpuCamera historyCamera{};                  // camera the history was gathered with
-  uint64_t memoryBytes = 0;
   FrameStats lastStats;
 };
 

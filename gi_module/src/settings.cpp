@@ -35,13 +35,15 @@ const char* methodName(Method method) {
     case Method::AafAo: return "aaf_ao";
     case Method::Sspsf: return "sspsf";
     case Method::Hpsf: return "hpsf";
+    case Method::Nhpsf: return "nhpsf";
+    case Method::Anhpsf: return "anhpsf";
   }
   return "unknown";
 }
 
 bool methodFromName(const std::string& name, Method& out) {
   for (Method m : {Method::Raw, Method::Gif, Method::Bilateral, Method::Atrous, Method::Aaf, Method::AafAo, Method::Sspsf,
-                   Method::Hpsf})
+                   Method::Hpsf, Method::Nhpsf, Method::Anhpsf})
     if (name == methodName(m)) {
       out = m;
       return true;
@@ -54,8 +56,8 @@ Error validate(const Settings& s) {
   if (s.maxBounces < 1 || s.maxBounces > 32) return outOfRange("settings.maxBounces", s.maxBounces, 1, 32);
   if (s.russianRouletteStart < 1 || s.russianRouletteStart > 64)
     return outOfRange("settings.russianRouletteStart", s.russianRouletteStart, 1, 64);
-  if (uint32_t(s.debugView) > uint32_t(DebugView::HashOccupancy))
-    return outOfRange("settings.debugView", uint32_t(s.debugView), 0, uint32_t(DebugView::HashOccupancy));
+  if (uint32_t(s.debugView) > uint32_t(DebugView::ContinuationDepth))
+    return outOfRange("settings.debugView", uint32_t(s.debugView), 0, uint32_t(DebugView::ContinuationDepth));
   if (s.raw.samplesPerPixel < 1 || s.raw.samplesPerPixel > 64)
     return outOfRange("settings.raw.samplesPerPixel", s.raw.samplesPerPixel, 1, 64);
   if (s.raw.maxAccumulatedFrames < 1 || s.raw.maxAccumulatedFrames > (1u << 20))
@@ -109,6 +111,15 @@ Error validate(const Settings& s) {
   if (h.historyFrames < 2 || h.historyFrames > 10000) return outOfRange("settings.hpsf.historyFrames", h.historyFrames, 2, 10000);
   if (h.staleFrames < 1 || h.staleFrames > 100000) return outOfRange("settings.hpsf.staleFrames", h.staleFrames, 1, 100000);
   if (h.minSamples < 1 || h.minSamples > 1000000) return outOfRange("settings.hpsf.minSamples", h.minSamples, 1, 1000000);
+  if (h.validationInterval > 1000) return outOfRange("settings.hpsf.validationInterval", h.validationInterval, 0, 1000);
+  if (h.pathDepth < 1 || h.pathDepth > 16) return outOfRange("settings.hpsf.pathDepth", h.pathDepth, 1, 16);
+  if (h.continuationDepth < 2 || h.continuationDepth > 16)
+    return outOfRange("settings.hpsf.continuationDepth", h.continuationDepth, 2, 16);
+  if (!inRange(h.secondaryWidthScale, 1, 16, false))
+    return outOfRangeF("settings.hpsf.secondaryWidthScale", h.secondaryWidthScale, 1, 16, false);
+  if (s.method == Method::Anhpsf && h.eviction == EvictionPolicy::Strict)
+    return {ErrorCode::OutOfRange,
+            "settings.hpsf.eviction = strict keeps cells for two frames, too short for anhpsf's transport over frames; use aging"};
   return {};
 }
 
@@ -129,12 +140,15 @@ uint32_t tracedSamplesPerPixel(const Settings& s) {
     case Method::Aaf:
     case Method::AafAo: return 0;  // adaptive: chosen per pixel
     case Method::Sspsf: return s.sspsf.samplesPerPixel;
-    case Method::Hpsf: return s.hpsf.samplesPerPixel;
+    case Method::Hpsf:
+    case Method::Nhpsf:
+    case Method::Anhpsf: return s.hpsf.samplesPerPixel;
   }
   return 1;
 }
 
-bool usesScreenFilters(Method m) { return m != Method::Raw && m != Method::Hpsf; }
+bool usesHashGrid(Method m) { return m == Method::Hpsf || m == Method::Nhpsf || m == Method::Anhpsf; }
+bool usesScreenFilters(Method m) { return m != Method::Raw && !usesHashGrid(m); }
 bool isAaf(Method m) { return m == Method::Aaf || m == Method::AafAo; }
 
 }  // namespace gi

@@ -24,6 +24,11 @@ GPU_CONST HG_BINDING_ACCUM = 1;      // HgAccum[tables·capacity]: a frame's sum
 GPU_CONST HG_BINDING_CELLS = 2;      // HgCell[tables·capacity]: resolved means
 GPU_CONST HG_BINDING_TELEMETRY = 3;  // HgTelemetry: counters of the current frame
 GPU_CONST HG_BINDING_PIXEL_CELL = 4; // r32ui image: cell index + 1 per pixel, 0 = none
+GPU_CONST HG_BINDING_CONTINUATION = 5; // HgWalk[pixels]: anhpsf's paths continued over frames
+
+GPU_CONST HG_MODE_HPSF = 0u;         // full paths from the primary hit; the primary cell filters
+GPU_CONST HG_MODE_NHPSF = 1u;        // pathDepth segments; every diffuse vertex's cell filters
+GPU_CONST HG_MODE_ANHPSF = 2u;       // one primary segment + one continued segment per pixel and frame
 
 struct HgAccum {
   uint64_t r, g, b;   // Σ radiance · HG_FIXED_POINT_SCALE
@@ -40,6 +45,13 @@ struct HgCell {
   int lod;            // the cell's level of detail (log2 of its size)
   uint samples;       // samples behind the mean (capped with the history)
   uint previous;      // strict: global slot + 1 of the same key in the previous frame's table, 0 = none
+  // Aging: the probe that detects stale radiance. A ray from the cell's first
+  // vertex; re-traced with the same random numbers it gives the same hit
+  // distance and the same light at the hit unless the scene moved.
+  vec3 probeOrigin;
+  float probeDistance;  // metres; < 0: the ray missed; 0 with probeLight 0: no probe
+  vec3 probeDirection;
+  float probeLight;     // luminance of the light (NEE) at the hit
 };
 
 struct HgTelemetry {
@@ -50,8 +62,28 @@ struct HgTelemetry {
   uint inserts;       // successful inserts (samples stored)
   uint evicted;       // cells removed by the eviction policy this frame
   uint overflows;     // samples clamped to HG_MAX_SAMPLE
-  uint pad0;
+  uint staleResets;   // cells whose probe came back different: history restarted
+  uint64_t transported; // anhpsf: Σ luminance added by continuation segments · HG_FIXED_POINT_SCALE
+  uint continued;     // anhpsf: pixels with a live continued path after this frame
+  uint depthSum;      // anhpsf: Σ of their depths
 };
+GPU_ASSERT_SIZE(HgTelemetry, 48);
+
+// A path walked segment by segment (nhpsf within a frame, anhpsf one segment
+// per frame): where it goes next, and the cell its radiance feeds. The
+// throughput since that cell is 1 after a diffuse vertex (radiance is
+// demodulated) and picks up BSDF weights through glossy vertices.
+struct HgWalk {
+  vec3 origin;        // next ray's origin (already offset from the surface)
+  uint index;         // the fed cell's index hash
+  vec3 direction;
+  uint key;           // the fed cell's verification key; HG_EMPTY_KEY = feeds no cell
+  vec3 throughput;
+  uint state;         // bits 0–15: segments taken, 0 = no live path; bit 16: the next segment
+                      // continues a sample already counted (after a glossy vertex); bits 24–31: the
+                      // fed cell's level of detail + 128 (for the debug views)
+};
+GPU_ASSERT_SIZE(HgWalk, 48);
 
 GPU_FN uint hgHashPcg(uint v) {
   uint state = v * 747796405u + 2891336453u;
@@ -166,8 +198,12 @@ struct HgPush {
   uint previousTable;     // strict: first slot of the previous frame's table (= table with aging)
   uint strict;            // 1: two swapped tables, a cell's mean is this frame's and the last frame's samples
   uint debugView;         // GI_DEBUG_*: the lookup measures probe-window occupancy only for its view
+  uint mode;              // HG_MODE_*
+  uint depth;             // nhpsf: segments per frame; anhpsf: the longest continued path
+  float secondaryWidthScale; // cells at vertices after the first are this much wider
+  uint validationInterval;  // aging: frames between re-traces of a cell's probe (0 = off)
 };
-GPU_ASSERT_SIZE(HgPush, 80);
+GPU_ASSERT_SIZE(HgPush, 96);
 
 GPU_NAMESPACE_END
 #endif

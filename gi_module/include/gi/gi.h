@@ -87,6 +87,9 @@ struct FrameStats {
     uint32_t maxProbe = 0;
     uint32_t evicted = 0;           // cells removed this frame
     uint32_t overflows = 0;         // samples clamped to the fixed-point range
+    uint32_t staleResets = 0;       // cells whose history the stale-radiance check restarted this frame
+    double transported = 0.0;       // anhpsf: Σ luminance carried by continuation segments this frame
+    float meanContinuationDepth = 0.0f;  // anhpsf: mean depth of the pixels' continued paths
     float occupancy() const { return capacity ? float(occupied) / float(capacity) : 0.0f; }
   } hash;
 };
@@ -111,6 +114,10 @@ Error setSettings(Module* module, const Settings& settings);
 // later keep what lights do not affect. Takes effect in the next recordFrame.
 enum class Invalidate : uint32_t { All, LightsChanged };
 void invalidate(Module* module, Invalidate what);
+// A new render size: the module's images, filters and hash map (with anhpsf's
+// continued paths) start over at that size. The caller ensures the GPU no
+// longer uses the module, and passes G-buffer views of the new size next frame.
+Error resize(Module* module, uint32_t width, uint32_t height);
 void recordFrame(Module* module, VkCommandBuffer cmd, const FrameInputs& inputs);
 Outputs outputs(const Module* module);
 // Numbers from the last frame whose GPU work has completed (call after its fence).

@@ -16,9 +16,12 @@ enum class Method : uint32_t {
               // output holds occlusion, the composite AO = 1 − occlusion, both in [0,1]
   Sspsf,      // screen-space path filtering (Meijer 2019 §4.1)
   Hpsf,       // hashed path space filtering on a persistent world-space hash map (§4.2)
+  Nhpsf,      // HPSF at every diffuse vertex of a path; the last vertex reads the map (§4.3)
+  Anhpsf,     // nHPSF amortised: each pixel extends one long path by a segment per frame (§4.4)
 };
-inline constexpr uint32_t kMethodCount = 8;
-const char* methodName(Method method);  // "raw", "gif", "bilateral", "atrous", "aaf", "aaf_ao", "sspsf", "hpsf"
+inline constexpr uint32_t kMethodCount = 10;
+// "raw", "gif", "bilateral", "atrous", "aaf", "aaf_ao", "sspsf", "hpsf", "nhpsf", "anhpsf"
+const char* methodName(Method method);
 bool methodFromName(const std::string& name, Method& out);  // false for unknown names
 
 enum class DebugView : uint32_t {
@@ -40,6 +43,7 @@ enum class DebugView : uint32_t {
   HashSamples,     // HPSF: samples behind the cell's mean / 100
   HashFound,       // HPSF: green = cell used, yellow = too few samples, red = no cell (fallback)
   HashOccupancy,   // HPSF: how full the probe window around the pixel's cell is, green (empty) → red (full; red also = no cell)
+  ContinuationDepth,  // A-nHPSF: depth of the pixel's continued path / the maximum depth
 };
 
 struct RawSettings {
@@ -106,6 +110,13 @@ struct HpsfSettings {
   uint32_t historyFrames = 20;    // aging: frames of history kept, [2, 10000]
   uint32_t staleFrames = 60;      // aging: frames untouched before eviction, [1, 100000]
   uint32_t minSamples = 1;        // fewer samples in the cell: the pixel keeps its own, [1, 1e6]
+  uint32_t validationInterval = 4;  // aging: every N frames each cell re-traces its probe ray (stored when the
+                                    // cell was made); a different hit or different light there means the scene
+                                    // moved, and the cell's history restarts. 0 = off, [0, 1000]
+  // nhpsf and anhpsf (hpsf, nhpsf and anhpsf share the map and the settings above):
+  uint32_t pathDepth = 3;         // nhpsf: path segments per pixel and frame, each vertex filtered, [1, 16]
+  uint32_t continuationDepth = 4; // anhpsf: the longest path continued over frames, in segments, [2, 16]
+  float secondaryWidthScale = 2.0f;  // cells at vertices after the first are this much wider, [1, 16]
 };
 
 struct Settings {
@@ -131,5 +142,6 @@ uint32_t tracedSamplesPerPixel(const Settings& settings);
 uint32_t hashCapacity(const HpsfSettings& settings, uint32_t width, uint32_t height);
 bool usesScreenFilters(Method method);  // every method but raw and hpsf
 bool isAaf(Method method);              // aaf, aaf_ao: adaptive sample counts (tracedSamplesPerPixel is 0)
+bool usesHashGrid(Method method);       // hpsf, nhpsf, anhpsf: the persistent world-space hash map
 
 }  // namespace gi
