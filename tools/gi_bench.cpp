@@ -17,6 +17,7 @@
 #include "module_session.h"
 #include "path_tracer.h"
 #include "ray_bench.h"
+#include "animation.h"
 #include "scene_loading.h"
 
 namespace fs = std::filesystem;
@@ -39,6 +40,10 @@ const cli::Option kOptions[] = {
     {"path-frames", "N", "frames of the camera move (default 8)"},
     {"path-reference-spp", "N", "samples per pixel of each camera-path reference (default reference-spp / 4)"},
     {"series", nullptr, "also write series.csv: the error after every timed frame (for temporal methods)"},
+    {"animate", nullptr, "the light and an object move (engine/animation.h, 30 frames a second); each timed frame is "
+                         "compared with a reference of its own pose (path-reference-spp)"},
+    {"move-at", "F", "the light and an object jump half their loop before frame F (warm-up frames count); the reference "
+                     "shows the moved scene; results get the frames to recover"},
     {"out", "DIR", "output folder (default bench_out)"},
     {"no-plots", nullptr, "skip plot_bench.py (plots and report)"},
     {"validation", nullptr, "enable Vulkan validation"},
@@ -131,7 +136,25 @@ struct Row {
   double flickerRatio = -1.0;
   gi::FrameStats::Hash hash;  // telemetry of the last timed frame
   uint32_t tracedSpp = 0;      // paths per pixel the module traced (AAF: its adaptive mean)
+  int recoveryFrames = -1;     // --move-at: frames after the move until the indirect error is below 2× its steady state
+  double steadyMse = 0.0;      // --move-at: mean indirect error over the last quarter of the frames after the move
 };
+
+// --move-at: the steady state is the mean error over the last quarter of the
+// frames after the move; recovery is the first of those frames (1 = the frame
+// of the move) whose error is below twice that.
+void recovery(const std::vector<double>& afterMove, int& frames, double& steady) {
+  frames = -1;
+  steady = 0.0;
+  if (afterMove.size() < 4) return;
+  size_t tail = afterMove.size() / 4;
+  for (size_t i = afterMove.size() - tail; i < afterMove.size(); ++i) steady += afterMove[i] / double(tail);
+  for (size_t i = 0; i < afterMove.size(); ++i)
+    if (afterMove[i] < 2.0 * steady) {
+      frames = int(i) + 1;
+      return;
+    }
+}
 
 }  // namespace
 
@@ -144,7 +167,7 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (!args.has("scene") || !args.has("methods")) return usageError("--scene and --methods are required");
-  uint32_t width, height, cameraIndex, frames, warmup, bounces, refSpp, pathFrames, pathRefSpp;
+  uint32_t width, height, cameraIndex, frames, warmup, bounces, refSpp, pathFrames, pathRefSpp, moveAt = 0;
   if (!cli::getSize(args, "size", 320, 180, width, height, error) ||
       !cli::getUint(args, "camera", 0, 0, 1u << 20, cameraIndex, error) ||
       !cli::getUint(args, "frames", 8, 1, 100000, frames, error) ||
@@ -152,8 +175,12 @@ int main(int argc, char** argv) {
       !cli::getUint(args, "max-bounces", 4, 1, 32, bounces, error) ||
       !cli::getUint(args, "reference-spp", 4096, 1, 1u << 24, refSpp, error) ||
       !cli::getUint(args, "path-frames", 8, 2, 1000, pathFrames, error) ||
-      !cli::getUint(args, "path-reference-spp", std::max(1u, refSpp / 4), 1, 1u << 24, pathRefSpp, error))
+      !cli::getUint(args, "path-reference-spp", std::max(1u, refSpp / 4), 1, 1u << 24, pathRefSpp, error) ||
+      !cli::getUint(args, "move-at", 0, 0, 1u << 20, moveAt, error))
     return usageError(error);
+  const bool animate = args.has("animate"), move = args.has("move-at");
+  if (animate && move) return usageError("--animate and --move-at are two different experiments; choose one");
+  if (animate && args.has("reference")) return usageError("--animate renders a reference per frame; drop --reference");
   std::vector<uint32_t> spps;
   for (const std::string& s : cli::splitList(args.has("spp") ? args.values["spp"] : "1")) {
     cli::Args one;
@@ -199,6 +226,17 @@ int main(int argc, char** argv) {
   std::string sceneName = fs::path(scene.sourcePath).stem().string();
   std::string key = sanitise(sceneName) + "_cam" + std::to_string(cameraIndex) + "_" + std::to_string(width) + "x" +
                     std::to_string(height) + "_b" + std::to_string(bounces) + "_s" + std::to_string(refSpp);
+  // Moving scenes: the pose at a time, uploaded (TLAS rebuilt) before the next frame.
+  engine::SceneAnimation animation = engine::makeSceneAnimation(scene);
+  auto pose = [&](float seconds) {
+    engine::animateScene(animation, seconds, scene);
+    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { engine::recordSceneTransformUpdate(ctx, cmd, scene, sceneGpu); });
+  };
+  const float movedSeconds = 0.5f * animation.periodSeconds, frameSeconds = 1.0f / 30.0f;
+  if (move) {
+    pose(movedSeconds);
+    key += "_moved";
+  }
 
   Reference ref;
   bool ok = true;
@@ -227,6 +265,21 @@ int main(int argc, char** argv) {
     return 1;
   }
   engine::writeImage((dir / "images" / "reference.pfm").string(), ref.final, error);
+  // --animate: a reference per timed frame, at that frame's pose (cached like the main one).
+  std::vector<Reference> animationRefs;
+  for (uint32_t f = 0; animate && f < frames && ok; ++f) {
+    pose(float(warmup + f) * frameSeconds);
+    Reference r;
+    ok = reference(ctx, sceneGpu, camera, bounces, pathRefSpp, dir,
+                   key + "_anim" + std::to_string(warmup + f) + "_s" + std::to_string(pathRefSpp), r, error);
+    animationRefs.push_back(r);
+  }
+  if (!ok) {
+    std::fprintf(stderr, "gi-bench: %s\n", error.c_str());
+    engine::destroySceneGpu(ctx, sceneGpu);
+    engine::destroyContext(ctx);
+    return 1;
+  }
 
   // Camera-path references (cached like the main one).
   std::vector<Reference> pathRefs;
@@ -265,9 +318,20 @@ int main(int argc, char** argv) {
     std::vector<double> totals, rays;
     std::vector<metrics::ImageError> finals, indirects;
     uint32_t frame = 0;
-    for (; frame < warmup; ++frame) tools::renderModuleFrame(ctx, session, scene, sceneGpu, camera, camera, frame);
+    // The scene's pose for a frame: moving with --animate, before and after the jump with --move-at.
+    auto poseFor = [&](uint32_t f) {
+      if (animate) pose(float(f) * frameSeconds);
+      else if (move && (f == 0 || f == moveAt)) pose(f < moveAt ? 0.0f : movedSeconds);
+    };
+    std::vector<double> afterMove;
+    for (; frame < warmup; ++frame) {
+      poseFor(frame);
+      tools::renderModuleFrame(ctx, session, scene, sceneGpu, camera, camera, frame);
+    }
     engine::ReferenceImages out;
     for (uint32_t f = 0; f < frames; ++f, ++frame) {
+      poseFor(frame);
+      const Reference& frameRef = animate ? animationRefs[f] : ref;
       tools::FrameTiming t = tools::renderModuleFrame(ctx, session, scene, sceneGpu, camera, camera, frame);
       // A pass that runs several times a frame (à-trous iterations, the guided filter's two box
       // passes) counts with its frame total.
@@ -280,8 +344,10 @@ int main(int argc, char** argv) {
       totals.push_back(t.totalMs);
       rays.push_back(double(t.rays));
       out = tools::readModuleImages(ctx, session);
-      finals.push_back(metrics::compare(out.final, ref.final));
-      if (!ref.indirect.pixels.empty()) indirects.push_back(metrics::compare(out.indirect, ref.indirect));
+      finals.push_back(metrics::compare(out.final, frameRef.final));
+      if (!frameRef.indirect.pixels.empty()) indirects.push_back(metrics::compare(out.indirect, frameRef.indirect));
+      // The caches hold indirect light: recovery is judged on it (on the final image without an indirect reference).
+      if (move && frame >= moveAt) afterMove.push_back(indirects.empty() ? finals.back().mse : indirects.back().mse);
       if (series.is_open())
         series << '"' << config.label << "\"," << frame + 1 << ',' << finals.back().mse << ',' << finals.back().relMse << ','
                << (indirects.empty() ? 0.0 : indirects.back().mse) << ',' << gi::stats(session.module).hash.occupancy() << "\n";
@@ -308,6 +374,11 @@ int main(int argc, char** argv) {
     row.memory = finalStats.memoryBytes;
     row.hash = finalStats.hash;
     row.tracedSpp = finalStats.samplesPerPixel;
+    if (move) {
+      recovery(afterMove, row.recoveryFrames, row.steadyMse);
+      pose(0.0f);  // the next configuration starts before the move
+    }
+    if (animate) pose(0.0f);
     engine::writeImage((dir / "images" / (sanitise(config.label) + ".pfm")).string(), out.final, error);
 
     if (args.has("camera-path")) {
@@ -353,7 +424,8 @@ int main(int argc, char** argv) {
   std::ofstream csv(csvPath);
   csv << "scene,method,settings,spp,frames,total_ms,pass_ms,rays,mrays_per_s,rq_efficiency,mse,relmse,psnr,ssim,"
          "mse_indirect,relmse_indirect,psnr_indirect,ssim_indirect,memory_bytes,equal_error_speedup,flicker_ratio,"
-         "hash_occupancy,hash_failed_inserts,hash_mean_probe,hash_max_probe,hash_evicted,traced_spp,equal_error_speedup_indirect,label\n";
+         "hash_occupancy,hash_failed_inserts,hash_mean_probe,hash_max_probe,hash_evicted,traced_spp,equal_error_speedup_indirect,"
+         "hash_stale_resets,move_recovery_frames,move_steady_mse_indirect,label\n";
   for (const Row& r : rows) {
     std::string passes;
     for (const std::string& name : r.passOrder) {
@@ -362,16 +434,16 @@ int main(int argc, char** argv) {
       passes += item;
     }
     double mrays = r.traceMs > 0.0 ? r.rays / (r.traceMs * 1e3) : 0.0;
-    char line[1024];
+    char line[4096];
     std::snprintf(line, sizeof(line),
-                  "%s,%s,\"%s\",%u,%u,%.4f,%s,%.0f,%.4f,%.4f,%.6e,%.6e,%.4f,%.6f,%.6e,%.6e,%.4f,%.6f,%llu,%.4f,%s,%.4f,%u,%.3f,%u,%u,%u,%.4f,\"%s\"\n",
+                  "%s,%s,\"%s\",%u,%u,%.4f,%s,%.0f,%.4f,%.4f,%.6e,%.6e,%.4f,%.6f,%.6e,%.6e,%.4f,%.6f,%llu,%.4f,%s,%.4f,%u,%.3f,%u,%u,%u,%.4f,%u,%d,%.6e,\"%s\"\n",
                   sceneName.c_str(), gi::methodName(r.config.settings.method), r.config.settingsText.c_str(), r.config.spp,
                   frames, r.totalMs, passes.c_str(), r.rays, mrays, bare.mraysPerSecond() > 0 ? mrays / bare.mraysPerSecond() : 0.0,
                   r.final.mse, r.final.relMse, r.final.psnr, r.final.ssim, r.indirect.mse, r.indirect.relMse,
                   r.indirect.psnr, r.indirect.ssim, (unsigned long long)r.memory, r.speedup,
                   r.flickerRatio >= 0.0 ? std::to_string(r.flickerRatio).c_str() : "", double(r.hash.occupancy()),
                   r.hash.failedInserts, double(r.hash.meanProbe), r.hash.maxProbe, r.hash.evicted, r.tracedSpp,
-                  r.speedupIndirect, r.config.label.c_str());
+                  r.speedupIndirect, r.hash.staleResets, r.recoveryFrames, r.steadyMse, r.config.label.c_str());
     csv << line;
   }
   csv.close();

@@ -16,6 +16,7 @@
 #include "path_tracer.h"
 #include "scene_gpu.h"
 #include "scene_loading.h"
+#include "animation.h"
 #include "window.h"
 
 namespace {
@@ -35,6 +36,8 @@ const cli::Option kOptions[] = {
     {"stats", "FILE.json", "write device, timings, rays and wall time as JSON"},
     {"validation", nullptr, "enable Vulkan validation; any message makes the run fail"},
     {"window", nullptr, "show the frames in a GLFW window (module methods; needs a display)"},
+    {"animate", nullptr, "the light and an object move, 30 frames a second (engine/animation.h); the reference "
+                         "renders the last frame's pose"},
     {"help", nullptr, "show this message"},
 };
 const char* const kMethods[] = {"reference", "raw", "gif", "bilateral", "atrous", "aaf", "aaf_ao", "sspsf", "hpsf", "nhpsf", "anhpsf"};
@@ -114,6 +117,14 @@ int main(int argc, char** argv) {
   engine::SceneGpu sceneGpu;
   engine::createSceneGpu(ctx, scene, sceneGpu);
   gpu::GpuCamera camera = engine::makeGpuCamera(scene.cameras[cameraIndex], width, height, nullptr);
+  // --animate: the scene's pose for frame f, uploaded before the frame is recorded.
+  const bool animate = args.has("animate");
+  engine::SceneAnimation animation = engine::makeSceneAnimation(scene);
+  auto poseFor = [&](uint32_t f) {
+    if (!animate) return;
+    engine::animateScene(animation, float(f) / 30.0f, scene);
+    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { engine::recordSceneTransformUpdate(ctx, cmd, scene, sceneGpu); });
+  };
 
   engine::ReferenceRun run;
   std::map<std::string, double> passMs;  // summed over frames
@@ -123,6 +134,7 @@ int main(int argc, char** argv) {
     engine::ReferenceSettings settings;
     settings.maxBounces = bounces;
     settings.seed = seed;
+    poseFor(frames - 1);
     run = engine::renderReference(ctx, sceneGpu, camera, settings, spp * frames);
     passMs["path_trace"] = run.gpuMs;
   } else {
@@ -147,10 +159,15 @@ int main(int argc, char** argv) {
         uint32_t image = 0;
         if (engine::windowShouldClose(window)) break;
         if (!engine::beginWindowFrame(ctx, window, image)) continue;
+        if (animate) {
+          engine::animateScene(animation, float(f) / 30.0f, scene);
+          engine::recordSceneTransformUpdate(ctx, window.cmd, scene, sceneGpu);
+        }
         tools::recordModuleFrame(ctx, window.cmd, session, scene, sceneGpu, camera, camera, f);
         engine::endWindowFrame(ctx, window, image, gi::outputs(session.module).composite, {width, height});
         continue;
       }
+      poseFor(f);
       tools::FrameTiming t = tools::renderModuleFrame(ctx, session, scene, sceneGpu, camera, camera, f);
       for (const gi::PassTiming& p : t.passes) passMs[p.name] += p.ms;
       run.gpuMs += t.totalMs;

@@ -1,0 +1,52 @@
+// gi-render end to end: named errors and exit codes for bad input, a
+// validated render with its stats file.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "run_process.h"
+
+namespace {
+
+const std::string kData = GI_TEST_DATA;
+int runTool(const std::string& args, std::string& output) { return runProcess(GI_RENDER_BINARY, args, output); }
+
+}  // namespace
+
+TEST(GiRenderTool, BadInputExitsWithASentence) {
+  std::string out;
+  EXPECT_EQ(runTool("--scene " + kData + "/malformed/index_out_of_range.gltf", out), 1) << out;
+  EXPECT_NE(out.find("index_out_of_range.gltf: "), std::string::npos) << out;
+  EXPECT_EQ(runTool("--scene /no/such.gltf", out), 1) << out;
+  EXPECT_EQ(runTool("--bogus 1", out), 2) << out;
+  EXPECT_NE(out.find("usage:"), std::string::npos);
+  EXPECT_EQ(runTool("--scene x.gltf --size 0x10", out), 2) << out;
+  EXPECT_EQ(runTool("--scene x.gltf --spp -3", out), 2) << out;
+  EXPECT_EQ(runTool("--scene x.gltf --aov colour", out), 2) << out;
+  EXPECT_EQ(runTool("--scene x.gltf --method magic", out), 2) << out;
+  EXPECT_EQ(runTool("--scene", out), 2) << out;
+}
+
+TEST(GiRenderTool, RendersWithValidationAndWritesStats) {
+  std::string dir = std::filesystem::temp_directory_path() / "gi_render_test";
+  std::filesystem::create_directories(dir);
+  std::string out;
+  int rc = runTool("--scene " + std::string(GI_SHARED_SCENES) +
+                       "/cornell-box-mcguire/CornellBox-Original.gltf --size 16x16 --spp 2 --max-bounces 2 --validation"
+                       " --aov indirect --out " + dir + "/i.pfm --stats " + dir + "/s.json",
+                   out);
+  ASSERT_EQ(rc, 0) << out;
+  EXPECT_TRUE(std::filesystem::exists(dir + "/i.pfm"));
+  std::ifstream f(dir + "/s.json");
+  nlohmann::json j = nlohmann::json::parse(f);
+  EXPECT_EQ(j["width"], 16);
+  EXPECT_EQ(j["spp"], 2);
+  EXPECT_EQ(j["max_bounces"], 2);
+  EXPECT_GT(j["rays"].get<uint64_t>(), 16u * 16u * 2u);
+  EXPECT_GT(j["passes_ms"]["path_trace"].get<double>(), 0.0);
+  EXPECT_EQ(j["validation_messages"], 0);
+  EXPECT_TRUE(j.contains("device"));
+  EXPECT_TRUE(j.contains("wall_seconds"));
+}
