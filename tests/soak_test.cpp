@@ -1,0 +1,63 @@
+// 10,000 frames of the cached methods on a 64² image: host memory and the
+// module's device memory stay flat, the hash map's occupancy never grows past
+// its steady state, every frame stays finite, and validation stays silent
+// (the fixture fails the test on any validation message).
+#include <fstream>
+
+#include "gpu_test.h"
+#include "module_test_helpers.h"
+
+class SoakTest : public GpuTest, public ::testing::WithParamInterface<gi::Method> {};
+
+namespace {
+
+// Resident host memory in bytes (Linux).
+uint64_t residentBytes() {
+  std::ifstream statm("/proc/self/statm");
+  uint64_t pages = 0, resident = 0;
+  statm >> pages >> resident;
+  return resident * 4096;
+}
+
+}  // namespace
+
+TEST_P(SoakTest, TenThousandFramesStayFlat) {
+  LoadedScene s;
+  load(std::string(GI_ASSETS) + "/cornell_box/cornell_box.gltf", s);
+  gi::Settings settings;
+  settings.method = GetParam();
+  settings.maxBounces = 1;
+  tools::ModuleSession session;
+  ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {64, 64}, settings, session));
+  gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], 64, 64, nullptr);
+  const uint32_t kFrames = 10000, kSteadyFrom = 1000, kSteadyTo = 2000;
+  uint64_t hostAtSteady = 0, deviceAtSteady = 0;
+  uint32_t steadyOccupancy = 0;
+  for (uint32_t f = 0; f < kFrames; ++f) {
+    tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, f);
+    gi::FrameStats st = gi::stats(session.module);
+    ASSERT_EQ(st.hash.failedInserts, 0u) << "frame " << f;
+    if (f == kSteadyFrom) {
+      hostAtSteady = residentBytes();
+      deviceAtSteady = st.memoryBytes;
+    }
+    if (f >= kSteadyFrom && f < kSteadyTo) steadyOccupancy = std::max(steadyOccupancy, st.hash.occupied);
+    if (f >= kSteadyTo) {
+      ASSERT_LE(st.hash.occupied, steadyOccupancy + steadyOccupancy / 20) << "frame " << f << ": the map keeps growing";
+      ASSERT_EQ(st.memoryBytes, deviceAtSteady) << "frame " << f;
+    }
+    if (f % 1000 == 999) {
+      for (float v : tools::readModuleImages(ctx, session).final.pixels) ASSERT_TRUE(std::isfinite(v)) << "frame " << f;
+    }
+  }
+  uint64_t hostAtEnd = residentBytes();
+  std::printf("%s: host RSS %.1f MiB at frame %u, %.1f MiB at frame %u; occupancy %u cells (steady max %u)\n",
+              gi::methodName(GetParam()), double(hostAtSteady) / 1048576.0, kSteadyFrom, double(hostAtEnd) / 1048576.0,
+              kFrames, gi::stats(session.module).hash.occupied, steadyOccupancy);
+  EXPECT_LT(hostAtEnd, hostAtSteady + (8u << 20)) << "host memory grows";
+  tools::destroyModuleSession(ctx, session);
+  unload(s);
+}
+
+INSTANTIATE_TEST_SUITE_P(Cached, SoakTest, ::testing::Values(gi::Method::Hpsf, gi::Method::Anhpsf),
+                         [](const ::testing::TestParamInfo<gi::Method>& p) { return gi::methodName(p.param); });
