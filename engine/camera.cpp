@@ -12,7 +12,10 @@ gpu::GpuCamera makeGpuCamera(const Camera& camera, uint32_t width, uint32_t heig
   c.tanHalfFovY = std::tan(0.5f * camera.yfov);
   c.imageSize = glm::vec2(float(width), float(height));
   c.position = glm::vec3(camera.worldFromView[3]);
-  // Reversed-nothing, plain Vulkan projection: depth 0 at znear, 1 at zfar (or infinity), y down.
+  // Reversed Z, y down: depth 1 at znear, 0 at zfar (or infinity). With a
+  // float depth buffer this keeps precision from millimetres to 1e5 m; the
+  // plain mapping (0 at znear) rounds every depth past ~1e4·znear to 1 and
+  // loses whole scenes.
   float n = camera.znear;
   glm::mat4 proj(0.0f);
   proj[0][0] = 1.0f / (c.aspect * c.tanHalfFovY);
@@ -20,11 +23,11 @@ gpu::GpuCamera makeGpuCamera(const Camera& camera, uint32_t width, uint32_t heig
   proj[2][3] = -1.0f;
   if (camera.zfar > n) {
     float f = camera.zfar;
-    proj[2][2] = f / (n - f);
-    proj[3][2] = n * f / (n - f);
+    proj[2][2] = n / (f - n);
+    proj[3][2] = n * f / (f - n);
   } else {
-    proj[2][2] = -1.0f;
-    proj[3][2] = -n;
+    proj[2][2] = 0.0f;
+    proj[3][2] = n;
   }
   c.clipFromWorld = proj * c.viewFromWorld;
   c.previousClipFromWorld = previous ? previous->clipFromWorld : c.clipFromWorld;

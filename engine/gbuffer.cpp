@@ -80,7 +80,7 @@ GBufferPass createGBufferPass(const Context& ctx, const SceneGpu& scene) {
   VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
   depth.depthTestEnable = VK_TRUE;
   depth.depthWriteEnable = VK_TRUE;
-  depth.depthCompareOp = VK_COMPARE_OP_LESS;
+  depth.depthCompareOp = VK_COMPARE_OP_GREATER;  // reversed Z (camera.cpp)
   VkPipelineColorBlendAttachmentState blend[gpu::GBUFFER_COLOR_COUNT]{};
   for (auto& b : blend) b.colorWriteMask = 0xf;
   VkPipelineColorBlendStateCreateInfo blendState{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
@@ -151,7 +151,7 @@ void recordGBuffer(const Context& ctx, VkCommandBuffer cmd, GBufferPass& pass, c
   depth.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
   depth.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
   depth.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-  depth.clearValue.depthStencil = {1.0f, 0};
+  depth.clearValue.depthStencil = {0.0f, 0};  // reversed Z: 0 is infinitely far
   VkRenderingInfo rendering{VK_STRUCTURE_TYPE_RENDERING_INFO};
   rendering.renderArea = {{0, 0}, g.extent};
   rendering.layerCount = 1;

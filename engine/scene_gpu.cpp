@@ -160,6 +160,16 @@ void createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu) {
   c.punctualLightCount = uint32_t(lights.size());
   c.emissiveTotalPower = totalPower;
   c.sceneExtent = std::max(bounds.extent(), 1e-6f);
+  // A rough scale of the radiance the scene will hold: a grey (0.5) surface a
+  // quarter of the scene away from the brightest punctual light, or a tenth
+  // of the brightest emission. Only its order of magnitude matters.
+  auto luminance = [](glm::vec3 v) { return 0.2126f * v.x + 0.7152f * v.y + 0.0722f * v.z; };
+  float typical = 0.0f;
+  float quarter = 0.25f * c.sceneExtent;
+  for (const PunctualLight& l : scene.lights)
+    typical = std::max(typical, luminance(l.intensity) / (quarter * quarter) * 0.5f / 3.14159265f);
+  for (const Material& m : scene.materials) typical = std::max(typical, 0.1f * luminance(m.emission));
+  gpu.typicalRadiance = typical > 0.0f && std::isfinite(typical) ? typical : 1.0f;
   c.boundsMin = bounds.empty() ? glm::vec3(0.0f) : bounds.min;
   c.boundsMax = bounds.empty() ? glm::vec3(0.0f) : bounds.max;
   gpu.constants = createBuffer(ctx, sizeof(c), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, MemoryKind::HostVisible);

@@ -30,6 +30,7 @@ struct SceneGpu {
   bool hasPunctualLights() const { return sceneConstants.punctualLightCount > 0; }
   bool hasAlphaMask = false;  // some material uses alphaMode MASK
   bool hasGlossyMaterials = false;  // some material has a GGX lobe (MATERIAL_FLAG_GLOSSY)
+  float typicalRadiance = 1.0f;     // W/(sr·m²), rough: a grey surface lit by the brightest light (see scene_gpu.cpp)
 
   // Values for the SCENE_SPEC_* specialisation constants.
   std::array<uint32_t, SCENE_SPEC_COUNT> specialization() const {

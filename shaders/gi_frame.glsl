@@ -62,11 +62,17 @@ vec3 giGbPosition(ivec2 p, out vec3 dir) {
 // The primary hit as a shading point: position from view depth along the
 // pixel-centre ray, normal and material from the G-buffer. The G-buffer stores
 // no triangle normal, so the (camera-facing) shading normal stands in for it.
+// The reconstruction is only as exact as fp32 camera position + distance
+// (about 2.4e-7 of their size: 6 cm for a camera 1e5 m from the origin), so
+// the point is lifted off the surface by four times that, or the rays that
+// leave it (offset for the surface's own coordinates) would hit the surface.
 GiSurface giGbSurface(ivec2 p, out vec3 V) {
   GiSurface s;
   vec3 dir;
   s.position = giGbPosition(p, dir);
   s.normal = normalize(imageLoad(giGbNormal, p).xyz);
+  float reach = length(giFrame.camera.position) + distance(giFrame.camera.position, s.position);
+  s.position += s.normal * (1e-6 * reach);
   s.geometricNormal = s.normal;
   s.frontFace = true;
   s.uv = vec2(0.0);

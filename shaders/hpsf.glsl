@@ -40,7 +40,8 @@ int hgFind(uint table, uint index, uint key, uint capacity, uint window) {
 }
 
 // Adds one sample (count 1: 5 atomics, r, g, b, luminance², count), or more
-// light for a sample already counted (count 0: r, g, b only).
+// light for a sample already counted (count 0: r, g, b only). `radiance` is
+// already multiplied by the push constants' radianceScale.
 void hgAccumulate(int slot, vec3 radiance, uint count, inout bool overflowed) {
   vec3 v = radiance;
   if (any(greaterThan(v, vec3(float(HG_MAX_SAMPLE))))) overflowed = true;

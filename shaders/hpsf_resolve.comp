@@ -31,8 +31,8 @@ void resolveStrict(uint i, inout uint live, inout uint evicted) {
       a.count += b.count;
       c.frames = 2.0;
     }
-    c.mean = vec3(hgFromFixed(a.r, a.count), hgFromFixed(a.g, a.count), hgFromFixed(a.b, a.count));
-    c.lumMoment2 = hgFromFixed(a.lum2, a.count);
+    c.mean = vec3(hgFromFixed(a.r, a.count), hgFromFixed(a.g, a.count), hgFromFixed(a.b, a.count)) / pc.radianceScale;
+    c.lumMoment2 = hgFromFixed(a.lum2, a.count) / (pc.radianceScale * pc.radianceScale);
     c.samples = a.count;
     c.lastSeen = pc.frameIndex;
     hgCells[slot] = c;
@@ -65,8 +65,8 @@ void resolveAging(uint slot, inout uint live, inout uint evicted, inout uint res
     }
   }
   if (a.count > 0u) {
-    vec3 frameMean = vec3(hgFromFixed(a.r, a.count), hgFromFixed(a.g, a.count), hgFromFixed(a.b, a.count));
-    float frameM2 = hgFromFixed(a.lum2, a.count);
+    vec3 frameMean = vec3(hgFromFixed(a.r, a.count), hgFromFixed(a.g, a.count), hgFromFixed(a.b, a.count)) / pc.radianceScale;
+    float frameM2 = hgFromFixed(a.lum2, a.count) / (pc.radianceScale * pc.radianceScale);
     float w = 1.0 / (min(c.frames, float(pc.historyCap) - 1.0) + 1.0);
     c.mean = c.frames > 0.0 ? mix(c.mean, frameMean, w) : frameMean;
     c.lumMoment2 = c.frames > 0.0 ? mix(c.lumMoment2, frameM2, w) : frameM2;

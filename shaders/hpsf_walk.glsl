@@ -84,7 +84,7 @@ int hgInsertSample(uint index, uint key, vec3 radiance, uint count, int lod, vec
     if (lum > limit && lum > 0.0) sample_ *= limit / lum;
   }
   bool overflowed = false;
-  hgAccumulate(slot, sample_, count, overflowed);
+  hgAccumulate(slot, sample_ * pc.radianceScale, count, overflowed);
   if (overflowed) hgOverflowCount++;
   hgCells[slot].lod = lod;  // every writer of this key writes the same value
   hgInsertedCount++;
@@ -186,7 +186,7 @@ void hgFlushTelemetry() {
     if (sumProbes > 0u) atomicAdd(hgTelemetry.probeSum, sumProbes);
     if (maxProbes > 0u) atomicMax(hgTelemetry.probeMax, maxProbes);
     if (sumOverflow > 0u) atomicAdd(hgTelemetry.overflows, sumOverflow);
-    if (transported > 0.0) atomicAdd(hgTelemetry.transported, hgToFixed(transported));
+    if (transported > 0.0) atomicAdd(hgTelemetry.transported, hgToFixed(transported * pc.radianceScale));
   }
 }
 

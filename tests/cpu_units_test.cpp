@@ -88,7 +88,13 @@ TEST(Camera, ProjectionAndRayGenerationAgree) {
   glm::vec4 c2 = g.clipFromWorld * (cam.worldFromView * glm::vec4(viewPoint, 1.0f));
   EXPECT_NEAR(c2.x / c2.w, 1.0f, 1e-5f);   // right edge
   EXPECT_NEAR(c2.y / c2.w, -1.0f, 1e-5f);  // Vulkan: top row has y = −1
+  // Reversed Z: 1 at the near plane, falling towards 0 with distance.
   float z = c2.z / c2.w;
   EXPECT_GT(z, 0.0f);
   EXPECT_LT(z, 1.0f);
+  glm::vec4 nearPoint = g.clipFromWorld * (cam.worldFromView * glm::vec4(0, 0, -cam.znear, 1.0f));
+  EXPECT_NEAR(nearPoint.z / nearPoint.w, 1.0f, 1e-6f);
+  glm::vec4 far = g.clipFromWorld * (cam.worldFromView * glm::vec4(0, 0, -1e5f, 1.0f));
+  EXPECT_GT(far.z / far.w, 0.0f);
+  EXPECT_LT(far.z / far.w, z);
 }

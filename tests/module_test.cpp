@@ -267,8 +267,9 @@ TEST_F(ModuleTest, NonFiniteGBufferValuesDoNotSpread) {
   load(sharedScene("cornell-box-mcguire/CornellBox-Original.gltf"), s);
   const uint32_t W = 24, H = 24;
   gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], W, H, nullptr);
-  // raw with history and hpsf with its cache: the two places a NaN could persist.
-  for (gi::Method method : {gi::Method::Raw, gi::Method::Hpsf}) {
+  // Every method; raw with history and the hash methods with their caches are where a NaN could persist.
+  for (gi::Method method : {gi::Method::Raw, gi::Method::Gif, gi::Method::Bilateral, gi::Method::Atrous, gi::Method::Aaf,
+                            gi::Method::AafAo, gi::Method::Sspsf, gi::Method::Hpsf, gi::Method::Nhpsf, gi::Method::Anhpsf}) {
     gi::Settings settings;
     settings.method = method;
     settings.raw.temporalAccumulation = true;

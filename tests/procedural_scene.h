@@ -31,6 +31,7 @@ struct Description {
   std::vector<PointLight> lights;
   glm::vec3 eye{0, 1, 3}, target{0, 0, 0};
   float yfov = 0.8f;
+  float znear = 0.01f;  // metres
 };
 
 inline std::string base64(const std::vector<uint8_t>& data) {
@@ -62,7 +63,8 @@ inline std::string write(const Description& d, const std::string& name) {
   nlohmann::json nodes = nlohmann::json::array(), meshes = nlohmann::json::array(), materials = nlohmann::json::array(),
                  accessors = nlohmann::json::array(), views = nlohmann::json::array();
   for (const Quad& q : d.quads) {
-    glm::vec3 n = glm::normalize(glm::cross(q.corner[1] - q.corner[0], q.corner[2] - q.corner[0]));
+    glm::vec3 across = glm::cross(q.corner[1] - q.corner[0], q.corner[2] - q.corner[0]);
+    glm::vec3 n = glm::dot(across, across) > 0.0f ? glm::normalize(across) : glm::vec3(0, 1, 0);  // zero-area quads still get a normal
     float pos[12], nrm[12];
     for (int k = 0; k < 4; ++k)
       for (int c = 0; c < 3; ++c) {
@@ -104,7 +106,7 @@ inline std::string write(const Description& d, const std::string& name) {
   glm::vec3 r = glm::normalize(glm::cross(f, up)), u = glm::cross(r, f);
   glm::quat q = glm::quat_cast(glm::mat3(r, u, -f));
   nodes.push_back({{"camera", 0}, {"translation", {d.eye.x, d.eye.y, d.eye.z}}, {"rotation", {q.x, q.y, q.z, q.w}}});
-  j["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", d.yfov}, {"znear", 0.01}}}}};
+  j["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", d.yfov}, {"znear", d.znear}}}}};
   nlohmann::json roots = nlohmann::json::array();
   for (size_t i = 0; i < nodes.size(); ++i) roots.push_back(i);
   j["scenes"] = {{{"nodes", roots}}};

@@ -62,6 +62,9 @@ Error checkDesc(const ModuleDesc& d) {
   if (!d.scene.layout || !d.scene.set) return {ErrorCode::MissingHandle, "desc.scene.layout and desc.scene.set must be set"};
   if (d.width == 0 || d.height == 0)
     return {ErrorCode::ZeroSize, "desc.width × desc.height = " + std::to_string(d.width) + "×" + std::to_string(d.height) + " has a zero side"};
+  if (!(d.scene.typicalRadiance > 0.0f) || !std::isfinite(d.scene.typicalRadiance))
+    return {ErrorCode::OutOfRange, "desc.scene.typicalRadiance = " + std::to_string(d.scene.typicalRadiance) +
+                                       " is not a positive finite radiance"};
   if (d.width > 16384 || d.height > 16384)
     return {ErrorCode::SizeTooLarge, "desc.width × desc.height = " + std::to_string(d.width) + "×" + std::to_string(d.height) + " exceeds 16384 per side"};
   return {};
@@ -77,6 +80,13 @@ engine::Image* ownedImages(Module& m, size_t i) {
                           &m.noisyIndirect, &m.guidance, &m.position,  &m.debug,         &m.aafParams,
                           &m.aafSum,        &m.aafGlossy, &m.aafGlossyEdge};
   return i < std::size(all) ? all[i] : nullptr;
+}
+
+// The hash map sums radiance relative to the scene's typical radiance, so dim
+// and bright scenes get the same fixed-point resolution.
+float radianceScale(const Module& m) {
+  float t = m.desc.scene.typicalRadiance;
+  return t > 0.0f && std::isfinite(t) ? 1.0f / t : 1.0f;
 }
 
 // AAF's separate specular term runs only for aaf on a scene with glossy materials.
@@ -412,7 +422,7 @@ void recordFrame(Module* m, VkCommandBuffer cmd, const FrameInputs& in) {
                      s.seed, spp, s.maxBounces, s.russianRouletteStart, hashTableBase(m->hash, in.frameIndex),
                      previousHashTableBase(m->hash, in.frameIndex), strict ? 1u : 0u, uint32_t(s.debugView),
                      hashMode(s.method), s.method == Method::Nhpsf ? h.pathDepth : h.continuationDepth,
-                     h.secondaryWidthScale, strict ? 0u : h.validationInterval};
+                     h.secondaryWidthScale, strict ? 0u : h.validationInterval, radianceScale(*m), 0, 0, 0};
     VkDescriptorSet hashSets[] = {m->desc.scene.set, m->frameSet.set, m->hash.set.set};
     recordHashGridFrameStart(cmd, m->hash, in.frameIndex);
     if (s.method == Method::Hpsf) {
@@ -528,7 +538,7 @@ FrameStats stats(Module* m) {
       st.hash.evicted = t.evicted;
       st.hash.overflows = t.overflows;
       st.hash.staleResets = t.staleResets;
-      st.hash.transported = double(t.transported) / HG_FIXED_POINT_SCALE;
+      st.hash.transported = double(t.transported) / HG_FIXED_POINT_SCALE / radianceScale(*m);
       st.hash.meanContinuationDepth = t.continued ? float(t.depthSum) / float(t.continued) : 0.0f;
     }
     m->lastStats = st;

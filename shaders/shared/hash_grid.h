@@ -31,8 +31,8 @@ GPU_CONST HG_MODE_NHPSF = 1u;        // pathDepth segments; every diffuse vertex
 GPU_CONST HG_MODE_ANHPSF = 2u;       // one primary segment + one continued segment per pixel and frame
 
 struct HgAccum {
-  uint64_t r, g, b;   // Σ radiance · HG_FIXED_POINT_SCALE
-  uint64_t lum2;      // Σ luminance² · HG_FIXED_POINT_SCALE (for the second moment)
+  uint64_t r, g, b;   // Σ radiance · radianceScale · HG_FIXED_POINT_SCALE
+  uint64_t lum2;      // Σ (luminance · radianceScale)² · HG_FIXED_POINT_SCALE (for the second moment)
   uint count;         // samples this frame
   uint pad0;
 };
@@ -63,7 +63,7 @@ struct HgTelemetry {
   uint evicted;       // cells removed by the eviction policy this frame
   uint overflows;     // samples clamped to HG_MAX_SAMPLE
   uint staleResets;   // cells whose probe came back different: history restarted
-  uint64_t transported; // anhpsf: Σ luminance added by continuation segments · HG_FIXED_POINT_SCALE
+  uint64_t transported; // anhpsf: Σ luminance added by continuation segments · radianceScale · HG_FIXED_POINT_SCALE
   uint continued;     // anhpsf: pixels with a live continued path after this frame
   uint depthSum;      // anhpsf: Σ of their depths
 };
@@ -202,8 +202,12 @@ struct HgPush {
   uint depth;             // nhpsf: segments per frame; anhpsf: the longest continued path
   float secondaryWidthScale; // cells at vertices after the first are this much wider
   uint validationInterval;  // aging: frames between re-traces of a cell's probe (0 = off)
+  float radianceScale;    // 1 / SceneDesc::typicalRadiance: radiance is summed as radiance · radianceScale in fixed point
+  uint pad0;
+  uint pad1;
+  uint pad2;
 };
-GPU_ASSERT_SIZE(HgPush, 96);
+GPU_ASSERT_SIZE(HgPush, 112);
 
 GPU_NAMESPACE_END
 #endif

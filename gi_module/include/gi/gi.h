@@ -35,6 +35,8 @@ struct SceneDesc {
   bool hasAlphaMask = true;                       // false: every hit is opaque (faster traversal)
   float extent = 1.0f;                            // largest side of the scene bounds, metres: scales depth guidance
   bool hasGlossyMaterials = false;                // some material has a glossy lobe: AAF filters its specular term separately
+  float typicalRadiance = 1.0f;                   // W/(sr·m²) of lit surfaces, to within ×1000: the hash map's fixed-point
+                                                  // sums resolve 2^-16 of it and hold 1e9 times it
 };
 
 struct ModuleDesc {
