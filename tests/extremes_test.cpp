@@ -323,3 +323,41 @@ TEST_F(ExtremesTest, WhiteFurnaceStaysFinite) {
   }
   unload(s);
 }
+
+// Consistency: for every method, error against the reference falls as its
+// quality knob rises: spp for the per-frame filters, μ for AAF, frames of
+// history for the hash methods, and a smaller cell for hpsf at equal frames.
+TEST_F(ExtremesTest, ErrorFallsAsEachQualityKnobRises) {
+  LoadedScene s;
+  load(testscene::write(room(Room{}), "extremes_consistency"), s);
+  ExtremesRun run(ctx, s);
+  struct Knob {
+    gi::Method method;
+    const char* knob;
+    void (*low)(gi::Settings&);
+    void (*high)(gi::Settings&);
+    uint32_t lowFrames, highFrames;
+  };
+  const Knob knobs[] = {
+      {gi::Method::Raw, "spp 1 → 16", [](gi::Settings& x) { x.raw.samplesPerPixel = 1; }, [](gi::Settings& x) { x.raw.samplesPerPixel = 16; }, 1, 1},
+      {gi::Method::Gif, "spp 1 → 16", [](gi::Settings& x) { x.gif.samplesPerPixel = 1; }, [](gi::Settings& x) { x.gif.samplesPerPixel = 16; }, 1, 1},
+      {gi::Method::Bilateral, "spp 1 → 16", [](gi::Settings& x) { x.bilateral.samplesPerPixel = 1; }, [](gi::Settings& x) { x.bilateral.samplesPerPixel = 16; }, 1, 1},
+      {gi::Method::Atrous, "spp 1 → 16", [](gi::Settings& x) { x.atrous.samplesPerPixel = 1; }, [](gi::Settings& x) { x.atrous.samplesPerPixel = 16; }, 1, 1},
+      {gi::Method::Sspsf, "spp 1 → 16", [](gi::Settings& x) { x.sspsf.samplesPerPixel = 1; }, [](gi::Settings& x) { x.sspsf.samplesPerPixel = 16; }, 1, 1},
+      {gi::Method::Aaf, "μ 0.5 → 4", [](gi::Settings& x) { x.aaf.mu = 0.5f; }, [](gi::Settings& x) { x.aaf.mu = 4.0f; }, 1, 1},
+      {gi::Method::Hpsf, "frames 1 → 16", [](gi::Settings&) {}, [](gi::Settings&) {}, 1, 16},
+      {gi::Method::Nhpsf, "frames 1 → 16", [](gi::Settings&) {}, [](gi::Settings&) {}, 1, 16},
+      {gi::Method::Anhpsf, "frames 1 → 16", [](gi::Settings&) {}, [](gi::Settings&) {}, 1, 16},
+      {gi::Method::Hpsf, "16 frames, width 64 → 16 px", [](gi::Settings& x) { x.hpsf.filterWidth = 64.0f; },
+       [](gi::Settings& x) { x.hpsf.filterWidth = 16.0f; }, 16, 16},
+  };
+  for (const Knob& k : knobs) {
+    gi::Settings low = defaults(k.method), high = defaults(k.method);
+    k.low(low);
+    k.high(high);
+    Outcome a = run.run(low, k.lowFrames), b = run.run(high, k.highFrames);
+    table[std::string("consistency: ") + k.knob][gi::methodName(k.method)] = std::to_string(b.relMse / a.relMse).substr(0, 4) + "×";
+    EXPECT_LT(b.relMse, a.relMse) << gi::methodName(k.method) << " " << k.knob;
+  }
+  unload(s);
+}
