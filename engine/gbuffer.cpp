@@ -1,6 +1,6 @@
 #include "gbuffer.h"
 
-#include "compute_program.h"
+#include "graphics_pipeline.h"
 
 #include <cstring>
 
@@ -53,64 +53,17 @@ GBufferPass createGBufferPass(const Context& ctx, const SceneGpu& scene) {
   layoutInfo.pPushConstantRanges = &range;
   VK_CHECK(vkCreatePipelineLayout(ctx.device, &layoutInfo, nullptr, &p.layout));
 
-  VkShaderModule vert = createShaderModule(ctx, spv_gbuffer_vert);
-  VkShaderModule frag = createShaderModule(ctx, spv_gbuffer_frag);
-  VkPipelineShaderStageCreateInfo stages[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
-                                               {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};
-  stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
-  stages[0].module = vert;
-  stages[0].pName = "main";
-  stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
-  stages[1].module = frag;
-  stages[1].pName = "main";
-
-  VkPipelineVertexInputStateCreateInfo vertexInput{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
-  VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
-  assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
-  VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
-  viewport.viewportCount = 1;
-  viewport.scissorCount = 1;
-  VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
-  raster.polygonMode = VK_POLYGON_MODE_FILL;
-  raster.cullMode = VK_CULL_MODE_NONE;  // surfaces are two-sided for light transport
-  raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
-  raster.lineWidth = 1.0f;
-  VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
-  multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
-  VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
-  depth.depthTestEnable = VK_TRUE;
-  depth.depthWriteEnable = VK_TRUE;
-  depth.depthCompareOp = VK_COMPARE_OP_GREATER;  // reversed Z (camera.cpp)
   VkPipelineColorBlendAttachmentState blend[gpu::GBUFFER_COLOR_COUNT]{};
   for (auto& b : blend) b.colorWriteMask = 0xf;
-  VkPipelineColorBlendStateCreateInfo blendState{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
-  blendState.attachmentCount = gpu::GBUFFER_COLOR_COUNT;
-  blendState.pAttachments = blend;
-  VkDynamicState dynamics[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
-  VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
-  dynamic.dynamicStateCount = 2;
-  dynamic.pDynamicStates = dynamics;
-  VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
-  rendering.colorAttachmentCount = gpu::GBUFFER_COLOR_COUNT;
-  rendering.pColorAttachmentFormats = kGBufferFormats;
-  rendering.depthAttachmentFormat = kGBufferDepthFormat;
-
-  VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
-  info.pNext = &rendering;
-  info.stageCount = 2;
-  info.pStages = stages;
-  info.pVertexInputState = &vertexInput;
-  info.pInputAssemblyState = &assembly;
-  info.pViewportState = &viewport;
-  info.pRasterizationState = &raster;
-  info.pMultisampleState = &multisample;
-  info.pDepthStencilState = &depth;
-  info.pColorBlendState = &blendState;
-  info.pDynamicState = &dynamic;
-  info.layout = p.layout;
-  VK_CHECK(vkCreateGraphicsPipelines(ctx.device, VK_NULL_HANDLE, 1, &info, nullptr, &p.pipeline));
-  vkDestroyShaderModule(ctx.device, vert, nullptr);
-  vkDestroyShaderModule(ctx.device, frag, nullptr);
+  GraphicsPipelineDesc desc;
+  desc.layout = p.layout;
+  desc.vertexSpirv = spv_gbuffer_vert;  // vertices are pulled from the scene's buffers
+  desc.fragmentSpirv = spv_gbuffer_frag;
+  desc.colorFormats = kGBufferFormats;
+  desc.blends = blend;
+  desc.depthFormat = kGBufferDepthFormat;
+  desc.depthCompare = VK_COMPARE_OP_GREATER;  // reversed Z (camera.cpp)
+  p.pipeline = createGraphicsPipeline(ctx, desc);
   return p;
 }
 
