@@ -447,6 +447,7 @@ int main(int argc, char** argv) {
     csv << line;
   }
   csv.close();
+  if (series.is_open()) series.close();  // complete on disk before plot_bench.py reads it
   std::ofstream meta(dir / "run.txt");
   meta << "scene " << scene.sourcePath << "\ndevice " << ctx.properties.deviceName << "\nsize " << width << "x" << height
        << "\nmax_bounces " << bounces << "\nreference " << (args.has("reference") ? args.values["reference"] : key)
