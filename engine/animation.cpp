@@ -40,6 +40,7 @@ SceneAnimation makeSceneAnimation(const Scene& scene) {
   if (!scene.lights.empty()) {
     a.punctualLight = 0;
     a.lightBase = scene.lights[0].position;
+    a.lightDirectionBase = scene.lights[0].direction;
   }
   float brightest = -1.0f, smallest = 1e30f;
   int named = -1;
@@ -77,7 +78,11 @@ void animateScene(const SceneAnimation& a, float seconds, Scene& scene) {
   const float phase = 6.2831853f * std::fmod(seconds / a.periodSeconds, 1.0f);
   // The light circles in the horizontal plane around where it started.
   glm::vec3 offset(a.radius * std::cos(phase) - a.radius, 0.0f, a.radius * std::sin(phase));
-  if (a.punctualLight >= 0) scene.lights[size_t(a.punctualLight)].position = a.lightBase + offset;
+  if (a.punctualLight >= 0) {
+    PunctualLight& light = scene.lights[size_t(a.punctualLight)];
+    light.position = a.lightBase + offset;
+    light.direction = glm::mat3(glm::rotate(glm::mat4(1.0f), phase, glm::vec3(0, 1, 0))) * a.lightDirectionBase;
+  }
   if (a.lightInstance >= 0)
     scene.instances[size_t(a.lightInstance)].worldFromObject = glm::translate(glm::mat4(1.0f), offset) * a.lightInstanceBase;
   // The object turns about its vertical axis, swinging ±45° back and forth.

@@ -1,6 +1,8 @@
 // Scene motion for the demo and the dynamic-scene benchmarks: one light and
 // one object move on closed paths, so a cache's temporal behaviour shows.
-// The light is a punctual light if the scene has one, otherwise the emissive
+// The light is a punctual light if the scene has one (a point light circles,
+// a spot or directional light also turns its direction about the vertical
+// axis, once per loop), otherwise the emissive
 // instance with the most power; the object is the instance named like a
 // "block" or "box", otherwise the smallest non-emissive instance.
 #pragma once
@@ -15,6 +17,7 @@ struct SceneAnimation {
   int lightInstance = -1;   // index into scene.instances (emissive), or -1
   int objectInstance = -1;  // index into scene.instances, or -1
   glm::vec3 lightBase{0.0f};     // punctual light position at t = 0
+  glm::vec3 lightDirectionBase{0.0f, 0.0f, -1.0f};  // its direction at t = 0 (what moves a directional light)
   glm::mat4 lightInstanceBase{1.0f}, objectBase{1.0f};
   glm::vec3 objectCenter{0.0f};  // world-space centre of the object's bounds at t = 0
   float radius = 0.0f;           // metres: the light's circle, a fraction of the scene extent

@@ -1,10 +1,11 @@
-// CPU-side building blocks: Morton ordering, image files, camera maths.
+// CPU-side building blocks: Morton ordering, image files, camera maths, scene animation.
 #include <gtest/gtest.h>
 
 #include <filesystem>
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "animation.h"
 #include "camera.h"
 #include "image_io.h"
 #include "morton.h"
@@ -97,4 +98,32 @@ TEST(Camera, ProjectionAndRayGenerationAgree) {
   glm::vec4 far = g.clipFromWorld * (cam.worldFromView * glm::vec4(0, 0, -1e5f, 1.0f));
   EXPECT_GT(far.z / far.w, 0.0f);
   EXPECT_LT(far.z / far.w, z);
+}
+
+// The scene animation: a point light circles and comes back after a loop, a
+// directional light's direction turns (half a loop: the opposite azimuth), the
+// object turns about its own centre, and nothing else moves.
+TEST(SceneAnimation, LightsAndObjectMoveOnClosedPaths) {
+  engine::Scene scene;
+  scene.positions = {{-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {0.2f, 0, 0.2f}, {0.4f, 0, 0.2f}, {0.4f, 0.2f, 0.2f}};
+  scene.primitives = {{0, 3, 0, 3, 0}, {0, 3, 3, 3, 0}};
+  scene.meshes = {{"floor", 0, 1}, {"box", 1, 1}};
+  scene.materials.resize(1);
+  scene.instances = {{"floor", 0, glm::mat4(1.0f)}, {"small_box", 1, glm::mat4(1.0f)}};
+  engine::PunctualLight sun;
+  sun.type = engine::LightType::Directional;
+  sun.direction = glm::normalize(glm::vec3(1, -1, 0));
+  scene.lights = {sun};
+  engine::SceneAnimation a = engine::makeSceneAnimation(scene);
+  ASSERT_EQ(a.punctualLight, 0);
+  ASSERT_EQ(a.objectInstance, 1);
+  engine::animateScene(a, 0.5f * a.periodSeconds, scene);
+  EXPECT_NEAR(scene.lights[0].direction.x, -sun.direction.x, 1e-5f);  // half a turn
+  EXPECT_NEAR(scene.lights[0].direction.y, sun.direction.y, 1e-5f);
+  EXPECT_EQ(scene.instances[0].worldFromObject, glm::mat4(1.0f));
+  glm::vec3 centre(0.3f, 0.1f, 0.2f);
+  glm::vec3 moved = glm::vec3(scene.instances[1].worldFromObject * glm::vec4(centre, 1.0f));
+  EXPECT_NEAR(glm::length(moved - centre), 0.0f, 1e-5f) << "the object turns about its own centre";
+  engine::animateScene(a, a.periodSeconds, scene);
+  EXPECT_NEAR(glm::length(scene.lights[0].direction - sun.direction), 0.0f, 1e-5f);
 }
