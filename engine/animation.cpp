@@ -95,4 +95,9 @@ void animateScene(const SceneAnimation& a, float seconds, Scene& scene) {
   }
 }
 
+void poseScene(const Context& ctx, const SceneAnimation& animation, float seconds, Scene& scene, SceneGpu& gpu) {
+  animateScene(animation, seconds, scene);
+  submitAndWait(ctx, [&](VkCommandBuffer cmd) { recordSceneTransformUpdate(ctx, cmd, scene, gpu); });
+}
+
 }  // namespace engine

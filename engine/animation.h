@@ -9,6 +9,7 @@
 #include <glm/glm.hpp>
 
 #include "scene.h"
+#include "scene_gpu.h"
 
 namespace engine {
 
@@ -29,5 +30,7 @@ SceneAnimation makeSceneAnimation(const Scene& scene);
 // Sets the moving light and object to their pose at `seconds` (periodic).
 // Upload with recordSceneTransformUpdate.
 void animateScene(const SceneAnimation& animation, float seconds, Scene& scene);
+// animateScene, then uploads the pose and rebuilds the TLAS; waits. The GPU must be idle.
+void poseScene(const Context& ctx, const SceneAnimation& animation, float seconds, Scene& scene, SceneGpu& gpu);
 
 }  // namespace engine

@@ -131,11 +131,12 @@ vec3 hgStep(inout HgWalk walk, inout GiRng rng) {
   vec3 arriving = vec3(0.0);
   GiHit hit = giTraceClosest(walk.origin, walk.direction, 0.0, GI_FLT_MAX);
   GiSurface w;
+  GiBsdf b;
   HgDescriptor dw;
   bool diffuse = false;
   if (hit.t >= 0.0) {
     w = giSurfaceFromHit(hit, walk.direction);
-    GiBsdf b = giMakeBsdf(w.material.baseColor, w.material.metallic, w.material.roughness, w.material.flags);
+    b = giMakeBsdf(w.material.baseColor, w.material.metallic, w.material.roughness, w.material.flags);
     arriving = giDirectLight(w, b, -walk.direction, false, rng);  // NEE alone: no emitter is hit after w
     diffuse = (w.material.flags & MATERIAL_FLAG_GLOSSY) == 0u;
     if (diffuse) {
@@ -158,7 +159,6 @@ vec3 hgStep(inout HgWalk walk, inout GiRng rng) {
     walk = hgWalkFrom(w, dw, true, depth, rng);
   } else {
     // Glossy: sample its BSDF and keep feeding the same cell; what arrives next continues this sample.
-    GiBsdf b = giMakeBsdf(w.material.baseColor, w.material.metallic, w.material.roughness, w.material.flags);
     vec3 L, weight;
     float pdf;
     vec3 u = vec3(giRandom2(rng), giRandom(rng));

@@ -228,10 +228,7 @@ int main(int argc, char** argv) {
                     std::to_string(height) + "_b" + std::to_string(bounces) + "_s" + std::to_string(refSpp);
   // Moving scenes: the pose at a time, uploaded (TLAS rebuilt) before the next frame.
   engine::SceneAnimation animation = engine::makeSceneAnimation(scene);
-  auto pose = [&](float seconds) {
-    engine::animateScene(animation, seconds, scene);
-    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { engine::recordSceneTransformUpdate(ctx, cmd, scene, sceneGpu); });
-  };
+  auto pose = [&](float seconds) { engine::poseScene(ctx, animation, seconds, scene, sceneGpu); };
   const float movedSeconds = 0.5f * animation.periodSeconds, frameSeconds = 1.0f / 30.0f;
   if (move) {
     pose(movedSeconds);

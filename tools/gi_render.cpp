@@ -122,8 +122,7 @@ int main(int argc, char** argv) {
   engine::SceneAnimation animation = engine::makeSceneAnimation(scene);
   auto poseFor = [&](uint32_t f) {
     if (!animate) return;
-    engine::animateScene(animation, float(f) / 30.0f, scene);
-    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { engine::recordSceneTransformUpdate(ctx, cmd, scene, sceneGpu); });
+    engine::poseScene(ctx, animation, float(f) / 30.0f, scene, sceneGpu);
   };
 
   engine::ReferenceRun run;
