@@ -138,7 +138,7 @@ bool buildOverlay(OverlayState& state, gi::Settings& settings, const gi::FrameSt
     ImGui::Text("occupancy %.1f%% (%u of %u cells)", 100.0 * h.occupancy(), h.occupied, h.capacity);
     ImGui::Text("inserts %u   failed %u   evicted %u", h.inserts, h.failedInserts, h.evicted);
     ImGui::Text("probe mean %.2f   max %u   overflows %u", double(h.meanProbe), h.maxProbe, h.overflows);
-    ImGui::Text("stale cells reset %u", h.staleResets);
+    ImGui::Text("stale histories cut %u", h.staleResets);
     if (settings.method == gi::Method::Anhpsf)
       ImGui::Text("continuation: mean depth %.2f, transported %.3g", double(h.meanContinuationDepth), h.transported);
   }

@@ -28,6 +28,6 @@ void main() {
     return;
   }
   bool overflowed = false;
-  hgAccumulate(slot, vec3(1.0, 2.0, 0.5), 1u, overflowed);
+  hgAccumulate(slot, vec3(1.0, 2.0, 0.5), 1.0, 1u, overflowed);
   atomicMax(hgTelemetry.probeMax, probes);
 }

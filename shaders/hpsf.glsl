@@ -40,17 +40,18 @@ int hgFind(uint table, uint index, uint key, uint capacity, uint window) {
 }
 
 // Adds one sample (count 1: 5 atomics, r, g, b, luminance², count), or more
-// light for a sample already counted (count 0: r, g, b only). `radiance` is
-// already multiplied by the push constants' radianceScale.
-void hgAccumulate(int slot, vec3 radiance, uint count, inout bool overflowed) {
+// light for a sample already counted (count 0: r, g, b only). `radiance` and
+// `momentLuminance` are already multiplied by the push constants'
+// radianceScale; the second moment is of `momentLuminance`, which the outlier
+// clamp passes unclamped (hgInsertSample says why).
+void hgAccumulate(int slot, vec3 radiance, float momentLuminance, uint count, inout bool overflowed) {
   vec3 v = radiance;
   if (any(greaterThan(v, vec3(float(HG_MAX_SAMPLE))))) overflowed = true;
   atomicAdd(hgAccum[slot].r, hgToFixed(v.r));
   atomicAdd(hgAccum[slot].g, hgToFixed(v.g));
   atomicAdd(hgAccum[slot].b, hgToFixed(v.b));
   if (count == 0u) return;
-  float lum = dot(v, vec3(0.2126, 0.7152, 0.0722));
-  atomicAdd(hgAccum[slot].lum2, hgToFixed(min(lum * lum, float(HG_MAX_SAMPLE))));
+  atomicAdd(hgAccum[slot].lum2, hgToFixed(min(momentLuminance * momentLuminance, float(HG_MAX_SAMPLE))));
   atomicAdd(hgAccum[slot].count, count);
 }
 

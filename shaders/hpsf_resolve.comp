@@ -49,19 +49,32 @@ void resolveAging(uint slot, inout uint live, inout uint evicted, inout uint res
   HgAccum a = hgAccum[slot];
   HgCell c = hgCells[slot];
   // Stale radiance: every validationInterval frames (staggered over cells)
-  // the probe is re-traced; if the scene answers differently, the history
-  // restarts from this frame's samples (or the cell goes, if it has none).
+  // the probe is re-traced. If the cell's mean moved by Δ, a history of n
+  // frames carries a bias of about Δ while its noise is σ²/n (σ² the variance
+  // of one frame's mean), so the history is cut to n = σ²/Δ² frames, where
+  // bias and noise match (A-SVGF's temporal gradients, Schied et al. 2018,
+  // weighed against the cell's noise rather than its value). A change lost in
+  // the noise keeps the history; a shadow that moved across the probe
+  // restarts it. Resetting on any change cost Conference accuracy: one of its
+  // four lights moving changed every probe that picked that light.
   if (pc.validationInterval > 0u && c.frames > 0.0 && (slot + pc.frameIndex) % pc.validationInterval == 0u &&
       (c.probeDistance != 0.0 || c.probeLight != 0.0)) {
     float distance_, light;
     hgTraceProbe(c.probeOrigin, c.probeDirection, hgKeys[slot], distance_, light);
-    if (!hgProbeMatches(c.probeDistance, c.probeLight, distance_, light)) {
-      c.frames = 0.0;
-      c.samples = 0u;
+    float mean = dot(c.mean, vec3(0.2126, 0.7152, 0.0722));
+    float change = hgProbeChange(c.probeDistance, c.probeLight, distance_, light, mean);
+    if (change > 0.0) {
+      float samplesPerFrame = max(float(c.samples) / c.frames, 1.0);
+      float frameVariance = max(c.lumMoment2 - mean * mean, 0.0) / samplesPerFrame;
+      float kept = floor(min(c.frames, frameVariance / (change * change)));
+      if (kept < c.frames) {
+        c.samples = uint(float(c.samples) * kept / c.frames);
+        c.frames = kept;
+        reset = 1u;
+      }
       c.probeDistance = distance_;
       c.probeLight = light;
       hgCells[slot] = c;
-      reset = 1u;
     }
   }
   if (a.count > 0u) {

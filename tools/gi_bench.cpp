@@ -300,7 +300,7 @@ int main(int argc, char** argv) {
   std::ofstream series;
   if (args.has("series")) {
     series.open(dir / "series.csv");
-    series << "label,frame,mse,relmse,mse_indirect,hash_occupancy\n";
+    series << "label,frame,mse,relmse,mse_indirect,energy_indirect,hash_occupancy,hash_stale_resets\n";
   }
   for (const tools::BenchConfig& config : configs) {
     Row row;
@@ -321,6 +321,7 @@ int main(int argc, char** argv) {
       else if (move && (f == 0 || f == moveAt)) pose(f < moveAt ? 0.0f : movedSeconds);
     };
     std::vector<double> afterMove;
+    uint32_t staleResets = 0;  // over the timed frames (the stats hold one frame's)
     for (; frame < warmup; ++frame) {
       poseFor(frame);
       tools::renderModuleFrame(ctx, session, scene, sceneGpu, camera, camera, frame);
@@ -340,6 +341,7 @@ int main(int argc, char** argv) {
       for (const auto& [name, ms] : frameTotals) passSamples[name].push_back(ms);
       totals.push_back(t.totalMs);
       rays.push_back(double(t.rays));
+      staleResets += gi::stats(session.module).hash.staleResets;
       out = tools::readModuleImages(ctx, session);
       finals.push_back(metrics::compare(out.final, frameRef.final));
       if (!frameRef.indirect.pixels.empty()) indirects.push_back(metrics::compare(out.indirect, frameRef.indirect));
@@ -347,7 +349,8 @@ int main(int argc, char** argv) {
       if (move && frame >= moveAt) afterMove.push_back(indirects.empty() ? finals.back().mse : indirects.back().mse);
       if (series.is_open())
         series << '"' << config.label << "\"," << frame + 1 << ',' << finals.back().mse << ',' << finals.back().relMse << ','
-               << (indirects.empty() ? 0.0 : indirects.back().mse) << ',' << gi::stats(session.module).hash.occupancy() << "\n";
+               << (indirects.empty() ? 0.0 : indirects.back().mse) << ',' << (indirects.empty() ? 1.0 : indirects.back().energy)
+               << ',' << gi::stats(session.module).hash.occupancy() << ',' << gi::stats(session.module).hash.staleResets << "\n";
     }
     for (const auto& [name, samples] : passSamples) {
       row.passMs[name] = median(samples);
@@ -370,6 +373,7 @@ int main(int argc, char** argv) {
     gi::FrameStats finalStats = gi::stats(session.module);
     row.memory = finalStats.memoryBytes;
     row.hash = finalStats.hash;
+    row.hash.staleResets = staleResets;
     row.tracedSpp = finalStats.samplesPerPixel;
     if (move) {
       recovery(afterMove, row.recoveryFrames, row.steadyMse);

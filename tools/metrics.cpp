@@ -64,6 +64,19 @@ double relMse(const engine::FloatImage& a, const engine::FloatImage& b) {
   return a.pixels.empty() ? 0.0 : sum / double(a.pixels.size());
 }
 
+double energyRatio(const engine::FloatImage& image, const engine::FloatImage& reference) {
+  auto meanLuminance = [](const engine::FloatImage& img) {
+    double sum = 0.0;
+    for (uint32_t y = 0; y < img.height; ++y)
+      for (uint32_t x = 0; x < img.width; ++x)
+        sum += img.channels >= 3 ? 0.2126 * img.at(x, y, 0) + 0.7152 * img.at(x, y, 1) + 0.0722 * img.at(x, y, 2)
+                                 : img.at(x, y, 0);
+    return sum;
+  };
+  double a = meanLuminance(image), b = meanLuminance(reference);
+  return b > 0.0 ? a / b : (a > 0.0 ? std::numeric_limits<double>::infinity() : 1.0);
+}
+
 double psnrFromMse(double m) { return m > 0.0 ? 10.0 * std::log10(1.0 / m) : std::numeric_limits<double>::infinity(); }
 
 double ssim(const engine::FloatImage& a, const engine::FloatImage& b) {
@@ -91,6 +104,7 @@ ImageError compare(const engine::FloatImage& image, const engine::FloatImage& re
   e.relMse = relMse(image, reference);
   e.psnr = psnrFromMse(e.mse);
   e.ssim = ssim(image, reference);
+  e.energy = energyRatio(image, reference);
   return e;
 }
 

@@ -12,6 +12,7 @@ struct ImageError {
   double relMse = 0.0;  // mean of (x − ref)² / (ref² + 0.01): scale-free, tames dark pixels
   double psnr = 0.0;    // 10·log10(1 / mse), peak 1.0 on linear radiance (∞ for identical images)
   double ssim = 0.0;    // mean SSIM of luminance clamped to [0,1], 11×11 Gaussian window (σ = 1.5)
+  double energy = 1.0;  // mean luminance over the reference's (1 = no bias in total light; 1 when both are black)
 };
 
 ImageError compare(const engine::FloatImage& image, const engine::FloatImage& reference);
@@ -19,6 +20,7 @@ ImageError compare(const engine::FloatImage& image, const engine::FloatImage& re
 double mse(const engine::FloatImage& a, const engine::FloatImage& b);
 double relMse(const engine::FloatImage& a, const engine::FloatImage& b);
 double psnrFromMse(double mse);
+double energyRatio(const engine::FloatImage& image, const engine::FloatImage& reference);
 double ssim(const engine::FloatImage& a, const engine::FloatImage& b);
 
 // Raw Monte Carlo error falls as MSE = c / t (t ∝ spp). Least-squares fit of

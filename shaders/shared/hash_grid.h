@@ -32,14 +32,14 @@ GPU_CONST HG_MODE_ANHPSF = 2u;       // one primary segment + one continued segm
 
 struct HgAccum {
   uint64_t r, g, b;   // Σ radiance · radianceScale · HG_FIXED_POINT_SCALE
-  uint64_t lum2;      // Σ (luminance · radianceScale)² · HG_FIXED_POINT_SCALE (for the second moment)
+  uint64_t lum2;      // Σ (unclamped luminance · radianceScale)² · HG_FIXED_POINT_SCALE (the clamp's σ)
   uint count;         // samples this frame
   uint pad0;
 };
 
 struct HgCell {
   vec3 mean;          // resolved mean demodulated radiance
-  float lumMoment2;   // resolved mean of luminance²
+  float lumMoment2;   // resolved mean of luminance², of the samples before the outlier clamp
   float frames;       // frames of history behind the mean (capped)
   uint lastSeen;      // frame index of the last update
   int lod;            // the cell's level of detail (log2 of its size)
@@ -62,7 +62,7 @@ struct HgTelemetry {
   uint inserts;       // successful inserts (samples stored)
   uint evicted;       // cells removed by the eviction policy this frame
   uint overflows;     // samples clamped to HG_MAX_SAMPLE
-  uint staleResets;   // cells whose probe came back different: history restarted
+  uint staleResets;   // cells whose probe came back different enough to cut their history
   uint64_t transported; // anhpsf: Σ luminance added by continuation segments · radianceScale · HG_FIXED_POINT_SCALE
   uint continued;     // anhpsf: pixels with a live continued path after this frame
   uint depthSum;      // anhpsf: Σ of their depths

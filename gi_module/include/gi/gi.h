@@ -89,7 +89,7 @@ struct FrameStats {
     uint32_t maxProbe = 0;
     uint32_t evicted = 0;           // cells removed this frame
     uint32_t overflows = 0;         // samples clamped to the fixed-point range
-    uint32_t staleResets = 0;       // cells whose history the stale-radiance check restarted this frame
+    uint32_t staleResets = 0;       // cells whose history the stale-radiance check cut short this frame
     double transported = 0.0;       // anhpsf: Σ luminance carried by continuation segments this frame
     float meanContinuationDepth = 0.0f;  // anhpsf: mean depth of the pixels' continued paths
     float occupancy() const { return capacity ? float(occupied) / float(capacity) : 0.0f; }

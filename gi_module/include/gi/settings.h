@@ -105,16 +105,15 @@ struct HpsfSettings {
   float jitter = 0.6f;            // tangent-plane jitter in cells, [0, 2]; 0 = off
   uint32_t normalBits = 2;        // normal quantisation bits per component, [0, 3]
   bool stochasticLod = true;      // pick between the two nearest levels at random (hides LOD seams)
-  float clampSigma = 3.0f;        // clamp samples above mean + k·σ of the cell, [0 = off, 100]
+  float clampSigma = 10.0f;       // clamp samples above mean + k·σ of the cell, [0 = off, 100]; RESULTS: bias per k
   EvictionPolicy eviction = EvictionPolicy::Aging;
   uint32_t historyFrames = 20;    // aging: frames of history kept, [2, 10000]
   uint32_t staleFrames = 60;      // aging: frames untouched before eviction, [1, 100000]
   uint32_t minSamples = 1;        // fewer samples in the cell: the pixel keeps its own, [1, 1e6]
-  uint32_t validationInterval = 0;  // aging: every N frames each cell re-traces its probe ray (stored when the
-                                    // cell was made); a different hit or different light there means the scene
-                                    // moved, and the cell's history restarts. 0 = off, [0, 1000]
-                                    // Off by default: it helped on the Cornell box and hurt on Conference
-                                    // (docs/RESULTS.md); 4 is the measured setting.
+  uint32_t validationInterval = 4;  // aging: every N frames each cell re-traces its probe ray (stored when the
+                                    // cell was made); if the answer changed by more than the cell's noise, the
+                                    // history is cut to match (docs/RESULTS.md, "stale radiance"). A static
+                                    // scene answers bit-exactly the same. 0 = off, [0, 1000]
   // nhpsf and anhpsf (hpsf, nhpsf and anhpsf share the map and the settings above):
   uint32_t pathDepth = 3;         // nhpsf: path segments per pixel and frame, each vertex filtered, [1, 16]
   uint32_t continuationDepth = 4; // anhpsf: the longest path continued over frames, in segments, [2, 16]
