@@ -22,7 +22,7 @@ void resolveStrict(uint i, inout uint live, inout uint evicted) {
     HgAccum a = hgAccum[slot];
     HgCell c = hgCells[slot];
     c.frames = 1.0;
-    if (c.previous > 0u) {
+    if (c.previous > 0u && pc.forgetLight == 0u) {
       HgAccum b = hgAccum[c.previous - 1u];
       a.r += b.r;
       a.g += b.g;
@@ -57,8 +57,15 @@ void resolveAging(uint slot, inout uint live, inout uint evicted, inout uint res
   // the noise keeps the history; a shadow that moved across the probe
   // restarts it. Resetting on any change cost Conference accuracy: one of its
   // four lights moving changed every probe that picked that light.
-  if (pc.validationInterval > 0u && c.frames > 0.0 && (slot + pc.frameIndex) % pc.validationInterval == 0u &&
-      (c.probeDistance != 0.0 || c.probeLight != 0.0)) {
+  bool hasProbe = pc.validationInterval > 0u && (c.probeDistance != 0.0 || c.probeLight != 0.0);
+  if (pc.forgetLight != 0u) {
+    // The engine says the lights changed: the history goes, and every probe
+    // learns the new light now (so that its next check does not cut again).
+    if (hasProbe) hgTraceProbe(c.probeOrigin, c.probeDirection, hgKeys[slot], c.probeDistance, c.probeLight);
+    c.frames = 0.0;
+    c.samples = 0u;
+    hgCells[slot] = c;
+  } else if (hasProbe && c.frames > 0.0 && (slot + pc.frameIndex) % pc.validationInterval == 0u) {
     float distance_, light;
     hgTraceProbe(c.probeOrigin, c.probeDirection, hgKeys[slot], distance_, light);
     float mean = dot(c.mean, vec3(0.2126, 0.7152, 0.0722));

@@ -2,8 +2,13 @@
 // the plots and report appear; bad input is refused with a sentence.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
 #include "run_process.h"
 
 namespace {
@@ -52,4 +57,44 @@ TEST(GiBenchTool, RefusesBadInput) {
   EXPECT_EQ(runBench("--scene x.gltf --methods raw --set nonsense=1", out), 2) << out;
   EXPECT_EQ(runBench("--methods raw", out), 2) << out;
   EXPECT_EQ(runBench("--scene /no/such.gltf --methods raw", out), 1) << out;
+  EXPECT_EQ(runBench("--scene x.gltf --methods hpsf --move-at 2 --invalidate-at-move sometimes", out), 2) << out;
+  EXPECT_NE(out.find("neither all nor lights"), std::string::npos) << out;
+  EXPECT_EQ(runBench("--scene x.gltf --methods hpsf --invalidate-at-move all", out), 2) << out;
+}
+
+// The moving-light experiment end to end: the jump, the engine's
+// invalidation at it, recovery in the results and energy per frame in the series.
+TEST(GiBenchTool, MovingLightExperiment) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "gi_bench_move_test";
+  std::filesystem::remove_all(dir);
+  std::string out;
+  int rc = runBench("--scene " + std::string(GI_SHARED_SCENES) + "/cornell-box-mcguire/CornellBox-Original.gltf"
+                    " --size 16x16 --methods hpsf --spp 1 --frames 8 --warmup 0 --move-at 2 --invalidate-at-move lights"
+                    " --series --max-bounces 2 --reference-spp 16 --no-plots --validation --out " + dir.string(),
+                    out);
+  ASSERT_EQ(rc, 0) << out;
+  std::ifstream series(dir / "series.csv");
+  std::string header, line;
+  std::getline(series, header);
+  EXPECT_NE(header.find("energy_indirect"), std::string::npos) << header;
+  EXPECT_NE(header.find("hash_stale_resets"), std::string::npos) << header;
+  int rows = 0;
+  while (std::getline(series, line)) ++rows;
+  EXPECT_EQ(rows, 8);
+  std::ifstream results(dir / "results.csv");
+  std::getline(results, header);
+  std::getline(results, line);
+  auto split = [](const std::string& text) {
+    std::vector<std::string> fields;
+    std::stringstream in(text);
+    for (std::string f; std::getline(in, f, ',');) fields.push_back(f);
+    return fields;
+  };
+  std::vector<std::string> names = split(header), values = split(line);
+  auto column = std::find(names.begin(), names.end(), "move_recovery_frames");
+  ASSERT_NE(column, names.end()) << header;
+  ASSERT_LT(size_t(column - names.begin()), values.size()) << line;
+  const int recovery = std::stoi(values[size_t(column - names.begin())]);
+  EXPECT_GE(recovery, 1) << "a recovery frame among the 6 after the jump: " << line;
+  EXPECT_LE(recovery, 6) << line;
 }

@@ -91,6 +91,39 @@ TEST_F(NhpsfTest, CornellMeanRadianceStaysAtOrBelowTheReference) {
   unload(s);
 }
 
+// The outlier clamp must not eat the light. Conference's four small point
+// lights give NEE a heavy tail; a clamp whose σ came from already-clamped
+// samples chased its own mean down frame after frame (hpsf lost 15% of the
+// indirect light over 64 frames there, and kept falling). With σ from the
+// samples as they arrived, hpsf's indirect light over frames 17–48 stays
+// within a few percent of the reference's at the default k.
+TEST_F(NhpsfTest, OutlierClampKeepsHeavyTailedLight) {
+  LoadedScene s;
+  load(sharedScene("conference-ward/conference-ward.gltf"), s);
+  gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], 32, 32, nullptr);
+  double reference = meanOf(pixelCentreReference(ctx, s, cam, 31, 512).indirect);
+  ASSERT_GT(reference, 0.0);
+  gi::Settings settings;
+  settings.method = gi::Method::Hpsf;
+  settings.maxBounces = 31;
+  settings.hpsf.samplesPerPixel = 4;
+  tools::ModuleSession session;
+  ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {32, 32}, settings, session));
+  double early = 0.0, late = 0.0;  // frames 1–16 and 17–48
+  for (uint32_t f = 0; f < 48; ++f) {
+    tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, f);
+    double mean = meanOf(tools::readModuleImages(ctx, session).indirect) / reference;
+    (f < 16 ? early : late) += f < 16 ? mean / 16.0 : mean / 32.0;
+  }
+  std::printf("hpsf indirect light / reference, clamp k = %.0f: frames 1–16 %.3f, 17–48 %.3f\n",
+              double(settings.hpsf.clampSigma), early, late);
+  EXPECT_GT(late, 0.94) << "the clamp removes heavy-tailed light";
+  EXPECT_LT(late, 1.05) << "energy created";
+  EXPECT_GT(late, early - 0.02) << "the clamp drifts down over frames";
+  tools::destroyModuleSession(ctx, session);
+  unload(s);
+}
+
 // The continued paths live in module memory: gi::invalidate and a resize
 // start them over cleanly, never from garbage.
 TEST_F(NhpsfTest, ContinuedPathsSurviveInvalidateAndResize) {
@@ -124,6 +157,15 @@ TEST_F(NhpsfTest, ContinuedPathsSurviveInvalidateAndResize) {
   tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, frame++);
   EXPECT_LE(gi::stats(session.module).hash.meanContinuationDepth, 3.0f) << "every walk restarted this frame";
   EXPECT_TRUE(allFinite(tools::readModuleImages(ctx, session).final));
+  // Only the lights changed: the continued walks go on where they were.
+  for (uint32_t k = 0; k < 4; ++k) tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, frame++);
+  const float depthBefore = gi::stats(session.module).hash.meanContinuationDepth;
+  gi::invalidate(session.module, gi::Invalidate::LightsChanged);
+  tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, frame++);
+  const float depthAfter = gi::stats(session.module).hash.meanContinuationDepth;
+  std::printf("mean continuation depth before / after invalidate(LightsChanged): %.2f / %.2f\n", depthBefore, depthAfter);
+  EXPECT_GT(depthAfter, 3.0f) << "LightsChanged keeps the walks";
+  EXPECT_TRUE(allFinite(tools::readModuleImages(ctx, session).final));
 
   std::string error;
   ASSERT_TRUE(tools::resizeModuleSession(ctx, session, {40, 20}, error)) << error;
@@ -140,8 +182,10 @@ TEST_F(NhpsfTest, ContinuedPathsSurviveInvalidateAndResize) {
 }
 
 // The light and an object move once, after the cache has settled: with the
-// stale-radiance check, cells whose history no longer matches restart, and
-// the error against the new reference falls faster than without it.
+// stale-radiance check, cells whose history no longer matches are cut short,
+// and the error against the new reference falls faster than without it; the
+// same when the engine says so with gi::invalidate(LightsChanged) (the block
+// that moves with the light is small).
 TEST_F(NhpsfTest, StaleRadianceIsDetectedWhenTheLightMoves) {
   LoadedScene s;
   load(sharedScene("cornell-box-mcguire/CornellBox-Original.gltf"), s);
@@ -151,19 +195,20 @@ TEST_F(NhpsfTest, StaleRadianceIsDetectedWhenTheLightMoves) {
   auto pose = [&](float seconds) { engine::poseScene(ctx, animation, seconds, s.scene, s.gpu); };
   pose(0.5f * animation.periodSeconds);  // the light half a circle away
   engine::ReferenceImages moved = pixelCentreReference(ctx, s, cam, 31, 512);
-  std::vector<double> after[2];
-  uint32_t resets[2] = {0, 0};
-  for (int check = 0; check < 2; ++check) {
+  std::vector<double> after[3];
+  uint32_t resets[3] = {0, 0, 0};
+  for (int check = 0; check < 3; ++check) {  // probes off, on; off with invalidate(LightsChanged)
     pose(0.0f);
     gi::Settings settings;
     settings.method = gi::Method::Anhpsf;
     settings.maxBounces = 31;
-    settings.hpsf.validationInterval = check ? 4u : 0u;
+    settings.hpsf.validationInterval = check == 1 ? 4u : 0u;
     tools::ModuleSession session;
     ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {32, 32}, settings, session));
     uint32_t frame = 0;
     for (; frame < 24; ++frame) tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, frame);
     pose(0.5f * animation.periodSeconds);
+    if (check == 2) gi::invalidate(session.module, gi::Invalidate::LightsChanged);
     for (uint32_t k = 0; k < 8; ++k, ++frame) {
       tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, frame);
       resets[check] += gi::stats(session.module).hash.staleResets;
@@ -171,10 +216,11 @@ TEST_F(NhpsfTest, StaleRadianceIsDetectedWhenTheLightMoves) {
     }
     tools::destroyModuleSession(ctx, session);
   }
-  std::printf("after the move: resets %u (probes off) / %u (on); MSE frame 8: %.3e / %.3e\n", resets[0], resets[1],
-              after[0].back(), after[1].back());
+  std::printf("after the move: histories cut %u (probes off) / %u (on); MSE frame 8: %.3e / %.3e / %.3e (invalidate)\n",
+              resets[0], resets[1], after[0].back(), after[1].back(), after[2].back());
   EXPECT_EQ(resets[0], 0u);
   EXPECT_GT(resets[1], 0u);
   EXPECT_LT(after[1].back(), after[0].back());
+  EXPECT_LT(after[2].back(), after[0].back());
   unload(s);
 }

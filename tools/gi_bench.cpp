@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 
 #include "bench_configs.h"
 #include "camera.h"
@@ -44,6 +45,8 @@ const cli::Option kOptions[] = {
                          "compared with a reference of its own pose (path-reference-spp)"},
     {"move-at", "F", "the light and an object jump half their loop before frame F (warm-up frames count); the reference "
                      "shows the moved scene; results get the frames to recover"},
+    {"invalidate-at-move", "WHAT", "with --move-at: the engine tells the module at the jump, gi::invalidate(all) or "
+                                   "(lights)"},
     {"out", "DIR", "output folder (default bench_out)"},
     {"no-plots", nullptr, "skip plot_bench.py (plots and report)"},
     {"validation", nullptr, "enable Vulkan validation"},
@@ -181,6 +184,14 @@ int main(int argc, char** argv) {
   const bool animate = args.has("animate"), move = args.has("move-at");
   if (animate && move) return usageError("--animate and --move-at are two different experiments; choose one");
   if (animate && args.has("reference")) return usageError("--animate renders a reference per frame; drop --reference");
+  std::optional<gi::Invalidate> invalidateAtMove;
+  if (args.has("invalidate-at-move")) {
+    const std::string& what = args.values["invalidate-at-move"];
+    if (!move) return usageError("--invalidate-at-move needs --move-at");
+    if (what == "all") invalidateAtMove = gi::Invalidate::All;
+    else if (what == "lights") invalidateAtMove = gi::Invalidate::LightsChanged;
+    else return usageError("--invalidate-at-move: '" + what + "' is neither all nor lights");
+  }
   std::vector<uint32_t> spps;
   for (const std::string& s : cli::splitList(args.has("spp") ? args.values["spp"] : "1")) {
     cli::Args one;
@@ -324,11 +335,13 @@ int main(int argc, char** argv) {
     uint32_t staleResets = 0;  // over the timed frames (the stats hold one frame's)
     for (; frame < warmup; ++frame) {
       poseFor(frame);
+      if (invalidateAtMove && move && frame == moveAt) gi::invalidate(session.module, *invalidateAtMove);
       tools::renderModuleFrame(ctx, session, scene, sceneGpu, camera, camera, frame);
     }
     engine::ReferenceImages out;
     for (uint32_t f = 0; f < frames; ++f, ++frame) {
       poseFor(frame);
+      if (invalidateAtMove && move && frame == moveAt) gi::invalidate(session.module, *invalidateAtMove);
       const Reference& frameRef = animate ? animationRefs[f] : ref;
       tools::FrameTiming t = tools::renderModuleFrame(ctx, session, scene, sceneGpu, camera, camera, frame);
       // A pass that runs several times a frame (à-trous iterations, the guided filter's two box

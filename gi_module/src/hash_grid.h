@@ -23,6 +23,7 @@ struct HashGrid {
   engine::ComputeProgram insert, paths, resolve, lookup;  // paths: nhpsf/anhpsf (built on first use)
   uint64_t memoryBytes = 0;
   bool cleared = false;      // buffers zeroed on the GPU
+  bool forgetLight = false;  // gi::invalidate(LightsChanged): the next resolve restarts every cell's mean
 };
 
 // The buffers (`tables` tables of `capacity` slots), image and set 2; `slots`

@@ -359,9 +359,10 @@ Error resize(Module* m, uint32_t width, uint32_t height) {
   return {};
 }
 
-void invalidate(Module* m, Invalidate) {
+void invalidate(Module* m, Invalidate what) {
   m->historyLength = 0;
-  m->hash.cleared = false;  // re-zeroed at the start of the next frame
+  if (what == Invalidate::All) m->hash.cleared = false;  // re-zeroed at the start of the next frame
+  else m->hash.forgetLight = true;  // geometry stands: cells, probes and continued paths stay, their light goes
 }
 
 Outputs outputs(const Module* m) {
@@ -422,7 +423,9 @@ void recordFrame(Module* m, VkCommandBuffer cmd, const FrameInputs& in) {
                      s.seed, spp, s.maxBounces, s.russianRouletteStart, hashTableBase(m->hash, in.frameIndex),
                      previousHashTableBase(m->hash, in.frameIndex), strict ? 1u : 0u, uint32_t(s.debugView),
                      hashMode(s.method), s.method == Method::Nhpsf ? h.pathDepth : h.continuationDepth,
-                     h.secondaryWidthScale, strict ? 0u : h.validationInterval, radianceScale(*m), 0, 0, 0};
+                     h.secondaryWidthScale, strict ? 0u : h.validationInterval, radianceScale(*m),
+                     m->hash.forgetLight ? 1u : 0u, 0, 0};
+    m->hash.forgetLight = false;
     VkDescriptorSet hashSets[] = {m->desc.scene.set, m->frameSet.set, m->hash.set.set};
     recordHashGridFrameStart(cmd, m->hash, in.frameIndex);
     if (s.method == Method::Hpsf) {

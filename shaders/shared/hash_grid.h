@@ -203,7 +203,7 @@ struct HgPush {
   float secondaryWidthScale; // cells at vertices after the first are this much wider
   uint validationInterval;  // aging: frames between re-traces of a cell's probe (0 = off)
   float radianceScale;    // 1 / SceneDesc::typicalRadiance: radiance is summed as radiance · radianceScale in fixed point
-  uint pad0;
+  uint forgetLight;       // 1 in the frame after gi::invalidate(LightsChanged): every cell's mean restarts
   uint pad1;
   uint pad2;
 };

@@ -111,9 +111,12 @@ void destroy(Module* module);  // the caller ensures the GPU no longer uses it
 Error setSettings(Module* module, const Settings& settings);
 
 // For engines that know what changed: drop cached light so stale radiance is
-// never shown. All: temporal history and the hash map. LightsChanged: every
-// cache holds light, so today it drops the same; kept apart so the module can
-// later keep what lights do not affect. Takes effect in the next recordFrame.
+// never shown. All (geometry moved): temporal history, the hash map and
+// anhpsf's continued paths start over. LightsChanged (only lights changed):
+// the map keeps its cells, their probes and the continued paths, and every
+// cell's mean restarts from the next frame's samples (that frame's paths still
+// read the old light at their far ends; it washes out within a few frames).
+// Takes effect in the next recordFrame.
 enum class Invalidate : uint32_t { All, LightsChanged };
 void invalidate(Module* module, Invalidate what);
 // A new render size: the module's images, filters and hash map (with anhpsf's
