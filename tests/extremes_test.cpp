@@ -348,8 +348,8 @@ TEST_F(ExtremesTest, ErrorFallsAsEachQualityKnobRises) {
       {gi::Method::Hpsf, "frames 1 → 16", [](gi::Settings&) {}, [](gi::Settings&) {}, 1, 16},
       {gi::Method::Nhpsf, "frames 1 → 16", [](gi::Settings&) {}, [](gi::Settings&) {}, 1, 16},
       {gi::Method::Anhpsf, "frames 1 → 16", [](gi::Settings&) {}, [](gi::Settings&) {}, 1, 16},
-      {gi::Method::Hpsf, "16 frames, width 64 → 16 px", [](gi::Settings& x) { x.hpsf.filterWidth = 64.0f; },
-       [](gi::Settings& x) { x.hpsf.filterWidth = 16.0f; }, 16, 16},
+      {gi::Method::Hpsf, "48 frames, width 64 → 16 px", [](gi::Settings& x) { x.hpsf.filterWidth = 64.0f; },
+       [](gi::Settings& x) { x.hpsf.filterWidth = 16.0f; }, 48, 48},
   };
   for (const Knob& k : knobs) {
     gi::Settings low = defaults(k.method), high = defaults(k.method);
