@@ -163,7 +163,6 @@ void createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu) {
   // A rough scale of the radiance the scene will hold: a grey (0.5) surface a
   // quarter of the scene away from the brightest punctual light, or a tenth
   // of the brightest emission. Only its order of magnitude matters.
-  auto luminance = [](glm::vec3 v) { return 0.2126f * v.x + 0.7152f * v.y + 0.0722f * v.z; };
   float typical = 0.0f;
   float quarter = 0.25f * c.sceneExtent;
   for (const PunctualLight& l : scene.lights)

@@ -21,7 +21,7 @@ void hgTraceProbe(vec3 origin, vec3 direction, uint key, out float distance_, ou
   GiSurface w = giSurfaceFromHit(hit, direction);
   GiBsdf b = giMakeBsdf(w.material.baseColor, w.material.metallic, w.material.roughness, w.material.flags);
   GiRng rng = giRngCreate(uvec2(key, 0x9e3779b9u), 0u, 0u, GI_STREAM_HASH);
-  light = dot(giDirectLight(w, b, -direction, false, rng), vec3(0.2126, 0.7152, 0.0722));
+  light = giLuminance(giDirectLight(w, b, -direction, false, rng));
 }
 
 // How far the cell's mean has moved, as far as the probe can tell (luminance,

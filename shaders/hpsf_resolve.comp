@@ -68,7 +68,7 @@ void resolveAging(uint slot, inout uint live, inout uint evicted, inout uint res
   } else if (hasProbe && c.frames > 0.0 && (slot + pc.frameIndex) % pc.validationInterval == 0u) {
     float distance_, light;
     hgTraceProbe(c.probeOrigin, c.probeDirection, hgKeys[slot], distance_, light);
-    float mean = dot(c.mean, vec3(0.2126, 0.7152, 0.0722));
+    float mean = giLuminance(c.mean);
     float change = hgProbeChange(c.probeDistance, c.probeLight, distance_, light, mean);
     if (change > 0.0) {
       float samplesPerFrame = max(float(c.samples) / c.frames, 1.0);

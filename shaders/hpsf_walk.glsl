@@ -21,8 +21,6 @@ layout(push_constant, scalar) uniform Push { HgPush pc; };
 uint hgProbeCount = 0u, hgProbeMax = 0u, hgFailedCount = 0u, hgInsertedCount = 0u, hgOverflowCount = 0u;
 float hgTransported = 0.0;
 
-const vec3 HG_LUMINANCE = vec3(0.2126, 0.7152, 0.0722);
-
 // The cell of a vertex: level of detail from its distance to the camera and
 // the filter width (× widthScale for vertices after the first), then jittered
 // in the tangent plane and quantised (Meijer Alg. 3).
@@ -78,12 +76,12 @@ int hgInsertSample(uint index, uint key, vec3 radiance, uint count, int lod, vec
   // indirect light over 64 frames that way, and kept falling). The mean is
   // the cell's clamped one, which only makes σ larger: a more lenient clamp.
   vec3 sample_ = radiance;
-  float lum = dot(sample_, HG_LUMINANCE);
+  float lum = giLuminance(sample_);
   if (pc.clampSigma > 0.0 && history.samples >= 8u) {
     // Never below twice the mean: where samples barely vary (σ ≈ 0), a cell
     // whose light is still building up over frames (nhpsf, anhpsf) must be
     // able to rise; fireflies are far above that.
-    float mean = dot(history.mean, HG_LUMINANCE);
+    float mean = giLuminance(history.mean);
     float sigma = sqrt(max(history.lumMoment2 - mean * mean, 0.0));
     float limit = max(mean + pc.clampSigma * sigma, 2.0 * mean);
     if (lum > limit && lum > 0.0) sample_ *= limit / lum;
@@ -155,7 +153,7 @@ vec3 hgStep(inout HgWalk walk, inout GiRng rng) {
     vec3 added = walk.throughput * arriving;
     hgInsertSample(walk.index, walk.key, added, hgWalkContinues(walk) ? 0u : 1u, hgWalkLod(walk), walk.origin,
                    walk.direction);
-    if (pc.mode == HG_MODE_ANHPSF && hgWalkDepth(walk) > 1u) hgTransported += dot(added, HG_LUMINANCE);
+    if (pc.mode == HG_MODE_ANHPSF && hgWalkDepth(walk) > 1u) hgTransported += giLuminance(added);
   }
   uint depth = hgWalkDepth(walk) + 1u;
   if (hit.t < 0.0) {

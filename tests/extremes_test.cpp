@@ -90,12 +90,6 @@ struct Outcome {
   bool finite = true;
 };
 
-double mean(const engine::FloatImage& img) {
-  double s = 0.0;
-  for (float v : img.pixels) s += v;
-  return img.pixels.empty() ? 0.0 : s / double(img.pixels.size());
-}
-
 }  // namespace
 
 // One method on one scene: kFrames frames, then the last frame's image against the reference.
@@ -115,8 +109,8 @@ class ExtremesRun {
     engine::ReferenceImages out = tools::readModuleImages(ctx_, session);
     for (const engine::FloatImage* img : {&out.final, &out.direct, &out.indirect})
       for (float v : img->pixels) o.finite &= std::isfinite(v);
-    o.mean = mean(out.final);
-    o.referenceMean = mean(reference_.final);
+    o.mean = meanOf(out.final);
+    o.referenceMean = meanOf(reference_.final);
     o.relMse = metrics::mse(out.final, reference_.final) / std::max(o.referenceMean * o.referenceMean, 1e-300);
     tools::destroyModuleSession(ctx_, session);
     return o;
@@ -311,7 +305,7 @@ TEST_F(ExtremesTest, WhiteFurnaceStaysFinite) {
       tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, f);
       engine::FloatImage out = tools::readModuleImages(ctx, session).final;
       for (float v : out.pixels) finite &= std::isfinite(v);
-      last = mean(out);
+      last = meanOf(out);
     }
     bool mapBased = m == gi::Method::Nhpsf || m == gi::Method::Anhpsf;
     double bound = mapBased ? 2.0 + 8.0 * 1.1 : (kBounces + 2) * 1.1;

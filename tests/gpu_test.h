@@ -48,6 +48,13 @@ class GpuTest : public ::testing::Test {
 
 inline engine::Context GpuTest::ctx;
 
+// The mean over every pixel and channel (0 for an empty image).
+inline double meanOf(const engine::FloatImage& img) {
+  double sum = 0.0;
+  for (float v : img.pixels) sum += v;
+  return img.pixels.empty() ? 0.0 : sum / double(img.pixels.size());
+}
+
 inline double meanOf(const engine::FloatImage& img, uint32_t channel) {
   double sum = 0.0;
   for (uint32_t y = 0; y < img.height; ++y)

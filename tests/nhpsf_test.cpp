@@ -10,12 +10,6 @@ class NhpsfTest : public GpuTest {};
 
 namespace {
 
-double meanOf(const engine::FloatImage& image) {
-  double sum = 0.0;
-  for (float v : image.pixels) sum += v;
-  return sum / double(image.pixels.size());
-}
-
 bool allFinite(const engine::FloatImage& image) {
   for (float v : image.pixels)
     if (!std::isfinite(v)) return false;

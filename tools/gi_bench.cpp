@@ -74,12 +74,9 @@ double median(std::vector<double> v) {
 // Luminance change between consecutive frames, averaged over pixels.
 double meanFrameDifference(const engine::FloatImage& a, const engine::FloatImage& b) {
   double sum = 0.0;
-  for (size_t p = 0; p + 2 < a.pixels.size(); p += 3) {
-    double la = 0.2126 * a.pixels[p] + 0.7152 * a.pixels[p + 1] + 0.0722 * a.pixels[p + 2];
-    double lb = 0.2126 * b.pixels[p] + 0.7152 * b.pixels[p + 1] + 0.0722 * b.pixels[p + 2];
-    sum += std::abs(la - lb);
-  }
-  return sum / double(a.pixels.size() / 3);
+  for (uint32_t y = 0; y < a.height; ++y)
+    for (uint32_t x = 0; x < a.width; ++x) sum += std::abs(metrics::luminance(a, x, y) - metrics::luminance(b, x, y));
+  return sum / std::max(double(a.width) * double(a.height), 1.0);
 }
 
 // The scripted move: a sideways dolly of 1% of the scene extent per frame
@@ -354,7 +351,8 @@ int main(int argc, char** argv) {
       for (const auto& [name, ms] : frameTotals) passSamples[name].push_back(ms);
       totals.push_back(t.totalMs);
       rays.push_back(double(t.rays));
-      staleResets += gi::stats(session.module).hash.staleResets;
+      const gi::FrameStats frameStats = gi::stats(session.module);
+      staleResets += frameStats.hash.staleResets;
       out = tools::readModuleImages(ctx, session);
       finals.push_back(metrics::compare(out.final, frameRef.final));
       if (!frameRef.indirect.pixels.empty()) indirects.push_back(metrics::compare(out.indirect, frameRef.indirect));
@@ -363,7 +361,7 @@ int main(int argc, char** argv) {
       if (series.is_open())
         series << '"' << config.label << "\"," << frame + 1 << ',' << finals.back().mse << ',' << finals.back().relMse << ','
                << (indirects.empty() ? 0.0 : indirects.back().mse) << ',' << (indirects.empty() ? 1.0 : indirects.back().energy)
-               << ',' << gi::stats(session.module).hash.occupancy() << ',' << gi::stats(session.module).hash.staleResets << "\n";
+               << ',' << frameStats.hash.occupancy() << ',' << frameStats.hash.staleResets << "\n";
     }
     for (const auto& [name, samples] : passSamples) {
       row.passMs[name] = median(samples);

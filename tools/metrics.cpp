@@ -6,14 +6,19 @@
 #include <vector>
 
 namespace metrics {
+
+double luminance(const engine::FloatImage& img, uint32_t x, uint32_t y) {
+  return img.channels >= 3 ? 0.2126 * img.at(x, y, 0) + 0.7152 * img.at(x, y, 1) + 0.0722 * img.at(x, y, 2)
+                           : img.at(x, y, 0);
+}
+
 namespace {
 
 std::vector<double> clampedLuminance(const engine::FloatImage& img) {
   std::vector<double> out(size_t(img.width) * img.height);
   for (uint32_t y = 0; y < img.height; ++y)
     for (uint32_t x = 0; x < img.width; ++x) {
-      double l = img.channels >= 3 ? 0.2126 * img.at(x, y, 0) + 0.7152 * img.at(x, y, 1) + 0.0722 * img.at(x, y, 2)
-                                   : img.at(x, y, 0);
+      double l = luminance(img, x, y);
       out[size_t(y) * img.width + x] = std::isfinite(l) ? std::clamp(l, 0.0, 1.0) : 0.0;
     }
   return out;
@@ -69,8 +74,7 @@ double energyRatio(const engine::FloatImage& image, const engine::FloatImage& re
     double sum = 0.0;
     for (uint32_t y = 0; y < img.height; ++y)
       for (uint32_t x = 0; x < img.width; ++x)
-        sum += img.channels >= 3 ? 0.2126 * img.at(x, y, 0) + 0.7152 * img.at(x, y, 1) + 0.0722 * img.at(x, y, 2)
-                                 : img.at(x, y, 0);
+        sum += luminance(img, x, y);
     return sum;
   };
   double a = meanLuminance(image), b = meanLuminance(reference);

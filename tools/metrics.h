@@ -20,6 +20,8 @@ ImageError compare(const engine::FloatImage& image, const engine::FloatImage& re
 double mse(const engine::FloatImage& a, const engine::FloatImage& b);
 double relMse(const engine::FloatImage& a, const engine::FloatImage& b);
 double psnrFromMse(double mse);
+// Rec. 709 luminance of pixel (x, y); the value itself for one-channel images.
+double luminance(const engine::FloatImage& image, uint32_t x, uint32_t y);
 double energyRatio(const engine::FloatImage& image, const engine::FloatImage& reference);
 double ssim(const engine::FloatImage& a, const engine::FloatImage& b);
 

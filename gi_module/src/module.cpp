@@ -83,11 +83,9 @@ engine::Image* ownedImages(Module& m, size_t i) {
 }
 
 // The hash map sums radiance relative to the scene's typical radiance, so dim
-// and bright scenes get the same fixed-point resolution.
-float radianceScale(const Module& m) {
-  float t = m.desc.scene.typicalRadiance;
-  return t > 0.0f && std::isfinite(t) ? 1.0f / t : 1.0f;
-}
+// and bright scenes get the same fixed-point resolution (checkDesc keeps it
+// positive and finite).
+float radianceScale(const Module& m) { return 1.0f / m.desc.scene.typicalRadiance; }
 
 // AAF's separate specular term runs only for aaf on a scene with glossy materials.
 bool aafSpecular(const Module& m) { return m.settings.method == Method::Aaf && m.desc.scene.hasGlossyMaterials; }
