@@ -1,7 +1,8 @@
 #version 460
 // Axis-aligned filtering, pass 2: the remaining n − 16 samples per pixel,
-// scaled down uniformly when the frame's sample budget is smaller than what
-// pass 1 asked for. Writes the noisy demodulated indirect (the filter's
+// stratified over the hemisphere like pass 1's (aafStratum: each sample in a
+// cell of its own), scaled down uniformly when the frame's sample budget is
+// smaller than what pass 1 asked for. Writes the noisy demodulated indirect (the filter's
 // input) and, on glossy receivers, the mean specular terms (filtered in place).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
@@ -33,8 +34,10 @@ void main() {
         float scale = clamp((float(pc.sampleBudget) - initial) / wanted, 0.0, 1.0);
         extra = floor(extra * scale + giRandom(rng));  // unbiased rounding of the scaled count
       }
+      uint offset = uint(giRandom(rng) * 4294967040.0);
       for (uint i = 0u; i < uint(extra); ++i) {
-        vec2 u = giRandom2(rng);
+        float cell;
+        vec2 u = aafStratum(i, uint(extra), offset, cell) + giRandom2(rng) * cell;
         AafSample r = aafSample(s, b, V, vec3(u, aafLobeChoice(b, rng)), rng);
         sum.rgb += r.diffuse;
         glossy.rgb += r.specular;

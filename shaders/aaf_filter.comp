@@ -24,7 +24,9 @@ void main() {
   if (centre.w > 0.0 && beta > 0.0) {
     vec3 n = imageLoad(filterGuidance, p).xyz * 2.0 - 1.0;
     float pixel = centre.w * pc.pixelScale;
-    int radius = int(min(ceil(3.0 * beta / max(pixel, 1e-30)), float(AAF_MAX_RADIUS_PIXELS)));
+    // 3σ in pixels of frontal size: along a foreshortened surface a pixel spans more, so this reaches at least 3σ.
+    float limit = float(pc.maxRadius > 0u ? pc.maxRadius : uint(max(size.x, size.y)));
+    int radius = int(min(ceil(3.0 * beta / max(pixel, 1e-30)), limit));
     ivec2 axis = pc.vertical == 0u ? ivec2(1, 0) : ivec2(0, 1);
     float inv = 0.5 / (beta * beta);
     vec3 sum = vec3(0.0);

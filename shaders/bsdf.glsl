@@ -120,6 +120,29 @@ bool giBsdfSample(GiBsdf b, vec3 N, vec3 V, vec3 u, out vec3 L, out vec3 weight,
   return true;
 }
 
+// Samples L from the GGX lobe alone (no diffuse part); `weight` = the lobe's
+// f·cos / its own density. False below the horizon or without a glossy lobe.
+bool giSpecularSample(GiBsdf b, vec3 N, vec3 V, vec2 u, out vec3 L, out vec3 weight) {
+  weight = vec3(0.0);
+  L = N;
+  if (b.specularProbability <= 0.0) return false;
+  vec3 t, bt;
+  giBasis(N, t, bt);
+  float a2 = b.alpha * b.alpha;
+  float cosTheta = sqrt((1.0 - u.x) / (1.0 + (a2 - 1.0) * u.x));
+  float sinTheta = sqrt(max(0.0, 1.0 - cosTheta * cosTheta));
+  float phi = 2.0 * GI_PI * u.y;
+  vec3 H = t * (sinTheta * cos(phi)) + bt * (sinTheta * sin(phi)) + N * cosTheta;
+  L = reflect(-V, H);
+  float nh = max(dot(N, H), 0.0), vh = max(dot(V, H), 1e-6);
+  float pdf = giGgxD(nh, a2) * nh / (4.0 * vh);
+  if (dot(N, L) <= 0.0 || pdf <= 0.0) return false;
+  float schlick;
+  float lobe = giSpecularLobe(b, N, V, L, schlick);
+  weight = lobe * (b.f0 + (1.0 - b.f0) * schlick) / pdf;
+  return true;
+}
+
 float giPowerHeuristic(float a, float b) {
   float a2 = a * a;
   return a2 / max(a2 + b * b, 1e-30);

@@ -15,9 +15,11 @@ void main() {
   bool inside = all(lessThan(gl_GlobalInvocationID.xy, giFrame.size));
   if (inside) {
     vec3 direct = vec3(0.0), indirect = vec3(0.0);
+    bool filterVertex = false;  // for path space filtering (sspsf): the primary vertex has a diffuse lobe
     if (giGbCoveredCounting(p)) {
       vec3 V;
       GiSurface s = giGbSurface(p, V);
+      filterVertex = giHasDiffuseLobe(s.material);
       float kept = 0.0;
       for (uint i = 0u; i < pc.samplesPerPixel; ++i) {
         GiRng rng = giRngCreate(uvec2(p), giFrame.frameIndex * pc.samplesPerPixel + i, pc.seed, GI_STREAM_MODULE);
@@ -44,7 +46,7 @@ void main() {
     }
     imageStore(giOutDirect, p, vec4(direct, 1.0));
     imageStore(giOutIndirect, p, vec4(indirect, 1.0));   // filters overwrite this one
-    imageStore(giNoisyIndirect, p, vec4(indirect, 1.0));
+    imageStore(giNoisyIndirect, p, vec4(indirect, filterVertex ? 1.0 : 0.0));
   }
   giCountRays(inside);
 }

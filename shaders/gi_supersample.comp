@@ -8,6 +8,7 @@
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #include "lights.glsl"
 #include "gi_frame.glsl"
+#include "shared/gi_filters.h"
 
 layout(local_size_x = GI_GROUP_SIZE, local_size_y = GI_GROUP_SIZE) in;
 layout(push_constant, scalar) uniform Push { GiSupersamplePush pc; };
@@ -31,27 +32,16 @@ void main() {
       // The four guide rays around the sample, and the most similar one (eqs. 3–5).
       ivec2 base = ivec2(floor(pos - 0.5));
       ivec2 guides[4] = ivec2[4](base, base + ivec2(1, 0), base + ivec2(0, 1), base + ivec2(1, 1));
-      float dn[4], dd[4], maxN = 0.0, maxD = 0.0;
+      vec4 dn, dd;
       for (int i = 0; i < 4; ++i) {
         guides[i] = clamp(guides[i], ivec2(0), size - 1);
         bool covered = giGbCovered(guides[i]);
         vec3 n = covered ? normalize(imageLoad(giGbNormal, guides[i]).xyz) : -s.normal;
         float z = covered ? imageLoad(giGbViewZ, guides[i]).r : 0.0;
-        dn[i] = dot(s.normal - n, s.normal - n);
+        dn[i] = length(s.normal - n);
         dd[i] = abs(depth - z);
-        maxN = max(maxN, dn[i]);
-        maxD = max(maxD, dd[i]);
       }
-      int best = 0;
-      float bestSimilarity = -1.0;
-      for (int i = 0; i < 4; ++i) {
-        float sn = maxN > 0.0 ? 1.0 - dn[i] / maxN : 1.0;
-        float sd = maxD > 0.0 ? 1.0 - dd[i] / maxD : 1.0;
-        if (sn * sd > bestSimilarity) {
-          bestSimilarity = sn * sd;
-          best = i;
-        }
-      }
+      int best = gifMostSimilarGuide(dn, dd);
       vec3 indirect = max(imageLoad(giOutIndirect, guides[best]).rgb, vec3(0.0));
       sum += direct + b.diffuse * indirect;
     }

@@ -1,6 +1,10 @@
 #version 460
 // Guided filter, step 2: per window, a = (Σ + εU)⁻¹ · cov(I, p) and
-// b = mean(p) − aᵀ · mean(I) (He et al. 2010; Bauszat et al. 2011 eq. 2).
+// b = mean(p) − aᵀ · mean(I) (He et al. 2010; Bauszat et al. 2011 eq. 2),
+// the means over the window's covered pixels (gif_moments.comp). The
+// coefficients are written times the window's covered fraction w̄, so that a
+// window mostly over background counts little when gif_output averages them,
+// and one with no covered pixel not at all.
 // Σ + εU is symmetric positive definite, solved by Cholesky. Written in
 // place over the window means (each thread reads and writes its own pixel).
 #extension GL_GOOGLE_include_directive : require
@@ -23,6 +27,14 @@ void main() {
     m[4 * img + 2] = v.z;
     m[4 * img + 3] = v.w;
   }
+  float weight = m[GIF_CH_WEIGHT];
+  float coeff[16];
+  for (int i = 0; i < 16; ++i) coeff[i] = 0.0;
+  if (weight < 1e-6) {  // no covered pixel in the window: it contributes nothing
+    for (uint img = 0u; img < GIF_COEFF_IMAGES; ++img) imageStore(filterA[img], p, vec4(0.0));
+    return;
+  }
+  for (int i = 0; i < GIF_CH_WEIGHT; ++i) m[i] /= weight;
   float meanI[4], S[4][4];
   for (int i = 0; i < 4; ++i) meanI[i] = m[GIF_CH_I + i];
   int k = GIF_CH_II;
@@ -47,8 +59,6 @@ void main() {
       L[i][j] = s / L[j][j];
     }
   }
-  float coeff[16];
-  for (int i = 0; i < 16; ++i) coeff[i] = 0.0;
   for (int c = 0; c < 3; ++c) {
     float meanP = m[GIF_CH_P + c];
     float rhs[4], y[4], a[4];
@@ -70,6 +80,8 @@ void main() {
     }
     coeff[GIF_COEFF_B + c] = b;
   }
+  for (int i = 0; i < GIF_COEFF_WEIGHT; ++i) coeff[i] *= weight;
+  coeff[GIF_COEFF_WEIGHT] = weight;
   for (uint img = 0u; img < GIF_COEFF_IMAGES; ++img)
     imageStore(filterA[img], p, vec4(coeff[4 * img], coeff[4 * img + 1], coeff[4 * img + 2], coeff[4 * img + 3]));
 }

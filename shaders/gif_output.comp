@@ -1,6 +1,8 @@
 #version 460
 // Guided filter, step 3: q = mean(a)ᵀ · I + mean(b), with the coefficients of
-// every window that covers the pixel averaged by the box passes.
+// every window that covers the pixel averaged by the box passes, each window
+// weighted by its covered fraction (gif_coefficients.comp). Background pixels
+// keep their input.
 #extension GL_GOOGLE_include_directive : require
 #include "filters.glsl"
 
@@ -19,11 +21,16 @@ void main() {
     coeff[4 * img + 2] = v.z;
     coeff[4 * img + 3] = v.w;
   }
-  vec3 q;
-  for (int c = 0; c < 3; ++c) {
-    float v = coeff[GIF_COEFF_B + c];
-    for (int i = 0; i < 4; ++i) v += coeff[3 * i + c] * I[i];
-    q[c] = v;
+  float weight = coeff[GIF_COEFF_WEIGHT];
+  bool covered = imageLoad(filterPosition, p).w > 0.0 && weight > 0.0;
+  for (int i = 0; i < GIF_COEFF_WEIGHT; ++i) coeff[i] = covered ? coeff[i] / weight : 0.0;
+  vec3 q = imageLoad(filterInput, p).rgb;
+  if (covered) {
+    for (int c = 0; c < 3; ++c) {
+      float v = coeff[GIF_COEFF_B + c];
+      for (int i = 0; i < 4; ++i) v += coeff[3 * i + c] * I[i];
+      q[c] = v;
+    }
   }
   imageStore(filterOutput, p, vec4(q, 1.0));
   if (pc.writeCoefficientView != 0u) {

@@ -11,20 +11,59 @@ layout(set = 2, binding = HG_BINDING_TELEMETRY, scalar) buffer HgTelemetryBlock 
 layout(set = 2, binding = HG_BINDING_PIXEL_CELL, r32ui) uniform uimage2D hgPixelCell;
 layout(set = 2, binding = HG_BINDING_CONTINUATION, scalar) buffer HgWalks { HgWalk hgWalks[]; };
 
-// The global slot holding `key` in the table starting at `table` (claimed if
-// free: `created`), or -1 when the probe window is full.
-int hgInsertOrFind(uint table, uint index, uint key, uint capacity, uint window, out uint probes, out bool created) {
+// A walk's state word: vertices reached, whether the next segment continues
+// a counted sample, and the fed cell's level of detail.
+uint hgWalkState(uint depth, bool continues, int lod) {
+  return (depth & 0xffffu) | (continues ? 0x10000u : 0u) | (uint(clamp(lod + 128, 0, 255)) << 24u);
+}
+uint hgWalkDepth(HgWalk w) { return w.state & 0xffffu; }
+uint hgWalkSegments(HgWalk w) { return max(hgWalkDepth(w), 1u) - 1u; }
+bool hgWalkContinues(HgWalk w) { return (w.state & 0x10000u) != 0u; }
+int hgWalkLod(HgWalk w) { return int(w.state >> 24u) - 128; }
+
+// The global slot holding `key` in the table starting at `table`, or -1.
+// With `create` a missing key claims a slot (`created`); without, it is only
+// found. Meijer's Alg. 4 in two passes over the probe window: first look for
+// the key (stepping over tombstones, stopping at an empty slot, beyond which
+// no chain continues); if it is not there, claim the first empty or tombstone
+// slot by compare-exchange, taking the slot instead if a concurrent insert of
+// the same key got there first. Every inserter of a key walks the window in
+// the same order, so concurrent inserts of one key agree on one slot.
+int hgInsertOrFind(uint table, uint index, uint key, uint capacity, uint window, bool create, out uint probes,
+                   out bool created) {
   created = false;
+  probes = window;
+  uint firstFree = window;
   for (uint i = 0u; i < window; ++i) {
-    uint slot = table + ((index + i) & (capacity - 1u));
-    uint previous = atomicCompSwap(hgKeys[slot], HG_EMPTY_KEY, key);
-    if (previous == HG_EMPTY_KEY || previous == key) {
+    uint k = hgKeys[table + ((index + i) & (capacity - 1u))];
+    if (k == key) {
       probes = i + 1u;
-      created = previous == HG_EMPTY_KEY;
+      return int(table + ((index + i) & (capacity - 1u)));
+    }
+    if (k == HG_TOMBSTONE_KEY && firstFree == window) firstFree = i;
+    if (k == HG_EMPTY_KEY) {
+      if (firstFree == window) firstFree = i;
+      break;
+    }
+  }
+  if (!create) return -1;
+  for (uint i = firstFree; i < window; ++i) {
+    uint slot = table + ((index + i) & (capacity - 1u));
+    uint seen = hgKeys[slot];
+    if (seen == HG_EMPTY_KEY || seen == HG_TOMBSTONE_KEY) {
+      uint previous = atomicCompSwap(hgKeys[slot], seen, key);
+      if (previous == seen) {
+        probes = i + 1u;
+        created = true;
+        return int(slot);
+      }
+      seen = previous;
+    }
+    if (seen == key) {
+      probes = i + 1u;
       return int(slot);
     }
   }
-  probes = window;
   return -1;
 }
 
@@ -39,20 +78,74 @@ int hgFind(uint table, uint index, uint key, uint capacity, uint window) {
   return -1;
 }
 
-// Adds one sample (count 1: 5 atomics, r, g, b, luminance², count), or more
-// light for a sample already counted (count 0: r, g, b only). `radiance` and
+// Zeroes a slot's frame sums.
+void hgClearAccum(uint slot) {
+  HgAccum zero;
+  zero.r = zero.g = zero.b = zero.tr = zero.tg = zero.tb = zero.lum2 = 0ul;
+  zero.count = 0u;
+  zero.pad0 = 0u;
+  hgAccum[slot] = zero;
+}
+
+// Removes the cell in `slot` (global) of the table starting at `table`. Its
+// sums and history go with it, so the next key to claim the slot starts from
+// nothing. The slot becomes a tombstone, which keeps the probe chains through
+// it intact (a key further along stays reachable, and is not inserted a
+// second time); or empty when the next slot is empty, since no chain
+// continues past an empty slot. Runs only in resolve, where no insert runs
+// concurrently: slots there only ever empty, so a neighbour read as empty
+// stays empty, and one read as full at worst leaves a tombstone that a later
+// frame's resolve turns empty.
+void hgEvict(uint table, uint slot, uint capacity) {
+  uint next = table + ((slot - table + 1u) & (capacity - 1u));
+  hgKeys[slot] = hgKeys[next] == HG_EMPTY_KEY ? HG_EMPTY_KEY : HG_TOMBSTONE_KEY;
+  hgClearAccum(slot);
+  HgCell empty;
+  empty.mean = vec3(0.0);
+  empty.lumMoment2 = 0.0;
+  empty.tail = vec3(0.0);
+  empty.frames = 0.0;
+  empty.lastSeen = 0u;
+  empty.lod = 0;
+  empty.samples = 0u;
+  empty.previous = 0u;
+  empty.probeOrigin = vec3(0.0);
+  empty.probeDistance = 0.0;
+  empty.probeDirection = vec3(0.0);
+  empty.probeLight = 0.0;
+  empty.recent = vec3(0.0);
+  empty.pad0 = 0u;
+  hgCells[slot] = empty;
+}
+
+// A tombstone whose next slot is empty ends no chain any more: it becomes empty too.
+void hgTidyTombstone(uint table, uint slot, uint capacity) {
+  uint next = table + ((slot - table + 1u) & (capacity - 1u));
+  if (hgKeys[slot] == HG_TOMBSTONE_KEY && hgKeys[next] == HG_EMPTY_KEY) hgKeys[slot] = HG_EMPTY_KEY;
+}
+
+// Adds one sample (count 1: r, g, b, luminance², count), or more light for a
+// sample already counted (count 0: r, g, b only), with what the outlier clamp
+// took off it (`tail`, 3 more atomics where not zero). `radiance`, `tail` and
 // `momentLuminance` are already multiplied by the push constants'
-// radianceScale; the second moment is of `momentLuminance`, which the outlier
-// clamp passes unclamped (hgInsertSample says why).
-void hgAccumulate(int slot, vec3 radiance, float momentLuminance, uint count, inout bool overflowed) {
-  vec3 v = radiance;
-  if (any(greaterThan(v, vec3(float(HG_MAX_SAMPLE))))) overflowed = true;
-  atomicAdd(hgAccum[slot].r, hgToFixed(v.r));
-  atomicAdd(hgAccum[slot].g, hgToFixed(v.g));
-  atomicAdd(hgAccum[slot].b, hgToFixed(v.b));
+// radianceScale; the second moment is of `momentLuminance`, which the clamp
+// passes unclamped (hgInsertSample says why).
+void hgAccumulate(int slot, vec3 radiance, vec3 tail, float momentLuminance, uint count, inout bool overflowed) {
+  if (any(greaterThan(radiance + tail, vec3(float(HG_MAX_SAMPLE))))) overflowed = true;
+  atomicAdd(hgAccum[slot].r, hgToFixed(radiance.r));
+  atomicAdd(hgAccum[slot].g, hgToFixed(radiance.g));
+  atomicAdd(hgAccum[slot].b, hgToFixed(radiance.b));
+  if (any(greaterThan(tail, vec3(0.0)))) {
+    atomicAdd(hgAccum[slot].tr, hgToFixed(tail.r));
+    atomicAdd(hgAccum[slot].tg, hgToFixed(tail.g));
+    atomicAdd(hgAccum[slot].tb, hgToFixed(tail.b));
+  }
   if (count == 0u) return;
   atomicAdd(hgAccum[slot].lum2, hgToFixed(min(momentLuminance * momentLuminance, float(HG_MAX_SAMPLE))));
   atomicAdd(hgAccum[slot].count, count);
 }
+
+// A cell's radiance: the mean of its clamped samples plus the clamp's tail.
+vec3 hgCellRadiance(HgCell c) { return c.mean + c.tail; }
 
 #endif

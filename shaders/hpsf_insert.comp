@@ -1,9 +1,11 @@
 #version 460
 // Hashed path space filtering, insert (Meijer 2019 Alg. 1–4): per pixel, N
-// paths from the primary hit, which is the filter vertex when its material is
-// diffuse. The demodulated indirect radiance arriving there (throughput reset
-// at the vertex; albedo never multiplied in) goes into the cell of the
-// vertex's jittered, quantised position. Direct light stays per pixel.
+// paths from the primary hit, which is the filter vertex when its material
+// has a diffuse lobe (giHasDiffuseLobe). The demodulated indirect radiance
+// arriving there (throughput reset at the vertex; albedo never multiplied
+// in) goes into the cell of the vertex's jittered, quantised position. Direct
+// light stays per pixel. A pure metal has no diffuse lobe: the composite
+// gives its diffuse indirect light no weight, so it is not filtered.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
@@ -18,6 +20,7 @@ void main() {
   if (inside) {
     vec3 direct = vec3(0.0), indirect = vec3(0.0);
     uint cell = 0u;
+    bool filterVertex = false;
     if (giGbCoveredCounting(p)) {
       vec3 V;
       GiSurface s = giGbSurface(p, V);
@@ -33,10 +36,10 @@ void main() {
       float inv = 1.0 / max(kept, 1.0);
       direct = s.material.emission + direct * inv;
       indirect *= inv;
-      bool filterVertex = (s.material.flags & MATERIAL_FLAG_GLOSSY) == 0u;  // the first diffuse vertex
+      filterVertex = giHasDiffuseLobe(s.material);
       if (filterVertex) {
         GiRng rng = giRngCreate(uvec2(p), pc.frameIndex, pc.seed, GI_STREAM_HASH);
-        HgDescriptor d = hgVertexDescriptor(s.position, s.normal, 1.0, rng);
+        HgDescriptor d = hgPrimaryDescriptor(s.position, s.normal, rng);
         vec3 probeOrigin = giOffsetRay(s.position, s.geometricNormal);
         vec3 probeDirection = giCosineSample(s.normal, giRandom2(rng));
         int slot = hgInsertSample(hgIndexHash(d), hgVerificationKey(d), indirect, 1u, d.lod, probeOrigin, probeDirection);
@@ -44,7 +47,7 @@ void main() {
       }
     }
     imageStore(giOutDirect, p, vec4(direct, 1.0));
-    imageStore(giNoisyIndirect, p, vec4(indirect, 1.0));
+    imageStore(giNoisyIndirect, p, vec4(indirect, filterVertex ? 1.0 : 0.0));
     imageStore(hgPixelCell, p, uvec4(cell));
   }
   hgFlushTelemetry();

@@ -20,7 +20,7 @@ void main() {
   vec4 debug = vec4(0.0);
   if (cell > 0u) {
     HgCell c = hgCells[cell - 1u];
-    if (c.samples >= pc.minSamples) result = c.mean;
+    if (c.samples >= pc.minSamples && c.frames > 0.0) result = hgCellRadiance(c);
     uint key = hgKeys[cell - 1u];
     // Debug: cell colour from its key, LOD, samples, and whether the cell was used.
     debug = vec4(float(key & 0xffffffu), float(c.lod), float(c.samples), c.samples >= pc.minSamples ? 1.0 : 0.5);
@@ -38,8 +38,7 @@ void main() {
     debug.w = used / float(pc.probeWindow);
   }
   if (pc.debugView == GI_DEBUG_CONTINUATION_DEPTH && pc.mode == HG_MODE_ANHPSF) {
-    uint depth = hgWalks[uint(p.y) * giFrame.size.x + uint(p.x)].state & 0xffffu;
-    debug.x = float(depth) / float(pc.depth);
+    debug.x = float(hgWalkSegments(hgWalks[uint(p.y) * giFrame.size.x + uint(p.x)])) / float(pc.depth);
   }
   imageStore(giOutIndirect, p, vec4(result, 1.0));
   imageStore(giDebug, p, debug);

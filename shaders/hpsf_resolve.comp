@@ -13,9 +13,12 @@
 layout(local_size_x = 64) in;
 layout(push_constant, scalar) uniform Push { HgPush pc; };
 
-// Strict eviction: the cell's mean is the exact fixed-point sum of this
-// frame's samples and the last frame's samples of the same key; cells of the
-// last frame's table that nobody found this frame die with it.
+// Strict eviction (Meijer §4.2.2): the cell's sums are this frame's samples
+// plus everything its key held in the last frame's table, written back so
+// that the next frame finds them there in turn: a cell touched every frame
+// keeps its whole history. Cells of the last frame's table that nobody found
+// this frame die with it (its table is cleared before it is written again).
+#define HG_STRICT_MAX_COUNT 1073741824u  // 2^30 samples: halve the sums (same mean) before the count could wrap
 void resolveStrict(uint i, inout uint live, inout uint evicted) {
   uint slot = pc.table + i;
   if (hgKeys[slot] != HG_EMPTY_KEY) {
@@ -27,11 +30,26 @@ void resolveStrict(uint i, inout uint live, inout uint evicted) {
       a.r += b.r;
       a.g += b.g;
       a.b += b.b;
+      a.tr += b.tr;
+      a.tg += b.tg;
+      a.tb += b.tb;
       a.lum2 += b.lum2;
       a.count += b.count;
-      c.frames = 2.0;
+      c.frames = hgCells[c.previous - 1u].frames + 1.0;
     }
+    if (a.count >= HG_STRICT_MAX_COUNT) {
+      a.r /= 2ul;
+      a.g /= 2ul;
+      a.b /= 2ul;
+      a.tr /= 2ul;
+      a.tg /= 2ul;
+      a.tb /= 2ul;
+      a.lum2 /= 2ul;
+      a.count /= 2u;
+    }
+    hgAccum[slot] = a;
     c.mean = vec3(hgFromFixed(a.r, a.count), hgFromFixed(a.g, a.count), hgFromFixed(a.b, a.count)) / pc.radianceScale;
+    c.tail = vec3(hgFromFixed(a.tr, a.count), hgFromFixed(a.tg, a.count), hgFromFixed(a.tb, a.count)) / pc.radianceScale;
     c.lumMoment2 = hgFromFixed(a.lum2, a.count) / (pc.radianceScale * pc.radianceScale);
     c.samples = a.count;
     c.lastSeen = pc.frameIndex;
@@ -42,12 +60,37 @@ void resolveStrict(uint i, inout uint live, inout uint evicted) {
   if (hgKeys[previous] != HG_EMPTY_KEY && hgCells[previous].lastSeen != pc.frameIndex) evicted = 1u;
 }
 
+// This frame's mean of the clamped samples.
+vec3 frameMean(HgAccum a) {
+  return vec3(hgFromFixed(a.r, a.count), hgFromFixed(a.g, a.count), hgFromFixed(a.b, a.count)) / pc.radianceScale;
+}
+
 // Aging eviction (SHaRC-style): a running mean capped at historyCap frames;
-// cells untouched for staleFrames are evicted.
+// the outlier clamp's tail averaged over HG_TAIL_HISTORY times as many
+// frames; cells untouched for staleFrames are evicted. nhpsf and anhpsf build
+// the deep bounces through the map frame by frame (a segment brings the next
+// vertex's cell from last frame), so a mean that lags delays every bounce
+// after it: on Sponza the light still grew past frame 128 with a 20-frame
+// history. What a cell passes on to the vertices before it is therefore its
+// `recent` mean over the last historySamples samples only; the pixel shows
+// the long one. The transported light is a little noisier, and it is
+// averaged again in the receiving cell.
 void resolveAging(uint slot, inout uint live, inout uint evicted, inout uint reset) {
-  if (hgKeys[slot] == HG_EMPTY_KEY) return;
+  uint key = hgKeys[slot];
+  if (key == HG_EMPTY_KEY) return;
+  if (key == HG_TOMBSTONE_KEY) {
+    hgTidyTombstone(pc.table, slot, pc.capacity);
+    return;
+  }
   HgAccum a = hgAccum[slot];
   HgCell c = hgCells[slot];
+  // The windows in frames (c.frames counts on, for the tail's longer one).
+  // They depend on the sample count only, never on the radiance: a window
+  // that followed the cell's own σ/μ would stretch after every bright sample
+  // and keep it longer (measured: +7% light on Sponza with hpsf).
+  float cap = float(pc.historyCap);
+  float recentCap = cap;
+  if (pc.historySamples > 0u && a.count > 0u) recentCap = clamp(float(pc.historySamples) / float(a.count), 1.0, cap);
   // Stale radiance: every validationInterval frames (staggered over cells)
   // the probe is re-traced. If the cell's mean moved by Δ, a history of n
   // frames carries a bias of about Δ while its noise is σ²/n (σ² the variance
@@ -61,21 +104,24 @@ void resolveAging(uint slot, inout uint live, inout uint evicted, inout uint res
   if (pc.forgetLight != 0u) {
     // The engine says the lights changed: the history goes, and every probe
     // learns the new light now (so that its next check does not cut again).
-    if (hasProbe) hgTraceProbe(c.probeOrigin, c.probeDirection, hgKeys[slot], c.probeDistance, c.probeLight);
+    // The cell keeps its key and its probe; until this frame's samples (if
+    // any) restart its mean, it is not read.
+    if (hasProbe) hgTraceProbe(c.probeOrigin, c.probeDirection, key, c.probeDistance, c.probeLight);
     c.frames = 0.0;
     c.samples = 0u;
     hgCells[slot] = c;
   } else if (hasProbe && c.frames > 0.0 && (slot + pc.frameIndex) % pc.validationInterval == 0u) {
     float distance_, light;
-    hgTraceProbe(c.probeOrigin, c.probeDirection, hgKeys[slot], distance_, light);
+    hgTraceProbe(c.probeOrigin, c.probeDirection, key, distance_, light);
     float mean = giLuminance(c.mean);
     float change = hgProbeChange(c.probeDistance, c.probeLight, distance_, light, mean);
     if (change > 0.0) {
-      float samplesPerFrame = max(float(c.samples) / c.frames, 1.0);
+      float window = min(c.frames, cap);
+      float samplesPerFrame = max(float(c.samples) / window, 1.0);
       float frameVariance = max(c.lumMoment2 - mean * mean, 0.0) / samplesPerFrame;
-      float kept = floor(min(c.frames, frameVariance / (change * change)));
-      if (kept < c.frames) {
-        c.samples = uint(float(c.samples) * kept / c.frames);
+      float kept = floor(min(window, frameVariance / (change * change)));
+      if (kept < window) {
+        c.samples = uint(float(c.samples) * kept / window);
         c.frames = kept;
         reset = 1u;
       }
@@ -85,32 +131,28 @@ void resolveAging(uint slot, inout uint live, inout uint evicted, inout uint res
     }
   }
   if (a.count > 0u) {
-    vec3 frameMean = vec3(hgFromFixed(a.r, a.count), hgFromFixed(a.g, a.count), hgFromFixed(a.b, a.count)) / pc.radianceScale;
+    vec3 frameMean = frameMean(a);
+    vec3 frameTail = vec3(hgFromFixed(a.tr, a.count), hgFromFixed(a.tg, a.count), hgFromFixed(a.tb, a.count)) / pc.radianceScale;
     float frameM2 = hgFromFixed(a.lum2, a.count) / (pc.radianceScale * pc.radianceScale);
-    float w = 1.0 / (min(c.frames, float(pc.historyCap) - 1.0) + 1.0);
+    float w = 1.0 / (min(c.frames, cap - 1.0) + 1.0);
+    float wTail = 1.0 / (min(c.frames, cap * HG_TAIL_HISTORY - 1.0) + 1.0);
+    float wRecent = 1.0 / (min(c.frames, recentCap - 1.0) + 1.0);
     c.mean = c.frames > 0.0 ? mix(c.mean, frameMean, w) : frameMean;
+    c.recent = c.frames > 0.0 ? mix(c.recent, frameMean, wRecent) : frameMean;
+    c.tail = c.frames > 0.0 ? mix(c.tail, frameTail, wTail) : frameTail;
     c.lumMoment2 = c.frames > 0.0 ? mix(c.lumMoment2, frameM2, w) : frameM2;
-    c.frames = min(c.frames + 1.0, float(pc.historyCap));
+    c.frames = min(c.frames + 1.0, float(pc.historyCap) * HG_TAIL_HISTORY);
     // Samples behind the mean: all of them while the mean weighs every frame
     // equally; once the cap turns it into an exponential average, this
     // frame's plus the (1 − w) share of the history it keeps.
-    float kept = c.frames < float(pc.historyCap) ? 1.0 : 1.0 - w;
+    float kept = c.frames <= cap ? 1.0 : 1.0 - w;
     c.samples = a.count + uint(float(c.samples) * kept + 0.5);
     c.lastSeen = pc.frameIndex;
     hgCells[slot] = c;
-    hgAccum[slot].r = 0ul;
-    hgAccum[slot].g = 0ul;
-    hgAccum[slot].b = 0ul;
-    hgAccum[slot].lum2 = 0ul;
-    hgAccum[slot].count = 0u;
+    hgClearAccum(slot);
     live = 1u;
-  } else if (pc.frameIndex - c.lastSeen >= pc.staleFrames || c.frames == 0.0) {
-    hgKeys[slot] = HG_EMPTY_KEY;
-    hgCells[slot].mean = vec3(0.0);
-    hgCells[slot].lumMoment2 = 0.0;
-    hgCells[slot].frames = 0.0;
-    hgCells[slot].lastSeen = 0u;
-    hgCells[slot].samples = 0u;
+  } else if (pc.frameIndex - c.lastSeen >= pc.staleFrames) {
+    hgEvict(pc.table, slot, pc.capacity);
     evicted = 1u;
   } else {
     live = 1u;

@@ -19,16 +19,35 @@ layout(push_constant, scalar) uniform Push { HgPush pc; };
 
 // This invocation's telemetry, flushed once per subgroup by hgFlushTelemetry.
 uint hgProbeCount = 0u, hgProbeMax = 0u, hgFailedCount = 0u, hgInsertedCount = 0u, hgOverflowCount = 0u;
+uint hgReadCount = 0u, hgReadMissCount = 0u;
 float hgTransported = 0.0;
 
-// The cell of a vertex: level of detail from its distance to the camera and
-// the filter width (× widthScale for vertices after the first), then jittered
-// in the tangent plane and quantised (Meijer Alg. 3).
-HgDescriptor hgVertexDescriptor(vec3 position, vec3 normal, float widthScale, inout GiRng rng) {
-  float travel = distance(giFrame.camera.position, position);
-  int lod = hgLod(pc.filterWidth * widthScale, pc.pixelAngle, travel, pc.stochasticLod != 0u ? giRandom(rng) : 0.0);
-  vec3 jittered = position + hgJitter(normal, giRandom2(rng), pc.jitter, exp2(float(lod)));
-  return hgDescriptor(jittered, normal, lod, pc.normalBits);
+// The cell of a vertex (Meijer Alg. 3): its level of detail from the filter
+// width (× widthScale) and the path's travel to it, `travelBefore` plus the
+// L∞ length of the segment from `origin`; the position jittered ±jitter cells
+// in the tangent plane; the level of detail computed again at the jittered
+// point (the thesis: "if jittering offset is used, filter width becomes
+// wrong"); the normal jittered; then quantised.
+HgDescriptor hgVertexDescriptor(vec3 position, vec3 normal, vec3 origin, float travelBefore, float widthScale,
+                                inout GiRng rng) {
+  float footprint = pc.filterWidth * widthScale * pc.pixelAngle;
+  float u = pc.stochasticLod != 0u ? giRandom(rng) : 0.0;
+  int lod = hgLod(footprint, travelBefore + hgLinf(origin, position), u);
+  vec3 jittered = position + hgJitter(normal, vec3(giRandom2(rng), giRandom(rng)), pc.jitter, exp2(float(lod)));
+  int jitteredLod = hgLod(footprint, travelBefore + hgLinf(origin, jittered), u);
+  vec3 n = hgJitterNormal(normal, giRandom2(rng), pc.normalJitter, pc.normalBits);
+  return hgDescriptor(jittered, n, jitteredLod, pc.normalBits);
+}
+
+// A primary vertex's cell: its travel is the segment from the camera.
+HgDescriptor hgPrimaryDescriptor(vec3 position, vec3 normal, inout GiRng rng) {
+  return hgVertexDescriptor(position, normal, giFrame.camera.position, 0.0, 1.0, rng);
+}
+
+// The travel a walk leaving the primary vertex carries towards its next
+// vertex's level of detail (HgPush::secondaryLod).
+float hgPrimaryTravel(vec3 position) {
+  return pc.secondaryLod == HG_LOD_PATH ? hgLinf(giFrame.camera.position, position) : 0.0;
 }
 
 // The table holding last frame's resolved means: the other table with strict
@@ -36,7 +55,7 @@ HgDescriptor hgVertexDescriptor(vec3 position, vec3 normal, float widthScale, in
 uint hgReadTable() { return pc.strict != 0u ? pc.previousTable : pc.table; }
 
 // Adds a sample (count = 1 for a new sample, 0 for more light on one already
-// counted) to the cell (index, key) of this frame's table. Samples above the
+// counted, which only finds the cell) to the cell (index, key) of this frame's table. Samples above the
 // cell's history mean + kσ of luminance are clamped so one firefly cannot
 // poison the cache. The invocation that makes the cell stores its stale-radiance
 // probe: the ray (probeOrigin, probeDirection) from the vertex, and what it sees.
@@ -44,7 +63,9 @@ uint hgReadTable() { return pc.strict != 0u ? pc.previousTable : pc.table; }
 int hgInsertSample(uint index, uint key, vec3 radiance, uint count, int lod, vec3 probeOrigin, vec3 probeDirection) {
   uint probes;
   bool created;
-  int slot = hgInsertOrFind(pc.table, index, key, pc.capacity, pc.probeWindow, probes, created);
+  // More light for a sample already counted belongs to an existing cell: it never makes one (a cell
+  // holding light but no sample would pass that light on to whatever key claims the slot next).
+  int slot = hgInsertOrFind(pc.table, index, key, pc.capacity, pc.probeWindow, count > 0u, probes, created);
   if (slot < 0) {
     hgFailedCount++;
     return -1;
@@ -75,7 +96,11 @@ int hgInsertSample(uint index, uint key, vec3 radiance, uint count, int lod, vec
   // itself down frame after frame (on Conference hpsf lost 15% of its
   // indirect light over 64 frames that way, and kept falling). The mean is
   // the cell's clamped one, which only makes σ larger: a more lenient clamp.
+  // What the clamp takes off is not lost: it goes to the cell's tail, which
+  // resolve averages over a much longer history (HG_TAIL_HISTORY), so the
+  // light arrives, spread over many frames.
   vec3 sample_ = radiance;
+  vec3 tail = vec3(0.0);
   float lum = giLuminance(sample_);
   if (pc.clampSigma > 0.0 && history.samples >= 8u) {
     // Never below twice the mean: where samples barely vary (σ ≈ 0), a cell
@@ -84,95 +109,122 @@ int hgInsertSample(uint index, uint key, vec3 radiance, uint count, int lod, vec
     float mean = giLuminance(history.mean);
     float sigma = sqrt(max(history.lumMoment2 - mean * mean, 0.0));
     float limit = max(mean + pc.clampSigma * sigma, 2.0 * mean);
-    if (lum > limit && lum > 0.0) sample_ *= limit / lum;
+    if (lum > limit && lum > 0.0) {
+      tail = sample_ * (1.0 - limit / lum);
+      sample_ -= tail;
+    }
   }
   bool overflowed = false;
-  hgAccumulate(slot, sample_ * pc.radianceScale, lum * pc.radianceScale, count, overflowed);
+  hgAccumulate(slot, sample_ * pc.radianceScale, tail * pc.radianceScale, lum * pc.radianceScale, count, overflowed);
   if (overflowed) hgOverflowCount++;
   hgCells[slot].lod = lod;  // every writer of this key writes the same value
   hgInsertedCount++;
   return slot;
 }
 
-// Last frame's mean at (index, key); false when the cell is missing or holds too few samples.
+// Last frame's radiance at (index, key) as the map passes it on (the cell's
+// recent mean and tail); false when the cell is missing or holds too few samples.
 bool hgReadCell(uint index, uint key, out vec3 mean) {
   mean = vec3(0.0);
   int slot = hgFind(hgReadTable(), index, key, pc.capacity, pc.probeWindow);
   if (slot < 0) return false;
   HgCell c = hgCells[slot];
   if (c.samples < pc.minSamples || c.frames == 0.0) return false;
-  mean = c.mean;
+  mean = c.recent + c.tail;
   return true;
 }
 
-// A walk that starts at a diffuse vertex s: a cosine direction, feeding s's
-// cell (primary: the filter width; later vertices: × secondaryWidthScale).
-uint hgWalkState(uint depth, bool continues, int lod) {
-  return (depth & 0xffffu) | (continues ? 0x10000u : 0u) | (uint(clamp(lod + 128, 0, 255)) << 24u);
+// Walk directions are stored octahedral in 2 × 16 bits (HgWalk::direction).
+uint hgPackDirection(vec3 d) {
+  d /= abs(d.x) + abs(d.y) + abs(d.z);
+  vec2 signs = vec2(d.x >= 0.0 ? 1.0 : -1.0, d.y >= 0.0 ? 1.0 : -1.0);
+  return packSnorm2x16(d.z >= 0.0 ? d.xy : (1.0 - abs(d.yx)) * signs);
 }
-uint hgWalkDepth(HgWalk w) { return w.state & 0xffffu; }
-bool hgWalkContinues(HgWalk w) { return (w.state & 0x10000u) != 0u; }
-int hgWalkLod(HgWalk w) { return int(w.state >> 24u) - 128; }
+vec3 hgUnpackDirection(uint packed) {
+  vec2 o = unpackSnorm2x16(packed);
+  vec3 d = vec3(o, 1.0 - abs(o.x) - abs(o.y));
+  if (d.z < 0.0) d.xy = (1.0 - abs(d.yx)) * vec2(d.x >= 0.0 ? 1.0 : -1.0, d.y >= 0.0 ? 1.0 : -1.0);
+  return normalize(d);
+}
 
-HgWalk hgWalkFrom(GiSurface s, HgDescriptor d, bool feeds, uint depth, inout GiRng rng) {
+// A walk that starts at filter vertex s (it has a diffuse lobe): a cosine
+// direction, feeding s's cell d; `travel` is what the next vertex's level of
+// detail adds its segment to.
+HgWalk hgWalkFrom(GiSurface s, HgDescriptor d, bool feeds, uint depth, float travel, inout GiRng rng) {
   HgWalk w;
   w.origin = giOffsetRay(s.position, s.geometricNormal);
-  w.direction = giCosineSample(s.normal, giRandom2(rng));
+  w.direction = hgPackDirection(giCosineSample(s.normal, giRandom2(rng)));
   w.index = hgIndexHash(d);
   w.key = feeds ? hgVerificationKey(d) : HG_EMPTY_KEY;
   w.throughput = vec3(1.0);
+  w.travel = travel;
   w.state = hgWalkState(depth, false, d.lod);
+  w.pad0 = 0u;
   return w;
 }
 
 // One segment: traces the walk's ray to w, adds what arrives (× throughput)
-// to the cell it feeds, and moves the walk on. A diffuse w starts feeding its
-// own cell; a glossy w passes on with its BSDF weight, still feeding the same
-// cell; a miss ends the walk (after counting its zero sample). Returns the
-// radiance arriving at the walk's vertex (before throughput).
+// to the cell it feeds, and moves the walk on. What arrives is NEE at w plus,
+// when w is a filter vertex (it has a diffuse lobe), w's diffuse albedo × its
+// cell from last frame's map. Then the walk goes on through one of w's lobes:
+// the diffuse lobe starts a walk of w's own (feeding w's cell), the glossy
+// lobe carries this walk on (what arrives next is more light for the same
+// sample, through the glossy BSDF weight). A vertex with both picks the
+// glossy lobe with its sampling probability and divides by it, so light
+// through either lobe reaches the cell without bias; a pure metal always
+// takes the glossy lobe. A miss ends the walk (after counting its zero
+// sample). Returns the radiance arriving at the walk's vertex (before throughput).
 vec3 hgStep(inout HgWalk walk, inout GiRng rng) {
   vec3 arriving = vec3(0.0);
-  GiHit hit = giTraceClosest(walk.origin, walk.direction, 0.0, GI_FLT_MAX);
+  vec3 direction = hgUnpackDirection(walk.direction);
+  GiHit hit = giTraceClosest(walk.origin, direction, 0.0, GI_FLT_MAX);
   GiSurface w;
   GiBsdf b;
   HgDescriptor dw;
-  bool diffuse = false;
+  bool filterVertex = false;
+  float segment = 0.0;
   if (hit.t >= 0.0) {
-    w = giSurfaceFromHit(hit, walk.direction);
+    w = giSurfaceFromHit(hit, direction);
     b = giMakeBsdf(w.material.baseColor, w.material.metallic, w.material.roughness, w.material.flags);
-    arriving = giDirectLight(w, b, -walk.direction, false, rng);  // NEE alone: no emitter is hit after w
-    diffuse = (w.material.flags & MATERIAL_FLAG_GLOSSY) == 0u;
-    if (diffuse) {
-      dw = hgVertexDescriptor(w.position, w.normal, pc.secondaryWidthScale, rng);
+    arriving = giDirectLight(w, b, -direction, false, rng);  // NEE alone: no emitter is hit after w
+    filterVertex = giHasDiffuseLobe(w.material);
+    segment = hgLinf(walk.origin, w.position);
+    if (filterVertex) {
+      bool fromCamera = pc.secondaryLod == HG_LOD_CAMERA;
+      dw = hgVertexDescriptor(w.position, w.normal, fromCamera ? giFrame.camera.position : walk.origin,
+                              fromCamera ? 0.0 : walk.travel, pc.secondaryWidthScale, rng);
       vec3 cell;
+      hgReadCount++;
       if (hgReadCell(hgIndexHash(dw), hgVerificationKey(dw), cell)) arriving += b.diffuse * cell;
+      else hgReadMissCount++;
     }
     if (!giKeepSample(arriving, vec3(0.0))) arriving = vec3(0.0);
   }
   if (walk.key != HG_EMPTY_KEY) {
     vec3 added = walk.throughput * arriving;
     hgInsertSample(walk.index, walk.key, added, hgWalkContinues(walk) ? 0u : 1u, hgWalkLod(walk), walk.origin,
-                   walk.direction);
+                   direction);
     if (pc.mode == HG_MODE_ANHPSF && hgWalkDepth(walk) > 1u) hgTransported += giLuminance(added);
   }
   uint depth = hgWalkDepth(walk) + 1u;
   if (hit.t < 0.0) {
     walk.state = 0u;
-  } else if (diffuse) {
-    walk = hgWalkFrom(w, dw, true, depth, rng);
-  } else {
-    // Glossy: sample its BSDF and keep feeding the same cell; what arrives next continues this sample.
+    return arriving;
+  }
+  float glossyChance = filterVertex ? b.specularProbability : 1.0;
+  if (glossyChance > 0.0 && giRandom(rng) < glossyChance) {
     vec3 L, weight;
-    float pdf;
-    vec3 u = vec3(giRandom2(rng), giRandom(rng));
-    if (!giBsdfSample(b, w.normal, -walk.direction, u, L, weight, pdf) || dot(L, w.geometricNormal) <= 0.0) {
+    if (!giSpecularSample(b, w.normal, -direction, giRandom2(rng), L, weight) || dot(L, w.geometricNormal) <= 0.0) {
       walk.state = 0u;
     } else {
       walk.origin = giOffsetRay(w.position, w.geometricNormal);
-      walk.direction = L;
-      walk.throughput *= weight;
+      walk.direction = hgPackDirection(L);
+      walk.throughput *= weight / glossyChance;
+      walk.travel += segment;  // unfiltered travel, for every secondary-LOD rule that counts travel
       walk.state = hgWalkState(depth, true, hgWalkLod(walk));
     }
+  } else {
+    walk = hgWalkFrom(w, dw, true, depth, pc.secondaryLod == HG_LOD_PATH ? walk.travel + segment : 0.0, rng);
   }
   return arriving;
 }
@@ -183,12 +235,15 @@ void hgFlushTelemetry() {
   uint sumProbes = subgroupAdd(hgProbeCount), maxProbes = subgroupMax(hgProbeMax);
   uint sumOverflow = subgroupAdd(hgOverflowCount);
   float transported = subgroupAdd(hgTransported);
+  uint sumReads = subgroupAdd(hgReadCount), sumMisses = subgroupAdd(hgReadMissCount);
   if (subgroupElect()) {
     if (sumInserted > 0u) atomicAdd(hgTelemetry.inserts, sumInserted);
     if (sumFailed > 0u) atomicAdd(hgTelemetry.failedInserts, sumFailed);
     if (sumProbes > 0u) atomicAdd(hgTelemetry.probeSum, sumProbes);
     if (maxProbes > 0u) atomicMax(hgTelemetry.probeMax, maxProbes);
     if (sumOverflow > 0u) atomicAdd(hgTelemetry.overflows, sumOverflow);
+    if (sumReads > 0u) atomicAdd(hgTelemetry.reads, sumReads);
+    if (sumMisses > 0u) atomicAdd(hgTelemetry.readMisses, sumMisses);
     if (transported > 0.0) atomicAdd(hgTelemetry.transported, hgToFixed(transported * pc.radianceScale));
   }
 }

@@ -6,12 +6,14 @@
 //          albedo × its cell from last frame's map).
 //  anhpsf: per pixel and sample, the primary segment; then one segment of the
 //          pixel's continued walk (2 rays: the segment and its shadow ray),
-//          stored across frames up to continuationDepth segments. The deepest
-//          live walk continues; a dead or finished one restarts where this
-//          frame's primary segment landed. Light found deep down feeds the
+//          stored across frames up to continuationDepth segments in all (the
+//          primary segment is the first). The deepest live walk continues; a
+//          dead or finished one restarts where this frame's primary segment landed. Light found deep down feeds the
 //          cells along the walk and reaches the primary cells through the map.
 // The primary vertex's walk uses a cosine direction whatever its material:
-// the cell (and the pixel's own fallback sample) holds demodulated light.
+// the cell (and the pixel's own fallback sample) holds demodulated light. It
+// feeds the primary cell when the vertex has a diffuse lobe (giHasDiffuseLobe).
+// Direct light takes one NEE sample per path, averaged like the indirect.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
@@ -27,6 +29,7 @@ void main() {
   if (inside) {
     vec3 direct = vec3(0.0), indirect = vec3(0.0);
     uint cell = 0u;
+    bool filterVertex = false;
     uint pixel = uint(p.y) * giFrame.size.x + uint(p.x);
     HgWalk stored;
     stored.state = 0u;
@@ -35,28 +38,29 @@ void main() {
       vec3 V;
       GiSurface s = giGbSurface(p, V);
       GiRng hashRng = giRngCreate(uvec2(p), pc.frameIndex, pc.seed, GI_STREAM_HASH);
-      HgDescriptor d0 = hgVertexDescriptor(s.position, s.normal, 1.0, hashRng);
-      bool filterVertex = (s.material.flags & MATERIAL_FLAG_GLOSSY) == 0u;
+      HgDescriptor d0 = hgPrimaryDescriptor(s.position, s.normal, hashRng);
+      filterVertex = giHasDiffuseLobe(s.material);
       GiRng rng = giRngCreate(uvec2(p), pc.frameIndex, pc.seed, GI_STREAM_MODULE);
       GiBsdf b = giMakeBsdf(s.material.baseColor, s.material.metallic, s.material.roughness, s.material.flags);
-      direct = s.material.emission + giDirectLight(s, b, V, false, rng);
       HgWalk restart;
       restart.state = 0u;
       for (uint i = 0u; i < pc.samplesPerPixel; ++i) {
-        HgWalk walk = hgWalkFrom(s, d0, filterVertex, 1u, rng);
+        direct += giDirectLight(s, b, V, false, rng);
+        HgWalk walk = hgWalkFrom(s, d0, filterVertex, 1u, hgPrimaryTravel(s.position), rng);
         indirect += hgStep(walk, rng);  // the primary segment: the pixel's own sample
         uint segments = pc.mode == HG_MODE_NHPSF ? pc.depth : 1u;
         for (uint k = 1u; k < segments && hgWalkDepth(walk) > 0u; ++k) hgStep(walk, rng);
         if (hgWalkDepth(restart) == 0u) restart = walk;
       }
+      direct = s.material.emission + direct / float(pc.samplesPerPixel);
       indirect /= float(pc.samplesPerPixel);
       if (pc.mode == HG_MODE_ANHPSF) {
-        // The deepest live walk below the maximum continues; otherwise this frame's.
-        uint depth = hgWalkDepth(stored);
-        if (depth == 0u || depth >= pc.depth) stored = restart;
-        if (hgWalkDepth(stored) > 0u && hgWalkDepth(stored) < pc.depth) hgStep(stored, rng);
+        // The deepest live walk with segments left continues (a walk that has
+        // taken k segments sits at vertex k + 1); otherwise this frame's.
+        if (hgWalkDepth(stored) == 0u || hgWalkSegments(stored) >= pc.depth) stored = restart;
+        if (hgWalkDepth(stored) > 0u && hgWalkSegments(stored) < pc.depth) hgStep(stored, rng);
         continued = hgWalkDepth(stored) > 0u ? 1u : 0u;
-        depthSum = hgWalkDepth(stored);
+        depthSum = hgWalkSegments(stored);
       }
       if (filterVertex) {
         int slot = hgFind(pc.table, hgIndexHash(d0), hgVerificationKey(d0), pc.capacity, pc.probeWindow);
@@ -67,7 +71,7 @@ void main() {
     }
     if (pc.mode == HG_MODE_ANHPSF) hgWalks[pixel] = stored;
     imageStore(giOutDirect, p, vec4(direct, 1.0));
-    imageStore(giNoisyIndirect, p, vec4(indirect, 1.0));
+    imageStore(giNoisyIndirect, p, vec4(indirect, filterVertex ? 1.0 : 0.0));
     imageStore(hgPixelCell, p, uvec4(cell));
   }
   uint sumContinued = subgroupAdd(continued), sumDepth = subgroupAdd(depthSum);

@@ -14,6 +14,11 @@ struct GiSurface {
   MaterialSample material;
 };
 
+// Meijer's filter criterion: a vertex whose material has a diffuse lobe
+// (every material but a pure metal). Its albedo does not matter: the filters
+// keep demodulated light, which a black or one-channel surface still receives.
+bool giHasDiffuseLobe(MaterialSample m) { return (m.flags & MATERIAL_FLAG_GLOSSY) == 0u || m.metallic < 1.0; }
+
 // World-space triangle corners of (instance, geometry, triangle).
 void giTriangleWorld(uint instance, uvec3 tri, out vec3 p0, out vec3 p1, out vec3 p2) {
   mat4 m = sceneInstances[instance].worldFromObject;

@@ -34,8 +34,10 @@ class AafFilterTest : public GpuTest {
   void upload(int index, const std::vector<float>& rgba) {
     engine::uploadImage(ctx, images[index], rgba.data(), rgba.size() * 4, VK_IMAGE_LAYOUT_GENERAL);
   }
-  std::vector<float> filter(float cosLimit) {
-    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { gi::recordAafFilter(cmd, filters, filters.set.set, "test", cosLimit, kPixel, {}); });
+  std::vector<float> filter(float cosLimit, uint32_t maxRadius = 0) {
+    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+      gi::recordAafFilter(cmd, filters, filters.set.set, "test", cosLimit, kPixel, maxRadius, {});
+    });
     std::vector<std::byte> raw = engine::readbackImage(ctx, images[3], VK_IMAGE_LAYOUT_GENERAL, 16);
     std::vector<float> out(size_t(W) * H);
     for (size_t p = 0; p < out.size(); ++p) std::memcpy(&out[p], &raw[16 * p], 4);  // red channel
@@ -59,17 +61,10 @@ class AafFilterTest : public GpuTest {
   }
 };
 
-TEST_F(AafFilterTest, SeparableMatchesBruteForceWhereBetaIsConstant) {
-  const float beta = 3.0f * kPixel;  // σ of three pixels: the kernel reaches 9
-  plane(beta, std::vector<glm::vec3>(size_t(W) * H, glm::vec3(0, 0, 1)));
-  std::mt19937 rng(9);
-  std::uniform_real_distribution<float> u(0.0f, 1.0f);
-  std::vector<float> input(size_t(W) * H * 4);
-  for (float& v : input) v = u(rng);
-  upload(2, input);
-  std::vector<float> out = filter(std::cos(10.0f * 3.14159265f / 180.0f));
-  // Brute force: one 2-D Gaussian in world distance over the same clipped 19×19 window.
-  const int r = 9;
+namespace {
+
+// A 2-D Gaussian in world distance over a clipped (2r+1)² window, on the plane of AafFilterTest::plane.
+double bruteForceWorst(const std::vector<float>& input, const std::vector<float>& out, float beta, int r) {
   double worst = 0.0;
   for (int y = 0; y < int(H); ++y)
     for (int x = 0; x < int(W); ++x) {
@@ -85,7 +80,37 @@ TEST_F(AafFilterTest, SeparableMatchesBruteForceWhereBetaIsConstant) {
         }
       worst = std::max(worst, std::abs(sum / wsum - out[size_t(y) * W + x]));
     }
-  EXPECT_LT(worst, 1e-4);
+  return worst;
+}
+
+}  // namespace
+
+TEST_F(AafFilterTest, SeparableMatchesBruteForceWhereBetaIsConstant) {
+  const float beta = 3.0f * kPixel;  // σ of three pixels: the kernel reaches 9
+  plane(beta, std::vector<glm::vec3>(size_t(W) * H, glm::vec3(0, 0, 1)));
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::vector<float> input(size_t(W) * H * 4);
+  for (float& v : input) v = u(rng);
+  upload(2, input);
+  EXPECT_LT(bruteForceWorst(input, filter(std::cos(10.0f * 3.14159265f / 180.0f)), beta, 9), 1e-4);
+}
+
+// A wide filter reaches its 3σ however many pixels that is (the paper has no
+// cap; a fixed one in pixels would make the result depend on the resolution),
+// unless settings.aaf.maxRadius asks for a cap.
+TEST_F(AafFilterTest, WideFiltersReachThreeSigma) {
+  const float beta = 14.0f * kPixel;  // 3σ = 42 pixels
+  plane(beta, std::vector<glm::vec3>(size_t(W) * H, glm::vec3(0, 0, 1)));
+  std::mt19937 rng(10);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::vector<float> input(size_t(W) * H * 4);
+  for (float& v : input) v = u(rng);
+  upload(2, input);
+  const float cosLimit = std::cos(10.0f * 3.14159265f / 180.0f);
+  EXPECT_LT(bruteForceWorst(input, filter(cosLimit), beta, 42), 1e-4);
+  EXPECT_GT(bruteForceWorst(input, filter(cosLimit), beta, 32), 1e-4) << "the 3σ and the 32-pixel filter should differ here";
+  EXPECT_LT(bruteForceWorst(input, filter(cosLimit, 32), beta, 32), 1e-4) << "maxRadius = 32 cuts at 32 pixels";
 }
 
 TEST_F(AafFilterTest, NormalThresholdStopsFilteringAcrossARightAngle) {

@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <set>
+
+#include <cmath>
 
 #include "shared/aaf.h"
 
@@ -50,4 +53,33 @@ TEST(AafMath, ZMinClampAndGlossyBandLimit) {
   EXPECT_NEAR(gpu::aafBeta(1.0f, gpu::aafOmegaGlossy(m), 0.5f, 0.3f, 0.001f), 2.0f * 0.5f / 6.12f, 1e-5f);
   EXPECT_LT(gpu::aafBeta(1.0f, gpu::aafOmegaGlossy(m), 0.5f, 0.3f, 0.001f),
             gpu::aafBeta(1.0f, AAF_OMEGA_DIFFUSE, 0.5f, 0.3f, 0.001f));
+}
+
+// Footnote 7: d, a pixel's world size on the receiver, includes foreshortening
+// (capped at AAF_MIN_COS_VIEW).
+TEST(AafMath, PixelFootprintIncludesForeshortening) {
+  EXPECT_FLOAT_EQ(gpu::aafPixelFootprint(2.0f, 0.01f, 1.0f), 0.02f);
+  EXPECT_FLOAT_EQ(gpu::aafPixelFootprint(2.0f, 0.01f, 0.5f), 0.04f);
+  EXPECT_FLOAT_EQ(gpu::aafPixelFootprint(2.0f, 0.01f, -0.5f), 0.04f);
+  EXPECT_FLOAT_EQ(gpu::aafPixelFootprint(2.0f, 0.01f, 0.0f), 0.02f / float(AAF_MIN_COS_VIEW));
+}
+
+// Pass 2's samples are stratified: n samples take n different cells of a
+// ⌈√n⌉² grid, for any n and any offset.
+TEST(AafMath, SecondPassSamplesAreStratified) {
+  for (uint32_t n : {1u, 2u, 5u, 16u, 17u, 48u, 84u, 100u, 900u})
+    for (uint32_t offset : {0u, 7u, 123456u}) {
+      std::set<std::pair<int, int>> cells;
+      float size = 0.0f;
+      for (uint32_t i = 0; i < n; ++i) {
+        glm::vec2 corner = gpu::aafStratum(i, n, offset, size);
+        ASSERT_GE(corner.x, 0.0f);
+        ASSERT_LT(corner.x + size, 1.0f + 1e-6f);
+        ASSERT_LT(corner.y + size, 1.0f + 1e-6f);
+        cells.insert({int(std::lround(corner.x / size)), int(std::lround(corner.y / size))});
+      }
+      uint32_t side = uint32_t(std::ceil(std::sqrt(double(n))));
+      EXPECT_FLOAT_EQ(size, 1.0f / float(side)) << n;
+      EXPECT_EQ(cells.size(), n) << n << " samples, offset " << offset << ": two in one cell";
+    }
 }

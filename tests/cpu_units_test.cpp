@@ -9,6 +9,7 @@
 #include "camera.h"
 #include "image_io.h"
 #include "morton.h"
+#include "shared/gi_filters.h"
 
 TEST(Morton, CodesInterleaveAxesAndOrderPreservesLocality) {
   glm::vec3 lo(0.0f), hi(1.0f);
@@ -126,4 +127,14 @@ TEST(SceneAnimation, LightsAndObjectMoveOnClosedPaths) {
   EXPECT_NEAR(glm::length(moved - centre), 0.0f, 1e-5f) << "the object turns about its own centre";
   engine::animateScene(a, a.periodSeconds, scene);
   EXPECT_NEAR(glm::length(scene.lights[0].direction - sun.direction), 0.0f, 1e-5f);
+}
+
+// Bauszat et al. eqs. 3–5 use the norm ‖N_a − N_i‖ (not its square). With
+// normal distances (0.5, 0.1, 1, 1) and depth distances (0.2, 0.55, 1, 1) the
+// norm picks guide 1 (0.9 · 0.45 = 0.405 against 0.5 · 0.8 = 0.4), the squared
+// distance would pick guide 0 (0.99 · 0.45 = 0.446 against 0.75 · 0.8 = 0.6).
+TEST(GuidedFilterLookup, MostSimilarGuideUsesTheNormOfTheNormalDifference) {
+  EXPECT_EQ(gpu::gifMostSimilarGuide(glm::vec4(0.5f, 0.1f, 1.0f, 1.0f), glm::vec4(0.2f, 0.55f, 1.0f, 1.0f)), 1);
+  EXPECT_EQ(gpu::gifMostSimilarGuide(glm::vec4(1.0f, 1.0f, 1.0f, 0.1f), glm::vec4(1.0f, 1.0f, 1.0f, 0.2f)), 3);
+  EXPECT_EQ(gpu::gifMostSimilarGuide(glm::vec4(0.0f), glm::vec4(0.0f)), 0);  // all alike: the first
 }

@@ -13,8 +13,12 @@ using Rgba = std::vector<float>;  // W×H×4
 
 // The CPU reference: He et al.'s guided filter with clipped windows, the same
 // guidance masking and ridge terms as the GPU, all in double precision.
+// Background pixels (covered[p] = 0) enter no window: window means are over
+// covered pixels, each window's coefficients count by its covered fraction,
+// and a background pixel keeps its input.
 std::vector<double> guidedFilterCpu(const Rgba& guidance, const Rgba& input, int r, uint32_t dims, double epsN,
-                                    double epsD) {
+                                    double epsD, const std::vector<float>& covered = {}) {
+  auto cover = [&](int x, int y) { return covered.empty() ? 1.0 : double(covered[size_t(y) * W + x]); };
   auto guide = [&](int x, int y, int i) {
     const float* g = &guidance[(size_t(y) * W + x) * 4];
     if (dims == 1) return i == 0 ? (double(g[0]) + g[1] + g[2]) / 3.0 : 0.0;
@@ -22,12 +26,15 @@ std::vector<double> guidedFilterCpu(const Rgba& guidance, const Rgba& input, int
     return double(g[i]);
   };
   auto in = [&](int x, int y, int c) { return double(input[(size_t(y) * W + x) * 4 + c]); };
-  std::vector<double> a(size_t(W) * H * 12), b(size_t(W) * H * 3);
+  std::vector<double> a(size_t(W) * H * 12), b(size_t(W) * H * 3), weight(size_t(W) * H);
   for (int y = 0; y < int(H); ++y)
     for (int x = 0; x < int(W); ++x) {
-      double n = 0, mI[4] = {}, mII[4][4] = {}, mP[3] = {}, mIP[4][3] = {};
+      double n = 0, total = 0, mI[4] = {}, mII[4][4] = {}, mP[3] = {}, mIP[4][3] = {};
       for (int yy = std::max(0, y - r); yy <= std::min(int(H) - 1, y + r); ++yy)
         for (int xx = std::max(0, x - r); xx <= std::min(int(W) - 1, x + r); ++xx) {
+          ++total;
+          double w = cover(xx, yy);
+          if (w == 0.0) continue;
           ++n;
           for (int i = 0; i < 4; ++i) {
             mI[i] += guide(xx, yy, i);
@@ -36,6 +43,8 @@ std::vector<double> guidedFilterCpu(const Rgba& guidance, const Rgba& input, int
           }
           for (int c = 0; c < 3; ++c) mP[c] += in(xx, yy, c);
         }
+      weight[size_t(y) * W + x] = n / total;
+      if (n == 0) continue;  // no covered pixel: the window counts for nothing
       double S[4][4];
       for (int i = 0; i < 4; ++i)
         for (int j = 0; j < 4; ++j) S[i][j] = mII[i][j] / n - (mI[i] / n) * (mI[j] / n);
@@ -72,13 +81,17 @@ std::vector<double> guidedFilterCpu(const Rgba& guidance, const Rgba& input, int
       double n = 0, ma[12] = {}, mb[3] = {};
       for (int yy = std::max(0, y - r); yy <= std::min(int(H) - 1, y + r); ++yy)
         for (int xx = std::max(0, x - r); xx <= std::min(int(W) - 1, x + r); ++xx) {
-          ++n;
-          for (int k = 0; k < 12; ++k) ma[k] += a[(size_t(yy) * W + xx) * 12 + k];
-          for (int c = 0; c < 3; ++c) mb[c] += b[(size_t(yy) * W + xx) * 3 + c];
+          double w = weight[size_t(yy) * W + xx];
+          n += w;
+          for (int k = 0; k < 12; ++k) ma[k] += w * a[(size_t(yy) * W + xx) * 12 + k];
+          for (int c = 0; c < 3; ++c) mb[c] += w * b[(size_t(yy) * W + xx) * 3 + c];
         }
       for (int c = 0; c < 3; ++c) {
-        double v = mb[c] / n;
-        for (int i = 0; i < 4; ++i) v += ma[3 * i + c] / n * guide(x, y, i);
+        double v = in(x, y, c);
+        if (cover(x, y) != 0.0 && n > 0.0) {
+          v = mb[c] / n;
+          for (int i = 0; i < 4; ++i) v += ma[3 * i + c] / n * guide(x, y, i);
+        }
         q[(size_t(y) * W + x) * 3 + c] = v;
       }
     }
@@ -107,7 +120,13 @@ class GuidedFilterTest : public GpuTest {
     GpuTest::TearDown();
   }
 
-  std::vector<float> run(const Rgba& guidance, const Rgba& input, const gi::GuidedFilterParams& params) {
+  // `covered`: 1 per covered pixel, 0 for background (the position image's
+  // view depth); empty = every pixel covered.
+  std::vector<float> run(const Rgba& guidance, const Rgba& input, const gi::GuidedFilterParams& params,
+                         const std::vector<float>& covered = {}) {
+    Rgba position(size_t(W) * H * 4, 0.0f);
+    for (size_t p = 0; p < size_t(W) * H; ++p) position[4 * p + 3] = covered.empty() ? 1.0f : covered[p];
+    engine::uploadImage(ctx, images[1], position.data(), position.size() * 4, VK_IMAGE_LAYOUT_GENERAL);
     engine::uploadImage(ctx, images[0], guidance.data(), guidance.size() * 4, VK_IMAGE_LAYOUT_GENERAL);
     engine::uploadImage(ctx, images[2], input.data(), input.size() * 4, VK_IMAGE_LAYOUT_GENERAL);
     engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { gi::recordGuidedFilter(cmd, filters, params, {}); });
@@ -208,4 +227,43 @@ TEST_F(GuidedFilterTest, EpsilonExtremesStayFiniteAndReachTheirLimits) {
   // Flat guidance (zero variance everywhere) with ε = 0 relies on the floor: still finite.
   Rgba flat(size_t(W) * H * 4, 0.5f);
   for (float v : run(flat, noisy, {4, 0.0f, 0.0f, 4, false})) ASSERT_TRUE(std::isfinite(v));
+}
+
+// Background enters no window. The G-buffer gives background a made-up grey
+// guidance (normal 0.5, depth 0); with 1-D guidance a grey normal cannot be
+// told from real geometry, so the background's black used to bleed into the
+// silhouette. Here an object lit evenly (input 1) whose grey guidance is also
+// 0.5 sits on background (input 0): every covered pixel must stay 1, and a
+// random coverage mask matches the CPU reference.
+TEST_F(GuidedFilterTest, BackgroundEntersNoWindow) {
+  Rgba guidance(size_t(W) * H * 4), input(size_t(W) * H * 4, 0.0f);
+  std::vector<float> covered(size_t(W) * H, 0.0f);
+  for (uint32_t y = 0; y < H; ++y)
+    for (uint32_t x = 0; x < W; ++x) {
+      size_t p = size_t(y) * W + x;
+      bool object = (x - W / 2.0f) * (x - W / 2.0f) + (y - H / 2.0f) * (y - H / 2.0f) < 100.0f;
+      covered[p] = object ? 1.0f : 0.0f;
+      // The object's normal (1, −1, 0)/√2 maps to (0.854, 0.146, 0.5): grey 0.5, like the background's.
+      float g[4] = {object ? 0.8535534f : 0.5f, object ? 0.1464466f : 0.5f, 0.5f, object ? 0.4f : 0.0f};
+      std::memcpy(&guidance[4 * p], g, sizeof(g));
+      for (int c = 0; c < 3; ++c) input[4 * p + c] = object ? 1.0f : 0.0f;
+    }
+  for (uint32_t dims : {1u, 4u}) {
+    std::vector<float> out = run(guidance, input, {8, 0.01f, 0.02f, dims, false}, covered);
+    for (size_t p = 0; p < size_t(W) * H; ++p)
+      if (covered[p] > 0.0f) {
+        ASSERT_NEAR(out[3 * p], 1.0f, 1e-4f) << "dims " << dims << ", pixel " << p;
+      }
+  }
+  std::mt19937 rng(7);
+  std::bernoulli_distribution keep(0.7);
+  for (float& c : covered) c = keep(rng) ? 1.0f : 0.0f;
+  Rgba g = random(8), noisy = random(9);
+  for (uint32_t dims : {1u, 4u}) {
+    std::vector<float> gpu = run(g, noisy, {4, 0.01f, 0.02f, dims, false}, covered);
+    std::vector<double> cpu = guidedFilterCpu(g, noisy, 4, dims, 0.01, 0.02, covered);
+    double worst = 0.0;
+    for (size_t i = 0; i < cpu.size(); ++i) worst = std::max(worst, std::abs(double(gpu[i]) - cpu[i]));
+    EXPECT_LT(worst, 1e-4) << "dims " << dims;
+  }
 }

@@ -39,34 +39,98 @@ TEST(HashGridMath, HashesAreDeterministicAndDifferBetweenFunctions) {
   EXPECT_NE(gpu::hgIndexHash(f), gpu::hgIndexHash(d));
 }
 
-TEST(HashGridMath, JitterHasZeroMeanAndStaysInTheTangentPlane) {
+// Alg. 3's jitter: δ uniform in [−1, 1]³ with its normal part removed, times
+// j cells: ±j cells in the tangent plane (for an axis-aligned normal, the
+// full ±j·cell along each tangent axis), zero mean.
+TEST(HashGridMath, JitterSpansPlusMinusJCellsInTheTangentPlaneWithZeroMean) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  const float j = 0.6f, cell = 2.0f;
   for (glm::vec3 n : {glm::vec3(0, 0, 1), glm::normalize(glm::vec3(1, 2, -3)), glm::vec3(1, 0, 0)}) {
     glm::dvec3 sum(0.0);
+    glm::vec3 reach(0.0f);
     const int count = 20000;
     for (int i = 0; i < count; ++i) {
-      glm::vec3 j = gpu::hgJitter(n, glm::vec2(u(rng), u(rng)), 0.6f, 2.0f);
-      EXPECT_NEAR(glm::dot(j, n), 0.0f, 1e-5f);
-      EXPECT_LE(glm::length(j), 0.6f * 2.0f * 0.71f);  // at most half the jitter span along each axis
-      sum += glm::dvec3(j);
+      glm::vec3 o = gpu::hgJitter(n, glm::vec3(u(rng), u(rng), u(rng)), j, cell);
+      EXPECT_NEAR(glm::dot(o, n), 0.0f, 1e-5f);
+      EXPECT_LE(glm::length(o), j * cell * std::sqrt(3.0f) + 1e-5f);  // |δ| ≤ √3
+      reach = glm::max(reach, glm::abs(o));
+      sum += glm::dvec3(o);
     }
-    EXPECT_LT(glm::length(sum / double(count)), 0.01);  // 0.6·2/√12/√20000 ≈ 0.0025 per axis
+    EXPECT_LT(glm::length(sum / double(count)), 0.02);  // 0.6·2·0.58/√20000 ≈ 0.005 per axis
+    if (n.z == 1.0f) {
+      EXPECT_GT(reach.x, 0.99f * j * cell);  // the whole ±j cells, not ±j/2
+      EXPECT_GT(reach.y, 0.99f * j * cell);
+    }
   }
+}
+
+// The segment's travel is its L∞ length (Alg. 3), not the Euclidean one.
+TEST(HashGridMath, TravelIsTheLInfinityLength) {
+  EXPECT_FLOAT_EQ(gpu::hgLinf(glm::vec3(0), glm::vec3(3, -4, 1)), 4.0f);
+  EXPECT_FLOAT_EQ(gpu::hgLinf(glm::vec3(1, 1, 1), glm::vec3(1, 1, -2)), 3.0f);
+}
+
+// Meijer §4.2.2: b normal bits give 2^b bins in all. Every bit count fills
+// exactly its 2^b bins over the sphere, and the normals of axis-aligned walls
+// sit at least a tenth of a bin's angular width from any bin edge (the
+// rotated frame), so one wall's samples share one bin. Jitter spreads a normal over the bins
+// around it and keeps it a unit vector.
+TEST(HashGridMath, NormalBitsGiveTwoToTheBBinsAndWallsSitInsideThem) {
+  std::vector<glm::vec3> sphere;
+  const int rings = 200;
+  for (int i = 0; i < rings; ++i)
+    for (int k = 0; k < 2 * rings; ++k) {
+      float theta = 3.14159265f * (i + 0.5f) / rings, phi = 3.14159265f * k / rings;
+      sphere.push_back({std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)});
+    }
+  const glm::vec3 axes[] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  EXPECT_EQ(gpu::hgNormalBits(axes[0], 0), 0u);
+  for (uint32_t b = 1; b <= HG_MAX_NORMAL_BITS; ++b) {
+    std::set<uint32_t> bins;
+    for (glm::vec3 n : sphere) bins.insert(gpu::hgNormalBits(n, b));
+    EXPECT_EQ(bins.size(), size_t(1) << b) << b << " bits";
+    for (glm::vec3 a : axes) {
+      // Tilting the normal by a tenth of a bin's angular width √(4π/2^b) in any direction keeps its bin.
+      float tilt = 0.1f * std::sqrt(4.0f * 3.14159265f / float(1u << b));
+      glm::vec3 t, bt;
+      gpu::hgTangents(a, t, bt);
+      for (int k = 0; k < 16; ++k) {
+        float phi = 2.0f * 3.14159265f * k / 16.0f;
+        glm::vec3 tilted = glm::normalize(a + std::tan(tilt) * (std::cos(phi) * t + std::sin(phi) * bt));
+        EXPECT_EQ(gpu::hgNormalBits(tilted, b), gpu::hgNormalBits(a, b)) << b << " bits, axis " << a.x << a.y << a.z;
+      }
+    }
+  }
+  // Three bits: the six walls of a box land in six different bins.
+  std::set<uint32_t> walls;
+  for (glm::vec3 a : axes) walls.insert(gpu::hgNormalBits(a, 3));
+  EXPECT_EQ(walls.size(), 6u);
+  // Normal jitter: unit length, and with a bin's width of jitter a wall's samples reach other bins.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::set<uint32_t> reached;
+  for (int i = 0; i < 2000; ++i) {
+    glm::vec3 n = gpu::hgJitterNormal(axes[2], glm::vec2(u(rng), u(rng)), 1.0f, 4);
+    EXPECT_NEAR(glm::length(n), 1.0f, 1e-5f);
+    reached.insert(gpu::hgNormalBits(n, 4));
+  }
+  EXPECT_GT(reached.size(), 1u);
+  EXPECT_EQ(gpu::hgJitterNormal(axes[2], glm::vec2(0.9f, 0.1f), 0.0f, 4), axes[2]);
 }
 
 TEST(HashGridMath, LodRisesMonotonicallyWithDistance) {
   int previous = -1000;
   for (float travel = 0.01f; travel < 1e5f; travel *= 1.3f) {
-    int lod = gpu::hgLod(16.0f, 0.002f, travel, 0.0f);
+    int lod = gpu::hgLod(16.0f * 0.002f, travel, 0.0f);
     EXPECT_GE(lod, previous);
     previous = lod;
   }
   // The cell is the footprint rounded down to a power of two: 16 px · 0.002 · 10 m = 0.32 m → 0.25 m.
-  EXPECT_EQ(gpu::hgLod(16.0f, 0.002f, 10.0f, 0.0f), -2);
+  EXPECT_EQ(gpu::hgLod(16.0f * 0.002f, 10.0f, 0.0f), -2);
   // Stochastic LOD picks the upper level in proportion to the fractional part.
   int upper = 0;
-  for (int i = 1; i <= 1000; ++i) upper += gpu::hgLod(16.0f, 0.002f, 10.0f, float(i) / 1001.0f) == -1;
+  for (int i = 1; i <= 1000; ++i) upper += gpu::hgLod(16.0f * 0.002f, 10.0f, float(i) / 1001.0f) == -1;
   float fraction = std::log2(0.32f) - std::floor(std::log2(0.32f));  // 0.356
   EXPECT_NEAR(upper / 1000.0f, fraction, 0.01f);
 }

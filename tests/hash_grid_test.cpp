@@ -1,5 +1,6 @@
 // The hash map on the GPU under collisions: no lost update below capacity,
-// and an exact failed-insert count beyond it.
+// an exact failed-insert count beyond it, and eviction that keeps probe
+// chains whole and leaves nothing behind.
 #include <cstring>
 #include <map>
 
@@ -7,29 +8,46 @@
 #include "hash_grid.h"
 #include "hash_stress.comp.h"
 
-class HashGridTest : public GpuTest {};
+namespace {
 
-TEST_F(HashGridTest, InsertAndFindUnderLoadLoseNothingBelowCapacity) {
-  const uint32_t capacity = 1024, repeats = 3;
-  engine::DescriptorSet empty = engine::createDescriptorSet(ctx, {});
-  gi::HashGrid grid = gi::createHashGrid(ctx, capacity, 1, 8, 8, 1, false);
-  VkDescriptorSetLayout all[] = {empty.layout, empty.layout, grid.set.layout};
-  struct Push {
-    uint32_t capacity, window, keyCount, repeats;
-  };
-  engine::ComputeProgram stress = engine::createComputeProgram(ctx, spv_hash_stress_comp, all, sizeof(Push), {64, 1});
-  VkDescriptorSet sets[] = {empty.set, empty.set, grid.set.set};
-  for (double load : {0.5, 0.9, 1.0, 1.25}) {
-    uint32_t keys = uint32_t(load * capacity);
-    grid.cleared = false;  // start from an empty map
+// hash_stress.comp's push constants and modes.
+struct StressPush {
+  uint32_t capacity, window, keyCount, repeats, mode, keyBase, sameIndex, count;
+};
+constexpr uint32_t kInsert = 0, kEvict = 1, kTidy = 2;
+
+}  // namespace
+
+class HashGridTest : public GpuTest {
+ protected:
+  engine::DescriptorSet empty;
+  gi::HashGrid grid;
+  engine::ComputeProgram stress;
+
+  void make(uint32_t capacity) {
+    empty = engine::createDescriptorSet(ctx, {});
+    grid = gi::createHashGrid(ctx, capacity, 1, 8, 8, 1, false);
+    VkDescriptorSetLayout all[] = {empty.layout, empty.layout, grid.set.layout};
+    stress = engine::createComputeProgram(ctx, spv_hash_stress_comp, all, sizeof(StressPush), {64, 1});
+  }
+  void TearDown() override {
+    engine::destroyComputeProgram(ctx, stress);
+    gi::destroyHashGrid(ctx, grid);
+    engine::destroyDescriptorSet(ctx, empty);
+    GpuTest::TearDown();
+  }
+  // One dispatch of hash_stress.comp (threads: keys × repeats, or every slot for kTidy).
+  void run(const StressPush& push) {
+    VkDescriptorSet sets[] = {empty.set, empty.set, grid.set.set};
+    uint32_t threads = push.mode == kTidy ? push.capacity : push.keyCount * (push.mode == kInsert ? push.repeats : 1u);
     engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
       gi::recordHashGridFrameStart(cmd, grid, 0);
-      // The probe window spans the table, so any free slot can be found.
-      engine::dispatch(cmd, stress, sets, {keys * repeats, 1}, Push{capacity, capacity, keys, repeats});
+      engine::dispatch(cmd, stress, sets, {threads, 1}, push);
       gi::recordHashGridTelemetryCopy(cmd, grid, 0);
     });
-    gpu::HgTelemetry t = gi::readHashGridTelemetry(grid, 0);
-    // Read the table back.
+  }
+  // The keys and sums as the GPU holds them.
+  void read(std::vector<uint32_t>& keys, std::vector<gpu::HgAccum>& accum) {
     engine::Buffer staging = engine::createBuffer(ctx, grid.keys.size + grid.accum.size, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                                                   engine::MemoryKind::HostVisible);
     engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
@@ -37,8 +55,27 @@ TEST_F(HashGridTest, InsertAndFindUnderLoadLoseNothingBelowCapacity) {
       vkCmdCopyBuffer(cmd, grid.keys.buffer, staging.buffer, 1, &a);
       vkCmdCopyBuffer(cmd, grid.accum.buffer, staging.buffer, 1, &b);
     });
-    const auto* k = static_cast<const uint32_t*>(staging.mapped);
-    const auto* acc = reinterpret_cast<const gpu::HgAccum*>(static_cast<const std::byte*>(staging.mapped) + grid.keys.size);
+    keys.assign(grid.capacity, 0);
+    accum.assign(grid.capacity, {});
+    std::memcpy(keys.data(), staging.mapped, grid.keys.size);
+    std::memcpy(accum.data(), static_cast<const std::byte*>(staging.mapped) + grid.keys.size, grid.accum.size);
+    engine::destroyBuffer(ctx, staging);
+  }
+  static uint32_t keyOf(uint32_t k) { return gpu::hgVerificationKey(gpu::HgDescriptor{int(k), 1, -1, 0, 0}); }
+};
+
+TEST_F(HashGridTest, InsertAndFindUnderLoadLoseNothingBelowCapacity) {
+  const uint32_t capacity = 1024, repeats = 3;
+  make(capacity);
+  for (double load : {0.5, 0.9, 1.0, 1.25}) {
+    uint32_t keys = uint32_t(load * capacity);
+    grid.cleared = false;  // start from an empty map
+    // The probe window spans the table, so any free slot can be found.
+    run({capacity, capacity, keys, repeats, kInsert, 0, 0, 1});
+    gpu::HgTelemetry t = gi::readHashGridTelemetry(grid, 0);
+    std::vector<uint32_t> k;
+    std::vector<gpu::HgAccum> acc;
+    read(k, acc);
     std::map<uint32_t, uint32_t> counts;
     uint32_t occupied = 0;
     for (uint32_t s = 0; s < capacity; ++s) {
@@ -53,9 +90,80 @@ TEST_F(HashGridTest, InsertAndFindUnderLoadLoseNothingBelowCapacity) {
     uint32_t stored = std::min(keys, capacity);
     EXPECT_EQ(occupied, stored) << "load " << load;
     EXPECT_EQ(t.failedInserts, (keys - stored) * repeats) << "load " << load;
-    engine::destroyBuffer(ctx, staging);
   }
-  engine::destroyComputeProgram(ctx, stress);
-  gi::destroyHashGrid(ctx, grid);
-  engine::destroyDescriptorSet(ctx, empty);
+}
+
+// Aging eviction from the middle of a probe chain: the keys further along
+// must stay reachable (an emptied slot would end every search there, and the
+// next insert of a later key would store it a second time). Eight keys share
+// one start slot; the fourth is evicted; inserting the other seven again must
+// find their own cells (count 2) and store no key twice.
+TEST_F(HashGridTest, EvictingFromTheMiddleOfAChainKeepsTheLaterKeysReachable) {
+  const uint32_t capacity = 1024, chain = 8;
+  make(capacity);
+  grid.cleared = false;
+  for (uint32_t k = 0; k < chain; ++k) run({capacity, 16, 1, 1, kInsert, k, 1, 1});  // key k in slot k
+  run({capacity, 16, 1, 1, kEvict, 3, 1, 0});                                        // key 3 goes
+  std::vector<uint32_t> keys;
+  std::vector<gpu::HgAccum> accum;
+  read(keys, accum);
+  EXPECT_EQ(keys[3], gpu::HG_TOMBSTONE_KEY) << "the evicted slot still carries the chain";
+  EXPECT_EQ(accum[3].count, 0u);
+  for (uint32_t k : {0u, 1u, 2u, 4u, 5u, 6u, 7u}) run({capacity, 16, 1, 1, kInsert, k, 1, 1});
+  read(keys, accum);
+  std::map<uint32_t, int> seen;
+  for (uint32_t s = 0; s < capacity; ++s)
+    if (keys[s] != gpu::HG_EMPTY_KEY && keys[s] != gpu::HG_TOMBSTONE_KEY) ++seen[keys[s]];
+  for (uint32_t k : {0u, 1u, 2u, 4u, 5u, 6u, 7u}) {
+    EXPECT_EQ(seen[keyOf(k)], 1) << "key " << k << " stored " << seen[keyOf(k)] << " times";
+    EXPECT_EQ(keys[k], keyOf(k));
+    EXPECT_EQ(accum[k].count, 2u) << "key " << k << " did not find its own cell";
+  }
+  EXPECT_EQ(seen.count(keyOf(3)), 0u);
+  // A new key reclaims the tombstone (the first free slot of its chain).
+  run({capacity, 16, 1, 1, kInsert, 100, 1, 1});
+  read(keys, accum);
+  EXPECT_EQ(keys[3], keyOf(100));
+  EXPECT_EQ(accum[3].count, 1u);
+}
+
+// An evicted cell's sums go with it: the next key to claim its slot starts
+// from nothing. Light added to a sample already counted (count 0, a continued
+// path) finds an existing cell or nothing: it never makes a cell holding
+// light without a sample. Tombstones at a chain's end turn empty again.
+TEST_F(HashGridTest, EvictionLeavesNoLightBehindAndContinuedLightMakesNoCell) {
+  const uint32_t capacity = 1024;
+  make(capacity);
+  grid.cleared = false;
+  run({capacity, 16, 1, 1, kInsert, 0, 1, 1});  // key 0 in slot 0
+  run({capacity, 16, 1, 1, kInsert, 1, 1, 1});  // key 1 in slot 1
+  run({capacity, 16, 1, 1, kInsert, 1, 1, 0});  // more light for key 1's sample (count 0)
+  run({capacity, 16, 1, 1, kEvict, 1, 1, 0});   // key 1 goes, with its sums
+  std::vector<uint32_t> keys;
+  std::vector<gpu::HgAccum> accum;
+  read(keys, accum);
+  EXPECT_EQ(keys[1], gpu::HG_EMPTY_KEY) << "the end of a chain needs no tombstone";
+  EXPECT_EQ(accum[1].r, 0u);
+  EXPECT_EQ(accum[1].count, 0u);
+  // Continued light for a key that has no cell: dropped, nothing created.
+  run({capacity, 16, 1, 1, kInsert, 2, 1, 0});
+  read(keys, accum);
+  EXPECT_EQ(keys[1], gpu::HG_EMPTY_KEY) << "count-0 light made a cell";
+  EXPECT_EQ(gi::readHashGridTelemetry(grid, 0).failedInserts, 1u);
+  // A new sample claims slot 1 and holds exactly its own light.
+  run({capacity, 16, 1, 1, kInsert, 2, 1, 1});
+  read(keys, accum);
+  EXPECT_EQ(keys[1], keyOf(2));
+  EXPECT_EQ(accum[1].count, 1u);
+  EXPECT_EQ(accum[1].r, gpu::hgToFixed(1.0f));
+  // Evicting slot 0 while slot 1 is full leaves a tombstone; once slot 1 is
+  // gone too, tidying turns it empty.
+  run({capacity, 16, 1, 1, kEvict, 0, 1, 0});
+  run({capacity, 16, 1, 1, kEvict, 2, 1, 0});
+  read(keys, accum);
+  EXPECT_EQ(keys[0], gpu::HG_TOMBSTONE_KEY);
+  EXPECT_EQ(keys[1], gpu::HG_EMPTY_KEY);
+  run({capacity, 16, 0, 1, kTidy, 0, 1, 0});
+  read(keys, accum);
+  EXPECT_EQ(keys[0], gpu::HG_EMPTY_KEY);
 }

@@ -308,7 +308,7 @@ int main(int argc, char** argv) {
   std::ofstream series;
   if (args.has("series")) {
     series.open(dir / "series.csv");
-    series << "label,frame,mse,relmse,mse_indirect,energy_indirect,hash_occupancy,hash_stale_resets\n";
+    series << "label,frame,mse,relmse,mse_indirect,energy_indirect,hash_occupancy,hash_stale_resets,hash_read_misses\n";
   }
   for (const tools::BenchConfig& config : configs) {
     Row row;
@@ -361,7 +361,8 @@ int main(int argc, char** argv) {
       if (series.is_open())
         series << '"' << config.label << "\"," << frame + 1 << ',' << finals.back().mse << ',' << finals.back().relMse << ','
                << (indirects.empty() ? 0.0 : indirects.back().mse) << ',' << (indirects.empty() ? 1.0 : indirects.back().energy)
-               << ',' << frameStats.hash.occupancy() << ',' << frameStats.hash.staleResets << "\n";
+               << ',' << frameStats.hash.occupancy() << ',' << frameStats.hash.staleResets << ','
+             << (frameStats.hash.reads ? double(frameStats.hash.readMisses) / frameStats.hash.reads : 0.0) << "\n";
     }
     for (const auto& [name, samples] : passSamples) {
       row.passMs[name] = median(samples);

@@ -217,6 +217,7 @@ int main(int argc, char** argv) {
       j["hash_last_frame"] = {{"capacity", lastHash.capacity},        {"occupied", lastHash.occupied},
                               {"inserts", lastHash.inserts},          {"failed_inserts", lastHash.failedInserts},
                               {"evicted", lastHash.evicted},          {"stale_resets", lastHash.staleResets},
+                              {"reads", lastHash.reads},              {"read_misses", lastHash.readMisses},
                               {"transported", lastHash.transported}, {"mean_continuation_depth", lastHash.meanContinuationDepth}};
     j["gpu_ms_total"] = run.gpuMs;
     j["rays"] = run.rays;

@@ -422,7 +422,8 @@ void recordFrame(Module* m, VkCommandBuffer cmd, const FrameInputs& in) {
                      previousHashTableBase(m->hash, in.frameIndex), strict ? 1u : 0u, uint32_t(s.debugView),
                      hashMode(s.method), s.method == Method::Nhpsf ? h.pathDepth : h.continuationDepth,
                      h.secondaryWidthScale, strict ? 0u : h.validationInterval, radianceScale(*m),
-                     m->hash.forgetLight ? 1u : 0u, 0, 0};
+                     m->hash.forgetLight ? 1u : 0u, h.normalJitter, uint32_t(h.secondaryLod),
+                     s.method == Method::Hpsf ? 0u : h.historySamples, 0, 0, 0};
     m->hash.forgetLight = false;
     VkDescriptorSet hashSets[] = {m->desc.scene.set, m->frameSet.set, m->hash.set.set};
     recordHashGridFrameStart(cmd, m->hash, in.frameIndex);
@@ -460,10 +461,13 @@ void recordFrame(Module* m, VkCommandBuffer cmd, const FrameInputs& in) {
                   hooks);
     } else if (isAaf(s.method)) {
       float cosLimit = cosDegrees(s.aaf.normalLimitDegrees);
-      recordAafFilter(cmd, m->filters, m->filters.set.set, "diffuse", cosLimit, pixelScale(in.camera), hooks);
+      const uint32_t maxRadius = s.aaf.maxRadius;
+      recordAafFilter(cmd, m->filters, m->filters.set.set, "diffuse", cosLimit, pixelScale(in.camera), maxRadius, hooks);
       if (aafSpecular(*m)) {  // glossy receivers: their specular terms, with the glossy β
-        recordAafFilter(cmd, m->filters, m->filters.aafGlossySets[0].set, "glossy", cosLimit, pixelScale(in.camera), hooks);
-        recordAafFilter(cmd, m->filters, m->filters.aafGlossySets[1].set, "glossy_edge", cosLimit, pixelScale(in.camera), hooks);
+        recordAafFilter(cmd, m->filters, m->filters.aafGlossySets[0].set, "glossy", cosLimit, pixelScale(in.camera),
+                        maxRadius, hooks);
+        recordAafFilter(cmd, m->filters, m->filters.aafGlossySets[1].set, "glossy_edge", cosLimit, pixelScale(in.camera),
+                        maxRadius, hooks);
       }
     } else if (s.method == Method::Gif) {
       GuidedFilterParams gif{s.gif.radius, s.gif.epsilonNormal, s.gif.epsilonDepth, s.gif.guidanceDimensions,
@@ -541,6 +545,8 @@ FrameStats stats(Module* m) {
       st.hash.staleResets = t.staleResets;
       st.hash.transported = double(t.transported) / HG_FIXED_POINT_SCALE / radianceScale(*m);
       st.hash.meanContinuationDepth = t.continued ? float(t.depthSum) / float(t.continued) : 0.0f;
+      st.hash.reads = t.reads;
+      st.hash.readMisses = t.readMisses;
     }
     m->lastStats = st;
     break;

@@ -138,10 +138,12 @@ void recordGuidedFilter(VkCommandBuffer cmd, ScreenFilters& f, const GuidedFilte
 }
 
 void recordAafFilter(VkCommandBuffer cmd, const ScreenFilters& f, VkDescriptorSet targets, const char* term,
-                     float cosNormalLimit, float pixelScale, const PassHooks& hooks) {
+                     float cosNormalLimit, float pixelScale, uint32_t maxRadius, const PassHooks& hooks) {
   std::string name = std::string("aaf_filter_") + term;
-  passOn(cmd, targets, hooks, (name + "_rows").c_str(), f.aaf, {f.width, f.height}, gpu::AafFilterPush{0, cosNormalLimit, pixelScale, 0});
-  passOn(cmd, targets, hooks, (name + "_columns").c_str(), f.aaf, {f.width, f.height}, gpu::AafFilterPush{1, cosNormalLimit, pixelScale, 0});
+  passOn(cmd, targets, hooks, (name + "_rows").c_str(), f.aaf, {f.width, f.height},
+         gpu::AafFilterPush{0, cosNormalLimit, pixelScale, maxRadius});
+  passOn(cmd, targets, hooks, (name + "_columns").c_str(), f.aaf, {f.width, f.height},
+         gpu::AafFilterPush{1, cosNormalLimit, pixelScale, maxRadius});
 }
 
 void recordSspsf(VkCommandBuffer cmd, ScreenFilters& f, const gpu::SspsfPush& params, const PassHooks& hooks) {

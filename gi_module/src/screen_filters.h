@@ -57,8 +57,9 @@ void recordSspsf(VkCommandBuffer cmd, ScreenFilters& f, const gpu::SspsfPush& pa
 // Axis-aligned filtering's separable Gaussian (β per pixel from the params
 // image's alpha; pixels with β = 0 neither filter nor contribute); uses temp.
 // `targets` is f.set or a set from createFilterSet.
-// `term` names the passes (aaf_filter_<term>_rows/_columns).
+// `term` names the passes (aaf_filter_<term>_rows/_columns). `maxRadius`
+// cuts the Gaussian before 3σ (pixels; 0 = never).
 void recordAafFilter(VkCommandBuffer cmd, const ScreenFilters& f, VkDescriptorSet targets, const char* term,
-                     float cosNormalLimit, float pixelScale, const PassHooks& hooks);
+                     float cosNormalLimit, float pixelScale, uint32_t maxRadius, const PassHooks& hooks);
 
 }  // namespace gi

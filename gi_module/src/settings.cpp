@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "gi/gi.h"
+#include "shared/hash_grid.h"
 
 namespace gi {
 namespace {
@@ -89,6 +90,7 @@ Error validate(const Settings& s) {
     return {ErrorCode::OutOfRange, "settings.aaf.uniformSamples = " + std::to_string(f.uniformSamples) + " is neither 0 nor in [16, 1024]"};
   if (!inRange(f.normalLimitDegrees, 0, 180, false))
     return outOfRangeF("settings.aaf.normalLimitDegrees", f.normalLimitDegrees, 0, 180, false);
+  if (f.maxRadius > 1024) return outOfRange("settings.aaf.maxRadius", f.maxRadius, 0, 1024);
   const SspsfSettings& ss = s.sspsf;
   if (ss.samplesPerPixel < 1 || ss.samplesPerPixel > 64) return outOfRange("settings.sspsf.samplesPerPixel", ss.samplesPerPixel, 1, 64);
   if (ss.window < 1 || ss.window > 31 || ss.window % 2 == 0)
@@ -105,10 +107,14 @@ Error validate(const Settings& s) {
   if (h.probeWindow < 1 || h.probeWindow > 64) return outOfRange("settings.hpsf.probeWindow", h.probeWindow, 1, 64);
   if (!inRange(h.filterWidth, 0.5, 256, false)) return outOfRangeF("settings.hpsf.filterWidth", h.filterWidth, 0.5, 256, false);
   if (!inRange(h.jitter, 0, 2, false)) return outOfRangeF("settings.hpsf.jitter", h.jitter, 0, 2, false);
-  if (h.normalBits > 3) return outOfRange("settings.hpsf.normalBits", h.normalBits, 0, 3);
+  if (h.normalBits > HG_MAX_NORMAL_BITS) return outOfRange("settings.hpsf.normalBits", h.normalBits, 0, HG_MAX_NORMAL_BITS);
+  if (!inRange(h.normalJitter, 0, 2, false)) return outOfRangeF("settings.hpsf.normalJitter", h.normalJitter, 0, 2, false);
+  if (uint32_t(h.secondaryLod) > uint32_t(SecondaryLod::Camera))
+    return outOfRange("settings.hpsf.secondaryLod", uint32_t(h.secondaryLod), 0, uint32_t(SecondaryLod::Camera));
   if (!inRange(h.clampSigma, 0, 100, false)) return outOfRangeF("settings.hpsf.clampSigma", h.clampSigma, 0, 100, false);
   if (uint32_t(h.eviction) > uint32_t(EvictionPolicy::Aging)) return outOfRange("settings.hpsf.eviction", uint32_t(h.eviction), 0, 1);
   if (h.historyFrames < 2 || h.historyFrames > 10000) return outOfRange("settings.hpsf.historyFrames", h.historyFrames, 2, 10000);
+  if (h.historySamples > 1000000) return outOfRange("settings.hpsf.historySamples", h.historySamples, 0, 1000000);
   if (h.staleFrames < 1 || h.staleFrames > 100000) return outOfRange("settings.hpsf.staleFrames", h.staleFrames, 1, 100000);
   if (h.minSamples < 1 || h.minSamples > 1000000) return outOfRange("settings.hpsf.minSamples", h.minSamples, 1, 1000000);
   if (h.validationInterval > 1000) return outOfRange("settings.hpsf.validationInterval", h.validationInterval, 0, 1000);

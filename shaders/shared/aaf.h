@@ -12,7 +12,7 @@ GPU_NAMESPACE_BEGIN
 #define AAF_INITIAL_SAMPLES 16u          // pass 1: 4×4 stratified cosine rays
 #define AAF_ZMIN_FRACTION 0.02           // z_min ≥ 2% of the scene's largest dimension
 #define AAF_MAX_SAMPLES_PER_MU 100.0     // n ≤ 100·μ
-#define AAF_MAX_RADIUS_PIXELS 32         // the screen-space Gaussian is cut at 3σ or this
+#define AAF_MIN_COS_VIEW 0.01            // foreshortening is capped at 100× a pixel's frontal size
 
 // Ω_h^max for a Blinn-Phong receiver of exponent m (eq. 18).
 GPU_FN float aafOmegaGlossy(float m) { return 3.6f + 0.084f * m; }
@@ -23,6 +23,29 @@ GPU_FN float aafPhongExponent(float ggxAlpha) { return max(2.0f / (ggxAlpha * gg
 GPU_FN float aafGammaGlossy(float m) { return acos(pow(0.70710678f, 1.0f / m)) / 1.57079633f; }
 
 GPU_FN float aafClampZMin(float zMin, float sceneExtent) { return max(zMin, float(AAF_ZMIN_FRACTION) * sceneExtent); }
+
+// d, the world-space size of a pixel on the receiver (eq. 15, footnote 7:
+// "accounts for perspective effects and foreshortening"): the pixel's frontal
+// size at view depth `viewZ` (pixelScale metres per metre), divided by the
+// cosine between the surface normal and the direction to the camera.
+GPU_FN float aafPixelFootprint(float viewZ, float pixelScale, float cosView) {
+  return viewZ * pixelScale / max(abs(cosView), float(AAF_MIN_COS_VIEW));
+}
+
+// Stratification of `count` samples over the unit square (§5, "stratified
+// and importance sampled"): a side × side grid with side = ⌈√count⌉, and
+// sample i takes cell (a·i + offset) mod side², a = 2·side + 1 (coprime with
+// side², so the map is a permutation: no two samples share a cell). Returns
+// the cell's corner in [0, 1)²; the caller adds a random point inside it
+// times 1/side.
+GPU_FN vec2 aafStratum(uint i, uint count, uint offset, GPU_OUT(float) cellSize) {
+  uint side = uint(ceil(sqrt(float(max(count, 1u)))));
+  while (side * side < count) side += 1u;  // √ rounding
+  uint cells = side * side;
+  uint cell = ((2u * side + 1u) * i + offset) % cells;
+  cellSize = 1.0f / float(side);
+  return vec2(float(cell % side), float(cell / side)) * cellSize;
+}
 
 // Ω_x^r = μ·min(Ω_h^max / z_min, α / d) (eq. 15); d = world size of a pixel.
 GPU_FN float aafBandwidth(float mu, float omegaMax, float zMin, float alpha, float d) {
@@ -61,7 +84,7 @@ struct AafFilterPush {
   uint vertical;        // 0: along rows (input → temp); 1: along columns (temp → output)
   float cosNormalLimit; // neighbours whose normals differ by more than the limit angle are rejected
   float pixelScale;     // world size of a pixel per metre of view depth: 2·tan(fovY/2) / height
-  uint pad0;
+  uint maxRadius;       // pixels; the Gaussian is cut at 3σ or here (0: at 3σ, within the image)
 };
 GPU_ASSERT_SIZE(AafFilterPush, 16);
 

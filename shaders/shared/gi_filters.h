@@ -19,17 +19,41 @@ GPU_CONST FILTER_BINDING_PARAMS = 7;    // AAF: z_min, z_max (metres), samples, 
 #define FILTER_GROUP_SIZE 8u            // 8×8 threads for per-pixel passes
 #define FILTER_LINE_GROUP 64u           // 64 rows or columns per group for the box filter
 
-// Moments layout (channel c sits in image c/4, component c%4):
+// Moments layout (channel c sits in image c/4, component c%4), each times the
+// pixel's weight w (1 covered, 0 background):
 //  0..3 guidance I; 4..13 upper triangle of I·Iᵀ (00 01 02 03 11 12 13 22 23 33);
-//  14..16 input p (rgb); 17..28 I_i·p_c at 17 + 3i + c.
-// Coefficients layout: 0..11 a at 3i + c; 12..14 b (rgb).
+//  14..16 input p (rgb); 17..28 I_i·p_c at 17 + 3i + c; 29 the weight w.
+// Coefficients layout, each times the window's covered fraction w̄: 0..11 a at
+// 3i + c; 12..14 b (rgb); 15 w̄ itself.
 #define GIF_CH_I 0
 #define GIF_CH_II 4
 #define GIF_CH_P 14
 #define GIF_CH_IP 17
+#define GIF_CH_WEIGHT 29
 #define GIF_MOMENT_IMAGES 8u
 #define GIF_COEFF_B 12
+#define GIF_COEFF_WEIGHT 15
 #define GIF_COEFF_IMAGES 4u
+
+// Bauszat et al. eqs. 3–5: of the four guide rays around an extra eye ray,
+// the one most similar in normal and depth, s_i = sn_i · sd_i with
+// sn_i = 1 − ‖N_a − N_i‖ / max ‖N_a − N_j‖ and sd_i = 1 − |D_a − D_i| / max |D_a − D_j|.
+// The arguments are the norms ‖N_a − N_i‖ and |D_a − D_i| for i = 0..3.
+GPU_FN int gifMostSimilarGuide(vec4 normalDistance, vec4 depthDistance) {
+  float maxN = max(max(normalDistance[0], normalDistance[1]), max(normalDistance[2], normalDistance[3]));
+  float maxD = max(max(depthDistance[0], depthDistance[1]), max(depthDistance[2], depthDistance[3]));
+  int best = 0;
+  float bestSimilarity = -1.0f;
+  for (int i = 0; i < 4; ++i) {
+    float sn = maxN > 0.0f ? 1.0f - normalDistance[i] / maxN : 1.0f;
+    float sd = maxD > 0.0f ? 1.0f - depthDistance[i] / maxD : 1.0f;
+    if (sn * sd > bestSimilarity) {
+      bestSimilarity = sn * sd;
+      best = i;
+    }
+  }
+  return best;
+}
 
 struct GuidedMomentsPush {
   uint guidanceDimensions;  // 1 (grey normal), 3 (normal), 4 (normal + depth)
@@ -63,7 +87,7 @@ struct BilateralPush {
 };
 GPU_ASSERT_SIZE(BilateralPush, 16);
 
-struct SspsfPush {
+struct SspsfPush {  // the input's alpha is 1 where the pixel's primary vertex is a filter vertex
   uint window;          // odd window side in pixels (9 in the thesis)
   float filterWidth;    // pixels: the position kernel's σ is half the HPSF cell size for this width
   float pixelAngle;     // metres per metre of distance per pixel

@@ -21,6 +21,7 @@ using mat4 = glm::mat4;
 #define GPU_ASSERT_SIZE(T, bytes) static_assert(sizeof(T) == (bytes), #T " must match its GLSL scalar layout")
 #define GPU_CONST inline constexpr uint
 #define GPU_FN inline
+#define GPU_OUT(T) T&  // an out parameter: `out T` in GLSL
 #include <algorithm>
 #include <cmath>
 namespace gpu {
@@ -46,6 +47,7 @@ using glm::normalize;
 #define GPU_ASSERT_SIZE(T, bytes)
 #define GPU_CONST const uint
 #define GPU_FN
+#define GPU_OUT(T) out T
 #endif
 
 #endif

@@ -11,6 +11,8 @@
 GPU_NAMESPACE_BEGIN
 
 GPU_CONST HG_EMPTY_KEY = 0u;             // keys are never 0 (hgVerificationKey sets bit 0)
+GPU_CONST HG_TOMBSTONE_KEY = 2u;         // an evicted slot that a probe chain still passes through (bit 0 clear:
+                                         // never a key); inserts may reclaim it, lookups step over it
 #define HG_FIXED_POINT_SCALE 65536.0     // radiance is summed as uint64 in units of 2^-16
 #define HG_MAX_SAMPLE 1.0e9              // a sample above this (after clamping) counts as an overflow
 #define HG_COORD_LIMIT 1073741824.0      // |cell coordinate| < 2^30 keeps int32 arithmetic exact
@@ -30,16 +32,30 @@ GPU_CONST HG_MODE_HPSF = 0u;         // full paths from the primary hit; the pri
 GPU_CONST HG_MODE_NHPSF = 1u;        // pathDepth segments; every diffuse vertex's cell filters
 GPU_CONST HG_MODE_ANHPSF = 2u;       // one primary segment + one continued segment per pixel and frame
 
+// The travel that sets a secondary vertex's level of detail (gi::SecondaryLod).
+GPU_CONST HG_LOD_SEGMENT = 0u;       // Alg. 1/3 as written: unfiltered travel (through glossy vertices) + this segment
+GPU_CONST HG_LOD_PATH = 1u;          // the whole path's travel from the camera, each segment L∞
+GPU_CONST HG_LOD_CAMERA = 2u;        // L∞ distance from the camera, as for a primary vertex
+
 struct HgAccum {
-  uint64_t r, g, b;   // Σ radiance · radianceScale · HG_FIXED_POINT_SCALE
+  uint64_t r, g, b;   // Σ radiance (after the outlier clamp) · radianceScale · HG_FIXED_POINT_SCALE
+  uint64_t tr, tg, tb;// Σ what the clamp took off (the tail), same units
   uint64_t lum2;      // Σ (unclamped luminance · radianceScale)² · HG_FIXED_POINT_SCALE (the clamp's σ)
   uint count;         // samples this frame
   uint pad0;
 };
+GPU_ASSERT_SIZE(HgAccum, 64);
+
+// The outlier clamp keeps the light it takes: the tail is averaged over this
+// many times the mean's history, so a firefly's energy arrives spread thinly
+// over many frames instead of as a blotch in one.
+#define HG_TAIL_HISTORY 16.0
 
 struct HgCell {
-  vec3 mean;          // resolved mean demodulated radiance
+  vec3 mean;          // resolved mean demodulated radiance of the clamped samples
   float lumMoment2;   // resolved mean of luminance², of the samples before the outlier clamp
+  vec3 tail;          // resolved mean of what the clamp took off (HG_TAIL_HISTORY): the cell's radiance
+                      // is mean + tail
   float frames;       // frames of history behind the mean (capped)
   uint lastSeen;      // frame index of the last update
   int lod;            // the cell's level of detail (log2 of its size)
@@ -52,7 +68,11 @@ struct HgCell {
   float probeDistance;  // metres; < 0: the ray missed; 0 with probeLight 0: no probe
   vec3 probeDirection;
   float probeLight;     // luminance of the light (NEE) at the hit
+  vec3 recent;          // nhpsf/anhpsf: the mean over the last historySamples samples only; what the
+                        // map passes on to the vertices before this one (recent + tail)
+  uint pad0;
 };
+GPU_ASSERT_SIZE(HgCell, 96);
 
 struct HgTelemetry {
   uint occupied;      // live cells after resolve
@@ -65,9 +85,11 @@ struct HgTelemetry {
   uint staleResets;   // cells whose probe came back different enough to cut their history
   uint64_t transported; // anhpsf: Σ luminance added by continuation segments · radianceScale · HG_FIXED_POINT_SCALE
   uint continued;     // anhpsf: pixels with a live continued path after this frame
-  uint depthSum;      // anhpsf: Σ of their depths
+  uint depthSum;      // anhpsf: Σ of their depths (segments)
+  uint reads;         // nhpsf/anhpsf: last frame's map read at a path's scatter vertex
+  uint readMisses;    // of those, reads that found no cell (or one without samples): that light is missing
 };
-GPU_ASSERT_SIZE(HgTelemetry, 48);
+GPU_ASSERT_SIZE(HgTelemetry, 56);
 
 // A path walked segment by segment (nhpsf within a frame, anhpsf one segment
 // per frame): where it goes next, and the cell its radiance feeds. The
@@ -76,12 +98,15 @@ GPU_ASSERT_SIZE(HgTelemetry, 48);
 struct HgWalk {
   vec3 origin;        // next ray's origin (already offset from the surface)
   uint index;         // the fed cell's index hash
-  vec3 direction;
-  uint key;           // the fed cell's verification key; HG_EMPTY_KEY = feeds no cell
   vec3 throughput;
-  uint state;         // bits 0–15: segments taken, 0 = no live path; bit 16: the next segment
-                      // continues a sample already counted (after a glossy vertex); bits 24–31: the
-                      // fed cell's level of detail + 128 (for the debug views)
+  uint key;           // the fed cell's verification key; HG_EMPTY_KEY = feeds no cell
+  uint direction;     // next ray's direction, octahedral, 2 × 16-bit snorm (hgPackDirection)
+  float travel;       // metres: the path's travel before the next vertex that sets that vertex's LOD
+                      // (HgPush::secondaryLod: unfiltered travel, whole path, or unused)
+  uint state;         // bits 0–15: vertices reached (1 = at the primary hit, no segment yet; 0 = no
+                      // live path); bit 16: the next segment continues a sample already counted
+                      // (after a glossy vertex); bits 24–31: the fed cell's level of detail + 128
+  uint pad0;
 };
 GPU_ASSERT_SIZE(HgWalk, 48);
 
@@ -124,16 +149,23 @@ GPU_FN uint hgVerificationKey(HgDescriptor d) {
   return hgHashMurmur(h ^ d.normalBits) | 1u;  // never HG_EMPTY_KEY
 }
 
-// Cell size (log2, metres) from Alg. 3: the world footprint of `filterWidth`
-// pixels at `travel` metres from the camera, where a pixel spans
-// `pixelAngle` metres per metre of distance. `u` in [0,1) picks between the
-// two nearest powers of two in proportion (stochastic LOD; u = 0 always takes
-// the lower one, as in the thesis).
-GPU_FN int hgLod(float filterWidth, float pixelAngle, float travel, float u) {
-  float w = max(filterWidth * pixelAngle * travel, 1e-30f);
+// Cell size (log2, metres) from Alg. 3: the world footprint of a filter
+// `footprint` metres wide per metre of travel (filter width in pixels × the
+// pixel's angle) after `travel` metres of path, rounded down to a power of
+// two (the float's exponent). `u` in [0,1) picks between the two nearest
+// powers of two in proportion (stochastic LOD; u = 0 always takes the lower
+// one, as in the thesis).
+GPU_FN int hgLod(float footprint, float travel, float u) {
+  float w = max(footprint * travel, 1e-30f);
   float l = log2(w);
   float lo = floor(l);
   return int(lo) + ((l - lo) > u && u > 0.0f ? 1 : 0);
+}
+
+// Alg. 3's travel of a segment: its L∞ length (the largest coordinate difference).
+GPU_FN float hgLinf(vec3 from, vec3 to) {
+  vec3 d = abs(to - from);
+  return max(d.x, max(d.y, d.z));
 }
 
 // The smallest LOD whose coordinates stay below HG_COORD_LIMIT at |p|.
@@ -141,13 +173,64 @@ GPU_FN int hgMinLodFor(float maxAbsCoordinate) {
   return int(ceil(log2(max(maxAbsCoordinate, 1e-30f) / float(HG_COORD_LIMIT)))) + 1;
 }
 
+#define HG_MAX_NORMAL_BITS 6u  // 64 normal bins
+
+// The normal in the frame the bins are cut in: a fixed rotation (the
+// quaternion (1, 5, 4, 3)/√51, found by a search over small integer
+// quaternions) that keeps every world axis, the normal of an axis-aligned
+// wall, at least a tenth of a bin's angular width away from any bin edge for
+// every bit count (tests/hash_grid_math_test.cpp). Unrotated,
+// bins split at component 0, exactly where those normals lie, so one wall's
+// samples would scatter over two or four bins.
+GPU_FN vec3 hgNormalFrame(vec3 n) {
+  return vec3(dot(vec3(1.0f, 34.0f, -38.0f), n), dot(vec3(46.0f, -17.0f, -14.0f), n), dot(vec3(-22.0f, -34.0f, -31.0f), n)) *
+         (1.0f / 51.0f);
+}
+
+// Normal bins (Meijer §4.2.2): b bits give 2^b bins in all. One bit is the
+// hemisphere (sign of the rotated z); the other b − 1 cut the hemisphere's
+// square map (s, t) = (x + y, x − y) / (|x| + |y| + |z|) ∈ [−1, 1]² into a
+// 2^⌈(b−1)/2⌉ × 2^⌊(b−1)/2⌋ grid. The result carries b in bits 28–31 so
+// different bit counts never share a key.
 GPU_FN uint hgNormalBits(vec3 n, uint bits) {
   if (bits == 0u) return 0u;
-  float levels = float(1u << bits);
-  uint qx = uint(clamp((n.x * 0.5f + 0.5f) * levels, 0.0f, levels - 1.0f));
-  uint qy = uint(clamp((n.y * 0.5f + 0.5f) * levels, 0.0f, levels - 1.0f));
-  uint qz = uint(clamp((n.z * 0.5f + 0.5f) * levels, 0.0f, levels - 1.0f));
-  return (qx << (2u * bits)) | (qy << bits) | qz | (bits << 28u);
+  vec3 r = hgNormalFrame(n);
+  float l1 = max(abs(r.x) + abs(r.y) + abs(r.z), 1e-30f);
+  float s = (r.x + r.y) / l1, t = (r.x - r.y) / l1;
+  uint sBits = bits / 2u, tBits = (bits - 1u) / 2u;
+  float sLevels = float(1u << sBits), tLevels = float(1u << tBits);
+  uint qs = uint(clamp((s * 0.5f + 0.5f) * sLevels, 0.0f, sLevels - 1.0f));
+  uint qt = uint(clamp((t * 0.5f + 0.5f) * tLevels, 0.0f, tLevels - 1.0f));
+  uint hemisphere = r.z >= 0.0f ? 1u : 0u;
+  return (hemisphere << (bits - 1u)) | (qs << tBits) | qt | (bits << 28u);
+}
+
+// An orthonormal tangent basis of n.
+GPU_FN void hgTangents(vec3 n, GPU_OUT(vec3) t, GPU_OUT(vec3) b) {
+  vec3 a = abs(n.x) > 0.9f ? vec3(0.0f, 1.0f, 0.0f) : vec3(1.0f, 0.0f, 0.0f);
+  t = normalize(cross(n, a));
+  b = cross(n, t);
+}
+
+// Position jitter (Alg. 3): δ uniform in [−1, 1]³ (from u in [0,1)³) with its
+// normal component removed, times jitter × cell size: ±jitter cells in the
+// tangent plane, zero mean.
+GPU_FN vec3 hgJitter(vec3 n, vec3 u, float jitter, float cellSize) {
+  vec3 delta = u * 2.0f - vec3(1.0f);
+  delta -= n * dot(n, delta);
+  return delta * (jitter * cellSize);
+}
+
+// Normal jitter (Meijer Figs. 11c, 14c): the normal tilted by up to ±jitter
+// bin widths along each tangent (a bin of 2^b spans about √(4π / 2^b)
+// radians), so samples near a bin edge spread over both sides of it.
+GPU_FN vec3 hgJitterNormal(vec3 n, vec2 u, float jitter, uint bits) {
+  if (bits == 0u || jitter <= 0.0f) return n;
+  vec3 t, b;
+  hgTangents(n, t, b);
+  float width = sqrt(4.0f * 3.14159265f / float(1u << bits));
+  vec2 delta = (u * 2.0f - vec2(1.0f)) * (jitter * width);
+  return normalize(n + t * delta.x + b * delta.y);
 }
 
 // Quantises p (already jittered) at `lod`, raised if needed so no coordinate overflows.
@@ -163,15 +246,6 @@ GPU_FN HgDescriptor hgDescriptor(vec3 p, vec3 n, int lod, uint normalBitCount) {
   return d;
 }
 
-// Offset in the tangent plane of n: (u − 0.5, v − 0.5) · jitter · cell size.
-// Zero mean, orthogonal to n.
-GPU_FN vec3 hgJitter(vec3 n, vec2 uv, float jitter, float cellSize) {
-  vec3 a = abs(n.x) > 0.9f ? vec3(0.0f, 1.0f, 0.0f) : vec3(1.0f, 0.0f, 0.0f);
-  vec3 t = normalize(cross(n, a));
-  vec3 b = cross(n, t);
-  return (t * (uv.x - 0.5f) + b * (uv.y - 0.5f)) * (jitter * cellSize);
-}
-
 // Fixed point makes the sums order-independent: lavapipe and a GPU, or two
 // runs with different thread timing, add up to the same bits.
 GPU_FN uint64_t hgToFixed(float v) { return uint64_t(clamp(v, 0.0f, float(HG_MAX_SAMPLE)) * float(HG_FIXED_POINT_SCALE)); }
@@ -182,8 +256,8 @@ struct HgPush {
   uint probeWindow;       // linear probing limit, slots
   float filterWidth;      // pixels
   float pixelAngle;       // metres per metre of distance per pixel
-  float jitter;           // fraction of a cell, 0 = off
-  uint normalBits;        // 0–3 bits per normal component
+  float jitter;           // ± cells in the tangent plane, 0 = off
+  uint normalBits;        // 2^b normal bins in all, 0–HG_MAX_NORMAL_BITS
   uint stochasticLod;     // 1: choose between the two nearest levels at random
   float clampSigma;       // k: samples above mean + k·σ are clamped (0 = off)
   uint frameIndex;
@@ -204,10 +278,14 @@ struct HgPush {
   uint validationInterval;  // aging: frames between re-traces of a cell's probe (0 = off)
   float radianceScale;    // 1 / SceneDesc::typicalRadiance: radiance is summed as radiance · radianceScale in fixed point
   uint forgetLight;       // 1 in the frame after gi::invalidate(LightsChanged): every cell's mean restarts
+  float normalJitter;     // ± normal bins, 0 = off
+  uint secondaryLod;      // HG_LOD_*: the travel that sets the LOD at vertices after the first
+  uint historySamples;    // aging, nhpsf/anhpsf: samples behind a cell's `recent` mean (0 = its whole history)
+  uint pad0;
   uint pad1;
   uint pad2;
 };
-GPU_ASSERT_SIZE(HgPush, 112);
+GPU_ASSERT_SIZE(HgPush, 128);
 
 GPU_NAMESPACE_END
 #endif

@@ -91,7 +91,9 @@ struct FrameStats {
     uint32_t overflows = 0;         // samples clamped to the fixed-point range
     uint32_t staleResets = 0;       // cells whose history the stale-radiance check cut short this frame
     double transported = 0.0;       // anhpsf: Σ luminance carried by continuation segments this frame
-    float meanContinuationDepth = 0.0f;  // anhpsf: mean depth of the pixels' continued paths
+    float meanContinuationDepth = 0.0f;  // anhpsf: mean segments of the pixels' continued paths
+    uint32_t reads = 0;             // nhpsf/anhpsf: map reads at scatter vertices
+    uint32_t readMisses = 0;        // of those, reads that found no usable cell (their light is missing)
     float occupancy() const { return capacity ? float(occupied) / float(capacity) : 0.0f; }
   } hash;
 };

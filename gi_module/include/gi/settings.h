@@ -83,6 +83,8 @@ struct AafSettings {
   float normalLimitDegrees = 10.0f; // neighbours whose normals differ more are not filtered in, [0, 180]
   uint32_t uniformSamples = 0;      // 0 = adaptive (eq. 21); N ≥ 16 = N samples in every pixel (Fig. 10's
                                     // "filtered uniform" curve), [0, 1024]
+  uint32_t maxRadius = 0;           // pixels, [0, 1024]: the screen-space Gaussian reaches 3σ (the paper), cut
+                                    // here when not 0 (cheaper; the result then depends on the resolution)
 };
 
 struct SspsfSettings {
@@ -93,8 +95,18 @@ struct SspsfSettings {
 };
 
 enum class EvictionPolicy : uint32_t {
-  Strict = 0,  // Meijer: two tables swapped every frame; a cell averages this frame's and the last frame's samples
+  Strict = 0,  // Meijer: two tables swapped every frame; a cell touched this frame carries its whole history
+               // over, one not touched is gone
   Aging,       // SHaRC-style: history capped at historyFrames, evicted after staleFrames untouched
+};
+
+// The travel that sets the level of detail of nhpsf/anhpsf's vertices after the first
+// (the primary vertex's is always its L∞ distance from the camera, Meijer Alg. 3).
+enum class SecondaryLod : uint32_t {
+  Segment = 0,  // Meijer Alg. 1/3 as written: the L∞ length of the segment that reached the vertex plus the
+                // unfiltered travel before it (through glossy vertices)
+  Path,         // the L∞ travel of the whole path from the camera
+  Camera,       // the vertex's L∞ distance from the camera, as if it were primary
 };
 
 struct HpsfSettings {
@@ -102,12 +114,19 @@ struct HpsfSettings {
   uint32_t capacity = 0;          // cells, a power of two in [2^10, 2^21]; 0 = the next power of two ≥ 4 × pixels
   uint32_t probeWindow = 16;      // linear-probing limit in slots, [1, 64]
   float filterWidth = 16.0f;      // pixels, [0.5, 256]: cell size = width × pixel footprint × distance, to a power of two
-  float jitter = 0.6f;            // tangent-plane jitter in cells, [0, 2]; 0 = off
-  uint32_t normalBits = 2;        // normal quantisation bits per component, [0, 3]
-  bool stochasticLod = true;      // pick between the two nearest levels at random (hides LOD seams)
+  float jitter = 0.3f;            // tangent-plane jitter, ± cells (Meijer Alg. 3's δ ∈ [−1, 1]³), [0, 2]; 0 = off.
+                                  // Meijer shows 0.6; 0.3 has 10–30% less error on every scene (RESULTS)
+  uint32_t normalBits = 3;        // normal bins: 2^b in all (Meijer §4.2.2), [0, 6]; 0 = normals ignored.
+                                  // 3 (8 bins: a box's six walls apart) rather than Meijer's 2 (RESULTS)
+  float normalJitter = 0.0f;      // normal jitter, ± bins (Meijer Figs. 11c, 14c), [0, 2]; 0 = off
+  bool stochasticLod = false;     // pick between the two nearest levels at random (hides LOD seams, costs error)
   float clampSigma = 10.0f;       // clamp samples above mean + k·σ of the cell, [0 = off, 100]; RESULTS: bias per k
   EvictionPolicy eviction = EvictionPolicy::Aging;
   uint32_t historyFrames = 20;    // aging: frames of history kept, [2, 10000]
+  uint32_t historySamples = 8;    // aging, nhpsf/anhpsf: what a cell passes on to the vertices before it is its
+                                  // mean over this many samples (a cell that gets n a frame: historySamples / n
+                                  // frames), so the deep bounces the map builds frame by frame arrive sooner;
+                                  // the pixel still shows the historyFrames mean. [0 = the same mean, 1e6]
   uint32_t staleFrames = 60;      // aging: frames untouched before eviction, [1, 100000]
   uint32_t minSamples = 1;        // fewer samples in the cell: the pixel keeps its own, [1, 1e6]
   uint32_t validationInterval = 4;  // aging: every N frames each cell re-traces its probe ray (stored when the
@@ -117,7 +136,9 @@ struct HpsfSettings {
   // nhpsf and anhpsf (hpsf, nhpsf and anhpsf share the map and the settings above):
   uint32_t pathDepth = 3;         // nhpsf: path segments per pixel and frame, each vertex filtered, [1, 16]
   uint32_t continuationDepth = 4; // anhpsf: the longest path continued over frames, in segments, [2, 16]
-  float secondaryWidthScale = 2.0f;  // cells at vertices after the first are this much wider, [1, 16]
+  SecondaryLod secondaryLod = SecondaryLod::Camera;  // nhpsf/anhpsf: the travel behind later vertices' cells
+                                                     // (Meijer's Segment makes them small: noisier, the map fills)
+  float secondaryWidthScale = 1.0f;  // cells at vertices after the first are this much wider, [1, 16]
 };
 
 struct Settings {
