@@ -7,6 +7,8 @@
 #include <glm/glm.hpp>
 #include <span>
 
+#include "shared/gpu_scene.h"
+
 namespace engine {
 
 struct ComputeProgram {
@@ -21,6 +23,15 @@ ComputeProgram createComputeProgram(const Context& ctx, std::span<const uint32_t
                                     std::span<const VkDescriptorSetLayout> setLayouts, uint32_t pushConstantSize,
                                     glm::uvec2 groupSize, std::span<const uint32_t> specialization = {});
 void destroyComputeProgram(const Context& ctx, ComputeProgram& program);
+
+// The SPIR-V variant of a scene-reading stage for a traversal backend
+// (gpu::TRAVERSAL_*): shaders/CMakeLists.txt builds spv_<stage> with ray
+// queries and spv_<stage>_compute with our BVH walk.
+inline std::span<const uint32_t> traversalVariant(uint32_t traversal, std::span<const uint32_t> rayQuery,
+                                                  std::span<const uint32_t> compute) {
+  return traversal == gpu::TRAVERSAL_COMPUTE ? compute : rayQuery;
+}
+#define GI_SCENE_SPIRV(traversal, stage) engine::traversalVariant(traversal, spv_##stage, spv_##stage##_compute)
 
 VkShaderModule createShaderModule(const Context& ctx, std::span<const uint32_t> spirv);
 

@@ -1,5 +1,7 @@
 #include "context.h"
 
+#include "shared/gpu_scene.h"
+
 #include <algorithm>
 #include <cstring>
 
@@ -84,15 +86,32 @@ int deviceTypeRank(VkPhysicalDeviceType type) {
   }
 }
 
-// The device-level requirements, checked in this order so the error names the
-// first missing piece.
-const char* const kRequiredDeviceExtensions[] = {
+// The ray-query backend's device extensions, checked in this order so the
+// error names the first missing piece.
+const char* const kRayQueryDeviceExtensions[] = {
     VK_KHR_RAY_QUERY_EXTENSION_NAME,
     VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME,
     VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME,
 };
 
+const char* const kTraversalNames[] = {"auto", "rayquery", "compute"};
+
 }  // namespace
+
+const char* traversalName(Traversal t) { return kTraversalNames[int(t)]; }
+
+bool parseTraversal(const std::string& name, Traversal& out) {
+  for (int i = 0; i < 3; ++i)
+    if (name == kTraversalNames[i]) {
+      out = Traversal(i);
+      return true;
+    }
+  return false;
+}
+
+uint32_t Context::traversalId() const {
+  return traversal == Traversal::RayQuery ? gpu::TRAVERSAL_RAY_QUERY : gpu::TRAVERSAL_COMPUTE;
+}
 
 bool createContext(const ContextDesc& desc, Context& ctx, std::string& error) {
   if (volkInitialize() != VK_SUCCESS) {
@@ -158,6 +177,14 @@ bool createContext(const ContextDesc& desc, Context& ctx, std::string& error) {
   vkEnumeratePhysicalDevices(ctx.instance, &deviceCount, devices.data());
   std::string filter = desc.deviceNameFilter;
   if (const char* env = std::getenv("GI_DEVICE")) filter = env;
+  Traversal traversal = desc.traversal;
+  if (const char* env = std::getenv("GI_TRAVERSAL")) {
+    if (!parseTraversal(env, traversal)) {
+      error = std::string("GI_TRAVERSAL='") + env + "' is not one of auto, rayquery, compute.";
+      return false;
+    }
+  }
+  const bool needRayQuery = traversal == Traversal::RayQuery;
   VkPhysicalDevice best = VK_NULL_HANDLE;
   VkPhysicalDeviceProperties bestProps{};
   std::string bestMissing;
@@ -168,8 +195,9 @@ bool createContext(const ContextDesc& desc, Context& ctx, std::string& error) {
     std::vector<std::string> have = deviceExtensions(d);
     std::string missing;
     if (props.apiVersion < VK_API_VERSION_1_3) missing = "Vulkan 1.3";
-    for (const char* ext : kRequiredDeviceExtensions)
-      if (missing.empty() && std::find(have.begin(), have.end(), ext) == have.end()) missing = ext;
+    if (needRayQuery)
+      for (const char* ext : kRayQueryDeviceExtensions)
+        if (missing.empty() && std::find(have.begin(), have.end(), ext) == have.end()) missing = ext;
     if (desc.swapchain && missing.empty() &&
         std::find(have.begin(), have.end(), VK_KHR_SWAPCHAIN_EXTENSION_NAME) == have.end())
       missing = VK_KHR_SWAPCHAIN_EXTENSION_NAME;
@@ -188,9 +216,24 @@ bool createContext(const ContextDesc& desc, Context& ctx, std::string& error) {
   }
   if (!bestMissing.empty()) {
     error = std::string("The Vulkan device '") + bestProps.deviceName + "' does not support " + bestMissing +
-            ", which the GI module needs for ray-traced lighting (on Debian 12, install mesa-vulkan-drivers from bookworm-backports).";
+            (needRayQuery ? ", which the ray-query traversal needs (use --traversal compute, or on Debian 12 install "
+                            "mesa-vulkan-drivers from bookworm-backports)."
+                          : ", which the GI module needs.");
     return false;
   }
+  // Auto: ray queries where the device has them, unless it is a CPU device,
+  // where our compute traversal measured faster (docs/RESULTS.md).
+  std::vector<std::string> bestExtensions = deviceExtensions(best);
+  bool deviceHasRayQuery = true;
+  for (const char* ext : kRayQueryDeviceExtensions)
+    deviceHasRayQuery &= std::find(bestExtensions.begin(), bestExtensions.end(), ext) != bestExtensions.end();
+  // Auto keeps the extensions on where the device has them, so the ray bench
+  // can compare both backends; an explicit Compute creates the device without them.
+  ctx.rayQuery = traversal == Traversal::RayQuery || (traversal == Traversal::Auto && deviceHasRayQuery);
+  if (traversal == Traversal::Auto)
+    traversal = deviceHasRayQuery && bestProps.deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU ? Traversal::RayQuery
+                                                                                          : Traversal::Compute;
+  ctx.traversal = traversal;
   ctx.physicalDevice = best;
   ctx.properties = bestProps;
   vkGetPhysicalDeviceMemoryProperties(best, &ctx.memoryProperties);
@@ -211,8 +254,8 @@ bool createContext(const ContextDesc& desc, Context& ctx, std::string& error) {
     const char* name;
   };
   const Need needs[] = {
-      {rayQuery.rayQuery, "the rayQuery feature"},
-      {accel.accelerationStructure, "the accelerationStructure feature"},
+      {ctx.rayQuery ? rayQuery.rayQuery : VK_TRUE, "the rayQuery feature"},
+      {ctx.rayQuery ? accel.accelerationStructure : VK_TRUE, "the accelerationStructure feature"},
       {f12.bufferDeviceAddress, "bufferDeviceAddress"},
       {f12.scalarBlockLayout, "scalarBlockLayout"},
       {f12.runtimeDescriptorArray, "runtimeDescriptorArray"},
@@ -244,7 +287,7 @@ bool createContext(const ContextDesc& desc, Context& ctx, std::string& error) {
   f13On.dynamicRendering = VK_TRUE;
   f13On.synchronization2 = VK_TRUE;
   f13On.maintenance4 = VK_TRUE;
-  f13On.pNext = &accelOn;
+  f13On.pNext = ctx.rayQuery ? &accelOn : nullptr;
   VkPhysicalDeviceVulkan12Features f12On{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
   f12On.bufferDeviceAddress = VK_TRUE;
   f12On.scalarBlockLayout = VK_TRUE;
@@ -279,7 +322,8 @@ bool createContext(const ContextDesc& desc, Context& ctx, std::string& error) {
     return false;
   }
 
-  std::vector<const char*> deviceExts(std::begin(kRequiredDeviceExtensions), std::end(kRequiredDeviceExtensions));
+  std::vector<const char*> deviceExts;
+  if (ctx.rayQuery) deviceExts.assign(std::begin(kRayQueryDeviceExtensions), std::end(kRayQueryDeviceExtensions));
   if (desc.swapchain) deviceExts.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
   float priority = 1.0f;
   VkDeviceQueueCreateInfo queueInfo{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
@@ -300,10 +344,12 @@ bool createContext(const ContextDesc& desc, Context& ctx, std::string& error) {
   volkLoadDevice(ctx.device);
   vkGetDeviceQueue(ctx.device, ctx.queueFamily, 0, &ctx.queue);
 
-  ctx.accelerationProperties.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_PROPERTIES_KHR;
-  VkPhysicalDeviceProperties2 props2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
-  props2.pNext = &ctx.accelerationProperties;
-  vkGetPhysicalDeviceProperties2(best, &props2);
+  if (ctx.rayQuery) {
+    ctx.accelerationProperties.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_PROPERTIES_KHR;
+    VkPhysicalDeviceProperties2 props2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+    props2.pNext = &ctx.accelerationProperties;
+    vkGetPhysicalDeviceProperties2(best, &props2);
+  }
 
   VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
   poolInfo.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;

@@ -1,6 +1,7 @@
 // Vulkan instance + device + one queue. Headless by default; a windowed caller
-// passes the surface extensions GLFW asks for. Requires Vulkan 1.3 with ray
-// queries, acceleration structures and buffer device address.
+// passes the surface extensions GLFW asks for. Requires Vulkan 1.3 with buffer
+// device address; ray queries and acceleration structures only for the
+// ray-query traversal backend.
 #pragma once
 #include "vk.h"
 
@@ -11,7 +12,16 @@
 
 namespace engine {
 
+// How rays are traced. Auto takes the compute backend (our BVH walked in a
+// shader) when the device has no ray queries or is a CPU (lavapipe, where it
+// measured 3× faster), otherwise ray queries. Compute creates the device
+// without the ray-tracing extensions, as on a GPU that has none.
+enum class Traversal { Auto, RayQuery, Compute };
+const char* traversalName(Traversal t);            // "auto", "rayquery", "compute"
+bool parseTraversal(const std::string& name, Traversal& out);
+
 struct ContextDesc {
+  Traversal traversal = Traversal::Auto;        // env GI_TRAVERSAL (auto|rayquery|compute) overrides
   bool validation = false;                      // Khronos validation layer + message counting
   std::vector<const char*> instanceExtensions;  // e.g. from glfwGetRequiredInstanceExtensions
   bool swapchain = false;                       // enable VK_KHR_swapchain on the device
@@ -37,6 +47,9 @@ struct Context {
   VkPhysicalDeviceAccelerationStructurePropertiesKHR accelerationProperties{};
   std::unique_ptr<ValidationCounter> validation;  // null when validation is off
   bool debugUtils = false;                         // debug labels available
+  bool rayQuery = false;                           // ray-query and acceleration-structure extensions enabled
+  Traversal traversal = Traversal::Compute;        // the backend chosen: RayQuery or Compute, never Auto
+  uint32_t traversalId() const;                    // gpu::TRAVERSAL_* of `traversal`
 
   uint32_t validationMessages() const { return validation ? validation->errors + validation->warnings : 0; }
 };

@@ -94,6 +94,18 @@ DescriptorWriter& DescriptorWriter::sampledImage(uint32_t binding, VkImageView v
   return *this;
 }
 
+DescriptorWriter& DescriptorWriter::uniformTexelBuffer(uint32_t binding, VkBufferView view) {
+  texelViews_.push_back(view);
+  VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+  w.dstSet = set_;
+  w.dstBinding = binding;
+  w.descriptorCount = 1;
+  w.descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+  w.pTexelBufferView = &texelViews_.back();
+  writes_.push_back(w);
+  return *this;
+}
+
 DescriptorWriter& DescriptorWriter::accelerationStructure(uint32_t binding, const VkAccelerationStructureKHR* as) {
   VkWriteDescriptorSetAccelerationStructureKHR a{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET_ACCELERATION_STRUCTURE_KHR};
   a.accelerationStructureCount = 1;

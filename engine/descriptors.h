@@ -34,6 +34,7 @@ class DescriptorWriter {
   DescriptorWriter& storageImage(uint32_t binding, VkImageView view, uint32_t arrayElement = 0);
   DescriptorWriter& sampledImage(uint32_t binding, VkImageView view, VkSampler sampler, uint32_t arrayElement = 0);
   DescriptorWriter& accelerationStructure(uint32_t binding, const VkAccelerationStructureKHR* as);
+  DescriptorWriter& uniformTexelBuffer(uint32_t binding, VkBufferView view);
   void write(const Context& ctx);
 
  private:
@@ -42,6 +43,7 @@ class DescriptorWriter {
   std::deque<VkDescriptorBufferInfo> buffers_;  // deques keep element addresses stable
   std::deque<VkDescriptorImageInfo> images_;
   std::deque<VkWriteDescriptorSetAccelerationStructureKHR> structures_;
+  std::deque<VkBufferView> texelViews_;
 };
 
 }  // namespace engine

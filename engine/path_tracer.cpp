@@ -4,6 +4,7 @@
 #include <cstring>
 
 #include "path_trace.comp.h"
+#include "path_trace.comp.compute.h"
 
 namespace engine {
 
@@ -40,7 +41,7 @@ PathTracer createPathTracer(const Context& ctx, const SceneGpu& scene, VkExtent2
       .buffer(gpu::PT_BINDING_RAY_COUNTER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, pt.rayCounter.buffer)
       .write(ctx);
   VkDescriptorSetLayout layouts[] = {scene.set.layout, pt.set.layout};
-  pt.program = createComputeProgram(ctx, spv_path_trace_comp, layouts, sizeof(gpu::PathTracerPush),
+  pt.program = createComputeProgram(ctx, GI_SCENE_SPIRV(ctx.traversalId(), path_trace_comp), layouts, sizeof(gpu::PathTracerPush),
                                     {PT_GROUP_SIZE, PT_GROUP_SIZE}, scene.specialization());
   return pt;
 }

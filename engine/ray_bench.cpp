@@ -5,12 +5,13 @@
 #include "compute_program.h"
 #include "gpu_timer.h"
 #include "ray_bench.comp.h"
+#include "ray_bench.comp.compute.h"
 #include "shared/ray_bench.h"
 
 namespace engine {
 
-RayBenchResult runRayBench(const Context& ctx, const SceneGpu& scene, const gpu::GpuCamera& camera,
-                           uint32_t pathsPerPixel, uint32_t rounds) {
+RayBenchResult runRayBench(const Context& ctx, const SceneGpu& scene, const gpu::GpuCamera& camera, uint32_t kind,
+                           uint32_t traversal, uint32_t pathsPerPixel, uint32_t rounds) {
   uint32_t w = uint32_t(camera.imageSize.x), h = uint32_t(camera.imageSize.y);
   const Binding bindings[] = {{gpu::RB_BINDING_CAMERA, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER},
                               {gpu::RB_BINDING_OUTPUT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
@@ -26,7 +27,7 @@ RayBenchResult runRayBench(const Context& ctx, const SceneGpu& scene, const gpu:
       .buffer(gpu::RB_BINDING_COUNTER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, counter.buffer)
       .write(ctx);
   VkDescriptorSetLayout layouts[] = {scene.set.layout, set.layout};
-  ComputeProgram program = createComputeProgram(ctx, spv_ray_bench_comp, layouts, sizeof(gpu::RayBenchPush),
+  ComputeProgram program = createComputeProgram(ctx, GI_SCENE_SPIRV(traversal, ray_bench_comp), layouts, sizeof(gpu::RayBenchPush),
                                                 {RB_GROUP_SIZE, RB_GROUP_SIZE}, scene.specialization());
   GpuTimer timer = createGpuTimer(ctx, 2);
   RayBenchResult result;
@@ -36,7 +37,7 @@ RayBenchResult runRayBench(const Context& ctx, const SceneGpu& scene, const gpu:
     resetGpuTimer(ctx, timer);
     submitAndWait(ctx, [&](VkCommandBuffer cmd) {
       beginPass(ctx, cmd, timer, "ray_bench");
-      dispatch(cmd, program, sets, {w, h}, gpu::RayBenchPush{round, pathsPerPixel, 0, 0});
+      dispatch(cmd, program, sets, {w, h}, gpu::RayBenchPush{round, pathsPerPixel, kind, 0});
       memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                     VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
       endPass(ctx, cmd, timer);
@@ -54,6 +55,21 @@ RayBenchResult runRayBench(const Context& ctx, const SceneGpu& scene, const gpu:
   destroyBuffer(ctx, cameraBuffer);
   destroyDescriptorSet(ctx, set);
   return result;
+}
+
+RayRates measureRayRates(const Context& ctx, const SceneGpu& scene, const gpu::GpuCamera& camera, uint32_t traversal,
+                         uint32_t pathsPerPixel, uint32_t rounds) {
+  RayBenchResult primary = runRayBench(ctx, scene, camera, gpu::RB_KIND_PRIMARY, traversal, pathsPerPixel, rounds);
+  auto extra = [&](uint32_t kind) {
+    RayBenchResult r = runRayBench(ctx, scene, camera, kind, traversal, pathsPerPixel, rounds);
+    double rays = double(r.rays) - double(primary.rays), ms = r.gpuMs - primary.gpuMs;
+    return rays > 0.0 && ms > 0.0 ? rays / (ms * 1e3) : 0.0;
+  };
+  RayRates rates;
+  rates.primary = primary.mraysPerSecond();
+  rates.diffuse = extra(gpu::RB_KIND_DIFFUSE);
+  rates.shadow = extra(gpu::RB_KIND_SHADOW);
+  return rates;
 }
 
 }  // namespace engine

@@ -56,6 +56,7 @@ struct Instance {
   std::string name;
   uint32_t mesh = 0;
   glm::mat4 worldFromObject{1.0f};
+  bool movable = false;  // its transform may change after upload (the compute BVH keeps it out of the static level)
 };
 
 enum class LightType : uint32_t { Point = 0, Spot = 1, Directional = 2 };

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <stdexcept>
+#include <string>
 
 namespace engine {
 namespace {
@@ -13,7 +15,7 @@ constexpr VkBufferUsageFlags kBuildInput = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                                            VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
 
 const Binding kSceneBindings[] = {
-    {gpu::SCENE_BINDING_TLAS, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR},
+    {gpu::SCENE_BINDING_TLAS, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR},  // first: left out without ray queries
     {gpu::SCENE_BINDING_POSITIONS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
     {gpu::SCENE_BINDING_NORMALS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
     {gpu::SCENE_BINDING_UVS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
@@ -24,6 +26,10 @@ const Binding kSceneBindings[] = {
     {gpu::SCENE_BINDING_EMISSIVE_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
     {gpu::SCENE_BINDING_PUNCTUAL_LIGHTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
     {gpu::SCENE_BINDING_CONSTANTS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER},
+    {gpu::SCENE_BINDING_BVH_NODES, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
+    {gpu::SCENE_BINDING_BVH_TRIANGLES, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
+    {gpu::SCENE_BINDING_BVH_TOP_NODES, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
+    {gpu::SCENE_BINDING_BVH_INSTANCES, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
     {gpu::SCENE_BINDING_TEXTURES, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 4096, true},
 };
 
@@ -106,7 +112,99 @@ uint32_t textureIndex(int32_t t) { return t >= 0 ? uint32_t(t) : gpu::NO_TEXTURE
 
 }  // namespace
 
-std::span<const Binding> sceneBindings() { return kSceneBindings; }
+std::span<const Binding> sceneBindings(const Context& ctx) {
+  return ctx.rayQuery ? std::span<const Binding>(kSceneBindings) : std::span<const Binding>(kSceneBindings).subspan(1);
+}
+
+namespace {
+
+std::vector<BvhMesh> bvhMeshes(const Scene& scene) {
+  std::vector<BvhMesh> meshes(scene.meshes.size());
+  for (size_t m = 0; m < scene.meshes.size(); ++m)
+    for (uint32_t p = 0; p < scene.meshes[m].primitiveCount; ++p) {
+      uint32_t id = scene.meshes[m].firstPrimitive + p;
+      const Primitive& prim = scene.primitives[id];
+      meshes[m].geometries.push_back({prim.firstIndex, prim.indexCount / 3, prim.vertexOffset, id});
+    }
+  return meshes;
+}
+
+std::vector<BvhInstance> bvhInstances(const Scene& scene, const std::vector<uint8_t>& forceMovable) {
+  std::vector<BvhInstance> out;
+  for (size_t i = 0; i < scene.instances.size(); ++i) {
+    const Instance& inst = scene.instances[i];
+    out.push_back({inst.mesh, inst.worldFromObject, inst.movable || (i < forceMovable.size() && forceMovable[i])});
+  }
+  return out;
+}
+
+template <typename T>
+void writeMapped(Buffer& buffer, const std::vector<T>& data) {
+  if (!data.empty()) std::memcpy(buffer.mapped, data.data(), std::min<size_t>(buffer.size, data.size() * sizeof(T)));
+}
+
+constexpr VkBufferUsageFlags kTexels = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
+
+// The BVH arrays are read as RGBA32UI texel buffers: on lavapipe a texel fetch
+// is much cheaper than a storage-buffer load with a per-lane address.
+VkBufferView texelView(const Context& ctx, const Buffer& buffer, const char* what) {
+  VkDeviceSize texels = buffer.size / 16;
+  if (texels > ctx.properties.limits.maxTexelBufferElements)
+    throw std::runtime_error(std::string("the compute BVH's ") + what + " need " + std::to_string(texels) +
+                             " texels, more than the device's maxTexelBufferElements (" +
+                             std::to_string(ctx.properties.limits.maxTexelBufferElements) + ")");
+  VkBufferViewCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
+  info.buffer = buffer.buffer;
+  info.format = VK_FORMAT_R32G32B32A32_UINT;  // integers: ids and float bits pass unchanged
+  info.range = VK_WHOLE_SIZE;
+  VkBufferView view = VK_NULL_HANDLE;
+  VK_CHECK(vkCreateBufferView(ctx.device, &info, nullptr, &view));
+  return view;
+}
+
+void destroyBvhBuffers(const Context& ctx, SceneGpu& gpu) {
+  for (VkBufferView* v : {&gpu.bvhNodesView, &gpu.bvhTrianglesView, &gpu.bvhTopNodesView, &gpu.bvhInstancesView}) {
+    if (*v) vkDestroyBufferView(ctx.device, *v, nullptr);
+    *v = VK_NULL_HANDLE;
+  }
+  for (Buffer* b : {&gpu.bvhNodes, &gpu.bvhTriangles, &gpu.bvhTopNodes, &gpu.bvhInstances}) destroyBuffer(ctx, *b);
+}
+
+// Builds the compute backend's BVH and uploads it (bottom levels device-local,
+// the top level host-visible and sized for every instance).
+void buildBvhBuffers(const Context& ctx, const Scene& scene, const std::vector<uint8_t>& forceMovable, SceneGpu& gpu) {
+  std::vector<BvhMesh> meshes = bvhMeshes(scene);
+  std::vector<BvhInstance> instances = bvhInstances(scene, forceMovable);
+  gpu.bvh = buildSceneBvh({scene.positions, scene.indices, meshes, instances});
+  destroyBvhBuffers(ctx, gpu);
+  std::vector<gpu::GpuBvhNode> nodes = gpu.bvh.bottomNodes;
+  if (nodes.empty()) nodes.push_back({});  // never referenced; a buffer may not be empty
+  gpu.bvhNodes = upload(ctx, nodes, kTexels);
+  std::vector<gpu::GpuBvhTriangle> triangles = gpu.bvh.triangles;
+  if (triangles.empty()) triangles.push_back({});
+  gpu.bvhTriangles = upload(ctx, triangles, kTexels);
+  gpu.bvhTopNodes = createBuffer(ctx, maxTopNodes(scene.instances.size()) * sizeof(gpu::GpuBvhNode), kTexels,
+                                 MemoryKind::HostVisible);
+  gpu.bvhInstances = createBuffer(ctx, maxTopInstances(scene.instances.size()) * sizeof(gpu::GpuBvhInstance), kTexels,
+                                  MemoryKind::HostVisible);
+  writeMapped(gpu.bvhTopNodes, gpu.bvh.topNodes);
+  writeMapped(gpu.bvhInstances, gpu.bvh.topInstances);
+  gpu.bvhNodesView = texelView(ctx, gpu.bvhNodes, "nodes");
+  gpu.bvhTrianglesView = texelView(ctx, gpu.bvhTriangles, "triangles");
+  gpu.bvhTopNodesView = texelView(ctx, gpu.bvhTopNodes, "top-level nodes");
+  gpu.bvhInstancesView = texelView(ctx, gpu.bvhInstances, "instances");
+}
+
+void writeBvhDescriptors(const Context& ctx, const SceneGpu& gpu) {
+  DescriptorWriter w(gpu.set.set);
+  w.uniformTexelBuffer(gpu::SCENE_BINDING_BVH_NODES, gpu.bvhNodesView)
+      .uniformTexelBuffer(gpu::SCENE_BINDING_BVH_TRIANGLES, gpu.bvhTrianglesView)
+      .uniformTexelBuffer(gpu::SCENE_BINDING_BVH_TOP_NODES, gpu.bvhTopNodesView)
+      .uniformTexelBuffer(gpu::SCENE_BINDING_BVH_INSTANCES, gpu.bvhInstancesView);
+  w.write(ctx);
+}
+
+}  // namespace
 
 void createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu) {
   gpu.positions = upload(ctx, scene.positions, kBuildInput);
@@ -194,12 +292,15 @@ void createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu) {
   samplerInfo.maxLod = VK_LOD_CLAMP_NONE;
   VK_CHECK(vkCreateSampler(ctx.device, &samplerInfo, nullptr, &gpu.sampler));
 
-  buildSceneAcceleration(ctx, scene, gpu.positions, gpu.indices, gpu.accel);
+  gpu.traversal = ctx.traversalId();
+  if (ctx.rayQuery) buildSceneAcceleration(ctx, scene, gpu.positions, gpu.indices, gpu.accel);
+  buildBvhBuffers(ctx, scene, {}, gpu);
 
-  gpu.set = createDescriptorSet(ctx, kSceneBindings, uint32_t(gpu.textures.size()));
+  gpu.set = createDescriptorSet(ctx, sceneBindings(ctx), uint32_t(gpu.textures.size()));
+  writeBvhDescriptors(ctx, gpu);
   DescriptorWriter w(gpu.set.set);
-  w.accelerationStructure(gpu::SCENE_BINDING_TLAS, &gpu.accel.tlas.handle)
-      .buffer(gpu::SCENE_BINDING_POSITIONS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, gpu.positions.buffer)
+  if (ctx.rayQuery) w.accelerationStructure(gpu::SCENE_BINDING_TLAS, &gpu.accel.tlas.handle);
+  w.buffer(gpu::SCENE_BINDING_POSITIONS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, gpu.positions.buffer)
       .buffer(gpu::SCENE_BINDING_NORMALS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, gpu.normals.buffer)
       .buffer(gpu::SCENE_BINDING_UVS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, gpu.uvs.buffer)
       .buffer(gpu::SCENE_BINDING_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, gpu.indices.buffer)
@@ -229,10 +330,26 @@ void recordSceneTransformUpdate(const Context& ctx, VkCommandBuffer cmd, const S
   std::vector<gpu::GpuPunctualLight> lights = punctualLights(scene);
   if (!lights.empty() && lights.size() == gpu.sceneConstants.punctualLightCount)
     std::memcpy(gpu.punctualLights.mapped, lights.data(), lights.size() * sizeof(lights[0]));
-  recordTlasRebuild(ctx, cmd, scene, gpu.accel);
+  std::vector<BvhInstance> bvhPlaced = bvhInstances(scene, {});
+  std::vector<uint8_t> moved(scene.instances.size(), 0);
+  bool mergedMoved = false;
+  for (size_t i = 0; i < scene.instances.size() && i < gpu.bvh.merged.size(); ++i) {
+    moved[i] = gpu.bvh.merged[i] && scene.instances[i].worldFromObject != gpu.bvh.mergedTransforms[i];
+    mergedMoved |= moved[i] != 0;
+  }
+  if (mergedMoved) {  // it was merged as static: take it out, once (the caller guarantees the GPU is done with set 0)
+    buildBvhBuffers(ctx, scene, moved, gpu);
+    writeBvhDescriptors(ctx, gpu);
+  } else {
+    rebuildTopLevel(bvhPlaced, gpu.bvh);
+    writeMapped(gpu.bvhTopNodes, gpu.bvh.topNodes);
+    writeMapped(gpu.bvhInstances, gpu.bvh.topInstances);
+  }
+  if (ctx.rayQuery) recordTlasRebuild(ctx, cmd, scene, gpu.accel);
 }
 
 void destroySceneGpu(const Context& ctx, SceneGpu& gpu) {
+  destroyBvhBuffers(ctx, gpu);
   destroyDescriptorSet(ctx, gpu.set);
   destroySceneAcceleration(ctx, gpu.accel);
   for (Image& img : gpu.textures) destroyImage(ctx, img);

@@ -5,6 +5,7 @@
 #include <array>
 
 #include "acceleration.h"
+#include "bvh_builder.h"
 #include "descriptors.h"
 #include "scene.h"
 
@@ -21,13 +22,19 @@ struct SceneGpu {
   Buffer constants;          // host-visible GpuSceneConstants
   std::vector<Image> textures;  // at least one (a white texel) so the array is never empty
   VkSampler sampler = VK_NULL_HANDLE;
-  SceneAcceleration accel;
+  SceneAcceleration accel;   // ray queries' BLAS/TLAS, only where ctx.rayQuery
+  SceneBvh bvh;              // the compute backend's two-level BVH, always built
+  Buffer bvhNodes, bvhTriangles;   // bottom levels, device-local
+  Buffer bvhTopNodes, bvhInstances;  // top level, host-visible, sized for every instance
+  VkBufferView bvhNodesView = VK_NULL_HANDLE, bvhTrianglesView = VK_NULL_HANDLE;  // RGBA32UI texel views of the four
+  VkBufferView bvhTopNodesView = VK_NULL_HANDLE, bvhInstancesView = VK_NULL_HANDLE;
   DescriptorSet set;
   gpu::GpuSceneConstants sceneConstants{};
   std::vector<glm::mat4> previousTransforms;  // per instance, for motion vectors
 
   bool hasEmissiveTriangles() const { return sceneConstants.emissiveTriangleCount > 0; }
   bool hasPunctualLights() const { return sceneConstants.punctualLightCount > 0; }
+  uint32_t traversal = gpu::TRAVERSAL_COMPUTE;  // how its users trace (ctx.traversalId() at creation)
   bool hasAlphaMask = false;  // some material uses alphaMode MASK
   bool hasGlossyMaterials = false;  // some material has a GGX lobe (MATERIAL_FLAG_GLOSSY)
   float typicalRadiance = 1.0f;     // W/(sr·m²), rough: a grey surface lit by the brightest light (see scene_gpu.cpp)
@@ -43,11 +50,14 @@ void createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu);
 void destroySceneGpu(const Context& ctx, SceneGpu& gpu);
 
 // For moving instances and lights: rewrites transforms, the emissive table
-// and the punctual lights from `scene`, and records a TLAS rebuild into `cmd`. The caller must ensure the
+// and the punctual lights from `scene`, rebuilds the compute BVH's top level
+// and records a TLAS rebuild into `cmd`. An instance that moves without
+// Instance::movable set costs one rebuild of the BVH's bottom levels. The caller must ensure the
 // previous frame's GPU work has finished (the buffers are host-written).
 void recordSceneTransformUpdate(const Context& ctx, VkCommandBuffer cmd, const Scene& scene, SceneGpu& gpu);
 
-// The set-0 bindings, for pipelines that use the scene.
-std::span<const Binding> sceneBindings();
+// The set-0 bindings, for pipelines that use the scene (binding 0, the TLAS,
+// only where the device has ray queries enabled).
+std::span<const Binding> sceneBindings(const Context& ctx);
 
 }  // namespace engine

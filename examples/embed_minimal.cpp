@@ -49,7 +49,8 @@ int main(int argc, char** argv) {
   desc.width = width;
   desc.height = height;
   desc.scene = {sceneGpu.set.layout, sceneGpu.set.set, sceneGpu.hasEmissiveTriangles(), sceneGpu.hasPunctualLights(),
-                sceneGpu.hasAlphaMask, sceneGpu.sceneConstants.sceneExtent, sceneGpu.hasGlossyMaterials, sceneGpu.typicalRadiance};
+                sceneGpu.hasAlphaMask, sceneGpu.sceneConstants.sceneExtent, sceneGpu.hasGlossyMaterials, sceneGpu.typicalRadiance,
+                sceneGpu.traversal};
   gi::Settings settings;
   settings.method = gi::Method::Gif;  // guided filtering of 1-spp indirect light
   settings.maxBounces = 2;

@@ -49,6 +49,7 @@ const cli::Option kOptions[] = {
     {"no-animation", nullptr, "keep the light and the object still"},
     {"still", nullptr, "a static scene: no animation and no walkthrough (the camera stays at the scene's)"},
     {"validation", nullptr, "enable Vulkan validation (exit status 3 if it reports anything)"},
+    cli::kTraversalOption,
 };
 
 struct Options {
@@ -58,6 +59,7 @@ struct Options {
   uint32_t frames = 0, benchmark = 0, screenshotAt = UINT32_MAX;
   float budgetMs = 0.0f;
   fs::path out = "sample_game_out";
+  engine::Traversal traversal = engine::Traversal::Auto;
   bool headless = false, animate = true, walkthrough = true, validation = false;
 };
 
@@ -99,7 +101,7 @@ bool parseOptions(int argc, char** argv, Options& o, std::string& error) {
   o.animate = !args.has("no-animation") && !args.has("still");
   o.walkthrough = !args.has("still");
   o.validation = args.has("validation") || std::getenv("GI_VALIDATION") != nullptr;
-  return true;
+  return cli::getTraversal(args, o.traversal, error);
 }
 
 // Keyboard and mouse for the free camera and the demo's keys, unless ImGui wants them.
@@ -161,6 +163,7 @@ int main(int argc, char** argv) {
   }
   engine::ContextDesc contextDesc;
   contextDesc.validation = o.validation;
+  contextDesc.traversal = o.traversal;
   if (!o.headless) {
     if (engine::windowInstanceExtensions(contextDesc.instanceExtensions, error)) contextDesc.swapchain = true;
     else {

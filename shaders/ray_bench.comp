@@ -1,6 +1,6 @@
 #version 460
-// Bare ray-query throughput: camera rays and diffuse bounce rays with no
-// shading, through the same trace interface (trace.glsl) as every pass.
+// Bare ray throughput: camera rays, then diffuse bounce or shadow rays, with
+// no shading, through the same trace interface (trace.glsl) as every pass.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #include "surface.glsl"
@@ -26,10 +26,19 @@ void main() {
       GiHit hit = giTraceClosest(camera.position, dir, 0.0, GI_FLT_MAX);
       if (hit.t < 0.0) continue;
       sum += hit.t;
+      if (pc.kind == RB_KIND_PRIMARY) continue;
       GiSurface s = giSurfaceFromHit(hit, dir);
-      vec3 bounce = giCosineSample(s.normal, giRandom2(rng));
-      GiHit second = giTraceClosest(giOffsetRay(s.position, s.geometricNormal), bounce, 0.0, GI_FLT_MAX);
-      sum += max(second.t, 0.0);
+      vec3 origin = giOffsetRay(s.position, s.geometricNormal);
+      if (pc.kind == RB_KIND_DIFFUSE) {
+        vec3 bounce = giCosineSample(s.normal, giRandom2(rng));
+        GiHit second = giTraceClosest(origin, bounce, 0.0, GI_FLT_MAX);
+        sum += max(second.t, 0.0);
+      } else {
+        vec3 target = mix(sceneConstants.boundsMin, sceneConstants.boundsMax, vec3(giRandom2(rng), giRandom(rng)));
+        vec3 toTarget = target - origin;
+        float distance = length(toTarget);
+        if (distance > 0.0 && giTraceVisible(origin, toTarget / distance, 0.0, distance)) sum += 1.0;
+      }
     }
     hitDistanceSum[pixel.y * uint(camera.imageSize.x) + pixel.x] = sum;
   }

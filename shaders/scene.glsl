@@ -5,9 +5,19 @@
 #include "common.glsl"
 #include "shared/gpu_scene.h"
 
-#ifndef SCENE_NO_TLAS
+#if !defined(SCENE_NO_TLAS) && !defined(GI_TRACE_COMPUTE)
 #extension GL_EXT_ray_query : require
 layout(set = 0, binding = SCENE_BINDING_TLAS) uniform accelerationStructureEXT sceneTlas;
+#endif
+#if !defined(SCENE_NO_TLAS) && defined(GI_TRACE_COMPUTE)
+#include "shared/gpu_bvh.h"
+// Texel buffers (16-byte rows of the structs), read by trace_bvh.glsl
+// (textureBuffer, not samplerBuffer: SPIR-V wants no sampler on a buffer).
+#extension GL_EXT_samplerless_texture_functions : require
+layout(set = 0, binding = SCENE_BINDING_BVH_NODES) uniform utextureBuffer sceneBvhNodes;
+layout(set = 0, binding = SCENE_BINDING_BVH_TRIANGLES) uniform utextureBuffer sceneBvhTriangles;
+layout(set = 0, binding = SCENE_BINDING_BVH_TOP_NODES) uniform utextureBuffer sceneBvhTopNodes;
+layout(set = 0, binding = SCENE_BINDING_BVH_INSTANCES) uniform utextureBuffer sceneBvhInstances;
 #endif
 // What the scene contains, as specialisation constants (SCENE_SPEC_* in
 // shared/gpu_scene.h), so passes compile without the work a scene cannot need.

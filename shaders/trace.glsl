@@ -1,6 +1,6 @@
 // The one trace interface. Every ray in every shader goes through
-// giTraceClosest (nearest hit) or giTraceVisible (any hit = occluded), so a
-// faster traversal backend can replace ray queries here alone.
+// giTraceClosest (nearest hit) or giTraceVisible (any hit = occluded); the
+// backend is ray queries, or with GI_TRACE_COMPUTE our BVH (trace_bvh.glsl).
 // Alpha-masked geometry is non-opaque in the BLAS; its candidates are accepted
 // only where the base-colour alpha reaches the material's cutoff.
 #ifndef GI_TRACE_GLSL
@@ -29,6 +29,9 @@ bool giAlphaAccepts(uint geometry, uint triangle, vec2 bary) {
   return alpha >= m.alphaCutoff;
 }
 
+#ifdef GI_TRACE_COMPUTE
+#include "trace_bvh.glsl"
+#else
 // Resolves non-opaque candidates of an initialised query.
 void giResolveCandidates(rayQueryEXT query) {
   while (rayQueryProceedEXT(query)) {
@@ -75,6 +78,7 @@ bool giTraceVisible(vec3 origin, vec3 direction, float tMin, float tMax) {
   giResolveCandidates(query);
   return rayQueryGetIntersectionTypeEXT(query, true) == gl_RayQueryCommittedIntersectionNoneEXT;
 }
+#endif  // GI_TRACE_COMPUTE
 
 // Offsets a ray origin off a surface by a few float ULPs along the normal, so
 // secondary rays neither re-hit their own triangle nor skip thin geometry, at

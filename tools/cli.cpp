@@ -109,4 +109,11 @@ std::vector<std::string> splitList(const std::string& text, char separator) {
   return out;
 }
 
+bool getTraversal(const Args& args, engine::Traversal& traversal, std::string& error) {
+  auto it = args.values.find("traversal");
+  if (it == args.values.end() || engine::parseTraversal(it->second, traversal)) return true;
+  error = "--traversal must be one of auto, rayquery, compute, not '" + it->second + "'";
+  return false;
+}
+
 }  // namespace cli

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "context.h"
+
 namespace cli {
 
 struct Option {
@@ -32,5 +34,12 @@ bool getSize(const Args& args, const std::string& name, uint32_t fallbackW, uint
 bool getChoice(const Args& args, const std::string& name, const std::string& fallback,
                std::span<const char* const> choices, std::string& out, std::string& error);
 std::vector<std::string> splitList(const std::string& text, char separator = ',');
+
+// --traversal, shared by gi-render, gi-bench and the demo.
+inline constexpr Option kTraversalOption{
+    "traversal", "NAME",
+    "auto (default), rayquery or compute: how rays are traced (auto: compute on CPU devices and on devices "
+    "without ray queries, where it is faster or the only way)"};
+bool getTraversal(const Args& args, engine::Traversal& traversal, std::string& error);
 
 }  // namespace cli

@@ -17,6 +17,7 @@
 #include "metrics.h"
 #include "module_session.h"
 #include "path_tracer.h"
+#include "bench_rays.h"
 #include "ray_bench.h"
 #include "animation.h"
 #include "scene_loading.h"
@@ -47,6 +48,9 @@ const cli::Option kOptions[] = {
                      "shows the moved scene; results get the frames to recover"},
     {"invalidate-at-move", "WHAT", "with --move-at: the engine tells the module at the jump, gi::invalidate(all) or "
                                    "(lights)"},
+    {"rays", nullptr, "only the bare-ray microbenchmark: primary, diffuse and shadow Mrays/s for each traversal backend "
+                      "and for Embree on the CPU; appends to DIR/rays.csv (no --methods needed)"},
+    cli::kTraversalOption,
     {"out", "DIR", "output folder (default bench_out)"},
     {"no-plots", nullptr, "skip plot_bench.py (plots and report)"},
     {"validation", nullptr, "enable Vulkan validation"},
@@ -166,7 +170,8 @@ int main(int argc, char** argv) {
     std::printf("%s", cli::usage("gi-bench", kSynopsis, kOptions).c_str());
     return 0;
   }
-  if (!args.has("scene") || !args.has("methods")) return usageError("--scene and --methods are required");
+  const bool raysOnly = args.has("rays");
+  if (!args.has("scene") || (!args.has("methods") && !raysOnly)) return usageError("--scene and --methods are required");
   uint32_t width, height, cameraIndex, frames, warmup, bounces, refSpp, pathFrames, pathRefSpp, moveAt = 0;
   if (!cli::getSize(args, "size", 320, 180, width, height, error) ||
       !cli::getUint(args, "camera", 0, 0, 1u << 20, cameraIndex, error) ||
@@ -201,8 +206,12 @@ int main(int argc, char** argv) {
   base.maxBounces = bounces;
   base.seed = 7;
   std::vector<tools::BenchConfig> configs;
-  if (!tools::expandConfigs(cli::splitList(args.values["methods"]), spps, args.values["set"], base, configs, error))
+  if (!raysOnly &&
+      !tools::expandConfigs(cli::splitList(args.values["methods"]), spps, args.values["set"], base, configs, error))
     return usageError(error);
+  engine::ContextDesc desc;
+  desc.validation = args.has("validation");
+  if (!cli::getTraversal(args, desc.traversal, error)) return usageError(error);
 
   fs::path dir = args.has("out") ? args.values["out"] : "bench_out";
   std::error_code ec;
@@ -220,8 +229,6 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "gi-bench: %s: camera %u does not exist\n", scene.sourcePath.c_str(), cameraIndex);
     return 1;
   }
-  engine::ContextDesc desc;
-  desc.validation = args.has("validation");
   engine::Context ctx;
   if (!engine::createContext(desc, ctx, error)) {
     std::fprintf(stderr, "gi-bench: %s\n", error.c_str());
@@ -231,6 +238,13 @@ int main(int argc, char** argv) {
   engine::createSceneGpu(ctx, scene, sceneGpu);
   const engine::Camera& startCamera = scene.cameras[cameraIndex];
   gpu::GpuCamera camera = engine::makeGpuCamera(startCamera, width, height, nullptr);
+  if (raysOnly) {
+    bool written = tools::benchRays(ctx, scene, sceneGpu, camera, dir, error);
+    if (!written) std::fprintf(stderr, "gi-bench: %s\n", error.c_str());
+    engine::destroySceneGpu(ctx, sceneGpu);
+    engine::destroyContext(ctx);
+    return written ? 0 : 1;
+  }
   std::string sceneName = fs::path(scene.sourcePath).stem().string();
   std::string key = sanitise(sceneName) + "_cam" + std::to_string(cameraIndex) + "_" + std::to_string(width) + "x" +
                     std::to_string(height) + "_b" + std::to_string(bounces) + "_s" + std::to_string(refSpp);
@@ -301,8 +315,11 @@ int main(int argc, char** argv) {
     refFlicker /= double(pathRefs.size() - 1);
   }
 
-  engine::RayBenchResult bare = engine::runRayBench(ctx, sceneGpu, camera);
-  std::printf("gi-bench: bare ray queries on %s: %.3f Mrays/s\n", ctx.properties.deviceName, bare.mraysPerSecond());
+  // The tracing passes' ceiling: the active backend's camera + diffuse rays.
+  engine::RayBenchResult bare =
+      engine::runRayBench(ctx, sceneGpu, camera, gpu::RB_KIND_DIFFUSE, ctx.traversalId());
+  std::printf("gi-bench: bare rays (%s traversal) on %s: %.3f Mrays/s\n", engine::traversalName(ctx.traversal),
+              ctx.properties.deviceName, bare.mraysPerSecond());
 
   std::vector<Row> rows;
   std::ofstream series;
@@ -435,7 +452,7 @@ int main(int argc, char** argv) {
 
   fs::path csvPath = dir / "results.csv";
   std::ofstream csv(csvPath);
-  csv << "scene,method,settings,spp,frames,total_ms,pass_ms,rays,mrays_per_s,rq_efficiency,mse,relmse,psnr,ssim,"
+  csv << "scene,method,settings,spp,frames,total_ms,pass_ms,rays,mrays_per_s,ray_efficiency,mse,relmse,psnr,ssim,"
          "mse_indirect,relmse_indirect,psnr_indirect,ssim_indirect,memory_bytes,equal_error_speedup,flicker_ratio,"
          "hash_occupancy,hash_failed_inserts,hash_mean_probe,hash_max_probe,hash_evicted,traced_spp,equal_error_speedup_indirect,"
          "hash_stale_resets,move_recovery_frames,move_steady_mse_indirect,label\n";
@@ -465,7 +482,7 @@ int main(int argc, char** argv) {
   meta << "scene " << scene.sourcePath << "\ndevice " << ctx.properties.deviceName << "\nsize " << width << "x" << height
        << "\nmax_bounces " << bounces << "\nreference " << (args.has("reference") ? args.values["reference"] : key)
        << "\nreference_spp " << refSpp << "\nframes " << frames << "\nwarmup " << warmup
-       << "\nbare_mrays_per_s " << bare.mraysPerSecond() << "\n";
+       << "\ntraversal " << engine::traversalName(ctx.traversal) << "\nbare_mrays_per_s " << bare.mraysPerSecond() << "\n";
   meta.close();
   std::printf("gi-bench: wrote %s\n", csvPath.c_str());
   std::fflush(stdout);

@@ -35,6 +35,7 @@ const cli::Option kOptions[] = {
     {"out", "FILE", "output image: .exr or .pfm (linear) or .png (sRGB)"},
     {"stats", "FILE.json", "write device, timings, rays and wall time as JSON"},
     {"validation", nullptr, "enable Vulkan validation; any message makes the run fail"},
+    cli::kTraversalOption,
     {"window", nullptr, "show the frames in a GLFW window (module methods; needs a display)"},
     {"animate", nullptr, "the light and an object move, 30 frames a second (engine/animation.h); the reference "
                          "renders the last frame's pose"},
@@ -100,6 +101,7 @@ int main(int argc, char** argv) {
 
   engine::ContextDesc desc;
   desc.validation = args.has("validation") || std::getenv("GI_VALIDATION") != nullptr;
+  if (!cli::getTraversal(args, desc.traversal, error)) return usageError(error);
   bool windowed = args.has("window");
   if (windowed && method == "reference") return usageError("--window shows module methods (raw, gif, ...), not the reference");
   if (windowed) {
@@ -196,12 +198,14 @@ int main(int argc, char** argv) {
 
   double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
   double mraysPerSecond = run.gpuMs > 0.0 ? double(run.rays) / (run.gpuMs * 1e3) : 0.0;
-  std::printf("%s: %ux%u, %u spp, B=%u on %s: %.1f ms GPU, %llu rays (%.3f Mrays/s), %.2f s wall\n",
-              scene.sourcePath.c_str(), width, height, spp * frames, bounces, ctx.properties.deviceName, run.gpuMs,
+  std::printf("%s: %ux%u, %u spp, B=%u on %s (%s traversal): %.1f ms GPU, %llu rays (%.3f Mrays/s), %.2f s wall\n",
+              scene.sourcePath.c_str(), width, height, spp * frames, bounces, ctx.properties.deviceName,
+              engine::traversalName(ctx.traversal), run.gpuMs,
               (unsigned long long)run.rays, mraysPerSecond, wall);
   if (args.has("stats")) {
     nlohmann::json j;
     j["device"] = ctx.properties.deviceName;
+    j["traversal"] = engine::traversalName(ctx.traversal);
     j["scene"] = scene.sourcePath;
     j["method"] = method;
     j["width"] = width;

@@ -20,7 +20,8 @@ engine::FloatImage readRgba32(const engine::Context& ctx, VkImage image, VkExten
 
 gi::SceneDesc sceneDesc(const engine::SceneGpu& scene) {
   return {scene.set.layout,    scene.set.set, scene.hasEmissiveTriangles(), scene.hasPunctualLights(),
-          scene.hasAlphaMask,  scene.sceneConstants.sceneExtent, scene.hasGlossyMaterials, scene.typicalRadiance};
+          scene.hasAlphaMask,  scene.sceneConstants.sceneExtent, scene.hasGlossyMaterials, scene.typicalRadiance,
+          scene.traversal};
 }
 
 bool createModuleSession(const engine::Context& ctx, const engine::SceneGpu& scene, VkExtent2D extent,

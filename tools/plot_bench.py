@@ -137,12 +137,12 @@ def main(out_dir):
     for key in ("scene", "device", "size", "max_bounces", "reference", "reference_spp", "frames", "warmup", "bare_mrays_per_s"):
         if key in meta:
             lines.append("- %s: %s" % (key.replace("_", " "), meta[key]))
-    lines += ["", "| configuration | ms/frame | passes (ms) | Mrays/s | RQ eff. | MSE | relMSE | PSNR | SSIM | MSE indirect | speed-up | flicker |",
+    lines += ["", "| configuration | ms/frame | passes (ms) | Mrays/s | ray eff. | MSE | relMSE | PSNR | SSIM | MSE indirect | speed-up | flicker |",
               "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         lines.append("| %s | %.2f | %s | %.3f | %.2f | %.3e | %.3e | %.2f | %.4f | %s | %.2f | %s |" % (
             r["label"], float(r["total_ms"]), r["pass_ms"].replace(";", "; "), float(r["mrays_per_s"]),
-            float(r["rq_efficiency"]), float(r["mse"]), float(r["relmse"]), float(r["psnr"]), float(r["ssim"]),
+            float(r.get("ray_efficiency", r.get("rq_efficiency", 0))), float(r["mse"]), float(r["relmse"]), float(r["psnr"]), float(r["ssim"]),
             ("%.3e" % float(r["mse_indirect"])) if float(r["mse_indirect"]) > 0 else "n/a",
             float(r["equal_error_speedup"]), r["flicker_ratio"] or "n/a"))
     if any(float(r.get("hash_occupancy") or 0) > 0 for r in rows):

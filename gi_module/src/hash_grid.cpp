@@ -4,9 +4,13 @@
 #include <cstring>
 
 #include "hpsf_insert.comp.h"
+#include "hpsf_insert.comp.compute.h"
 #include "hpsf_lookup.comp.h"
+#include "hpsf_lookup.comp.compute.h"
 #include "hpsf_resolve.comp.h"
+#include "hpsf_resolve.comp.compute.h"
 #include "nhpsf_paths.comp.h"
+#include "nhpsf_paths.comp.compute.h"
 #include "shared/gi_frame.h"
 
 namespace gi {
@@ -51,16 +55,16 @@ HashGrid createHashGrid(const engine::Context& ctx, uint32_t capacity, uint32_t 
 }
 
 void ensureHashGridPrograms(const engine::Context& ctx, HashGrid& g, const VkDescriptorSetLayout layouts[2],
-                            std::span<const uint32_t> spec, uint32_t mode) {
+                            std::span<const uint32_t> spec, uint32_t mode, uint32_t traversal) {
   VkDescriptorSetLayout all[] = {layouts[0], layouts[1], g.set.layout};
   const glm::uvec2 tile{GI_GROUP_SIZE, GI_GROUP_SIZE};
   auto make = [&](engine::ComputeProgram& p, std::span<const uint32_t> spirv, glm::uvec2 group) {
     if (!p.pipeline) p = engine::createComputeProgram(ctx, spirv, all, sizeof(gpu::HgPush), group, spec);
   };
-  if (mode == gpu::HG_MODE_HPSF) make(g.insert, spv_hpsf_insert_comp, tile);
-  else make(g.paths, spv_nhpsf_paths_comp, tile);
-  make(g.resolve, spv_hpsf_resolve_comp, {64, 1});
-  make(g.lookup, spv_hpsf_lookup_comp, tile);
+  if (mode == gpu::HG_MODE_HPSF) make(g.insert, GI_SCENE_SPIRV(traversal, hpsf_insert_comp), tile);
+  else make(g.paths, GI_SCENE_SPIRV(traversal, nhpsf_paths_comp), tile);
+  make(g.resolve, GI_SCENE_SPIRV(traversal, hpsf_resolve_comp), {64, 1});
+  make(g.lookup, GI_SCENE_SPIRV(traversal, hpsf_lookup_comp), tile);
 }
 
 void destroyHashGrid(const engine::Context& ctx, HashGrid& g) {

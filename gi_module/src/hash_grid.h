@@ -33,7 +33,8 @@ HashGrid createHashGrid(const engine::Context& ctx, uint32_t capacity, uint32_t 
 // The programs the mode needs (insert for hpsf, paths for nhpsf/anhpsf; resolve
 // and lookup always): `layouts` are sets 0 and 1 (scene, frame).
 void ensureHashGridPrograms(const engine::Context& ctx, HashGrid& grid, const VkDescriptorSetLayout layouts[2],
-                            std::span<const uint32_t> spec, uint32_t mode);
+                            std::span<const uint32_t> spec, uint32_t mode,
+                            uint32_t traversal);
 void destroyHashGrid(const engine::Context& ctx, HashGrid& grid);
 
 // First slot of the table written in frame `frameIndex`, and of the one it reads as the last frame.

@@ -10,11 +10,17 @@
 #include <cstring>
 
 #include "gi_composite.comp.h"
+#include "gi_composite.comp.compute.h"
 #include "gi_guidance.comp.h"
+#include "gi_guidance.comp.compute.h"
 #include "gi_raw_trace.comp.h"
+#include "gi_raw_trace.comp.compute.h"
 #include "aaf_adaptive.comp.h"
+#include "aaf_adaptive.comp.compute.h"
 #include "aaf_sample.comp.h"
+#include "aaf_sample.comp.compute.h"
 #include "gi_supersample.comp.h"
+#include "gi_supersample.comp.compute.h"
 #include "shared/aaf.h"
 
 namespace gi {
@@ -121,12 +127,14 @@ void ensureHashGrid(Module& m) {
   bool walks = m.settings.method == Method::Anhpsf;
   VkDescriptorSetLayout layouts[2] = {m.desc.scene.layout, m.frameSet.layout};
   if (m.hash.capacity == capacity && m.hash.tables == tables && (m.hash.walkPixels > 0) == walks) {
-    ensureHashGridPrograms(m.ctx, m.hash, layouts, sceneSpecialization(m), hashMode(m.settings.method));
+    ensureHashGridPrograms(m.ctx, m.hash, layouts, sceneSpecialization(m), hashMode(m.settings.method),
+                           m.desc.scene.traversal);
     return;
   }
   if (m.hash.capacity) destroyHashGrid(m.ctx, m.hash);  // a new map starts empty (the caller let the last frame finish)
   m.hash = createHashGrid(m.ctx, capacity, tables, m.desc.width, m.desc.height, kFramesInFlight, walks);
-  ensureHashGridPrograms(m.ctx, m.hash, layouts, sceneSpecialization(m), hashMode(m.settings.method));
+  ensureHashGridPrograms(m.ctx, m.hash, layouts, sceneSpecialization(m), hashMode(m.settings.method),
+                           m.desc.scene.traversal);
 }
 
 // Each method's programs are compiled when it is first chosen: a module that
@@ -140,13 +148,13 @@ void ensurePrograms(Module& m) {
     if (!p.pipeline) p = engine::createComputeProgram(m.ctx, spirv, layouts, push, tile, spec);
   };
   bool pathsFromGBuffer = !usesHashGrid(s.method) && !isAaf(s.method);
-  if (pathsFromGBuffer) make(m.rawTrace, spv_gi_raw_trace_comp, sizeof(gpu::GiRawPush));
-  if (usesScreenFilters(s.method)) make(m.guidancePass, spv_gi_guidance_comp, 0);
+  if (pathsFromGBuffer) make(m.rawTrace, GI_SCENE_SPIRV(m.desc.scene.traversal, gi_raw_trace_comp), sizeof(gpu::GiRawPush));
+  if (usesScreenFilters(s.method)) make(m.guidancePass, GI_SCENE_SPIRV(m.desc.scene.traversal, gi_guidance_comp), 0);
   if (s.method == Method::Gif && s.gif.supersamples > 0)
-    make(m.supersample, spv_gi_supersample_comp, sizeof(gpu::GiSupersamplePush));
+    make(m.supersample, GI_SCENE_SPIRV(m.desc.scene.traversal, gi_supersample_comp), sizeof(gpu::GiSupersamplePush));
   if (isAaf(s.method)) {
-    make(m.aafSample, spv_aaf_sample_comp, sizeof(gpu::AafPush));
-    make(m.aafAdaptive, spv_aaf_adaptive_comp, sizeof(gpu::AafPush));
+    make(m.aafSample, GI_SCENE_SPIRV(m.desc.scene.traversal, aaf_sample_comp), sizeof(gpu::AafPush));
+    make(m.aafAdaptive, GI_SCENE_SPIRV(m.desc.scene.traversal, aaf_adaptive_comp), sizeof(gpu::AafPush));
   }
 }
 
@@ -310,7 +318,7 @@ Error create(const ModuleDesc& desc, const Settings& settings, Module*& out) {
       .buffer(gpu::GI_BINDING_COUNTERS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, m->counters.buffer)
       .write(m->ctx);
   VkDescriptorSetLayout layouts[] = {desc.scene.layout, m->frameSet.layout};
-  m->composite_ = engine::createComputeProgram(m->ctx, spv_gi_composite_comp, layouts, sizeof(gpu::GiCompositePush),
+  m->composite_ = engine::createComputeProgram(m->ctx, GI_SCENE_SPIRV(desc.scene.traversal, gi_composite_comp), layouts, sizeof(gpu::GiCompositePush),
                                                {GI_GROUP_SIZE, GI_GROUP_SIZE}, sceneSpecialization(*m));
   createSizedResources(*m);
   ensurePrograms(*m);

@@ -20,8 +20,19 @@ GPU_CONST SCENE_BINDING_MATERIALS = 7;         // GpuMaterial[]
 GPU_CONST SCENE_BINDING_EMISSIVE_TRIANGLES = 8;// GpuEmissiveTriangle[] (placeholder when none)
 GPU_CONST SCENE_BINDING_PUNCTUAL_LIGHTS = 9;   // GpuPunctualLight[] (placeholder when none)
 GPU_CONST SCENE_BINDING_CONSTANTS = 10;        // GpuSceneConstants (uniform)
-GPU_CONST SCENE_BINDING_TEXTURES = 11;         // sampler2D[], variable count
-GPU_CONST SCENE_BINDING_COUNT = 12;
+// The compute traversal backend's two-level BVH (shared/gpu_bvh.h). Present
+// whatever the backend; binding 0 (the TLAS) only where the device has ray queries.
+// Each is an RGBA32UI uniform texel buffer holding the structs' 16-byte rows.
+GPU_CONST SCENE_BINDING_BVH_NODES = 11;        // GpuBvhNode[], every bottom level
+GPU_CONST SCENE_BINDING_BVH_TRIANGLES = 12;    // GpuBvhTriangle[]
+GPU_CONST SCENE_BINDING_BVH_TOP_NODES = 13;    // GpuBvhNode[], the top level (node 0 = root), host-written
+GPU_CONST SCENE_BINDING_BVH_INSTANCES = 14;    // GpuBvhInstance[], host-written
+GPU_CONST SCENE_BINDING_TEXTURES = 15;         // sampler2D[], variable count (must stay the last binding)
+GPU_CONST SCENE_BINDING_COUNT = 16;
+
+// How rays are traced (trace.glsl): the SPIR-V variant a pipeline is built from.
+GPU_CONST TRAVERSAL_RAY_QUERY = 0u;  // VK_KHR_ray_query against the TLAS
+GPU_CONST TRAVERSAL_COMPUTE = 1u;    // our BVH, walked in the shader (GI_TRACE_COMPUTE)
 
 // Specialisation constant ids every scene-reading pipeline receives (0/1 values).
 #define SCENE_SPEC_HAS_EMISSIVE 0

@@ -11,11 +11,17 @@ GPU_CONST RB_BINDING_OUTPUT = 1;   // float[] per pixel: Σ hit distances (keeps
 GPU_CONST RB_BINDING_COUNTER = 2;  // uint: rays traced
 #define RB_GROUP_SIZE 8u
 
+// What each path traces after its camera ray. Rates per kind come from the
+// difference to a camera-rays-only run (engine/ray_bench.cpp).
+GPU_CONST RB_KIND_PRIMARY = 0u;  // camera rays only
+GPU_CONST RB_KIND_DIFFUSE = 1u;  // + one cosine-distributed ray from the hit (closest hit)
+GPU_CONST RB_KIND_SHADOW = 2u;   // + one visibility ray from the hit to a point in the scene bounds (any hit)
+
 struct RayBenchPush {
   uint seed;
-  uint pathsPerPixel;  // each: one camera ray, then one cosine-distributed ray from its hit
+  uint pathsPerPixel;  // each: one camera ray, then one ray of `kind` from its hit
+  uint kind;           // RB_KIND_*
   uint pad0;
-  uint pad1;
 };
 GPU_ASSERT_SIZE(RayBenchPush, 16);
 

@@ -37,6 +37,8 @@ struct SceneDesc {
   bool hasGlossyMaterials = false;                // some material has a glossy lobe: AAF filters its specular term separately
   float typicalRadiance = 1.0f;                   // W/(sr·m²) of lit surfaces, to within ×1000: the hash map's fixed-point
                                                   // sums resolve 2^-16 of it and hold 1e9 times it
+  uint32_t traversal = gpu::TRAVERSAL_RAY_QUERY;  // how set 0 is traced: TRAVERSAL_RAY_QUERY (binding 0 is the TLAS)
+                                                  // or TRAVERSAL_COMPUTE (the BVH bindings; the device needs no ray queries)
 };
 
 struct ModuleDesc {

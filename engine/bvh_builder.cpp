@@ -1,0 +1,310 @@
+#include "bvh_builder.h"
+
+#include <embree3/rtcore.h>
+
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <new>
+#include <stdexcept>
+#include <string>
+
+namespace engine {
+namespace {
+
+// Leaves of up to 4 triangles: on lavapipe a box test and a triangle test cost
+// about the same, and 4 measured faster than 2 or 8 (see docs/RESULTS.md).
+constexpr uint32_t kLeafSize = 4;
+constexpr uint32_t kMaxDepth = 40;  // per level; with a top level under 20 deep the stack holds both
+static_assert(kLeafSize <= gpu::BVH_MAX_LEAF_SIZE);
+static_assert(kMaxDepth + 20 < gpu::BVH_STACK_SIZE);
+
+// Embree's build tree, allocated in its thread-local arenas and flattened
+// into GpuBvhNode once the build returns.
+constexpr uint32_t kWidth = gpu::BVH_WIDTH;
+
+struct TreeNode {
+  bool leaf = false;
+  uint32_t count = 0;  // leaf: primitives; inner: children
+  RTCBounds bounds[kWidth]{};
+  TreeNode* children[kWidth]{};
+  uint32_t primitives[kLeafSize]{};
+};
+
+TreeNode* allocateNode(RTCThreadLocalAllocator alloc) {
+  void* memory = rtcThreadLocalAlloc(alloc, sizeof(TreeNode), 16);
+  return memory ? new (memory) TreeNode{} : nullptr;
+}
+
+void* createInner(RTCThreadLocalAllocator alloc, unsigned int, void*) { return allocateNode(alloc); }
+
+void setChildren(void* node, void** children, unsigned int count, void*) {
+  TreeNode* n = static_cast<TreeNode*>(node);
+  n->count = std::min<uint32_t>(count, kWidth);
+  for (uint32_t i = 0; i < n->count; ++i) n->children[i] = static_cast<TreeNode*>(children[i]);
+}
+
+void setBounds(void* node, const RTCBounds** bounds, unsigned int count, void*) {
+  for (uint32_t i = 0; i < count && i < kWidth; ++i) static_cast<TreeNode*>(node)->bounds[i] = *bounds[i];
+}
+
+void* createLeaf(RTCThreadLocalAllocator alloc, const RTCBuildPrimitive* primitives, size_t count, void*) {
+  TreeNode* node = allocateNode(alloc);
+  if (!node) return nullptr;
+  node->leaf = true;
+  node->count = uint32_t(std::min<size_t>(count, kLeafSize));
+  for (uint32_t i = 0; i < node->count; ++i) node->primitives[i] = primitives[i].primID;
+  return node;
+}
+
+const gpu::GpuBvhNode kEmptyNode{glm::vec4(INFINITY), glm::vec4(INFINITY), glm::vec4(INFINITY),
+                                 glm::vec4(-INFINITY), glm::vec4(-INFINITY), glm::vec4(-INFINITY),
+                                 glm::uvec4(gpu::BVH_NO_CHILD)};
+
+void setChild(gpu::GpuBvhNode& node, uint32_t slot, glm::vec3 lo, glm::vec3 hi, uint32_t ref) {
+  node.minX[slot] = lo.x;
+  node.minY[slot] = lo.y;
+  node.minZ[slot] = lo.z;
+  node.maxX[slot] = hi.x;
+  node.maxY[slot] = hi.y;
+  node.maxZ[slot] = hi.z;
+  node.child[slot] = ref;
+}
+
+struct Flattener {
+  std::vector<gpu::GpuBvhNode>& nodes;
+  std::vector<uint32_t>& order;  // item ids in leaf order
+  uint32_t itemBase;             // the index `order[0]` will have in the final item array
+
+  uint32_t emit(const TreeNode* n) {
+    if (n->leaf) {
+      uint32_t first = itemBase + uint32_t(order.size());
+      if (first > gpu::BVH_LEAF_FIRST_MASK) throw std::runtime_error("BVH: more primitives than a leaf reference can address");
+      for (uint32_t i = 0; i < n->count; ++i) order.push_back(n->primitives[i]);
+      return gpu::BVH_LEAF_BIT | ((n->count - 1u) << gpu::BVH_LEAF_COUNT_SHIFT) | first;
+    }
+    uint32_t index = uint32_t(nodes.size());
+    nodes.push_back(kEmptyNode);
+    for (uint32_t i = 0; i < n->count; ++i) {
+      uint32_t ref = emit(n->children[i]);
+      const RTCBounds& b = n->bounds[i];
+      setChild(nodes[index], i, {b.lower_x, b.lower_y, b.lower_z}, {b.upper_x, b.upper_y, b.upper_z}, ref);
+    }
+    return index;
+  }
+};
+
+struct EmbreeDevice {
+  RTCDevice device = rtcNewDevice(nullptr);
+  ~EmbreeDevice() {
+    if (device) rtcReleaseDevice(device);
+  }
+};
+
+// Builds one tree over `boxes` (primID = the item's id) and appends its nodes
+// (root first) to `nodes` and its items' ids, in leaf order, to `order`.
+// Returns the root node's index and the union of the boxes.
+uint32_t buildTree(RTCDevice device, std::vector<RTCBuildPrimitive> boxes, uint32_t leafSize, uint32_t itemBase,
+                   std::vector<gpu::GpuBvhNode>& nodes, std::vector<uint32_t>& order, glm::vec3& lo, glm::vec3& hi) {
+  lo = glm::vec3(INFINITY);
+  hi = glm::vec3(-INFINITY);
+  for (const RTCBuildPrimitive& b : boxes) {
+    lo = glm::min(lo, glm::vec3(b.lower_x, b.lower_y, b.lower_z));
+    hi = glm::max(hi, glm::vec3(b.upper_x, b.upper_y, b.upper_z));
+  }
+  uint32_t root = uint32_t(nodes.size());
+  nodes.push_back(kEmptyNode);
+  if (boxes.empty()) return root;
+  RTCBVH bvh = rtcNewBVH(device);
+  RTCBuildArguments args = rtcDefaultBuildArguments();
+  args.buildQuality = RTC_BUILD_QUALITY_MEDIUM;
+  args.maxBranchingFactor = kWidth;
+  args.maxDepth = kMaxDepth;
+  args.minLeafSize = 1;
+  args.maxLeafSize = leafSize;
+  args.bvh = bvh;
+  args.primitives = boxes.data();
+  args.primitiveCount = boxes.size();
+  args.primitiveArrayCapacity = boxes.size();
+  args.createNode = createInner;
+  args.setNodeChildren = setChildren;
+  args.setNodeBounds = setBounds;
+  args.createLeaf = createLeaf;
+  const TreeNode* tree = static_cast<const TreeNode*>(rtcBuildBVH(&args));
+  if (!tree || rtcGetDeviceError(device) != RTC_ERROR_NONE) {
+    rtcReleaseBVH(bvh);
+    throw std::runtime_error("BVH: Embree's builder failed on " + std::to_string(boxes.size()) + " primitives");
+  }
+  Flattener flat{nodes, order, itemBase};
+  if (tree->leaf) {  // the root must be a node: wrap a lone leaf
+    uint32_t ref = flat.emit(tree);
+    setChild(nodes[root], 0, lo, hi, ref);
+  } else {
+    nodes.pop_back();  // the tree's own root takes that index
+    flat.emit(tree);
+  }
+  rtcReleaseBVH(bvh);
+  return root;
+}
+
+bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+bool isIdentity(const glm::mat4& m) { return m == glm::mat4(1.0f); }
+
+RTCBuildPrimitive box(glm::vec3 lo, glm::vec3 hi, uint32_t id) {
+  RTCBuildPrimitive p{};
+  p.lower_x = lo.x;
+  p.lower_y = lo.y;
+  p.lower_z = lo.z;
+  p.upper_x = hi.x;
+  p.upper_y = hi.y;
+  p.upper_z = hi.z;
+  p.geomID = 0;
+  p.primID = id;
+  return p;
+}
+
+// A bottom level over the triangles of `parts` (a mesh, or every merged
+// instance), appended to bvh.bottomNodes / bvh.triangles.
+struct Part {
+  const BvhMesh* mesh;
+  glm::mat4 transform;  // applied to the vertices (identity for a mesh's own level)
+  uint32_t instance;    // stored in the triangles: BVH_FROM_TOP_LEVEL for a mesh's own level
+};
+
+uint32_t buildBottom(RTCDevice device, const BvhInput& input, std::span<const Part> parts, SceneBvh& bvh, glm::vec3& lo,
+                     glm::vec3& hi) {
+  std::vector<gpu::GpuBvhTriangle> candidates;
+  std::vector<RTCBuildPrimitive> boxes;
+  for (const Part& part : parts) {
+    for (const BvhGeometry& g : part.mesh->geometries) {
+      for (uint32_t t = 0; t < g.triangleCount; ++t) {
+        glm::vec3 v[3];
+        bool valid = true;
+        for (int k = 0; k < 3; ++k) {
+          size_t index = size_t(g.firstIndex) + 3 * t + k;
+          size_t vertex = index < input.indices.size() ? size_t(input.indices[index]) + g.vertexOffset : SIZE_MAX;
+          if (vertex >= input.positions.size()) {
+            valid = false;
+            break;
+          }
+          v[k] = glm::vec3(part.transform * glm::vec4(input.positions[vertex], 1.0f));
+          valid = valid && finite(v[k]);
+        }
+        if (!valid) continue;
+        boxes.push_back(box(glm::min(v[0], glm::min(v[1], v[2])), glm::max(v[0], glm::max(v[1], v[2])),
+                            uint32_t(candidates.size())));
+        candidates.push_back({v[0], g.id, v[1] - v[0], t, v[2] - v[0], part.instance});
+      }
+    }
+  }
+  std::vector<uint32_t> order;
+  uint32_t root =
+      buildTree(device, std::move(boxes), kLeafSize, uint32_t(bvh.triangles.size()), bvh.bottomNodes, order, lo, hi);
+  for (uint32_t id : order) bvh.triangles.push_back(candidates[id]);
+  return root;
+}
+
+gpu::GpuBvhInstance topInstance(const glm::mat4& worldFromObject, uint32_t root, uint32_t instance) {
+  glm::mat4 inv = glm::inverse(worldFromObject);
+  gpu::GpuBvhInstance out{};
+  out.objectFromWorld0 = glm::vec4(inv[0][0], inv[1][0], inv[2][0], inv[3][0]);
+  out.objectFromWorld1 = glm::vec4(inv[0][1], inv[1][1], inv[2][1], inv[3][1]);
+  out.objectFromWorld2 = glm::vec4(inv[0][2], inv[1][2], inv[2][2], inv[3][2]);
+  out.root = root;
+  out.instance = instance;
+  return out;
+}
+
+void transformBox(const glm::mat4& m, glm::vec3 lo, glm::vec3 hi, glm::vec3& outLo, glm::vec3& outHi) {
+  outLo = glm::vec3(INFINITY);
+  outHi = glm::vec3(-INFINITY);
+  for (int c = 0; c < 8; ++c) {
+    glm::vec3 p((c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z);
+    glm::vec3 w = glm::vec3(m * glm::vec4(p, 1.0f));
+    outLo = glm::min(outLo, w);
+    outHi = glm::max(outHi, w);
+  }
+}
+
+double millisecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
+size_t maxTopNodes(size_t instanceCount) { return std::max<size_t>(1, 2 * (instanceCount + 1)); }
+size_t maxTopInstances(size_t instanceCount) { return std::max<size_t>(1, instanceCount + 1); }
+
+SceneBvh buildSceneBvh(const BvhInput& input) {
+  auto start = std::chrono::steady_clock::now();
+  EmbreeDevice embree;
+  if (!embree.device) throw std::runtime_error("BVH: could not create an Embree device");
+  SceneBvh bvh;
+  bvh.meshRoot.assign(input.meshes.size(), gpu::BVH_NO_CHILD);
+  bvh.meshMin.assign(input.meshes.size(), glm::vec3(0.0f));
+  bvh.meshMax.assign(input.meshes.size(), glm::vec3(0.0f));
+  bvh.merged.assign(input.instances.size(), 0);
+  bvh.mergedTransforms.assign(input.instances.size(), glm::mat4(1.0f));
+
+  std::vector<Part> mergedParts;
+  std::vector<uint8_t> meshUsed(input.meshes.size(), 0);
+  for (size_t i = 0; i < input.instances.size(); ++i) {
+    const BvhInstance& inst = input.instances[i];
+    if (inst.mesh >= input.meshes.size()) throw std::runtime_error("BVH: instance " + std::to_string(i) + " names a missing mesh");
+    if (!inst.movable && isIdentity(inst.worldFromObject)) {
+      bvh.merged[i] = 1;
+      bvh.mergedTransforms[i] = inst.worldFromObject;
+      mergedParts.push_back({&input.meshes[inst.mesh], glm::mat4(1.0f), uint32_t(i)});
+    } else {
+      meshUsed[inst.mesh] = 1;
+    }
+  }
+  if (!mergedParts.empty()) bvh.mergedRoot = buildBottom(embree.device, input, mergedParts, bvh, bvh.mergedMin, bvh.mergedMax);
+  for (size_t m = 0; m < input.meshes.size(); ++m) {
+    if (!meshUsed[m]) continue;
+    Part own{&input.meshes[m], glm::mat4(1.0f), gpu::BVH_FROM_TOP_LEVEL};
+    bvh.meshRoot[m] = buildBottom(embree.device, input, {&own, 1}, bvh, bvh.meshMin[m], bvh.meshMax[m]);
+  }
+  bvh.bottomBuildMs = millisecondsSince(start);
+  rebuildTopLevel(input.instances, bvh);
+  return bvh;
+}
+
+void rebuildTopLevel(std::span<const BvhInstance> instances, SceneBvh& bvh) {
+  auto start = std::chrono::steady_clock::now();
+  EmbreeDevice embree;
+  if (!embree.device) throw std::runtime_error("BVH: could not create an Embree device");
+  std::vector<gpu::GpuBvhInstance> items;
+  std::vector<RTCBuildPrimitive> boxes;
+  if (bvh.mergedRoot != gpu::BVH_NO_CHILD && bvh.mergedMin.x <= bvh.mergedMax.x) {
+    boxes.push_back(box(bvh.mergedMin, bvh.mergedMax, uint32_t(items.size())));
+    items.push_back(topInstance(glm::mat4(1.0f), bvh.mergedRoot, gpu::BVH_FROM_TOP_LEVEL));
+  }
+  for (size_t i = 0; i < instances.size() && i < bvh.merged.size(); ++i) {
+    const BvhInstance& inst = instances[i];
+    if (bvh.merged[i]) {
+      if (inst.worldFromObject != bvh.mergedTransforms[i])
+        throw std::runtime_error("BVH: instance " + std::to_string(i) +
+                                 " was merged into the static level but moved; mark it movable before the build");
+      continue;
+    }
+    uint32_t root = bvh.meshRoot[inst.mesh];
+    if (root == gpu::BVH_NO_CHILD || bvh.meshMin[inst.mesh].x > bvh.meshMax[inst.mesh].x) continue;
+    glm::vec3 lo, hi;
+    transformBox(inst.worldFromObject, bvh.meshMin[inst.mesh], bvh.meshMax[inst.mesh], lo, hi);
+    if (!finite(lo) || !finite(hi) || glm::determinant(glm::mat3(inst.worldFromObject)) == 0.0f) continue;
+    boxes.push_back(box(lo, hi, uint32_t(items.size())));
+    items.push_back(topInstance(inst.worldFromObject, root, uint32_t(i)));
+  }
+  bvh.topNodes.clear();
+  std::vector<uint32_t> order;
+  glm::vec3 lo, hi;
+  buildTree(embree.device, std::move(boxes), 1, 0, bvh.topNodes, order, lo, hi);  // one instance per leaf (trace_bvh.glsl)
+  bvh.topInstances.clear();
+  for (uint32_t id : order) bvh.topInstances.push_back(items[id]);
+  if (bvh.topInstances.empty()) bvh.topInstances.push_back(gpu::GpuBvhInstance{});  // never referenced; keeps the buffer non-empty
+  bvh.topBuildMs = millisecondsSince(start);
+}
+
+}  // namespace engine

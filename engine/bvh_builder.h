@@ -1,0 +1,74 @@
+// The compute traversal backend's BVH (layout in shaders/shared/gpu_bvh.h),
+// built on the CPU with Embree's SAH builder (rtcBuildBVH) into our own node
+// format. Self-contained: triangles and instances in, node arrays out; no
+// Vulkan, no engine scene, so it can move with scene ingestion.
+//
+// Two levels. Every static instance (`movable` false) with an identity
+// transform goes into one merged bottom level in world space (overlapping
+// meshes that a top level cannot separate, as in Sponza, then share one
+// SAH tree); every other instance references its mesh's own bottom level,
+// built once. The top level over instances is cheap and is rebuilt whenever
+// transforms change.
+#pragma once
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "shared/gpu_bvh.h"
+
+namespace engine {
+
+struct BvhGeometry {
+  uint32_t firstIndex = 0;    // into the index pool
+  uint32_t triangleCount = 0;
+  uint32_t vertexOffset = 0;  // added to every index
+  uint32_t id = 0;            // the absolute geometry index hits report
+};
+
+struct BvhMesh {
+  std::vector<BvhGeometry> geometries;
+};
+
+struct BvhInstance {
+  uint32_t mesh = 0;
+  glm::mat4 worldFromObject{1.0f};
+  bool movable = false;  // may change its transform later: never merged
+};
+
+struct BvhInput {
+  std::span<const glm::vec3> positions;  // object space
+  std::span<const uint32_t> indices;
+  std::span<const BvhMesh> meshes;
+  std::span<const BvhInstance> instances;
+};
+
+struct SceneBvh {
+  std::vector<gpu::GpuBvhNode> bottomNodes;       // every bottom level; node 0.. of each is its root
+  std::vector<gpu::GpuBvhTriangle> triangles;
+  std::vector<uint32_t> meshRoot;                 // per mesh: root node, or BVH_NO_CHILD when no unmerged instance uses it
+  std::vector<glm::vec3> meshMin, meshMax;        // per mesh: object-space bounds of its bottom level
+  uint32_t mergedRoot = gpu::BVH_NO_CHILD;        // the merged static level's root node
+  glm::vec3 mergedMin{0.0f}, mergedMax{0.0f};
+  std::vector<uint8_t> merged;                    // per instance: 1 if in the merged level
+  std::vector<glm::mat4> mergedTransforms;        // per instance: the transform it was merged with
+  std::vector<gpu::GpuBvhNode> topNodes;          // node 0 is the root
+  std::vector<gpu::GpuBvhInstance> topInstances;
+  double bottomBuildMs = 0.0;                     // wall time of the bottom levels (paid once)
+  double topBuildMs = 0.0;                        // wall time of the last top-level build
+};
+
+// Builds both levels. Triangles with non-finite vertices are left out (ray
+// queries treat them as inactive too). Throws std::runtime_error if Embree fails.
+SceneBvh buildSceneBvh(const BvhInput& input);
+
+// Rebuilds the top level from the instances' current transforms. Throws
+// std::runtime_error when a merged instance moved (it should have been movable).
+void rebuildTopLevel(std::span<const BvhInstance> instances, SceneBvh& bvh);
+
+// Upper bounds of the top level's array sizes, for buffers allocated once.
+size_t maxTopNodes(size_t instanceCount);
+size_t maxTopInstances(size_t instanceCount);
+
+}  // namespace engine

@@ -1,0 +1,322 @@
+// The compute traversal backend against ray queries and against Embree's own
+// traversal on the CPU (a third, independent answer): for the same rays, the
+// same closest hit (instance and triangle, except exact ties on shared
+// edges, t within 1e-5 relative) and the same visibility. Rays: camera rays,
+// diffuse bounces from the hits and shadow segments to random points, on the
+// shipped scenes, after an instance moved, on alpha-masked geometry, at
+// millimetre and hundred-kilometre scale and with degenerate triangles.
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <functional>
+#include <random>
+
+#include "cpu_tracer.h"
+#include "gpu_test.h"
+#include "trace_batch.h"
+
+namespace {
+
+// Rays for one scene: every pixel's camera ray, then a diffuse bounce and a
+// shadow segment from each camera ray's hit (found with Embree).
+std::vector<gpu::TraceBatchRay> makeRays(const engine::Scene& scene, const engine::CpuTracer& tracer, uint32_t w,
+                                         uint32_t h) {
+  gpu::GpuCamera cam = engine::makeGpuCamera(scene.cameras[0], w, h, nullptr);
+  engine::Bounds bounds = scene.worldBounds();
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::vector<gpu::TraceBatchRay> rays;
+  for (uint32_t y = 0; y < h; ++y)
+    for (uint32_t x = 0; x < w; ++x) {
+      glm::vec2 ndc = (glm::vec2(float(x), float(y)) + 0.5f) / cam.imageSize * 2.0f - 1.0f;
+      glm::vec3 dir = glm::normalize(glm::mat3(cam.worldFromView) *
+                                     glm::vec3(ndc.x * cam.tanHalfFovY * cam.aspect, -ndc.y * cam.tanHalfFovY, -1.0f));
+      rays.push_back({cam.position, 0.0f, dir, 1e30f});
+      engine::CpuHit hit = engine::cpuTraceClosest(tracer, cam.position, dir, 0.0f, 1e30f);
+      if (hit.t < 0.0f) continue;
+      glm::vec3 n = glm::normalize(hit.geometricNormal);
+      if (glm::dot(n, dir) > 0.0f) n = -n;
+      glm::vec3 p = cam.position + hit.t * dir;
+      float eps = 1e-4f * std::max(1.0f, bounds.extent());
+      glm::vec3 origin = p + eps * n;
+      glm::vec3 bounce = glm::normalize(n + glm::normalize(glm::vec3(u(rng) - 0.5f, u(rng) - 0.5f, u(rng) - 0.5f)));
+      if (std::isfinite(bounce.x)) rays.push_back({origin, 0.0f, bounce, 1e30f});
+      glm::vec3 target = glm::mix(bounds.min, bounds.max, glm::vec3(u(rng), u(rng), u(rng)));
+      float distance = glm::length(target - origin);
+      if (distance > 0.0f) rays.push_back({origin, 0.0f, (target - origin) / distance, distance});
+    }
+  return rays;
+}
+
+struct Agreement {
+  size_t rays = 0, hitMissDiffer = 0, tieDiffer = 0, tDiffer = 0, visibleDiffer = 0, hits = 0;
+};
+
+// t within 1e-5 relative to the larger of t and the origin's largest
+// coordinate: a hit point is known only to float precision of its
+// coordinates, so a hit a few millimetres from an origin a metre from the
+// world's centre has a larger relative error in t, in every implementation.
+bool closeT(float a, float b, float originScale) {
+  return std::abs(a - b) <= 1e-5f * std::max({std::abs(a), std::abs(b), originScale});
+}
+
+Agreement compare(const std::vector<gpu::TraceBatchResult>& a, const std::vector<gpu::TraceBatchResult>& b,
+                  const std::vector<gpu::TraceBatchRay>& rays) {
+  std::vector<float> scale;
+  for (const gpu::TraceBatchRay& r : rays) {
+    glm::vec3 o = glm::abs(r.origin);
+    scale.push_back(std::max({o.x, o.y, o.z}) / glm::length(r.direction));
+  }
+  Agreement g;
+  g.rays = a.size();
+  for (size_t i = 0; i < a.size(); ++i) {
+    bool hitA = a[i].t >= 0.0f, hitB = b[i].t >= 0.0f;
+    if (a[i].visible != b[i].visible) ++g.visibleDiffer;
+    if (hitA != hitB) {
+      ++g.hitMissDiffer;
+      continue;
+    }
+    if (!hitA) continue;
+    ++g.hits;
+    if (!closeT(a[i].t, b[i].t, scale[i])) ++g.tDiffer;
+    else if (a[i].instance != b[i].instance || a[i].triangle != b[i].triangle || a[i].geometry != b[i].geometry) ++g.tieDiffer;
+  }
+  return g;
+}
+
+std::vector<gpu::TraceBatchResult> embreeResults(const engine::CpuTracer& tracer, const std::vector<gpu::TraceBatchRay>& rays) {
+  std::vector<gpu::TraceBatchResult> out;
+  for (const gpu::TraceBatchRay& r : rays) {
+    engine::CpuHit hit = engine::cpuTraceClosest(tracer, r.origin, r.direction, r.tMin, r.tMax);
+    gpu::TraceBatchResult res{};
+    res.t = hit.t;
+    res.instance = hit.instance;
+    res.geometry = hit.geometry;
+    res.triangle = hit.triangle;
+    res.barycentrics = hit.barycentrics;
+    res.visible = engine::cpuTraceVisible(tracer, r.origin, r.direction, r.tMin, r.tMax) ? 1u : 0u;
+    out.push_back(res);
+  }
+  return out;
+}
+
+// Rays that graze an edge or a corner may pass between two triangles in one
+// traversal and not in another (the three differ in watertightness), and rays
+// through a shared edge may report either triangle: a few per thousand.
+void expectAgree(const Agreement& g, const char* what) {
+  SCOPED_TRACE(what);
+  std::printf("%s: %zu rays, %zu hits; differ: hit/miss %zu, t %zu, tie %zu, visibility %zu\n", what, g.rays, g.hits,
+              g.hitMissDiffer, g.tDiffer, g.tieDiffer, g.visibleDiffer);
+  ASSERT_GT(g.rays, 0u);
+  EXPECT_GT(g.hits, g.rays / 4) << "too few hits for the comparison to mean anything";
+  EXPECT_LE(double(g.hitMissDiffer), 0.002 * double(g.rays)) << g.hitMissDiffer << " of " << g.rays << " rays hit in one only";
+  EXPECT_LE(double(g.tDiffer), 0.002 * double(g.rays)) << g.tDiffer << " of " << g.hits << " hits differ in t beyond 1e-5";
+  EXPECT_LE(double(g.tieDiffer), 0.01 * double(g.rays)) << g.tieDiffer << " hits at equal t name another triangle";
+  EXPECT_LE(double(g.visibleDiffer), 0.002 * double(g.rays)) << g.visibleDiffer << " rays differ in visibility";
+}
+
+}  // namespace
+
+class TraversalTest : public GpuTest {
+ protected:
+  // Compares compute with ray queries (where the device has them) and with Embree.
+  void checkScene(const engine::Scene& scene, const engine::SceneGpu& gpu, uint32_t w = 64, uint32_t h = 48) {
+    engine::CpuTracerPtr tracer = engine::createCpuTracer(scene);
+    std::vector<gpu::TraceBatchRay> rays = makeRays(scene, *tracer, w, h);
+    std::vector<gpu::TraceBatchResult> compute = engine::traceBatch(ctx, gpu, gpu::TRAVERSAL_COMPUTE, rays);
+    expectAgree(compare(compute, embreeResults(*tracer, rays), rays), "compute vs Embree");
+    if (ctx.rayQuery) {
+      std::vector<gpu::TraceBatchResult> rayQuery = engine::traceBatch(ctx, gpu, gpu::TRAVERSAL_RAY_QUERY, rays);
+      expectAgree(compare(compute, rayQuery, rays), "compute vs ray queries");
+    }
+  }
+  void checkFile(const std::string& path) {
+    LoadedScene s;
+    load(path, s);
+    checkScene(s.scene, s.gpu);
+    unload(s);
+  }
+};
+
+TEST_F(TraversalTest, CornellBoxAgrees) { checkFile(sharedScene("cornell-box-mcguire/CornellBox-Original.gltf")); }
+TEST_F(TraversalTest, SponzaAgrees) { checkFile(sharedScene("sponza-dabrovic/sponza-dabrovic.gltf")); }
+TEST_F(TraversalTest, ConferenceAgrees) { checkFile(sharedScene("conference-ward/conference-ward.gltf")); }
+
+// The box instances of cornell-simple are static with identity transforms, so
+// they sit in the merged level; moving them must take them out of it.
+TEST_F(TraversalTest, MovedInstancesAgree) {
+  LoadedScene s;
+  load(sharedScene("cornell-simple/cornell_simple.gltf"), s);
+  uint32_t boxMesh = s.scene.instances.back().mesh;
+  for (engine::Instance& inst : s.scene.instances)
+    if (inst.mesh == boxMesh) inst.worldFromObject = glm::rotate(glm::translate(inst.worldFromObject, {0.2f, 0.0f, 0.1f}), 0.3f, {0, 1, 0});
+  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { engine::recordSceneTransformUpdate(ctx, cmd, s.scene, s.gpu); });
+  checkScene(s.scene, s.gpu);
+  // Moving again only rebuilds the top level.
+  for (engine::Instance& inst : s.scene.instances)
+    if (inst.mesh == boxMesh) inst.worldFromObject = glm::translate(inst.worldFromObject, {-0.1f, 0.05f, 0.0f});
+  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { engine::recordSceneTransformUpdate(ctx, cmd, s.scene, s.gpu); });
+  checkScene(s.scene, s.gpu);
+  unload(s);
+}
+
+namespace {
+
+// Two quads facing the camera: a front one whose material is alpha-masked,
+// and a back one. `frontAlpha` below the cutoff (0.5) makes the front a hole.
+engine::Scene maskedQuads(float frontAlpha) {
+  engine::Scene scene;
+  auto quad = [&](float z, uint32_t material) {
+    uint32_t base = uint32_t(scene.positions.size());
+    for (glm::vec3 p : {glm::vec3(-1, -1, z), glm::vec3(1, -1, z), glm::vec3(1, 1, z), glm::vec3(-1, 1, z)}) {
+      scene.positions.push_back(p);
+      scene.normals.push_back({0, 0, 1});
+      scene.uvs.push_back({0, 0});
+    }
+    uint32_t first = uint32_t(scene.indices.size());
+    for (uint32_t i : {0u, 1u, 2u, 0u, 2u, 3u}) scene.indices.push_back(i);
+    scene.primitives.push_back({first, 6, base, 4, material});
+    uint32_t mesh = uint32_t(scene.meshes.size());
+    scene.meshes.push_back({"quad", uint32_t(scene.primitives.size() - 1), 1});
+    scene.instances.push_back({"quad", mesh, glm::mat4(1.0f)});
+  };
+  engine::Material front, back;
+  front.alphaMode = engine::AlphaMode::Mask;
+  front.baseColor = {0.5f, 0.5f, 0.5f, frontAlpha};
+  scene.materials = {front, back};
+  quad(0.0f, 0);
+  quad(-1.0f, 1);
+  engine::Camera cam;
+  cam.worldFromView = glm::translate(glm::mat4(1.0f), {0.0f, 0.0f, 3.0f});
+  cam.yfov = 0.5f;
+  scene.cameras = {cam};
+  return scene;
+}
+
+}  // namespace
+
+TEST_F(TraversalTest, AlphaMaskedGeometryIsAHoleOnlyBelowTheCutoff) {
+  for (float alpha : {0.25f, 0.75f}) {
+    SCOPED_TRACE(alpha);
+    engine::Scene scene = maskedQuads(alpha);
+    engine::SceneGpu gpu;
+    engine::createSceneGpu(ctx, scene, gpu);
+    ASSERT_TRUE(gpu.hasAlphaMask);
+    std::vector<gpu::TraceBatchRay> rays;
+    for (int i = 0; i < 64; ++i) rays.push_back({{0.02f * float(i % 8) - 0.07f, 0.02f * float(i / 8) - 0.07f, 3.0f}, 0.0f, {0, 0, -1}, 1e30f});
+    std::vector<uint32_t> traversals = {gpu::TRAVERSAL_COMPUTE};
+    if (ctx.rayQuery) traversals.push_back(gpu::TRAVERSAL_RAY_QUERY);
+    for (uint32_t traversal : traversals) {
+      std::vector<gpu::TraceBatchResult> hits = engine::traceBatch(ctx, gpu, traversal, rays);
+      for (const gpu::TraceBatchResult& h : hits) {
+        EXPECT_EQ(h.instance, alpha < 0.5f ? 1u : 0u) << "traversal " << traversal;
+        EXPECT_NEAR(h.t, alpha < 0.5f ? 4.0f : 3.0f, 1e-5f);
+        EXPECT_EQ(h.visible, 0u);
+      }
+    }
+    engine::destroySceneGpu(ctx, gpu);
+  }
+}
+
+namespace {
+
+// The Cornell box scaled by `scale` (vertices and camera), with degenerate
+// triangles added across the view when `degenerate`.
+engine::Scene scaledCornell(const engine::Scene& source, float scale, bool degenerate) {
+  engine::Scene scene = source;
+  for (glm::vec3& p : scene.positions) p *= scale;
+  for (engine::Instance& inst : scene.instances) inst.worldFromObject[3] = glm::vec4(glm::vec3(inst.worldFromObject[3]) * scale, 1.0f);
+  for (engine::Camera& c : scene.cameras) c.worldFromView[3] = glm::vec4(glm::vec3(c.worldFromView[3]) * scale, 1.0f);
+  if (degenerate) {
+    engine::Bounds b = scene.worldBounds();
+    glm::vec3 c = b.center();
+    uint32_t base = uint32_t(scene.positions.size()), first = uint32_t(scene.indices.size());
+    // A zero-area sliver (three collinear points) and a point triangle.
+    for (glm::vec3 p : {b.min, c, b.max, c, c, c}) {
+      scene.positions.push_back(p);
+      scene.normals.push_back({0, 1, 0});
+      scene.uvs.push_back({0, 0});
+    }
+    for (uint32_t i = 0; i < 6; ++i) scene.indices.push_back(i);
+    scene.primitives.push_back({first, 6, base, 6, 0});
+    scene.meshes.push_back({"degenerate", uint32_t(scene.primitives.size() - 1), 1});
+    scene.instances.push_back({"degenerate", uint32_t(scene.meshes.size() - 1), glm::mat4(1.0f)});
+  }
+  return scene;
+}
+
+}  // namespace
+
+TEST_F(TraversalTest, ExtremeScalesAndDegenerateTrianglesAgree) {
+  engine::Scene cornell;
+  std::string error;
+  ASSERT_TRUE(engine::loadSceneForRendering(sharedScene("cornell-box-mcguire/CornellBox-Original.gltf"), cornell, error)) << error;
+  for (auto [scale, degenerate] : {std::pair{1e-3f, false}, std::pair{1e5f, false}, std::pair{1.0f, true}}) {
+    SCOPED_TRACE(scale);
+    engine::Scene scene = scaledCornell(cornell, scale, degenerate);
+    engine::SceneGpu gpu;
+    engine::createSceneGpu(ctx, scene, gpu);
+    checkScene(scene, gpu);
+    if (degenerate) {  // nothing ever reports the degenerate triangles
+      engine::CpuTracerPtr tracer = engine::createCpuTracer(scene);
+      std::vector<gpu::TraceBatchRay> rays = makeRays(scene, *tracer, 32, 24);
+      uint32_t degenerateInstance = uint32_t(scene.instances.size() - 1);
+      for (const gpu::TraceBatchResult& r : engine::traceBatch(ctx, gpu, gpu::TRAVERSAL_COMPUTE, rays))
+        if (r.t >= 0.0f) {
+          EXPECT_NE(r.instance, degenerateInstance);
+        }
+    }
+    engine::destroySceneGpu(ctx, gpu);
+  }
+}
+
+// The BVH the compute backend walks is Embree's SAH tree in our node format:
+// every triangle appears exactly once and every child box holds its subtree.
+TEST(BvhBuilder, EveryTriangleOnceAndChildBoxesEncloseTheirSubtrees) {
+  engine::Scene scene;
+  std::string error;
+  ASSERT_TRUE(engine::loadSceneForRendering(sharedScene("cornell-box-mcguire/CornellBox-Original.gltf"), scene, error)) << error;
+  std::vector<engine::BvhMesh> meshes(scene.meshes.size());
+  size_t triangles = 0;
+  for (size_t m = 0; m < scene.meshes.size(); ++m)
+    for (uint32_t p = 0; p < scene.meshes[m].primitiveCount; ++p) {
+      const engine::Primitive& prim = scene.primitives[scene.meshes[m].firstPrimitive + p];
+      meshes[m].geometries.push_back({prim.firstIndex, prim.indexCount / 3, prim.vertexOffset, scene.meshes[m].firstPrimitive + p});
+    }
+  std::vector<engine::BvhInstance> instances;
+  for (const engine::Instance& inst : scene.instances) {
+    instances.push_back({inst.mesh, inst.worldFromObject, false});
+    for (uint32_t p = 0; p < scene.meshes[inst.mesh].primitiveCount; ++p)
+      triangles += scene.primitives[scene.meshes[inst.mesh].firstPrimitive + p].indexCount / 3;
+  }
+  instances.back().movable = true;  // one instance keeps its own level
+  engine::SceneBvh bvh = engine::buildSceneBvh({scene.positions, scene.indices, meshes, instances});
+  std::vector<int> seen(bvh.triangles.size(), 0);
+  // Walks a subtree, checking that every triangle lies inside the box its parent gave it.
+  std::function<void(uint32_t, glm::vec3, glm::vec3)> walk = [&](uint32_t ref, glm::vec3 lo, glm::vec3 hi) {
+    if (ref == gpu::BVH_NO_CHILD) return;
+    if (ref & gpu::BVH_LEAF_BIT) {
+      uint32_t first = ref & gpu::BVH_LEAF_FIRST_MASK, count = ((ref >> gpu::BVH_LEAF_COUNT_SHIFT) & 15u) + 1u;
+      for (uint32_t i = first; i < first + count; ++i) {
+        ASSERT_LT(i, bvh.triangles.size());
+        ++seen[i];
+        const gpu::GpuBvhTriangle& t = bvh.triangles[i];
+        for (glm::vec3 v : {t.v0, t.v0 + t.edge1, t.v0 + t.edge2})
+          EXPECT_TRUE(glm::all(glm::greaterThanEqual(v, lo - 1e-5f)) && glm::all(glm::lessThanEqual(v, hi + 1e-5f)));
+      }
+      return;
+    }
+    ASSERT_LT(ref, bvh.bottomNodes.size());
+    const gpu::GpuBvhNode& n = bvh.bottomNodes[ref];
+    for (uint32_t c = 0; c < gpu::BVH_WIDTH; ++c)
+      walk(n.child[c], {n.minX[c], n.minY[c], n.minZ[c]}, {n.maxX[c], n.maxY[c], n.maxZ[c]});
+  };
+  walk(bvh.mergedRoot, glm::vec3(-1e30f), glm::vec3(1e30f));
+  walk(bvh.meshRoot[scene.instances.back().mesh], glm::vec3(-1e30f), glm::vec3(1e30f));
+  size_t movableTriangles = 0;
+  for (uint32_t p = 0; p < scene.meshes[scene.instances.back().mesh].primitiveCount; ++p)
+    movableTriangles += scene.primitives[scene.meshes[scene.instances.back().mesh].firstPrimitive + p].indexCount / 3;
+  EXPECT_EQ(bvh.triangles.size(), triangles);  // the movable instance's mesh is used once
+  for (size_t i = 0; i < seen.size(); ++i) EXPECT_EQ(seen[i], 1) << "triangle " << i;
+  EXPECT_GT(movableTriangles, 0u);
+  EXPECT_EQ(bvh.topInstances.size(), 2u);  // the merged level and the movable instance
+}
