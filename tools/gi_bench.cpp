@@ -96,9 +96,10 @@ engine::Camera pathCamera(const engine::Camera& start, float sceneExtent, uint32
   return c;
 }
 
-// Passes that trace rays (their time is what the ray-query efficiency divides by).
+// Passes that trace rays (their time is what Mrays/s and the ray efficiency divide by).
 bool isTracingPass(const std::string& name) {
-  for (const char* tracing : {"raw_trace", "aaf_sample", "aaf_adaptive", "hpsf_insert", "gif_supersample"})
+  for (const char* tracing :
+       {"raw_trace", "aaf_sample", "aaf_adaptive", "hpsf_insert", "nhpsf_paths", "anhpsf_paths", "gif_supersample"})
     if (name == tracing) return true;
   return false;
 }
