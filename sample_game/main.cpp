@@ -50,6 +50,7 @@ const cli::Option kOptions[] = {
     {"still", nullptr, "a static scene: no animation and no walkthrough (the camera stays at the scene's)"},
     {"validation", nullptr, "enable Vulkan validation (exit status 3 if it reports anything)"},
     cli::kTraversalOption,
+    {"help", nullptr, "show this message"},
 };
 
 struct Options {
@@ -60,6 +61,7 @@ struct Options {
   float budgetMs = 0.0f;
   fs::path out = "sample_game_out";
   engine::Traversal traversal = engine::Traversal::Auto;
+  bool help = false;
   bool headless = false, animate = true, walkthrough = true, validation = false;
 };
 
@@ -72,6 +74,7 @@ int usageError(const std::string& message) {
 bool parseOptions(int argc, char** argv, Options& o, std::string& error) {
   cli::Args args;
   if (!cli::parse(argc, argv, kOptions, args, error)) return false;
+  o.help = args.has("help");
   if (args.has("scene")) o.scene = args.values["scene"];
   o.settings.method = gi::Method::Hpsf;
   o.settings.maxBounces = 2;
@@ -146,6 +149,10 @@ int main(int argc, char** argv) {
   Options o;
   std::string error;
   if (!parseOptions(argc, argv, o, error)) return usageError(error);
+  if (o.help) {
+    std::printf("%s", cli::usage("sample_game", "[options]", kOptions).c_str());
+    return 0;
+  }
   if (o.headless && o.frames == 0) o.frames = o.benchmark ? o.benchmark : 30;
   if (o.benchmark) o.frames = o.benchmark;
   std::error_code ec;

@@ -49,4 +49,27 @@ TEST(GiRenderTool, RendersWithValidationAndWritesStats) {
   EXPECT_EQ(j["validation_messages"], 0);
   EXPECT_TRUE(j.contains("device"));
   EXPECT_TRUE(j.contains("wall_seconds"));
+  EXPECT_TRUE(j["traversal"] == "compute" || j["traversal"] == "rayquery") << j["traversal"];
+}
+
+// A module method without --spp traces its own default (hpsf: 1 path per
+// pixel), not the reference's 64; --traversal picks the backend the stats name.
+TEST(GiRenderTool, MethodsUseTheirOwnSamplesAndTheChosenTraversal) {
+  std::string dir = std::filesystem::temp_directory_path() / "gi_render_test_method";
+  std::filesystem::create_directories(dir);
+  for (const char* traversal : {"compute", "rayquery"}) {
+    std::string out;
+    int rc = runTool("--scene " + std::string(GI_SHARED_SCENES) +
+                         "/cornell-box-mcguire/CornellBox-Original.gltf --size 16x16 --method hpsf --validation"
+                         " --traversal " + traversal + " --out " + dir + "/h.pfm --stats " + dir + "/s.json",
+                     out);
+    ASSERT_EQ(rc, 0) << out;
+    std::ifstream f(dir + "/s.json");
+    nlohmann::json j = nlohmann::json::parse(f);
+    EXPECT_EQ(j["spp"], 1);
+    EXPECT_EQ(j["traversal"], traversal);
+  }
+  std::string out;
+  EXPECT_EQ(runTool("--scene x.gltf --traversal warp", out), 2) << out;
+  EXPECT_NE(out.find("--traversal must be one of"), std::string::npos) << out;
 }

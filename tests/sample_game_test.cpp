@@ -69,3 +69,10 @@ TEST(SampleGame, AMalformedSceneIsNamedInTheError) {
   EXPECT_EQ(rc, 1) << output;
   EXPECT_NE(output.find("not_json.gltf"), std::string::npos) << output;
 }
+
+TEST(SampleGame, HelpListsTheOptionsAndExitsZero) {
+  std::string output;
+  EXPECT_EQ(runGame("--help", output), 0) << output;
+  EXPECT_NE(output.find("usage: sample_game"), std::string::npos) << output;
+  EXPECT_NE(output.find("--traversal"), std::string::npos) << output;
+}

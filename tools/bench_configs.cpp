@@ -5,19 +5,35 @@
 
 namespace tools {
 
-void setSamplesPerPixel(gi::Settings& settings, uint32_t spp) {
+namespace {
+
+// The active method's paths-per-pixel field, or null (AAF is adaptive: μ is its quality knob).
+uint32_t* samplesPerPixelField(gi::Settings& settings) {
   switch (settings.method) {
-    case gi::Method::Raw: settings.raw.samplesPerPixel = spp; break;
-    case gi::Method::Gif: settings.gif.samplesPerPixel = spp; break;
-    case gi::Method::Bilateral: settings.bilateral.samplesPerPixel = spp; break;
-    case gi::Method::Atrous: settings.atrous.samplesPerPixel = spp; break;
+    case gi::Method::Raw: return &settings.raw.samplesPerPixel;
+    case gi::Method::Gif: return &settings.gif.samplesPerPixel;
+    case gi::Method::Bilateral: return &settings.bilateral.samplesPerPixel;
+    case gi::Method::Atrous: return &settings.atrous.samplesPerPixel;
     case gi::Method::Aaf:
-    case gi::Method::AafAo: break;  // adaptive: μ is the quality knob
-    case gi::Method::Sspsf: settings.sspsf.samplesPerPixel = spp; break;
+    case gi::Method::AafAo: return nullptr;
+    case gi::Method::Sspsf: return &settings.sspsf.samplesPerPixel;
     case gi::Method::Hpsf:
     case gi::Method::Nhpsf:
-    case gi::Method::Anhpsf: settings.hpsf.samplesPerPixel = spp; break;
+    case gi::Method::Anhpsf: return &settings.hpsf.samplesPerPixel;
   }
+  return nullptr;
+}
+
+}  // namespace
+
+void setSamplesPerPixel(gi::Settings& settings, uint32_t spp) {
+  if (uint32_t* field = samplesPerPixelField(settings)) *field = spp;
+}
+
+uint32_t samplesPerPixel(const gi::Settings& settings) {
+  gi::Settings copy = settings;
+  const uint32_t* field = samplesPerPixelField(copy);
+  return field ? *field : 1u;
 }
 
 bool expandConfigs(const std::vector<std::string>& methods, const std::vector<uint32_t>& spps, const std::string& sweeps,

@@ -25,5 +25,7 @@ bool expandConfigs(const std::vector<std::string>& methods, const std::vector<ui
 
 // Sets the knob that --spp controls for the settings' method.
 void setSamplesPerPixel(gi::Settings& settings, uint32_t spp);
+// The active method's paths per pixel per frame (1 for AAF, which adapts).
+uint32_t samplesPerPixel(const gi::Settings& settings);
 
 }  // namespace tools

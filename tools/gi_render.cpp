@@ -27,7 +27,7 @@ const cli::Option kOptions[] = {
     {"camera", "N", "glTF camera index (default 0; a default camera is made when the file has none)"},
     {"method", "NAME", "reference (default) or a GI module method: raw, gif, bilateral, atrous, aaf, aaf_ao, sspsf, hpsf, nhpsf, anhpsf"},
     {"set", "KEY=V", "a GI module setting, repeatable (keys: see --help)"},
-    {"spp", "N", "samples per pixel per frame (default 64)"},
+    {"spp", "N", "samples per pixel per frame (default: 64 for the reference, the method's own default for a module method)"},
     {"frames", "N", "frames to accumulate (default 1); total samples = spp × frames"},
     {"max-bounces", "B", "indirect bounces, 0 = direct light only (default 4)"},
     {"seed", "S", "random seed (default 1); the same seed gives the same image"},
@@ -75,17 +75,20 @@ int main(int argc, char** argv) {
       !cli::getChoice(args, "aov", "final", kAovs, aov, error))
     return usageError(error);
   if (uint64_t(spp) * frames > (1u << 24)) return usageError("spp × frames must not exceed 16777216");
+  engine::Traversal traversal = engine::Traversal::Auto;
+  if (!cli::getTraversal(args, traversal, error)) return usageError(error);
   gi::Settings moduleSettings;
   if (method != "reference") {
     gi::methodFromName(method, moduleSettings.method);
     moduleSettings.maxBounces = bounces;
     moduleSettings.seed = seed;
-    tools::setSamplesPerPixel(moduleSettings, spp);
+    if (args.has("spp")) tools::setSamplesPerPixel(moduleSettings, spp);
     moduleSettings.raw.temporalAccumulation = frames > 1;  // a static camera: average the frames
     if (args.has("set"))
       for (const std::string& assignment : cli::splitList(args.values["set"]))
         if (!tools::applySetting(moduleSettings, assignment, error)) return usageError(error);
     if (gi::Error e = gi::validate(moduleSettings)) return usageError(e.message);
+    spp = tools::samplesPerPixel(moduleSettings);  // without --spp: the method's default, not the reference's 64
   }
 
   engine::Scene scene;
@@ -101,7 +104,7 @@ int main(int argc, char** argv) {
 
   engine::ContextDesc desc;
   desc.validation = args.has("validation") || std::getenv("GI_VALIDATION") != nullptr;
-  if (!cli::getTraversal(args, desc.traversal, error)) return usageError(error);
+  desc.traversal = traversal;
   bool windowed = args.has("window");
   if (windowed && method == "reference") return usageError("--window shows module methods (raw, gif, ...), not the reference");
   if (windowed) {
