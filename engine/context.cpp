@@ -1,5 +1,6 @@
 #include "context.h"
 
+#include "gi/device.h"
 #include "shared/gpu_scene.h"
 
 #include <algorithm>
@@ -85,14 +86,6 @@ int deviceTypeRank(VkPhysicalDeviceType type) {
     default: return 4;
   }
 }
-
-// The ray-query backend's device extensions, checked in this order so the
-// error names the first missing piece.
-const char* const kRayQueryDeviceExtensions[] = {
-    VK_KHR_RAY_QUERY_EXTENSION_NAME,
-    VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME,
-    VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME,
-};
 
 const char* const kTraversalNames[] = {"auto", "rayquery", "compute"};
 
@@ -196,7 +189,7 @@ bool createContext(const ContextDesc& desc, Context& ctx, std::string& error) {
     std::string missing;
     if (props.apiVersion < VK_API_VERSION_1_3) missing = "Vulkan 1.3";
     if (needRayQuery)
-      for (const char* ext : kRayQueryDeviceExtensions)
+      for (const char* ext : gi::kRayQueryExtensions)
         if (missing.empty() && std::find(have.begin(), have.end(), ext) == have.end()) missing = ext;
     if (desc.swapchain && missing.empty() &&
         std::find(have.begin(), have.end(), VK_KHR_SWAPCHAIN_EXTENSION_NAME) == have.end())
@@ -225,7 +218,7 @@ bool createContext(const ContextDesc& desc, Context& ctx, std::string& error) {
   // where our compute traversal measured faster (docs/RESULTS.md).
   std::vector<std::string> bestExtensions = deviceExtensions(best);
   bool deviceHasRayQuery = true;
-  for (const char* ext : kRayQueryDeviceExtensions)
+  for (const char* ext : gi::kRayQueryExtensions)
     deviceHasRayQuery &= std::find(bestExtensions.begin(), bestExtensions.end(), ext) != bestExtensions.end();
   // Auto keeps the extensions on where the device has them, so the ray bench
   // can compare both backends; an explicit Compute creates the device without them.
@@ -238,71 +231,53 @@ bool createContext(const ContextDesc& desc, Context& ctx, std::string& error) {
   ctx.properties = bestProps;
   vkGetPhysicalDeviceMemoryProperties(best, &ctx.memoryProperties);
 
-  // Feature chain: check what we need before enabling it.
+  // Feature chain: check what we need before enabling it. The GI module's
+  // needs come from its public catalogue (gi/device.h); the engine adds its own.
   VkPhysicalDeviceRayQueryFeaturesKHR rayQuery{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR};
   VkPhysicalDeviceAccelerationStructureFeaturesKHR accel{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
   accel.pNext = &rayQuery;
   VkPhysicalDeviceVulkan13Features f13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
-  f13.pNext = &accel;
+  f13.pNext = ctx.rayQuery ? &accel : nullptr;
   VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
   f12.pNext = &f13;
   VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
   f2.pNext = &f12;
   vkGetPhysicalDeviceFeatures2(best, &f2);
+  const char* missing = gi::firstMissingFeature(f2, ctx.rayQuery);
   struct Need {
     VkBool32 have;
     const char* name;
   };
-  const Need needs[] = {
-      {ctx.rayQuery ? rayQuery.rayQuery : VK_TRUE, "the rayQuery feature"},
-      {ctx.rayQuery ? accel.accelerationStructure : VK_TRUE, "the accelerationStructure feature"},
-      {f12.bufferDeviceAddress, "bufferDeviceAddress"},
-      {f12.scalarBlockLayout, "scalarBlockLayout"},
-      {f12.runtimeDescriptorArray, "runtimeDescriptorArray"},
-      {f12.descriptorBindingPartiallyBound, "descriptorBindingPartiallyBound"},
-      {f12.descriptorBindingVariableDescriptorCount, "descriptorBindingVariableDescriptorCount"},
-      {f12.shaderSampledImageArrayNonUniformIndexing, "shaderSampledImageArrayNonUniformIndexing"},
-      {f12.hostQueryReset, "hostQueryReset"},
-      {f12.shaderBufferInt64Atomics, "shaderBufferInt64Atomics"},
-      {f13.dynamicRendering, "dynamicRendering"},
-      {f13.synchronization2, "synchronization2"},
-      {f13.maintenance4, "maintenance4"},  // SPIR-V 1.6 compute shaders declare LocalSizeId
-      {f2.features.shaderInt64, "shaderInt64"},
-      {f2.features.shaderStorageImageWriteWithoutFormat, "shaderStorageImageWriteWithoutFormat"},
+  const Need engineNeeds[] = {
+      {f12.bufferDeviceAddress, "bufferDeviceAddress"},  // scene buffers carry device addresses
+      {f13.dynamicRendering, "dynamicRendering"},        // the G-buffer pass
+      {f13.maintenance4, "maintenance4"},
   };
-  for (const Need& n : needs) {
-    if (!n.have) {
-      error = std::string("The Vulkan device '") + bestProps.deviceName + "' does not support " + n.name +
-              ", which the GI module needs.";
-      return false;
-    }
+  for (const Need& n : engineNeeds)
+    if (!missing && !n.have) missing = n.name;
+  if (missing) {
+    error = std::string("The Vulkan device '") + bestProps.deviceName + "' does not support " + missing +
+            ", which the GI module or the engine needs.";
+    return false;
   }
   // Enable exactly what we use.
   VkPhysicalDeviceRayQueryFeaturesKHR rayQueryOn{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR};
-  rayQueryOn.rayQuery = VK_TRUE;
   VkPhysicalDeviceAccelerationStructureFeaturesKHR accelOn{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
-  accelOn.accelerationStructure = VK_TRUE;
   accelOn.pNext = &rayQueryOn;
   VkPhysicalDeviceVulkan13Features f13On{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
   f13On.dynamicRendering = VK_TRUE;
-  f13On.synchronization2 = VK_TRUE;
   f13On.maintenance4 = VK_TRUE;
   f13On.pNext = ctx.rayQuery ? &accelOn : nullptr;
   VkPhysicalDeviceVulkan12Features f12On{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
   f12On.bufferDeviceAddress = VK_TRUE;
-  f12On.scalarBlockLayout = VK_TRUE;
-  f12On.runtimeDescriptorArray = VK_TRUE;
-  f12On.descriptorBindingPartiallyBound = VK_TRUE;
-  f12On.descriptorBindingVariableDescriptorCount = VK_TRUE;
-  f12On.shaderSampledImageArrayNonUniformIndexing = VK_TRUE;
-  f12On.hostQueryReset = VK_TRUE;
-  f12On.shaderBufferInt64Atomics = VK_TRUE;
   f12On.pNext = &f13On;
   VkPhysicalDeviceFeatures2 f2On{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
-  f2On.features.shaderInt64 = VK_TRUE;
-  f2On.features.shaderStorageImageWriteWithoutFormat = VK_TRUE;
   f2On.features.shaderStorageImageReadWithoutFormat = f2.features.shaderStorageImageReadWithoutFormat;
   f2On.pNext = &f12On;
+  if (const char* lacking = gi::enableRequiredFeatures(f2On, ctx.rayQuery)) {
+    error = std::string("internal: the engine's feature chain has no struct for ") + lacking;
+    return false;
+  }
 
   uint32_t familyCount = 0;
   vkGetPhysicalDeviceQueueFamilyProperties(best, &familyCount, nullptr);
@@ -323,7 +298,7 @@ bool createContext(const ContextDesc& desc, Context& ctx, std::string& error) {
   }
 
   std::vector<const char*> deviceExts;
-  if (ctx.rayQuery) deviceExts.assign(std::begin(kRayQueryDeviceExtensions), std::end(kRayQueryDeviceExtensions));
+  for (const char* ext : gi::requiredExtensions(ctx.rayQuery)) deviceExts.push_back(ext);
   if (desc.swapchain) deviceExts.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
   float priority = 1.0f;
   VkDeviceQueueCreateInfo queueInfo{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};

@@ -47,12 +47,38 @@ TEST_F(ModuleTest, CreateRejectsImpossibleValuesWithNamedErrors) {
   add("NaN epsilon", same, [](gi::Settings& st) { st.gif.epsilonNormal = std::nanf(""); }, gi::ErrorCode::OutOfRange, "settings.gif.epsilonNormal");
   add("even window", same, [](gi::Settings& st) { st.sspsf.window = 8; }, gi::ErrorCode::OutOfRange, "settings.sspsf.window");
   add("bad view", same, [](gi::Settings& st) { st.debugView = gi::DebugView(99); }, gi::ErrorCode::OutOfRange, "settings.debugView");
+  add("another gi.h", [](gi::ModuleDesc& d) { d.structSize = 8; }, same, gi::ErrorCode::VersionMismatch, "desc.structSize");
+  // The engine says what it enabled: a chain filled by gi/device.h, less one feature.
+  VkPhysicalDeviceVulkan13Features f13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
+  VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+  f12.pNext = &f13;
+  VkPhysicalDeviceFeatures2 enabled{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+  enabled.pNext = &f12;
+  ASSERT_EQ(gi::enableRequiredFeatures(enabled, false), nullptr);
+  add("all enabled", [&](gi::ModuleDesc& d) { d.enabledFeatures = &enabled; }, same, gi::ErrorCode::None, "");
+  VkPhysicalDeviceVulkan12Features f12NoAtomics = f12;
+  f12NoAtomics.shaderBufferInt64Atomics = VK_FALSE;
+  VkPhysicalDeviceFeatures2 noAtomics = enabled;
+  noAtomics.pNext = &f12NoAtomics;
+  add("no 64-bit atomics", [&](gi::ModuleDesc& d) { d.enabledFeatures = &noAtomics; }, same, gi::ErrorCode::MissingFeature,
+      "shaderBufferInt64Atomics");
+  // Ray-query traversal needs the ray-tracing features this chain does not have.
+  add("no ray queries", [&](gi::ModuleDesc& d) {
+        d.enabledFeatures = &enabled;
+        d.scene.traversal = gpu::TRAVERSAL_RAY_QUERY;
+      }, same, gi::ErrorCode::MissingFeature, "ray-query");
   for (const Case& c : cases) {
     gi::Error e = gi::create(c.desc, c.settings, m);
     EXPECT_EQ(e.code, c.code) << c.what << ": " << e.message;
     EXPECT_NE(e.message.find(c.field), std::string::npos) << c.what << ": " << e.message;
+    if (c.code == gi::ErrorCode::None) {
+      EXPECT_NE(m, nullptr) << c.what;
+      gi::destroy(m);
+      m = nullptr;
+    }
     EXPECT_EQ(m, nullptr) << c.what;
   }
+  EXPECT_EQ(gi::version(), uint32_t(GI_VERSION_MAJOR << 16 | GI_VERSION_MINOR));
   // A valid module accepts valid settings and refuses invalid ones without changing.
   ASSERT_FALSE(gi::create(desc, gi::Settings{}, m));
   gi::Settings bad;

@@ -64,6 +64,9 @@ bool sameCamera(const gpu::GpuCamera& a, const gpu::GpuCamera& b) {
 }
 
 Error checkDesc(const ModuleDesc& d) {
+  if (d.structSize != sizeof(ModuleDesc))
+    return {ErrorCode::VersionMismatch, "desc.structSize = " + std::to_string(d.structSize) + " is not this library's " +
+                                            std::to_string(sizeof(ModuleDesc)) + ": built against another gi.h"};
   if (!d.instance || !d.physicalDevice || !d.device) return {ErrorCode::MissingHandle, "desc.instance, desc.physicalDevice and desc.device must be set"};
   if (!d.scene.layout || !d.scene.set) return {ErrorCode::MissingHandle, "desc.scene.layout and desc.scene.set must be set"};
   if (d.width == 0 || d.height == 0)
@@ -74,6 +77,33 @@ Error checkDesc(const ModuleDesc& d) {
   if (d.width > 16384 || d.height > 16384)
     return {ErrorCode::SizeTooLarge, "desc.width × desc.height = " + std::to_string(d.width) + "×" + std::to_string(d.height) + " exceeds 16384 per side"};
   return {};
+}
+
+// The features of gi/device.h: in the chain the engine enabled, if it says
+// which, else among what the device supports.
+Error checkFeatures(const ModuleDesc& d) {
+  const bool rayQuery = d.scene.traversal == gpu::TRAVERSAL_RAY_QUERY;
+  const char* missing = nullptr;
+  const char* where = "the enabled features (desc.enabledFeatures)";
+  if (d.enabledFeatures) {
+    missing = firstMissingFeature(*d.enabledFeatures, rayQuery);
+  } else {
+    VkPhysicalDeviceRayQueryFeaturesKHR rq{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR};
+    VkPhysicalDeviceAccelerationStructureFeaturesKHR as{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
+    as.pNext = &rq;
+    VkPhysicalDeviceVulkan13Features f13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
+    f13.pNext = rayQuery ? &as : nullptr;
+    VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+    f12.pNext = &f13;
+    VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+    f2.pNext = &f12;
+    vkGetPhysicalDeviceFeatures2(d.physicalDevice, &f2);
+    missing = firstMissingFeature(f2, rayQuery);
+    where = "the device";
+  }
+  if (!missing) return {};
+  return {ErrorCode::MissingFeature, std::string(where) + " lacks " + missing + ", which the GI module needs" +
+                                         (rayQuery ? " (with ray-query traversal)" : "") + "; see gi/device.h"};
 }
 
 engine::Image outputImage(Module& m, VkExtent2D extent) {
@@ -284,6 +314,8 @@ void endPass(Module& m, VkCommandBuffer cmd, uint32_t slot) {
   if (m.desc.debugLabels) vkCmdEndDebugUtilsLabelEXT(cmd);
 }
 
+uint32_t version() { return GI_VERSION_MAJOR << 16 | GI_VERSION_MINOR; }
+
 Error create(const ModuleDesc& desc, const Settings& settings, Module*& out) {
   out = nullptr;
   if (Error e = checkDesc(desc)) return e;
@@ -294,6 +326,7 @@ Error create(const ModuleDesc& desc, const Settings& settings, Module*& out) {
     volkLoadInstanceOnly(desc.instance);
     volkLoadDevice(desc.device);
   }
+  if (Error e = checkFeatures(desc)) return e;
   Module* m = new Module;
   m->desc = desc;
   m->settings = settings;

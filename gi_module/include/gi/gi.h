@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "gi/device.h"
 #include "gi/settings.h"
 #include "shared/gpu_scene.h"
 
@@ -42,12 +43,17 @@ struct SceneDesc {
 };
 
 struct ModuleDesc {
+  uint32_t structSize = sizeof(ModuleDesc);  // leave as is: create refuses a desc from another version of this header
   VkInstance instance = VK_NULL_HANDLE;
   VkPhysicalDevice physicalDevice = VK_NULL_HANDLE;
   VkDevice device = VK_NULL_HANDLE;  // created with ray queries, acceleration structures, scalar layout
   uint32_t width = 0, height = 0;    // render size in pixels, [1, 16384]
   SceneDesc scene;
   bool debugLabels = false;          // VK_EXT_debug_utils is enabled on the instance
+  // The feature chain the engine passed to vkCreateDevice (gi/device.h fills
+  // it). When given, create checks that it enables what the module needs;
+  // when null, create checks what the device supports.
+  const VkPhysicalDeviceFeatures2* enabledFeatures = nullptr;
 };
 
 // G-buffer views (formats and encodings in shaders/shared/gbuffer.h), GENERAL layout.
@@ -100,7 +106,17 @@ struct FrameStats {
   } hash;
 };
 
-enum class ErrorCode : uint32_t { None = 0, MissingHandle, ZeroSize, SizeTooLarge, OutOfRange, UnknownMethod, NotPowerOfTwo };
+enum class ErrorCode : uint32_t {
+  None = 0,
+  MissingHandle,
+  ZeroSize,
+  SizeTooLarge,
+  OutOfRange,
+  UnknownMethod,
+  NotPowerOfTwo,
+  MissingFeature,   // the device lacks (or the engine did not enable) a feature in gi/device.h; the message names it
+  VersionMismatch,  // a desc built against another version of gi.h
+};
 struct Error {
   ErrorCode code = ErrorCode::None;
   std::string message;  // names the field and the value, e.g. "settings.raw.samplesPerPixel = 0 is outside [1, 64]"
@@ -108,6 +124,10 @@ struct Error {
 };
 
 struct Module;
+
+// GI_VERSION_MAJOR << 16 | GI_VERSION_MINOR of the library linked, to compare
+// with the header compiled against.
+uint32_t version();
 
 Error validate(const Settings& settings);
 Error create(const ModuleDesc& desc, const Settings& settings, Module*& out);
