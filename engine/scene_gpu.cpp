@@ -233,9 +233,15 @@ void createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu) {
     materials.push_back(g);
   }
   gpu.materials = upload(ctx, materials, kStorage);
-  for (const Material& m : scene.materials) {
-    gpu.hasAlphaMask |= m.alphaMode == AlphaMode::Mask;
-    gpu.hasGlossyMaterials |= m.needsGlossyLobe();
+  // Only materials some primitive uses decide which passes run (the loader
+  // always appends the glTF default material, a metal, for primitives without one).
+  std::vector<uint8_t> used(scene.materials.size(), 0);
+  for (const Primitive& p : scene.primitives)
+    if (p.material < used.size()) used[p.material] = 1;
+  for (size_t i = 0; i < scene.materials.size(); ++i) {
+    if (!used[i]) continue;
+    gpu.hasAlphaMask |= scene.materials[i].alphaMode == AlphaMode::Mask;
+    gpu.hasGlossyMaterials |= scene.materials[i].needsGlossyLobe();
   }
 
   std::vector<gpu::GpuInstance> instances = gpuInstances(scene, {});

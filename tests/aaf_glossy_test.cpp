@@ -87,3 +87,15 @@ TEST_F(AafGlossyTest, MetalFloorReflectsTheLitWall) {
   EXPECT_TRUE(has(diffusePasses, "aaf_filter_diffuse_rows"));
   unload(s);
 }
+
+// A scene whose primitives all use diffuse, opaque materials is described as
+// such, even though the loader always appends glTF's default material (a
+// metal): the glossy and alpha-mask work never runs for it.
+TEST_F(AafGlossyTest, UnusedMaterialsDoNotTurnOnGlossyOrAlphaWork) {
+  LoadedScene s;
+  load(sharedScene("cornell-box-mcguire/CornellBox-Original.gltf"), s);
+  ASSERT_TRUE(s.scene.materials.back().needsGlossyLobe()) << "the loader's fallback material is a metal";
+  EXPECT_FALSE(s.gpu.hasGlossyMaterials);
+  EXPECT_FALSE(s.gpu.hasAlphaMask);
+  unload(s);
+}

@@ -115,9 +115,8 @@ struct HpsfSettings {
   uint32_t probeWindow = 16;      // linear-probing limit in slots, [1, 64]
   float filterWidth = 16.0f;      // pixels, [0.5, 256]: cell size = width × pixel footprint × distance, to a power of two
   float jitter = 0.3f;            // tangent-plane jitter, ± cells (Meijer Alg. 3's δ ∈ [−1, 1]³), [0, 2]; 0 = off.
-                                  // Meijer shows 0.6; 0.3 has 10–30% less error on every scene (RESULTS)
-  uint32_t normalBits = 3;        // normal bins: 2^b in all (Meijer §4.2.2), [0, 6]; 0 = normals ignored.
-                                  // 3 (8 bins: a box's six walls apart) rather than Meijer's 2 (RESULTS)
+                                  // Meijer shows 0.6; 0.3 has 10–33% less indirect error on every scene (RESULTS)
+  uint32_t normalBits = 2;        // normal bins: 2^b in all (Meijer §4.2.2, his 2), [0, 6]; 0 = normals ignored
   float normalJitter = 0.0f;      // normal jitter, ± bins (Meijer Figs. 11c, 14c), [0, 2]; 0 = off
   bool stochasticLod = false;     // pick between the two nearest levels at random (hides LOD seams, costs error)
   float clampSigma = 10.0f;       // clamp samples above mean + k·σ of the cell, [0 = off, 100]; RESULTS: bias per k
