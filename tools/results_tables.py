@@ -1,0 +1,85 @@
+#!/usr/bin/env python3
+"""Markdown tables for docs/RESULTS.md from gi-bench's results.csv and series.csv.
+
+  tools/results_tables.py trade DIR          the trade-off table (ms, tracing ms, MSE, SSIM, speed-ups, memory)
+  tools/results_tables.py frames DIR K,K,..  final-image MSE after frame k per configuration (series.csv)
+  tools/results_tables.py indirect DIR K,..  indirect MSE and indirect light over the reference's after frame k
+  tools/results_tables.py move DIR           the moving-light columns (recovery frames, steady indirect MSE)
+
+"Tracing ms" is the time gi-bench divided the rays by (its tracing passes):
+rays / Mrays/s.
+"""
+import csv
+import sys
+
+def rows(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def tracing_ms(row):
+    mrays = float(row["mrays_per_s"])
+    return float(row["rays"]) / (mrays * 1e3) if mrays > 0 else 0.0
+
+
+def trade(directory):
+    print("| configuration | ms/frame | tracing ms | MSE (final) | MSE (indirect) | SSIM | speed-up (final) "
+          "| speed-up (indirect) | memory MB |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for r in rows(f"{directory}/results.csv"):
+        print(f"| {r['label']} | {float(r['total_ms']):.1f} | {tracing_ms(r):.1f} | {float(r['mse']):.3e} "
+              f"| {float(r['mse_indirect']):.3e} | {float(r['ssim']):.4f} | {float(r['equal_error_speedup']):.2f} "
+              f"| {float(r['equal_error_speedup_indirect']):.2f} | {int(r['memory_bytes']) / 1048576:.1f} |")
+
+
+def series_by_label(directory):
+    out = {}
+    for r in rows(f"{directory}/series.csv"):
+        out.setdefault(r["label"], {})[int(r["frame"])] = r
+    return out
+
+
+def frames(directory, ks, column="mse"):
+    ks = [int(k) for k in ks.split(",")]
+    print("| configuration | " + " | ".join(f"k = {k}" for k in ks) + " |")
+    print("|---|" + "---|" * len(ks))
+    for label, series in series_by_label(directory).items():
+        cells = []
+        for k in ks:
+            r = series.get(k)  # series.csv numbers frames from 1
+            cells.append(f"{float(r[column]):.2e}" if r else "–")
+        print(f"| {label} | " + " | ".join(cells) + " |")
+
+
+def indirect(directory, ks):
+    ks = [int(k) for k in ks.split(",")]
+    print("| configuration | " + " | ".join(f"MSE ind. k = {k}" for k in ks) + " | "
+          + " | ".join(f"light k = {k}" for k in ks) + " |")
+    print("|---|" + "---|" * (2 * len(ks)))
+    for label, series in series_by_label(directory).items():
+        mse = [f"{float(series[k]['mse_indirect']):.2e}" if k in series else "–" for k in ks]
+        light = [f"{float(series[k]['energy_indirect']):.3f}" if k in series else "–" for k in ks]
+        print(f"| {label} | " + " | ".join(mse) + " | " + " | ".join(light) + " |")
+
+
+def move(directory):
+    print("| configuration | frames to recover | steady MSE (indirect) | MSE (final) |")
+    print("|---|---|---|---|")
+    for r in rows(f"{directory}/results.csv"):
+        rec = int(r["move_recovery_frames"])
+        print(f"| {r['label']} | {rec if rec >= 0 else 'not within the run'} | "
+              f"{float(r['move_steady_mse_indirect']):.3e} | {float(r['mse']):.3e} |")
+
+
+if __name__ == "__main__":
+    kind = sys.argv[1]
+    if kind == "trade":
+        trade(sys.argv[2])
+    elif kind == "frames":
+        frames(sys.argv[2], sys.argv[3])
+    elif kind == "indirect":
+        indirect(sys.argv[2], sys.argv[3])
+    elif kind == "move":
+        move(sys.argv[2])
+    else:
+        sys.exit(f"results_tables.py: unknown table '{kind}'")
