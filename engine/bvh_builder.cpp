@@ -13,8 +13,9 @@ namespace engine {
 namespace {
 
 // Leaves of up to 4 triangles: on lavapipe a box test and a triangle test cost
-// about the same, and 4 measured faster than 2 or 8 (see docs/RESULTS.md).
+// about the same; 2, 4 and 8 measured within noise (docs/RESULTS.md).
 constexpr uint32_t kLeafSize = 4;
+constexpr size_t kSplitCapacity = 2;  // spatial splits may make up to this many fragments per triangle in all
 constexpr uint32_t kMaxDepth = 40;  // per level; with a top level under 20 deep the stack holds both
 static_assert(kLeafSize <= gpu::BVH_MAX_LEAF_SIZE);
 static_assert(kMaxDepth + 20 < gpu::BVH_STACK_SIZE);
@@ -101,11 +102,49 @@ struct EmbreeDevice {
   }
 };
 
+// Spatial splits (Embree's high-quality build): clips triangle `primID`
+// (already clipped to the primitive's box) at `position` along `dimension`.
+void splitTriangle(const RTCBuildPrimitive* prim, unsigned int dimension, float position, RTCBounds* left,
+                   RTCBounds* right, void* userPtr) {
+  const auto& triangles = *static_cast<const std::vector<gpu::GpuBvhTriangle>*>(userPtr);
+  const gpu::GpuBvhTriangle& t = triangles[prim->primID];
+  const glm::vec3 v[3] = {t.v0, t.v0 + t.edge1, t.v0 + t.edge2};
+  glm::vec3 lLo(INFINITY), lHi(-INFINITY), rLo(INFINITY), rHi(-INFINITY);
+  for (int i = 0; i < 3; ++i) {
+    const glm::vec3& a = v[i];
+    const glm::vec3& b = v[(i + 1) % 3];
+    if (a[dimension] <= position) lLo = glm::min(lLo, a), lHi = glm::max(lHi, a);
+    if (a[dimension] >= position) rLo = glm::min(rLo, a), rHi = glm::max(rHi, a);
+    if ((a[dimension] < position && b[dimension] > position) || (a[dimension] > position && b[dimension] < position)) {
+      glm::vec3 c = glm::mix(a, b, (position - a[dimension]) / (b[dimension] - a[dimension]));
+      c[dimension] = position;
+      lLo = glm::min(lLo, c), lHi = glm::max(lHi, c);
+      rLo = glm::min(rLo, c), rHi = glm::max(rHi, c);
+    }
+  }
+  // Never grow beyond the fragment being split.
+  glm::vec3 pLo(prim->lower_x, prim->lower_y, prim->lower_z), pHi(prim->upper_x, prim->upper_y, prim->upper_z);
+  glm::vec3 leftHi = pHi, rightLo = pLo;
+  leftHi[dimension] = position;
+  rightLo[dimension] = position;
+  lLo = glm::max(lLo, pLo), lHi = glm::min(lHi, leftHi);
+  rLo = glm::max(rLo, rightLo), rHi = glm::min(rHi, pHi);
+  // Float rounding can leave a side empty; its half of the fragment's box is
+  // then a safe (larger) bound, and Embree needs a non-empty one.
+  if (glm::any(glm::greaterThan(lLo, lHi))) lLo = pLo, lHi = leftHi;
+  if (glm::any(glm::greaterThan(rLo, rHi))) rLo = rightLo, rHi = pHi;
+  *left = RTCBounds{lLo.x, lLo.y, lLo.z, 0.0f, lHi.x, lHi.y, lHi.z, 0.0f};
+  *right = RTCBounds{rLo.x, rLo.y, rLo.z, 0.0f, rHi.x, rHi.y, rHi.z, 0.0f};
+}
+
 // Builds one tree over `boxes` (primID = the item's id) and appends its nodes
 // (root first) to `nodes` and its items' ids, in leaf order, to `order`.
-// Returns the root node's index and the union of the boxes.
+// Returns the root node's index and the union of the boxes. With `triangles`,
+// the build may split them spatially (a triangle then appears in more than
+// one leaf), which separates Sponza's long overlapping triangles.
 uint32_t buildTree(RTCDevice device, std::vector<RTCBuildPrimitive> boxes, uint32_t leafSize, uint32_t itemBase,
-                   std::vector<gpu::GpuBvhNode>& nodes, std::vector<uint32_t>& order, glm::vec3& lo, glm::vec3& hi) {
+                   std::vector<gpu::GpuBvhNode>& nodes, std::vector<uint32_t>& order, glm::vec3& lo, glm::vec3& hi,
+                   const std::vector<gpu::GpuBvhTriangle>* triangles = nullptr) {
   lo = glm::vec3(INFINITY);
   hi = glm::vec3(-INFINITY);
   for (const RTCBuildPrimitive& b : boxes) {
@@ -117,14 +156,20 @@ uint32_t buildTree(RTCDevice device, std::vector<RTCBuildPrimitive> boxes, uint3
   if (boxes.empty()) return root;
   RTCBVH bvh = rtcNewBVH(device);
   RTCBuildArguments args = rtcDefaultBuildArguments();
-  args.buildQuality = RTC_BUILD_QUALITY_MEDIUM;
+  const size_t count = boxes.size();
+  args.buildQuality = triangles ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM;
+  if (triangles) {
+    boxes.resize(count * kSplitCapacity);  // room for the fragments
+    args.splitPrimitive = splitTriangle;
+    args.userPtr = const_cast<std::vector<gpu::GpuBvhTriangle>*>(triangles);
+  }
   args.maxBranchingFactor = kWidth;
   args.maxDepth = kMaxDepth;
   args.minLeafSize = 1;
   args.maxLeafSize = leafSize;
   args.bvh = bvh;
   args.primitives = boxes.data();
-  args.primitiveCount = boxes.size();
+  args.primitiveCount = count;
   args.primitiveArrayCapacity = boxes.size();
   args.createNode = createInner;
   args.setNodeChildren = setChildren;
@@ -133,7 +178,7 @@ uint32_t buildTree(RTCDevice device, std::vector<RTCBuildPrimitive> boxes, uint3
   const TreeNode* tree = static_cast<const TreeNode*>(rtcBuildBVH(&args));
   if (!tree || rtcGetDeviceError(device) != RTC_ERROR_NONE) {
     rtcReleaseBVH(bvh);
-    throw std::runtime_error("BVH: Embree's builder failed on " + std::to_string(boxes.size()) + " primitives");
+    throw std::runtime_error("BVH: Embree's builder failed on " + std::to_string(count) + " primitives");
   }
   Flattener flat{nodes, order, itemBase};
   if (tree->leaf) {  // the root must be a node: wrap a lone leaf
@@ -199,8 +244,8 @@ uint32_t buildBottom(RTCDevice device, const BvhInput& input, std::span<const Pa
     }
   }
   std::vector<uint32_t> order;
-  uint32_t root =
-      buildTree(device, std::move(boxes), kLeafSize, uint32_t(bvh.triangles.size()), bvh.bottomNodes, order, lo, hi);
+  uint32_t root = buildTree(device, std::move(boxes), kLeafSize, uint32_t(bvh.triangles.size()), bvh.bottomNodes, order,
+                            lo, hi, &candidates);
   for (uint32_t id : order) bvh.triangles.push_back(candidates[id]);
   return root;
 }

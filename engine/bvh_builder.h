@@ -1,6 +1,6 @@
 // The compute traversal backend's BVH (layout in shaders/shared/gpu_bvh.h),
-// built on the CPU with Embree's SAH builder (rtcBuildBVH) into our own node
-// format. Self-contained: triangles and instances in, node arrays out; no
+// built on the CPU with Embree's SAH builder (rtcBuildBVH; bottom levels at
+// high quality, with spatial splits of the triangles) into our own node format. Self-contained: triangles and instances in, node arrays out; no
 // Vulkan, no engine scene, so it can move with scene ingestion.
 //
 // Two levels. Every static instance (`movable` false) with an identity
