@@ -96,18 +96,22 @@ vec3 giCosineSample(vec3 n, vec2 u) {
   return normalize(t * (r * cos(phi)) + bt * (r * sin(phi)) + n * sqrt(max(0.0, 1.0 - u.x)));
 }
 
+// A GGX half vector about N for roughness alpha (density D(h)·cos θ_h).
+vec3 giGgxHalfVector(vec3 N, float alpha, vec2 u) {
+  vec3 t, bt;
+  giBasis(N, t, bt);
+  float a2 = alpha * alpha;
+  float cosTheta = sqrt((1.0 - u.x) / (1.0 + (a2 - 1.0) * u.x));
+  float sinTheta = sqrt(max(0.0, 1.0 - cosTheta * cosTheta));
+  float phi = 2.0 * GI_PI * u.y;
+  return t * (sinTheta * cos(phi)) + bt * (sinTheta * sin(phi)) + N * cosTheta;
+}
+
 // Samples L; returns false when the sample is below the horizon.
 // `weight` = f·cos/pdf, `pdf` = solid-angle density (for MIS).
 bool giBsdfSample(GiBsdf b, vec3 N, vec3 V, vec3 u, out vec3 L, out vec3 weight, out float pdf) {
   if (u.z < b.specularProbability) {
-    vec3 t, bt;
-    giBasis(N, t, bt);
-    float a2 = b.alpha * b.alpha;
-    float cosTheta = sqrt((1.0 - u.x) / (1.0 + (a2 - 1.0) * u.x));
-    float sinTheta = sqrt(max(0.0, 1.0 - cosTheta * cosTheta));
-    float phi = 2.0 * GI_PI * u.y;
-    vec3 H = t * (sinTheta * cos(phi)) + bt * (sinTheta * sin(phi)) + N * cosTheta;
-    L = reflect(-V, H);
+    L = reflect(-V, giGgxHalfVector(N, b.alpha, u.xy));
   } else {
     L = giCosineSample(N, u.xy);
   }
@@ -126,13 +130,8 @@ bool giSpecularSample(GiBsdf b, vec3 N, vec3 V, vec2 u, out vec3 L, out vec3 wei
   weight = vec3(0.0);
   L = N;
   if (b.specularProbability <= 0.0) return false;
-  vec3 t, bt;
-  giBasis(N, t, bt);
   float a2 = b.alpha * b.alpha;
-  float cosTheta = sqrt((1.0 - u.x) / (1.0 + (a2 - 1.0) * u.x));
-  float sinTheta = sqrt(max(0.0, 1.0 - cosTheta * cosTheta));
-  float phi = 2.0 * GI_PI * u.y;
-  vec3 H = t * (sinTheta * cos(phi)) + bt * (sinTheta * sin(phi)) + N * cosTheta;
+  vec3 H = giGgxHalfVector(N, b.alpha, u);
   L = reflect(-V, H);
   float nh = max(dot(N, H), 0.0), vh = max(dot(V, H), 1e-6);
   float pdf = giGgxD(nh, a2) * nh / (4.0 * vh);

@@ -18,6 +18,16 @@ struct GiHit {
 // Rays traced by this invocation; shaders add it to their counters.
 uint giRaysTraced = 0u;
 
+GiHit giNoHit() {
+  GiHit hit;
+  hit.t = -1.0;
+  hit.instance = 0u;
+  hit.geometry = 0u;
+  hit.triangle = 0u;
+  hit.barycentrics = vec2(0.0);
+  return hit;
+}
+
 bool giAlphaAccepts(uint geometry, uint triangle, vec2 bary) {
   uint materialIndex = sceneGeometries[geometry].material;
   GpuMaterial m = sceneMaterials[materialIndex];
@@ -52,12 +62,7 @@ GiHit giTraceClosest(vec3 origin, vec3 direction, float tMin, float tMax) {
   uint flags = GI_SCENE_HAS_ALPHA_MASK ? gl_RayFlagsNoneEXT : gl_RayFlagsOpaqueEXT;
   rayQueryInitializeEXT(query, sceneTlas, flags, 0xff, origin, tMin, direction, tMax);
   giResolveCandidates(query);
-  GiHit hit;
-  hit.t = -1.0;
-  hit.instance = 0u;
-  hit.geometry = 0u;
-  hit.triangle = 0u;
-  hit.barycentrics = vec2(0.0);
+  GiHit hit = giNoHit();
   if (rayQueryGetIntersectionTypeEXT(query, true) == gl_RayQueryCommittedIntersectionTriangleEXT) {
     hit.t = rayQueryGetIntersectionTEXT(query, true);
     hit.instance = rayQueryGetIntersectionInstanceIdEXT(query, true);

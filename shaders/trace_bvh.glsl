@@ -8,27 +8,21 @@
 
 // The structs of shared/gpu_bvh.h from their texel buffers (16-byte rows,
 // fetched as integers so ids and float bits pass unchanged).
-GpuBvhNode giBvhNode(bool bottom, uint index) {
+GpuBvhNode giBvhNodeFrom(utextureBuffer nodes, uint index) {
   int base = int(index * 7u);
   GpuBvhNode n;
-  if (bottom) {
-    n.minX = uintBitsToFloat(texelFetch(sceneBvhNodes, base));
-    n.minY = uintBitsToFloat(texelFetch(sceneBvhNodes, base + 1));
-    n.minZ = uintBitsToFloat(texelFetch(sceneBvhNodes, base + 2));
-    n.maxX = uintBitsToFloat(texelFetch(sceneBvhNodes, base + 3));
-    n.maxY = uintBitsToFloat(texelFetch(sceneBvhNodes, base + 4));
-    n.maxZ = uintBitsToFloat(texelFetch(sceneBvhNodes, base + 5));
-    n.child = texelFetch(sceneBvhNodes, base + 6);
-  } else {
-    n.minX = uintBitsToFloat(texelFetch(sceneBvhTopNodes, base));
-    n.minY = uintBitsToFloat(texelFetch(sceneBvhTopNodes, base + 1));
-    n.minZ = uintBitsToFloat(texelFetch(sceneBvhTopNodes, base + 2));
-    n.maxX = uintBitsToFloat(texelFetch(sceneBvhTopNodes, base + 3));
-    n.maxY = uintBitsToFloat(texelFetch(sceneBvhTopNodes, base + 4));
-    n.maxZ = uintBitsToFloat(texelFetch(sceneBvhTopNodes, base + 5));
-    n.child = texelFetch(sceneBvhTopNodes, base + 6);
-  }
+  n.minX = uintBitsToFloat(texelFetch(nodes, base));
+  n.minY = uintBitsToFloat(texelFetch(nodes, base + 1));
+  n.minZ = uintBitsToFloat(texelFetch(nodes, base + 2));
+  n.maxX = uintBitsToFloat(texelFetch(nodes, base + 3));
+  n.maxY = uintBitsToFloat(texelFetch(nodes, base + 4));
+  n.maxZ = uintBitsToFloat(texelFetch(nodes, base + 5));
+  n.child = texelFetch(nodes, base + 6);
   return n;
+}
+
+GpuBvhNode giBvhNode(bool bottom, uint index) {
+  return bottom ? giBvhNodeFrom(sceneBvhNodes, index) : giBvhNodeFrom(sceneBvhTopNodes, index);
 }
 
 GpuBvhTriangle giBvhTriangle(uint index) {
@@ -113,12 +107,7 @@ bool giBvhTriangleAccepted(GpuBvhTriangle tri, vec2 bary) {
 // instance: the ray moves into its object space (the same t: the direction
 // is transformed, not renormalised) and a marker on the stack brings it back.
 GiHit giBvhTrace(vec3 origin, vec3 direction, float tMin, float tMax, bool anyHit) {
-  GiHit hit;
-  hit.t = -1.0;
-  hit.instance = 0u;
-  hit.geometry = 0u;
-  hit.triangle = 0u;
-  hit.barycentrics = vec2(0.0);
+  GiHit hit = giNoHit();
   float best = tMax;
   vec3 o = origin, d = direction;
   vec3 invDir = giBvhSafeInverse(direction);
