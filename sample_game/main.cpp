@@ -34,9 +34,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
+const std::string kMethodHelp = "GI method at start: " + tools::methodList() + " (default hpsf)";
 const cli::Option kOptions[] = {
     {"scene", "FILE.gltf", "scene to walk through (default assets/cornell_box/cornell_box.gltf)"},
-    {"method", "M", "GI method at start: raw, gif, bilateral, atrous, aaf, aaf_ao, sspsf, hpsf (default hpsf)"},
+    {"method", "M", kMethodHelp.c_str()},
     {"set", "KEY=V,...", "module settings at start (see gi-render --help for the keys)"},
     {"size", "WxH", "render size of the GI module (default 320x180)"},
     {"window-size", "WxH", "window and overlay size (default 960x540)"},

@@ -12,10 +12,6 @@
 namespace demo {
 namespace {
 
-constexpr gi::Method kMethods[] = {gi::Method::Raw,   gi::Method::Gif,  gi::Method::Bilateral, gi::Method::Atrous,
-                                   gi::Method::Aaf,   gi::Method::AafAo, gi::Method::Sspsf,    gi::Method::Hpsf,
-                                   gi::Method::Nhpsf, gi::Method::Anhpsf};
-static_assert(std::size(kMethods) == gi::kMethodCount);
 constexpr const char* kViews[] = {"none (lit image)", "direct",           "indirect (demodulated)", "albedo",
                                   "normal",           "guidance",         "guidance depth",         "filter in | out",
                                   "gif coefficients", "aaf z_min",        "aaf z_max",              "aaf samples per pixel",
@@ -107,11 +103,11 @@ bool buildOverlay(OverlayState& state, gi::Settings& settings, const gi::FrameSt
   ImGui::Begin("GI module");
   ImGui::PushItemWidth(ImGui::GetWindowWidth() * 0.42f);
 
-  int method = int(std::find(std::begin(kMethods), std::end(kMethods), settings.method) - std::begin(kMethods));
-  const char* names[std::size(kMethods)];
-  for (size_t i = 0; i < std::size(kMethods); ++i) names[i] = gi::methodName(kMethods[i]);
-  if (ImGui::Combo("method", &method, names, int(std::size(kMethods)))) {
-    settings.method = kMethods[size_t(method)];
+  // The combo lists gi::Method in its own order (tools::methodNames).
+  int method = int(settings.method);
+  std::vector<const char*> names = tools::methodNames();
+  if (ImGui::Combo("method", &method, names.data(), int(names.size()))) {
+    settings.method = gi::Method(uint32_t(method));
     changed = true;
   }
   int view = int(settings.debugView);

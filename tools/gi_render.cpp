@@ -21,11 +21,12 @@
 
 namespace {
 
+const std::string kMethodHelp = "reference (default) or a GI module method: " + tools::methodList();
 const cli::Option kOptions[] = {
     {"scene", "FILE.gltf", "scene to render (required)"},
     {"size", "WxH", "image size in pixels (default 320x180)"},
     {"camera", "N", "glTF camera index (default 0; a default camera is made when the file has none)"},
-    {"method", "NAME", "reference (default) or a GI module method: raw, gif, bilateral, atrous, aaf, aaf_ao, sspsf, hpsf, nhpsf, anhpsf"},
+    {"method", "NAME", kMethodHelp.c_str()},
     {"set", "KEY=V", "a GI module setting, repeatable (keys: see --help)"},
     {"spp", "N", "samples per pixel per frame (default: 64 for the reference, the method's own default for a module method)"},
     {"frames", "N", "frames to accumulate (default 1); total samples = spp × frames"},
@@ -41,7 +42,6 @@ const cli::Option kOptions[] = {
                          "renders the last frame's pose"},
     {"help", nullptr, "show this message"},
 };
-const char* const kMethods[] = {"reference", "raw", "gif", "bilateral", "atrous", "aaf", "aaf_ao", "sspsf", "hpsf", "nhpsf", "anhpsf"};
 const char* const kAovs[] = {"final", "direct", "indirect", "albedo", "normal", "depth"};
 const char* kSynopsis = "--scene FILE.gltf [options]";
 
@@ -64,6 +64,8 @@ int main(int argc, char** argv) {
   }
   if (!args.has("scene")) return usageError("--scene is required");
   uint32_t width, height, cameraIndex, spp, frames, bounces, seed;
+  std::vector<const char*> methodChoices = tools::methodNames();
+  methodChoices.insert(methodChoices.begin(), "reference");
   std::string method, aov;
   if (!cli::getSize(args, "size", 320, 180, width, height, error) ||
       !cli::getUint(args, "camera", 0, 0, 1u << 20, cameraIndex, error) ||
@@ -71,7 +73,7 @@ int main(int argc, char** argv) {
       !cli::getUint(args, "frames", 1, 1, 1u << 20, frames, error) ||
       !cli::getUint(args, "max-bounces", 4, 0, 1024, bounces, error) ||
       !cli::getUint(args, "seed", 1, 0, UINT32_MAX, seed, error) ||
-      !cli::getChoice(args, "method", "reference", kMethods, method, error) ||
+      !cli::getChoice(args, "method", "reference", methodChoices, method, error) ||
       !cli::getChoice(args, "aov", "final", kAovs, aov, error))
     return usageError(error);
   if (uint64_t(spp) * frames > (1u << 24)) return usageError("spp × frames must not exceed 16777216");

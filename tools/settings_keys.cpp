@@ -129,4 +129,16 @@ std::vector<std::string> settingKeys() {
   return out;
 }
 
+std::vector<const char*> methodNames() {
+  std::vector<const char*> names;
+  for (uint32_t m = 0; m < gi::kMethodCount; ++m) names.push_back(gi::methodName(gi::Method(m)));
+  return names;
+}
+
+std::string methodList() {
+  std::string list;
+  for (const char* name : methodNames()) list += (list.empty() ? "" : ", ") + std::string(name);
+  return list;
+}
+
 }  // namespace tools

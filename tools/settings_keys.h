@@ -28,4 +28,9 @@ gi::Method keyOwner(gi::Method method);
 bool applySetting(gi::Settings& settings, const std::string& assignment, std::string& error);
 std::vector<std::string> settingKeys();
 
+// Every method's name, in gi::Method's order, and the same joined by ", "
+// (for help texts: the list is gi::methodName's, never written out again).
+std::vector<const char*> methodNames();
+std::string methodList();
+
 }  // namespace tools
