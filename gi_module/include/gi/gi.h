@@ -12,6 +12,13 @@
 //  - the module never submits, waits or presents. Only one frame may be in
 //    flight per module: call recordFrame again once the previous frame's fence
 //    has signalled (its uniform and readback buffers are host-written).
+//
+// Threads: a Module is not thread-safe; call every function for one module
+// from one thread at a time (any thread). Different modules on the same
+// device may be used from different threads, except that their create and
+// destroy calls must not overlap (the module still loads the device's entry
+// points into volk's process-wide table). validate() and version() are pure
+// and may be called from anywhere.
 #pragma once
 #include <volk.h>
 
