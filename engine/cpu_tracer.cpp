@@ -113,12 +113,6 @@ bool cpuTraceVisible(const CpuTracer& tracer, glm::vec3 origin, glm::vec3 direct
 
 namespace {
 
-glm::vec3 cameraRay(const gpu::GpuCamera& cam, glm::vec2 pixel) {  // camera.glsl's giCameraRayDirection
-  glm::vec2 ndc = pixel / cam.imageSize * 2.0f - 1.0f;
-  glm::vec3 view(ndc.x * cam.tanHalfFovY * cam.aspect, -ndc.y * cam.tanHalfFovY, -1.0f);
-  return glm::normalize(glm::mat3(cam.worldFromView) * view);
-}
-
 glm::vec3 cosineSample(glm::vec3 n, float u1, float u2) {
   glm::vec3 t = std::abs(n.x) > 0.5f ? glm::normalize(glm::cross(n, glm::vec3(0, 1, 0))) : glm::normalize(glm::cross(n, glm::vec3(1, 0, 0)));
   glm::vec3 b = glm::cross(n, t);
@@ -144,7 +138,7 @@ Pass runPass(const CpuTracer& tracer, const Scene& scene, const gpu::GpuCamera& 
         std::minstd_rand rng(1u + x + y * w);
         std::uniform_real_distribution<float> u(0.0f, 1.0f);
         for (uint32_t i = 0; i < paths; ++i) {
-          glm::vec3 dir = cameraRay(camera, glm::vec2(float(x) + u(rng), float(y) + u(rng)));
+          glm::vec3 dir = gpu::giCameraRayDirection(camera, glm::vec2(float(x) + u(rng), float(y) + u(rng)));
           CpuHit hit = cpuTraceClosest(tracer, camera.position, dir, 0.0f, 1e30f);
           ++local;
           if (hit.t < 0.0f || kind == gpu::RB_KIND_PRIMARY) continue;

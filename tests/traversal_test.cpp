@@ -29,9 +29,7 @@ std::vector<gpu::TraceBatchRay> makeRays(const engine::Scene& scene, const engin
   std::vector<gpu::TraceBatchRay> rays;
   for (uint32_t y = 0; y < h; ++y)
     for (uint32_t x = 0; x < w; ++x) {
-      glm::vec2 ndc = (glm::vec2(float(x), float(y)) + 0.5f) / cam.imageSize * 2.0f - 1.0f;
-      glm::vec3 dir = glm::normalize(glm::mat3(cam.worldFromView) *
-                                     glm::vec3(ndc.x * cam.tanHalfFovY * cam.aspect, -ndc.y * cam.tanHalfFovY, -1.0f));
+      glm::vec3 dir = gpu::giCameraRayDirection(cam, glm::vec2(float(x), float(y)) + 0.5f);
       rays.push_back({cam.position, 0.0f, dir, 1e30f});
       engine::CpuHit hit = engine::cpuTraceClosest(tracer, cam.position, dir, 0.0f, 1e30f);
       if (hit.t < 0.0f) continue;

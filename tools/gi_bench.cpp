@@ -10,6 +10,7 @@
 #include <fstream>
 #include <map>
 #include <optional>
+#include <set>
 
 #include "bench_configs.h"
 #include "camera.h"
@@ -96,13 +97,6 @@ engine::Camera pathCamera(const engine::Camera& start, float sceneExtent, uint32
   return c;
 }
 
-// Passes that trace rays (their time is what Mrays/s and the ray efficiency divide by).
-bool isTracingPass(const std::string& name) {
-  for (const char* tracing :
-       {"raw_trace", "aaf_sample", "aaf_adaptive", "hpsf_insert", "nhpsf_paths", "anhpsf_paths", "gif_supersample"})
-    if (name == tracing) return true;
-  return false;
-}
 
 struct Reference {
   engine::FloatImage final, indirect;
@@ -337,6 +331,7 @@ int main(int argc, char** argv) {
       ok = false;
       break;
     }
+    std::set<std::string> tracingPasses;
     std::map<std::string, std::vector<double>> passSamples;
     std::vector<double> totals, rays;
     std::vector<metrics::ImageError> finals, indirects;
@@ -365,6 +360,7 @@ int main(int argc, char** argv) {
       for (const gi::PassTiming& p : t.passes) {
         if (!passSamples.count(p.name) && !frameTotals.count(p.name)) row.passOrder.push_back(p.name);
         frameTotals[p.name] += p.ms;
+        if (p.tracesRays) tracingPasses.insert(p.name);  // the module says which passes trace
       }
       for (const auto& [name, ms] : frameTotals) passSamples[name].push_back(ms);
       totals.push_back(t.totalMs);
@@ -384,7 +380,7 @@ int main(int argc, char** argv) {
     }
     for (const auto& [name, samples] : passSamples) {
       row.passMs[name] = median(samples);
-      if (isTracingPass(name)) row.traceMs += row.passMs[name];
+      if (tracingPasses.count(name)) row.traceMs += row.passMs[name];
     }
     row.totalMs = median(totals);
     for (double r : rays) row.rays += r / double(rays.size());

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <string_view>
 
 #include "gi_composite.comp.h"
 #include "gi_composite.comp.compute.h"
@@ -296,6 +297,15 @@ PassHooks passHooks(Module& m, uint32_t slot) {
           [&m, slot](VkCommandBuffer cmd) { endPass(m, cmd, slot); }};
 }
 
+// The passes whose work is tracing paths (their time is what FrameStats'
+// rays are traced in; the hash resolve's probe rays are a small part of it).
+constexpr std::string_view kTracingPasses[] = {"raw_trace",   "aaf_sample",   "aaf_adaptive",   "hpsf_insert",
+                                               "nhpsf_paths", "anhpsf_paths", "gif_supersample"};
+
+bool tracesRays(std::string_view pass) {
+  return std::find(std::begin(kTracingPasses), std::end(kTracingPasses), pass) != std::end(kTracingPasses);
+}
+
 void beginPass(Module& m, VkCommandBuffer cmd, uint32_t slot, const char* name) {
   uint32_t index = uint32_t(m.passNames[slot].size());
   m.passNames[slot].emplace_back(name);
@@ -562,7 +572,7 @@ FrameStats stats(Module* m) {
     st.frameIndex = m->slotFrameIndex[slot];
     for (uint32_t i = 0; i < n; ++i) {
       double ms = double(ticks[2 * i + 1] - ticks[2 * i]) * m->ctx.properties.limits.timestampPeriod * 1e-6;
-      st.passes.push_back({m->passNames[slot][i], ms});
+      st.passes.push_back({m->passNames[slot][i], ms, tracesRays(m->passNames[slot][i])});
       st.totalMs += ms;
     }
     gpu::GiCounters c = slotCounters(*m, slot);

@@ -14,6 +14,7 @@ using vec3 = glm::vec3;
 using vec4 = glm::vec4;
 using uvec2 = glm::uvec2;
 using uvec4 = glm::uvec4;
+using mat3 = glm::mat3;
 using mat4 = glm::mat4;
 }  // namespace gpu
 #define GPU_NAMESPACE_BEGIN namespace gpu {

@@ -136,5 +136,14 @@ struct GpuCamera {
 };
 GPU_ASSERT_SIZE(GpuCamera, 288);
 
+// The primary ray through `pixel` (continuous: (x + 0.5, y + 0.5) is the
+// centre of pixel (x, y), y down), matching the raster projection exactly;
+// shared by the shaders (camera.glsl) and CPU tracing (engine/cpu_tracer).
+GPU_FN vec3 giCameraRayDirection(GpuCamera cam, vec2 pixel) {
+  vec2 ndc = pixel / cam.imageSize * 2.0f - 1.0f;
+  vec3 view = vec3(ndc.x * cam.tanHalfFovY * cam.aspect, -ndc.y * cam.tanHalfFovY, -1.0f);
+  return normalize(mat3(cam.worldFromView) * view);
+}
+
 GPU_NAMESPACE_END
 #endif

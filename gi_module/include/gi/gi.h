@@ -84,6 +84,7 @@ struct Outputs {
 struct PassTiming {
   std::string name;
   double ms = 0.0;
+  bool tracesRays = false;  // a path-tracing pass: its time is what Mrays/s divide by
 };
 
 struct FrameStats {
