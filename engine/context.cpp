@@ -1,5 +1,7 @@
 #include "context.h"
 
+#include "gi/gi.h"
+
 #include "gi/device.h"
 #include "shared/gpu_scene.h"
 
@@ -8,32 +10,7 @@
 
 namespace engine {
 
-const char* vkResultName(VkResult result) {
-  switch (result) {
-#define GI_RESULT_CASE(r) \
-  case r:                 \
-    return #r;
-    GI_RESULT_CASE(VK_SUCCESS)
-    GI_RESULT_CASE(VK_NOT_READY)
-    GI_RESULT_CASE(VK_TIMEOUT)
-    GI_RESULT_CASE(VK_INCOMPLETE)
-    GI_RESULT_CASE(VK_ERROR_OUT_OF_HOST_MEMORY)
-    GI_RESULT_CASE(VK_ERROR_OUT_OF_DEVICE_MEMORY)
-    GI_RESULT_CASE(VK_ERROR_INITIALIZATION_FAILED)
-    GI_RESULT_CASE(VK_ERROR_DEVICE_LOST)
-    GI_RESULT_CASE(VK_ERROR_LAYER_NOT_PRESENT)
-    GI_RESULT_CASE(VK_ERROR_EXTENSION_NOT_PRESENT)
-    GI_RESULT_CASE(VK_ERROR_FEATURE_NOT_PRESENT)
-    GI_RESULT_CASE(VK_ERROR_INCOMPATIBLE_DRIVER)
-    GI_RESULT_CASE(VK_ERROR_FORMAT_NOT_SUPPORTED)
-    GI_RESULT_CASE(VK_ERROR_OUT_OF_DATE_KHR)
-    GI_RESULT_CASE(VK_SUBOPTIMAL_KHR)
-    GI_RESULT_CASE(VK_ERROR_SURFACE_LOST_KHR)
-#undef GI_RESULT_CASE
-    default:
-      return "VkResult(unknown)";
-  }
-}
+const char* vkResultName(VkResult result) { return gi::resultName(result); }
 
 namespace {
 

@@ -41,7 +41,8 @@ GBufferPass createGBufferPass(const Context& ctx, const SceneGpu& scene) {
   GBufferPass p;
   const Binding cameraBinding[] = {{gpu::GBUFFER_BINDING_CAMERA, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER}};
   p.cameraSet = createDescriptorSet(ctx, cameraBinding);
-  p.cameraBuffer = createBuffer(ctx, sizeof(gpu::GpuCamera), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, MemoryKind::HostVisible);
+  p.cameraBuffer = createBuffer(ctx, sizeof(gpu::GpuCamera),
+                                VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryKind::DeviceLocal);
   DescriptorWriter(p.cameraSet.set).buffer(gpu::GBUFFER_BINDING_CAMERA, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, p.cameraBuffer.buffer).write(ctx);
 
   VkDescriptorSetLayout sets[] = {scene.set.layout, p.cameraSet.layout};
@@ -77,8 +78,15 @@ void destroyGBufferPass(const Context& ctx, GBufferPass& p) {
 
 void recordGBuffer(const Context& ctx, VkCommandBuffer cmd, GBufferPass& pass, const Scene& scene,
                    const SceneGpu& sceneGpu, const GBuffer& g, const gpu::GpuCamera& camera, GpuTimer* timer) {
-  std::memcpy(pass.cameraBuffer.mapped, &camera, sizeof(camera));
   if (timer) beginPass(ctx, cmd, *timer, "gbuffer");
+  // The camera is written in the command buffer, not by the host: frames in
+  // flight each see their own (after the previous frame's draws read it).
+  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, 0,
+                VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+  vkCmdUpdateBuffer(cmd, pass.cameraBuffer.buffer, 0, sizeof(camera), &camera);
+  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
+                VK_ACCESS_2_UNIFORM_READ_BIT);
   for (const Image& img : g.color)
     imageBarrier(cmd, img.image, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
                  VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT,

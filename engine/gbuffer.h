@@ -30,7 +30,7 @@ struct GBufferPass {
   VkPipeline pipeline = VK_NULL_HANDLE;
   VkPipelineLayout layout = VK_NULL_HANDLE;
   DescriptorSet cameraSet;
-  Buffer cameraBuffer;  // host-visible GpuCamera
+  Buffer cameraBuffer;  // GpuCamera, written by recordGBuffer in the command buffer
 };
 
 GBuffer createGBuffer(const Context& ctx, VkExtent2D extent);

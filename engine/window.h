@@ -11,6 +11,10 @@ struct GLFWwindow;
 
 namespace engine {
 
+// Frames the window records ahead: beginWindowFrame waits for the frame
+// recorded this many frames earlier, not for the last one.
+inline constexpr uint32_t kWindowFramesInFlight = 2;
+
 struct Window {
   GLFWwindow* handle = nullptr;
   VkSurfaceKHR surface = VK_NULL_HANDLE;
@@ -18,10 +22,12 @@ struct Window {
   VkFormat format = VK_FORMAT_UNDEFINED;  // an sRGB format: linear radiance blits encode on write
   VkExtent2D extent{};
   std::vector<VkImage> images;
-  VkSemaphore imageAcquired = VK_NULL_HANDLE;
-  VkSemaphore renderDone = VK_NULL_HANDLE;
-  VkFence frameDone = VK_NULL_HANDLE;
-  VkCommandBuffer cmd = VK_NULL_HANDLE;
+  std::vector<VkSemaphore> renderDone;    // per swapchain image: the presentation engine holds it until presented
+  VkSemaphore imageAcquired[kWindowFramesInFlight] = {};
+  VkFence frameDone[kWindowFramesInFlight] = {};
+  VkCommandBuffer commandBuffers[kWindowFramesInFlight] = {};
+  uint64_t frames = 0;                    // frames submitted; the slot is frames mod kWindowFramesInFlight
+  VkCommandBuffer cmd = VK_NULL_HANDLE;   // this frame's command buffer, between begin and end
 };
 
 // Initialises GLFW; false (with a sentence in `error`) when there is no display or no Vulkan support.
@@ -30,11 +36,15 @@ bool createWindow(const Context& ctx, uint32_t width, uint32_t height, const cha
 void destroyWindow(const Context& ctx, Window& window);
 bool windowShouldClose(const Window& window);  // also polls events
 
-// Waits for the previous frame, acquires an image and begins the frame's
-// command buffer. Returns false when the swapchain had to be recreated (skip the frame).
+// Waits for the frame recorded kWindowFramesInFlight frames ago, acquires an
+// image and begins this frame's command buffer. Returns false when the
+// swapchain had to be recreated (skip the frame).
 bool beginWindowFrame(const Context& ctx, Window& window, uint32_t& imageIndex);
 // Blits `source` (GENERAL layout, any colour format) scaled to the swapchain
 // image, submits the frame's command buffer and presents.
 void endWindowFrame(const Context& ctx, Window& window, uint32_t imageIndex, VkImage source, VkExtent2D sourceExtent);
+// Waits until every submitted frame has completed (before host writes that
+// frames in flight read). Call between beginWindowFrame and endWindowFrame.
+void waitForSubmittedFrames(const Context& ctx, const Window& window);
 
 }  // namespace engine

@@ -1,6 +1,8 @@
 // The smallest game loop that embeds the GI module: init, then per frame
 // update the camera, raster the G-buffer, gi::recordFrame, composite into the
-// frame, present (here: keep the last frame and write it as a PNG).
+// frame, present (here: keep the last frame and write it as a PNG). Two
+// frames in flight, as engines run: each frame waits only for the fence of
+// the frame two before it, whose numbers are then read.
 //
 //   embed_minimal SCENE.gltf OUT.png [FRAMES]
 #include <cmath>
@@ -43,6 +45,7 @@ int main(int argc, char** argv) {
 
   // --- init: the module ----------------------------------------------------------
   gi::ModuleDesc desc;
+  desc.getInstanceProcAddr = vkGetInstanceProcAddr;  // the module loads its own function table through it
   desc.instance = ctx.instance;
   desc.physicalDevice = ctx.physicalDevice;
   desc.device = ctx.device;
@@ -63,9 +66,32 @@ int main(int argc, char** argv) {
                                gbuffer.color[gpu::GBUFFER_MATERIAL].view, gbuffer.color[gpu::GBUFFER_EMISSION].view,
                                gbuffer.color[gpu::GBUFFER_MOTION].view, gbuffer.color[gpu::GBUFFER_VIEWZ].view};
 
-  // --- the game loop -------------------------------------------------------------
+  // --- the game loop: two frames in flight -------------------------------------
+  constexpr uint32_t kFramesInFlight = 2;  // the module's default ModuleDesc::framesInFlight
+  VkCommandBuffer cmds[kFramesInFlight];
+  VkCommandBufferAllocateInfo cmdInfo{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+  cmdInfo.commandPool = ctx.commandPool;
+  cmdInfo.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  cmdInfo.commandBufferCount = kFramesInFlight;
+  VK_CHECK(vkAllocateCommandBuffers(ctx.device, &cmdInfo, cmds));
+  VkFence fences[kFramesInFlight];
+  for (VkFence& f : fences) {
+    VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+    fenceInfo.flags = VK_FENCE_CREATE_SIGNALED_BIT;
+    VK_CHECK(vkCreateFence(ctx.device, &fenceInfo, nullptr, &f));
+  }
+  auto printStats = [&](uint32_t completed) {
+    gi::FrameStats stats;
+    if (gi::frameStats(gi, completed, stats))
+      std::printf("frame %u: %.2f ms GI, %llu rays\n", completed, stats.totalMs, (unsigned long long)stats.raysTraced);
+  };
   gpu::GpuCamera previous{};
   for (uint32_t frame = 0; frame < frames; ++frame) {
+    const uint32_t slot = frame % kFramesInFlight;
+    VK_CHECK(vkWaitForFences(ctx.device, 1, &fences[slot], VK_TRUE, UINT64_MAX));
+    if (frame >= kFramesInFlight) printStats(frame - kFramesInFlight);  // its fence has signalled: its numbers are in
+    VK_CHECK(vkResetFences(ctx.device, 1, &fences[slot]));
+
     // Update: a slow orbit of the scene's camera around its up axis.
     engine::Camera camera = scene.cameras[0];
     float angle = 0.01f * float(frame);
@@ -74,19 +100,32 @@ int main(int argc, char** argv) {
     camera.worldFromView = camera.worldFromView * turn;
     gpu::GpuCamera current = engine::makeGpuCamera(camera, width, height, frame ? &previous : nullptr);
 
-    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
-      // Raster the G-buffer; it leaves the images in GENERAL, visible to compute (the module's contract).
-      engine::recordGBuffer(ctx, cmd, gbufferPass, scene, sceneGpu, gbuffer, current, nullptr);
-      // Global illumination: records passes, never submits.
-      gi::recordFrame(gi, cmd, {views, current, frame ? previous : current, frame});
-      // Composite → the frame: a game would barrier, then sample gi::outputs(gi).composite in its post chain.
-      engine::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                            VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
-    });
-    gi::FrameStats stats = gi::stats(gi);  // the frame above has finished: its numbers are in
-    std::printf("frame %u: %.2f ms GI, %llu rays\n", frame, stats.totalMs, (unsigned long long)stats.raysTraced);
+    VkCommandBuffer cmd = cmds[slot];
+    VK_CHECK(vkResetCommandBuffer(cmd, 0));
+    VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    VK_CHECK(vkBeginCommandBuffer(cmd, &begin));
+    // Raster the G-buffer; it leaves the images in GENERAL, visible to compute (the module's contract).
+    engine::recordGBuffer(ctx, cmd, gbufferPass, scene, sceneGpu, gbuffer, current, nullptr);
+    // Global illumination: records passes, never submits.
+    if (gi::Error e = gi::recordFrame(gi, cmd, {views, current, frame ? previous : current, frame})) {
+      std::fprintf(stderr, "gi::recordFrame: %s\n", e.message.c_str());
+      return 1;
+    }
+    // Composite → the frame: a game would barrier, then sample gi::outputs(gi).composite in its post chain.
+    engine::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                          VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+    VK_CHECK(vkEndCommandBuffer(cmd));
+    VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+    submit.commandBufferCount = 1;
+    submit.pCommandBuffers = &cmd;
+    VK_CHECK(vkQueueSubmit(ctx.queue, 1, &submit, fences[slot]));
     previous = current;
   }
+  vkDeviceWaitIdle(ctx.device);
+  for (uint32_t f = frames >= kFramesInFlight ? frames - kFramesInFlight : 0; f < frames; ++f) printStats(f);
+  for (VkFence f : fences) vkDestroyFence(ctx.device, f, nullptr);
+  vkFreeCommandBuffers(ctx.device, ctx.commandPool, kFramesInFlight, cmds);
 
   // "Present": read the composite back and write it.
   engine::Image composite;

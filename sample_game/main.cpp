@@ -237,23 +237,20 @@ int main(int argc, char** argv) {
   uint32_t measured = 0, frame = 0;
   const bool fixedStep = o.headless || o.benchmark > 0;  // a deterministic path: 30 frames per walkthrough second
 
-  // Once frame `completed` has finished on the GPU: its numbers, the CSV row, a screenshot.
+  // Once frame `completed` has finished on the GPU: its numbers and the CSV row.
   auto completedFrame = [&](uint32_t completed) {
-    gi::FrameStats stats = gi::stats(session.module);
+    gi::FrameStats stats;
+    if (!gi::frameStats(session.module, completed, stats)) stats = gi::stats(session.module);
     double gbufferMs = 0.0;
-    for (const engine::PassTime& p : engine::readPassTimes(ctx, session.timer)) gbufferMs += p.ms;
+    for (const engine::PassTime& p : engine::readPassTimes(ctx, tools::gbufferTimer(session, completed))) gbufferMs += p.ms;
     demo::recordFrameNumbers(ui, stats, gbufferMs, cpuMs);
     if (logging) demo::writeFrameRow(log, completed, lastSeconds, cpuMs, gbufferMs, stats);
     moduleMsSum += stats.totalMs;
     ++measured;
-    if (screenshotPending || completed == o.screenshotAt) {
-      char name[64];
-      std::snprintf(name, sizeof(name), "screenshot_%05u.png", completed);
-      saveDisplay(ctx, display, o.out / name, true);
-      screenshotPending = false;
-    }
     return stats;
   };
+  // Windowed, frames are recorded engine::kWindowFramesInFlight ahead; headless, each is waited for.
+  const uint32_t framesInFlight = o.headless ? 1u : engine::kWindowFramesInFlight;
 
   for (; o.frames == 0 || frame < o.frames; ++frame) {
     uint32_t image = 0;
@@ -264,12 +261,12 @@ int main(int argc, char** argv) {
         continue;
       }
     }
-    // The previous frame has completed: its numbers, screenshots and the budget's next step.
+    // The frame recorded framesInFlight ago has completed: its numbers and the budget's next step.
     Clock::time_point now = Clock::now();
     cpuMs = std::chrono::duration<double, std::milli>(now - lastFrame).count();
     lastFrame = now;
-    if (frame > 0) {
-      gi::FrameStats stats = completedFrame(frame - 1);
+    if (frame >= framesInFlight) {
+      gi::FrameStats stats = completedFrame(frame - framesInFlight);
       if (ui.budgetMode) {
         settings.rayBudget = applied.rayBudget = gi::updateBudget(ui.budget, stats);
         gi::setSettings(session.module, applied);
@@ -321,13 +318,16 @@ int main(int argc, char** argv) {
 
     auto record = [&](VkCommandBuffer cmd) {
       if (ui.animate) {
+        // Scene updates are host writes into buffers the frame in flight reads: let it finish first.
+        if (!o.headless) engine::waitForSubmittedFrames(ctx, window);
         engine::animateScene(animation, seconds, scene);
         engine::recordSceneTransformUpdate(ctx, cmd, scene, sceneGpu);
         if (ui.tellModuleLightsMoved) gi::invalidate(session.module, gi::Invalidate::LightsChanged);
       }
       tools::recordModuleFrame(ctx, cmd, session, scene, sceneGpu, camera, frame > 0 ? previousCamera : camera, frame);
       demo::recordDisplay(cmd, display, ui.exposure);
-      demo::recordOverlay(ctx, cmd, overlay, *ImGui::GetDrawData(), display.image.image, display.image.view, displaySize);
+      demo::recordOverlay(ctx, cmd, overlay, frame, *ImGui::GetDrawData(), display.image.image, display.image.view,
+                          displaySize);
     };
     if (o.headless) {
       engine::submitAndWait(ctx, record);
@@ -338,13 +338,21 @@ int main(int argc, char** argv) {
       record(window.cmd);
       engine::endWindowFrame(ctx, window, image, display.image.image, displaySize);
     }
+    if (screenshotPending || frame == o.screenshotAt) {
+      // The display image is shared by the frames in flight: take it before the next frame writes it.
+      vkQueueWaitIdle(ctx.queue);
+      char name[64];
+      std::snprintf(name, sizeof(name), "screenshot_%05u.png", frame);
+      saveDisplay(ctx, display, o.out / name, true);
+      screenshotPending = false;
+    }
     previousCamera = camera;
     lastSeconds = seconds;
   }
 
   vkDeviceWaitIdle(ctx.device);
   cpuMs = std::chrono::duration<double, std::milli>(Clock::now() - lastFrame).count();
-  if (frame > 0) completedFrame(frame - 1);
+  for (uint32_t c = frame >= framesInFlight ? frame - framesInFlight : 0; c < frame; ++c) completedFrame(c);
   double wall = std::chrono::duration<double>(Clock::now() - start).count();
   std::printf("frames %u in %.1f s; module %.2f ms GPU per frame (mean)", frame, wall,
               measured ? moduleMsSum / measured : 0.0);

@@ -83,18 +83,21 @@ void destroyOverlayRenderer(const engine::Context& ctx, OverlayRenderer& r) {
   if (r.sampler) vkDestroySampler(ctx.device, r.sampler, nullptr);
   engine::destroyDescriptorSet(ctx, r.set);
   engine::destroyImage(ctx, r.font);
-  for (engine::Buffer* b : {&r.vertices, &r.indices})
-    if (b->buffer) engine::destroyBuffer(ctx, *b);
+  for (int i = 0; i < 2; ++i)
+    for (engine::Buffer* b : {&r.vertices[i], &r.indices[i]})
+      if (b->buffer) engine::destroyBuffer(ctx, *b);
   r = OverlayRenderer{};
 }
 
-void recordOverlay(const engine::Context& ctx, VkCommandBuffer cmd, OverlayRenderer& r, const ImDrawData& data,
-                   VkImage target, VkImageView targetView, VkExtent2D extent) {
+void recordOverlay(const engine::Context& ctx, VkCommandBuffer cmd, OverlayRenderer& r, uint32_t frameIndex,
+                   const ImDrawData& data, VkImage target, VkImageView targetView, VkExtent2D extent) {
   if (data.TotalVtxCount == 0) return;
-  ensureCapacity(ctx, r.vertices, sizeof(ImDrawVert) * size_t(data.TotalVtxCount), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
-  ensureCapacity(ctx, r.indices, sizeof(ImDrawIdx) * size_t(data.TotalIdxCount), VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
-  auto* vertexOut = static_cast<ImDrawVert*>(r.vertices.mapped);
-  auto* indexOut = static_cast<ImDrawIdx*>(r.indices.mapped);
+  engine::Buffer& vertices = r.vertices[frameIndex % 2];
+  engine::Buffer& indices = r.indices[frameIndex % 2];
+  ensureCapacity(ctx, vertices, sizeof(ImDrawVert) * size_t(data.TotalVtxCount), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
+  ensureCapacity(ctx, indices, sizeof(ImDrawIdx) * size_t(data.TotalIdxCount), VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
+  auto* vertexOut = static_cast<ImDrawVert*>(vertices.mapped);
+  auto* indexOut = static_cast<ImDrawIdx*>(indices.mapped);
   for (int i = 0; i < data.CmdListsCount; ++i) {
     const ImDrawList* list = data.CmdLists[i];
     std::memcpy(vertexOut, list->VtxBuffer.Data, sizeof(ImDrawVert) * size_t(list->VtxBuffer.Size));
@@ -121,8 +124,8 @@ void recordOverlay(const engine::Context& ctx, VkCommandBuffer cmd, OverlayRende
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, r.pipeline);
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, r.layout, 0, 1, &r.set.set, 0, nullptr);
   VkDeviceSize offset = 0;
-  vkCmdBindVertexBuffers(cmd, 0, 1, &r.vertices.buffer, &offset);
-  vkCmdBindIndexBuffer(cmd, r.indices.buffer, 0, sizeof(ImDrawIdx) == 2 ? VK_INDEX_TYPE_UINT16 : VK_INDEX_TYPE_UINT32);
+  vkCmdBindVertexBuffers(cmd, 0, 1, &vertices.buffer, &offset);
+  vkCmdBindIndexBuffer(cmd, indices.buffer, 0, sizeof(ImDrawIdx) == 2 ? VK_INDEX_TYPE_UINT16 : VK_INDEX_TYPE_UINT32);
   VkViewport viewport{0.0f, 0.0f, float(extent.width), float(extent.height), 0.0f, 1.0f};
   vkCmdSetViewport(cmd, 0, 1, &viewport);
   gpu::OverlayPush push{{2.0f / data.DisplaySize.x, 2.0f / data.DisplaySize.y},

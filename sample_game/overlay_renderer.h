@@ -17,7 +17,9 @@ struct OverlayRenderer {
   engine::DescriptorSet set;
   engine::Image font;
   VkSampler sampler = VK_NULL_HANDLE;
-  engine::Buffer vertices, indices;  // host-visible, grown on demand; one frame in flight
+  // Host-visible, grown on demand; one pair per frame in flight (the host
+  // writes a frame's pair while the other frame may still read its own).
+  engine::Buffer vertices[2], indices[2];
 };
 
 // Uploads ImGui's font atlas (call after ImGui::CreateContext) and builds the
@@ -26,8 +28,8 @@ OverlayRenderer createOverlayRenderer(const engine::Context& ctx, VkFormat targe
 void destroyOverlayRenderer(const engine::Context& ctx, OverlayRenderer& renderer);
 
 // Draws over `target` (GENERAL layout, COLOR_ATTACHMENT usage; left in GENERAL).
-// The previous frame that used the renderer's buffers must have completed.
-void recordOverlay(const engine::Context& ctx, VkCommandBuffer cmd, OverlayRenderer& renderer, const ImDrawData& data,
-                   VkImage target, VkImageView targetView, VkExtent2D extent);
+// Uses buffer pair `frameIndex` mod 2: the frame two before must have completed.
+void recordOverlay(const engine::Context& ctx, VkCommandBuffer cmd, OverlayRenderer& renderer, uint32_t frameIndex,
+                   const ImDrawData& data, VkImage target, VkImageView targetView, VkExtent2D extent);
 
 }  // namespace demo

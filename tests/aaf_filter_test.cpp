@@ -4,6 +4,7 @@
 #include <random>
 
 #include "gpu_test.h"
+#include "module_device.h"
 #include "screen_filters.h"
 #include "shared/aaf.h"
 
@@ -16,18 +17,24 @@ class AafFilterTest : public GpuTest {
  protected:
   engine::Image images[6];  // guidance, position, input, output, temp, params
   gi::ScreenFilters filters;
+  gi::FilterPrograms programs;
+  gi::vk::Device dev;
 
   void SetUp() override {
+    dev = openModuleDevice(ctx);
     for (engine::Image& img : images)
       img = engine::createImage(ctx, {W, H}, VK_FORMAT_R32G32B32A32_SFLOAT,
                                 VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
-    filters = gi::createScreenFilters(ctx, W, H, {images[0].view, images[1].view, images[2].view, images[3].view,
-                                                  images[4].view, images[5].view});
+    ASSERT_FALSE(gi::createFilterPrograms(dev, programs));
+    ASSERT_FALSE(gi::createScreenFilters(dev, programs, W, H, {images[0].view, images[1].view, images[2].view, images[3].view,
+                                                     images[4].view, images[5].view}, filters));
     std::vector<float> zero(size_t(W) * H * 4, 0.0f);
     for (engine::Image& img : images) engine::uploadImage(ctx, img, zero.data(), zero.size() * 4, VK_IMAGE_LAYOUT_GENERAL);
   }
   void TearDown() override {
-    gi::destroyScreenFilters(ctx, filters);
+    gi::destroyScreenFilters(dev, filters);
+    gi::destroyFilterPrograms(dev, programs);
+    gi::vk::closeDevice(dev);
     for (engine::Image& img : images) engine::destroyImage(ctx, img);
     GpuTest::TearDown();
   }
@@ -36,7 +43,7 @@ class AafFilterTest : public GpuTest {
   }
   std::vector<float> filter(float cosLimit, uint32_t maxRadius = 0) {
     engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
-      gi::recordAafFilter(cmd, filters, filters.set.set, "test", cosLimit, kPixel, maxRadius, {});
+      gi::recordAafFilter(dev, cmd, filters, filters.set[0], "test", cosLimit, kPixel, maxRadius, {});
     });
     std::vector<std::byte> raw = engine::readbackImage(ctx, images[3], VK_IMAGE_LAYOUT_GENERAL, 16);
     std::vector<float> out(size_t(W) * H);

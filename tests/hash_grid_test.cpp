@@ -5,6 +5,7 @@
 #include <map>
 
 #include "gpu_test.h"
+#include "module_device.h"
 #include "hash_grid.h"
 #include "hash_stress.comp.h"
 
@@ -23,27 +24,30 @@ class HashGridTest : public GpuTest {
   engine::DescriptorSet empty;
   gi::HashGrid grid;
   engine::ComputeProgram stress;
+  gi::vk::Device dev;
 
   void make(uint32_t capacity) {
+    dev = openModuleDevice(ctx);
     empty = engine::createDescriptorSet(ctx, {});
-    grid = gi::createHashGrid(ctx, capacity, 1, 8, 8, 1, false);
+    ASSERT_FALSE(gi::createHashGrid(dev, capacity, 1, 8, 8, 1, false, grid));
     VkDescriptorSetLayout all[] = {empty.layout, empty.layout, grid.set.layout};
     stress = engine::createComputeProgram(ctx, spv_hash_stress_comp, all, sizeof(StressPush), {64, 1});
   }
   void TearDown() override {
     engine::destroyComputeProgram(ctx, stress);
-    gi::destroyHashGrid(ctx, grid);
+    gi::destroyHashGrid(dev, grid);
+    gi::vk::closeDevice(dev);
     engine::destroyDescriptorSet(ctx, empty);
     GpuTest::TearDown();
   }
   // One dispatch of hash_stress.comp (threads: keys × repeats, or every slot for kTidy).
   void run(const StressPush& push) {
-    VkDescriptorSet sets[] = {empty.set, empty.set, grid.set.set};
+    VkDescriptorSet sets[] = {empty.set, empty.set, grid.set[0]};
     uint32_t threads = push.mode == kTidy ? push.capacity : push.keyCount * (push.mode == kInsert ? push.repeats : 1u);
     engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
-      gi::recordHashGridFrameStart(cmd, grid, 0);
+      gi::recordHashGridFrameStart(dev, cmd, grid, 0);
       engine::dispatch(cmd, stress, sets, {threads, 1}, push);
-      gi::recordHashGridTelemetryCopy(cmd, grid, 0);
+      gi::recordHashGridTelemetryCopy(dev, cmd, grid, 0);
     });
   }
   // The keys and sums as the GPU holds them.

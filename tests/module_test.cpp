@@ -9,13 +9,7 @@ class ModuleTest : public GpuTest {};
 TEST_F(ModuleTest, CreateRejectsImpossibleValuesWithNamedErrors) {
   LoadedScene s;
   load(sharedScene("cornell-simple/cornell_simple.gltf"), s);
-  gi::ModuleDesc desc;
-  desc.instance = ctx.instance;
-  desc.physicalDevice = ctx.physicalDevice;
-  desc.device = ctx.device;
-  desc.width = 16;
-  desc.height = 16;
-  desc.scene = tools::sceneDesc(s.gpu);
+  gi::ModuleDesc desc = tools::moduleDesc(ctx, s.gpu, {16, 16});
   gi::Module* m = nullptr;
   struct Case {
     const char* what;
@@ -48,6 +42,14 @@ TEST_F(ModuleTest, CreateRejectsImpossibleValuesWithNamedErrors) {
   add("even window", same, [](gi::Settings& st) { st.sspsf.window = 8; }, gi::ErrorCode::OutOfRange, "settings.sspsf.window");
   add("bad view", same, [](gi::Settings& st) { st.debugView = gi::DebugView(99); }, gi::ErrorCode::OutOfRange, "settings.debugView");
   add("another gi.h", [](gi::ModuleDesc& d) { d.structSize = 8; }, same, gi::ErrorCode::VersionMismatch, "desc.structSize");
+  add("no loader", [](gi::ModuleDesc& d) { d.getInstanceProcAddr = nullptr; }, same, gi::ErrorCode::MissingHandle,
+      "desc.getInstanceProcAddr");
+  add("0 frames in flight", [](gi::ModuleDesc& d) { d.framesInFlight = 0; }, same, gi::ErrorCode::OutOfRange,
+      "desc.framesInFlight = 0");
+  add("5 frames in flight", [](gi::ModuleDesc& d) { d.framesInFlight = 5; }, same, gi::ErrorCode::OutOfRange,
+      "desc.framesInFlight = 5");
+  add("max below size", [](gi::ModuleDesc& d) { d.maxWidth = d.maxHeight = 8; }, same, gi::ErrorCode::OutOfRange,
+      "desc.maxWidth");
   // The engine says what it enabled: a chain filled by gi/device.h, less one feature.
   VkPhysicalDeviceVulkan13Features f13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
   VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};

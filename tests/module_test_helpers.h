@@ -15,7 +15,7 @@ inline engine::ReferenceImages pixelCentreReference(const engine::Context& ctx, 
 
 // Use as ASSERT_NO_FATAL_FAILURE(openSession(...)).
 inline void openSession(const engine::Context& ctx, const LoadedScene& s, VkExtent2D size, const gi::Settings& settings,
-                        tools::ModuleSession& session) {
+                        tools::ModuleSession& session, const gi::ModuleDesc* desc = nullptr) {
   std::string error;
-  ASSERT_TRUE(tools::createModuleSession(ctx, s.gpu, size, settings, session, error)) << error;
+  ASSERT_TRUE(tools::createModuleSession(ctx, s.gpu, size, settings, session, error, desc)) << error;
 }

@@ -1,5 +1,7 @@
 #include "module_session.h"
 
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 
 namespace tools {
@@ -24,9 +26,9 @@ gi::SceneDesc sceneDesc(const engine::SceneGpu& scene) {
           scene.traversal};
 }
 
-bool createModuleSession(const engine::Context& ctx, const engine::SceneGpu& scene, VkExtent2D extent,
-                         const gi::Settings& settings, ModuleSession& s, std::string& error) {
+gi::ModuleDesc moduleDesc(const engine::Context& ctx, const engine::SceneGpu& scene, VkExtent2D extent) {
   gi::ModuleDesc desc;
+  desc.getInstanceProcAddr = vkGetInstanceProcAddr;  // volk's: the module loads its own table through it
   desc.instance = ctx.instance;
   desc.physicalDevice = ctx.physicalDevice;
   desc.device = ctx.device;
@@ -34,21 +36,26 @@ bool createModuleSession(const engine::Context& ctx, const engine::SceneGpu& sce
   desc.height = extent.height;
   desc.scene = sceneDesc(scene);
   desc.debugLabels = ctx.debugUtils;
-  if (gi::Error e = gi::create(desc, settings, s.module)) {
+  return desc;
+}
+
+bool createModuleSession(const engine::Context& ctx, const engine::SceneGpu& scene, VkExtent2D extent,
+                         const gi::Settings& settings, ModuleSession& s, std::string& error, const gi::ModuleDesc* desc) {
+  if (gi::Error e = gi::create(desc ? *desc : moduleDesc(ctx, scene, extent), settings, s.module)) {
     error = e.message;
     return false;
   }
   s.extent = extent;
   s.gbuffer = engine::createGBuffer(ctx, extent);
   s.gbufferPass = engine::createGBufferPass(ctx, scene);
-  s.timer = engine::createGpuTimer(ctx, 4);
+  for (engine::GpuTimer& t : s.timers) t = engine::createGpuTimer(ctx, 4);
   return true;
 }
 
 void destroyModuleSession(const engine::Context& ctx, ModuleSession& s) {
   vkDeviceWaitIdle(ctx.device);
   gi::destroy(s.module);
-  engine::destroyGpuTimer(ctx, s.timer);
+  for (engine::GpuTimer& t : s.timers) engine::destroyGpuTimer(ctx, t);
   engine::destroyGBufferPass(ctx, s.gbufferPass);
   engine::destroyGBuffer(ctx, s.gbuffer);
   s = ModuleSession{};
@@ -69,7 +76,8 @@ bool resizeModuleSession(const engine::Context& ctx, ModuleSession& s, VkExtent2
 void recordModuleFrame(const engine::Context& ctx, VkCommandBuffer cmd, ModuleSession& s, const engine::Scene& scene,
                        const engine::SceneGpu& sceneGpu, const gpu::GpuCamera& camera, const gpu::GpuCamera& previousCamera,
                        uint32_t frameIndex) {
-  engine::resetGpuTimer(ctx, s.timer);
+  engine::GpuTimer& timer = s.timers[frameIndex % 2];
+  engine::resetGpuTimer(ctx, timer);
   gi::FrameInputs in;
   const engine::GBuffer& g = s.gbuffer;
   in.gbuffer = {g.color[gpu::GBUFFER_NORMAL].view, g.color[gpu::GBUFFER_ALBEDO].view, g.color[gpu::GBUFFER_MATERIAL].view,
@@ -78,8 +86,11 @@ void recordModuleFrame(const engine::Context& ctx, VkCommandBuffer cmd, ModuleSe
   in.previousCamera = previousCamera;
   in.frameIndex = frameIndex;
   // Frame script: raster the G-buffer, then the GI module's passes.
-  engine::recordGBuffer(ctx, cmd, s.gbufferPass, scene, sceneGpu, s.gbuffer, camera, &s.timer);
-  gi::recordFrame(s.module, cmd, in);
+  engine::recordGBuffer(ctx, cmd, s.gbufferPass, scene, sceneGpu, s.gbuffer, camera, &timer);
+  if (gi::Error e = gi::recordFrame(s.module, cmd, in)) {
+    std::fprintf(stderr, "%s\n", e.message.c_str());  // every view above is set: a bug in this file
+    std::abort();
+  }
   engine::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                         VK_PIPELINE_STAGE_2_TRANSFER_BIT | VK_PIPELINE_STAGE_2_HOST_BIT,
                         VK_ACCESS_2_TRANSFER_READ_BIT | VK_ACCESS_2_HOST_READ_BIT);
@@ -92,7 +103,7 @@ FrameTiming renderModuleFrame(const engine::Context& ctx, ModuleSession& s, cons
     recordModuleFrame(ctx, cmd, s, scene, sceneGpu, camera, previousCamera, frameIndex);
   });
   FrameTiming t;
-  for (const engine::PassTime& p : engine::readPassTimes(ctx, s.timer)) t.passes.push_back({p.name, p.ms});
+  for (const engine::PassTime& p : engine::readPassTimes(ctx, gbufferTimer(s, frameIndex))) t.passes.push_back({p.name, p.ms});
   gi::FrameStats st = gi::stats(s.module);
   t.passes.insert(t.passes.end(), st.passes.begin(), st.passes.end());
   for (const gi::PassTiming& p : t.passes) t.totalMs += p.ms;

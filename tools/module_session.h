@@ -14,7 +14,9 @@ namespace tools {
 struct ModuleSession {
   engine::GBuffer gbuffer;
   engine::GBufferPass gbufferPass;
-  engine::GpuTimer timer;  // the G-buffer pass; the module times its own passes
+  // The G-buffer pass's timestamps, one timer per frame in flight (frame
+  // index mod 2); the module times its own passes.
+  engine::GpuTimer timers[2];
   gi::Module* module = nullptr;
   VkExtent2D extent{};
 };
@@ -27,16 +29,24 @@ struct FrameTiming {
 
 // What the module needs to know about a loaded scene.
 gi::SceneDesc sceneDesc(const engine::SceneGpu& scene);
+// The module's desc for this context, scene and size (defaults elsewhere).
+gi::ModuleDesc moduleDesc(const engine::Context& ctx, const engine::SceneGpu& scene, VkExtent2D extent);
+// `desc`: the module's desc when not moduleDesc()'s (a budget, callbacks, a maximum size).
 bool createModuleSession(const engine::Context& ctx, const engine::SceneGpu& scene, VkExtent2D extent,
-                         const gi::Settings& settings, ModuleSession& session, std::string& error);
+                         const gi::Settings& settings, ModuleSession& session, std::string& error,
+                         const gi::ModuleDesc* desc = nullptr);
 void destroyModuleSession(const engine::Context& ctx, ModuleSession& session);
 // A new render size: waits for the device, makes a G-buffer of that size and resizes the module.
 bool resizeModuleSession(const engine::Context& ctx, ModuleSession& session, VkExtent2D extent, std::string& error);
 
-// Records one frame (G-buffer raster, then the module) into `cmd`; submits nothing.
+// Records one frame (G-buffer raster, then the module) into `cmd`; submits
+// nothing. The frame recorded two before it must have completed.
 void recordModuleFrame(const engine::Context& ctx, VkCommandBuffer cmd, ModuleSession& session, const engine::Scene& scene,
                        const engine::SceneGpu& sceneGpu, const gpu::GpuCamera& camera, const gpu::GpuCamera& previousCamera,
                        uint32_t frameIndex);
+
+// The G-buffer timer of frame `frameIndex` (read once that frame has completed).
+inline const engine::GpuTimer& gbufferTimer(const ModuleSession& s, uint32_t frameIndex) { return s.timers[frameIndex % 2]; }
 
 // Records and runs one frame; waits for it and returns its GPU timings.
 FrameTiming renderModuleFrame(const engine::Context& ctx, ModuleSession& session, const engine::Scene& scene,

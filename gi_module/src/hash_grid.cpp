@@ -15,8 +15,8 @@
 
 namespace gi {
 
-HashGrid createHashGrid(const engine::Context& ctx, uint32_t capacity, uint32_t tables, uint32_t width, uint32_t height,
-                        uint32_t slots, bool walks) {
+vk::Status createHashGrid(vk::Device& d, uint32_t capacity, uint32_t tables, uint32_t width, uint32_t height,
+                          uint32_t slots, bool walks, HashGrid& out) {
   HashGrid g;
   g.capacity = capacity;
   g.tables = tables;
@@ -24,88 +24,102 @@ HashGrid createHashGrid(const engine::Context& ctx, uint32_t capacity, uint32_t 
   // Transfer source too, so tools and tests can read the map back.
   const VkBufferUsageFlags usage =
       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
-  g.keys = engine::createBuffer(ctx, sizeof(uint32_t) * n, usage, engine::MemoryKind::DeviceLocal);
-  g.accum = engine::createBuffer(ctx, sizeof(gpu::HgAccum) * n, usage, engine::MemoryKind::DeviceLocal);
-  g.cells = engine::createBuffer(ctx, sizeof(gpu::HgCell) * n, usage, engine::MemoryKind::DeviceLocal);
-  g.telemetry = engine::createBuffer(ctx, sizeof(gpu::HgTelemetry) * (1 + slots), usage,
-                                     engine::MemoryKind::HostVisible);
-  std::memset(g.telemetry.mapped, 0, g.telemetry.size);
   g.walkPixels = walks ? width * height : 0;
-  g.walks = engine::createBuffer(ctx, sizeof(gpu::HgWalk) * std::max(g.walkPixels, 1u), usage, engine::MemoryKind::DeviceLocal);
-  g.pixelCell = engine::createImage(ctx, {width, height}, VK_FORMAT_R32_UINT, VK_IMAGE_USAGE_STORAGE_BIT);
-  g.memoryBytes = g.keys.size + g.accum.size + g.cells.size + g.telemetry.size + g.walks.size + g.pixelCell.allocationSize;
-  const engine::Binding bindings[] = {
-      {gpu::HG_BINDING_KEYS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-      {gpu::HG_BINDING_ACCUM, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-      {gpu::HG_BINDING_CELLS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-      {gpu::HG_BINDING_TELEMETRY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-      {gpu::HG_BINDING_PIXEL_CELL, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-      {gpu::HG_BINDING_CONTINUATION, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+  auto build = [&]() -> vk::Status {
+    GI_TRY(vk::createBuffer(d, sizeof(uint32_t) * n, usage, false, g.keys));
+    GI_TRY(vk::createBuffer(d, sizeof(gpu::HgAccum) * n, usage, false, g.accum));
+    GI_TRY(vk::createBuffer(d, sizeof(gpu::HgCell) * n, usage, false, g.cells));
+    GI_TRY(vk::createBuffer(d, sizeof(gpu::HgTelemetry) * (1 + slots), usage, true, g.telemetry));
+    std::memset(g.telemetry.mapped, 0, g.telemetry.size);
+    GI_TRY(vk::createBuffer(d, sizeof(gpu::HgWalk) * std::max(g.walkPixels, 1u), usage, false, g.walks));
+    GI_TRY(vk::createImage(d, {width, height}, VK_FORMAT_R32_UINT, VK_IMAGE_USAGE_STORAGE_BIT, g.pixelCell));
+    const vk::Binding bindings[] = {
+        {gpu::HG_BINDING_KEYS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+        {gpu::HG_BINDING_ACCUM, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+        {gpu::HG_BINDING_CELLS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+        {gpu::HG_BINDING_TELEMETRY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+        {gpu::HG_BINDING_PIXEL_CELL, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+        {gpu::HG_BINDING_CONTINUATION, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+    };
+    GI_TRY(vk::createDescriptorSets(d, bindings, 1, g.set));
+    return {};
   };
-  g.set = engine::createDescriptorSet(ctx, bindings);
-  engine::DescriptorWriter(g.set.set)
+  if (vk::Status s = build()) {
+    destroyHashGrid(d, g);
+    return s;
+  }
+  g.memoryBytes = g.keys.memory.size + g.accum.memory.size + g.cells.memory.size + g.telemetry.memory.size +
+                  g.walks.memory.size + g.pixelCell.memory.size;
+  vk::DescriptorWriter(g.set[0])
       .buffer(gpu::HG_BINDING_KEYS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.keys.buffer)
       .buffer(gpu::HG_BINDING_ACCUM, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.accum.buffer)
       .buffer(gpu::HG_BINDING_CELLS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.cells.buffer)
       .buffer(gpu::HG_BINDING_TELEMETRY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.telemetry.buffer)
       .storageImage(gpu::HG_BINDING_PIXEL_CELL, g.pixelCell.view)
       .buffer(gpu::HG_BINDING_CONTINUATION, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.walks.buffer)
-      .write(ctx);
-  return g;
+      .write(d);
+  out = std::move(g);
+  return {};
 }
 
-void ensureHashGridPrograms(const engine::Context& ctx, HashGrid& g, const VkDescriptorSetLayout layouts[2],
-                            std::span<const uint32_t> spec, uint32_t mode, uint32_t traversal) {
+vk::Status ensureHashGridPrograms(const vk::Device& d, HashGrid& g, const VkDescriptorSetLayout layouts[2],
+                                  std::span<const uint32_t> spec, uint32_t mode, uint32_t traversal) {
   VkDescriptorSetLayout all[] = {layouts[0], layouts[1], g.set.layout};
   const glm::uvec2 tile{GI_GROUP_SIZE, GI_GROUP_SIZE};
-  auto make = [&](engine::ComputeProgram& p, std::span<const uint32_t> spirv, glm::uvec2 group) {
-    if (!p.pipeline) p = engine::createComputeProgram(ctx, spirv, all, sizeof(gpu::HgPush), group, spec);
+  auto make = [&](vk::ComputeProgram& p, std::span<const uint32_t> spirv, glm::uvec2 group) -> vk::Status {
+    if (p.pipeline) return {};
+    return vk::createComputeProgram(d, spirv, all, sizeof(gpu::HgPush), group, spec, p);
   };
-  if (mode == gpu::HG_MODE_HPSF) make(g.insert, GI_SCENE_SPIRV(traversal, hpsf_insert_comp), tile);
-  else make(g.paths, GI_SCENE_SPIRV(traversal, nhpsf_paths_comp), tile);
-  make(g.resolve, GI_SCENE_SPIRV(traversal, hpsf_resolve_comp), {64, 1});
-  make(g.lookup, GI_SCENE_SPIRV(traversal, hpsf_lookup_comp), tile);
+  if (mode == gpu::HG_MODE_HPSF) GI_TRY(make(g.insert, GI_MODULE_SPIRV(traversal, hpsf_insert_comp), tile));
+  else GI_TRY(make(g.paths, GI_MODULE_SPIRV(traversal, nhpsf_paths_comp), tile));
+  GI_TRY(make(g.resolve, GI_MODULE_SPIRV(traversal, hpsf_resolve_comp), {64, 1}));
+  GI_TRY(make(g.lookup, GI_MODULE_SPIRV(traversal, hpsf_lookup_comp), tile));
+  return {};
 }
 
-void destroyHashGrid(const engine::Context& ctx, HashGrid& g) {
-  for (engine::ComputeProgram* p : {&g.insert, &g.paths, &g.resolve, &g.lookup}) engine::destroyComputeProgram(ctx, *p);
-  engine::destroyDescriptorSet(ctx, g.set);
-  for (engine::Buffer* b : {&g.keys, &g.accum, &g.cells, &g.telemetry, &g.walks}) engine::destroyBuffer(ctx, *b);
-  engine::destroyImage(ctx, g.pixelCell);
+void destroyHashGrid(vk::Device& d, HashGrid& g) {
+  for (vk::ComputeProgram* p : {&g.insert, &g.paths, &g.resolve, &g.lookup}) vk::destroyComputeProgram(d, *p);
+  vk::destroyDescriptorSets(d, g.set);
+  for (vk::Buffer* b : {&g.keys, &g.accum, &g.cells, &g.telemetry, &g.walks}) vk::destroyBuffer(d, *b);
+  vk::destroyImage(d, g.pixelCell);
   g = HashGrid{};
 }
 
 uint32_t hashTableBase(const HashGrid& g, uint32_t frameIndex) { return (frameIndex % g.tables) * g.capacity; }
 uint32_t previousHashTableBase(const HashGrid& g, uint32_t frameIndex) { return ((frameIndex + 1) % g.tables) * g.capacity; }
 
-void recordHashGridFrameStart(VkCommandBuffer cmd, HashGrid& g, uint32_t frameIndex) {
+void recordHashGridFrameStart(const vk::Device& d, VkCommandBuffer cmd, HashGrid& g, uint32_t frameIndex) {
   if (g.cleared && g.tables == 2) {  // strict: the table written this frame starts empty
     VkDeviceSize base = hashTableBase(g, frameIndex);
-    vkCmdFillBuffer(cmd, g.keys.buffer, base * sizeof(uint32_t), g.capacity * sizeof(uint32_t), 0);
-    vkCmdFillBuffer(cmd, g.accum.buffer, base * sizeof(gpu::HgAccum), g.capacity * sizeof(gpu::HgAccum), 0);
-    vkCmdFillBuffer(cmd, g.cells.buffer, base * sizeof(gpu::HgCell), g.capacity * sizeof(gpu::HgCell), 0);
+    d.fn.vkCmdFillBuffer(cmd, g.keys.buffer, base * sizeof(uint32_t), g.capacity * sizeof(uint32_t), 0);
+    d.fn.vkCmdFillBuffer(cmd, g.accum.buffer, base * sizeof(gpu::HgAccum), g.capacity * sizeof(gpu::HgAccum), 0);
+    d.fn.vkCmdFillBuffer(cmd, g.cells.buffer, base * sizeof(gpu::HgCell), g.capacity * sizeof(gpu::HgCell), 0);
   }
   if (!g.cleared) {
-    vkCmdFillBuffer(cmd, g.keys.buffer, 0, VK_WHOLE_SIZE, 0);
-    vkCmdFillBuffer(cmd, g.accum.buffer, 0, VK_WHOLE_SIZE, 0);
-    vkCmdFillBuffer(cmd, g.cells.buffer, 0, VK_WHOLE_SIZE, 0);
-    vkCmdFillBuffer(cmd, g.walks.buffer, 0, VK_WHOLE_SIZE, 0);  // state 0: no live walk
-    engine::imageBarrier(cmd, g.pixelCell.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
+    d.fn.vkCmdFillBuffer(cmd, g.keys.buffer, 0, VK_WHOLE_SIZE, 0);
+    d.fn.vkCmdFillBuffer(cmd, g.accum.buffer, 0, VK_WHOLE_SIZE, 0);
+    d.fn.vkCmdFillBuffer(cmd, g.cells.buffer, 0, VK_WHOLE_SIZE, 0);
+    vk::imageBarrier(d, cmd, g.pixelCell.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
                          VK_PIPELINE_STAGE_2_NONE, 0, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                          VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
     g.cleared = true;
+    g.walksCleared = false;
   }
-  vkCmdFillBuffer(cmd, g.telemetry.buffer, 0, sizeof(gpu::HgTelemetry), 0);
-  engine::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+  if (!g.walksCleared) {
+    d.fn.vkCmdFillBuffer(cmd, g.walks.buffer, 0, VK_WHOLE_SIZE, 0);  // state 0: no live walk
+    g.walksCleared = true;
+  }
+  d.fn.vkCmdFillBuffer(cmd, g.telemetry.buffer, 0, sizeof(gpu::HgTelemetry), 0);
+  vk::memoryBarrier(d, cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                         VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                         VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
 }
 
-void recordHashGridTelemetryCopy(VkCommandBuffer cmd, HashGrid& g, uint32_t slot) {
-  engine::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+void recordHashGridTelemetryCopy(const vk::Device& d, VkCommandBuffer cmd, HashGrid& g, uint32_t slot) {
+  vk::memoryBarrier(d, cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                         VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
   VkBufferCopy copy{0, sizeof(gpu::HgTelemetry) * (1 + slot), sizeof(gpu::HgTelemetry)};
-  vkCmdCopyBuffer(cmd, g.telemetry.buffer, g.telemetry.buffer, 1, &copy);
+  d.fn.vkCmdCopyBuffer(cmd, g.telemetry.buffer, g.telemetry.buffer, 1, &copy);
 }
 
 gpu::HgTelemetry readHashGridTelemetry(const HashGrid& g, uint32_t slot) {

@@ -4,9 +4,8 @@
 #pragma once
 #include <functional>
 
-#include "compute_program.h"
-#include "descriptors.h"
-#include "resources.h"
+#include "gpu_programs.h"
+#include "gpu_resources.h"
 #include "shared/hash_grid.h"
 
 namespace gi {
@@ -14,37 +13,38 @@ namespace gi {
 struct HashGrid {
   uint32_t capacity = 0;     // slots per table
   uint32_t tables = 1;       // 2 for strict eviction (swapped every frame), 1 for aging
-  engine::Buffer keys, accum, cells;
-  engine::Buffer telemetry;  // host-visible HgTelemetry[1 + slots]: [0] is live, the rest per-frame copies
-  engine::Buffer walks;      // HgWalk per pixel (anhpsf), else one placeholder
+  vk::Buffer keys, accum, cells;
+  vk::Buffer telemetry;      // host-visible HgTelemetry[1 + slots]: [0] is live, the rest per-frame copies
+  vk::Buffer walks;          // HgWalk per pixel of the largest render size (anhpsf), else one placeholder
   uint32_t walkPixels = 0;   // pixels with a walk slot (0: the placeholder)
-  engine::Image pixelCell;   // r32ui
-  engine::DescriptorSet set;
-  engine::ComputeProgram insert, paths, resolve, lookup;  // paths: nhpsf/anhpsf (built on first use)
+  vk::Image pixelCell;       // r32ui, the largest render size
+  vk::DescriptorSets set;    // one set
+  vk::ComputeProgram insert, paths, resolve, lookup;  // paths: nhpsf/anhpsf (built on first use)
   uint64_t memoryBytes = 0;
   bool cleared = false;      // buffers zeroed on the GPU
+  bool walksCleared = false; // continued paths reset (a new render size restarts them)
   bool forgetLight = false;  // gi::invalidate(LightsChanged): the next resolve restarts every cell's mean
 };
 
 // The buffers (`tables` tables of `capacity` slots), image and set 2; `slots`
 // telemetry copies for readback; a walk per pixel when `walks` (anhpsf).
-HashGrid createHashGrid(const engine::Context& ctx, uint32_t capacity, uint32_t tables, uint32_t width, uint32_t height,
-                        uint32_t slots, bool walks);
+// `width` × `height` is the largest render size: smaller ones keep the map.
+vk::Status createHashGrid(vk::Device& device, uint32_t capacity, uint32_t tables, uint32_t width, uint32_t height,
+                          uint32_t slots, bool walks, HashGrid& out);
 // The programs the mode needs (insert for hpsf, paths for nhpsf/anhpsf; resolve
 // and lookup always): `layouts` are sets 0 and 1 (scene, frame).
-void ensureHashGridPrograms(const engine::Context& ctx, HashGrid& grid, const VkDescriptorSetLayout layouts[2],
-                            std::span<const uint32_t> spec, uint32_t mode,
-                            uint32_t traversal);
-void destroyHashGrid(const engine::Context& ctx, HashGrid& grid);
+vk::Status ensureHashGridPrograms(const vk::Device& device, HashGrid& grid, const VkDescriptorSetLayout layouts[2],
+                                  std::span<const uint32_t> spec, uint32_t mode, uint32_t traversal);
+void destroyHashGrid(vk::Device& device, HashGrid& grid);
 
 // First slot of the table written in frame `frameIndex`, and of the one it reads as the last frame.
 uint32_t hashTableBase(const HashGrid& grid, uint32_t frameIndex);
 uint32_t previousHashTableBase(const HashGrid& grid, uint32_t frameIndex);
 // Zeroes the map on first use, and with two tables the one this frame
 // writes; resets the live telemetry (transfer, then a barrier to compute).
-void recordHashGridFrameStart(VkCommandBuffer cmd, HashGrid& grid, uint32_t frameIndex);
+void recordHashGridFrameStart(const vk::Device& device, VkCommandBuffer cmd, HashGrid& grid, uint32_t frameIndex);
 // Copies the live telemetry into slot `slot` for readback (after the passes).
-void recordHashGridTelemetryCopy(VkCommandBuffer cmd, HashGrid& grid, uint32_t slot);
+void recordHashGridTelemetryCopy(const vk::Device& device, VkCommandBuffer cmd, HashGrid& grid, uint32_t slot);
 gpu::HgTelemetry readHashGridTelemetry(const HashGrid& grid, uint32_t slot);
 
 }  // namespace gi

@@ -1,57 +1,111 @@
 // The module's internal state. Passes are free functions over it; the frame
-// (module.cpp) calls them in order like a script.
+// (frame.cpp) calls them in order like a script.
 #pragma once
-#include "compute_program.h"
-#include "descriptors.h"
+#include <functional>
+#include <string>
+#include <vector>
+
 #include "gi/gi.h"
-#include "resources.h"
+#include "gpu_device.h"
+#include "gpu_programs.h"
+#include "gpu_resources.h"
 #include "hash_grid.h"
 #include "screen_filters.h"
 #include "shared/gi_frame.h"
 
 namespace gi {
 
-inline constexpr uint32_t kFramesInFlight = 2;  // timestamp/counter slots, so a frame's numbers survive the next
-inline constexpr uint32_t kMaxPasses = 16;
+inline constexpr uint32_t kMaxFramesInFlight = 4;
+inline constexpr uint32_t kMaxPasses = 16;  // timestamped passes per frame
+
+// The images one render size and one method need, the per-slot frame sets
+// that bind them, and the screen filters over them. Built whole by
+// createSizedResources and replaced whole (the old one retired) when the size
+// or the set of images changes, so no descriptor set a frame in flight reads
+// is ever rewritten. Images the method does not use are 1×1 placeholders.
+struct SizedResources {
+  uint32_t width = 0, height = 0;
+  uint32_t needs = 0;                             // sizedResourcesNeeded() it was built for
+  vk::Image direct, indirect, composite;          // outputs
+  vk::Image historyDirect, historyIndirect;       // temporal accumulation (raw)
+  vk::Image noisyIndirect;                        // demodulated indirect before filtering
+  vk::Image guidance, position, debug;            // filter guidance, world position, filter debug/temp
+  vk::Image aafParams, aafSum;                    // AAF per-pixel z_min, z_max, samples, β; sample sums
+  vk::Image aafGlossy, aafGlossyEdge;             // AAF specular terms
+  ScreenFilters filters;                          // methods with a screen-space filter
+  vk::DescriptorSets frameSets;                   // set 1, one per frame slot
+  GBufferViews bound[kMaxFramesInFlight]{};       // G-buffer views written into each slot's set
+  bool initialised = false;                       // images moved to GENERAL layout
+};
+
+// Something replaced while frames may still read it, and the number of
+// frames recorded when it was replaced: it is released once those have completed.
+struct Retired {
+  uint64_t recordedFrames = 0;
+  std::function<void(vk::Device&)> release;
+};
+
+// Per frame slot: what the stats of the frame recorded there need.
+struct FrameSlot {
+  uint32_t frameIndex = 0;
+  bool recorded = false;
+  std::vector<std::string> passNames;
+  uint32_t history = 0, spp = 0;
+  Method method = Method::Raw;
+};
 
 struct Module {
-  engine::Context ctx;  // device handles only: the module never submits
+  vk::Device gpu;                                  // the engine's device through the module's own function table
   ModuleDesc desc;
   Settings settings;
+  uint32_t width = 0, height = 0;                  // the render size now (desc holds the size at create)
 
-  engine::Image direct, indirect, composite;       // outputs
-  engine::Image historyDirect, historyIndirect;    // temporal accumulation (raw)
-  engine::Image noisyIndirect;                     // demodulated indirect before filtering
-  engine::Image guidance, position, debug;         // filter guidance, world position, filter debug/temp
-  engine::Image aafParams, aafSum;                 // AAF per-pixel z_min, z_max, samples, β; sample sums
-  engine::Image aafGlossy, aafGlossyEdge;          // AAF specular terms (1×1 unless the scene has glossy materials)
-  ScreenFilters filters;                           // created on first use of a filter method
-  HashGrid hash;                                   // created on first use of hpsf; persists across frames
-  engine::Buffer frameConstants;                   // host-visible GiFrameConstants
-  engine::Buffer counters;                         // host-visible GiCounters[kFramesInFlight]
-  engine::DescriptorSet frameSet;
-  GBufferViews boundGBuffer{};                     // views currently written into frameSet
+  SizedResources sized;
+  HashGrid hash;                                   // created on first use of a hash method; persists across frames
+  vk::Buffer frameConstants;                       // host-visible GiFrameConstants, one per slot
+  VkDeviceSize frameConstantsStride = 0;
+  vk::Buffer counters;                             // host-visible GiCounters[1 + slots]: live, then per-slot copies
+  VkDescriptorSetLayout frameLayout = VK_NULL_HANDLE;  // set 1
 
-  engine::ComputeProgram rawTrace, composite_, guidancePass, supersample, aafSample, aafAdaptive;
+  vk::ComputeProgram rawTrace, composite, guidancePass, supersample, aafSample, aafAdaptive;
+  FilterPrograms filterPrograms;                   // built when a screen-space filter is first chosen
 
-  VkQueryPool timestamps = VK_NULL_HANDLE;         // 2 per pass per slot
-  std::vector<std::string> passNames[kFramesInFlight];
-  uint32_t slotFrameIndex[kFramesInFlight] = {};
-  bool slotRecorded[kFramesInFlight] = {};
-  uint32_t slotHistory[kFramesInFlight] = {};
-  uint32_t slotSpp[kFramesInFlight] = {};
-  Method slotMethod[kFramesInFlight] = {};
+  VkQueryPool timestamps = VK_NULL_HANDLE;         // 2 per pass per slot (null when desc.timestamps is off)
+  FrameSlot slots[kMaxFramesInFlight];
+  uint64_t recordedFrames = 0;                     // recordFrame calls so far
+  std::vector<Retired> retired;
 
-  bool imagesInitialised = false;
   uint32_t historyLength = 0;                      // frames in the history images
   gpu::GpuCamera historyCamera{};                  // camera the history was gathered with
   FrameStats lastStats;
 };
 
-// Pass helpers (module.cpp).
+// Sized resources (sized_resources.cpp). `needs` from sizedResourcesNeeded:
+// the images at full size and the filters the settings use.
+// Set 1 of every pass: frame constants, G-buffer, the module images, counters.
+std::span<const vk::Binding> frameBindings();
+uint32_t sizedResourcesNeeded(const Module& m, const Settings& settings);
+vk::Status createSizedResources(Module& m, const Settings& settings, uint32_t width, uint32_t height,
+                                SizedResources& out);
+void destroySizedResources(vk::Device& gpu, SizedResources& r);
+// Hands `release` to the retire list: it runs once the frames recorded so far have completed.
+void retire(Module& m, std::function<void(vk::Device&)> release);
+// Runs the releases whose frames have completed (all of them with `all`).
+void releaseRetired(Module& m, bool all);
+
+// Scene facts the passes specialise on (module.cpp).
+bool aafSpecular(const Module& m, const Settings& settings);
+
+// Pass helpers (frame.cpp).
 PassHooks passHooks(Module& m, uint32_t slot);
 void beginPass(Module& m, VkCommandBuffer cmd, uint32_t slot, const char* name);
 void endPass(Module& m, VkCommandBuffer cmd, uint32_t slot);
-void computeToComputeBarrier(VkCommandBuffer cmd);
+bool tracesRays(std::string_view pass);
+
+// Frame stats (frame_stats.cpp).
+bool readFrameStats(Module& m, uint32_t slot, FrameStats& out);
+
+// A Status as the public Error: "<what>: <call> failed with VK_ERROR_...".
+Error vulkanError(const char* what, const vk::Status& status);
 
 }  // namespace gi

@@ -16,152 +16,188 @@
 namespace gi {
 namespace {
 
-void publish(VkCommandBuffer cmd) {
-  engine::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                        VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                        VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+void publish(const vk::Device& d, VkCommandBuffer cmd) {
+  vk::memoryBarrier(d, cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                    VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                    VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
 }
 
 // One pass: hooks around a dispatch and the barrier that publishes it.
 template <typename Push>
-void passOn(VkCommandBuffer cmd, VkDescriptorSet set, const PassHooks& hooks, const char* name,
-            const engine::ComputeProgram& program, glm::uvec2 threads, const Push& push) {
+void passOn(const vk::Device& d, VkCommandBuffer cmd, VkDescriptorSet set, const PassHooks& hooks, const char* name,
+            const vk::ComputeProgram& program, glm::uvec2 threads, const Push& push) {
   if (hooks.begin) hooks.begin(cmd, name);
-  engine::dispatch(cmd, program, std::span(&set, 1), threads, push);
-  publish(cmd);
+  vk::dispatch(d, cmd, program, std::span(&set, 1), threads, push);
+  publish(d, cmd);
   if (hooks.end) hooks.end(cmd);
 }
 
 template <typename Push>
-void pass(VkCommandBuffer cmd, const ScreenFilters& f, const PassHooks& hooks, const char* name,
-          const engine::ComputeProgram& program, glm::uvec2 threads, const Push& push) {
-  passOn(cmd, f.set.set, hooks, name, program, threads, push);
+void pass(const vk::Device& d, VkCommandBuffer cmd, const ScreenFilters& f, const PassHooks& hooks, const char* name,
+          const vk::ComputeProgram& program, glm::uvec2 threads, const Push& push) {
+  passOn(d, cmd, f.set[0], hooks, name, program, threads, push);
 }
 
-void ensureInitialised(VkCommandBuffer cmd, ScreenFilters& f) {
+void ensureInitialised(const vk::Device& d, VkCommandBuffer cmd, ScreenFilters& f) {
   if (f.initialised || !f.a[0].image) return;
   for (uint32_t i = 0; i < FILTER_STACK; ++i)
-    for (engine::Image* img : {&f.a[i], &f.b[i]})
-      engine::imageBarrier(cmd, img->image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, 0,
-                           VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                           VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+    for (vk::Image* img : {&f.a[i], &f.b[i]})
+      vk::imageBarrier(d, cmd, img->image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, 0,
+                       VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                       VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
   f.initialised = true;
 }
 
 }  // namespace
 
-engine::DescriptorSet createFilterSet(const engine::Context& ctx, const FilterTargets& t) {
-  const engine::Binding bindings[] = {
-      {gpu::FILTER_BINDING_GUIDANCE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-      {gpu::FILTER_BINDING_POSITION, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-      {gpu::FILTER_BINDING_INPUT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-      {gpu::FILTER_BINDING_OUTPUT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-      {gpu::FILTER_BINDING_A, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, FILTER_STACK},
-      {gpu::FILTER_BINDING_B, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, FILTER_STACK},
-      {gpu::FILTER_BINDING_TEMP, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-      {gpu::FILTER_BINDING_PARAMS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+const vk::Binding kFilterBindings[] = {
+    {gpu::FILTER_BINDING_GUIDANCE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::FILTER_BINDING_POSITION, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::FILTER_BINDING_INPUT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::FILTER_BINDING_OUTPUT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::FILTER_BINDING_A, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, FILTER_STACK},
+    {gpu::FILTER_BINDING_B, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, FILTER_STACK},
+    {gpu::FILTER_BINDING_TEMP, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::FILTER_BINDING_PARAMS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+};
+
+vk::Status createFilterPrograms(const vk::Device& d, FilterPrograms& out) {
+  FilterPrograms f;
+  auto build = [&]() -> vk::Status {
+    GI_TRY(vk::createDescriptorLayout(d, kFilterBindings, f.layout));
+    VkDescriptorSetLayout layouts[] = {f.layout};
+    const glm::uvec2 tile{FILTER_GROUP_SIZE, FILTER_GROUP_SIZE}, line{FILTER_LINE_GROUP, 1};
+    auto make = [&](vk::ComputeProgram& p, std::span<const uint32_t> spirv, uint32_t push, glm::uvec2 group) {
+      return vk::createComputeProgram(d, spirv, layouts, push, group, {}, p);
+    };
+    GI_TRY(make(f.moments, spv_gif_moments_comp, sizeof(gpu::GuidedMomentsPush), tile));
+    GI_TRY(make(f.box, spv_gif_box_comp, sizeof(gpu::BoxPush), line));
+    GI_TRY(make(f.coefficients, spv_gif_coefficients_comp, sizeof(gpu::GuidedCoefficientsPush), tile));
+    GI_TRY(make(f.output, spv_gif_output_comp, sizeof(gpu::GuidedMomentsPush), tile));
+    GI_TRY(make(f.bilateral, spv_bilateral_comp, sizeof(gpu::BilateralPush), tile));
+    GI_TRY(make(f.atrous, spv_atrous_comp, sizeof(gpu::AtrousPush), tile));
+    GI_TRY(make(f.aaf, spv_aaf_filter_comp, sizeof(gpu::AafFilterPush), tile));
+    GI_TRY(make(f.sspsf, spv_sspsf_comp, sizeof(gpu::SspsfPush), tile));
+    return {};
   };
-  engine::DescriptorSet set = engine::createDescriptorSet(ctx, bindings);
-  engine::DescriptorWriter(set.set)
-      .storageImage(gpu::FILTER_BINDING_GUIDANCE, t.guidance)
-      .storageImage(gpu::FILTER_BINDING_POSITION, t.position)
-      .storageImage(gpu::FILTER_BINDING_INPUT, t.input)
-      .storageImage(gpu::FILTER_BINDING_OUTPUT, t.output)
-      .storageImage(gpu::FILTER_BINDING_TEMP, t.temp)
-      .storageImage(gpu::FILTER_BINDING_PARAMS, t.params)
-      .write(ctx);
-  return set;
+  if (vk::Status s = build()) {
+    destroyFilterPrograms(d, f);
+    return s;
+  }
+  out = f;
+  return {};
 }
 
-ScreenFilters createScreenFilters(const engine::Context& ctx, uint32_t width, uint32_t height, const FilterTargets& t) {
+void destroyFilterPrograms(const vk::Device& d, FilterPrograms& f) {
+  for (vk::ComputeProgram* p : {&f.moments, &f.box, &f.coefficients, &f.output, &f.bilateral, &f.atrous, &f.aaf, &f.sspsf})
+    vk::destroyComputeProgram(d, *p);
+  if (f.layout) d.fn.vkDestroyDescriptorSetLayout(d.device, f.layout, d.allocator);
+  f = FilterPrograms{};
+}
+
+vk::Status createFilterSets(const vk::Device& d, const FilterPrograms& programs, std::span<const FilterTargets> targets,
+                            vk::DescriptorSets& out) {
+  GI_TRY(vk::createDescriptorSets(d, kFilterBindings, uint32_t(targets.size()), out, programs.layout));
+  for (size_t i = 0; i < targets.size(); ++i) {
+    const FilterTargets& t = targets[i];
+    vk::DescriptorWriter(out[i])
+        .storageImage(gpu::FILTER_BINDING_GUIDANCE, t.guidance)
+        .storageImage(gpu::FILTER_BINDING_POSITION, t.position)
+        .storageImage(gpu::FILTER_BINDING_INPUT, t.input)
+        .storageImage(gpu::FILTER_BINDING_OUTPUT, t.output)
+        .storageImage(gpu::FILTER_BINDING_TEMP, t.temp)
+        .storageImage(gpu::FILTER_BINDING_PARAMS, t.params)
+        .write(d);
+  }
+  return {};
+}
+
+vk::Status createScreenFilters(vk::Device& d, const FilterPrograms& programs, uint32_t width, uint32_t height,
+                               const FilterTargets& t, ScreenFilters& out) {
   ScreenFilters f;
+  f.programs = &programs;
   f.width = width;
   f.height = height;
-  f.set = createFilterSet(ctx, t);
-  VkDescriptorSetLayout layouts[] = {f.set.layout};
-  const glm::uvec2 tile{FILTER_GROUP_SIZE, FILTER_GROUP_SIZE}, line{FILTER_LINE_GROUP, 1};
-  f.moments = engine::createComputeProgram(ctx, spv_gif_moments_comp, layouts, sizeof(gpu::GuidedMomentsPush), tile);
-  f.box = engine::createComputeProgram(ctx, spv_gif_box_comp, layouts, sizeof(gpu::BoxPush), line);
-  f.coefficients = engine::createComputeProgram(ctx, spv_gif_coefficients_comp, layouts, sizeof(gpu::GuidedCoefficientsPush), tile);
-  f.output = engine::createComputeProgram(ctx, spv_gif_output_comp, layouts, sizeof(gpu::GuidedMomentsPush), tile);
-  f.bilateral = engine::createComputeProgram(ctx, spv_bilateral_comp, layouts, sizeof(gpu::BilateralPush), tile);
-  f.atrous = engine::createComputeProgram(ctx, spv_atrous_comp, layouts, sizeof(gpu::AtrousPush), tile);
-  f.aaf = engine::createComputeProgram(ctx, spv_aaf_filter_comp, layouts, sizeof(gpu::AafFilterPush), tile);
-  f.sspsf = engine::createComputeProgram(ctx, spv_sspsf_comp, layouts, sizeof(gpu::SspsfPush), tile);
-  return f;
+  GI_TRY(createFilterSets(d, programs, std::span(&t, 1), f.set));
+  out = std::move(f);
+  return {};
 }
 
-void ensureGuidedStack(const engine::Context& ctx, ScreenFilters& f) {
-  if (f.a[0].image) return;
-  engine::DescriptorWriter w(f.set.set);
-  for (uint32_t i = 0; i < FILTER_STACK; ++i) {
-    for (engine::Image* img : {&f.a[i], &f.b[i]}) {
-      *img = engine::createImage(ctx, {f.width, f.height}, VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_USAGE_STORAGE_BIT);
-      f.memoryBytes += img->allocationSize;
+vk::Status ensureGuidedStack(vk::Device& d, ScreenFilters& f) {
+  if (f.a[0].image) return {};
+  for (uint32_t i = 0; i < FILTER_STACK; ++i)
+    for (vk::Image* img : {&f.a[i], &f.b[i]}) {
+      if (vk::Status s = vk::createImage(d, {f.width, f.height}, VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_USAGE_STORAGE_BIT, *img)) {
+        for (uint32_t j = 0; j < FILTER_STACK; ++j) {
+          vk::destroyImage(d, f.a[j]);
+          vk::destroyImage(d, f.b[j]);
+        }
+        return s;
+      }
     }
+  vk::DescriptorWriter w(f.set[0]);
+  for (uint32_t i = 0; i < FILTER_STACK; ++i) {
+    f.memoryBytes += f.a[i].memory.size + f.b[i].memory.size;
     w.storageImage(gpu::FILTER_BINDING_A, f.a[i].view, i);
     w.storageImage(gpu::FILTER_BINDING_B, f.b[i].view, i);
   }
-  w.write(ctx);
+  w.write(d);
+  return {};
 }
 
-void destroyScreenFilters(const engine::Context& ctx, ScreenFilters& f) {
-  for (engine::ComputeProgram* p : {&f.moments, &f.box, &f.coefficients, &f.output, &f.bilateral, &f.atrous, &f.aaf, &f.sspsf})
-    engine::destroyComputeProgram(ctx, *p);
-  engine::destroyDescriptorSet(ctx, f.set);
-  for (engine::DescriptorSet& set : f.aafGlossySets)
-    if (set.set) engine::destroyDescriptorSet(ctx, set);
+void destroyScreenFilters(vk::Device& d, ScreenFilters& f) {
+  vk::destroyDescriptorSets(d, f.set);
+  vk::destroyDescriptorSets(d, f.aafGlossySets);
   for (uint32_t i = 0; i < FILTER_STACK; ++i) {
-    engine::destroyImage(ctx, f.a[i]);
-    engine::destroyImage(ctx, f.b[i]);
+    vk::destroyImage(d, f.a[i]);
+    vk::destroyImage(d, f.b[i]);
   }
   f = ScreenFilters{};
 }
 
-void recordGuidedFilter(VkCommandBuffer cmd, ScreenFilters& f, const GuidedFilterParams& p, const PassHooks& hooks) {
-  if (!f.a[0].image) {
-    std::fprintf(stderr, "recordGuidedFilter: ensureGuidedStack was not called\n");
-    std::abort();
-  }
-  ensureInitialised(cmd, f);
+void recordGuidedFilter(const vk::Device& d, VkCommandBuffer cmd, ScreenFilters& f, const GuidedFilterParams& p,
+                        const PassHooks& hooks) {
+  ensureInitialised(d, cmd, f);
   const glm::uvec2 size{f.width, f.height};
   const gpu::GuidedMomentsPush dims{p.guidanceDimensions, p.writeCoefficientView ? 1u : 0u, 0, 0};
   // Window statistics: per-pixel products, then their box means (rows, then columns).
-  pass(cmd, f, hooks, "gif_moments", f.moments, size, dims);
-  pass(cmd, f, hooks, "gif_box_rows", f.box, {f.height, 1}, gpu::BoxPush{p.radius, 0, GIF_MOMENT_IMAGES, 0});
-  pass(cmd, f, hooks, "gif_box_columns", f.box, {f.width, 1}, gpu::BoxPush{p.radius, 1, GIF_MOMENT_IMAGES, 0});
+  pass(d, cmd, f, hooks, "gif_moments", f.programs->moments, size, dims);
+  pass(d, cmd, f, hooks, "gif_box_rows", f.programs->box, {f.height, 1}, gpu::BoxPush{p.radius, 0, GIF_MOMENT_IMAGES, 0});
+  pass(d, cmd, f, hooks, "gif_box_columns", f.programs->box, {f.width, 1}, gpu::BoxPush{p.radius, 1, GIF_MOMENT_IMAGES, 0});
   // Per-window ridge regression, then the mean of the coefficients over the windows covering each pixel.
-  pass(cmd, f, hooks, "gif_coefficients", f.coefficients, size, gpu::GuidedCoefficientsPush{p.epsilonNormal, p.epsilonDepth, 0, 0});
-  pass(cmd, f, hooks, "gif_box_rows", f.box, {f.height, 1}, gpu::BoxPush{p.radius, 0, GIF_COEFF_IMAGES, 0});
-  pass(cmd, f, hooks, "gif_box_columns", f.box, {f.width, 1}, gpu::BoxPush{p.radius, 1, GIF_COEFF_IMAGES, 0});
-  pass(cmd, f, hooks, "gif_output", f.output, size, dims);
+  pass(d, cmd, f, hooks, "gif_coefficients", f.programs->coefficients, size, gpu::GuidedCoefficientsPush{p.epsilonNormal, p.epsilonDepth, 0, 0});
+  pass(d, cmd, f, hooks, "gif_box_rows", f.programs->box, {f.height, 1}, gpu::BoxPush{p.radius, 0, GIF_COEFF_IMAGES, 0});
+  pass(d, cmd, f, hooks, "gif_box_columns", f.programs->box, {f.width, 1}, gpu::BoxPush{p.radius, 1, GIF_COEFF_IMAGES, 0});
+  pass(d, cmd, f, hooks, "gif_output", f.programs->output, size, dims);
 }
 
-void recordAafFilter(VkCommandBuffer cmd, const ScreenFilters& f, VkDescriptorSet targets, const char* term,
-                     float cosNormalLimit, float pixelScale, uint32_t maxRadius, const PassHooks& hooks) {
+void recordAafFilter(const vk::Device& d, VkCommandBuffer cmd, const ScreenFilters& f, VkDescriptorSet targets,
+                     const char* term, float cosNormalLimit, float pixelScale, uint32_t maxRadius, const PassHooks& hooks) {
   std::string name = std::string("aaf_filter_") + term;
-  passOn(cmd, targets, hooks, (name + "_rows").c_str(), f.aaf, {f.width, f.height},
+  passOn(d, cmd, targets, hooks, (name + "_rows").c_str(), f.programs->aaf, {f.width, f.height},
          gpu::AafFilterPush{0, cosNormalLimit, pixelScale, maxRadius});
-  passOn(cmd, targets, hooks, (name + "_columns").c_str(), f.aaf, {f.width, f.height},
+  passOn(d, cmd, targets, hooks, (name + "_columns").c_str(), f.programs->aaf, {f.width, f.height},
          gpu::AafFilterPush{1, cosNormalLimit, pixelScale, maxRadius});
 }
 
-void recordSspsf(VkCommandBuffer cmd, ScreenFilters& f, const gpu::SspsfPush& params, const PassHooks& hooks) {
-  pass(cmd, f, hooks, "sspsf", f.sspsf, {f.width, f.height}, params);
+void recordSspsf(const vk::Device& d, VkCommandBuffer cmd, ScreenFilters& f, const gpu::SspsfPush& params,
+                 const PassHooks& hooks) {
+  pass(d, cmd, f, hooks, "sspsf", f.programs->sspsf, {f.width, f.height}, params);
 }
 
-void recordBilateral(VkCommandBuffer cmd, ScreenFilters& f, const gpu::BilateralPush& params, const PassHooks& hooks) {
-  pass(cmd, f, hooks, "bilateral", f.bilateral, {f.width, f.height}, params);
+void recordBilateral(const vk::Device& d, VkCommandBuffer cmd, ScreenFilters& f, const gpu::BilateralPush& params,
+                     const PassHooks& hooks) {
+  pass(d, cmd, f, hooks, "bilateral", f.programs->bilateral, {f.width, f.height}, params);
 }
 
-void recordAtrous(VkCommandBuffer cmd, ScreenFilters& f, uint32_t iterations, float sigmaColor, float sigmaNormal,
-                  float sigmaPosition, const PassHooks& hooks) {
+void recordAtrous(const vk::Device& d, VkCommandBuffer cmd, ScreenFilters& f, uint32_t iterations, float sigmaColor,
+                  float sigmaNormal, float sigmaPosition, const PassHooks& hooks) {
   // Ping-pong between temp and output so the last iteration lands in output.
   uint32_t source = 0;
   for (uint32_t i = 0; i < iterations; ++i) {
     uint32_t destination = (iterations - 1 - i) % 2 == 0 ? 1u : 2u;
     gpu::AtrousPush push{i, source, destination, sigmaColor, sigmaNormal, sigmaPosition, 0, 0};
-    pass(cmd, f, hooks, "atrous", f.atrous, {f.width, f.height}, push);
+    pass(d, cmd, f, hooks, "atrous", f.programs->atrous, {f.width, f.height}, push);
     source = destination;
   }
 }

@@ -4,9 +4,8 @@
 #pragma once
 #include <functional>
 
-#include "compute_program.h"
-#include "descriptors.h"
-#include "resources.h"
+#include "gpu_programs.h"
+#include "gpu_resources.h"
 #include "shared/gi_filters.h"
 
 namespace gi {
@@ -21,11 +20,20 @@ struct PassHooks {
   std::function<void(VkCommandBuffer)> end;
 };
 
+// The filters' programs and their set layout: built once per module, shared
+// by every ScreenFilters (a new render size builds new images and sets only).
+struct FilterPrograms {
+  VkDescriptorSetLayout layout = VK_NULL_HANDLE;
+  vk::ComputeProgram moments, box, coefficients, output, bilateral, atrous, aaf, sspsf;
+};
+vk::Status createFilterPrograms(const vk::Device& device, FilterPrograms& out);
+void destroyFilterPrograms(const vk::Device& device, FilterPrograms& programs);
+
 struct ScreenFilters {
-  engine::Image a[FILTER_STACK], b[FILTER_STACK];  // the guided filter's window statistics (created on its first use)
-  engine::DescriptorSet set;
-  engine::DescriptorSet aafGlossySets[2];  // AAF's specular terms filtered in place (created when the scene is glossy)
-  engine::ComputeProgram moments, box, coefficients, output, bilateral, atrous, aaf, sspsf;
+  const FilterPrograms* programs = nullptr;
+  vk::Image a[FILTER_STACK], b[FILTER_STACK];  // the guided filter's window statistics (created on its first use)
+  vk::DescriptorSets set;                      // one set over the module's targets
+  vk::DescriptorSets aafGlossySets;            // two: AAF's specular terms filtered in place (glossy scenes)
   uint32_t width = 0, height = 0;
   uint64_t memoryBytes = 0;
   bool initialised = false;  // images moved to GENERAL layout
@@ -38,28 +46,33 @@ struct GuidedFilterParams {
   bool writeCoefficientView = false;  // also write |a|, |b| to the temp image (debug view)
 };
 
-// A descriptor set of the filters' layout over other targets: the same
-// programs then filter other images (AAF's glossy terms).
-engine::DescriptorSet createFilterSet(const engine::Context& ctx, const FilterTargets& targets);
-ScreenFilters createScreenFilters(const engine::Context& ctx, uint32_t width, uint32_t height, const FilterTargets& targets);
+// Descriptor sets of the filters' layout, one per target: the same programs
+// then filter other images (AAF's glossy terms).
+vk::Status createFilterSets(const vk::Device& device, const FilterPrograms& programs,
+                            std::span<const FilterTargets> targets, vk::DescriptorSets& out);
+vk::Status createScreenFilters(vk::Device& device, const FilterPrograms& programs, uint32_t width, uint32_t height,
+                               const FilterTargets& targets, ScreenFilters& out);
 // Allocates the guided filter's 16 statistics images (16 × width × height × 16 bytes) once.
-void ensureGuidedStack(const engine::Context& ctx, ScreenFilters& f);
-void destroyScreenFilters(const engine::Context& ctx, ScreenFilters& f);
+vk::Status ensureGuidedStack(vk::Device& device, ScreenFilters& f);
+void destroyScreenFilters(vk::Device& device, ScreenFilters& f);
 
 // Each reads the targets' input and writes their output (and temp as noted),
 // ending with a barrier that makes the output visible to compute shaders.
-void recordGuidedFilter(VkCommandBuffer cmd, ScreenFilters& f, const GuidedFilterParams& params, const PassHooks& hooks);
-void recordBilateral(VkCommandBuffer cmd, ScreenFilters& f, const gpu::BilateralPush& params, const PassHooks& hooks);
-void recordAtrous(VkCommandBuffer cmd, ScreenFilters& f, uint32_t iterations, float sigmaColor, float sigmaNormal,
-                  float sigmaPosition, const PassHooks& hooks);
+// The guided filter needs ensureGuidedStack first.
+void recordGuidedFilter(const vk::Device& device, VkCommandBuffer cmd, ScreenFilters& f, const GuidedFilterParams& params,
+                        const PassHooks& hooks);
+void recordBilateral(const vk::Device& device, VkCommandBuffer cmd, ScreenFilters& f, const gpu::BilateralPush& params,
+                     const PassHooks& hooks);
+void recordAtrous(const vk::Device& device, VkCommandBuffer cmd, ScreenFilters& f, uint32_t iterations, float sigmaColor,
+                  float sigmaNormal, float sigmaPosition, const PassHooks& hooks);
 // Screen-space path filtering over a window (Meijer §4.1).
-void recordSspsf(VkCommandBuffer cmd, ScreenFilters& f, const gpu::SspsfPush& params, const PassHooks& hooks);
+void recordSspsf(const vk::Device& device, VkCommandBuffer cmd, ScreenFilters& f, const gpu::SspsfPush& params, const PassHooks& hooks);
 // Axis-aligned filtering's separable Gaussian (β per pixel from the params
 // image's alpha; pixels with β = 0 neither filter nor contribute); uses temp.
 // `targets` is f.set or a set from createFilterSet.
 // `term` names the passes (aaf_filter_<term>_rows/_columns). `maxRadius`
 // cuts the Gaussian before 3σ (pixels; 0 = never).
-void recordAafFilter(VkCommandBuffer cmd, const ScreenFilters& f, VkDescriptorSet targets, const char* term,
+void recordAafFilter(const vk::Device& device, VkCommandBuffer cmd, const ScreenFilters& f, VkDescriptorSet targets, const char* term,
                      float cosNormalLimit, float pixelScale, uint32_t maxRadius, const PassHooks& hooks);
 
 }  // namespace gi

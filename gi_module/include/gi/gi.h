@@ -1,7 +1,21 @@
 // gi — a drop-in global-illumination module for Vulkan engines.
-// The engine owns the device, the frame loop, the G-buffer and the scene
-// (descriptor set 0, layout in shaders/shared/gpu_scene.h); the module owns its
-// passes and their images, and records into the engine's command buffer.
+// The engine owns the instance, device, queues, the frame loop, the G-buffer
+// and the scene (descriptor set 0, layout in shaders/shared/gpu_scene.h); the
+// module owns its passes, their images and memory, and records into the
+// engine's command buffer. It never submits, waits or presents.
+//
+// Vulkan: this header needs only <vulkan/vulkan_core.h>. Include it after your
+// own Vulkan header (vulkan.h with or without prototypes, volk.h or another
+// loader); included first, it brings in vulkan_core.h as vulkan.h would. The
+// module calls Vulkan only through a function table it loads from
+// ModuleDesc::getInstanceProcAddr and touches no global function pointer.
+//
+// Frames in flight (ModuleDesc::framesInFlight = N, 1–4): recordFrame uses
+// per-frame uniforms, descriptor sets, counters and timestamps in slot
+// (call count mod N). Recording a frame promises that the frame recorded N
+// calls earlier has completed on the GPU (the engine waited on its fence),
+// as an engine with N frames in flight does anyway. All frames are submitted
+// to one queue in recording order.
 //
 // Barrier contract for gi::recordFrame:
 //  - before: G-buffer images are in VK_IMAGE_LAYOUT_GENERAL with their writes
@@ -9,18 +23,23 @@
 //    build (if any) is complete for compute ray queries.
 //  - after: the output images are in GENERAL layout, written by compute
 //    shaders; the caller barriers COMPUTE_SHADER/SHADER_STORAGE_WRITE to its reader.
-//  - the module never submits, waits or presents. Only one frame may be in
-//    flight per module: call recordFrame again once the previous frame's fence
-//    has signalled (its uniform and readback buffers are host-written).
+//
+// Deferred destruction: setSettings, resize and invalidate never need an idle
+// GPU. What they replace is released once the frames that used it have
+// completed (by the promise above), or at destroy.
+//
+// Errors: every function that can fail returns a gi::Error; a failed Vulkan
+// call (out of memory included) carries its VkResult. The module never
+// aborts the process. After a failed create nothing is left allocated; after
+// a failed setSettings or resize the module keeps its previous settings and
+// size and stays usable.
 //
 // Threads: a Module is not thread-safe; call every function for one module
-// from one thread at a time (any thread). Different modules on the same
-// device may be used from different threads, except that their create and
-// destroy calls must not overlap (the module still loads the device's entry
-// points into volk's process-wide table). validate() and version() are pure
-// and may be called from anywhere.
+// from one thread at a time (any thread). Different modules may be used from
+// different threads at once: each has its own function table and memory.
+// validate(), version() and resultName() are pure and may be called from anywhere.
 #pragma once
-#include <volk.h>
+#include <vulkan/vulkan_core.h>
 
 #include <cstdint>
 #include <string>
@@ -51,12 +70,25 @@ struct SceneDesc {
 
 struct ModuleDesc {
   uint32_t structSize = sizeof(ModuleDesc);  // leave as is: create refuses a desc from another version of this header
+  // The engine's loader entry point (vkGetInstanceProcAddr from the loader,
+  // volk or the engine's own table): the module loads its functions through it.
+  PFN_vkGetInstanceProcAddr getInstanceProcAddr = nullptr;
   VkInstance instance = VK_NULL_HANDLE;
   VkPhysicalDevice physicalDevice = VK_NULL_HANDLE;
-  VkDevice device = VK_NULL_HANDLE;  // created with ray queries, acceleration structures, scalar layout
+  VkDevice device = VK_NULL_HANDLE;  // with the features and extensions of gi/device.h
   uint32_t width = 0, height = 0;    // render size in pixels, [1, 16384]
+  // Largest render size resize() may ask for without losing the hash map's
+  // light (dynamic resolution); 0 = width/height. Per-pixel buffers of the
+  // hash methods are allocated at this size.
+  uint32_t maxWidth = 0, maxHeight = 0;
+  uint32_t framesInFlight = 2;       // [1, 4]: frames the engine records before waiting on the oldest
   SceneDesc scene;
-  bool debugLabels = false;          // VK_EXT_debug_utils is enabled on the instance
+  bool debugLabels = false;          // VK_EXT_debug_utils is enabled on the instance: label every pass
+  bool timestamps = true;            // time every pass (FrameStats::passes); off: no query pool, no timing barriers
+  uint64_t memoryBudgetBytes = 0;    // device memory the module may hold; 0 = no limit. Beyond it calls fail
+                                     // with VK_ERROR_OUT_OF_DEVICE_MEMORY, as a full heap would
+  const VkAllocationCallbacks* allocationCallbacks = nullptr;  // passed to every vkCreate*/vkAllocateMemory
+  VkPipelineCache pipelineCache = VK_NULL_HANDLE;              // the engine's; used for every pipeline
   // The feature chain the engine passed to vkCreateDevice (gi/device.h fills
   // it). When given, create checks that it enables what the module needs;
   // when null, create checks what the device supports.
@@ -95,7 +127,9 @@ struct FrameStats {
   uint32_t accumulatedFrames = 0;   // temporal history length behind the output
   uint32_t samplesPerPixel = 0;     // paths per pixel actually traced (after the ray budget; AAF: the mean)
   uint32_t sanitized = 0;           // non-finite G-buffer pixels and path samples dropped (treated as background)
-  uint64_t memoryBytes = 0;         // device memory owned by the module
+  uint64_t memoryBytes = 0;         // device memory the module holds (its blocks), bytes
+  uint64_t memoryUsedBytes = 0;     // of that, bytes its buffers and images occupy
+  uint32_t deviceAllocations = 0;   // vkAllocateMemory blocks behind memoryBytes
   struct Hash {                     // HPSF hash map telemetry (zero for other methods)
     uint32_t capacity = 0;          // cells
     uint32_t occupied = 0;          // live cells after this frame's resolve
@@ -124,12 +158,17 @@ enum class ErrorCode : uint32_t {
   NotPowerOfTwo,
   MissingFeature,   // the device lacks (or the engine did not enable) a feature in gi/device.h; the message names it
   VersionMismatch,  // a desc built against another version of gi.h
+  VulkanCall,       // a Vulkan call failed: Error::result says how (VK_ERROR_OUT_OF_DEVICE_MEMORY, ...)
 };
 struct Error {
   ErrorCode code = ErrorCode::None;
   std::string message;  // names the field and the value, e.g. "settings.raw.samplesPerPixel = 0 is outside [1, 64]"
+  VkResult result = VK_SUCCESS;  // VulkanCall: the failed call's result
   explicit operator bool() const { return code != ErrorCode::None; }
 };
+
+// "VK_ERROR_OUT_OF_DEVICE_MEMORY" and the like.
+const char* resultName(VkResult result);
 
 struct Module;
 
@@ -139,7 +178,7 @@ uint32_t version();
 
 Error validate(const Settings& settings);
 Error create(const ModuleDesc& desc, const Settings& settings, Module*& out);
-void destroy(Module* module);  // the caller ensures the GPU no longer uses it
+void destroy(Module* module);  // the caller ensures the GPU no longer uses it (every recorded frame completed)
 Error setSettings(Module* module, const Settings& settings);
 
 // For engines that know what changed: drop cached light so stale radiance is
@@ -151,13 +190,22 @@ Error setSettings(Module* module, const Settings& settings);
 // Takes effect in the next recordFrame.
 enum class Invalidate : uint32_t { All, LightsChanged };
 void invalidate(Module* module, Invalidate what);
-// A new render size: the module's images, filters and hash map (with anhpsf's
-// continued paths) start over at that size. The caller ensures the GPU no
-// longer uses the module, and passes G-buffer views of the new size next frame.
+// A new render size: the module's images and filters start over at that
+// size; within ModuleDesc::maxWidth × maxHeight the hash map keeps its cells
+// (anhpsf's continued paths restart), beyond it the map starts over too. The
+// old images are released once the frames using them complete; the caller
+// passes G-buffer views of the new size from the next frame on.
 Error resize(Module* module, uint32_t width, uint32_t height);
-void recordFrame(Module* module, VkCommandBuffer cmd, const FrameInputs& inputs);
+// Records the frame's passes into `cmd`. Fails (recording nothing) only on
+// missing G-buffer views.
+Error recordFrame(Module* module, VkCommandBuffer cmd, const FrameInputs& inputs);
+// The images the next frame writes (they change after resize and after a
+// setSettings that needs other images).
 Outputs outputs(const Module* module);
-// Numbers from the last frame whose GPU work has completed (call after its fence).
+// Numbers from the newest recorded frame whose GPU work has completed.
 FrameStats stats(Module* module);
+// Numbers of frame `frameIndex` (FrameInputs::frameIndex) once it has
+// completed; false while it is in flight or once its slot has been reused.
+bool frameStats(Module* module, uint32_t frameIndex, FrameStats& out);
 
 }  // namespace gi

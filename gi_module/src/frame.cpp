@@ -1,0 +1,301 @@
+// The frame script: each pass is one dispatch and the barrier that publishes
+// its writes, between a debug label and a timestamp pair.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <string_view>
+
+#include "module.h"
+#include "shared/aaf.h"
+
+namespace gi {
+namespace {
+
+bool sameViews(const GBufferViews& a, const GBufferViews& b) { return std::memcmp(&a, &b, sizeof(a)) == 0; }
+bool sameCamera(const gpu::GpuCamera& a, const gpu::GpuCamera& b) {
+  return a.clipFromWorld == b.clipFromWorld && a.imageSize == b.imageSize;
+}
+
+float cosDegrees(float degrees) { return std::cos(degrees * 3.14159265f / 180.0f); }
+
+// World size of a pixel per metre of view depth.
+float pixelScale(const gpu::GpuCamera& c) { return 2.0f * c.tanHalfFovY / c.imageSize.y; }
+
+// The counters a frame slot copied back (valid once that frame has completed).
+gpu::GiCounters slotCounters(const Module& m, uint32_t slot) {
+  gpu::GiCounters c;
+  std::memcpy(&c, static_cast<const std::byte*>(m.counters.mapped) + sizeof(gpu::GiCounters) * (1 + slot), sizeof(c));
+  return c;
+}
+
+// The ray budget: paths per pixel such that pixels × spp × (rays per path, as
+// measured on the newest completed frame, the one that last used `slot`)
+// stays within settings.rayBudget.
+uint32_t samplesWithinBudget(const Module& m, uint32_t requested, uint32_t slot) {
+  const FrameSlot& done = m.slots[slot];
+  if (m.settings.rayBudget == 0 || !done.recorded || done.spp == 0) return requested;
+  gpu::GiCounters c = slotCounters(m, slot);
+  const double pixels = double(m.width) * m.height;
+  double raysPerPath = c.raysTraced > 0 ? double(c.raysTraced) / (pixels * done.spp) : 1.0;
+  double affordable = double(m.settings.rayBudget) / (pixels * raysPerPath);
+  return uint32_t(std::clamp(affordable, 1.0, double(requested)));
+}
+
+// AAF's budget in samples: rayBudget over the rays per sample of the newest completed frame.
+uint32_t aafSampleBudget(const Module& m, uint32_t slot) {
+  if (m.settings.rayBudget == 0 || !m.slots[slot].recorded) return 0;
+  gpu::GiCounters c = slotCounters(m, slot);
+  double raysPerSample = c.tracedSamples > 0 ? double(c.raysTraced) / double(c.tracedSamples) : 4.0;
+  double budget = double(m.settings.rayBudget) / raysPerSample;
+  return uint32_t(std::clamp(budget, 1.0, 4.0e9));
+}
+
+// The hash map sums radiance relative to the scene's typical radiance, so dim
+// and bright scenes get the same fixed-point resolution (create keeps it
+// positive and finite).
+float radianceScale(const Module& m) { return 1.0f / m.desc.scene.typicalRadiance; }
+
+uint32_t hashMode(Method method) {
+  return method == Method::Nhpsf ? gpu::HG_MODE_NHPSF : method == Method::Anhpsf ? gpu::HG_MODE_ANHPSF : gpu::HG_MODE_HPSF;
+}
+
+void computeToComputeBarrier(const vk::Device& g, VkCommandBuffer cmd) {
+  vk::memoryBarrier(g, cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                    VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                    VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+}
+
+// One pass of the frame script: label and timestamps around a dispatch and
+// the barrier that publishes its writes to the next compute pass.
+template <typename Push>
+void runPass(Module& m, VkCommandBuffer cmd, uint32_t slot, const char* name, const vk::ComputeProgram& program,
+             std::span<const VkDescriptorSet> sets, glm::uvec2 threads, const Push& push) {
+  beginPass(m, cmd, slot, name);
+  vk::dispatch(m.gpu, cmd, program, sets, threads, push);
+  computeToComputeBarrier(m.gpu, cmd);
+  endPass(m, cmd, slot);
+}
+
+void runPass(Module& m, VkCommandBuffer cmd, uint32_t slot, const char* name, const vk::ComputeProgram& program,
+             std::span<const VkDescriptorSet> sets, glm::uvec2 threads) {
+  beginPass(m, cmd, slot, name);
+  vk::dispatch(m.gpu, cmd, program, sets, threads, nullptr, 0);
+  computeToComputeBarrier(m.gpu, cmd);
+  endPass(m, cmd, slot);
+}
+
+// The passes whose work is tracing paths (their time is what FrameStats'
+// rays are traced in; the hash resolve's probe rays are a small part of it).
+constexpr std::string_view kTracingPasses[] = {"raw_trace",   "aaf_sample",   "aaf_adaptive",   "hpsf_insert",
+                                               "nhpsf_paths", "anhpsf_paths", "gif_supersample"};
+
+// Slot setup: the G-buffer into this slot's set (the frame that last read
+// the set has completed), the images' first layout, and the frame's start:
+// everything earlier frames wrote (history, hash map, counters) is made
+// visible to this frame's transfers and compute passes.
+void beginFrame(Module& m, VkCommandBuffer cmd, uint32_t slot, const FrameInputs& in) {
+  const vk::Device& g = m.gpu;
+  SizedResources& r = m.sized;
+  if (!sameViews(in.gbuffer, r.bound[slot])) {
+    vk::DescriptorWriter(r.frameSets[slot])
+        .storageImage(gpu::GI_BINDING_GB_NORMAL, in.gbuffer.normal)
+        .storageImage(gpu::GI_BINDING_GB_ALBEDO, in.gbuffer.albedo)
+        .storageImage(gpu::GI_BINDING_GB_MATERIAL, in.gbuffer.material)
+        .storageImage(gpu::GI_BINDING_GB_EMISSION, in.gbuffer.emission)
+        .storageImage(gpu::GI_BINDING_GB_MOTION, in.gbuffer.motion)
+        .storageImage(gpu::GI_BINDING_GB_VIEWZ, in.gbuffer.viewZ)
+        .write(g);
+    r.bound[slot] = in.gbuffer;
+  }
+  vk::memoryBarrier(g, cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_TRANSFER_BIT,
+                    VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                    VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_TRANSFER_BIT,
+                    VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT |
+                        VK_ACCESS_2_TRANSFER_READ_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT);
+  if (!r.initialised) {
+    for (vk::Image* img : {&r.direct, &r.indirect, &r.composite, &r.historyDirect, &r.historyIndirect, &r.noisyIndirect,
+                           &r.guidance, &r.position, &r.debug, &r.aafParams, &r.aafSum, &r.aafGlossy, &r.aafGlossyEdge})
+      vk::imageBarrier(g, cmd, img->image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, 0,
+                       VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                       VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+    r.initialised = true;
+  }
+  if (m.timestamps) g.fn.vkCmdResetQueryPool(cmd, m.timestamps, slot * kMaxPasses * 2, kMaxPasses * 2);
+  g.fn.vkCmdFillBuffer(cmd, m.counters.buffer, 0, sizeof(gpu::GiCounters), 0);
+  vk::memoryBarrier(g, cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                    VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                    VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+}
+
+void recordHashPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const FrameInputs& in, uint32_t spp) {
+  const Settings& s = m.settings;
+  const HpsfSettings& h = s.hpsf;
+  const bool strict = h.eviction == EvictionPolicy::Strict;
+  const glm::uvec2 size{m.width, m.height};
+  gpu::HgPush push{m.hash.capacity, h.probeWindow, h.filterWidth, pixelScale(in.camera), h.jitter, h.normalBits,
+                   h.stochasticLod ? 1u : 0u, h.clampSigma, in.frameIndex, h.historyFrames, h.staleFrames, h.minSamples,
+                   s.seed, spp, s.maxBounces, s.russianRouletteStart, hashTableBase(m.hash, in.frameIndex),
+                   previousHashTableBase(m.hash, in.frameIndex), strict ? 1u : 0u, uint32_t(s.debugView),
+                   hashMode(s.method), s.method == Method::Nhpsf ? h.pathDepth : h.continuationDepth,
+                   h.secondaryWidthScale, strict ? 0u : h.validationInterval, radianceScale(m),
+                   m.hash.forgetLight ? 1u : 0u, h.normalJitter, uint32_t(h.secondaryLod),
+                   s.method == Method::Hpsf ? 0u : h.historySamples, 0, 0, 0};
+  m.hash.forgetLight = false;
+  VkDescriptorSet sets[] = {m.desc.scene.set, m.sized.frameSets[slot], m.hash.set[0]};
+  recordHashGridFrameStart(m.gpu, cmd, m.hash, in.frameIndex);
+  if (s.method == Method::Hpsf) {
+    // Pass: paths from the G-buffer; their indirect radiance goes into the filter vertex's cell.
+    runPass(m, cmd, slot, "hpsf_insert", m.hash.insert, sets, size, push);
+  } else {
+    // Pass: path segments from the G-buffer (nhpsf: pathDepth of them; anhpsf: the primary one and
+    // one of each pixel's continued path); each diffuse vertex's cell gets what its segment brings.
+    runPass(m, cmd, slot, s.method == Method::Nhpsf ? "nhpsf_paths" : "anhpsf_paths", m.hash.paths, sets, size, push);
+  }
+  // Pass: fold the frame's sums into each cell's history; evict stale cells.
+  runPass(m, cmd, slot, "hpsf_resolve", m.hash.resolve, sets, {m.hash.capacity, 1}, push);
+  // Pass: each pixel reads its cell (or keeps its own sample).
+  runPass(m, cmd, slot, "hpsf_lookup", m.hash.lookup, sets, size, push);
+  recordHashGridTelemetryCopy(m.gpu, cmd, m.hash, slot);
+}
+
+void recordFilterPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const FrameInputs& in) {
+  const Settings& s = m.settings;
+  ScreenFilters& f = m.sized.filters;
+  VkDescriptorSet sets[] = {m.desc.scene.set, m.sized.frameSets[slot]};
+  // Pass: the filters' guidance (normal, scaled depth) and world positions from the G-buffer.
+  runPass(m, cmd, slot, "guidance", m.guidancePass, sets, {m.width, m.height});
+  // Passes: the chosen filter, noisy indirect → indirect.
+  PassHooks hooks = passHooks(m, slot);
+  const vk::Device& g = m.gpu;
+  if (s.method == Method::Sspsf) {
+    const SspsfSettings& ss = s.sspsf;
+    recordSspsf(g, cmd, f, {ss.window, ss.filterWidth, pixelScale(in.camera), cosDegrees(ss.normalLimitDegrees)}, hooks);
+  } else if (isAaf(s.method)) {
+    float cosLimit = cosDegrees(s.aaf.normalLimitDegrees);
+    const uint32_t maxRadius = s.aaf.maxRadius;
+    recordAafFilter(g, cmd, f, f.set[0], "diffuse", cosLimit, pixelScale(in.camera), maxRadius, hooks);
+    if (aafSpecular(m, s)) {  // glossy receivers: their specular terms, with the glossy β
+      recordAafFilter(g, cmd, f, f.aafGlossySets[0], "glossy", cosLimit, pixelScale(in.camera), maxRadius, hooks);
+      recordAafFilter(g, cmd, f, f.aafGlossySets[1], "glossy_edge", cosLimit, pixelScale(in.camera), maxRadius, hooks);
+    }
+  } else if (s.method == Method::Gif) {
+    GuidedFilterParams gif{s.gif.radius, s.gif.epsilonNormal, s.gif.epsilonDepth, s.gif.guidanceDimensions,
+                           s.debugView == DebugView::GifCoefficients};
+    recordGuidedFilter(g, cmd, f, gif, hooks);
+  } else if (s.method == Method::Bilateral) {
+    const BilateralSettings& b = s.bilateral;
+    recordBilateral(g, cmd, f, {b.radius, b.sigmaSpatial, b.sigmaNormal, b.sigmaDepth}, hooks);
+  } else {
+    const AtrousSettings& a = s.atrous;
+    recordAtrous(g, cmd, f, a.iterations, a.sigmaColor, a.sigmaNormal, a.sigmaPosition, hooks);
+  }
+}
+
+}  // namespace
+
+bool tracesRays(std::string_view pass) {
+  return std::find(std::begin(kTracingPasses), std::end(kTracingPasses), pass) != std::end(kTracingPasses);
+}
+
+PassHooks passHooks(Module& m, uint32_t slot) {
+  return {[&m, slot](VkCommandBuffer cmd, const char* name) { beginPass(m, cmd, slot, name); },
+          [&m, slot](VkCommandBuffer cmd) { endPass(m, cmd, slot); }};
+}
+
+void beginPass(Module& m, VkCommandBuffer cmd, uint32_t slot, const char* name) {
+  const vk::Device& g = m.gpu;
+  uint32_t index = uint32_t(m.slots[slot].passNames.size());
+  m.slots[slot].passNames.emplace_back(name);
+  if (m.desc.debugLabels && g.fn.vkCmdBeginDebugUtilsLabelEXT) {
+    VkDebugUtilsLabelEXT label{VK_STRUCTURE_TYPE_DEBUG_UTILS_LABEL_EXT};
+    label.pLabelName = name;
+    g.fn.vkCmdBeginDebugUtilsLabelEXT(cmd, &label);
+  }
+  if (m.timestamps && index < kMaxPasses) {
+    g.fn.vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, m.timestamps, (slot * kMaxPasses + index) * 2);
+    // Without this barrier lavapipe stamps the start only once the pass's work
+    // has run (measured: a 42 ms trace read as 0.1 ms); on GPUs it costs one
+    // pipeline drain per pass, which is why timestamps can be turned off.
+    vk::memoryBarrier(g, cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, 0, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, 0);
+  }
+}
+
+void endPass(Module& m, VkCommandBuffer cmd, uint32_t slot) {
+  const vk::Device& g = m.gpu;
+  uint32_t index = uint32_t(m.slots[slot].passNames.size()) - 1;
+  if (m.timestamps && index < kMaxPasses)
+    g.fn.vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, m.timestamps, (slot * kMaxPasses + index) * 2 + 1);
+  if (m.desc.debugLabels && g.fn.vkCmdEndDebugUtilsLabelEXT) g.fn.vkCmdEndDebugUtilsLabelEXT(cmd);
+}
+
+Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
+  Module& m = *mp;
+  const GBufferViews& gb = in.gbuffer;
+  if (!cmd || !gb.normal || !gb.albedo || !gb.material || !gb.emission || !gb.motion || !gb.viewZ)
+    return {ErrorCode::MissingHandle, "gi::recordFrame: the command buffer and all six G-buffer views must be set"};
+  releaseRetired(m, false);
+  const uint32_t slot = uint32_t(m.recordedFrames % m.desc.framesInFlight);
+  const Settings& s = m.settings;
+  FrameSlot& frameSlot = m.slots[slot];
+  // Budgets read the counters this slot holds (its last frame has completed) before they are overwritten.
+  const uint32_t spp = isAaf(s.method) ? 0u : samplesWithinBudget(m, tracedSamplesPerPixel(s), slot);
+  const uint32_t aafBudget = aafSampleBudget(m, slot);
+  frameSlot.passNames.clear();
+
+  gpu::GiFrameConstants frame{in.camera, in.previousCamera, {m.width, m.height}, in.frameIndex,
+                              std::max(m.desc.scene.extent, 1e-6f)};
+  std::memcpy(static_cast<std::byte*>(m.frameConstants.mapped) + slot * m.frameConstantsStride, &frame, sizeof(frame));
+  beginFrame(m, cmd, slot, in);
+  // History survives only while the view and the settings stay put.
+  const bool accumulate = s.method == Method::Raw && s.raw.temporalAccumulation;
+  if (!accumulate || !sameCamera(in.camera, m.historyCamera)) m.historyLength = 0;
+  m.historyCamera = in.camera;
+
+  VkDescriptorSet sets[] = {m.desc.scene.set, m.sized.frameSets[slot]};
+  const glm::uvec2 size{m.width, m.height};
+  if (isAaf(s.method)) {
+    // Passes: 16 stratified rays give reflector distances, β and n per pixel; then the remaining n − 16.
+    gpu::AafPush aaf{s.aaf.mu, s.aaf.alpha, m.desc.scene.extent, s.seed, s.method == Method::AafAo ? 1u : 0u,
+                     aafBudget, s.maxBounces, s.russianRouletteStart, s.aaf.uniformSamples,
+                     aafSpecular(m, s) ? 1u : 0u, 0, 0};
+    runPass(m, cmd, slot, "aaf_sample", m.aafSample, sets, size, aaf);
+    runPass(m, cmd, slot, "aaf_adaptive", m.aafAdaptive, sets, size, aaf);
+  } else if (usesHashGrid(s.method)) {
+    recordHashPasses(m, cmd, slot, in, spp);
+  } else {
+    // Pass: trace paths from the G-buffer (direct + demodulated indirect, optional temporal mean).
+    gpu::GiRawPush raw{s.seed, spp, s.maxBounces, s.russianRouletteStart,
+                       m.historyLength, s.raw.maxAccumulatedFrames, accumulate ? 1u : 0u, 0};
+    runPass(m, cmd, slot, "raw_trace", m.rawTrace, sets, size, raw);
+  }
+  if (usesScreenFilters(s.method)) recordFilterPasses(m, cmd, slot, in);
+
+  // Pass: composite (or the chosen debug view).
+  gpu::GiCompositePush composite{uint32_t(s.debugView), s.method == Method::AafAo ? 1u : 0u, m.desc.scene.extent,
+                                 pixelScale(in.camera), aafSpecular(m, s) ? 1u : 0u, 0, 0, 0};
+  runPass(m, cmd, slot, "composite", m.composite, sets, size, composite);
+
+  if (s.method == Method::Gif && s.gif.supersamples > 0 && s.debugView == DebugView::None) {
+    // Pass: extra eye rays with their own direct light and geometry-aware indirect lookup.
+    runPass(m, cmd, slot, "gif_supersample", m.supersample, sets, size, gpu::GiSupersamplePush{s.seed, s.gif.supersamples});
+  }
+  vk::memoryBarrier(m.gpu, cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                    VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+  // Counters to this slot's readback copy.
+  VkBufferCopy copy{0, sizeof(gpu::GiCounters) * (1 + slot), sizeof(gpu::GiCounters)};
+  m.gpu.fn.vkCmdCopyBuffer(cmd, m.counters.buffer, m.counters.buffer, 1, &copy);
+  // The slot's counters and telemetry are read by the host once the frame's fence has signalled.
+  vk::memoryBarrier(m.gpu, cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                    VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
+
+  if (accumulate) m.historyLength = std::min(m.historyLength + 1, s.raw.maxAccumulatedFrames);
+  frameSlot.frameIndex = in.frameIndex;
+  frameSlot.history = m.historyLength;
+  frameSlot.spp = spp;
+  frameSlot.method = s.method;
+  frameSlot.recorded = true;
+  m.recordedFrames++;
+  return {};
+}
+
+}  // namespace gi

@@ -1,0 +1,147 @@
+#include "gpu_programs.h"
+
+namespace gi::vk {
+
+Status createComputeProgram(const Device& d, std::span<const uint32_t> spirv,
+                            std::span<const VkDescriptorSetLayout> setLayouts, uint32_t pushConstantSize,
+                            glm::uvec2 groupSize, std::span<const uint32_t> specialization, ComputeProgram& out) {
+  ComputeProgram p;
+  p.pushConstantSize = pushConstantSize;
+  p.groupSize = groupSize;
+  VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, pushConstantSize};
+  VkPipelineLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+  layoutInfo.setLayoutCount = uint32_t(setLayouts.size());
+  layoutInfo.pSetLayouts = setLayouts.data();
+  layoutInfo.pushConstantRangeCount = pushConstantSize > 0 ? 1 : 0;
+  layoutInfo.pPushConstantRanges = &range;
+  GI_VK(d.fn.vkCreatePipelineLayout(d.device, &layoutInfo, d.allocator, &p.layout));
+
+  std::vector<VkSpecializationMapEntry> entries;
+  for (uint32_t i = 0; i < specialization.size(); ++i) entries.push_back({i, i * 4u, 4});
+  VkSpecializationInfo spec{uint32_t(entries.size()), entries.data(), specialization.size_bytes(), specialization.data()};
+  VkShaderModuleCreateInfo moduleInfo{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+  moduleInfo.codeSize = spirv.size_bytes();
+  moduleInfo.pCode = spirv.data();
+  VkShaderModule module = VK_NULL_HANDLE;
+  VkResult r = d.fn.vkCreateShaderModule(d.device, &moduleInfo, d.allocator, &module);
+  if (r == VK_SUCCESS) {
+    VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+    info.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+    info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+    info.stage.module = module;
+    info.stage.pName = "main";
+    info.stage.pSpecializationInfo = specialization.empty() ? nullptr : &spec;
+    info.layout = p.layout;
+    r = d.fn.vkCreateComputePipelines(d.device, d.pipelineCache, 1, &info, d.allocator, &p.pipeline);
+    d.fn.vkDestroyShaderModule(d.device, module, d.allocator);
+    if (r != VK_SUCCESS) p.pipeline = VK_NULL_HANDLE;
+  }
+  if (r != VK_SUCCESS) {
+    destroyComputeProgram(d, p);
+    return {r, module ? "vkCreateComputePipelines" : "vkCreateShaderModule"};
+  }
+  out = p;
+  return {};
+}
+
+void destroyComputeProgram(const Device& d, ComputeProgram& p) {
+  if (p.pipeline) d.fn.vkDestroyPipeline(d.device, p.pipeline, d.allocator);
+  if (p.layout) d.fn.vkDestroyPipelineLayout(d.device, p.layout, d.allocator);
+  p = ComputeProgram{};
+}
+
+void dispatch(const Device& d, VkCommandBuffer cmd, const ComputeProgram& program, std::span<const VkDescriptorSet> sets,
+              glm::uvec2 threads, const void* pushConstants, uint32_t pushConstantSize) {
+  d.fn.vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, program.pipeline);
+  if (!sets.empty())
+    d.fn.vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, program.layout, 0, uint32_t(sets.size()),
+                                 sets.data(), 0, nullptr);
+  if (pushConstantSize > 0)
+    d.fn.vkCmdPushConstants(cmd, program.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, pushConstantSize, pushConstants);
+  glm::uvec2 groups = (threads + program.groupSize - 1u) / program.groupSize;
+  if (groups.x > 0 && groups.y > 0) d.fn.vkCmdDispatch(cmd, groups.x, groups.y, 1);
+}
+
+Status createDescriptorLayout(const Device& d, std::span<const Binding> bindings, VkDescriptorSetLayout& out) {
+  std::vector<VkDescriptorSetLayoutBinding> layoutBindings;
+  for (const Binding& b : bindings)
+    layoutBindings.push_back({b.binding, b.type, b.count, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
+  VkDescriptorSetLayoutCreateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+  info.bindingCount = uint32_t(layoutBindings.size());
+  info.pBindings = layoutBindings.data();
+  GI_VK(d.fn.vkCreateDescriptorSetLayout(d.device, &info, d.allocator, &out));
+  return {};
+}
+
+Status createDescriptorSets(const Device& d, std::span<const Binding> bindings, uint32_t count, DescriptorSets& out,
+                            VkDescriptorSetLayout layout) {
+  DescriptorSets s;
+  auto build = [&]() -> Status {
+    if (layout) {
+      s.layout = layout;
+    } else {
+      GI_TRY(createDescriptorLayout(d, bindings, s.layout));
+      s.ownsLayout = true;
+    }
+    std::vector<VkDescriptorPoolSize> sizes;
+    for (const Binding& b : bindings) sizes.push_back({b.type, b.count * count});
+    VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+    poolInfo.maxSets = count;
+    poolInfo.poolSizeCount = uint32_t(sizes.size());
+    poolInfo.pPoolSizes = sizes.data();
+    GI_VK(d.fn.vkCreateDescriptorPool(d.device, &poolInfo, d.allocator, &s.pool));
+    std::vector<VkDescriptorSetLayout> layouts(count, s.layout);
+    s.sets.resize(count);
+    VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+    alloc.descriptorPool = s.pool;
+    alloc.descriptorSetCount = count;
+    alloc.pSetLayouts = layouts.data();
+    GI_VK(d.fn.vkAllocateDescriptorSets(d.device, &alloc, s.sets.data()));
+    return {};
+  };
+  if (Status status = build()) {
+    destroyDescriptorSets(d, s);
+    return status;
+  }
+  out = std::move(s);
+  return {};
+}
+
+void destroyDescriptorSets(const Device& d, DescriptorSets& s) {
+  if (s.pool) d.fn.vkDestroyDescriptorPool(d.device, s.pool, d.allocator);
+  if (s.layout && s.ownsLayout) d.fn.vkDestroyDescriptorSetLayout(d.device, s.layout, d.allocator);
+  s = DescriptorSets{};
+}
+
+DescriptorWriter& DescriptorWriter::buffer(uint32_t binding, VkDescriptorType type, VkBuffer buffer, VkDeviceSize offset,
+                                           VkDeviceSize range) {
+  buffers_.push_back({buffer, offset, range});
+  VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+  w.dstSet = set_;
+  w.dstBinding = binding;
+  w.descriptorCount = 1;
+  w.descriptorType = type;
+  w.pBufferInfo = &buffers_.back();
+  writes_.push_back(w);
+  return *this;
+}
+
+DescriptorWriter& DescriptorWriter::storageImage(uint32_t binding, VkImageView view, uint32_t arrayElement) {
+  images_.push_back({VK_NULL_HANDLE, view, VK_IMAGE_LAYOUT_GENERAL});
+  VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+  w.dstSet = set_;
+  w.dstBinding = binding;
+  w.dstArrayElement = arrayElement;
+  w.descriptorCount = 1;
+  w.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+  w.pImageInfo = &images_.back();
+  writes_.push_back(w);
+  return *this;
+}
+
+void DescriptorWriter::write(const Device& d) {
+  if (!writes_.empty()) d.fn.vkUpdateDescriptorSets(d.device, uint32_t(writes_.size()), writes_.data(), 0, nullptr);
+  writes_.clear();
+}
+
+}  // namespace gi::vk

@@ -1,0 +1,112 @@
+#include "gpu_resources.h"
+
+namespace gi::vk {
+
+Status createBuffer(Device& d, VkDeviceSize size, VkBufferUsageFlags usage, bool hostVisible, Buffer& out) {
+  Buffer b;
+  b.size = size;
+  VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+  info.size = size > 0 ? size : 16;  // a zero-sized buffer is invalid
+  info.usage = usage;
+  GI_VK(d.fn.vkCreateBuffer(d.device, &info, d.allocator, &b.buffer));
+  VkMemoryRequirements req;
+  d.fn.vkGetBufferMemoryRequirements(d.device, b.buffer, &req);
+  Status s = allocate(d, req, hostVisible, true, b.memory);
+  if (!s) {
+    if (VkResult r = d.fn.vkBindBufferMemory(d.device, b.buffer, b.memory.memory, b.memory.offset); r != VK_SUCCESS)
+      s = {r, "vkBindBufferMemory"};
+  }
+  if (s) {
+    destroyBuffer(d, b);
+    return s;
+  }
+  b.mapped = b.memory.mapped;
+  out = b;
+  return {};
+}
+
+void destroyBuffer(Device& d, Buffer& b) {
+  if (b.buffer) d.fn.vkDestroyBuffer(d.device, b.buffer, d.allocator);
+  release(d, b.memory);
+  b = Buffer{};
+}
+
+Status createImage(Device& d, VkExtent2D extent, VkFormat format, VkImageUsageFlags usage, Image& out) {
+  Image img;
+  img.format = format;
+  img.extent = extent;
+  VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+  info.imageType = VK_IMAGE_TYPE_2D;
+  info.format = format;
+  info.extent = {extent.width, extent.height, 1};
+  info.mipLevels = 1;
+  info.arrayLayers = 1;
+  info.samples = VK_SAMPLE_COUNT_1_BIT;
+  info.tiling = VK_IMAGE_TILING_OPTIMAL;
+  info.usage = usage;
+  info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  GI_VK(d.fn.vkCreateImage(d.device, &info, d.allocator, &img.image));
+  VkMemoryRequirements req;
+  d.fn.vkGetImageMemoryRequirements(d.device, img.image, &req);
+  Status s = allocate(d, req, false, false, img.memory);
+  if (!s) {
+    if (VkResult r = d.fn.vkBindImageMemory(d.device, img.image, img.memory.memory, img.memory.offset); r != VK_SUCCESS)
+      s = {r, "vkBindImageMemory"};
+  }
+  if (!s) {
+    VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+    view.image = img.image;
+    view.viewType = VK_IMAGE_VIEW_TYPE_2D;
+    view.format = format;
+    view.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    if (VkResult r = d.fn.vkCreateImageView(d.device, &view, d.allocator, &img.view); r != VK_SUCCESS)
+      s = {r, "vkCreateImageView"};
+  }
+  if (s) {
+    destroyImage(d, img);
+    return s;
+  }
+  out = img;
+  return {};
+}
+
+void destroyImage(Device& d, Image& img) {
+  if (img.view) d.fn.vkDestroyImageView(d.device, img.view, d.allocator);
+  if (img.image) d.fn.vkDestroyImage(d.device, img.image, d.allocator);
+  release(d, img.memory);
+  img = Image{};
+}
+
+void imageBarrier(const Device& d, VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayout to,
+                  VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dstStage,
+                  VkAccessFlags2 dstAccess) {
+  VkImageMemoryBarrier2 b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
+  b.srcStageMask = srcStage;
+  b.srcAccessMask = srcAccess;
+  b.dstStageMask = dstStage;
+  b.dstAccessMask = dstAccess;
+  b.oldLayout = from;
+  b.newLayout = to;
+  b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  b.image = image;
+  b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+  dep.imageMemoryBarrierCount = 1;
+  dep.pImageMemoryBarriers = &b;
+  d.fn.vkCmdPipelineBarrier2(cmd, &dep);
+}
+
+void memoryBarrier(const Device& d, VkCommandBuffer cmd, VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess,
+                   VkPipelineStageFlags2 dstStage, VkAccessFlags2 dstAccess) {
+  VkMemoryBarrier2 b{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
+  b.srcStageMask = srcStage;
+  b.srcAccessMask = srcAccess;
+  b.dstStageMask = dstStage;
+  b.dstAccessMask = dstAccess;
+  VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+  dep.memoryBarrierCount = 1;
+  dep.pMemoryBarriers = &b;
+  d.fn.vkCmdPipelineBarrier2(cmd, &dep);
+}
+
+}  // namespace gi::vk

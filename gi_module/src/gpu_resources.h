@@ -1,0 +1,38 @@
+// The module's buffers and images (memory from the device's arena) and the
+// two barriers its passes use. Create functions leave the output empty when
+// they fail; destroy functions accept empty resources.
+#pragma once
+#include "gpu_device.h"
+
+namespace gi::vk {
+
+struct Buffer {
+  VkBuffer buffer = VK_NULL_HANDLE;
+  Allocation memory;
+  VkDeviceSize size = 0;
+  void* mapped = nullptr;  // host-visible buffers
+};
+
+struct Image {
+  VkImage image = VK_NULL_HANDLE;
+  VkImageView view = VK_NULL_HANDLE;
+  Allocation memory;
+  VkFormat format = VK_FORMAT_UNDEFINED;
+  VkExtent2D extent{};
+};
+
+Status createBuffer(Device& device, VkDeviceSize size, VkBufferUsageFlags usage, bool hostVisible, Buffer& out);
+void destroyBuffer(Device& device, Buffer& buffer);
+// A 2D colour image with one mip and a view of it.
+Status createImage(Device& device, VkExtent2D extent, VkFormat format, VkImageUsageFlags usage, Image& out);
+void destroyImage(Device& device, Image& image);
+
+// Layout transition of a whole colour image (synchronization2).
+void imageBarrier(const Device& device, VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayout to,
+                  VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dstStage,
+                  VkAccessFlags2 dstAccess);
+// Global memory barrier, for buffers and images that keep their layout.
+void memoryBarrier(const Device& device, VkCommandBuffer cmd, VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess,
+                   VkPipelineStageFlags2 dstStage, VkAccessFlags2 dstAccess);
+
+}  // namespace gi::vk

@@ -1,0 +1,50 @@
+// The module's device memory: a few blocks, suballocated. Blocks grow from
+// 2 MiB, doubling with each live block up to 64 MiB, so a small render size
+// holds little more than it uses; resources of half a block or more get a
+// block of their own size. A block is freed once its last resource is. A budget (bytes held,
+// 0 = none) lets an engine cap the module: an allocation beyond it fails with
+// VK_ERROR_OUT_OF_DEVICE_MEMORY like a full heap would.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "vk_status.h"
+
+namespace gi::vk {
+
+struct Device;
+
+struct Allocation {
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+  VkDeviceSize offset = 0, size = 0;
+  void* mapped = nullptr;    // host-visible allocations: mapped for their lifetime
+  uint32_t block = UINT32_MAX;
+};
+
+struct MemoryArena {
+  struct Range {
+    VkDeviceSize offset, size;
+  };
+  struct Block {
+    VkDeviceMemory memory = VK_NULL_HANDLE;  // null: a freed block whose slot is reusable
+    VkDeviceSize size = 0, used = 0;
+    uint32_t memoryType = 0;
+    bool shared = false;        // suballocated (false: one resource's own block)
+    bool linear = false;        // buffers and optimal-tiling images never share a block (bufferImageGranularity)
+    void* mapped = nullptr;     // host-visible blocks are mapped whole; device-local ones never hold host-visible resources
+    std::vector<Range> free;    // sorted by offset, neighbours merged
+  };
+  std::vector<Block> blocks;
+  VkDeviceSize firstBlockSize = VkDeviceSize(2) << 20, maxBlockSize = VkDeviceSize(64) << 20;
+  VkDeviceSize budget = 0;      // bytes the module may hold; 0: as many as the device gives
+  VkDeviceSize held = 0;        // bytes allocated from the device
+  VkDeviceSize used = 0;        // bytes handed to resources
+  uint32_t allocations = 0;     // live vkAllocateMemory blocks
+};
+
+// `linear`: a buffer (or linear image). `hostVisible`: host-visible and coherent, mapped.
+Status allocate(Device& device, const VkMemoryRequirements& requirements, bool hostVisible, bool linear, Allocation& out);
+void release(Device& device, Allocation& allocation);
+void destroyArena(Device& device);
+
+}  // namespace gi::vk

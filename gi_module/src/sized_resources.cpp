@@ -1,0 +1,184 @@
+// The module's per-size images and what binds them, built for the method the
+// settings choose; and the retire list that releases replaced resources once
+// no frame in flight can read them.
+#include <iterator>
+
+#include "module.h"
+
+namespace gi {
+namespace {
+
+constexpr VkFormat kImageFormat = VK_FORMAT_R32G32B32A32_SFLOAT;  // fp32: radiance up to 1e6 and beyond must fit
+
+// Every module image: its member, its binding in set 1 and its bit in SizedResources::needs.
+struct SizedImage {
+  vk::Image SizedResources::*image;
+  uint32_t binding;
+};
+constexpr SizedImage kSizedImages[] = {
+    {&SizedResources::direct, gpu::GI_BINDING_OUT_DIRECT},
+    {&SizedResources::indirect, gpu::GI_BINDING_OUT_INDIRECT},
+    {&SizedResources::composite, gpu::GI_BINDING_OUT_COMPOSITE},
+    {&SizedResources::historyDirect, gpu::GI_BINDING_HISTORY_DIRECT},
+    {&SizedResources::historyIndirect, gpu::GI_BINDING_HISTORY_INDIRECT},
+    {&SizedResources::noisyIndirect, gpu::GI_BINDING_NOISY_INDIRECT},
+    {&SizedResources::guidance, gpu::GI_BINDING_GUIDANCE},
+    {&SizedResources::position, gpu::GI_BINDING_POSITION},
+    {&SizedResources::debug, gpu::GI_BINDING_DEBUG},
+    {&SizedResources::aafParams, gpu::GI_BINDING_AAF_PARAMS},
+    {&SizedResources::aafSum, gpu::GI_BINDING_AAF_SUM},
+    {&SizedResources::aafGlossy, gpu::GI_BINDING_AAF_GLOSSY},
+    {&SizedResources::aafGlossyEdge, gpu::GI_BINDING_AAF_GLOSSY_EDGE},
+};
+// Beyond the image bits: which screen filters exist.
+constexpr uint32_t kNeedsFilters = 1u << 24, kNeedsGuidedStack = 1u << 25, kNeedsGlossySets = 1u << 26;
+
+constexpr uint32_t bit(vk::Image SizedResources::*image) {
+  for (uint32_t i = 0; i < std::size(kSizedImages); ++i)
+    if (kSizedImages[i].image == image) return 1u << i;
+  return 0;
+}
+
+const vk::Binding kFrameBindings[] = {
+    {gpu::GI_BINDING_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER},
+    {gpu::GI_BINDING_GB_NORMAL, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_GB_ALBEDO, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_GB_MATERIAL, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_GB_EMISSION, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_GB_MOTION, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_GB_VIEWZ, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_OUT_DIRECT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_OUT_INDIRECT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_OUT_COMPOSITE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_HISTORY_DIRECT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_HISTORY_INDIRECT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_COUNTERS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+    {gpu::GI_BINDING_NOISY_INDIRECT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_GUIDANCE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_POSITION, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_DEBUG, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_AAF_PARAMS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_AAF_SUM, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_AAF_GLOSSY, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_AAF_GLOSSY_EDGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+};
+
+}  // namespace
+
+std::span<const vk::Binding> frameBindings() { return kFrameBindings; }
+
+uint32_t sizedResourcesNeeded(const Module& m, const Settings& s) {
+  uint32_t need = bit(&SizedResources::direct) | bit(&SizedResources::indirect) | bit(&SizedResources::composite) |
+                  bit(&SizedResources::noisyIndirect);
+  if (s.method == Method::Raw && s.raw.temporalAccumulation)
+    need |= bit(&SizedResources::historyDirect) | bit(&SizedResources::historyIndirect);
+  if (usesScreenFilters(s.method))
+    need |= bit(&SizedResources::guidance) | bit(&SizedResources::position) | bit(&SizedResources::debug);
+  if (usesHashGrid(s.method)) need |= bit(&SizedResources::debug);  // the lookup leaves the hash views' data there
+  if (isAaf(s.method)) need |= bit(&SizedResources::aafParams) | bit(&SizedResources::aafSum);
+  if (aafSpecular(m, s)) need |= bit(&SizedResources::aafGlossy) | bit(&SizedResources::aafGlossyEdge);
+  // Debug views read their source at full size whatever the method (zero where it does not write).
+  switch (s.debugView) {
+    case DebugView::Guidance:
+    case DebugView::GuidanceDepth: need |= bit(&SizedResources::guidance); break;
+    case DebugView::AafZMin:
+    case DebugView::AafZMax:
+    case DebugView::AafSamples:
+    case DebugView::AafFilterWidth: need |= bit(&SizedResources::aafParams); break;
+    case DebugView::GifCoefficients:
+    case DebugView::HashCells:
+    case DebugView::HashLod:
+    case DebugView::HashSamples:
+    case DebugView::HashFound:
+    case DebugView::HashOccupancy:
+    case DebugView::ContinuationDepth: need |= bit(&SizedResources::debug); break;
+    default: break;
+  }
+  if (usesScreenFilters(s.method)) need |= kNeedsFilters;
+  if (s.method == Method::Gif) need |= kNeedsGuidedStack;
+  if (aafSpecular(m, s)) need |= kNeedsGlossySets;
+  return need;
+}
+
+namespace {
+
+// The screen filters over the images of `r`, with the parts `r.needs` asks for.
+vk::Status createFilters(Module& m, SizedResources& r) {
+  if (!(r.needs & kNeedsFilters)) return {};
+  GI_TRY(createScreenFilters(m.gpu, m.filterPrograms, r.width, r.height,
+                             {r.guidance.view, r.position.view, r.noisyIndirect.view, r.indirect.view, r.debug.view,
+                              r.aafParams.view},
+                             r.filters));
+  if (r.needs & kNeedsGlossySets) {
+    // The glossy terms are filtered in place: β in their alpha, the filter's temp image shared.
+    const FilterTargets glossy[] = {
+        {r.guidance.view, r.position.view, r.aafGlossy.view, r.aafGlossy.view, r.debug.view, r.aafGlossy.view},
+        {r.guidance.view, r.position.view, r.aafGlossyEdge.view, r.aafGlossyEdge.view, r.debug.view, r.aafGlossyEdge.view}};
+    GI_TRY(createFilterSets(m.gpu, m.filterPrograms, glossy, r.filters.aafGlossySets));
+  }
+  if (r.needs & kNeedsGuidedStack) GI_TRY(ensureGuidedStack(m.gpu, r.filters));
+  return {};
+}
+
+}  // namespace
+
+vk::Status createSizedResources(Module& m, const Settings& settings, uint32_t width, uint32_t height,
+                                SizedResources& out) {
+  SizedResources r;
+  r.width = width;
+  r.height = height;
+  r.needs = sizedResourcesNeeded(m, settings);
+  auto build = [&]() -> vk::Status {
+    for (uint32_t i = 0; i < std::size(kSizedImages); ++i) {
+      VkExtent2D extent = (r.needs >> i) & 1u ? VkExtent2D{width, height} : VkExtent2D{1, 1};
+      GI_TRY(vk::createImage(m.gpu, extent, kImageFormat,
+                             VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+                             r.*kSizedImages[i].image));
+    }
+    GI_TRY(vk::createDescriptorSets(m.gpu, kFrameBindings, m.desc.framesInFlight, r.frameSets, m.frameLayout));
+    for (uint32_t slot = 0; slot < m.desc.framesInFlight; ++slot) {
+      vk::DescriptorWriter w(r.frameSets[slot]);
+      w.buffer(gpu::GI_BINDING_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, m.frameConstants.buffer,
+               slot * m.frameConstantsStride, sizeof(gpu::GiFrameConstants));
+      // The shaders' live counter is the first GiCounters; the others are per-slot copies for readback.
+      w.buffer(gpu::GI_BINDING_COUNTERS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, m.counters.buffer, 0, sizeof(gpu::GiCounters));
+      for (const SizedImage& image : kSizedImages) w.storageImage(image.binding, (r.*image.image).view);
+      w.write(m.gpu);
+    }
+    return createFilters(m, r);
+  };
+  if (vk::Status s = build()) {
+    destroySizedResources(m.gpu, r);
+    return s;
+  }
+  out = std::move(r);
+  return {};
+}
+
+void destroySizedResources(vk::Device& gpu, SizedResources& r) {
+  destroyScreenFilters(gpu, r.filters);
+  vk::destroyDescriptorSets(gpu, r.frameSets);
+  for (const SizedImage& image : kSizedImages) vk::destroyImage(gpu, r.*image.image);
+  r = SizedResources{};
+}
+
+void retire(Module& m, std::function<void(vk::Device&)> release) {
+  m.retired.push_back({m.recordedFrames, std::move(release)});
+}
+
+void releaseRetired(Module& m, bool all) {
+  // Frames recorded N = framesInFlight calls ago have completed (gi.h's
+  // promise), so everything retired before the frame recorded N calls before
+  // this one is no longer read.
+  for (size_t i = 0; i < m.retired.size();) {
+    Retired& r = m.retired[i];
+    if (all || r.recordedFrames + m.desc.framesInFlight <= m.recordedFrames + 1) {
+      r.release(m.gpu);
+      m.retired.erase(m.retired.begin() + ptrdiff_t(i));
+    } else {
+      ++i;
+    }
+  }
+}
+
+}  // namespace gi
