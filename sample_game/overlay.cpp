@@ -12,45 +12,30 @@
 namespace demo {
 namespace {
 
-constexpr const char* kViews[] = {"none (lit image)", "direct",           "indirect (demodulated)", "albedo",
-                                  "normal",           "guidance",         "guidance depth",         "filter in | out",
-                                  "gif coefficients", "aaf z_min",        "aaf z_max",              "aaf samples per pixel",
-                                  "aaf filter width", "hash cells",       "hash level of detail",   "hash samples per cell",
-                                  "hash cell found",  "hash occupancy",   "continuation depth"};
-static_assert(std::size(kViews) == size_t(gi::DebugView::ContinuationDepth) + 1);
-
-// Keys with this prefix belong to the method ("aaf." serves aaf and aaf_ao, "hpsf." the hash methods).
-std::string methodPrefix(gi::Method m) { return std::string(gi::methodName(tools::keyOwner(m))) + "."; }
-
-// A slider per tunable of the active method, plus the method-independent ones.
+// A slider per tunable of the active method (the module's catalogue says
+// which fields it reads), plus the method-independent ones; ranges are the
+// ones validate() enforces, logarithmic where they span more than 100×.
 bool tunables(gi::Settings& settings) {
   bool changed = false;
-  const std::string prefix = methodPrefix(settings.method);
-  for (const tools::SettingKey& k : tools::settingTable()) {
-    std::string name = k.name;
-    bool global = name.find('.') == std::string::npos;
-    if (global && (name == "view" || name == "ray_budget" || name == "seed")) continue;  // own widgets
-    if (!global && name.compare(0, prefix.size(), prefix) != 0) continue;
-    // The meaning without its "method: " prefix (the method is chosen above), units included.
-    std::string meaning = k.meaning;
-    size_t colon = meaning.find(": ");
-    if (!global && colon != std::string::npos) meaning = meaning.substr(colon + 2);
-    const char* label = meaning.c_str();
-    double value = k.get(settings);
-    if (k.integer && k.sliderMin == 0 && k.sliderMax == 1) {
-      if (meaning.rfind("1 = ", 0) == 0) meaning = meaning.substr(4);  // "1 = aging eviction, 0 = strict"
-      label = meaning.c_str();
+  for (const gi::SettingInfo& k : gi::settingCatalogue()) {
+    if (!k.usedBy(settings.method)) continue;
+    const std::string key = k.key;
+    if (key == "view" || key == "ray_budget" || key == "seed") continue;  // own widgets
+    std::string label = std::string(k.meaning) + (*k.unit ? std::string(", ") + k.unit : "") + "##" + key;
+    const double value = k.get(settings);
+    const bool logarithmic = k.max / std::max(k.min, 1.0) > 100.0;
+    const ImGuiSliderFlags flags = logarithmic ? ImGuiSliderFlags_Logarithmic : 0;
+    if (k.kind == gi::SettingKind::Bool) {
       bool on = value != 0.0;
-      if (ImGui::Checkbox(label, &on)) k.set(settings, on ? 1.0 : 0.0), changed = true;
-    } else if (k.integer) {
-      int v = int(value);
-      if (ImGui::SliderInt(label, &v, int(k.sliderMin), int(k.sliderMax))) k.set(settings, double(std::max(v, 0))), changed = true;
-    } else {
+      if (ImGui::Checkbox(label.c_str(), &on)) k.set(settings, on ? 1.0 : 0.0), changed = true;
+    } else if (k.kind == gi::SettingKind::Float) {
       float v = float(value);
-      bool logarithmic = k.sliderMax / std::max(k.sliderMin, 1e-9) > 100.0;
-      if (ImGui::SliderFloat(label, &v, float(k.sliderMin), float(k.sliderMax), "%.4g",
-                             logarithmic ? ImGuiSliderFlags_Logarithmic : 0))
+      if (ImGui::SliderFloat(label.c_str(), &v, float(k.min), float(k.max), "%.4g", flags))
         k.set(settings, double(v)), changed = true;
+    } else {
+      int v = int(value);
+      if (ImGui::SliderInt(label.c_str(), &v, int(k.min), int(k.max), "%d", flags))
+        k.set(settings, double(std::max(v, 0))), changed = true;
     }
   }
   return changed;
@@ -111,7 +96,9 @@ bool buildOverlay(OverlayState& state, gi::Settings& settings, const gi::FrameSt
     changed = true;
   }
   int view = int(settings.debugView);
-  if (ImGui::Combo("debug view", &view, kViews, int(std::size(kViews)))) {
+  std::vector<const char*> views;
+  for (const gi::DebugViewInfo& v : gi::debugViewCatalogue()) views.push_back(v.name);
+  if (ImGui::Combo("debug view", &view, views.data(), int(views.size()))) {
     settings.debugView = gi::DebugView(uint32_t(view));
     changed = true;
   }

@@ -1,7 +1,8 @@
 #version 460
 // Hashed path space filtering, lookup (Meijer Alg. 5): each pixel reads the
 // resolved mean of its own cell, or keeps its own sample when the cell is
-// missing or holds too few samples. Leaves the hash debug views' data in giDebug.
+// missing or holds too few samples. Leaves the hash debug views' data in giDebug
+// when a debug view is on.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
@@ -41,5 +42,6 @@ void main() {
     debug.x = float(hgWalkSegments(hgWalks[uint(p.y) * giFrame.size.x + uint(p.x)])) / float(pc.depth);
   }
   imageStore(giOutIndirect, p, vec4(result, 1.0));
-  imageStore(giDebug, p, debug);
+  // The debug image exists at full size only while a debug view is on (the module allocates it then).
+  if (pc.debugView != GI_DEBUG_NONE) imageStore(giDebug, p, debug);
 }

@@ -56,17 +56,20 @@ bool expandConfigs(const std::vector<std::string>& methods, const std::vector<ui
       error = "unknown method '" + methodName + "'";
       return false;
     }
-    // Keys for this method: unprefixed ones, and those starting "<method>.".
+    // Keys this method reads (the catalogue says which); an unknown key is an error.
     std::vector<const std::pair<std::string, std::vector<std::string>>*> mine;
     for (const auto& k : keys) {
-      size_t dot = k.first.find('.');
-      gi::Method owner;
-      bool prefixed = dot != std::string::npos && gi::methodFromName(k.first.substr(0, dot), owner);
-      if (!prefixed || owner == keyOwner(method)) mine.push_back(&k);
+      const gi::SettingInfo* info = gi::findSetting(k.first);
+      if (!info) {
+        gi::Settings scratch;
+        applySetting(scratch, k.first + "=0", error);  // the sentence that lists the known keys
+        return false;
+      }
+      if (info->usedBy(method)) mine.push_back(&k);
     }
     // A swept "<method>.spp" replaces --spp for that method.
     bool sppSwept = false;
-    for (const auto* k : mine) sppSwept |= k->first == std::string(gi::methodName(keyOwner(method))) + ".spp";
+    for (const auto* k : mine) sppSwept |= k->first.ends_with(".spp");
     const std::vector<uint32_t> one = {0};
     // Cartesian product over the swept values (odometer order).
     std::vector<size_t> index(mine.size(), 0);

@@ -60,6 +60,8 @@ int main(int argc, char** argv) {
   if (args.has("help")) {
     std::printf("%s\nmodule settings for --set:\n", cli::usage("gi-render", kSynopsis, kOptions).c_str());
     for (const std::string& k : tools::settingKeys()) std::printf("  %s\n", k.c_str());
+    std::printf("debug views for --set view=N:\n");
+    for (const std::string& v : tools::debugViewLines()) std::printf("  %s\n", v.c_str());
     return 0;
   }
   if (!args.has("scene")) return usageError("--scene is required");
@@ -136,6 +138,8 @@ int main(int argc, char** argv) {
   std::map<std::string, double> passMs;  // summed over frames
   gi::FrameStats::Hash lastHash;        // module methods: the last frame's hash telemetry
   uint32_t tracedSpp = spp;              // module methods: what the last frame traced (AAF: its adaptive mean)
+  uint64_t memoryBytes = 0;              // module methods: device memory the module held after the last frame
+  uint32_t deviceAllocations = 0;
   if (method == "reference") {
     engine::ReferenceSettings settings;
     settings.maxBounces = bounces;
@@ -166,6 +170,7 @@ int main(int argc, char** argv) {
         if (engine::windowShouldClose(window)) break;
         if (!engine::beginWindowFrame(ctx, window, image)) continue;
         if (animate) {
+          engine::waitForSubmittedFrames(ctx, window);  // the scene's buffers are host-written
           engine::animateScene(animation, float(f) / 30.0f, scene);
           engine::recordSceneTransformUpdate(ctx, window.cmd, scene, sceneGpu);
         }
@@ -181,8 +186,11 @@ int main(int argc, char** argv) {
     }
     if (windowed) engine::destroyWindow(ctx, window);
     run.images = tools::readModuleImages(ctx, session);
-    tracedSpp = gi::stats(session.module).samplesPerPixel;
-    lastHash = gi::stats(session.module).hash;
+    const gi::FrameStats last = gi::stats(session.module);
+    tracedSpp = last.samplesPerPixel;
+    lastHash = last.hash;
+    memoryBytes = last.memoryBytes;
+    deviceAllocations = last.deviceAllocations;
     tools::destroyModuleSession(ctx, session);
   }
 
@@ -222,6 +230,10 @@ int main(int argc, char** argv) {
     j["triangles"] = scene.triangleCount();
     j["passes_ms"] = passMs;
     j["traced_spp_last_frame"] = tracedSpp;
+    if (method != "reference") {
+      j["module_memory_bytes"] = memoryBytes;  // device memory the module holds (FrameStats::memoryBytes)
+      j["module_device_allocations"] = deviceAllocations;
+    }
     if (lastHash.capacity)
       j["hash_last_frame"] = {{"capacity", lastHash.capacity},        {"occupied", lastHash.occupied},
                               {"inserts", lastHash.inserts},          {"failed_inserts", lastHash.failedInserts},

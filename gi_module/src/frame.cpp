@@ -68,7 +68,7 @@ void computeToComputeBarrier(const vk::Device& g, VkCommandBuffer cmd) {
 // One pass of the frame script: label and timestamps around a dispatch and
 // the barrier that publishes its writes to the next compute pass.
 template <typename Push>
-void runPass(Module& m, VkCommandBuffer cmd, uint32_t slot, const char* name, const vk::ComputeProgram& program,
+void runPass(Module& m, VkCommandBuffer cmd, uint32_t slot, Pass name, const vk::ComputeProgram& program,
              std::span<const VkDescriptorSet> sets, glm::uvec2 threads, const Push& push) {
   beginPass(m, cmd, slot, name);
   vk::dispatch(m.gpu, cmd, program, sets, threads, push);
@@ -76,18 +76,13 @@ void runPass(Module& m, VkCommandBuffer cmd, uint32_t slot, const char* name, co
   endPass(m, cmd, slot);
 }
 
-void runPass(Module& m, VkCommandBuffer cmd, uint32_t slot, const char* name, const vk::ComputeProgram& program,
+void runPass(Module& m, VkCommandBuffer cmd, uint32_t slot, Pass name, const vk::ComputeProgram& program,
              std::span<const VkDescriptorSet> sets, glm::uvec2 threads) {
   beginPass(m, cmd, slot, name);
   vk::dispatch(m.gpu, cmd, program, sets, threads, nullptr, 0);
   computeToComputeBarrier(m.gpu, cmd);
   endPass(m, cmd, slot);
 }
-
-// The passes whose work is tracing paths (their time is what FrameStats'
-// rays are traced in; the hash resolve's probe rays are a small part of it).
-constexpr std::string_view kTracingPasses[] = {"raw_trace",   "aaf_sample",   "aaf_adaptive",   "hpsf_insert",
-                                               "nhpsf_paths", "anhpsf_paths", "gif_supersample"};
 
 // Slot setup: the G-buffer into this slot's set (the frame that last read
 // the set has completed), the images' first layout, and the frame's start:
@@ -145,16 +140,16 @@ void recordHashPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const Frame
   recordHashGridFrameStart(m.gpu, cmd, m.hash, in.frameIndex);
   if (s.method == Method::Hpsf) {
     // Pass: paths from the G-buffer; their indirect radiance goes into the filter vertex's cell.
-    runPass(m, cmd, slot, "hpsf_insert", m.hash.insert, sets, size, push);
+    runPass(m, cmd, slot, Pass::HpsfInsert, m.hash.insert, sets, size, push);
   } else {
     // Pass: path segments from the G-buffer (nhpsf: pathDepth of them; anhpsf: the primary one and
     // one of each pixel's continued path); each diffuse vertex's cell gets what its segment brings.
-    runPass(m, cmd, slot, s.method == Method::Nhpsf ? "nhpsf_paths" : "anhpsf_paths", m.hash.paths, sets, size, push);
+    runPass(m, cmd, slot, s.method == Method::Nhpsf ? Pass::NhpsfPaths : Pass::AnhpsfPaths, m.hash.paths, sets, size, push);
   }
   // Pass: fold the frame's sums into each cell's history; evict stale cells.
-  runPass(m, cmd, slot, "hpsf_resolve", m.hash.resolve, sets, {m.hash.capacity, 1}, push);
+  runPass(m, cmd, slot, Pass::HpsfResolve, m.hash.resolve, sets, {m.hash.capacity, 1}, push);
   // Pass: each pixel reads its cell (or keeps its own sample).
-  runPass(m, cmd, slot, "hpsf_lookup", m.hash.lookup, sets, size, push);
+  runPass(m, cmd, slot, Pass::HpsfLookup, m.hash.lookup, sets, size, push);
   recordHashGridTelemetryCopy(m.gpu, cmd, m.hash, slot);
 }
 
@@ -163,7 +158,7 @@ void recordFilterPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const Fra
   ScreenFilters& f = m.sized.filters;
   VkDescriptorSet sets[] = {m.desc.scene.set, m.sized.frameSets[slot]};
   // Pass: the filters' guidance (normal, scaled depth) and world positions from the G-buffer.
-  runPass(m, cmd, slot, "guidance", m.guidancePass, sets, {m.width, m.height});
+  runPass(m, cmd, slot, Pass::Guidance, m.guidancePass, sets, {m.width, m.height});
   // Passes: the chosen filter, noisy indirect → indirect.
   PassHooks hooks = passHooks(m, slot);
   const vk::Device& g = m.gpu;
@@ -173,10 +168,10 @@ void recordFilterPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const Fra
   } else if (isAaf(s.method)) {
     float cosLimit = cosDegrees(s.aaf.normalLimitDegrees);
     const uint32_t maxRadius = s.aaf.maxRadius;
-    recordAafFilter(g, cmd, f, f.set[0], "diffuse", cosLimit, pixelScale(in.camera), maxRadius, hooks);
+    recordAafFilter(g, cmd, f, f.set[0], Pass::AafFilterDiffuseRows, Pass::AafFilterDiffuseColumns, cosLimit, pixelScale(in.camera), maxRadius, hooks);
     if (aafSpecular(m, s)) {  // glossy receivers: their specular terms, with the glossy β
-      recordAafFilter(g, cmd, f, f.aafGlossySets[0], "glossy", cosLimit, pixelScale(in.camera), maxRadius, hooks);
-      recordAafFilter(g, cmd, f, f.aafGlossySets[1], "glossy_edge", cosLimit, pixelScale(in.camera), maxRadius, hooks);
+      recordAafFilter(g, cmd, f, f.aafGlossySets[0], Pass::AafFilterGlossyRows, Pass::AafFilterGlossyColumns, cosLimit, pixelScale(in.camera), maxRadius, hooks);
+      recordAafFilter(g, cmd, f, f.aafGlossySets[1], Pass::AafFilterGlossyEdgeRows, Pass::AafFilterGlossyEdgeColumns, cosLimit, pixelScale(in.camera), maxRadius, hooks);
     }
   } else if (s.method == Method::Gif) {
     GuidedFilterParams gif{s.gif.radius, s.gif.epsilonNormal, s.gif.epsilonDepth, s.gif.guidanceDimensions,
@@ -193,19 +188,16 @@ void recordFilterPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const Fra
 
 }  // namespace
 
-bool tracesRays(std::string_view pass) {
-  return std::find(std::begin(kTracingPasses), std::end(kTracingPasses), pass) != std::end(kTracingPasses);
-}
-
 PassHooks passHooks(Module& m, uint32_t slot) {
-  return {[&m, slot](VkCommandBuffer cmd, const char* name) { beginPass(m, cmd, slot, name); },
+  return {[&m, slot](VkCommandBuffer cmd, Pass pass) { beginPass(m, cmd, slot, pass); },
           [&m, slot](VkCommandBuffer cmd) { endPass(m, cmd, slot); }};
 }
 
-void beginPass(Module& m, VkCommandBuffer cmd, uint32_t slot, const char* name) {
+void beginPass(Module& m, VkCommandBuffer cmd, uint32_t slot, Pass pass) {
   const vk::Device& g = m.gpu;
-  uint32_t index = uint32_t(m.slots[slot].passNames.size());
-  m.slots[slot].passNames.emplace_back(name);
+  const char* name = passInfo(pass).name;
+  uint32_t index = uint32_t(m.slots[slot].passes.size());
+  m.slots[slot].passes.push_back(pass);
   if (m.desc.debugLabels && g.fn.vkCmdBeginDebugUtilsLabelEXT) {
     VkDebugUtilsLabelEXT label{VK_STRUCTURE_TYPE_DEBUG_UTILS_LABEL_EXT};
     label.pLabelName = name;
@@ -222,7 +214,7 @@ void beginPass(Module& m, VkCommandBuffer cmd, uint32_t slot, const char* name) 
 
 void endPass(Module& m, VkCommandBuffer cmd, uint32_t slot) {
   const vk::Device& g = m.gpu;
-  uint32_t index = uint32_t(m.slots[slot].passNames.size()) - 1;
+  uint32_t index = uint32_t(m.slots[slot].passes.size()) - 1;
   if (m.timestamps && index < kMaxPasses)
     g.fn.vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, m.timestamps, (slot * kMaxPasses + index) * 2 + 1);
   if (m.desc.debugLabels && g.fn.vkCmdEndDebugUtilsLabelEXT) g.fn.vkCmdEndDebugUtilsLabelEXT(cmd);
@@ -240,7 +232,7 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
   // Budgets read the counters this slot holds (its last frame has completed) before they are overwritten.
   const uint32_t spp = isAaf(s.method) ? 0u : samplesWithinBudget(m, tracedSamplesPerPixel(s), slot);
   const uint32_t aafBudget = aafSampleBudget(m, slot);
-  frameSlot.passNames.clear();
+  frameSlot.passes.clear();
 
   gpu::GiFrameConstants frame{in.camera, in.previousCamera, {m.width, m.height}, in.frameIndex,
                               std::max(m.desc.scene.extent, 1e-6f)};
@@ -258,26 +250,26 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
     gpu::AafPush aaf{s.aaf.mu, s.aaf.alpha, m.desc.scene.extent, s.seed, s.method == Method::AafAo ? 1u : 0u,
                      aafBudget, s.maxBounces, s.russianRouletteStart, s.aaf.uniformSamples,
                      aafSpecular(m, s) ? 1u : 0u, 0, 0};
-    runPass(m, cmd, slot, "aaf_sample", m.aafSample, sets, size, aaf);
-    runPass(m, cmd, slot, "aaf_adaptive", m.aafAdaptive, sets, size, aaf);
+    runPass(m, cmd, slot, Pass::AafSample, m.aafSample, sets, size, aaf);
+    runPass(m, cmd, slot, Pass::AafAdaptive, m.aafAdaptive, sets, size, aaf);
   } else if (usesHashGrid(s.method)) {
     recordHashPasses(m, cmd, slot, in, spp);
   } else {
     // Pass: trace paths from the G-buffer (direct + demodulated indirect, optional temporal mean).
     gpu::GiRawPush raw{s.seed, spp, s.maxBounces, s.russianRouletteStart,
                        m.historyLength, s.raw.maxAccumulatedFrames, accumulate ? 1u : 0u, 0};
-    runPass(m, cmd, slot, "raw_trace", m.rawTrace, sets, size, raw);
+    runPass(m, cmd, slot, Pass::RawTrace, m.rawTrace, sets, size, raw);
   }
   if (usesScreenFilters(s.method)) recordFilterPasses(m, cmd, slot, in);
 
   // Pass: composite (or the chosen debug view).
   gpu::GiCompositePush composite{uint32_t(s.debugView), s.method == Method::AafAo ? 1u : 0u, m.desc.scene.extent,
                                  pixelScale(in.camera), aafSpecular(m, s) ? 1u : 0u, 0, 0, 0};
-  runPass(m, cmd, slot, "composite", m.composite, sets, size, composite);
+  runPass(m, cmd, slot, Pass::Composite, m.composite, sets, size, composite);
 
   if (s.method == Method::Gif && s.gif.supersamples > 0 && s.debugView == DebugView::None) {
     // Pass: extra eye rays with their own direct light and geometry-aware indirect lookup.
-    runPass(m, cmd, slot, "gif_supersample", m.supersample, sets, size, gpu::GiSupersamplePush{s.seed, s.gif.supersamples});
+    runPass(m, cmd, slot, Pass::GifSupersample, m.supersample, sets, size, gpu::GiSupersamplePush{s.seed, s.gif.supersamples});
   }
   vk::memoryBarrier(m.gpu, cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                     VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);

@@ -10,7 +10,7 @@ namespace gi {
 bool readFrameStats(Module& m, uint32_t slot, FrameStats& st) {
   const FrameSlot& fs = m.slots[slot];
   if (!fs.recorded) return false;
-  const uint32_t n = std::min(uint32_t(fs.passNames.size()), kMaxPasses);
+  const uint32_t n = std::min(uint32_t(fs.passes.size()), kMaxPasses);
   std::vector<uint64_t> ticks(2 * n);
   if (m.timestamps && n > 0) {
     // VK_NOT_READY while the frame is in flight (without timestamps the caller's fence is trusted).
@@ -20,11 +20,12 @@ bool readFrameStats(Module& m, uint32_t slot, FrameStats& st) {
   }
   st = FrameStats{};
   st.frameIndex = fs.frameIndex;
-  for (uint32_t i = 0; i < fs.passNames.size(); ++i) {
+  for (uint32_t i = 0; i < fs.passes.size(); ++i) {
     double ms = 0.0;
     if (m.timestamps && i < n)
       ms = double(ticks[2 * i + 1] - ticks[2 * i]) * m.gpu.properties.limits.timestampPeriod * 1e-6;
-    st.passes.push_back({fs.passNames[i], ms, tracesRays(fs.passNames[i])});
+    const PassInfo& info = passInfo(fs.passes[i]);
+    st.passes.push_back({info.name, ms, info.tracesRays});
     st.totalMs += ms;
   }
   gpu::GiCounters c;

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "gi/catalogue.h"
 #include "gi/gi.h"
 #include "gpu_device.h"
 #include "gpu_programs.h"
@@ -49,7 +50,7 @@ struct Retired {
 struct FrameSlot {
   uint32_t frameIndex = 0;
   bool recorded = false;
-  std::vector<std::string> passNames;
+  std::vector<Pass> passes;                        // recorded, in order (timestamps for the first kMaxPasses)
   uint32_t history = 0, spp = 0;
   Method method = Method::Raw;
 };
@@ -98,9 +99,8 @@ bool aafSpecular(const Module& m, const Settings& settings);
 
 // Pass helpers (frame.cpp).
 PassHooks passHooks(Module& m, uint32_t slot);
-void beginPass(Module& m, VkCommandBuffer cmd, uint32_t slot, const char* name);
+void beginPass(Module& m, VkCommandBuffer cmd, uint32_t slot, Pass pass);
 void endPass(Module& m, VkCommandBuffer cmd, uint32_t slot);
-bool tracesRays(std::string_view pass);
 
 // Frame stats (frame_stats.cpp).
 bool readFrameStats(Module& m, uint32_t slot, FrameStats& out);

@@ -24,7 +24,7 @@ void publish(const vk::Device& d, VkCommandBuffer cmd) {
 
 // One pass: hooks around a dispatch and the barrier that publishes it.
 template <typename Push>
-void passOn(const vk::Device& d, VkCommandBuffer cmd, VkDescriptorSet set, const PassHooks& hooks, const char* name,
+void passOn(const vk::Device& d, VkCommandBuffer cmd, VkDescriptorSet set, const PassHooks& hooks, Pass name,
             const vk::ComputeProgram& program, glm::uvec2 threads, const Push& push) {
   if (hooks.begin) hooks.begin(cmd, name);
   vk::dispatch(d, cmd, program, std::span(&set, 1), threads, push);
@@ -33,7 +33,7 @@ void passOn(const vk::Device& d, VkCommandBuffer cmd, VkDescriptorSet set, const
 }
 
 template <typename Push>
-void pass(const vk::Device& d, VkCommandBuffer cmd, const ScreenFilters& f, const PassHooks& hooks, const char* name,
+void pass(const vk::Device& d, VkCommandBuffer cmd, const ScreenFilters& f, const PassHooks& hooks, Pass name,
           const vk::ComputeProgram& program, glm::uvec2 threads, const Push& push) {
   passOn(d, cmd, f.set[0], hooks, name, program, threads, push);
 }
@@ -161,33 +161,32 @@ void recordGuidedFilter(const vk::Device& d, VkCommandBuffer cmd, ScreenFilters&
   const glm::uvec2 size{f.width, f.height};
   const gpu::GuidedMomentsPush dims{p.guidanceDimensions, p.writeCoefficientView ? 1u : 0u, 0, 0};
   // Window statistics: per-pixel products, then their box means (rows, then columns).
-  pass(d, cmd, f, hooks, "gif_moments", f.programs->moments, size, dims);
-  pass(d, cmd, f, hooks, "gif_box_rows", f.programs->box, {f.height, 1}, gpu::BoxPush{p.radius, 0, GIF_MOMENT_IMAGES, 0});
-  pass(d, cmd, f, hooks, "gif_box_columns", f.programs->box, {f.width, 1}, gpu::BoxPush{p.radius, 1, GIF_MOMENT_IMAGES, 0});
+  pass(d, cmd, f, hooks, Pass::GifMoments, f.programs->moments, size, dims);
+  pass(d, cmd, f, hooks, Pass::GifBoxRows, f.programs->box, {f.height, 1}, gpu::BoxPush{p.radius, 0, GIF_MOMENT_IMAGES, 0});
+  pass(d, cmd, f, hooks, Pass::GifBoxColumns, f.programs->box, {f.width, 1}, gpu::BoxPush{p.radius, 1, GIF_MOMENT_IMAGES, 0});
   // Per-window ridge regression, then the mean of the coefficients over the windows covering each pixel.
-  pass(d, cmd, f, hooks, "gif_coefficients", f.programs->coefficients, size, gpu::GuidedCoefficientsPush{p.epsilonNormal, p.epsilonDepth, 0, 0});
-  pass(d, cmd, f, hooks, "gif_box_rows", f.programs->box, {f.height, 1}, gpu::BoxPush{p.radius, 0, GIF_COEFF_IMAGES, 0});
-  pass(d, cmd, f, hooks, "gif_box_columns", f.programs->box, {f.width, 1}, gpu::BoxPush{p.radius, 1, GIF_COEFF_IMAGES, 0});
-  pass(d, cmd, f, hooks, "gif_output", f.programs->output, size, dims);
+  pass(d, cmd, f, hooks, Pass::GifCoefficients, f.programs->coefficients, size, gpu::GuidedCoefficientsPush{p.epsilonNormal, p.epsilonDepth, 0, 0});
+  pass(d, cmd, f, hooks, Pass::GifBoxRows, f.programs->box, {f.height, 1}, gpu::BoxPush{p.radius, 0, GIF_COEFF_IMAGES, 0});
+  pass(d, cmd, f, hooks, Pass::GifBoxColumns, f.programs->box, {f.width, 1}, gpu::BoxPush{p.radius, 1, GIF_COEFF_IMAGES, 0});
+  pass(d, cmd, f, hooks, Pass::GifOutput, f.programs->output, size, dims);
 }
 
-void recordAafFilter(const vk::Device& d, VkCommandBuffer cmd, const ScreenFilters& f, VkDescriptorSet targets,
-                     const char* term, float cosNormalLimit, float pixelScale, uint32_t maxRadius, const PassHooks& hooks) {
-  std::string name = std::string("aaf_filter_") + term;
-  passOn(d, cmd, targets, hooks, (name + "_rows").c_str(), f.programs->aaf, {f.width, f.height},
+void recordAafFilter(const vk::Device& d, VkCommandBuffer cmd, const ScreenFilters& f, VkDescriptorSet targets, Pass rows,
+                     Pass columns, float cosNormalLimit, float pixelScale, uint32_t maxRadius, const PassHooks& hooks) {
+  passOn(d, cmd, targets, hooks, rows, f.programs->aaf, {f.width, f.height},
          gpu::AafFilterPush{0, cosNormalLimit, pixelScale, maxRadius});
-  passOn(d, cmd, targets, hooks, (name + "_columns").c_str(), f.programs->aaf, {f.width, f.height},
+  passOn(d, cmd, targets, hooks, columns, f.programs->aaf, {f.width, f.height},
          gpu::AafFilterPush{1, cosNormalLimit, pixelScale, maxRadius});
 }
 
 void recordSspsf(const vk::Device& d, VkCommandBuffer cmd, ScreenFilters& f, const gpu::SspsfPush& params,
                  const PassHooks& hooks) {
-  pass(d, cmd, f, hooks, "sspsf", f.programs->sspsf, {f.width, f.height}, params);
+  pass(d, cmd, f, hooks, Pass::Sspsf, f.programs->sspsf, {f.width, f.height}, params);
 }
 
 void recordBilateral(const vk::Device& d, VkCommandBuffer cmd, ScreenFilters& f, const gpu::BilateralPush& params,
                      const PassHooks& hooks) {
-  pass(d, cmd, f, hooks, "bilateral", f.programs->bilateral, {f.width, f.height}, params);
+  pass(d, cmd, f, hooks, Pass::Bilateral, f.programs->bilateral, {f.width, f.height}, params);
 }
 
 void recordAtrous(const vk::Device& d, VkCommandBuffer cmd, ScreenFilters& f, uint32_t iterations, float sigmaColor,
@@ -197,7 +196,7 @@ void recordAtrous(const vk::Device& d, VkCommandBuffer cmd, ScreenFilters& f, ui
   for (uint32_t i = 0; i < iterations; ++i) {
     uint32_t destination = (iterations - 1 - i) % 2 == 0 ? 1u : 2u;
     gpu::AtrousPush push{i, source, destination, sigmaColor, sigmaNormal, sigmaPosition, 0, 0};
-    pass(d, cmd, f, hooks, "atrous", f.programs->atrous, {f.width, f.height}, push);
+    pass(d, cmd, f, hooks, Pass::Atrous, f.programs->atrous, {f.width, f.height}, push);
     source = destination;
   }
 }

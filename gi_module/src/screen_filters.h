@@ -4,6 +4,7 @@
 #pragma once
 #include <functional>
 
+#include "gi/catalogue.h"
 #include "gpu_programs.h"
 #include "gpu_resources.h"
 #include "shared/gi_filters.h"
@@ -16,7 +17,7 @@ struct FilterTargets {
 
 // Timestamp/label hooks around each pass; empty functions are allowed.
 struct PassHooks {
-  std::function<void(VkCommandBuffer, const char*)> begin;
+  std::function<void(VkCommandBuffer, Pass)> begin;
   std::function<void(VkCommandBuffer)> end;
 };
 
@@ -70,9 +71,10 @@ void recordSspsf(const vk::Device& device, VkCommandBuffer cmd, ScreenFilters& f
 // Axis-aligned filtering's separable Gaussian (β per pixel from the params
 // image's alpha; pixels with β = 0 neither filter nor contribute); uses temp.
 // `targets` is f.set or a set from createFilterSet.
-// `term` names the passes (aaf_filter_<term>_rows/_columns). `maxRadius`
-// cuts the Gaussian before 3σ (pixels; 0 = never).
-void recordAafFilter(const vk::Device& device, VkCommandBuffer cmd, const ScreenFilters& f, VkDescriptorSet targets, const char* term,
+// `rows` and `columns` name its two passes. `maxRadius` cuts the Gaussian
+// before 3σ (pixels; 0 = never).
+void recordAafFilter(const vk::Device& device, VkCommandBuffer cmd, const ScreenFilters& f, VkDescriptorSet targets,
+                     Pass rows, Pass columns,
                      float cosNormalLimit, float pixelScale, uint32_t maxRadius, const PassHooks& hooks);
 
 }  // namespace gi

@@ -32,6 +32,10 @@ constexpr SizedImage kSizedImages[] = {
 };
 // Beyond the image bits: which screen filters exist.
 constexpr uint32_t kNeedsFilters = 1u << 24, kNeedsGuidedStack = 1u << 25, kNeedsGlossySets = 1u << 26;
+// The hash methods' per-pixel sample goes straight into the indirect output,
+// which the lookup then overwrites pixel by pixel: set 1's noisy-indirect
+// binding names the indirect image, and no separate image is held.
+constexpr uint32_t kNoisyIsIndirect = 1u << 27;
 
 constexpr uint32_t bit(vk::Image SizedResources::*image) {
   for (uint32_t i = 0; i < std::size(kSizedImages); ++i)
@@ -68,13 +72,13 @@ const vk::Binding kFrameBindings[] = {
 std::span<const vk::Binding> frameBindings() { return kFrameBindings; }
 
 uint32_t sizedResourcesNeeded(const Module& m, const Settings& s) {
-  uint32_t need = bit(&SizedResources::direct) | bit(&SizedResources::indirect) | bit(&SizedResources::composite) |
-                  bit(&SizedResources::noisyIndirect);
+  uint32_t need = bit(&SizedResources::direct) | bit(&SizedResources::indirect) | bit(&SizedResources::composite);
+  if (usesHashGrid(s.method) && s.debugView != DebugView::FilterInOut) need |= kNoisyIsIndirect;
+  else need |= bit(&SizedResources::noisyIndirect);
   if (s.method == Method::Raw && s.raw.temporalAccumulation)
     need |= bit(&SizedResources::historyDirect) | bit(&SizedResources::historyIndirect);
   if (usesScreenFilters(s.method))
     need |= bit(&SizedResources::guidance) | bit(&SizedResources::position) | bit(&SizedResources::debug);
-  if (usesHashGrid(s.method)) need |= bit(&SizedResources::debug);  // the lookup leaves the hash views' data there
   if (isAaf(s.method)) need |= bit(&SizedResources::aafParams) | bit(&SizedResources::aafSum);
   if (aafSpecular(m, s)) need |= bit(&SizedResources::aafGlossy) | bit(&SizedResources::aafGlossyEdge);
   // Debug views read their source at full size whatever the method (zero where it does not write).
@@ -142,7 +146,10 @@ vk::Status createSizedResources(Module& m, const Settings& settings, uint32_t wi
                slot * m.frameConstantsStride, sizeof(gpu::GiFrameConstants));
       // The shaders' live counter is the first GiCounters; the others are per-slot copies for readback.
       w.buffer(gpu::GI_BINDING_COUNTERS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, m.counters.buffer, 0, sizeof(gpu::GiCounters));
-      for (const SizedImage& image : kSizedImages) w.storageImage(image.binding, (r.*image.image).view);
+      for (const SizedImage& image : kSizedImages) {
+        const bool alias = image.image == &SizedResources::noisyIndirect && (r.needs & kNoisyIsIndirect);
+        w.storageImage(image.binding, (alias ? r.indirect : r.*image.image).view);
+      }
       w.write(m.gpu);
     }
     return createFilters(m, r);
