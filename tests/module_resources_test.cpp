@@ -241,3 +241,40 @@ TEST_F(ModuleResourcesTest, ResizeWithinTheMaximumKeepsTheHashMap) {
   tools::destroyModuleSession(ctx, session);
   unload(s);
 }
+
+// Timestamps and labels are optional: without them the frame records no
+// query (FrameStats still names every pass, with 0 ms) and renders the same.
+TEST_F(ModuleResourcesTest, TimestampsOffRecordsNoQueriesAndTheSameImage) {
+  LoadedScene s;
+  load(sharedScene("cornell-simple/cornell_simple.gltf"), s);
+  const VkExtent2D size{32, 24};
+  gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], size.width, size.height, nullptr);
+  gi::Settings settings;
+  settings.method = gi::Method::Gif;
+  std::vector<float> images[2];
+  std::vector<std::string> names[2];
+  for (int timed = 0; timed < 2; ++timed) {
+    gi::ModuleDesc desc = tools::moduleDesc(ctx, s.gpu, size);
+    desc.timestamps = timed == 1;
+    desc.debugLabels = false;
+    tools::ModuleSession session;
+    ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, size, settings, session, &desc));
+    EXPECT_EQ(session.module->timestamps != VK_NULL_HANDLE, timed == 1);
+    tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, 0);
+    gi::FrameStats st = gi::stats(session.module);
+    for (const gi::PassTiming& p : st.passes) {
+      names[timed].push_back(p.name);
+      if (!timed) {
+        EXPECT_EQ(p.ms, 0.0) << p.name;
+      }
+    }
+    if (timed) {
+      EXPECT_GT(st.totalMs, 0.0);
+    }
+    images[timed] = tools::readModuleImages(ctx, session).final.pixels;
+    tools::destroyModuleSession(ctx, session);
+  }
+  EXPECT_EQ(names[0], names[1]);
+  EXPECT_EQ(images[0], images[1]) << "the same seed and inputs give the same image with and without timing";
+  unload(s);
+}
