@@ -295,6 +295,10 @@ bool createContext(const ContextDesc& desc, Context& ctx, std::string& error) {
   }
   volkLoadDevice(ctx.device);
   vkGetDeviceQueue(ctx.device, ctx.queueFamily, 0, &ctx.queue);
+  if (gi::vk::Status s = gi::vk::openDevice(vkGetInstanceProcAddr, ctx.instance, ctx.physicalDevice, ctx.device, ctx.vk)) {
+    error = std::string("the Vulkan loader returned no ") + s.call + " for '" + ctx.properties.deviceName + "'";
+    return false;
+  }
 
   if (ctx.rayQuery) {
     ctx.accelerationProperties.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_PROPERTIES_KHR;

@@ -5,6 +5,8 @@
 #pragma once
 #include "vk.h"
 
+#include "gi/vk/device.h"
+
 #include <atomic>
 #include <memory>
 #include <string>
@@ -45,6 +47,7 @@ struct Context {
   VkPhysicalDeviceProperties properties{};
   VkPhysicalDeviceMemoryProperties memoryProperties{};
   VkPhysicalDeviceAccelerationStructurePropertiesKHR accelerationProperties{};
+  gi::vk::Device vk;                               // the device through the GI module's Vulkan layer (its passes use it)
   std::unique_ptr<ValidationCounter> validation;  // null when validation is off
   bool debugUtils = false;                         // debug labels available
   bool rayQuery = false;                           // ray-query and acceleration-structure extensions enabled

@@ -43,7 +43,7 @@ GBufferPass createGBufferPass(const Context& ctx, const SceneGpu& scene) {
   p.cameraSet = createDescriptorSet(ctx, cameraBinding);
   p.cameraBuffer = createBuffer(ctx, sizeof(gpu::GpuCamera),
                                 VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryKind::DeviceLocal);
-  DescriptorWriter(p.cameraSet.set).buffer(gpu::GBUFFER_BINDING_CAMERA, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, p.cameraBuffer.buffer).write(ctx);
+  DescriptorWriter(p.cameraSet.set).buffer(gpu::GBUFFER_BINDING_CAMERA, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, p.cameraBuffer.buffer).write(ctx.vk);
 
   VkDescriptorSetLayout sets[] = {scene.set.layout, p.cameraSet.layout};
   VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(gpu::GBufferPush)};

@@ -39,7 +39,7 @@ PathTracer createPathTracer(const Context& ctx, const SceneGpu& scene, VkExtent2
       .storageImage(gpu::PT_BINDING_ALBEDO_DEPTH, pt.accum[3].view)
       .storageImage(gpu::PT_BINDING_NORMAL, pt.accum[4].view)
       .buffer(gpu::PT_BINDING_RAY_COUNTER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, pt.rayCounter.buffer)
-      .write(ctx);
+      .write(ctx.vk);
   VkDescriptorSetLayout layouts[] = {scene.set.layout, pt.set.layout};
   pt.program = createComputeProgram(ctx, GI_SCENE_SPIRV(ctx.traversalId(), path_trace_comp), layouts, sizeof(gpu::PathTracerPush),
                                     {PT_GROUP_SIZE, PT_GROUP_SIZE}, scene.specialization());
@@ -71,7 +71,7 @@ void recordPathTrace(const Context& ctx, VkCommandBuffer cmd, PathTracer& pt, co
   memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
   VkDescriptorSet sets[] = {scene.set.set, pt.set.set};
-  dispatch(cmd, pt.program, sets, {pt.extent.width, pt.extent.height}, push);
+  dispatch(ctx, cmd, pt.program, sets, {pt.extent.width, pt.extent.height}, push);
   if (timer) endPass(ctx, cmd, *timer);
   pt.samples = firstSample + samples;
 }

@@ -25,7 +25,7 @@ RayBenchResult runRayBench(const Context& ctx, const SceneGpu& scene, const gpu:
       .buffer(gpu::RB_BINDING_CAMERA, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, cameraBuffer.buffer)
       .buffer(gpu::RB_BINDING_OUTPUT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, output.buffer)
       .buffer(gpu::RB_BINDING_COUNTER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, counter.buffer)
-      .write(ctx);
+      .write(ctx.vk);
   VkDescriptorSetLayout layouts[] = {scene.set.layout, set.layout};
   ComputeProgram program = createComputeProgram(ctx, GI_SCENE_SPIRV(traversal, ray_bench_comp), layouts, sizeof(gpu::RayBenchPush),
                                                 {RB_GROUP_SIZE, RB_GROUP_SIZE}, scene.specialization());
@@ -37,7 +37,7 @@ RayBenchResult runRayBench(const Context& ctx, const SceneGpu& scene, const gpu:
     resetGpuTimer(ctx, timer);
     submitAndWait(ctx, [&](VkCommandBuffer cmd) {
       beginPass(ctx, cmd, timer, "ray_bench");
-      dispatch(cmd, program, sets, {w, h}, gpu::RayBenchPush{round, pathsPerPixel, kind, 0});
+      dispatch(ctx, cmd, program, sets, {w, h}, gpu::RayBenchPush{round, pathsPerPixel, kind, 0});
       memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                     VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
       endPass(ctx, cmd, timer);

@@ -201,7 +201,7 @@ void writeBvhDescriptors(const Context& ctx, const SceneGpu& gpu) {
       .uniformTexelBuffer(gpu::SCENE_BINDING_BVH_TRIANGLES, gpu.bvhTrianglesView)
       .uniformTexelBuffer(gpu::SCENE_BINDING_BVH_TOP_NODES, gpu.bvhTopNodesView)
       .uniformTexelBuffer(gpu::SCENE_BINDING_BVH_INSTANCES, gpu.bvhInstancesView);
-  w.write(ctx);
+  w.write(ctx.vk);
 }
 
 }  // namespace
@@ -318,7 +318,7 @@ void createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu) {
       .buffer(gpu::SCENE_BINDING_CONSTANTS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, gpu.constants.buffer);
   for (uint32_t t = 0; t < gpu.textures.size(); ++t)
     w.sampledImage(gpu::SCENE_BINDING_TEXTURES, gpu.textures[t].view, gpu.sampler, t);
-  w.write(ctx);
+  w.write(ctx.vk);
 }
 
 void recordSceneTransformUpdate(const Context& ctx, VkCommandBuffer cmd, const Scene& scene, SceneGpu& gpu) {

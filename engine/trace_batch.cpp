@@ -23,13 +23,13 @@ std::vector<gpu::TraceBatchResult> traceBatch(const Context& ctx, const SceneGpu
   DescriptorWriter(set.set)
       .buffer(gpu::TB_BINDING_RAYS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, input.buffer)
       .buffer(gpu::TB_BINDING_RESULTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, output.buffer)
-      .write(ctx);
+      .write(ctx.vk);
   VkDescriptorSetLayout layouts[] = {scene.set.layout, set.layout};
   ComputeProgram program = createComputeProgram(ctx, GI_SCENE_SPIRV(traversal, trace_batch_comp), layouts,
                                                 sizeof(gpu::TraceBatchPush), {TB_GROUP_SIZE, 1}, scene.specialization());
   VkDescriptorSet sets[] = {scene.set.set, set.set};
   submitAndWait(ctx, [&](VkCommandBuffer cmd) {
-    dispatch(cmd, program, sets, {uint32_t(rays.size()), 1}, gpu::TraceBatchPush{uint32_t(rays.size()), 0, 0, 0});
+    dispatch(ctx, cmd, program, sets, {uint32_t(rays.size()), 1}, gpu::TraceBatchPush{uint32_t(rays.size()), 0, 0, 0});
     memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                   VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
   });

@@ -24,7 +24,7 @@ DisplayPass createDisplayPass(const engine::Context& ctx, VkExtent2D extent, VkI
   engine::DescriptorWriter(d.set.set)
       .storageImage(gpu::DISPLAY_BINDING_SOURCE, source)
       .storageImage(gpu::DISPLAY_BINDING_TARGET, d.image.view)
-      .write(ctx);
+      .write(ctx.vk);
   VkDescriptorSetLayout layouts[] = {d.set.layout};
   d.program = engine::createComputeProgram(ctx, spv_display_comp, layouts, sizeof(gpu::DisplayPush),
                                            {DISPLAY_GROUP_SIZE, DISPLAY_GROUP_SIZE});
@@ -38,12 +38,12 @@ void destroyDisplayPass(const engine::Context& ctx, DisplayPass& d) {
   d = DisplayPass{};
 }
 
-void recordDisplay(VkCommandBuffer cmd, const DisplayPass& d, float exposure) {
+void recordDisplay(const engine::Context& ctx, VkCommandBuffer cmd, const DisplayPass& d, float exposure) {
   engine::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_TRANSFER_BIT,
                         VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_TRANSFER_READ_BIT,
                         VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                         VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-  engine::dispatch(cmd, d.program, std::span(&d.set.set, 1), {d.extent.width, d.extent.height},
+  engine::dispatch(ctx, cmd, d.program, std::span(&d.set.set, 1), {d.extent.width, d.extent.height},
                    gpu::DisplayPush{exposure, 0, 0, 0});
 }
 

@@ -325,7 +325,7 @@ int main(int argc, char** argv) {
         if (ui.tellModuleLightsMoved) gi::invalidate(session.module, gi::Invalidate::LightsChanged);
       }
       tools::recordModuleFrame(ctx, cmd, session, scene, sceneGpu, camera, frame > 0 ? previousCamera : camera, frame);
-      demo::recordDisplay(cmd, display, ui.exposure);
+      demo::recordDisplay(ctx, cmd, display, ui.exposure);
       demo::recordOverlay(ctx, cmd, overlay, frame, *ImGui::GetDrawData(), display.image.image, display.image.view,
                           displaySize);
     };

@@ -63,7 +63,7 @@ OverlayRenderer createOverlayRenderer(const engine::Context& ctx, VkFormat targe
   VK_CHECK(vkCreateSampler(ctx.device, &s, nullptr, &r.sampler));
   const engine::Binding bindings[] = {{gpu::OVERLAY_BINDING_FONT, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER}};
   r.set = engine::createDescriptorSet(ctx, bindings);
-  engine::DescriptorWriter(r.set.set).sampledImage(gpu::OVERLAY_BINDING_FONT, r.font.view, r.sampler).write(ctx);
+  engine::DescriptorWriter(r.set.set).sampledImage(gpu::OVERLAY_BINDING_FONT, r.font.view, r.sampler).write(ctx.vk);
 
   VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(gpu::OverlayPush)};
   VkPipelineLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};

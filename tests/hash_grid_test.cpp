@@ -46,7 +46,7 @@ class HashGridTest : public GpuTest {
     uint32_t threads = push.mode == kTidy ? push.capacity : push.keyCount * (push.mode == kInsert ? push.repeats : 1u);
     engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
       gi::recordHashGridFrameStart(dev, cmd, grid, 0);
-      engine::dispatch(cmd, stress, sets, {threads, 1}, push);
+      engine::dispatch(ctx, cmd, stress, sets, {threads, 1}, push);
       gi::recordHashGridTelemetryCopy(dev, cmd, grid, 0);
     });
   }

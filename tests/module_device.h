@@ -2,7 +2,7 @@
 // context's device), for tests that drive the module's passes directly.
 #pragma once
 #include "context.h"
-#include "gpu_device.h"
+#include "gi/vk/device.h"
 
 inline gi::vk::Device openModuleDevice(const engine::Context& ctx) {
   gi::vk::Device device;

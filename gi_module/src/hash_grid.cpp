@@ -70,10 +70,10 @@ vk::Status ensureHashGridPrograms(const vk::Device& d, HashGrid& g, const VkDesc
     if (p.pipeline) return {};
     return vk::createComputeProgram(d, spirv, all, sizeof(gpu::HgPush), group, spec, p);
   };
-  if (mode == gpu::HG_MODE_HPSF) GI_TRY(make(g.insert, GI_MODULE_SPIRV(traversal, hpsf_insert_comp), tile));
-  else GI_TRY(make(g.paths, GI_MODULE_SPIRV(traversal, nhpsf_paths_comp), tile));
-  GI_TRY(make(g.resolve, GI_MODULE_SPIRV(traversal, hpsf_resolve_comp), {64, 1}));
-  GI_TRY(make(g.lookup, GI_MODULE_SPIRV(traversal, hpsf_lookup_comp), tile));
+  if (mode == gpu::HG_MODE_HPSF) GI_TRY(make(g.insert, GI_SCENE_SPIRV(traversal, hpsf_insert_comp), tile));
+  else GI_TRY(make(g.paths, GI_SCENE_SPIRV(traversal, nhpsf_paths_comp), tile));
+  GI_TRY(make(g.resolve, GI_SCENE_SPIRV(traversal, hpsf_resolve_comp), {64, 1}));
+  GI_TRY(make(g.lookup, GI_SCENE_SPIRV(traversal, hpsf_lookup_comp), tile));
   return {};
 }
 

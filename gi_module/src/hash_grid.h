@@ -4,8 +4,8 @@
 #pragma once
 #include <functional>
 
-#include "gpu_programs.h"
-#include "gpu_resources.h"
+#include "gi/vk/programs.h"
+#include "gi/vk/resources.h"
 #include "shared/hash_grid.h"
 
 namespace gi {

@@ -134,18 +134,18 @@ vk::Status ensurePrograms(Module& m, const Settings& s) {
     if (p.pipeline) return {};
     return vk::createComputeProgram(m.gpu, spirv, layouts, push, tile, spec, p);
   };
-  GI_TRY(make(m.composite, GI_MODULE_SPIRV(traversal, gi_composite_comp), sizeof(gpu::GiCompositePush)));
+  GI_TRY(make(m.composite, GI_SCENE_SPIRV(traversal, gi_composite_comp), sizeof(gpu::GiCompositePush)));
   bool pathsFromGBuffer = !usesHashGrid(s.method) && !isAaf(s.method);
-  if (pathsFromGBuffer) GI_TRY(make(m.rawTrace, GI_MODULE_SPIRV(traversal, gi_raw_trace_comp), sizeof(gpu::GiRawPush)));
+  if (pathsFromGBuffer) GI_TRY(make(m.rawTrace, GI_SCENE_SPIRV(traversal, gi_raw_trace_comp), sizeof(gpu::GiRawPush)));
   if (usesScreenFilters(s.method)) {
-    GI_TRY(make(m.guidancePass, GI_MODULE_SPIRV(traversal, gi_guidance_comp), 0));
+    GI_TRY(make(m.guidancePass, GI_SCENE_SPIRV(traversal, gi_guidance_comp), 0));
     if (!m.filterPrograms.layout) GI_TRY(createFilterPrograms(m.gpu, m.filterPrograms));
   }
   if (s.method == Method::Gif && s.gif.supersamples > 0)
-    GI_TRY(make(m.supersample, GI_MODULE_SPIRV(traversal, gi_supersample_comp), sizeof(gpu::GiSupersamplePush)));
+    GI_TRY(make(m.supersample, GI_SCENE_SPIRV(traversal, gi_supersample_comp), sizeof(gpu::GiSupersamplePush)));
   if (isAaf(s.method)) {
-    GI_TRY(make(m.aafSample, GI_MODULE_SPIRV(traversal, aaf_sample_comp), sizeof(gpu::AafPush)));
-    GI_TRY(make(m.aafAdaptive, GI_MODULE_SPIRV(traversal, aaf_adaptive_comp), sizeof(gpu::AafPush)));
+    GI_TRY(make(m.aafSample, GI_SCENE_SPIRV(traversal, aaf_sample_comp), sizeof(gpu::AafPush)));
+    GI_TRY(make(m.aafAdaptive, GI_SCENE_SPIRV(traversal, aaf_adaptive_comp), sizeof(gpu::AafPush)));
   }
   return {};
 }

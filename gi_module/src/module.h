@@ -7,9 +7,9 @@
 
 #include "gi/catalogue.h"
 #include "gi/gi.h"
-#include "gpu_device.h"
-#include "gpu_programs.h"
-#include "gpu_resources.h"
+#include "gi/vk/device.h"
+#include "gi/vk/programs.h"
+#include "gi/vk/resources.h"
 #include "hash_grid.h"
 #include "screen_filters.h"
 #include "shared/gi_frame.h"

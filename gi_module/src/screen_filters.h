@@ -5,8 +5,8 @@
 #include <functional>
 
 #include "gi/catalogue.h"
-#include "gpu_programs.h"
-#include "gpu_resources.h"
+#include "gi/vk/programs.h"
+#include "gi/vk/resources.h"
 #include "shared/gi_filters.h"
 
 namespace gi {

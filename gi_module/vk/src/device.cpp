@@ -1,4 +1,4 @@
-#include "gpu_device.h"
+#include "gi/vk/device.h"
 
 namespace gi::vk {
 

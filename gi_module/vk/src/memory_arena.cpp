@@ -1,8 +1,8 @@
-#include "memory_arena.h"
+#include "gi/vk/memory_arena.h"
 
 #include <algorithm>
 
-#include "gpu_device.h"
+#include "gi/vk/device.h"
 
 namespace gi::vk {
 namespace {

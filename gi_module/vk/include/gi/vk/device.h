@@ -2,9 +2,9 @@
 // function table (vulkan_functions.h), the engine's host allocation callbacks
 // and pipeline cache, and the module's device-memory arena.
 #pragma once
-#include "memory_arena.h"
-#include "vk_status.h"
-#include "vulkan_functions.h"
+#include "gi/vk/memory_arena.h"
+#include "gi/vk/status.h"
+#include "gi/vk/functions.h"
 
 namespace gi::vk {
 

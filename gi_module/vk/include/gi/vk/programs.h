@@ -1,12 +1,13 @@
 // Compute programs (pipeline + layout from embedded SPIR-V) and descriptor
 // sets: a layout from a binding list, pools of sets of it, a batching writer.
+// The module's own; the sample engine builds its passes on the same pieces.
 #pragma once
 #include <deque>
 #include <glm/glm.hpp>
 #include <span>
 #include <vector>
 
-#include "gpu_device.h"
+#include "gi/vk/device.h"
 #include "shared/gpu_scene.h"
 
 namespace gi::vk {
@@ -42,12 +43,13 @@ inline std::span<const uint32_t> traversalVariant(uint32_t traversal, std::span<
                                                   std::span<const uint32_t> compute) {
   return traversal == gpu::TRAVERSAL_COMPUTE ? compute : rayQuery;
 }
-#define GI_MODULE_SPIRV(traversal, stage) ::gi::vk::traversalVariant(traversal, spv_##stage, spv_##stage##_compute)
+#define GI_SCENE_SPIRV(traversal, stage) ::gi::vk::traversalVariant(traversal, spv_##stage, spv_##stage##_compute)
 
 struct Binding {
   uint32_t binding;
   VkDescriptorType type;
-  uint32_t count = 1;
+  uint32_t count = 1;           // upper bound when variableCount
+  bool variableCount = false;   // last binding only: a runtime-sized, partially bound array
 };
 
 // `count` sets of one layout, from a pool of their own.
@@ -59,9 +61,10 @@ struct DescriptorSets {
   VkDescriptorSet operator[](size_t i) const { return sets[i]; }
 };
 Status createDescriptorLayout(const Device& device, std::span<const Binding> bindings, VkDescriptorSetLayout& out);
-// With `layout` given (made from the same bindings) the sets use it and do not own it.
+// With `layout` given (made from the same bindings) the sets use it and do
+// not own it. `variableCount`: the size of the variable-count binding, if any.
 Status createDescriptorSets(const Device& device, std::span<const Binding> bindings, uint32_t count, DescriptorSets& out,
-                            VkDescriptorSetLayout layout = VK_NULL_HANDLE);
+                            VkDescriptorSetLayout layout = VK_NULL_HANDLE, uint32_t variableCount = 0);
 void destroyDescriptorSets(const Device& device, DescriptorSets& sets);
 
 class DescriptorWriter {
@@ -70,13 +73,19 @@ class DescriptorWriter {
   DescriptorWriter& buffer(uint32_t binding, VkDescriptorType type, VkBuffer buffer, VkDeviceSize offset = 0,
                            VkDeviceSize range = VK_WHOLE_SIZE);
   DescriptorWriter& storageImage(uint32_t binding, VkImageView view, uint32_t arrayElement = 0);
+  DescriptorWriter& sampledImage(uint32_t binding, VkImageView view, VkSampler sampler, uint32_t arrayElement = 0);
+  DescriptorWriter& accelerationStructure(uint32_t binding, const VkAccelerationStructureKHR* structure);
+  DescriptorWriter& uniformTexelBuffer(uint32_t binding, VkBufferView view);
   void write(const Device& device);
 
  private:
+  VkWriteDescriptorSet& add(uint32_t binding, VkDescriptorType type, uint32_t arrayElement = 0);
   VkDescriptorSet set_;
   std::vector<VkWriteDescriptorSet> writes_;
   std::deque<VkDescriptorBufferInfo> buffers_;  // deques keep element addresses stable
   std::deque<VkDescriptorImageInfo> images_;
+  std::deque<VkWriteDescriptorSetAccelerationStructureKHR> structures_;
+  std::deque<VkBufferView> texelViews_;
 };
 
 }  // namespace gi::vk

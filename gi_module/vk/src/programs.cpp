@@ -1,4 +1,4 @@
-#include "gpu_programs.h"
+#include "gi/vk/programs.h"
 
 namespace gi::vk {
 
@@ -64,9 +64,18 @@ void dispatch(const Device& d, VkCommandBuffer cmd, const ComputeProgram& progra
 
 Status createDescriptorLayout(const Device& d, std::span<const Binding> bindings, VkDescriptorSetLayout& out) {
   std::vector<VkDescriptorSetLayoutBinding> layoutBindings;
-  for (const Binding& b : bindings)
-    layoutBindings.push_back({b.binding, b.type, b.count, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
+  std::vector<VkDescriptorBindingFlags> flags;
+  for (const Binding& b : bindings) {
+    layoutBindings.push_back({b.binding, b.type, b.count, VK_SHADER_STAGE_ALL, nullptr});
+    flags.push_back(b.variableCount ? VK_DESCRIPTOR_BINDING_VARIABLE_DESCRIPTOR_COUNT_BIT |
+                                          VK_DESCRIPTOR_BINDING_PARTIALLY_BOUND_BIT
+                                    : 0);
+  }
+  VkDescriptorSetLayoutBindingFlagsCreateInfo flagInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_BINDING_FLAGS_CREATE_INFO};
+  flagInfo.bindingCount = uint32_t(flags.size());
+  flagInfo.pBindingFlags = flags.data();
   VkDescriptorSetLayoutCreateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+  info.pNext = &flagInfo;
   info.bindingCount = uint32_t(layoutBindings.size());
   info.pBindings = layoutBindings.data();
   GI_VK(d.fn.vkCreateDescriptorSetLayout(d.device, &info, d.allocator, &out));
@@ -74,7 +83,7 @@ Status createDescriptorLayout(const Device& d, std::span<const Binding> bindings
 }
 
 Status createDescriptorSets(const Device& d, std::span<const Binding> bindings, uint32_t count, DescriptorSets& out,
-                            VkDescriptorSetLayout layout) {
+                            VkDescriptorSetLayout layout, uint32_t variableCount) {
   DescriptorSets s;
   auto build = [&]() -> Status {
     if (layout) {
@@ -84,15 +93,26 @@ Status createDescriptorSets(const Device& d, std::span<const Binding> bindings, 
       s.ownsLayout = true;
     }
     std::vector<VkDescriptorPoolSize> sizes;
-    for (const Binding& b : bindings) sizes.push_back({b.type, b.count * count});
+    bool variable = false;
+    for (const Binding& b : bindings) {
+      const uint32_t n = b.variableCount ? variableCount : b.count;
+      variable |= b.variableCount;
+      if (n > 0) sizes.push_back({b.type, n * count});
+    }
     VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     poolInfo.maxSets = count;
     poolInfo.poolSizeCount = uint32_t(sizes.size());
     poolInfo.pPoolSizes = sizes.data();
     GI_VK(d.fn.vkCreateDescriptorPool(d.device, &poolInfo, d.allocator, &s.pool));
     std::vector<VkDescriptorSetLayout> layouts(count, s.layout);
+    std::vector<uint32_t> counts(count, variableCount);
     s.sets.resize(count);
+    VkDescriptorSetVariableDescriptorCountAllocateInfo variableInfo{
+        VK_STRUCTURE_TYPE_DESCRIPTOR_SET_VARIABLE_DESCRIPTOR_COUNT_ALLOCATE_INFO};
+    variableInfo.descriptorSetCount = count;
+    variableInfo.pDescriptorCounts = counts.data();
     VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+    alloc.pNext = variable ? &variableInfo : nullptr;
     alloc.descriptorPool = s.pool;
     alloc.descriptorSetCount = count;
     alloc.pSetLayouts = layouts.data();
@@ -113,29 +133,49 @@ void destroyDescriptorSets(const Device& d, DescriptorSets& s) {
   s = DescriptorSets{};
 }
 
-DescriptorWriter& DescriptorWriter::buffer(uint32_t binding, VkDescriptorType type, VkBuffer buffer, VkDeviceSize offset,
-                                           VkDeviceSize range) {
-  buffers_.push_back({buffer, offset, range});
-  VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-  w.dstSet = set_;
-  w.dstBinding = binding;
-  w.descriptorCount = 1;
-  w.descriptorType = type;
-  w.pBufferInfo = &buffers_.back();
-  writes_.push_back(w);
-  return *this;
-}
-
-DescriptorWriter& DescriptorWriter::storageImage(uint32_t binding, VkImageView view, uint32_t arrayElement) {
-  images_.push_back({VK_NULL_HANDLE, view, VK_IMAGE_LAYOUT_GENERAL});
+VkWriteDescriptorSet& DescriptorWriter::add(uint32_t binding, VkDescriptorType type, uint32_t arrayElement) {
   VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
   w.dstSet = set_;
   w.dstBinding = binding;
   w.dstArrayElement = arrayElement;
   w.descriptorCount = 1;
-  w.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
-  w.pImageInfo = &images_.back();
+  w.descriptorType = type;
   writes_.push_back(w);
+  return writes_.back();
+}
+
+DescriptorWriter& DescriptorWriter::buffer(uint32_t binding, VkDescriptorType type, VkBuffer buffer, VkDeviceSize offset,
+                                           VkDeviceSize range) {
+  buffers_.push_back({buffer, offset, range});
+  add(binding, type).pBufferInfo = &buffers_.back();
+  return *this;
+}
+
+DescriptorWriter& DescriptorWriter::storageImage(uint32_t binding, VkImageView view, uint32_t arrayElement) {
+  images_.push_back({VK_NULL_HANDLE, view, VK_IMAGE_LAYOUT_GENERAL});
+  add(binding, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, arrayElement).pImageInfo = &images_.back();
+  return *this;
+}
+
+DescriptorWriter& DescriptorWriter::sampledImage(uint32_t binding, VkImageView view, VkSampler sampler,
+                                                 uint32_t arrayElement) {
+  images_.push_back({sampler, view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL});
+  add(binding, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, arrayElement).pImageInfo = &images_.back();
+  return *this;
+}
+
+DescriptorWriter& DescriptorWriter::accelerationStructure(uint32_t binding, const VkAccelerationStructureKHR* structure) {
+  VkWriteDescriptorSetAccelerationStructureKHR a{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET_ACCELERATION_STRUCTURE_KHR};
+  a.accelerationStructureCount = 1;
+  a.pAccelerationStructures = structure;
+  structures_.push_back(a);
+  add(binding, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR).pNext = &structures_.back();
+  return *this;
+}
+
+DescriptorWriter& DescriptorWriter::uniformTexelBuffer(uint32_t binding, VkBufferView view) {
+  texelViews_.push_back(view);
+  add(binding, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER).pTexelBufferView = &texelViews_.back();
   return *this;
 }
 

@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "vk_status.h"
+#include "gi/vk/status.h"
 
 namespace gi::vk {
 

@@ -1,4 +1,4 @@
-#include "gpu_resources.h"
+#include "gi/vk/resources.h"
 
 namespace gi::vk {
 

@@ -2,7 +2,7 @@
 // two barriers its passes use. Create functions leave the output empty when
 // they fail; destroy functions accept empty resources.
 #pragma once
-#include "gpu_device.h"
+#include "gi/vk/device.h"
 
 namespace gi::vk {
 

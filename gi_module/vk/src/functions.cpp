@@ -1,4 +1,4 @@
-#include "vulkan_functions.h"
+#include "gi/vk/functions.h"
 
 namespace gi::vk {
 
