@@ -194,7 +194,11 @@ TEST_F(ModuleResourcesTest, OnlyTheActiveMethodsMemoryIsHeld) {
   EXPECT_LT(rawBytes, 5 * image) << rawBytes << " bytes";
   gi::Settings gif = raw;
   gif.method = gi::Method::Gif;
+  const gi::Outputs before = gi::outputs(session.module);
   ASSERT_FALSE(gi::setSettings(session.module, gif));
+  const gi::Outputs after = gi::outputs(session.module);
+  EXPECT_EQ(before.composite, after.composite) << "a new method keeps the output images (only resize replaces them)";
+  EXPECT_EQ(before.indirectView, after.indirectView);
   tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, 1);
   const uint64_t gifBytes = gi::stats(session.module).memoryUsedBytes;
   EXPECT_GE(gifBytes, rawBytes + (2 * FILTER_STACK + 3) * image) << "gif's statistics images, guidance, position and temp";
@@ -230,8 +234,10 @@ TEST_F(ModuleResourcesTest, ResizeWithinTheMaximumKeepsTheHashMap) {
   const uint32_t occupied = gi::stats(session.module).hash.occupied;
   ASSERT_GT(occupied, 0u);
   std::string error;
+  const VkImage composite = gi::outputs(session.module).composite;
   ASSERT_TRUE(tools::resizeModuleSession(ctx, session, {64, 48}, error)) << error;
   EXPECT_EQ(session.module->hash.cells.buffer, cells) << "a size within the maximum keeps the map";
+  EXPECT_NE(gi::outputs(session.module).composite, composite) << "outputs of the new size";
   frames(4, 1);
   EXPECT_GE(gi::stats(session.module).hash.occupied, occupied) << "the cells survived the resize";
   ASSERT_TRUE(tools::resizeModuleSession(ctx, session, {80, 48}, error)) << error;

@@ -107,9 +107,17 @@ void beginFrame(Module& m, VkCommandBuffer cmd, uint32_t slot, const FrameInputs
                     VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_TRANSFER_BIT,
                     VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT |
                         VK_ACCESS_2_TRANSFER_READ_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT);
+  OutputImages& o = m.outputs;
+  if (!o.initialised) {
+    for (vk::Image* img : {&o.direct, &o.indirect, &o.composite})
+      vk::imageBarrier(g, cmd, img->image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, 0,
+                       VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                       VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+    o.initialised = true;
+  }
   if (!r.initialised) {
-    for (vk::Image* img : {&r.direct, &r.indirect, &r.composite, &r.historyDirect, &r.historyIndirect, &r.noisyIndirect,
-                           &r.guidance, &r.position, &r.debug, &r.aafParams, &r.aafSum, &r.aafGlossy, &r.aafGlossyEdge})
+    for (vk::Image* img : {&r.historyDirect, &r.historyIndirect, &r.noisyIndirect, &r.guidance, &r.position, &r.debug,
+                           &r.aafParams, &r.aafSum, &r.aafGlossy, &r.aafGlossyEdge})
       vk::imageBarrier(g, cmd, img->image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, 0,
                        VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                        VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);

@@ -178,7 +178,8 @@ vk::Status createModuleResources(Module& m) {
   GI_TRY(vk::createDescriptorLayout(m.gpu, frameBindings(), m.frameLayout));
   GI_TRY(createFrameBuffers(m));
   GI_TRY(ensurePrograms(m, m.settings));
-  GI_TRY(createSizedResources(m, m.settings, m.width, m.height, m.sized));
+  GI_TRY(createOutputImages(m.gpu, m.width, m.height, m.outputs));
+  GI_TRY(createSizedResources(m, m.settings, m.width, m.height, m.outputs, m.sized));
   if (usesHashGrid(m.settings.method)) GI_TRY(createHashGridFor(m, m.settings, m.hash));
   GI_TRY(ensureHashGridProgramsFor(m, m.settings, m.hash));
   GI_TRY(createTimestamps(m));
@@ -194,6 +195,7 @@ void destroyModuleResources(Module& m) {
   for (vk::ComputeProgram* p : {&m.rawTrace, &m.composite, &m.guidancePass, &m.supersample, &m.aafSample, &m.aafAdaptive})
     vk::destroyComputeProgram(g, *p);
   destroySizedResources(g, m.sized);
+  destroyOutputImages(g, m.outputs);
   destroyFilterPrograms(g, m.filterPrograms);
   destroyHashGrid(g, m.hash);
   vk::destroyBuffer(g, m.frameConstants);
@@ -309,7 +311,7 @@ Error setSettings(Module* m, const Settings& settings) {
   SizedResources sized;
   bool newSized = sizedResourcesNeeded(*m, settings) != m->sized.needs;
   if (newSized)
-    if (vk::Status s = createSizedResources(*m, settings, m->width, m->height, sized))
+    if (vk::Status s = createSizedResources(*m, settings, m->width, m->height, m->outputs, sized))
       return vulkanError("gi::setSettings", s);
   HashGrid hash;
   bool newHash = hashGridChanges(*m, settings);
@@ -330,8 +332,14 @@ Error setSettings(Module* m, const Settings& settings) {
 Error resize(Module* m, uint32_t width, uint32_t height) {
   if (Error e = checkSize("gi::resize width × height", width, height)) return e;
   if (width == m->width && height == m->height) return {};
+  OutputImages outputs;
   SizedResources sized;
-  if (vk::Status s = createSizedResources(*m, m->settings, width, height, sized)) return vulkanError("gi::resize", s);
+  vk::Status built = createOutputImages(m->gpu, width, height, outputs);
+  if (!built) built = createSizedResources(*m, m->settings, width, height, outputs, sized);
+  if (built) {
+    destroyOutputImages(m->gpu, outputs);
+    return vulkanError("gi::resize", built);
+  }
   // Within the largest size the hash map keeps its cells; beyond it, a map for the new size.
   const bool within = width <= maxWidth(*m) && height <= maxHeight(*m);
   HashGrid hash;
@@ -350,6 +358,7 @@ Error resize(Module* m, uint32_t width, uint32_t height) {
       m->height = oldH;
       destroyHashGrid(m->gpu, hash);
       destroySizedResources(m->gpu, sized);
+      destroyOutputImages(m->gpu, outputs);
       return vulkanError("gi::resize", s);
     }
   }
@@ -358,6 +367,9 @@ Error resize(Module* m, uint32_t width, uint32_t height) {
   m->width = width;
   m->height = height;
   replaceSized(*m, sized);
+  auto oldOutputs = std::make_shared<OutputImages>(m->outputs);
+  retire(*m, [oldOutputs](vk::Device& g) { destroyOutputImages(g, *oldOutputs); });
+  m->outputs = outputs;
   if (hash.capacity) replaceHashGrid(*m, hash);
   else m->hash.walksCleared = false;  // continued paths belong to pixels of the old size
   m->historyLength = 0;
@@ -371,8 +383,8 @@ void invalidate(Module* m, Invalidate what) {
 }
 
 Outputs outputs(const Module* m) {
-  const SizedResources& r = m->sized;
-  return {r.direct.image, r.indirect.image, r.composite.image, r.direct.view, r.indirect.view, r.composite.view};
+  const OutputImages& o = m->outputs;
+  return {o.direct.image, o.indirect.image, o.composite.image, o.direct.view, o.indirect.view, o.composite.view};
 }
 
 }  // namespace gi

@@ -19,15 +19,22 @@ namespace gi {
 inline constexpr uint32_t kMaxFramesInFlight = 4;
 inline constexpr uint32_t kMaxPasses = 16;  // timestamped passes per frame
 
-// The images one render size and one method need, the per-slot frame sets
-// that bind them, and the screen filters over them. Built whole by
-// createSizedResources and replaced whole (the old one retired) when the size
-// or the set of images changes, so no descriptor set a frame in flight reads
-// is ever rewritten. Images the method does not use are 1×1 placeholders.
+// The three outputs (gi::outputs): replaced only by resize, so an engine
+// binds them once per size whatever method it switches to.
+struct OutputImages {
+  vk::Image direct, indirect, composite;  // rgba32f; indirect is demodulated
+  bool initialised = false;               // moved to GENERAL layout
+};
+
+// The images one render size and one method need besides the outputs, the
+// per-slot frame sets that bind them (and the outputs), and the screen
+// filters over them. Built whole by createSizedResources and replaced whole
+// (the old one retired) when the size or the set of images changes, so no
+// descriptor set a frame in flight reads is ever rewritten. Images the
+// method does not use are 1×1 placeholders.
 struct SizedResources {
   uint32_t width = 0, height = 0;
   uint32_t needs = 0;                             // sizedResourcesNeeded() it was built for
-  vk::Image direct, indirect, composite;          // outputs
   vk::Image historyDirect, historyIndirect;       // temporal accumulation (raw)
   vk::Image noisyIndirect;                        // demodulated indirect before filtering
   vk::Image guidance, position, debug;            // filter guidance, world position, filter debug/temp
@@ -61,7 +68,8 @@ struct Module {
   Settings settings;
   uint32_t width = 0, height = 0;                  // the render size now (desc holds the size at create)
 
-  SizedResources sized;
+  OutputImages outputs;
+  SizedResources sized;                            // built over `outputs`
   HashGrid hash;                                   // created on first use of a hash method; persists across frames
   vk::Buffer frameConstants;                       // host-visible GiFrameConstants, one per slot
   VkDeviceSize frameConstantsStride = 0;
@@ -87,8 +95,10 @@ struct Module {
 std::span<const vk::Binding> frameBindings();
 uint32_t sizedResourcesNeeded(const Module& m, const Settings& settings);
 vk::Status createSizedResources(Module& m, const Settings& settings, uint32_t width, uint32_t height,
-                                SizedResources& out);
+                                const OutputImages& outputs, SizedResources& out);
 void destroySizedResources(vk::Device& gpu, SizedResources& r);
+vk::Status createOutputImages(vk::Device& gpu, uint32_t width, uint32_t height, OutputImages& out);
+void destroyOutputImages(vk::Device& gpu, OutputImages& images);
 // Hands `release` to the retire list: it runs once the frames recorded so far have completed.
 void retire(Module& m, std::function<void(vk::Device&)> release);
 // Runs the releases whose frames have completed (all of them with `all`).

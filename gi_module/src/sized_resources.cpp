@@ -10,15 +10,12 @@ namespace {
 
 constexpr VkFormat kImageFormat = VK_FORMAT_R32G32B32A32_SFLOAT;  // fp32: radiance up to 1e6 and beyond must fit
 
-// Every module image: its member, its binding in set 1 and its bit in SizedResources::needs.
+// Every module image but the outputs: its member, its binding in set 1 and its bit in SizedResources::needs.
 struct SizedImage {
   vk::Image SizedResources::*image;
   uint32_t binding;
 };
 constexpr SizedImage kSizedImages[] = {
-    {&SizedResources::direct, gpu::GI_BINDING_OUT_DIRECT},
-    {&SizedResources::indirect, gpu::GI_BINDING_OUT_INDIRECT},
-    {&SizedResources::composite, gpu::GI_BINDING_OUT_COMPOSITE},
     {&SizedResources::historyDirect, gpu::GI_BINDING_HISTORY_DIRECT},
     {&SizedResources::historyIndirect, gpu::GI_BINDING_HISTORY_INDIRECT},
     {&SizedResources::noisyIndirect, gpu::GI_BINDING_NOISY_INDIRECT},
@@ -72,7 +69,7 @@ const vk::Binding kFrameBindings[] = {
 std::span<const vk::Binding> frameBindings() { return kFrameBindings; }
 
 uint32_t sizedResourcesNeeded(const Module& m, const Settings& s) {
-  uint32_t need = bit(&SizedResources::direct) | bit(&SizedResources::indirect) | bit(&SizedResources::composite);
+  uint32_t need = 0;
   if (usesHashGrid(s.method) && s.debugView != DebugView::FilterInOut) need |= kNoisyIsIndirect;
   else need |= bit(&SizedResources::noisyIndirect);
   if (s.method == Method::Raw && s.raw.temporalAccumulation)
@@ -107,10 +104,10 @@ uint32_t sizedResourcesNeeded(const Module& m, const Settings& s) {
 namespace {
 
 // The screen filters over the images of `r`, with the parts `r.needs` asks for.
-vk::Status createFilters(Module& m, SizedResources& r) {
+vk::Status createFilters(Module& m, const OutputImages& outputs, SizedResources& r) {
   if (!(r.needs & kNeedsFilters)) return {};
   GI_TRY(createScreenFilters(m.gpu, m.filterPrograms, r.width, r.height,
-                             {r.guidance.view, r.position.view, r.noisyIndirect.view, r.indirect.view, r.debug.view,
+                             {r.guidance.view, r.position.view, r.noisyIndirect.view, outputs.indirect.view, r.debug.view,
                               r.aafParams.view},
                              r.filters));
   if (r.needs & kNeedsGlossySets) {
@@ -126,8 +123,25 @@ vk::Status createFilters(Module& m, SizedResources& r) {
 
 }  // namespace
 
+vk::Status createOutputImages(vk::Device& gpu, uint32_t width, uint32_t height, OutputImages& out) {
+  OutputImages o;
+  const VkImageUsageFlags usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
+  for (vk::Image* img : {&o.direct, &o.indirect, &o.composite})
+    if (vk::Status s = vk::createImage(gpu, {width, height}, kImageFormat, usage, *img)) {
+      destroyOutputImages(gpu, o);
+      return s;
+    }
+  out = o;
+  return {};
+}
+
+void destroyOutputImages(vk::Device& gpu, OutputImages& o) {
+  for (vk::Image* img : {&o.direct, &o.indirect, &o.composite}) vk::destroyImage(gpu, *img);
+  o = OutputImages{};
+}
+
 vk::Status createSizedResources(Module& m, const Settings& settings, uint32_t width, uint32_t height,
-                                SizedResources& out) {
+                                const OutputImages& outputs, SizedResources& out) {
   SizedResources r;
   r.width = width;
   r.height = height;
@@ -146,13 +160,16 @@ vk::Status createSizedResources(Module& m, const Settings& settings, uint32_t wi
                slot * m.frameConstantsStride, sizeof(gpu::GiFrameConstants));
       // The shaders' live counter is the first GiCounters; the others are per-slot copies for readback.
       w.buffer(gpu::GI_BINDING_COUNTERS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, m.counters.buffer, 0, sizeof(gpu::GiCounters));
+      w.storageImage(gpu::GI_BINDING_OUT_DIRECT, outputs.direct.view);
+      w.storageImage(gpu::GI_BINDING_OUT_INDIRECT, outputs.indirect.view);
+      w.storageImage(gpu::GI_BINDING_OUT_COMPOSITE, outputs.composite.view);
       for (const SizedImage& image : kSizedImages) {
         const bool alias = image.image == &SizedResources::noisyIndirect && (r.needs & kNoisyIsIndirect);
-        w.storageImage(image.binding, (alias ? r.indirect : r.*image.image).view);
+        w.storageImage(image.binding, alias ? outputs.indirect.view : (r.*image.image).view);
       }
       w.write(m.gpu);
     }
-    return createFilters(m, r);
+    return createFilters(m, outputs, r);
   };
   if (vk::Status s = build()) {
     destroySizedResources(m.gpu, r);

@@ -199,10 +199,12 @@ Error resize(Module* module, uint32_t width, uint32_t height);
 // Records the frame's passes into `cmd`. Fails (recording nothing) only on
 // missing G-buffer views.
 Error recordFrame(Module* module, VkCommandBuffer cmd, const FrameInputs& inputs);
-// The images the next frame writes (they change after resize and after a
-// setSettings that needs other images).
+// The images the frames write. They change only on resize (setSettings keeps
+// them, whatever method it switches to): bind them once per size.
 Outputs outputs(const Module* module);
-// Numbers from the newest recorded frame whose GPU work has completed.
+// Numbers from the newest recorded frame whose GPU work has completed (with
+// ModuleDesc::timestamps off the module cannot tell and trusts that the
+// newest recorded frame has).
 FrameStats stats(Module* module);
 // Numbers of frame `frameIndex` (FrameInputs::frameIndex) once it has
 // completed; false while it is in flight or once its slot has been reused.
