@@ -21,7 +21,10 @@ bool tunables(gi::Settings& settings) {
     if (!k.usedBy(settings.method)) continue;
     const std::string key = k.key;
     if (key == "view" || key == "ray_budget" || key == "seed") continue;  // own widgets
-    std::string label = std::string(k.meaning) + (*k.unit ? std::string(", ") + k.unit : "") + "##" + key;
+    // The knob's name and unit as the label (the method is chosen above); its meaning and range on hover.
+    const size_t dot = key.find('.');
+    std::string label = key.substr(dot == std::string::npos ? 0 : dot + 1) + (*k.unit ? std::string(", ") + k.unit : "") +
+                        "##" + key;
     const double value = k.get(settings);
     const bool logarithmic = k.max / std::max(k.min, 1.0) > 100.0;
     const ImGuiSliderFlags flags = logarithmic ? ImGuiSliderFlags_Logarithmic : 0;
@@ -37,6 +40,8 @@ bool tunables(gi::Settings& settings) {
       if (ImGui::SliderInt(label.c_str(), &v, int(k.min), int(k.max), "%d", flags))
         k.set(settings, double(std::max(v, 0))), changed = true;
     }
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("%s\n%s %s%g, %g]", k.meaning, k.field, k.openMin ? "(" : "[", k.min, k.max);
   }
   return changed;
 }
