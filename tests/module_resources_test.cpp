@@ -7,7 +7,9 @@
 #include <atomic>
 #include <cstdlib>
 #include <cstring>
+#include <thread>
 
+#include "gbuffer.h"
 #include "gpu_test.h"
 #include "module.h"
 #include "module_test_helpers.h"
@@ -282,5 +284,73 @@ TEST_F(ModuleResourcesTest, TimestampsOffRecordsNoQueriesAndTheSameImage) {
   }
   EXPECT_EQ(names[0], names[1]);
   EXPECT_EQ(images[0], images[1]) << "the same seed and inputs give the same image with and without timing";
+  unload(s);
+}
+
+// gi.h's threading contract: modules are independent (each its own function
+// table and memory), so two threads may create, record and destroy theirs at
+// the same time. Each thread records into its own command pool; the queue is
+// used from this thread only. Validation (with its thread-safety checks) stays silent.
+TEST_F(ModuleResourcesTest, TwoModulesOnTwoThreadsAtOnce) {
+  LoadedScene s;
+  load(sharedScene("cornell-simple/cornell_simple.gltf"), s);
+  const VkExtent2D size{32, 24};
+  gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], size.width, size.height, nullptr);
+  engine::GBuffer gbuffer = engine::createGBuffer(ctx, size);
+  engine::GBufferPass pass = engine::createGBufferPass(ctx, s.gpu);
+  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { engine::recordGBuffer(ctx, cmd, pass, s.scene, s.gpu, gbuffer, cam, nullptr); });
+  const gi::GBufferViews views{gbuffer.color[gpu::GBUFFER_NORMAL].view,   gbuffer.color[gpu::GBUFFER_ALBEDO].view,
+                               gbuffer.color[gpu::GBUFFER_MATERIAL].view, gbuffer.color[gpu::GBUFFER_EMISSION].view,
+                               gbuffer.color[gpu::GBUFFER_MOTION].view,   gbuffer.color[gpu::GBUFFER_VIEWZ].view};
+  struct Worker {
+    gi::Method method;
+    gi::Module* module = nullptr;
+    VkCommandPool pool = VK_NULL_HANDLE;
+    VkCommandBuffer cmd = VK_NULL_HANDLE;
+    gi::Error error;
+  };
+  Worker workers[2] = {{gi::Method::Hpsf}, {gi::Method::Gif}};
+  auto run = [&](auto&& body) {
+    std::thread a([&] { body(workers[0]); }), b([&] { body(workers[1]); });
+    a.join();
+    b.join();
+  };
+  // Create and record on two threads at once.
+  run([&](Worker& w) {
+    gi::Settings settings;
+    settings.method = w.method;
+    if ((w.error = gi::create(tools::moduleDesc(ctx, s.gpu, size), settings, w.module))) return;
+    VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+    poolInfo.queueFamilyIndex = ctx.queueFamily;
+    VK_CHECK(vkCreateCommandPool(ctx.device, &poolInfo, nullptr, &w.pool));
+    VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+    alloc.commandPool = w.pool;
+    alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+    alloc.commandBufferCount = 1;
+    VK_CHECK(vkAllocateCommandBuffers(ctx.device, &alloc, &w.cmd));
+    VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    VK_CHECK(vkBeginCommandBuffer(w.cmd, &begin));
+    w.error = gi::recordFrame(w.module, w.cmd, {views, cam, cam, 0});
+    VK_CHECK(vkEndCommandBuffer(w.cmd));
+  });
+  for (Worker& w : workers) ASSERT_FALSE(w.error) << w.error.message;
+  VkCommandBuffer cmds[] = {workers[0].cmd, workers[1].cmd};
+  VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+  submit.commandBufferCount = 2;
+  submit.pCommandBuffers = cmds;
+  VK_CHECK(vkQueueSubmit(ctx.queue, 1, &submit, VK_NULL_HANDLE));
+  VK_CHECK(vkQueueWaitIdle(ctx.queue));
+  for (Worker& w : workers) {
+    gi::FrameStats st;
+    ASSERT_TRUE(gi::frameStats(w.module, 0, st));
+    EXPECT_GT(st.raysTraced, 0u) << gi::methodName(w.method);
+  }
+  // Destroy on two threads at once.
+  run([&](Worker& w) {
+    gi::destroy(w.module);
+    vkDestroyCommandPool(ctx.device, w.pool, nullptr);
+  });
+  engine::destroyGBufferPass(ctx, pass);
+  engine::destroyGBuffer(ctx, gbuffer);
   unload(s);
 }
