@@ -139,6 +139,7 @@ int main(int argc, char** argv) {
   gi::FrameStats::Hash lastHash;        // module methods: the last frame's hash telemetry
   uint32_t tracedSpp = spp;              // module methods: what the last frame traced (AAF: its adaptive mean)
   uint64_t memoryBytes = 0;              // module methods: device memory the module held after the last frame
+  uint64_t memoryUsedBytes = 0;          // of that, what its buffers and images occupy
   uint32_t deviceAllocations = 0;
   if (method == "reference") {
     engine::ReferenceSettings settings;
@@ -190,6 +191,7 @@ int main(int argc, char** argv) {
     tracedSpp = last.samplesPerPixel;
     lastHash = last.hash;
     memoryBytes = last.memoryBytes;
+    memoryUsedBytes = last.memoryUsedBytes;
     deviceAllocations = last.deviceAllocations;
     tools::destroyModuleSession(ctx, session);
   }
@@ -232,6 +234,7 @@ int main(int argc, char** argv) {
     j["traced_spp_last_frame"] = tracedSpp;
     if (method != "reference") {
       j["module_memory_bytes"] = memoryBytes;  // device memory the module holds (FrameStats::memoryBytes)
+      j["module_memory_used_bytes"] = memoryUsedBytes;
       j["module_device_allocations"] = deviceAllocations;
     }
     if (lastHash.capacity)

@@ -34,10 +34,12 @@ bool carve(MemoryArena::Block& b, VkDeviceSize size, VkDeviceSize alignment, VkD
   return false;
 }
 
-// The size of the next shared block: doubling with the shared blocks alive.
-VkDeviceSize sharedBlockSize(const MemoryArena& a) {
+// The size of the next shared block of a kind (memory type, linear or not,
+// mapped or not): doubling with the shared blocks of that kind alive.
+VkDeviceSize sharedBlockSize(const MemoryArena& a, uint32_t type, bool linear, bool hostVisible) {
   uint32_t live = 0;
-  for (const MemoryArena::Block& b : a.blocks) live += b.memory && b.shared ? 1 : 0;
+  for (const MemoryArena::Block& b : a.blocks)
+    live += b.memory && b.shared && b.memoryType == type && b.linear == linear && (b.mapped != nullptr) == hostVisible;
   return std::min(a.maxBlockSize, a.firstBlockSize << std::min(live, 16u));
 }
 
@@ -81,7 +83,7 @@ Status allocate(Device& d, const VkMemoryRequirements& req, bool hostVisible, bo
     return {VK_ERROR_FEATURE_NOT_PRESENT, hostVisible ? "a host-visible coherent memory type" : "a device-local memory type"};
   uint32_t index = UINT32_MAX;
   VkDeviceSize offset = 0;
-  const VkDeviceSize blockSize = sharedBlockSize(a);
+  const VkDeviceSize blockSize = sharedBlockSize(a, type, linear, hostVisible);
   const bool ownBlock = req.size * 2 >= blockSize;
   if (!ownBlock)
     for (uint32_t i = 0; i < a.blocks.size(); ++i) {

@@ -1,5 +1,5 @@
 // The module's device memory: a few blocks, suballocated. Blocks grow from
-// 2 MiB, doubling with each live block up to 64 MiB, so a small render size
+// 2 MiB, doubling with each live block of the same kind up to 64 MiB, so a small render size
 // holds little more than it uses; resources of half a block or more get a
 // block of their own size. A block is freed once its last resource is. A budget (bytes held,
 // 0 = none) lets an engine cap the module: an allocation beyond it fails with
