@@ -37,7 +37,8 @@
 // Threads: a Module is not thread-safe; call every function for one module
 // from one thread at a time (any thread). Different modules may be used from
 // different threads at once: each has its own function table and memory.
-// validate(), version() and resultName() are pure and may be called from anywhere.
+// validate(), version(), resultName() and the catalogues (gi/catalogue.h) are
+// pure and may be called from anywhere.
 #pragma once
 #include <vulkan/vulkan_core.h>
 
@@ -50,7 +51,7 @@
 #include "shared/gpu_scene.h"
 
 #define GI_VERSION_MAJOR 0
-#define GI_VERSION_MINOR 1
+#define GI_VERSION_MINOR 2  // 0.2: own function table, frames in flight, returned Vulkan errors, catalogues
 
 namespace gi {
 
