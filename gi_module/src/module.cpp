@@ -108,12 +108,11 @@ bool hashGridChanges(const Module& m, const Settings& s) {
   return !(m.hash.capacity == capacity && m.hash.tables == tables && (m.hash.walkPixels > 0) == walks);
 }
 
-// A hash map for `s` at the module's largest render size, with its programs.
-vk::Status createHashGridFor(Module& m, const Settings& s, HashGrid& out) {
-  uint32_t capacity = hashCapacity(s.hpsf, maxWidth(m), maxHeight(m));
+// A hash map for `s` sized for renders up to `width` × `height`.
+vk::Status createHashGridFor(Module& m, const Settings& s, uint32_t width, uint32_t height, HashGrid& out) {
+  uint32_t capacity = hashCapacity(s.hpsf, width, height);
   uint32_t tables = s.hpsf.eviction == EvictionPolicy::Strict ? 2 : 1;
-  return createHashGrid(m.gpu, capacity, tables, maxWidth(m), maxHeight(m), m.desc.framesInFlight,
-                        s.method == Method::Anhpsf, out);
+  return createHashGrid(m.gpu, capacity, tables, width, height, m.desc.framesInFlight, s.method == Method::Anhpsf, out);
 }
 
 vk::Status ensureHashGridProgramsFor(Module& m, const Settings& s, HashGrid& grid) {
@@ -180,7 +179,7 @@ vk::Status createModuleResources(Module& m) {
   GI_TRY(ensurePrograms(m, m.settings));
   GI_TRY(createOutputImages(m.gpu, m.width, m.height, m.outputs));
   GI_TRY(createSizedResources(m, m.settings, m.width, m.height, m.outputs, m.sized));
-  if (usesHashGrid(m.settings.method)) GI_TRY(createHashGridFor(m, m.settings, m.hash));
+  if (usesHashGrid(m.settings.method)) GI_TRY(createHashGridFor(m, m.settings, maxWidth(m), maxHeight(m), m.hash));
   GI_TRY(ensureHashGridProgramsFor(m, m.settings, m.hash));
   GI_TRY(createTimestamps(m));
   return {};
@@ -315,7 +314,7 @@ Error setSettings(Module* m, const Settings& settings) {
       return vulkanError("gi::setSettings", s);
   HashGrid hash;
   bool newHash = hashGridChanges(*m, settings);
-  vk::Status s = newHash ? createHashGridFor(*m, settings, hash) : vk::Status{};
+  vk::Status s = newHash ? createHashGridFor(*m, settings, maxWidth(*m), maxHeight(*m), hash) : vk::Status{};
   if (!s) s = ensureHashGridProgramsFor(*m, settings, newHash ? hash : m->hash);
   if (s) {
     destroyHashGrid(m->gpu, hash);
@@ -340,30 +339,22 @@ Error resize(Module* m, uint32_t width, uint32_t height) {
     destroyOutputImages(m->gpu, outputs);
     return vulkanError("gi::resize", built);
   }
-  // Within the largest size the hash map keeps its cells; beyond it, a map for the new size.
-  const bool within = width <= maxWidth(*m) && height <= maxHeight(*m);
+  // Within the largest size the hash map keeps its cells; beyond it, a map for the new largest size.
+  const uint32_t newMaxWidth = std::max(width, maxWidth(*m)), newMaxHeight = std::max(height, maxHeight(*m));
+  const bool within = newMaxWidth == maxWidth(*m) && newMaxHeight == maxHeight(*m);
   HashGrid hash;
   if (!within && usesHashGrid(m->settings.method)) {
-    const uint32_t oldW = m->width, oldH = m->height, oldMaxW = m->desc.maxWidth, oldMaxH = m->desc.maxHeight;
-    m->desc.maxWidth = std::max(width, maxWidth(*m));
-    m->desc.maxHeight = std::max(height, maxHeight(*m));
-    m->width = width;
-    m->height = height;
-    vk::Status s = createHashGridFor(*m, m->settings, hash);
+    vk::Status s = createHashGridFor(*m, m->settings, newMaxWidth, newMaxHeight, hash);
     if (!s) s = ensureHashGridProgramsFor(*m, m->settings, hash);
     if (s) {
-      m->desc.maxWidth = oldMaxW;
-      m->desc.maxHeight = oldMaxH;
-      m->width = oldW;
-      m->height = oldH;
       destroyHashGrid(m->gpu, hash);
       destroySizedResources(m->gpu, sized);
       destroyOutputImages(m->gpu, outputs);
       return vulkanError("gi::resize", s);
     }
   }
-  m->desc.maxWidth = std::max(width, maxWidth(*m));
-  m->desc.maxHeight = std::max(height, maxHeight(*m));
+  m->desc.maxWidth = newMaxWidth;
+  m->desc.maxHeight = newMaxHeight;
   m->width = width;
   m->height = height;
   replaceSized(*m, sized);
