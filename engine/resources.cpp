@@ -1,5 +1,7 @@
 #include "resources.h"
 
+#include "gi/vk/resources.h"
+
 #include <cstring>
 #include <vector>
 
@@ -188,36 +190,19 @@ std::vector<std::byte> readbackImage(const Context& ctx, const Image& img, VkIma
   return out;
 }
 
+// The module's Vulkan layer fills the barrier structs; the engine records them through volk.
 void imageBarrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayout to,
                   VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dstStage,
                   VkAccessFlags2 dstAccess, VkImageAspectFlags aspect, uint32_t baseMip, uint32_t mipCount) {
-  VkImageMemoryBarrier2 b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
-  b.srcStageMask = srcStage;
-  b.srcAccessMask = srcAccess;
-  b.dstStageMask = dstStage;
-  b.dstAccessMask = dstAccess;
-  b.oldLayout = from;
-  b.newLayout = to;
-  b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-  b.image = image;
-  b.subresourceRange = {aspect, baseMip, mipCount, 0, 1};
-  VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-  dep.imageMemoryBarrierCount = 1;
-  dep.pImageMemoryBarriers = &b;
-  vkCmdPipelineBarrier2(cmd, &dep);
+  VkImageMemoryBarrier2 b =
+      gi::vk::imageBarrierInfo(image, from, to, srcStage, srcAccess, dstStage, dstAccess, aspect, baseMip, mipCount);
+  gi::vk::recordBarrier(vkCmdPipelineBarrier2, cmd, nullptr, &b);
 }
 
 void memoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess,
                    VkPipelineStageFlags2 dstStage, VkAccessFlags2 dstAccess) {
-  VkMemoryBarrier2 b{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
-  b.srcStageMask = srcStage;
-  b.srcAccessMask = srcAccess;
-  b.dstStageMask = dstStage;
-  b.dstAccessMask = dstAccess;
-  VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-  dep.memoryBarrierCount = 1;
-  dep.pMemoryBarriers = &b;
-  vkCmdPipelineBarrier2(cmd, &dep);
+  VkMemoryBarrier2 b = gi::vk::memoryBarrierInfo(srcStage, srcAccess, dstStage, dstAccess);
+  gi::vk::recordBarrier(vkCmdPipelineBarrier2, cmd, &b, nullptr);
 }
 
 }  // namespace engine

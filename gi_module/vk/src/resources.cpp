@@ -77,9 +77,10 @@ void destroyImage(Device& d, Image& img) {
   img = Image{};
 }
 
-void imageBarrier(const Device& d, VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayout to,
-                  VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dstStage,
-                  VkAccessFlags2 dstAccess) {
+VkImageMemoryBarrier2 imageBarrierInfo(VkImage image, VkImageLayout from, VkImageLayout to,
+                                       VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess,
+                                       VkPipelineStageFlags2 dstStage, VkAccessFlags2 dstAccess,
+                                       VkImageAspectFlags aspect, uint32_t baseMip, uint32_t mipCount) {
   VkImageMemoryBarrier2 b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
   b.srcStageMask = srcStage;
   b.srcAccessMask = srcAccess;
@@ -89,24 +90,41 @@ void imageBarrier(const Device& d, VkCommandBuffer cmd, VkImage image, VkImageLa
   b.newLayout = to;
   b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
   b.image = image;
-  b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-  VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-  dep.imageMemoryBarrierCount = 1;
-  dep.pImageMemoryBarriers = &b;
-  d.fn.vkCmdPipelineBarrier2(cmd, &dep);
+  b.subresourceRange = {aspect, baseMip, mipCount, 0, 1};
+  return b;
 }
 
-void memoryBarrier(const Device& d, VkCommandBuffer cmd, VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess,
-                   VkPipelineStageFlags2 dstStage, VkAccessFlags2 dstAccess) {
+VkMemoryBarrier2 memoryBarrierInfo(VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess,
+                                   VkPipelineStageFlags2 dstStage, VkAccessFlags2 dstAccess) {
   VkMemoryBarrier2 b{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
   b.srcStageMask = srcStage;
   b.srcAccessMask = srcAccess;
   b.dstStageMask = dstStage;
   b.dstAccessMask = dstAccess;
+  return b;
+}
+
+void recordBarrier(PFN_vkCmdPipelineBarrier2 cmdPipelineBarrier2, VkCommandBuffer cmd, const VkMemoryBarrier2* memory,
+                   const VkImageMemoryBarrier2* image) {
   VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-  dep.memoryBarrierCount = 1;
-  dep.pMemoryBarriers = &b;
-  d.fn.vkCmdPipelineBarrier2(cmd, &dep);
+  dep.memoryBarrierCount = memory ? 1 : 0;
+  dep.pMemoryBarriers = memory;
+  dep.imageMemoryBarrierCount = image ? 1 : 0;
+  dep.pImageMemoryBarriers = image;
+  cmdPipelineBarrier2(cmd, &dep);
+}
+
+void imageBarrier(const Device& d, VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayout to,
+                  VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dstStage,
+                  VkAccessFlags2 dstAccess) {
+  VkImageMemoryBarrier2 b = imageBarrierInfo(image, from, to, srcStage, srcAccess, dstStage, dstAccess);
+  recordBarrier(d.fn.vkCmdPipelineBarrier2, cmd, nullptr, &b);
+}
+
+void memoryBarrier(const Device& d, VkCommandBuffer cmd, VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess,
+                   VkPipelineStageFlags2 dstStage, VkAccessFlags2 dstAccess) {
+  VkMemoryBarrier2 b = memoryBarrierInfo(srcStage, srcAccess, dstStage, dstAccess);
+  recordBarrier(d.fn.vkCmdPipelineBarrier2, cmd, &b, nullptr);
 }
 
 }  // namespace gi::vk

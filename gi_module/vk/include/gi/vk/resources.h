@@ -27,7 +27,20 @@ void destroyBuffer(Device& device, Buffer& buffer);
 Status createImage(Device& device, VkExtent2D extent, VkFormat format, VkImageUsageFlags usage, Image& out);
 void destroyImage(Device& device, Image& image);
 
-// Layout transition of a whole colour image (synchronization2).
+// Barriers (synchronization2): the structs, and one recording function that
+// takes vkCmdPipelineBarrier2 from whichever table the caller uses (the
+// module's, or the engine's loader).
+VkImageMemoryBarrier2 imageBarrierInfo(VkImage image, VkImageLayout from, VkImageLayout to,
+                                       VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess,
+                                       VkPipelineStageFlags2 dstStage, VkAccessFlags2 dstAccess,
+                                       VkImageAspectFlags aspect = VK_IMAGE_ASPECT_COLOR_BIT, uint32_t baseMip = 0,
+                                       uint32_t mipCount = VK_REMAINING_MIP_LEVELS);
+VkMemoryBarrier2 memoryBarrierInfo(VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess,
+                                   VkPipelineStageFlags2 dstStage, VkAccessFlags2 dstAccess);
+void recordBarrier(PFN_vkCmdPipelineBarrier2 cmdPipelineBarrier2, VkCommandBuffer cmd, const VkMemoryBarrier2* memory,
+                   const VkImageMemoryBarrier2* image);
+
+// Layout transition of a whole colour image.
 void imageBarrier(const Device& device, VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayout to,
                   VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dstStage,
                   VkAccessFlags2 dstAccess);
