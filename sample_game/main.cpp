@@ -20,6 +20,7 @@
 #include "cli.h"
 #include "display_pass.h"
 #include "frame_log.h"
+#include "headless_frames.h"
 #include "free_camera.h"
 #include "image_io.h"
 #include "module_session.h"
@@ -201,7 +202,12 @@ int main(int argc, char** argv) {
     return 1;
   }
   const VkExtent2D displaySize{o.windowWidth, o.windowHeight};
-  demo::DisplayPass display = demo::createDisplayPass(ctx, displaySize, gi::outputs(session.module).compositeView);
+  // One display image per frame in flight: a finished frame's image is read
+  // (saved) while the next frame draws into the other.
+  demo::DisplayPass displays[demo::kHeadlessFramesInFlight];
+  for (demo::DisplayPass& d : displays) d = demo::createDisplayPass(ctx, displaySize, gi::outputs(session.module).compositeView);
+  demo::HeadlessFrames headless;
+  if (o.headless) headless = demo::createHeadlessFrames(ctx);
 
   ImGui::CreateContext();
   ImGui::StyleColorsDark();
@@ -249,24 +255,37 @@ int main(int argc, char** argv) {
     ++measured;
     return stats;
   };
-  // Windowed, frames are recorded engine::kWindowFramesInFlight ahead; headless, each is waited for.
-  const uint32_t framesInFlight = o.headless ? 1u : engine::kWindowFramesInFlight;
+  // Frames are recorded two ahead, windowed and headless: a frame's numbers,
+  // and headless its PNG, are taken once the frame two later begins.
+  static_assert(engine::kWindowFramesInFlight == demo::kHeadlessFramesInFlight);
+  const uint32_t framesInFlight = demo::kHeadlessFramesInFlight;
+  auto saveFrame = [&](uint32_t completed) {
+    char name[64];
+    std::snprintf(name, sizeof(name), "frame_%05u.png", completed);
+    return saveDisplay(ctx, displays[completed % framesInFlight], o.out / name, false);
+  };
 
   for (; o.frames == 0 || frame < o.frames; ++frame) {
     uint32_t image = 0;
+    VkCommandBuffer frameCmd = VK_NULL_HANDLE;
     if (!o.headless) {
       if (engine::windowShouldClose(window)) break;
       if (!engine::beginWindowFrame(ctx, window, image)) {
         --frame;
         continue;
       }
+      frameCmd = window.cmd;
+    } else {
+      frameCmd = demo::beginHeadlessFrame(ctx, headless, frame);
     }
+    demo::DisplayPass& display = displays[frame % framesInFlight];
     // The frame recorded framesInFlight ago has completed: its numbers and the budget's next step.
     Clock::time_point now = Clock::now();
     cpuMs = std::chrono::duration<double, std::milli>(now - lastFrame).count();
     lastFrame = now;
     if (frame >= framesInFlight) {
       gi::FrameStats stats = completedFrame(frame - framesInFlight);
+      if (o.headless && !o.benchmark && !saveFrame(frame - framesInFlight)) return 1;  // before this frame redraws it
       if (ui.budgetMode) {
         settings.rayBudget = applied.rayBudget = gi::updateBudget(ui.budget, stats);
         gi::setSettings(session.module, applied);
@@ -319,7 +338,8 @@ int main(int argc, char** argv) {
     auto record = [&](VkCommandBuffer cmd) {
       if (ui.animate) {
         // Scene updates are host writes into buffers the frame in flight reads: let it finish first.
-        if (!o.headless) engine::waitForSubmittedFrames(ctx, window);
+        if (o.headless) demo::waitForOtherHeadlessFrames(ctx, headless, frame);
+        else engine::waitForSubmittedFrames(ctx, window);
         engine::animateScene(animation, seconds, scene);
         engine::recordSceneTransformUpdate(ctx, cmd, scene, sceneGpu);
         if (ui.tellModuleLightsMoved) gi::invalidate(session.module, gi::Invalidate::LightsChanged);
@@ -329,17 +349,11 @@ int main(int argc, char** argv) {
       demo::recordOverlay(ctx, cmd, overlay, frame, *ImGui::GetDrawData(), display.image.image, display.image.view,
                           displaySize);
     };
-    if (o.headless) {
-      engine::submitAndWait(ctx, record);
-      char name[64];
-      std::snprintf(name, sizeof(name), "frame_%05u.png", frame);
-      if (!o.benchmark && !saveDisplay(ctx, display, o.out / name, false)) return 1;
-    } else {
-      record(window.cmd);
-      engine::endWindowFrame(ctx, window, image, display.image.image, displaySize);
-    }
+    record(frameCmd);
+    if (o.headless) demo::submitHeadlessFrame(ctx, headless, frame);
+    else engine::endWindowFrame(ctx, window, image, display.image.image, displaySize);
     if (screenshotPending || frame == o.screenshotAt) {
-      // The display image is shared by the frames in flight: take it before the next frame writes it.
+      // With the overlay: once this frame has completed (its display image is not redrawn until frame + 2).
       vkQueueWaitIdle(ctx.queue);
       char name[64];
       std::snprintf(name, sizeof(name), "screenshot_%05u.png", frame);
@@ -352,7 +366,10 @@ int main(int argc, char** argv) {
 
   vkDeviceWaitIdle(ctx.device);
   cpuMs = std::chrono::duration<double, std::milli>(Clock::now() - lastFrame).count();
-  for (uint32_t c = frame >= framesInFlight ? frame - framesInFlight : 0; c < frame; ++c) completedFrame(c);
+  for (uint32_t c = frame >= framesInFlight ? frame - framesInFlight : 0; c < frame; ++c) {
+    completedFrame(c);
+    if (o.headless && !o.benchmark && !saveFrame(c)) return 1;
+  }
   double wall = std::chrono::duration<double>(Clock::now() - start).count();
   std::printf("frames %u in %.1f s; module %.2f ms GPU per frame (mean)", frame, wall,
               measured ? moduleMsSum / measured : 0.0);
@@ -365,7 +382,8 @@ int main(int argc, char** argv) {
   demo::destroyOverlayRenderer(ctx, overlay);
   if (!o.headless) ImGui_ImplGlfw_Shutdown();
   ImGui::DestroyContext();
-  demo::destroyDisplayPass(ctx, display);
+  for (demo::DisplayPass& d : displays) demo::destroyDisplayPass(ctx, d);
+  demo::destroyHeadlessFrames(ctx, headless);
   if (!o.headless) engine::destroyWindow(ctx, window);
   tools::destroyModuleSession(ctx, session);
   engine::destroySceneGpu(ctx, sceneGpu);
