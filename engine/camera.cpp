@@ -4,7 +4,8 @@
 
 namespace engine {
 
-gpu::GpuCamera makeGpuCamera(const Camera& camera, uint32_t width, uint32_t height, const gpu::GpuCamera* previous) {
+gpu::GpuCamera makeGpuCamera(const Camera& camera, uint32_t width, uint32_t height, const gpu::GpuCamera* previous,
+                             glm::vec2 ndcShift) {
   gpu::GpuCamera c{};
   c.worldFromView = camera.worldFromView;
   c.viewFromWorld = glm::inverse(camera.worldFromView);
@@ -21,6 +22,8 @@ gpu::GpuCamera makeGpuCamera(const Camera& camera, uint32_t width, uint32_t heig
   proj[0][0] = 1.0f / (c.aspect * c.tanHalfFovY);
   proj[1][1] = -1.0f / c.tanHalfFovY;
   proj[2][3] = -1.0f;
+  proj[2][0] = -ndcShift.x;  // clip w = −z_view: ndc' = ndc + shift
+  proj[2][1] = -ndcShift.y;
   if (camera.zfar > n) {
     float f = camera.zfar;
     proj[2][2] = n / (f - n);
@@ -30,6 +33,7 @@ gpu::GpuCamera makeGpuCamera(const Camera& camera, uint32_t width, uint32_t heig
     proj[3][2] = n;
   }
   c.clipFromWorld = proj * c.viewFromWorld;
+  c.viewFromClip = glm::inverse(proj);
   c.previousClipFromWorld = previous ? previous->clipFromWorld : c.clipFromWorld;
   return c;
 }

@@ -18,27 +18,13 @@ using engine::halfToFloat;
 
 }  // namespace
 
-class GBufferTest : public GpuTest {};
-
-// Raster and ray tracing must agree: same surfaces, depths and normals, also
-// after an instance moves and the TLAS is rebuilt (which also yields motion).
-TEST_F(GBufferTest, DepthAndNormalMatchRayTracedPrimaryHits) {
-  for (const char* scenePath : {"cornell-box-mcguire/CornellBox-Original.gltf", "cornell-simple/cornell_simple.gltf", "moved"}) {
-    LoadedScene s;
-    bool moved = std::string(scenePath) == "moved";
-    load(sharedScene(moved ? "cornell-simple/cornell_simple.gltf" : scenePath), s);
-    if (moved) {
-      // Move every instance of the shared box mesh 0.2 m along x and rebuild the TLAS.
-      uint32_t boxMesh = s.scene.instances.back().mesh;
-      for (engine::Instance& inst : s.scene.instances)
-        if (inst.mesh == boxMesh) inst.worldFromObject[3] += glm::vec4(0.2f, 0.0f, 0.0f, 0.0f);
-      engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { engine::recordSceneTransformUpdate(ctx, cmd, s.scene, s.gpu); });
-    }
-    const uint32_t W = 64, H = 48;
-    gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], W, H, nullptr);
-    engine::GBuffer gbuffer = engine::createGBuffer(ctx, {W, H});
-    engine::GBufferPass pass = engine::createGBufferPass(ctx, s.gpu);
-    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { engine::recordGBuffer(ctx, cmd, pass, s.scene, s.gpu, gbuffer, cam, nullptr); });
+class GBufferTest : public GpuTest {
+ protected:
+  // The share of pixels where the raster G-buffer and ray-traced primary hits
+  // through giCameraRayDirection agree: both background, or the same depth
+  // (0.1%) and normal (cos > 0.999).
+  double rasterAgreesWithRays(const LoadedScene& s, const engine::GBuffer& gbuffer, const gpu::GpuCamera& cam) {
+    const uint32_t W = gbuffer.extent.width, H = gbuffer.extent.height;
     std::vector<float> viewZ = readFloats(ctx, gbuffer.color[gpu::GBUFFER_VIEWZ], 4);
     std::vector<std::byte> normalRaw = engine::readbackImage(ctx, gbuffer.color[gpu::GBUFFER_NORMAL], VK_IMAGE_LAYOUT_GENERAL, 8);
 
@@ -67,8 +53,32 @@ TEST_F(GBufferTest, DepthAndNormalMatchRayTracedPrimaryHits) {
         bool normalOk = glm::dot(rasterNormal, rtNormal) > 0.999f;
         if (depthOk && normalOk) ++agree;
       }
+    return double(agree) / compared;
+  }
+};
+
+// Raster and ray tracing must agree: same surfaces, depths and normals, also
+// after an instance moves and the TLAS is rebuilt (which also yields motion).
+TEST_F(GBufferTest, DepthAndNormalMatchRayTracedPrimaryHits) {
+  for (const char* scenePath : {"cornell-box-mcguire/CornellBox-Original.gltf", "cornell-simple/cornell_simple.gltf", "moved"}) {
+    LoadedScene s;
+    bool moved = std::string(scenePath) == "moved";
+    load(sharedScene(moved ? "cornell-simple/cornell_simple.gltf" : scenePath), s);
+    if (moved) {
+      // Move every instance of the shared box mesh 0.2 m along x and rebuild the TLAS.
+      uint32_t boxMesh = s.scene.instances.back().mesh;
+      for (engine::Instance& inst : s.scene.instances)
+        if (inst.mesh == boxMesh) inst.worldFromObject[3] += glm::vec4(0.2f, 0.0f, 0.0f, 0.0f);
+      engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { engine::recordSceneTransformUpdate(ctx, cmd, s.scene, s.gpu); });
+    }
+    const uint32_t W = 64, H = 48;
+    gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], W, H, nullptr);
+    engine::GBuffer gbuffer = engine::createGBuffer(ctx, {W, H});
+    engine::GBufferPass pass = engine::createGBufferPass(ctx, s.gpu);
+    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { engine::recordGBuffer(ctx, cmd, pass, s.scene, s.gpu, gbuffer, cam, nullptr); });
+    const double agreement = rasterAgreesWithRays(s, gbuffer, cam);
     // Only pixels whose centre sits on an edge may disagree.
-    EXPECT_GE(double(agree) / compared, 0.98) << scenePath << ": " << agree << " of " << compared << " pixels agree";
+    EXPECT_GE(agreement, 0.98) << scenePath;
     if (moved) {
       // The moved instances carry motion: some pixels point back to where they were.
       std::vector<std::byte> motion = engine::readbackImage(ctx, gbuffer.color[gpu::GBUFFER_MOTION], VK_IMAGE_LAYOUT_GENERAL, 4);
@@ -84,4 +94,32 @@ TEST_F(GBufferTest, DepthAndNormalMatchRayTracedPrimaryHits) {
     engine::destroyGBuffer(ctx, gbuffer);
     unload(s);
   }
+}
+
+// TAA jitter and off-axis projections: primary rays come from the
+// projection's inverse, so they still go where the raster's samples did.
+TEST_F(GBufferTest, JitteredAndOffAxisProjectionsMatchRayTracedPrimaryHits) {
+  LoadedScene s;
+  load(sharedScene("cornell-box-mcguire/CornellBox-Original.gltf"), s);
+  const uint32_t W = 64, H = 48;
+  engine::GBuffer gbuffer = engine::createGBuffer(ctx, {W, H});
+  engine::GBufferPass pass = engine::createGBufferPass(ctx, s.gpu);
+  auto depthOf = [&](const gpu::GpuCamera& cam) {
+    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { engine::recordGBuffer(ctx, cmd, pass, s.scene, s.gpu, gbuffer, cam, nullptr); });
+    return readFloats(ctx, gbuffer.color[gpu::GBUFFER_VIEWZ], 4);
+  };
+  const std::vector<float> centred = depthOf(engine::makeGpuCamera(s.scene.cameras[0], W, H, nullptr));
+  const glm::vec2 shifts[] = {{2.0f * 0.37f / W, -2.0f * 0.29f / H},  // a sub-pixel jitter
+                              {0.3f, -0.2f}};                          // an off-axis projection
+  for (glm::vec2 shift : shifts) {
+    gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], W, H, nullptr, shift);
+    const std::vector<float> shifted = depthOf(cam);
+    uint32_t moved = 0;
+    for (size_t i = 0; i < shifted.size(); ++i) moved += std::abs(shifted[i] - centred[i]) > 1e-4f * std::max(centred[i], 1.0f);
+    EXPECT_GT(moved, 20u) << "the shift moves the image";
+    EXPECT_GE(rasterAgreesWithRays(s, gbuffer, cam), 0.98) << "shift " << shift.x << ", " << shift.y;
+  }
+  engine::destroyGBufferPass(ctx, pass);
+  engine::destroyGBuffer(ctx, gbuffer);
+  unload(s);
 }

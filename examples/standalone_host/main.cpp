@@ -16,6 +16,7 @@
 #include <shared/gpu_bvh.h>
 
 #include <cmath>
+#include <glm/gtc/matrix_inverse.hpp>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -351,6 +352,7 @@ gpu::GpuCamera camera(uint32_t width, uint32_t height) {
   proj[3][2] = 0.1f;
   c.clipFromWorld = proj;
   c.previousClipFromWorld = proj;
+  c.viewFromClip = glm::inverse(proj);
   return c;
 }
 
