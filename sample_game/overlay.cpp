@@ -41,7 +41,7 @@ bool tunables(gi::Settings& settings) {
         k.set(settings, double(std::max(v, 0))), changed = true;
     }
     if (ImGui::IsItemHovered())
-      ImGui::SetTooltip("%s\n%s %s%g, %g]", k.meaning, k.field, k.openMin ? "(" : "[", k.min, k.max);
+      ImGui::SetTooltip("%s\n%s %s", k.meaning, k.field, gi::rangeText(k).c_str());
   }
   return changed;
 }

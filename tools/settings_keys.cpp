@@ -2,7 +2,6 @@
 
 #include <cerrno>
 #include <cmath>
-#include <cstdio>
 #include <cstdlib>
 
 namespace tools {
@@ -37,9 +36,8 @@ bool applySetting(gi::Settings& settings, const std::string& assignment, std::st
 std::vector<std::string> settingKeys() {
   std::vector<std::string> out;
   for (const gi::SettingInfo& k : gi::settingCatalogue()) {
-    char range[96];
-    std::snprintf(range, sizeof(range), "%s%g, %g]", k.openMin ? "(" : "[", k.min, k.max);
-    out.push_back(std::string(k.key) + "  (" + k.meaning + (*k.unit ? std::string("; ") + k.unit : "") + "; " + range + ")");
+    out.push_back(std::string(k.key) + "  (" + k.meaning + (*k.unit ? std::string("; ") + k.unit : "") + "; " +
+                  gi::rangeText(k) + ")");
   }
   return out;
 }

@@ -3,6 +3,7 @@
 #include "gi/catalogue.h"
 
 #include <algorithm>
+#include <cstdio>
 
 #include "shared/hash_grid.h"
 
@@ -234,6 +235,13 @@ const SettingInfo* findSetting(std::string_view key) {
   for (const SettingInfo& s : kSettings)
     if (key == s.key) return &s;
   return nullptr;
+}
+
+std::string rangeText(const SettingInfo& k) {
+  char text[96];
+  if (k.kind == SettingKind::Float) std::snprintf(text, sizeof(text), "%s%g, %g]", k.openMin ? "(" : "[", k.min, k.max);
+  else std::snprintf(text, sizeof(text), "[%.0f, %.0f]", k.min, k.max);
+  return text;
 }
 
 std::span<const MethodInfo> methodCatalogue() { return kMethods; }

@@ -21,13 +21,6 @@ float cosDegrees(float degrees) { return std::cos(degrees * 3.14159265f / 180.0f
 // World size of a pixel per metre of view depth.
 float pixelScale(const gpu::GpuCamera& c) { return 2.0f * c.tanHalfFovY / c.imageSize.y; }
 
-// The counters a frame slot copied back (valid once that frame has completed).
-gpu::GiCounters slotCounters(const Module& m, uint32_t slot) {
-  gpu::GiCounters c;
-  std::memcpy(&c, static_cast<const std::byte*>(m.counters.mapped) + sizeof(gpu::GiCounters) * (1 + slot), sizeof(c));
-  return c;
-}
-
 // The ray budget: paths per pixel such that pixels × spp × (rays per path, as
 // measured on the newest completed frame, the one that last used `slot`)
 // stays within settings.rayBudget.
@@ -55,33 +48,21 @@ uint32_t aafSampleBudget(const Module& m, uint32_t slot) {
 // positive and finite).
 float radianceScale(const Module& m) { return 1.0f / m.desc.scene.typicalRadiance; }
 
-uint32_t hashMode(Method method) {
-  return method == Method::Nhpsf ? gpu::HG_MODE_NHPSF : method == Method::Anhpsf ? gpu::HG_MODE_ANHPSF : gpu::HG_MODE_HPSF;
-}
-
-void computeToComputeBarrier(const vk::Device& g, VkCommandBuffer cmd) {
-  vk::memoryBarrier(g, cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                    VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                    VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-}
-
 // One pass of the frame script: label and timestamps around a dispatch and
 // the barrier that publishes its writes to the next compute pass.
+void runPass(Module& m, VkCommandBuffer cmd, uint32_t slot, Pass name, const vk::ComputeProgram& program,
+             std::span<const VkDescriptorSet> sets, glm::uvec2 threads, const void* push = nullptr,
+             uint32_t pushSize = 0) {
+  beginPass(m, cmd, slot, name);
+  vk::dispatch(m.gpu, cmd, program, sets, threads, push, pushSize);
+  vk::computeToComputeBarrier(m.gpu, cmd);
+  endPass(m, cmd, slot);
+}
+
 template <typename Push>
 void runPass(Module& m, VkCommandBuffer cmd, uint32_t slot, Pass name, const vk::ComputeProgram& program,
              std::span<const VkDescriptorSet> sets, glm::uvec2 threads, const Push& push) {
-  beginPass(m, cmd, slot, name);
-  vk::dispatch(m.gpu, cmd, program, sets, threads, push);
-  computeToComputeBarrier(m.gpu, cmd);
-  endPass(m, cmd, slot);
-}
-
-void runPass(Module& m, VkCommandBuffer cmd, uint32_t slot, Pass name, const vk::ComputeProgram& program,
-             std::span<const VkDescriptorSet> sets, glm::uvec2 threads) {
-  beginPass(m, cmd, slot, name);
-  vk::dispatch(m.gpu, cmd, program, sets, threads, nullptr, 0);
-  computeToComputeBarrier(m.gpu, cmd);
-  endPass(m, cmd, slot);
+  runPass(m, cmd, slot, name, program, sets, threads, &push, sizeof(Push));
 }
 
 // Slot setup: the G-buffer into this slot's set (the frame that last read
@@ -107,22 +88,7 @@ void beginFrame(Module& m, VkCommandBuffer cmd, uint32_t slot, const FrameInputs
                     VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_TRANSFER_BIT,
                     VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT |
                         VK_ACCESS_2_TRANSFER_READ_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT);
-  OutputImages& o = m.outputs;
-  if (!o.initialised) {
-    for (vk::Image* img : {&o.direct, &o.indirect, &o.composite})
-      vk::imageBarrier(g, cmd, img->image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, 0,
-                       VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                       VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-    o.initialised = true;
-  }
-  if (!r.initialised) {
-    for (vk::Image* img : {&r.historyDirect, &r.historyIndirect, &r.noisyIndirect, &r.guidance, &r.position, &r.debug,
-                           &r.aafParams, &r.aafSum, &r.aafGlossy, &r.aafGlossyEdge})
-      vk::imageBarrier(g, cmd, img->image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, 0,
-                       VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                       VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-    r.initialised = true;
-  }
+  recordFirstUse(g, cmd, m.outputs, r);
   if (m.timestamps) g.fn.vkCmdResetQueryPool(cmd, m.timestamps, slot * kMaxPasses * 2, kMaxPasses * 2);
   g.fn.vkCmdFillBuffer(cmd, m.counters.buffer, 0, sizeof(gpu::GiCounters), 0);
   vk::memoryBarrier(g, cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
@@ -196,6 +162,12 @@ void recordFilterPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const Fra
 
 }  // namespace
 
+gpu::GiCounters slotCounters(const Module& m, uint32_t slot) {
+  gpu::GiCounters c;
+  std::memcpy(&c, static_cast<const std::byte*>(m.counters.memory.mapped) + sizeof(gpu::GiCounters) * (1 + slot), sizeof(c));
+  return c;
+}
+
 PassHooks passHooks(Module& m, uint32_t slot) {
   return {[&m, slot](VkCommandBuffer cmd, Pass pass) { beginPass(m, cmd, slot, pass); },
           [&m, slot](VkCommandBuffer cmd) { endPass(m, cmd, slot); }};
@@ -244,7 +216,7 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
 
   gpu::GiFrameConstants frame{in.camera, in.previousCamera, {m.width, m.height}, in.frameIndex,
                               std::max(m.desc.scene.extent, 1e-6f)};
-  std::memcpy(static_cast<std::byte*>(m.frameConstants.mapped) + slot * m.frameConstantsStride, &frame, sizeof(frame));
+  std::memcpy(static_cast<std::byte*>(m.frameConstants.memory.mapped) + slot * m.frameConstantsStride, &frame, sizeof(frame));
   beginFrame(m, cmd, slot, in);
   // History survives only while the view and the settings stay put.
   const bool accumulate = s.method == Method::Raw && s.raw.temporalAccumulation;

@@ -28,8 +28,7 @@ bool readFrameStats(Module& m, uint32_t slot, FrameStats& st) {
     st.passes.push_back({info.name, ms, info.tracesRays});
     st.totalMs += ms;
   }
-  gpu::GiCounters c;
-  std::memcpy(&c, static_cast<const std::byte*>(m.counters.mapped) + sizeof(gpu::GiCounters) * (1 + slot), sizeof(c));
+  const gpu::GiCounters c = slotCounters(m, slot);
   st.raysTraced = c.raysTraced;
   st.sanitized = c.sanitized;
   st.accumulatedFrames = fs.history;

@@ -30,7 +30,7 @@ vk::Status createHashGrid(vk::Device& d, uint32_t capacity, uint32_t tables, uin
     GI_TRY(vk::createBuffer(d, sizeof(gpu::HgAccum) * n, usage, false, g.accum));
     GI_TRY(vk::createBuffer(d, sizeof(gpu::HgCell) * n, usage, false, g.cells));
     GI_TRY(vk::createBuffer(d, sizeof(gpu::HgTelemetry) * (1 + slots), usage, true, g.telemetry));
-    std::memset(g.telemetry.mapped, 0, g.telemetry.size);
+    std::memset(g.telemetry.memory.mapped, 0, g.telemetry.size);
     GI_TRY(vk::createBuffer(d, sizeof(gpu::HgWalk) * std::max(g.walkPixels, 1u), usage, false, g.walks));
     GI_TRY(vk::createImage(d, {width, height}, VK_FORMAT_R32_UINT, VK_IMAGE_USAGE_STORAGE_BIT, g.pixelCell));
     const vk::Binding bindings[] = {
@@ -124,8 +124,8 @@ void recordHashGridTelemetryCopy(const vk::Device& d, VkCommandBuffer cmd, HashG
 
 gpu::HgTelemetry readHashGridTelemetry(const HashGrid& g, uint32_t slot) {
   gpu::HgTelemetry t{};
-  if (g.telemetry.mapped)
-    std::memcpy(&t, static_cast<const std::byte*>(g.telemetry.mapped) + sizeof(gpu::HgTelemetry) * (1 + slot), sizeof(t));
+  if (g.telemetry.memory.mapped)
+    std::memcpy(&t, static_cast<const std::byte*>(g.telemetry.memory.mapped) + sizeof(gpu::HgTelemetry) * (1 + slot), sizeof(t));
   return t;
 }
 

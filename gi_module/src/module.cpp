@@ -92,27 +92,26 @@ std::array<uint32_t, SCENE_SPEC_COUNT> sceneSpecialization(const Module& m) {
           m.desc.scene.hasAlphaMask ? 1u : 0u};
 }
 
-uint32_t hashMode(Method method) {
-  return method == Method::Nhpsf ? gpu::HG_MODE_NHPSF : method == Method::Anhpsf ? gpu::HG_MODE_ANHPSF : gpu::HG_MODE_HPSF;
+// The hash map `s` needs for renders up to `width` × `height`.
+struct HashGridShape {
+  uint32_t capacity, tables;
+  bool walks;
+};
+HashGridShape hashGridShape(const Settings& s, uint32_t width, uint32_t height) {
+  return {hashCapacity(s.hpsf, width, height), s.hpsf.eviction == EvictionPolicy::Strict ? 2u : 1u,
+          s.method == Method::Anhpsf};
 }
-
-uint32_t maxWidth(const Module& m) { return std::max(m.desc.maxWidth, m.width); }
-uint32_t maxHeight(const Module& m) { return std::max(m.desc.maxHeight, m.height); }
 
 // Whether the hash map for `s` differs from the one the module holds.
 bool hashGridChanges(const Module& m, const Settings& s) {
   if (!usesHashGrid(s.method)) return false;
-  uint32_t capacity = hashCapacity(s.hpsf, maxWidth(m), maxHeight(m));
-  uint32_t tables = s.hpsf.eviction == EvictionPolicy::Strict ? 2 : 1;
-  bool walks = s.method == Method::Anhpsf;
-  return !(m.hash.capacity == capacity && m.hash.tables == tables && (m.hash.walkPixels > 0) == walks);
+  const HashGridShape want = hashGridShape(s, m.desc.maxWidth, m.desc.maxHeight);
+  return !(m.hash.capacity == want.capacity && m.hash.tables == want.tables && (m.hash.walkPixels > 0) == want.walks);
 }
 
-// A hash map for `s` sized for renders up to `width` × `height`.
 vk::Status createHashGridFor(Module& m, const Settings& s, uint32_t width, uint32_t height, HashGrid& out) {
-  uint32_t capacity = hashCapacity(s.hpsf, width, height);
-  uint32_t tables = s.hpsf.eviction == EvictionPolicy::Strict ? 2 : 1;
-  return createHashGrid(m.gpu, capacity, tables, width, height, m.desc.framesInFlight, s.method == Method::Anhpsf, out);
+  const HashGridShape shape = hashGridShape(s, width, height);
+  return createHashGrid(m.gpu, shape.capacity, shape.tables, width, height, m.desc.framesInFlight, shape.walks, out);
 }
 
 vk::Status ensureHashGridProgramsFor(Module& m, const Settings& s, HashGrid& grid) {
@@ -160,7 +159,7 @@ vk::Status createFrameBuffers(Module& m) {
                           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
                               VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
                           true, m.counters));
-  std::memset(m.counters.mapped, 0, m.counters.size);
+  std::memset(m.counters.memory.mapped, 0, m.counters.size);
   return {};
 }
 
@@ -179,7 +178,7 @@ vk::Status createModuleResources(Module& m) {
   GI_TRY(ensurePrograms(m, m.settings));
   GI_TRY(createOutputImages(m.gpu, m.width, m.height, m.outputs));
   GI_TRY(createSizedResources(m, m.settings, m.width, m.height, m.outputs, m.sized));
-  if (usesHashGrid(m.settings.method)) GI_TRY(createHashGridFor(m, m.settings, maxWidth(m), maxHeight(m), m.hash));
+  if (usesHashGrid(m.settings.method)) GI_TRY(createHashGridFor(m, m.settings, m.desc.maxWidth, m.desc.maxHeight, m.hash));
   GI_TRY(ensureHashGridProgramsFor(m, m.settings, m.hash));
   GI_TRY(createTimestamps(m));
   return {};
@@ -220,6 +219,10 @@ void replaceHashGrid(Module& m, HashGrid& next) {
 }
 
 }  // namespace
+
+uint32_t hashMode(Method method) {
+  return method == Method::Nhpsf ? gpu::HG_MODE_NHPSF : method == Method::Anhpsf ? gpu::HG_MODE_ANHPSF : gpu::HG_MODE_HPSF;
+}
 
 bool aafSpecular(const Module& m, const Settings& s) { return s.method == Method::Aaf && m.desc.scene.hasGlossyMaterials; }
 
@@ -269,6 +272,8 @@ Error create(const ModuleDesc& desc, const Settings& settings, Module*& out) {
   if (Error e = validate(settings)) return e;
   auto* m = new Module;
   m->desc = desc;
+  m->desc.maxWidth = std::max(desc.maxWidth, desc.width);  // from here on: the largest size so far
+  m->desc.maxHeight = std::max(desc.maxHeight, desc.height);
   m->settings = settings;
   m->width = desc.width;
   m->height = desc.height;
@@ -314,7 +319,7 @@ Error setSettings(Module* m, const Settings& settings) {
       return vulkanError("gi::setSettings", s);
   HashGrid hash;
   bool newHash = hashGridChanges(*m, settings);
-  vk::Status s = newHash ? createHashGridFor(*m, settings, maxWidth(*m), maxHeight(*m), hash) : vk::Status{};
+  vk::Status s = newHash ? createHashGridFor(*m, settings, m->desc.maxWidth, m->desc.maxHeight, hash) : vk::Status{};
   if (!s) s = ensureHashGridProgramsFor(*m, settings, newHash ? hash : m->hash);
   if (s) {
     destroyHashGrid(m->gpu, hash);
@@ -340,8 +345,8 @@ Error resize(Module* m, uint32_t width, uint32_t height) {
     return vulkanError("gi::resize", built);
   }
   // Within the largest size the hash map keeps its cells; beyond it, a map for the new largest size.
-  const uint32_t newMaxWidth = std::max(width, maxWidth(*m)), newMaxHeight = std::max(height, maxHeight(*m));
-  const bool within = newMaxWidth == maxWidth(*m) && newMaxHeight == maxHeight(*m);
+  const uint32_t newMaxWidth = std::max(width, m->desc.maxWidth), newMaxHeight = std::max(height, m->desc.maxHeight);
+  const bool within = newMaxWidth == m->desc.maxWidth && newMaxHeight == m->desc.maxHeight;
   HashGrid hash;
   if (!within && usesHashGrid(m->settings.method)) {
     vk::Status s = createHashGridFor(*m, m->settings, newMaxWidth, newMaxHeight, hash);

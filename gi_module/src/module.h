@@ -97,6 +97,8 @@ uint32_t sizedResourcesNeeded(const Module& m, const Settings& settings);
 vk::Status createSizedResources(Module& m, const Settings& settings, uint32_t width, uint32_t height,
                                 const OutputImages& outputs, SizedResources& out);
 void destroySizedResources(vk::Device& gpu, SizedResources& r);
+// Moves images not used yet (new outputs, new sized resources) to GENERAL layout.
+void recordFirstUse(const vk::Device& gpu, VkCommandBuffer cmd, OutputImages& outputs, SizedResources& r);
 vk::Status createOutputImages(vk::Device& gpu, uint32_t width, uint32_t height, OutputImages& out);
 void destroyOutputImages(vk::Device& gpu, OutputImages& images);
 // Hands `release` to the retire list: it runs once the frames recorded so far have completed.
@@ -111,6 +113,11 @@ bool aafSpecular(const Module& m, const Settings& settings);
 PassHooks passHooks(Module& m, uint32_t slot);
 void beginPass(Module& m, VkCommandBuffer cmd, uint32_t slot, Pass pass);
 void endPass(Module& m, VkCommandBuffer cmd, uint32_t slot);
+
+// The counters frame slot `slot` copied back (valid once its frame has completed; frame.cpp).
+gpu::GiCounters slotCounters(const Module& m, uint32_t slot);
+// gpu::HG_MODE_* of a hash method (module.cpp).
+uint32_t hashMode(Method method);
 
 // Frame stats (frame_stats.cpp).
 bool readFrameStats(Module& m, uint32_t slot, FrameStats& out);

@@ -16,19 +16,13 @@
 namespace gi {
 namespace {
 
-void publish(const vk::Device& d, VkCommandBuffer cmd) {
-  vk::memoryBarrier(d, cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                    VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                    VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-}
-
 // One pass: hooks around a dispatch and the barrier that publishes it.
 template <typename Push>
 void passOn(const vk::Device& d, VkCommandBuffer cmd, VkDescriptorSet set, const PassHooks& hooks, Pass name,
             const vk::ComputeProgram& program, glm::uvec2 threads, const Push& push) {
   if (hooks.begin) hooks.begin(cmd, name);
   vk::dispatch(d, cmd, program, std::span(&set, 1), threads, push);
-  publish(d, cmd);
+  vk::computeToComputeBarrier(d, cmd);
   if (hooks.end) hooks.end(cmd);
 }
 

@@ -8,14 +8,11 @@
 namespace gi {
 namespace {
 
-// "settings.raw.samplesPerPixel = 0 is outside [1, 64]" (floats: %g, "(" for an open lower end).
+// "settings.raw.samplesPerPixel = 0 is outside [1, 64]" (floats: %g).
 Error rangeError(const SettingInfo& k, double v) {
-  char text[320];
-  if (k.kind == SettingKind::Float)
-    std::snprintf(text, sizeof(text), "%s = %g is outside %s%g, %g]", k.field, v, k.openMin ? "(" : "[", k.min, k.max);
-  else
-    std::snprintf(text, sizeof(text), "%s = %.0f is outside [%.0f, %.0f]", k.field, v, k.min, k.max);
-  return {ErrorCode::OutOfRange, text};
+  char value[64];
+  std::snprintf(value, sizeof(value), k.kind == SettingKind::Float ? "%g" : "%.0f", v);
+  return {ErrorCode::OutOfRange, std::string(k.field) + " = " + value + " is outside " + rangeText(k)};
 }
 
 }  // namespace

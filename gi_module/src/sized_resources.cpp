@@ -179,6 +179,19 @@ vk::Status createSizedResources(Module& m, const Settings& settings, uint32_t wi
   return {};
 }
 
+void recordFirstUse(const vk::Device& gpu, VkCommandBuffer cmd, OutputImages& o, SizedResources& r) {
+  auto toGeneral = [&](const vk::Image& img) {
+    vk::imageBarrier(gpu, cmd, img.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, 0,
+                     VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                     VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+  };
+  if (!o.initialised)
+    for (const vk::Image* img : {&o.direct, &o.indirect, &o.composite}) toGeneral(*img);
+  if (!r.initialised)
+    for (const SizedImage& image : kSizedImages) toGeneral(r.*image.image);
+  o.initialised = r.initialised = true;
+}
+
 void destroySizedResources(vk::Device& gpu, SizedResources& r) {
   destroyScreenFilters(gpu, r.filters);
   vk::destroyDescriptorSets(gpu, r.frameSets);

@@ -6,6 +6,7 @@
 #pragma once
 #include <cstdint>
 #include <span>
+#include <string>
 #include <string_view>
 
 #include "gi/settings.h"
@@ -35,6 +36,8 @@ struct SettingInfo {
 };
 std::span<const SettingInfo> settingCatalogue();
 const SettingInfo* findSetting(std::string_view key);  // null for an unknown key
+// The valid range as errors, help texts and tooltips print it: "[1, 64]", "(0, 10000]".
+std::string rangeText(const SettingInfo& setting);
 
 struct MethodInfo {
   Method method;

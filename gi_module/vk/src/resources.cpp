@@ -8,19 +8,18 @@ Status createBuffer(Device& d, VkDeviceSize size, VkBufferUsageFlags usage, bool
   VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
   info.size = size > 0 ? size : 16;  // a zero-sized buffer is invalid
   info.usage = usage;
-  GI_VK(d.fn.vkCreateBuffer(d.device, &info, d.allocator, &b.buffer));
-  VkMemoryRequirements req;
-  d.fn.vkGetBufferMemoryRequirements(d.device, b.buffer, &req);
-  Status s = allocate(d, req, hostVisible, true, b.memory);
-  if (!s) {
-    if (VkResult r = d.fn.vkBindBufferMemory(d.device, b.buffer, b.memory.memory, b.memory.offset); r != VK_SUCCESS)
-      s = {r, "vkBindBufferMemory"};
-  }
-  if (s) {
+  auto build = [&]() -> Status {
+    GI_VK(d.fn.vkCreateBuffer(d.device, &info, d.allocator, &b.buffer));
+    VkMemoryRequirements req;
+    d.fn.vkGetBufferMemoryRequirements(d.device, b.buffer, &req);
+    GI_TRY(allocate(d, req, hostVisible, true, b.memory));
+    GI_VK(d.fn.vkBindBufferMemory(d.device, b.buffer, b.memory.memory, b.memory.offset));
+    return {};
+  };
+  if (Status s = build()) {
     destroyBuffer(d, b);
     return s;
   }
-  b.mapped = b.memory.mapped;
   out = b;
   return {};
 }
@@ -45,24 +44,21 @@ Status createImage(Device& d, VkExtent2D extent, VkFormat format, VkImageUsageFl
   info.tiling = VK_IMAGE_TILING_OPTIMAL;
   info.usage = usage;
   info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-  GI_VK(d.fn.vkCreateImage(d.device, &info, d.allocator, &img.image));
-  VkMemoryRequirements req;
-  d.fn.vkGetImageMemoryRequirements(d.device, img.image, &req);
-  Status s = allocate(d, req, false, false, img.memory);
-  if (!s) {
-    if (VkResult r = d.fn.vkBindImageMemory(d.device, img.image, img.memory.memory, img.memory.offset); r != VK_SUCCESS)
-      s = {r, "vkBindImageMemory"};
-  }
-  if (!s) {
+  auto build = [&]() -> Status {
+    GI_VK(d.fn.vkCreateImage(d.device, &info, d.allocator, &img.image));
+    VkMemoryRequirements req;
+    d.fn.vkGetImageMemoryRequirements(d.device, img.image, &req);
+    GI_TRY(allocate(d, req, false, false, img.memory));
+    GI_VK(d.fn.vkBindImageMemory(d.device, img.image, img.memory.memory, img.memory.offset));
     VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
     view.image = img.image;
     view.viewType = VK_IMAGE_VIEW_TYPE_2D;
     view.format = format;
     view.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-    if (VkResult r = d.fn.vkCreateImageView(d.device, &view, d.allocator, &img.view); r != VK_SUCCESS)
-      s = {r, "vkCreateImageView"};
-  }
-  if (s) {
+    GI_VK(d.fn.vkCreateImageView(d.device, &view, d.allocator, &img.view));
+    return {};
+  };
+  if (Status s = build()) {
     destroyImage(d, img);
     return s;
   }
@@ -125,6 +121,12 @@ void memoryBarrier(const Device& d, VkCommandBuffer cmd, VkPipelineStageFlags2 s
                    VkPipelineStageFlags2 dstStage, VkAccessFlags2 dstAccess) {
   VkMemoryBarrier2 b = memoryBarrierInfo(srcStage, srcAccess, dstStage, dstAccess);
   recordBarrier(d.fn.vkCmdPipelineBarrier2, cmd, &b, nullptr);
+}
+
+void computeToComputeBarrier(const Device& d, VkCommandBuffer cmd) {
+  memoryBarrier(d, cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
 }
 
 }  // namespace gi::vk

@@ -8,9 +8,8 @@ namespace gi::vk {
 
 struct Buffer {
   VkBuffer buffer = VK_NULL_HANDLE;
-  Allocation memory;
+  Allocation memory;       // memory.mapped: the host pointer of a host-visible buffer
   VkDeviceSize size = 0;
-  void* mapped = nullptr;  // host-visible buffers
 };
 
 struct Image {
@@ -47,5 +46,7 @@ void imageBarrier(const Device& device, VkCommandBuffer cmd, VkImage image, VkIm
 // Global memory barrier, for buffers and images that keep their layout.
 void memoryBarrier(const Device& device, VkCommandBuffer cmd, VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess,
                    VkPipelineStageFlags2 dstStage, VkAccessFlags2 dstAccess);
+// What a compute pass wrote, visible to the next compute pass (read and write).
+void computeToComputeBarrier(const Device& device, VkCommandBuffer cmd);
 
 }  // namespace gi::vk
