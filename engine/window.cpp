@@ -92,27 +92,16 @@ bool createWindow(const Context& ctx, uint32_t width, uint32_t height, const cha
   }
   createSwapchain(ctx, w);
   VkSemaphoreCreateInfo sem{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
-  VkFenceCreateInfo fence{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-  fence.flags = VK_FENCE_CREATE_SIGNALED_BIT;
-  for (uint32_t i = 0; i < kWindowFramesInFlight; ++i) {
-    VK_CHECK(vkCreateSemaphore(ctx.device, &sem, nullptr, &w.imageAcquired[i]));
-    VK_CHECK(vkCreateFence(ctx.device, &fence, nullptr, &w.frameDone[i]));
-  }
-  VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-  alloc.commandPool = ctx.commandPool;
-  alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-  alloc.commandBufferCount = kWindowFramesInFlight;
-  VK_CHECK(vkAllocateCommandBuffers(ctx.device, &alloc, w.commandBuffers));
+  for (VkSemaphore& acquired : w.imageAcquired) VK_CHECK(vkCreateSemaphore(ctx.device, &sem, nullptr, &acquired));
+  w.slots = createFrameSlots(ctx);
   return true;
 }
 
 void destroyWindow(const Context& ctx, Window& w) {
   if (ctx.device) vkDeviceWaitIdle(ctx.device);
-  if (w.commandBuffers[0]) vkFreeCommandBuffers(ctx.device, ctx.commandPool, kWindowFramesInFlight, w.commandBuffers);
-  for (uint32_t i = 0; i < kWindowFramesInFlight; ++i) {
-    if (w.frameDone[i]) vkDestroyFence(ctx.device, w.frameDone[i], nullptr);
-    if (w.imageAcquired[i]) vkDestroySemaphore(ctx.device, w.imageAcquired[i], nullptr);
-  }
+  destroyFrameSlots(ctx, w.slots);
+  for (VkSemaphore acquired : w.imageAcquired)
+    if (acquired) vkDestroySemaphore(ctx.device, acquired, nullptr);
   for (VkSemaphore s : w.renderDone) vkDestroySemaphore(ctx.device, s, nullptr);
   if (w.swapchain) vkDestroySwapchainKHR(ctx.device, w.swapchain, nullptr);
   if (w.surface) vkDestroySurfaceKHR(ctx.instance, w.surface, nullptr);
@@ -127,22 +116,16 @@ bool windowShouldClose(const Window& w) {
 }
 
 bool beginWindowFrame(const Context& ctx, Window& w, uint32_t& imageIndex) {
-  const uint32_t slot = uint32_t(w.frames % kWindowFramesInFlight);
-  VK_CHECK(vkWaitForFences(ctx.device, 1, &w.frameDone[slot], VK_TRUE, UINT64_MAX));
-  VkResult r =
-      vkAcquireNextImageKHR(ctx.device, w.swapchain, UINT64_MAX, w.imageAcquired[slot], VK_NULL_HANDLE, &imageIndex);
+  waitFrameSlot(ctx, w.slots, w.frames);
+  VkResult r = vkAcquireNextImageKHR(ctx.device, w.swapchain, UINT64_MAX, w.imageAcquired[w.frames % kFramesInFlight],
+                                     VK_NULL_HANDLE, &imageIndex);
   if (r == VK_ERROR_OUT_OF_DATE_KHR) {
     vkDeviceWaitIdle(ctx.device);
     createSwapchain(ctx, w);
     return false;
   }
   if (r != VK_SUBOPTIMAL_KHR) VK_CHECK(r);
-  VK_CHECK(vkResetFences(ctx.device, 1, &w.frameDone[slot]));
-  w.cmd = w.commandBuffers[slot];
-  VK_CHECK(vkResetCommandBuffer(w.cmd, 0));
-  VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-  begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-  VK_CHECK(vkBeginCommandBuffer(w.cmd, &begin));
+  w.cmd = beginFrameSlot(ctx, w.slots, w.frames);
   return true;
 }
 
@@ -165,18 +148,8 @@ void endWindowFrame(const Context& ctx, Window& w, uint32_t imageIndex, VkImage 
                VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
   imageBarrier(w.cmd, target, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
                VK_PIPELINE_STAGE_2_BLIT_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_NONE, 0);
-  VK_CHECK(vkEndCommandBuffer(w.cmd));
-  VkPipelineStageFlags wait = VK_PIPELINE_STAGE_TRANSFER_BIT;
-  const uint32_t slot = uint32_t(w.frames % kWindowFramesInFlight);
-  VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
-  submit.waitSemaphoreCount = 1;
-  submit.pWaitSemaphores = &w.imageAcquired[slot];
-  submit.pWaitDstStageMask = &wait;
-  submit.commandBufferCount = 1;
-  submit.pCommandBuffers = &w.cmd;
-  submit.signalSemaphoreCount = 1;
-  submit.pSignalSemaphores = &w.renderDone[imageIndex];
-  VK_CHECK(vkQueueSubmit(ctx.queue, 1, &submit, w.frameDone[slot]));
+  submitFrameSlot(ctx, w.slots, w.frames, w.imageAcquired[w.frames % kFramesInFlight], VK_PIPELINE_STAGE_TRANSFER_BIT,
+                  w.renderDone[imageIndex]);
   w.frames++;
   VkPresentInfoKHR present{VK_STRUCTURE_TYPE_PRESENT_INFO_KHR};
   present.waitSemaphoreCount = 1;
@@ -193,12 +166,6 @@ void endWindowFrame(const Context& ctx, Window& w, uint32_t imageIndex, VkImage 
   }
 }
 
-void waitForSubmittedFrames(const Context& ctx, const Window& w) {
-  // The slot being recorded has its fence reset and nothing submitted: wait for the others.
-  for (uint64_t back = 1; back < kWindowFramesInFlight && back <= w.frames; ++back) {
-    const uint32_t slot = uint32_t((w.frames - back) % kWindowFramesInFlight);
-    VK_CHECK(vkWaitForFences(ctx.device, 1, &w.frameDone[slot], VK_TRUE, UINT64_MAX));
-  }
-}
+void waitForSubmittedFrames(const Context& ctx, const Window& w) { waitOtherFrameSlots(ctx, w.slots, w.frames); }
 
 }  // namespace engine

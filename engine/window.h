@@ -6,14 +6,11 @@
 #include <vector>
 
 #include "context.h"
+#include "frame_slots.h"
 
 struct GLFWwindow;
 
 namespace engine {
-
-// Frames the window records ahead: beginWindowFrame waits for the frame
-// recorded this many frames earlier, not for the last one.
-inline constexpr uint32_t kWindowFramesInFlight = 2;
 
 struct Window {
   GLFWwindow* handle = nullptr;
@@ -23,10 +20,9 @@ struct Window {
   VkExtent2D extent{};
   std::vector<VkImage> images;
   std::vector<VkSemaphore> renderDone;    // per swapchain image: the presentation engine holds it until presented
-  VkSemaphore imageAcquired[kWindowFramesInFlight] = {};
-  VkFence frameDone[kWindowFramesInFlight] = {};
-  VkCommandBuffer commandBuffers[kWindowFramesInFlight] = {};
-  uint64_t frames = 0;                    // frames submitted; the slot is frames mod kWindowFramesInFlight
+  VkSemaphore imageAcquired[kFramesInFlight] = {};
+  FrameSlots slots;                       // kFramesInFlight frames recorded ahead
+  uint32_t frames = 0;                    // frames submitted; the slot is frames mod kFramesInFlight
   VkCommandBuffer cmd = VK_NULL_HANDLE;   // this frame's command buffer, between begin and end
 };
 
@@ -36,7 +32,7 @@ bool createWindow(const Context& ctx, uint32_t width, uint32_t height, const cha
 void destroyWindow(const Context& ctx, Window& window);
 bool windowShouldClose(const Window& window);  // also polls events
 
-// Waits for the frame recorded kWindowFramesInFlight frames ago, acquires an
+// Waits for the frame recorded kFramesInFlight frames ago, acquires an
 // image and begins this frame's command buffer. Returns false when the
 // swapchain had to be recreated (skip the frame).
 bool beginWindowFrame(const Context& ctx, Window& window, uint32_t& imageIndex);

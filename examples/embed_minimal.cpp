@@ -1,7 +1,7 @@
 // The smallest game loop that embeds the GI module: init, then per frame
 // update the camera, raster the G-buffer, gi::recordFrame, composite into the
 // frame, present (here: keep the last frame and write it as a PNG). Two
-// frames in flight, as engines run: each frame waits only for the fence of
+// frames in flight (engine/frame_slots.h), as engines run: each frame waits only for the fence of
 // the frame two before it, whose numbers are then read.
 //
 //   embed_minimal SCENE.gltf OUT.png [FRAMES]
@@ -11,6 +11,7 @@
 #include <cstdlib>
 
 #include "camera.h"
+#include "frame_slots.h"
 #include "gbuffer.h"
 #include "gi/gi.h"
 #include "image_io.h"
@@ -67,19 +68,8 @@ int main(int argc, char** argv) {
                                gbuffer.color[gpu::GBUFFER_MOTION].view, gbuffer.color[gpu::GBUFFER_VIEWZ].view};
 
   // --- the game loop: two frames in flight -------------------------------------
-  constexpr uint32_t kFramesInFlight = 2;  // the module's default ModuleDesc::framesInFlight
-  VkCommandBuffer cmds[kFramesInFlight];
-  VkCommandBufferAllocateInfo cmdInfo{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-  cmdInfo.commandPool = ctx.commandPool;
-  cmdInfo.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-  cmdInfo.commandBufferCount = kFramesInFlight;
-  VK_CHECK(vkAllocateCommandBuffers(ctx.device, &cmdInfo, cmds));
-  VkFence fences[kFramesInFlight];
-  for (VkFence& f : fences) {
-    VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-    fenceInfo.flags = VK_FENCE_CREATE_SIGNALED_BIT;
-    VK_CHECK(vkCreateFence(ctx.device, &fenceInfo, nullptr, &f));
-  }
+  engine::FrameSlots frameSlots = engine::createFrameSlots(ctx);  // a command buffer and fence per frame in flight
+  constexpr uint32_t kFramesInFlight = engine::kFramesInFlight;      // the module's default ModuleDesc::framesInFlight
   auto printStats = [&](uint32_t completed) {
     gi::FrameStats stats;
     if (gi::frameStats(gi, completed, stats))
@@ -87,10 +77,8 @@ int main(int argc, char** argv) {
   };
   gpu::GpuCamera previous{};
   for (uint32_t frame = 0; frame < frames; ++frame) {
-    const uint32_t slot = frame % kFramesInFlight;
-    VK_CHECK(vkWaitForFences(ctx.device, 1, &fences[slot], VK_TRUE, UINT64_MAX));
+    engine::waitFrameSlot(ctx, frameSlots, frame);
     if (frame >= kFramesInFlight) printStats(frame - kFramesInFlight);  // its fence has signalled: its numbers are in
-    VK_CHECK(vkResetFences(ctx.device, 1, &fences[slot]));
 
     // Update: a slow orbit of the scene's camera around its up axis.
     engine::Camera camera = scene.cameras[0];
@@ -100,11 +88,7 @@ int main(int argc, char** argv) {
     camera.worldFromView = camera.worldFromView * turn;
     gpu::GpuCamera current = engine::makeGpuCamera(camera, width, height, frame ? &previous : nullptr);
 
-    VkCommandBuffer cmd = cmds[slot];
-    VK_CHECK(vkResetCommandBuffer(cmd, 0));
-    VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-    begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    VK_CHECK(vkBeginCommandBuffer(cmd, &begin));
+    VkCommandBuffer cmd = engine::beginFrameSlot(ctx, frameSlots, frame);
     // Raster the G-buffer; it leaves the images in GENERAL, visible to compute (the module's contract).
     engine::recordGBuffer(ctx, cmd, gbufferPass, scene, sceneGpu, gbuffer, current, nullptr);
     // Global illumination: records passes, never submits.
@@ -115,17 +99,12 @@ int main(int argc, char** argv) {
     // Composite → the frame: a game would barrier, then sample gi::outputs(gi).composite in its post chain.
     engine::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                           VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
-    VK_CHECK(vkEndCommandBuffer(cmd));
-    VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
-    submit.commandBufferCount = 1;
-    submit.pCommandBuffers = &cmd;
-    VK_CHECK(vkQueueSubmit(ctx.queue, 1, &submit, fences[slot]));
+    engine::submitFrameSlot(ctx, frameSlots, frame);
     previous = current;
   }
   vkDeviceWaitIdle(ctx.device);
   for (uint32_t f = frames >= kFramesInFlight ? frames - kFramesInFlight : 0; f < frames; ++f) printStats(f);
-  for (VkFence f : fences) vkDestroyFence(ctx.device, f, nullptr);
-  vkFreeCommandBuffers(ctx.device, ctx.commandPool, kFramesInFlight, cmds);
+  engine::destroyFrameSlots(ctx, frameSlots);
 
   // "Present": read the composite back and write it.
   engine::Image composite;

@@ -20,7 +20,6 @@
 #include "cli.h"
 #include "display_pass.h"
 #include "frame_log.h"
-#include "headless_frames.h"
 #include "free_camera.h"
 #include "image_io.h"
 #include "module_session.h"
@@ -204,10 +203,10 @@ int main(int argc, char** argv) {
   const VkExtent2D displaySize{o.windowWidth, o.windowHeight};
   // One display image per frame in flight: a finished frame's image is read
   // (saved) while the next frame draws into the other.
-  demo::DisplayPass displays[demo::kHeadlessFramesInFlight];
+  demo::DisplayPass displays[engine::kFramesInFlight];
   for (demo::DisplayPass& d : displays) d = demo::createDisplayPass(ctx, displaySize, gi::outputs(session.module).compositeView);
-  demo::HeadlessFrames headless;
-  if (o.headless) headless = demo::createHeadlessFrames(ctx);
+  engine::FrameSlots headless;  // the window has its own
+  if (o.headless) headless = engine::createFrameSlots(ctx);
 
   ImGui::CreateContext();
   ImGui::StyleColorsDark();
@@ -257,8 +256,7 @@ int main(int argc, char** argv) {
   };
   // Frames are recorded two ahead, windowed and headless: a frame's numbers,
   // and headless its PNG, are taken once the frame two later begins.
-  static_assert(engine::kWindowFramesInFlight == demo::kHeadlessFramesInFlight);
-  const uint32_t framesInFlight = demo::kHeadlessFramesInFlight;
+  const uint32_t framesInFlight = engine::kFramesInFlight;
   auto saveFrame = [&](uint32_t completed) {
     char name[64];
     std::snprintf(name, sizeof(name), "frame_%05u.png", completed);
@@ -276,7 +274,8 @@ int main(int argc, char** argv) {
       }
       frameCmd = window.cmd;
     } else {
-      frameCmd = demo::beginHeadlessFrame(ctx, headless, frame);
+      engine::waitFrameSlot(ctx, headless, frame);
+      frameCmd = engine::beginFrameSlot(ctx, headless, frame);
     }
     demo::DisplayPass& display = displays[frame % framesInFlight];
     // The frame recorded framesInFlight ago has completed: its numbers and the budget's next step.
@@ -338,7 +337,7 @@ int main(int argc, char** argv) {
     auto record = [&](VkCommandBuffer cmd) {
       if (ui.animate) {
         // Scene updates are host writes into buffers the frame in flight reads: let it finish first.
-        if (o.headless) demo::waitForOtherHeadlessFrames(ctx, headless, frame);
+        if (o.headless) engine::waitOtherFrameSlots(ctx, headless, frame);
         else engine::waitForSubmittedFrames(ctx, window);
         engine::animateScene(animation, seconds, scene);
         engine::recordSceneTransformUpdate(ctx, cmd, scene, sceneGpu);
@@ -350,7 +349,7 @@ int main(int argc, char** argv) {
                           displaySize);
     };
     record(frameCmd);
-    if (o.headless) demo::submitHeadlessFrame(ctx, headless, frame);
+    if (o.headless) engine::submitFrameSlot(ctx, headless, frame);
     else engine::endWindowFrame(ctx, window, image, display.image.image, displaySize);
     if (screenshotPending || frame == o.screenshotAt) {
       // With the overlay: once this frame has completed (its display image is not redrawn until frame + 2).
@@ -383,7 +382,7 @@ int main(int argc, char** argv) {
   if (!o.headless) ImGui_ImplGlfw_Shutdown();
   ImGui::DestroyContext();
   for (demo::DisplayPass& d : displays) demo::destroyDisplayPass(ctx, d);
-  demo::destroyHeadlessFrames(ctx, headless);
+  engine::destroyFrameSlots(ctx, headless);
   if (!o.headless) engine::destroyWindow(ctx, window);
   tools::destroyModuleSession(ctx, session);
   engine::destroySceneGpu(ctx, sceneGpu);

@@ -1,0 +1,30 @@
+// Frames in flight: a command buffer and a fence per slot, frame N in slot
+// N mod kFramesInFlight. Waiting on a slot waits for the frame recorded
+// kFramesInFlight frames earlier; the window, the headless demo and the
+// embedding example all record this way.
+#pragma once
+#include "context.h"
+
+namespace engine {
+
+inline constexpr uint32_t kFramesInFlight = 2;
+
+struct FrameSlots {
+  VkCommandBuffer cmd[kFramesInFlight] = {};
+  VkFence done[kFramesInFlight] = {};
+};
+
+FrameSlots createFrameSlots(const Context& ctx);
+void destroyFrameSlots(const Context& ctx, FrameSlots& slots);
+// Waits for the frame that last used frame `frame`'s slot.
+void waitFrameSlot(const Context& ctx, const FrameSlots& slots, uint32_t frame);
+// Resets the slot's fence and begins its command buffer (after waitFrameSlot).
+VkCommandBuffer beginFrameSlot(const Context& ctx, FrameSlots& slots, uint32_t frame);
+// Ends and submits the slot's command buffer, signalling its fence; optionally
+// waiting on and signalling semaphores (a swapchain's).
+void submitFrameSlot(const Context& ctx, FrameSlots& slots, uint32_t frame, VkSemaphore wait = VK_NULL_HANDLE,
+                     VkPipelineStageFlags waitStage = 0, VkSemaphore signal = VK_NULL_HANDLE);
+// Waits for every slot but `frame`'s (being recorded): before host writes that frames in flight read.
+void waitOtherFrameSlots(const Context& ctx, const FrameSlots& slots, uint32_t frame);
+
+}  // namespace engine
