@@ -33,7 +33,7 @@ gpu::GpuCamera makeGpuCamera(const Camera& camera, uint32_t width, uint32_t heig
     proj[3][2] = n;
   }
   c.clipFromWorld = proj * c.viewFromWorld;
-  c.viewFromClip = glm::inverse(proj);
+  c.ndcShift = ndcShift;
   c.previousClipFromWorld = previous ? previous->clipFromWorld : c.clipFromWorld;
   return c;
 }

@@ -16,7 +16,6 @@
 #include <shared/gpu_bvh.h>
 
 #include <cmath>
-#include <glm/gtc/matrix_inverse.hpp>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -352,7 +351,6 @@ gpu::GpuCamera camera(uint32_t width, uint32_t height) {
   proj[3][2] = 0.1f;
   c.clipFromWorld = proj;
   c.previousClipFromWorld = proj;
-  c.viewFromClip = glm::inverse(proj);
   return c;
 }
 

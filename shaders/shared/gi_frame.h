@@ -39,7 +39,7 @@ struct GiFrameConstants {
   uint frameIndex;
   float depthScale;  // metres: view depth is divided by it for the filters' guidance (the scene extent, fixed)
 };
-GPU_ASSERT_SIZE(GiFrameConstants, 720);
+GPU_ASSERT_SIZE(GiFrameConstants, 624);
 
 struct GiCounters {
   uint raysTraced;        // added to by every tracing pass

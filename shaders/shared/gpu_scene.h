@@ -128,23 +128,24 @@ struct GpuCamera {
   mat4 viewFromWorld;
   mat4 clipFromWorld;          // Vulkan clip space (y down, depth 0..1)
   mat4 previousClipFromWorld;
-  mat4 viewFromClip;           // the projection's inverse, sub-pixel jitter and off-axis shift included:
-                               // primary rays come from it, so they go where the raster's samples did
   vec3 position;
   float tanHalfFovY;
   vec2 imageSize;              // pixels
   float aspect;                // width / height
   float pad0;
+  vec2 ndcShift;               // the projection's shift in NDC (clipFromView[2].xy = −ndcShift): sub-pixel
+                               // jitter (TAA) and off-axis projections; primary rays follow it
+  vec2 pad1;
 };
-GPU_ASSERT_SIZE(GpuCamera, 352);
+GPU_ASSERT_SIZE(GpuCamera, 304);
 
 // The primary ray through `pixel` (continuous: (x + 0.5, y + 0.5) is the
 // centre of pixel (x, y), y down), matching the raster projection exactly;
 // shared by the shaders (camera.glsl) and CPU tracing (engine/cpu_tracer).
 GPU_FN vec3 giCameraRayDirection(GpuCamera cam, vec2 pixel) {
-  vec2 ndc = pixel / cam.imageSize * 2.0f - 1.0f;
-  vec4 nearPoint = cam.viewFromClip * vec4(ndc.x, ndc.y, 1.0f, 1.0f);  // reversed Z: depth 1 is the near plane
-  return normalize(mat3(cam.worldFromView) * (vec3(nearPoint) / nearPoint.w));
+  vec2 ndc = pixel / cam.imageSize * 2.0f - 1.0f - cam.ndcShift;
+  vec3 view = vec3(ndc.x * cam.tanHalfFovY * cam.aspect, -ndc.y * cam.tanHalfFovY, -1.0f);
+  return normalize(mat3(cam.worldFromView) * view);
 }
 
 GPU_NAMESPACE_END
