@@ -1,5 +1,5 @@
 // The device the module records for: the engine's handles, the module's own
-// function table (vulkan_functions.h), the engine's host allocation callbacks
+// function table (gi/vk/functions.h), the engine's host allocation callbacks
 // and pipeline cache, and the module's device-memory arena.
 #pragma once
 #include "gi/vk/memory_arena.h"
