@@ -107,13 +107,8 @@ int main(int argc, char** argv) {
   engine::destroyFrameSlots(ctx, frameSlots);
 
   // "Present": read the composite back and write it.
-  engine::Image composite;
-  composite.image = gi::outputs(gi).composite;
-  composite.format = VK_FORMAT_R32G32B32A32_SFLOAT;
-  composite.extent = {width, height};
-  std::vector<std::byte> raw = engine::readbackImage(ctx, composite, VK_IMAGE_LAYOUT_GENERAL, 16);
-  engine::FloatImage image(width, height, 3);
-  for (size_t p = 0; p < size_t(width) * height; ++p) std::memcpy(&image.pixels[3 * p], &raw[16 * p], 12);
+  const gi::Outputs outputs = gi::outputs(gi);  // half floats by default (ModuleDesc::outputFormat)
+  engine::FloatImage image = engine::readbackRgb(ctx, outputs.composite, outputs.format, {width, height});
   bool written = engine::writeImage(argv[2], image, error);
   if (!written) std::fprintf(stderr, "%s\n", error.c_str());
 

@@ -48,15 +48,7 @@ void recordDisplay(const engine::Context& ctx, VkCommandBuffer cmd, const Displa
 }
 
 engine::FloatImage readDisplay(const engine::Context& ctx, const DisplayPass& d) {
-  std::vector<std::byte> bytes = engine::readbackImage(ctx, d.image, VK_IMAGE_LAYOUT_GENERAL, 8);
-  engine::FloatImage out(d.extent.width, d.extent.height, 3);
-  for (size_t p = 0; p < size_t(d.extent.width) * d.extent.height; ++p)
-    for (int c = 0; c < 3; ++c) {
-      uint16_t h;
-      std::memcpy(&h, &bytes[p * 8 + size_t(c) * 2], 2);
-      out.pixels[p * 3 + size_t(c)] = engine::halfToFloat(h);
-    }
-  return out;
+  return engine::readbackRgb(ctx, d.image.image, d.image.format, d.extent);
 }
 
 }  // namespace demo

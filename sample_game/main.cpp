@@ -343,8 +343,11 @@ int main(int argc, char** argv) {
         engine::recordSceneTransformUpdate(ctx, cmd, scene, sceneGpu);
         if (ui.tellModuleLightsMoved) gi::invalidate(session.module, gi::Invalidate::LightsChanged);
       }
+      // The module pre-exposes its light with the demo's exposure, as an engine keeps half floats in
+      // range; the display applies what is left (nothing) and clamps.
+      session.preExposure = ui.exposure;
       tools::recordModuleFrame(ctx, cmd, session, scene, sceneGpu, camera, frame > 0 ? previousCamera : camera, frame);
-      demo::recordDisplay(ctx, cmd, display, ui.exposure);
+      demo::recordDisplay(ctx, cmd, display, ui.exposure / session.preExposure);
       demo::recordOverlay(ctx, cmd, overlay, frame, *ImGui::GetDrawData(), display.image.image, display.image.view,
                           displaySize);
     };

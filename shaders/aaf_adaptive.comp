@@ -50,8 +50,8 @@ void main() {
     }
     float inv = sum.a > 0.0 ? 1.0 / sum.a : 0.0;
     vec3 indirect = sum.rgb * inv;
-    imageStore(giNoisyIndirect, p, vec4(indirect, 1.0));
-    imageStore(giOutIndirect, p, vec4(indirect, 1.0));
+    giStoreNoisy(p, indirect, 1.0);
+    giStoreIndirect(p, indirect);
     if (pc.glossy != 0u) {
       imageStore(giAafGlossy, p, vec4(glossy.rgb * inv, glossy.a));
       imageStore(giAafGlossyEdge, p, vec4(edge.rgb * inv, edge.a));

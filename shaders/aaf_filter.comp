@@ -48,5 +48,5 @@ void main() {
     result = weightSum > 0.0 ? sum / weightSum : source.rgb;
   }
   if (pc.vertical == 0u) imageStore(filterTemp, p, vec4(result, beta));
-  else imageStore(filterOutput, p, vec4(result, 1.0));
+  else filterStoreOutput(p, result, pc.encoding);
 }

@@ -56,7 +56,7 @@ void main() {
       requested = uint(n);
       covered = 1u;
     }
-    imageStore(giOutDirect, p, vec4(direct, 1.0));
+    giStoreDirect(p, direct);
     imageStore(giAafParams, p, params);
     imageStore(giAafSum, p, sum);
     if (pc.glossy != 0u) {

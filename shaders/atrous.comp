@@ -11,7 +11,7 @@ layout(push_constant, scalar) uniform Push { AtrousPush pc; };
 
 vec4 loadSource(ivec2 q) {
   if (pc.source == 0u) return imageLoad(filterInput, q);
-  if (pc.source == 1u) return imageLoad(filterOutput, q);
+  if (pc.source == 1u) return vec4(filterLoadOutput(q, pc.encoding), 1.0);
   return imageLoad(filterTemp, q);
 }
 
@@ -48,6 +48,6 @@ void main() {
       }
     result = sum / max(weightSum, 1e-30);
   }
-  if (pc.destination == 1u) imageStore(filterOutput, p, vec4(result, 1.0));
+  if (pc.destination == 1u) filterStoreOutput(p, result, pc.encoding);
   else imageStore(filterTemp, p, vec4(result, 1.0));
 }

@@ -14,7 +14,7 @@ void main() {
   if (any(greaterThanEqual(p, size))) return;
   vec4 gc = imageLoad(filterGuidance, p);
   if (imageLoad(filterPosition, p).w <= 0.0) {  // background: nothing to filter
-    imageStore(filterOutput, p, imageLoad(filterInput, p));
+    filterStoreOutput(p, imageLoad(filterInput, p).rgb, pc.encoding);
     return;
   }
   int r = int(pc.radius);
@@ -36,5 +36,5 @@ void main() {
       sum += w * imageLoad(filterInput, q).rgb;
       weightSum += w;
     }
-  imageStore(filterOutput, p, vec4(sum / max(weightSum, 1e-30), 1.0));
+  filterStoreOutput(p, sum / max(weightSum, 1e-30), pc.encoding);
 }

@@ -4,10 +4,11 @@
 // writer, encodes it).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_scalar_block_layout : require
+#extension GL_EXT_shader_image_load_formatted : require
 #include "shared/display.h"
 
 layout(local_size_x = DISPLAY_GROUP_SIZE, local_size_y = DISPLAY_GROUP_SIZE) in;
-layout(set = 0, binding = DISPLAY_BINDING_SOURCE, rgba32f) uniform readonly image2D source;
+layout(set = 0, binding = DISPLAY_BINDING_SOURCE) uniform readonly image2D source;  // the module's output format
 layout(set = 0, binding = DISPLAY_BINDING_TARGET, rgba16f) uniform writeonly image2D target;
 layout(push_constant, scalar) uniform Push { DisplayPush pc; };
 

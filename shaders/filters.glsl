@@ -1,19 +1,25 @@
 // Set 0 of the screen-space filters (shared/gi_filters.h).
 #ifndef GI_FILTERS_GLSL
 #define GI_FILTERS_GLSL
+#extension GL_EXT_shader_image_load_formatted : require
 #extension GL_EXT_scalar_block_layout : require
 #include "shared/gi_filters.h"
 
 layout(set = 0, binding = FILTER_BINDING_GUIDANCE, rgba32f) uniform image2D filterGuidance;
 layout(set = 0, binding = FILTER_BINDING_POSITION, rgba32f) uniform image2D filterPosition;
 layout(set = 0, binding = FILTER_BINDING_INPUT, rgba32f) uniform image2D filterInput;
-layout(set = 0, binding = FILTER_BINDING_OUTPUT, rgba32f) uniform image2D filterOutput;
+layout(set = 0, binding = FILTER_BINDING_OUTPUT) uniform image2D filterOutput;  // formatless (FilterOutputEncoding)
 layout(set = 0, binding = FILTER_BINDING_A, rgba32f) uniform image2D filterA[FILTER_STACK];
 layout(set = 0, binding = FILTER_BINDING_B, rgba32f) uniform image2D filterB[FILTER_STACK];
 layout(set = 0, binding = FILTER_BINDING_TEMP, rgba32f) uniform image2D filterTemp;
 layout(set = 0, binding = FILTER_BINDING_PARAMS, rgba32f) uniform image2D filterParams;
 
 ivec2 filterSize() { return imageSize(filterInput); }
+
+void filterStoreOutput(ivec2 p, vec3 radiance, FilterOutputEncoding e) {
+  imageStore(filterOutput, p, vec4(clamp(radiance * e.scale, vec3(-e.limit), vec3(e.limit)), 1.0));
+}
+vec3 filterLoadOutput(ivec2 p, FilterOutputEncoding e) { return imageLoad(filterOutput, p).rgb / e.scale; }
 
 // The guided filter's guidance vector for 1 (grey normal), 3 (normal) or 4
 // (normal + depth) dimensions; unused channels are zero, so their

@@ -11,8 +11,8 @@ layout(push_constant, scalar) uniform Push { GiCompositePush pc; };
 void main() {
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(gl_GlobalInvocationID.xy, giFrame.size))) return;
-  vec3 direct = imageLoad(giOutDirect, p).rgb;
-  vec3 indirect = imageLoad(giOutIndirect, p).rgb;
+  vec3 direct = giLoadDirect(p);
+  vec3 indirect = giLoadIndirect(p);
   vec3 result;
   switch (pc.debugView) {
     case GI_DEBUG_DIRECT: result = direct; break;
@@ -22,7 +22,7 @@ void main() {
     case GI_DEBUG_GUIDANCE: result = imageLoad(giGuidance, p).xyz; break;
     case GI_DEBUG_GUIDANCE_DEPTH: result = vec3(imageLoad(giGuidance, p).w); break;
     case GI_DEBUG_FILTER_IN_OUT:
-      result = p.x < int(giFrame.size.x / 2u) ? imageLoad(giNoisyIndirect, p).rgb : indirect;
+      result = p.x < int(giFrame.size.x / 2u) ? giLoadNoisy(p) : indirect;
       break;
     case GI_DEBUG_GIF_COEFFICIENTS: result = vec3(imageLoad(giDebug, p).rg, 0.0); break;
     // AAF maps (Mehta et al. Fig. 6f–g): distances over the scene extent, samples over 100, width over 32 px.
@@ -63,5 +63,7 @@ void main() {
         result += max(giGbSpecularF0(p) * imageLoad(giAafGlossy, p).rgb + imageLoad(giAafGlossyEdge, p).rgb, vec3(0.0));
       break;
   }
-  imageStore(giOutComposite, p, vec4(result, 1.0));
+  // Radiance views carry the pre-exposure; the other views are [0,1] pictures, stored as they are.
+  if (pc.radiance != 0u) giStoreComposite(p, result);
+  else imageStore(giOutComposite, p, vec4(result, 1.0));
 }

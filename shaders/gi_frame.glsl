@@ -2,6 +2,7 @@
 // the only place that knows how the engine's G-buffer encodes a surface.
 #ifndef GI_FRAME_GLSL
 #define GI_FRAME_GLSL
+#extension GL_EXT_shader_image_load_formatted : require
 #include "surface.glsl"
 #include "camera.glsl"
 #include "shared/gi_frame.h"
@@ -13,13 +14,14 @@ layout(set = 1, binding = GI_BINDING_GB_MATERIAL, rg8) uniform readonly image2D 
 layout(set = 1, binding = GI_BINDING_GB_EMISSION, rgba32f) uniform readonly image2D giGbEmission;
 layout(set = 1, binding = GI_BINDING_GB_MOTION, rg16f) uniform readonly image2D giGbMotion;
 layout(set = 1, binding = GI_BINDING_GB_VIEWZ, r32f) uniform readonly image2D giGbViewZ;
-layout(set = 1, binding = GI_BINDING_OUT_DIRECT, rgba32f) uniform image2D giOutDirect;
-layout(set = 1, binding = GI_BINDING_OUT_INDIRECT, rgba32f) uniform image2D giOutIndirect;
-layout(set = 1, binding = GI_BINDING_OUT_COMPOSITE, rgba32f) uniform image2D giOutComposite;
+// Formatless: ModuleDesc::outputFormat picks half or single floats.
+layout(set = 1, binding = GI_BINDING_OUT_DIRECT) uniform image2D giOutDirect;
+layout(set = 1, binding = GI_BINDING_OUT_INDIRECT) uniform image2D giOutIndirect;
+layout(set = 1, binding = GI_BINDING_OUT_COMPOSITE) uniform image2D giOutComposite;
 layout(set = 1, binding = GI_BINDING_HISTORY_DIRECT, rgba32f) uniform image2D giHistoryDirect;
 layout(set = 1, binding = GI_BINDING_HISTORY_INDIRECT, rgba32f) uniform image2D giHistoryIndirect;
 layout(set = 1, binding = GI_BINDING_COUNTERS, scalar) buffer GiCountersBlock { GiCounters giCounters; };
-layout(set = 1, binding = GI_BINDING_NOISY_INDIRECT, rgba32f) uniform image2D giNoisyIndirect;
+layout(set = 1, binding = GI_BINDING_NOISY_INDIRECT) uniform image2D giNoisyIndirect;  // formatless: may alias an output
 layout(set = 1, binding = GI_BINDING_GUIDANCE, rgba32f) uniform image2D giGuidance;
 layout(set = 1, binding = GI_BINDING_POSITION, rgba32f) uniform image2D giPosition;
 layout(set = 1, binding = GI_BINDING_DEBUG, rgba32f) uniform image2D giDebug;
@@ -27,6 +29,21 @@ layout(set = 1, binding = GI_BINDING_AAF_PARAMS, rgba32f) uniform image2D giAafP
 layout(set = 1, binding = GI_BINDING_AAF_SUM, rgba32f) uniform image2D giAafSum;
 layout(set = 1, binding = GI_BINDING_AAF_GLOSSY, rgba32f) uniform image2D giAafGlossy;
 layout(set = 1, binding = GI_BINDING_AAF_GLOSSY_EDGE, rgba32f) uniform image2D giAafGlossyEdge;
+
+// Output images hold radiance × outputScale, clamped into the format's range
+// (a half float overflows to Inf past 65504). Loads give radiance back.
+vec3 giOutputEncode(vec3 radiance, float scale, float limit) { return clamp(radiance * scale, vec3(-limit), vec3(limit)); }
+#define GI_OUTPUT_ACCESS(Name, image)                                                                    \
+  void giStore##Name(ivec2 p, vec3 radiance) { imageStore(image, p, vec4(giOutputEncode(radiance, giFrame.outputScale, giFrame.outputMax), 1.0)); } \
+  vec3 giLoad##Name(ivec2 p) { return imageLoad(image, p).rgb / giFrame.outputScale; }
+GI_OUTPUT_ACCESS(Direct, giOutDirect)
+GI_OUTPUT_ACCESS(Indirect, giOutIndirect)
+GI_OUTPUT_ACCESS(Composite, giOutComposite)
+// The noisy indirect keeps its alpha (the filter-vertex flag).
+void giStoreNoisy(ivec2 p, vec3 radiance, float alpha) {
+  imageStore(giNoisyIndirect, p, vec4(giOutputEncode(radiance, giFrame.noisyScale, giFrame.noisyMax), alpha));
+}
+vec3 giLoadNoisy(ivec2 p) { return imageLoad(giNoisyIndirect, p).rgb / giFrame.noisyScale; }
 
 // True where the G-buffer holds geometry.
 bool giGbCoveredRaw(ivec2 p) { return imageLoad(giGbNormal, p).w > 0.5; }

@@ -44,9 +44,9 @@ void main() {
       imageStore(giHistoryDirect, p, vec4(direct, 1.0));
       imageStore(giHistoryIndirect, p, vec4(indirect, 1.0));
     }
-    imageStore(giOutDirect, p, vec4(direct, 1.0));
-    imageStore(giOutIndirect, p, vec4(indirect, 1.0));   // filters overwrite this one
-    imageStore(giNoisyIndirect, p, vec4(indirect, filterVertex ? 1.0 : 0.0));
+    giStoreDirect(p, direct);
+    giStoreIndirect(p, indirect);   // filters overwrite this one
+    giStoreNoisy(p, indirect, filterVertex ? 1.0 : 0.0);
   }
   giCountRays(inside);
 }

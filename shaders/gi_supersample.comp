@@ -18,7 +18,7 @@ void main() {
   bool inside = all(lessThan(gl_GlobalInvocationID.xy, giFrame.size));
   if (inside) {
     ivec2 size = ivec2(giFrame.size);
-    vec3 sum = imageLoad(giOutComposite, p).rgb;  // the guide ray's own sample
+    vec3 sum = giLoadComposite(p);  // the guide ray's own sample
     for (uint k = 0u; k < pc.supersamples; ++k) {
       GiRng rng = giRngCreate(uvec2(p), giFrame.frameIndex * pc.supersamples + k, pc.seed, GI_STREAM_SUPERSAMPLE);
       vec2 pos = vec2(p) + giRandom2(rng);
@@ -42,10 +42,10 @@ void main() {
         dd[i] = abs(depth - z);
       }
       int best = gifMostSimilarGuide(dn, dd);
-      vec3 indirect = max(imageLoad(giOutIndirect, guides[best]).rgb, vec3(0.0));
+      vec3 indirect = max(giLoadIndirect(guides[best]), vec3(0.0));
       sum += direct + b.diffuse * indirect;
     }
-    imageStore(giOutComposite, p, vec4(sum / float(pc.supersamples + 1u), 1.0));
+    giStoreComposite(p, sum / float(pc.supersamples + 1u));
   }
   giCountRays(inside);
 }

@@ -32,7 +32,7 @@ void main() {
       q[c] = v;
     }
   }
-  imageStore(filterOutput, p, vec4(q, 1.0));
+  filterStoreOutput(p, q, pc.encoding);
   if (pc.writeCoefficientView != 0u) {
     float a2 = 0.0;
     for (int i = 0; i < 12; ++i) a2 += coeff[i] * coeff[i];

@@ -46,8 +46,8 @@ void main() {
         if (slot >= 0) cell = uint(slot) + 1u;
       }
     }
-    imageStore(giOutDirect, p, vec4(direct, 1.0));
-    imageStore(giNoisyIndirect, p, vec4(indirect, filterVertex ? 1.0 : 0.0));
+    giStoreDirect(p, direct);
+    giStoreNoisy(p, indirect, filterVertex ? 1.0 : 0.0);
     imageStore(hgPixelCell, p, uvec4(cell));
   }
   hgFlushTelemetry();

@@ -16,7 +16,7 @@ layout(push_constant, scalar) uniform Push { HgPush pc; };
 void main() {
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(gl_GlobalInvocationID.xy, giFrame.size))) return;
-  vec3 result = imageLoad(giNoisyIndirect, p).rgb;
+  vec3 result = giLoadNoisy(p);
   uint cell = imageLoad(hgPixelCell, p).r;
   vec4 debug = vec4(0.0);
   if (cell > 0u) {
@@ -41,7 +41,7 @@ void main() {
   if (pc.debugView == GI_DEBUG_CONTINUATION_DEPTH && pc.mode == HG_MODE_ANHPSF) {
     debug.x = float(hgWalkSegments(hgWalks[uint(p.y) * giFrame.size.x + uint(p.x)])) / float(pc.depth);
   }
-  imageStore(giOutIndirect, p, vec4(result, 1.0));
+  giStoreIndirect(p, result);
   // The debug image exists at full size only while a debug view is on (the module allocates it then).
   if (pc.debugView != GI_DEBUG_NONE) imageStore(giDebug, p, debug);
 }

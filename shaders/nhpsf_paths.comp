@@ -70,8 +70,8 @@ void main() {
       stored.state = 0u;  // background: nothing to continue
     }
     if (pc.mode == HG_MODE_ANHPSF) hgWalks[pixel] = stored;
-    imageStore(giOutDirect, p, vec4(direct, 1.0));
-    imageStore(giNoisyIndirect, p, vec4(indirect, filterVertex ? 1.0 : 0.0));
+    giStoreDirect(p, direct);
+    giStoreNoisy(p, indirect, filterVertex ? 1.0 : 0.0);
     imageStore(hgPixelCell, p, uvec4(cell));
   }
   uint sumContinued = subgroupAdd(continued), sumDepth = subgroupAdd(depthSum);

@@ -42,5 +42,5 @@ void main() {
       }
     result = sum / max(weightSum, 1e-30);
   }
-  imageStore(filterOutput, p, vec4(result, 1.0));
+  filterStoreOutput(p, result, pc.encoding);
 }

@@ -137,8 +137,11 @@ TEST_F(HpsfTest, StrictEvictionAccumulatesWhileACellIsTouchedEveryFrame) {
     settings.hpsf.jitter = 0.0f;
     settings.hpsf.stochasticLod = false;
     settings.debugView = gi::DebugView::HashSamples;  // samples behind the pixel's cell / 100
+    // Single-float outputs: the counts are compared exactly (a half float holds 0.99 to 5e-4).
+    gi::ModuleDesc desc = tools::moduleDesc(ctx, s.gpu, {W, H});
+    desc.outputFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
     tools::ModuleSession session;
-    ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {W, H}, settings, session));
+    ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {W, H}, settings, session, &desc));
     std::vector<engine::FloatImage> samples;
     std::vector<gi::FrameStats> stats;
     for (uint32_t f = 0; f < 4; ++f) {

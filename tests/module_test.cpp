@@ -50,6 +50,8 @@ TEST_F(ModuleTest, CreateRejectsImpossibleValuesWithNamedErrors) {
       "desc.framesInFlight = 5");
   add("max below size", [](gi::ModuleDesc& d) { d.maxWidth = d.maxHeight = 8; }, same, gi::ErrorCode::OutOfRange,
       "desc.maxWidth");
+  add("8-bit outputs", [](gi::ModuleDesc& d) { d.outputFormat = VK_FORMAT_R8G8B8A8_UNORM; }, same,
+      gi::ErrorCode::UnsupportedFormat, "desc.outputFormat");
   // The engine says what it enabled: a chain filled by gi/device.h, less one feature.
   VkPhysicalDeviceVulkan13Features f13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
   VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
@@ -304,9 +306,7 @@ TEST_F(ModuleTest, NonFiniteGBufferValuesDoNotSpread) {
     tools::ModuleSession session;
     ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {W, H}, settings, session));
     const engine::GBuffer& g = session.gbuffer;
-    gi::GBufferViews views{g.color[gpu::GBUFFER_NORMAL].view, g.color[gpu::GBUFFER_ALBEDO].view,
-                           g.color[gpu::GBUFFER_MATERIAL].view, g.color[gpu::GBUFFER_EMISSION].view,
-                           g.color[gpu::GBUFFER_MOTION].view, g.color[gpu::GBUFFER_VIEWZ].view};
+    const gi::GBufferViews views = tools::gbufferViews(g);
     for (uint32_t frame = 0; frame < 3; ++frame) {
       engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
         engine::recordGBuffer(ctx, cmd, session.gbufferPass, s.scene, s.gpu, session.gbuffer, cam, nullptr);

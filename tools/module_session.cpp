@@ -5,20 +5,11 @@
 #include <cstring>
 
 namespace tools {
-namespace {
 
-engine::FloatImage readRgba32(const engine::Context& ctx, VkImage image, VkExtent2D extent) {
-  engine::Image view;
-  view.image = image;
-  view.format = VK_FORMAT_R32G32B32A32_SFLOAT;
-  view.extent = extent;
-  std::vector<std::byte> raw = engine::readbackImage(ctx, view, VK_IMAGE_LAYOUT_GENERAL, 16);
-  engine::FloatImage out(extent.width, extent.height, 3);
-  for (size_t p = 0; p < size_t(extent.width) * extent.height; ++p) std::memcpy(&out.pixels[3 * p], &raw[16 * p], 12);
-  return out;
+gi::GBufferViews gbufferViews(const engine::GBuffer& g) {
+  return {g.color[gpu::GBUFFER_NORMAL].view,   g.color[gpu::GBUFFER_ALBEDO].view, g.color[gpu::GBUFFER_MATERIAL].view,
+          g.color[gpu::GBUFFER_EMISSION].view, g.color[gpu::GBUFFER_MOTION].view, g.color[gpu::GBUFFER_VIEWZ].view};
 }
-
-}  // namespace
 
 gi::SceneDesc sceneDesc(const engine::SceneGpu& scene) {
   return {scene.set.layout,    scene.set.set, scene.hasEmissiveTriangles(), scene.hasPunctualLights(),
@@ -46,6 +37,7 @@ bool createModuleSession(const engine::Context& ctx, const engine::SceneGpu& sce
     return false;
   }
   s.extent = extent;
+  s.preExposure = 1.0f / scene.typicalRadiance;
   s.gbuffer = engine::createGBuffer(ctx, extent);
   s.gbufferPass = engine::createGBufferPass(ctx, scene);
   for (engine::GpuTimer& t : s.timers) t = engine::createGpuTimer(ctx, 4);
@@ -79,12 +71,11 @@ void recordModuleFrame(const engine::Context& ctx, VkCommandBuffer cmd, ModuleSe
   engine::GpuTimer& timer = s.timers[frameIndex % 2];
   engine::resetGpuTimer(ctx, timer);
   gi::FrameInputs in;
-  const engine::GBuffer& g = s.gbuffer;
-  in.gbuffer = {g.color[gpu::GBUFFER_NORMAL].view, g.color[gpu::GBUFFER_ALBEDO].view, g.color[gpu::GBUFFER_MATERIAL].view,
-                g.color[gpu::GBUFFER_EMISSION].view, g.color[gpu::GBUFFER_MOTION].view, g.color[gpu::GBUFFER_VIEWZ].view};
+  in.gbuffer = gbufferViews(s.gbuffer);
   in.camera = camera;
   in.previousCamera = previousCamera;
   in.frameIndex = frameIndex;
+  in.preExposure = s.preExposure;
   // Frame script: raster the G-buffer, then the GI module's passes.
   engine::recordGBuffer(ctx, cmd, s.gbufferPass, scene, sceneGpu, s.gbuffer, camera, &timer);
   if (gi::Error e = gi::recordFrame(s.module, cmd, in)) {
@@ -114,9 +105,10 @@ FrameTiming renderModuleFrame(const engine::Context& ctx, ModuleSession& s, cons
 engine::ReferenceImages readModuleImages(const engine::Context& ctx, const ModuleSession& s) {
   engine::ReferenceImages out;
   gi::Outputs o = gi::outputs(s.module);
-  out.final = readRgba32(ctx, o.composite, s.extent);
-  out.direct = readRgba32(ctx, o.direct, s.extent);
-  out.indirect = readRgba32(ctx, o.indirect, s.extent);
+  const gi::OutputScales scale = gi::outputScales(gi::settings(s.module), s.preExposure);
+  out.final = engine::readbackRgb(ctx, o.composite, o.format, s.extent, scale.composite);
+  out.direct = engine::readbackRgb(ctx, o.direct, o.format, s.extent, scale.direct);
+  out.indirect = engine::readbackRgb(ctx, o.indirect, o.format, s.extent, scale.indirect);
   size_t n = size_t(s.extent.width) * s.extent.height;
   std::vector<std::byte> albedo = engine::readbackImage(ctx, s.gbuffer.color[gpu::GBUFFER_ALBEDO], VK_IMAGE_LAYOUT_GENERAL, 4);
   std::vector<std::byte> normal = engine::readbackImage(ctx, s.gbuffer.color[gpu::GBUFFER_NORMAL], VK_IMAGE_LAYOUT_GENERAL, 8);

@@ -19,6 +19,10 @@ struct ModuleSession {
   engine::GpuTimer timers[2];
   gi::Module* module = nullptr;
   VkExtent2D extent{};
+  // FrameInputs::preExposure: 1 / the scene's typical radiance, so lit
+  // surfaces sit near 1 in the half-float outputs whatever the light's scale;
+  // readModuleImages divides it out again.
+  float preExposure = 1.0f;
 };
 
 struct FrameTiming {
@@ -27,6 +31,8 @@ struct FrameTiming {
   uint64_t rays = 0;
 };
 
+// The engine's G-buffer as the module takes it.
+gi::GBufferViews gbufferViews(const engine::GBuffer& gbuffer);
 // What the module needs to know about a loaded scene.
 gi::SceneDesc sceneDesc(const engine::SceneGpu& scene);
 // The module's desc for this context, scene and size (defaults elsewhere).
@@ -41,6 +47,7 @@ bool resizeModuleSession(const engine::Context& ctx, ModuleSession& session, VkE
 
 // Records one frame (G-buffer raster, then the module) into `cmd`; submits
 // nothing. The frame recorded two before it must have completed.
+
 void recordModuleFrame(const engine::Context& ctx, VkCommandBuffer cmd, ModuleSession& session, const engine::Scene& scene,
                        const engine::SceneGpu& sceneGpu, const gpu::GpuCamera& camera, const gpu::GpuCamera& previousCamera,
                        uint32_t frameIndex);

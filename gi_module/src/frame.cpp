@@ -2,6 +2,7 @@
 // its writes, between a debug label and a timestamp pair.
 #include <algorithm>
 #include <cmath>
+#include <cfloat>
 #include <cstring>
 #include <string_view>
 
@@ -127,7 +128,8 @@ void recordHashPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const Frame
   recordHashGridTelemetryCopy(m.gpu, cmd, m.hash, slot);
 }
 
-void recordFilterPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const FrameInputs& in) {
+void recordFilterPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const FrameInputs& in,
+                        const gpu::GiFrameConstants& frame) {
   const Settings& s = m.settings;
   ScreenFilters& f = m.sized.filters;
   VkDescriptorSet sets[] = {m.desc.scene.set, m.sized.frameSets[slot]};
@@ -136,16 +138,18 @@ void recordFilterPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const Fra
   // Passes: the chosen filter, noisy indirect → indirect.
   PassHooks hooks = passHooks(m, slot);
   const vk::Device& g = m.gpu;
+  // The filtered indirect lands in the indirect output: pre-exposed, within its format.
+  f.outputEncoding = {frame.outputScale, frame.outputMax};
   if (s.method == Method::Sspsf) {
     const SspsfSettings& ss = s.sspsf;
     recordSspsf(g, cmd, f, {ss.window, ss.filterWidth, pixelScale(in.camera), cosDegrees(ss.normalLimitDegrees)}, hooks);
   } else if (isAaf(s.method)) {
     float cosLimit = cosDegrees(s.aaf.normalLimitDegrees);
     const uint32_t maxRadius = s.aaf.maxRadius;
-    recordAafFilter(g, cmd, f, f.set[0], Pass::AafFilterDiffuseRows, Pass::AafFilterDiffuseColumns, cosLimit, pixelScale(in.camera), maxRadius, hooks);
+    recordAafFilter(g, cmd, f, f.set[0], f.outputEncoding, Pass::AafFilterDiffuseRows, Pass::AafFilterDiffuseColumns, cosLimit, pixelScale(in.camera), maxRadius, hooks);
     if (aafSpecular(m, s)) {  // glossy receivers: their specular terms, with the glossy β
-      recordAafFilter(g, cmd, f, f.aafGlossySets[0], Pass::AafFilterGlossyRows, Pass::AafFilterGlossyColumns, cosLimit, pixelScale(in.camera), maxRadius, hooks);
-      recordAafFilter(g, cmd, f, f.aafGlossySets[1], Pass::AafFilterGlossyEdgeRows, Pass::AafFilterGlossyEdgeColumns, cosLimit, pixelScale(in.camera), maxRadius, hooks);
+      recordAafFilter(g, cmd, f, f.aafGlossySets[0], kPlainOutput, Pass::AafFilterGlossyRows, Pass::AafFilterGlossyColumns, cosLimit, pixelScale(in.camera), maxRadius, hooks);
+      recordAafFilter(g, cmd, f, f.aafGlossySets[1], kPlainOutput, Pass::AafFilterGlossyEdgeRows, Pass::AafFilterGlossyEdgeColumns, cosLimit, pixelScale(in.camera), maxRadius, hooks);
     }
   } else if (s.method == Method::Gif) {
     GuidedFilterParams gif{s.gif.radius, s.gif.epsilonNormal, s.gif.epsilonDepth, s.gif.guidanceDimensions,
@@ -205,6 +209,9 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
   const GBufferViews& gb = in.gbuffer;
   if (!cmd || !gb.normal || !gb.albedo || !gb.material || !gb.emission || !gb.motion || !gb.viewZ)
     return {ErrorCode::MissingHandle, "gi::recordFrame: the command buffer and all six G-buffer views must be set"};
+  if (!(in.preExposure > 0.0f) || !std::isfinite(in.preExposure))
+    return {ErrorCode::OutOfRange, "gi::recordFrame: inputs.preExposure = " + std::to_string(in.preExposure) +
+                                       " is not a positive finite factor"};
   releaseRetired(m, false);
   const uint32_t slot = uint32_t(m.recordedFrames % m.desc.framesInFlight);
   const Settings& s = m.settings;
@@ -214,8 +221,13 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
   const uint32_t aafBudget = aafSampleBudget(m, slot);
   frameSlot.passes.clear();
 
-  gpu::GiFrameConstants frame{in.camera, in.previousCamera, {m.width, m.height}, in.frameIndex,
-                              std::max(m.desc.scene.extent, 1e-6f)};
+  // Outputs hold radiance × pre-exposure (aaf_ao's hold ratios in [0,1]), clamped into their format.
+  const float outputScale = outputScales(s, in.preExposure).indirect;
+  const float outputMax = m.desc.outputFormat == VK_FORMAT_R16G16B16A16_SFLOAT ? 65504.0f : FLT_MAX;
+  const bool noisyIsOutput = noisyAliasesIndirect(m.sized);
+  gpu::GiFrameConstants frame{in.camera,    in.previousCamera, {m.width, m.height},
+                              in.frameIndex, std::max(m.desc.scene.extent, 1e-6f), outputScale, outputMax,
+                              noisyIsOutput ? outputScale : 1.0f, noisyIsOutput ? outputMax : FLT_MAX};
   std::memcpy(static_cast<std::byte*>(m.frameConstants.memory.mapped) + slot * m.frameConstantsStride, &frame, sizeof(frame));
   beginFrame(m, cmd, slot, in);
   // History survives only while the view and the settings stay put.
@@ -240,11 +252,12 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
                        m.historyLength, s.raw.maxAccumulatedFrames, accumulate ? 1u : 0u, 0};
     runPass(m, cmd, slot, Pass::RawTrace, m.rawTrace, sets, size, raw);
   }
-  if (usesScreenFilters(s.method)) recordFilterPasses(m, cmd, slot, in);
+  if (usesScreenFilters(s.method)) recordFilterPasses(m, cmd, slot, in, frame);
 
   // Pass: composite (or the chosen debug view).
   gpu::GiCompositePush composite{uint32_t(s.debugView), s.method == Method::AafAo ? 1u : 0u, m.desc.scene.extent,
-                                 pixelScale(in.camera), aafSpecular(m, s) ? 1u : 0u, 0, 0, 0};
+                                 pixelScale(in.camera), aafSpecular(m, s) ? 1u : 0u,
+                                 debugViewCatalogue()[size_t(s.debugView)].radiance ? 1u : 0u, 0, 0};
   runPass(m, cmd, slot, Pass::Composite, m.composite, sets, size, composite);
 
   if (s.method == Method::Gif && s.gif.supersamples > 0 && s.debugView == DebugView::None) {

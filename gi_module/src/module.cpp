@@ -55,6 +55,9 @@ Error checkDesc(const ModuleDesc& d) {
   if (!(d.scene.typicalRadiance > 0.0f) || !std::isfinite(d.scene.typicalRadiance))
     return {ErrorCode::OutOfRange, "desc.scene.typicalRadiance = " + std::to_string(d.scene.typicalRadiance) +
                                        " is not a positive finite radiance"};
+  if (d.outputFormat != VK_FORMAT_R16G16B16A16_SFLOAT && d.outputFormat != VK_FORMAT_R32G32B32A32_SFLOAT)
+    return {ErrorCode::UnsupportedFormat, "desc.outputFormat = VkFormat " + std::to_string(int(d.outputFormat)) +
+                                              " is not VK_FORMAT_R16G16B16A16_SFLOAT or VK_FORMAT_R32G32B32A32_SFLOAT"};
   return {};
 }
 
@@ -176,7 +179,7 @@ vk::Status createModuleResources(Module& m) {
   GI_TRY(vk::createDescriptorLayout(m.gpu, frameBindings(), m.frameLayout));
   GI_TRY(createFrameBuffers(m));
   GI_TRY(ensurePrograms(m, m.settings));
-  GI_TRY(createOutputImages(m.gpu, m.width, m.height, m.outputs));
+  GI_TRY(createOutputImages(m.gpu, m.width, m.height, m.desc.outputFormat, m.outputs));
   GI_TRY(createSizedResources(m, m.settings, m.width, m.height, m.outputs, m.sized));
   if (usesHashGrid(m.settings.method)) GI_TRY(createHashGridFor(m, m.settings, m.desc.maxWidth, m.desc.maxHeight, m.hash));
   GI_TRY(ensureHashGridProgramsFor(m, m.settings, m.hash));
@@ -338,7 +341,7 @@ Error resize(Module* m, uint32_t width, uint32_t height) {
   if (width == m->width && height == m->height) return {};
   OutputImages outputs;
   SizedResources sized;
-  vk::Status built = createOutputImages(m->gpu, width, height, outputs);
+  vk::Status built = createOutputImages(m->gpu, width, height, m->desc.outputFormat, outputs);
   if (!built) built = createSizedResources(*m, m->settings, width, height, outputs, sized);
   if (built) {
     destroyOutputImages(m->gpu, outputs);
@@ -378,9 +381,18 @@ void invalidate(Module* m, Invalidate what) {
   else m->hash.forgetLight = true;  // geometry stands: cells, probes and continued paths stay, their light goes
 }
 
+const Settings& settings(const Module* m) { return m->settings; }
+
+OutputScales outputScales(const Settings& s, float preExposure) {
+  if (s.method == Method::AafAo) return {};
+  const bool light = debugViewCatalogue()[size_t(s.debugView)].radiance;
+  return {preExposure, preExposure, light ? preExposure : 1.0f};
+}
+
 Outputs outputs(const Module* m) {
   const OutputImages& o = m->outputs;
-  return {o.direct.image, o.indirect.image, o.composite.image, o.direct.view, o.indirect.view, o.composite.view};
+  return {o.direct.image, o.indirect.image, o.composite.image, o.direct.view, o.indirect.view, o.composite.view,
+          m->desc.outputFormat};
 }
 
 }  // namespace gi

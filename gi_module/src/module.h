@@ -22,7 +22,7 @@ inline constexpr uint32_t kMaxPasses = 16;  // timestamped passes per frame
 // The three outputs (gi::outputs): replaced only by resize, so an engine
 // binds them once per size whatever method it switches to.
 struct OutputImages {
-  vk::Image direct, indirect, composite;  // rgba32f; indirect is demodulated
+  vk::Image direct, indirect, composite;  // ModuleDesc::outputFormat; indirect is demodulated
   bool initialised = false;               // moved to GENERAL layout
 };
 
@@ -99,7 +99,9 @@ vk::Status createSizedResources(Module& m, const Settings& settings, uint32_t wi
 void destroySizedResources(vk::Device& gpu, SizedResources& r);
 // Moves images not used yet (new outputs, new sized resources) to GENERAL layout.
 void recordFirstUse(const vk::Device& gpu, VkCommandBuffer cmd, OutputImages& outputs, SizedResources& r);
-vk::Status createOutputImages(vk::Device& gpu, uint32_t width, uint32_t height, OutputImages& out);
+vk::Status createOutputImages(vk::Device& gpu, uint32_t width, uint32_t height, VkFormat format, OutputImages& out);
+// The hash methods trace their noisy indirect straight into the indirect output (no image of its own).
+bool noisyAliasesIndirect(const SizedResources& r);
 void destroyOutputImages(vk::Device& gpu, OutputImages& images);
 // Hands `release` to the retire list: it runs once the frames recorded so far have completed.
 void retire(Module& m, std::function<void(vk::Device&)> release);

@@ -153,7 +153,7 @@ void recordGuidedFilter(const vk::Device& d, VkCommandBuffer cmd, ScreenFilters&
                         const PassHooks& hooks) {
   ensureInitialised(d, cmd, f);
   const glm::uvec2 size{f.width, f.height};
-  const gpu::GuidedMomentsPush dims{p.guidanceDimensions, p.writeCoefficientView ? 1u : 0u, 0, 0};
+  const gpu::GuidedMomentsPush dims{p.guidanceDimensions, p.writeCoefficientView ? 1u : 0u, f.outputEncoding};
   // Window statistics: per-pixel products, then their box means (rows, then columns).
   pass(d, cmd, f, hooks, Pass::GifMoments, f.programs->moments, size, dims);
   pass(d, cmd, f, hooks, Pass::GifBoxRows, f.programs->box, {f.height, 1}, gpu::BoxPush{p.radius, 0, GIF_MOMENT_IMAGES, 0});
@@ -165,21 +165,24 @@ void recordGuidedFilter(const vk::Device& d, VkCommandBuffer cmd, ScreenFilters&
   pass(d, cmd, f, hooks, Pass::GifOutput, f.programs->output, size, dims);
 }
 
-void recordAafFilter(const vk::Device& d, VkCommandBuffer cmd, const ScreenFilters& f, VkDescriptorSet targets, Pass rows,
-                     Pass columns, float cosNormalLimit, float pixelScale, uint32_t maxRadius, const PassHooks& hooks) {
+void recordAafFilter(const vk::Device& d, VkCommandBuffer cmd, const ScreenFilters& f, VkDescriptorSet targets,
+                     const gpu::FilterOutputEncoding& output, Pass rows, Pass columns, float cosNormalLimit,
+                     float pixelScale, uint32_t maxRadius, const PassHooks& hooks) {
   passOn(d, cmd, targets, hooks, rows, f.programs->aaf, {f.width, f.height},
-         gpu::AafFilterPush{0, cosNormalLimit, pixelScale, maxRadius});
+         gpu::AafFilterPush{0, cosNormalLimit, pixelScale, maxRadius, output});
   passOn(d, cmd, targets, hooks, columns, f.programs->aaf, {f.width, f.height},
-         gpu::AafFilterPush{1, cosNormalLimit, pixelScale, maxRadius});
+         gpu::AafFilterPush{1, cosNormalLimit, pixelScale, maxRadius, output});
 }
 
-void recordSspsf(const vk::Device& d, VkCommandBuffer cmd, ScreenFilters& f, const gpu::SspsfPush& params,
+void recordSspsf(const vk::Device& d, VkCommandBuffer cmd, ScreenFilters& f, gpu::SspsfPush params,
                  const PassHooks& hooks) {
+  params.encoding = f.outputEncoding;
   pass(d, cmd, f, hooks, Pass::Sspsf, f.programs->sspsf, {f.width, f.height}, params);
 }
 
-void recordBilateral(const vk::Device& d, VkCommandBuffer cmd, ScreenFilters& f, const gpu::BilateralPush& params,
+void recordBilateral(const vk::Device& d, VkCommandBuffer cmd, ScreenFilters& f, gpu::BilateralPush params,
                      const PassHooks& hooks) {
+  params.encoding = f.outputEncoding;
   pass(d, cmd, f, hooks, Pass::Bilateral, f.programs->bilateral, {f.width, f.height}, params);
 }
 
@@ -189,7 +192,7 @@ void recordAtrous(const vk::Device& d, VkCommandBuffer cmd, ScreenFilters& f, ui
   uint32_t source = 0;
   for (uint32_t i = 0; i < iterations; ++i) {
     uint32_t destination = (iterations - 1 - i) % 2 == 0 ? 1u : 2u;
-    gpu::AtrousPush push{i, source, destination, sigmaColor, sigmaNormal, sigmaPosition, 0, 0};
+    gpu::AtrousPush push{i, source, destination, sigmaColor, sigmaNormal, sigmaPosition, f.outputEncoding};
     pass(d, cmd, f, hooks, Pass::Atrous, f.programs->atrous, {f.width, f.height}, push);
     source = destination;
   }

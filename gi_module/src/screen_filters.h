@@ -12,8 +12,12 @@
 namespace gi {
 
 struct FilterTargets {
-  VkImageView guidance, position, input, output, temp, params;  // rgba32f, GENERAL layout (contract in shared/gi_filters.h)
+  VkImageView guidance, position, input, output, temp, params;  // GENERAL layout; rgba32f but `output`
+                                                                // (contract in shared/gi_filters.h)
 };
+
+// A working rgba32f image: light as it is.
+inline constexpr gpu::FilterOutputEncoding kPlainOutput{1.0f, 3.402823466e38f};
 
 // Timestamp/label hooks around each pass; empty functions are allowed.
 struct PassHooks {
@@ -34,6 +38,7 @@ struct ScreenFilters {
   const FilterPrograms* programs = nullptr;
   vk::Image a[FILTER_STACK], b[FILTER_STACK];  // the guided filter's window statistics (created on its first use)
   vk::DescriptorSets set;                      // one set over the module's targets
+  gpu::FilterOutputEncoding outputEncoding = kPlainOutput;  // how set's output holds light (the module: per frame)
   vk::DescriptorSets aafGlossySets;            // two: AAF's specular terms filtered in place (glossy scenes)
   uint32_t width = 0, height = 0;
   uint64_t memoryBytes = 0;
@@ -62,19 +67,20 @@ void destroyScreenFilters(vk::Device& device, ScreenFilters& f);
 // The guided filter needs ensureGuidedStack first.
 void recordGuidedFilter(const vk::Device& device, VkCommandBuffer cmd, ScreenFilters& f, const GuidedFilterParams& params,
                         const PassHooks& hooks);
-void recordBilateral(const vk::Device& device, VkCommandBuffer cmd, ScreenFilters& f, const gpu::BilateralPush& params,
+// (params.encoding is f.outputEncoding)
+void recordBilateral(const vk::Device& device, VkCommandBuffer cmd, ScreenFilters& f, gpu::BilateralPush params,
                      const PassHooks& hooks);
 void recordAtrous(const vk::Device& device, VkCommandBuffer cmd, ScreenFilters& f, uint32_t iterations, float sigmaColor,
                   float sigmaNormal, float sigmaPosition, const PassHooks& hooks);
 // Screen-space path filtering over a window (Meijer §4.1).
-void recordSspsf(const vk::Device& device, VkCommandBuffer cmd, ScreenFilters& f, const gpu::SspsfPush& params, const PassHooks& hooks);
+void recordSspsf(const vk::Device& device, VkCommandBuffer cmd, ScreenFilters& f, gpu::SspsfPush params, const PassHooks& hooks);
 // Axis-aligned filtering's separable Gaussian (β per pixel from the params
 // image's alpha; pixels with β = 0 neither filter nor contribute); uses temp.
 // `targets` is f.set or a set from createFilterSet.
 // `rows` and `columns` name its two passes. `maxRadius` cuts the Gaussian
 // before 3σ (pixels; 0 = never).
 void recordAafFilter(const vk::Device& device, VkCommandBuffer cmd, const ScreenFilters& f, VkDescriptorSet targets,
-                     Pass rows, Pass columns,
+                     const gpu::FilterOutputEncoding& output, Pass rows, Pass columns,
                      float cosNormalLimit, float pixelScale, uint32_t maxRadius, const PassHooks& hooks);
 
 }  // namespace gi

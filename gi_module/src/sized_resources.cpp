@@ -8,7 +8,9 @@
 namespace gi {
 namespace {
 
-constexpr VkFormat kImageFormat = VK_FORMAT_R32G32B32A32_SFLOAT;  // fp32: radiance up to 1e6 and beyond must fit
+// Working images are fp32: radiance up to 1e6 and beyond must fit before any
+// pre-exposure (the outputs are in ModuleDesc::outputFormat).
+constexpr VkFormat kImageFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
 
 // Every module image but the outputs: its member, its binding in set 1 and its bit in SizedResources::needs.
 struct SizedImage {
@@ -123,11 +125,13 @@ vk::Status createFilters(Module& m, const OutputImages& outputs, SizedResources&
 
 }  // namespace
 
-vk::Status createOutputImages(vk::Device& gpu, uint32_t width, uint32_t height, OutputImages& out) {
+bool noisyAliasesIndirect(const SizedResources& r) { return (r.needs & kNoisyIsIndirect) != 0; }
+
+vk::Status createOutputImages(vk::Device& gpu, uint32_t width, uint32_t height, VkFormat format, OutputImages& out) {
   OutputImages o;
   const VkImageUsageFlags usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
   for (vk::Image* img : {&o.direct, &o.indirect, &o.composite})
-    if (vk::Status s = vk::createImage(gpu, {width, height}, kImageFormat, usage, *img)) {
+    if (vk::Status s = vk::createImage(gpu, {width, height}, format, usage, *img)) {
       destroyOutputImages(gpu, o);
       return s;
     }

@@ -4,6 +4,7 @@
 #ifndef GI_AAF_H
 #define GI_AAF_H
 #include "gpu_common.h"
+#include "gi_filters.h"  // FilterOutputEncoding
 
 GPU_NAMESPACE_BEGIN
 
@@ -85,8 +86,9 @@ struct AafFilterPush {
   float cosNormalLimit; // neighbours whose normals differ by more than the limit angle are rejected
   float pixelScale;     // world size of a pixel per metre of view depth: 2·tan(fovY/2) / height
   uint maxRadius;       // pixels; the Gaussian is cut at 3σ or here (0: at 3σ, within the image)
+  FilterOutputEncoding encoding;  // of the output image
 };
-GPU_ASSERT_SIZE(AafFilterPush, 16);
+GPU_ASSERT_SIZE(AafFilterPush, 24);
 
 GPU_NAMESPACE_END
 #endif

@@ -6,12 +6,12 @@
 
 GPU_NAMESPACE_BEGIN
 
-GPU_CONST DISPLAY_BINDING_SOURCE = 0;  // rgba32f storage image: linear radiance (the module's composite)
+GPU_CONST DISPLAY_BINDING_SOURCE = 0;  // storage image (rgba16f or rgba32f): the module's composite, pre-exposed
 GPU_CONST DISPLAY_BINDING_TARGET = 1;  // rgba16f storage image: linear display values in [0, 1]
 #define DISPLAY_GROUP_SIZE 8u
 
 struct DisplayPush {
-  float exposure;  // multiplier on radiance before clamping to [0, 1]
+  float exposure;  // multiplier on the (pre-exposed) composite before clamping to [0, 1]
   uint pad0;
   uint pad1;
   uint pad2;

@@ -1,6 +1,6 @@
 // Screen-space filters (guided, cross-bilateral, à-trous): their own set 0,
 // independent of the scene, so they run on any images (and in tests on
-// synthetic ones). Images are rgba32f.
+// synthetic ones). Images are rgba32f but the output (FILTER_BINDING_OUTPUT).
 #ifndef GI_FILTERS_H
 #define GI_FILTERS_H
 #include "gpu_common.h"
@@ -10,7 +10,8 @@ GPU_NAMESPACE_BEGIN
 GPU_CONST FILTER_BINDING_GUIDANCE = 0;  // xyz: normal·0.5+0.5 in [0,1]; w: view depth / depth scale
 GPU_CONST FILTER_BINDING_POSITION = 1;  // xyz: world position, metres; w: view depth in metres, 0 for background
 GPU_CONST FILTER_BINDING_INPUT = 2;     // rgb: the noisy image
-GPU_CONST FILTER_BINDING_OUTPUT = 3;    // rgb: the filtered image
+GPU_CONST FILTER_BINDING_OUTPUT = 3;    // rgb: the filtered image; formatless: the module's indirect output
+                                        // (half or single floats, FilterOutputEncoding) or an rgba32f image
 GPU_CONST FILTER_BINDING_A = 4;         // FILTER_STACK images: window statistics, then coefficients
 GPU_CONST FILTER_BINDING_B = 5;         // FILTER_STACK images: the box filter's intermediate
 GPU_CONST FILTER_BINDING_TEMP = 6;      // ping-pong image for à-trous and AAF; the guided filter's coefficient view
@@ -55,11 +56,19 @@ GPU_FN int gifMostSimilarGuide(vec4 normalDistance, vec4 depthDistance) {
   return best;
 }
 
+// How the output image holds light: value = radiance × scale, clamped to
+// ±limit. The module's indirect output: the pre-exposure and the format's
+// largest value; a working rgba32f image: 1 and the largest float.
+struct FilterOutputEncoding {
+  float scale;
+  float limit;
+};
+GPU_ASSERT_SIZE(FilterOutputEncoding, 8);
+
 struct GuidedMomentsPush {
   uint guidanceDimensions;  // 1 (grey normal), 3 (normal), 4 (normal + depth)
   uint writeCoefficientView;// gif_output: 1 = also write (|a|, |b|) to the temp image
-  uint pad1;
-  uint pad2;
+  FilterOutputEncoding encoding;  // of the output image
 };
 GPU_ASSERT_SIZE(GuidedMomentsPush, 16);
 
@@ -84,16 +93,18 @@ struct BilateralPush {
   float sigmaSpatial;   // pixels
   float sigmaNormal;    // on |Δ(normal·0.5+0.5)|
   float sigmaDepth;     // on |Δ guidance depth|, relative to the centre's depth
+  FilterOutputEncoding encoding;  // of the output image
 };
-GPU_ASSERT_SIZE(BilateralPush, 16);
+GPU_ASSERT_SIZE(BilateralPush, 24);
 
 struct SspsfPush {  // the input's alpha is 1 where the pixel's primary vertex is a filter vertex
   uint window;          // odd window side in pixels (9 in the thesis)
   float filterWidth;    // pixels: the position kernel's σ is half the HPSF cell size for this width
   float pixelAngle;     // metres per metre of distance per pixel
   float cosNormal;      // neighbours whose normals differ more are not filtered in
+  FilterOutputEncoding encoding;  // of the output image
 };
-GPU_ASSERT_SIZE(SspsfPush, 16);
+GPU_ASSERT_SIZE(SspsfPush, 24);
 
 struct AtrousPush {
   uint iteration;       // 0-based; the tap spacing is 2^iteration
@@ -102,8 +113,7 @@ struct AtrousPush {
   float sigmaColor;     // colour edge stop at iteration 0; halved every iteration
   float sigmaNormal;    // on |Δ(normal·0.5+0.5)|²
   float sigmaPosition;  // world distance as a fraction of the centre's view depth
-  uint pad0;
-  uint pad1;
+  FilterOutputEncoding encoding;  // of the output image
 };
 GPU_ASSERT_SIZE(AtrousPush, 32);
 

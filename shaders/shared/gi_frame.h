@@ -15,13 +15,17 @@ GPU_CONST GI_BINDING_GB_MATERIAL = 3;
 GPU_CONST GI_BINDING_GB_EMISSION = 4;
 GPU_CONST GI_BINDING_GB_MOTION = 5;
 GPU_CONST GI_BINDING_GB_VIEWZ = 6;
-GPU_CONST GI_BINDING_OUT_DIRECT = 7;     // rgba32f: emission + direct light, W/(sr·m²)
-GPU_CONST GI_BINDING_OUT_INDIRECT = 8;   // rgba32f: demodulated indirect light
-GPU_CONST GI_BINDING_OUT_COMPOSITE = 9;  // rgba32f: what the debug view selects (default: the lit image)
+// The outputs are in ModuleDesc::outputFormat (rgba16f or rgba32f), so the
+// shaders access them without a format qualifier, always through
+// giStoreOutput / giLoadOutput (gi_frame.glsl), which apply the pre-exposure.
+GPU_CONST GI_BINDING_OUT_DIRECT = 7;     // emission + direct light, W/(sr·m²) × pre-exposure
+GPU_CONST GI_BINDING_OUT_INDIRECT = 8;   // demodulated indirect light × pre-exposure
+GPU_CONST GI_BINDING_OUT_COMPOSITE = 9;  // what the debug view selects (default: the lit image × pre-exposure)
 GPU_CONST GI_BINDING_HISTORY_DIRECT = 10;   // rgba32f: running mean of direct (rgb)
 GPU_CONST GI_BINDING_HISTORY_INDIRECT = 11; // rgba32f: running mean of demodulated indirect (rgb)
 GPU_CONST GI_BINDING_COUNTERS = 12;      // GiCounters, host-visible, one slot per frame in flight
-GPU_CONST GI_BINDING_NOISY_INDIRECT = 13;// rgba32f: demodulated indirect before any filter
+GPU_CONST GI_BINDING_NOISY_INDIRECT = 13;// rgba32f: demodulated indirect before any filter; the hash methods
+                                         // alias it to the indirect output (then it holds × noisyScale)
 GPU_CONST GI_BINDING_GUIDANCE = 14;      // rgba32f: filter guidance (shared/gi_filters.h contract)
 GPU_CONST GI_BINDING_POSITION = 15;      // rgba32f: world position (xyz), view depth (w; 0 = background)
 GPU_CONST GI_BINDING_DEBUG = 16;         // rgba32f: a filter's debug output (the filters' temp image)
@@ -38,8 +42,12 @@ struct GiFrameConstants {
   uvec2 size;        // pixels
   uint frameIndex;
   float depthScale;  // metres: view depth is divided by it for the filters' guidance (the scene extent, fixed)
+  float outputScale; // radiance → output units: FrameInputs::preExposure (1 for aaf_ao, whose outputs are ratios)
+  float outputMax;   // largest finite value of the output format (65504 for half floats): stores clamp to it
+  float noisyScale;  // outputScale when the noisy indirect aliases the indirect output, else 1
+  float noisyMax;    // outputMax when it aliases the indirect output, else the largest float
 };
-GPU_ASSERT_SIZE(GiFrameConstants, 624);
+GPU_ASSERT_SIZE(GiFrameConstants, 640);
 
 struct GiCounters {
   uint raysTraced;        // added to by every tracing pass
@@ -92,7 +100,7 @@ struct GiCompositePush {
   float sceneExtent;   // metres, scales the AAF distance views
   float pixelScale;    // world pixel size per metre of depth, for the AAF filter-width view
   uint aafSpecular;    // 1: add AAF's filtered specular term (f0·glossy + edge) on glossy receivers
-  uint pad0;
+  uint radiance;       // 1: the view is light and carries the pre-exposure; 0: a [0,1] picture stored as is
   uint pad1;
   uint pad2;
 };

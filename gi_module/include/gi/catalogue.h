@@ -50,6 +50,7 @@ struct DebugViewInfo {
   DebugView view;
   const char* name;     // short label: "hash occupancy"
   const char* meaning;  // what the image shows
+  bool radiance;        // the composite holds light (× pre-exposure); otherwise a [0,1] picture, unscaled
 };
 std::span<const DebugViewInfo> debugViewCatalogue();  // in gi::DebugView's order
 

@@ -30,6 +30,9 @@ inline constexpr DeviceFeature kRequiredFeatures[] = {
     {"shaderInt64", VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, offsetof(VkPhysicalDeviceFeatures2, features.shaderInt64), false},
     {"shaderStorageImageWriteWithoutFormat", VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2,
      offsetof(VkPhysicalDeviceFeatures2, features.shaderStorageImageWriteWithoutFormat), false},
+    // The outputs are half or single floats as the engine picks, read and written without a format qualifier.
+    {"shaderStorageImageReadWithoutFormat", VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2,
+     offsetof(VkPhysicalDeviceFeatures2, features.shaderStorageImageReadWithoutFormat), false},
     {"scalarBlockLayout", VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES,
      offsetof(VkPhysicalDeviceVulkan12Features, scalarBlockLayout), false},
     {"shaderBufferInt64Atomics", VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES,

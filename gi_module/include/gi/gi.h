@@ -51,7 +51,8 @@
 #include "shared/gpu_scene.h"
 
 #define GI_VERSION_MAJOR 0
-#define GI_VERSION_MINOR 2  // 0.2: own function table, frames in flight, returned Vulkan errors, catalogues
+#define GI_VERSION_MINOR 3  // 0.3: half-float outputs with pre-exposure
+                            // 0.2: own function table, frames in flight, returned Vulkan errors, catalogues
 
 namespace gi {
 
@@ -94,6 +95,10 @@ struct ModuleDesc {
   // it). When given, create checks that it enables what the module needs;
   // when null, create checks what the device supports.
   const VkPhysicalDeviceFeatures2* enabledFeatures = nullptr;
+  // Format of the three output images: VK_FORMAT_R16G16B16A16_SFLOAT (half
+  // the memory; set FrameInputs::preExposure so the light stays within
+  // ±65504) or VK_FORMAT_R32G32B32A32_SFLOAT. Anything else: UnsupportedFormat.
+  VkFormat outputFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
 };
 
 // G-buffer views (formats and encodings in shaders/shared/gbuffer.h), GENERAL layout.
@@ -106,12 +111,27 @@ struct FrameInputs {
   gpu::GpuCamera camera;          // this frame's camera (previousClipFromWorld filled in)
   gpu::GpuCamera previousCamera;  // last frame's camera; equal to `camera` on the first frame
   uint32_t frameIndex = 0;        // increases by one per frame
+  // The outputs hold radiance × preExposure, (0, ∞) finite. With half-float
+  // outputs pass the exposure the engine will apply (its last frame's, as
+  // engines do for TAA and upscalers), so radiance maps near 1: stored values
+  // clamp at ±65504, and below about 6e-5 they lose precision (half-float
+  // subnormals). Default 1: the outputs hold W/(sr·m²) as they are.
+  float preExposure = 1.0f;
 };
 
-// Module-owned images, rgba32f, GENERAL layout after recordFrame.
+// Module-owned images in ModuleDesc::outputFormat, GENERAL layout after
+// recordFrame, usage STORAGE | SAMPLED | TRANSFER_SRC, rgb = light, a = 1:
+//   direct    emission + direct light of the primary hit, W/(sr·m²) × preExposure
+//   indirect  demodulated indirect light (the light a white Lambertian surface
+//             would reflect), × preExposure; multiply by the diffuse albedo
+//   composite direct + diffuse albedo × indirect (+ AAF's glossy term) × preExposure,
+//             or the debug view the settings pick (views that are not light,
+//             gi::debugViewCatalogue()[v].radiance = false, hold [0,1] pictures, unscaled)
+// aaf_ao: indirect holds occlusion and composite AO = 1 − occlusion, in [0,1], unscaled.
 struct Outputs {
-  VkImage direct, indirect, composite;            // indirect is demodulated
+  VkImage direct, indirect, composite;
   VkImageView directView, indirectView, compositeView;
+  VkFormat format;  // ModuleDesc::outputFormat
 };
 
 struct PassTiming {
@@ -160,6 +180,7 @@ enum class ErrorCode : uint32_t {
   MissingFeature,   // the device lacks (or the engine did not enable) a feature in gi/device.h; the message names it
   VersionMismatch,  // a desc built against another version of gi.h
   VulkanCall,       // a Vulkan call failed: Error::result says how (VK_ERROR_OUT_OF_DEVICE_MEMORY, ...)
+  UnsupportedFormat,// a format the module does not accept; the message names the field
 };
 struct Error {
   ErrorCode code = ErrorCode::None;
@@ -181,6 +202,7 @@ Error validate(const Settings& settings);
 Error create(const ModuleDesc& desc, const Settings& settings, Module*& out);
 void destroy(Module* module);  // the caller ensures the GPU no longer uses it (every recorded frame completed)
 Error setSettings(Module* module, const Settings& settings);
+const Settings& settings(const Module* module);  // what it runs with now
 
 // For engines that know what changed: drop cached light so stale radiance is
 // never shown. All (geometry moved): temporal history, the hash map and
@@ -198,8 +220,15 @@ void invalidate(Module* module, Invalidate what);
 // passes G-buffer views of the new size from the next frame on.
 Error resize(Module* module, uint32_t width, uint32_t height);
 // Records the frame's passes into `cmd`. Fails (recording nothing) only on
-// missing G-buffer views.
+// missing G-buffer views or a pre-exposure that is not positive and finite.
 Error recordFrame(Module* module, VkCommandBuffer cmd, const FrameInputs& inputs);
+// The factor each output holds light in for these settings and pre-exposure:
+// preExposure, or 1 where the output holds ratios (aaf_ao) or a picture (the
+// composite under a debug view that is not light). Divide by it to get W/(sr·m²).
+struct OutputScales {
+  float direct = 1.0f, indirect = 1.0f, composite = 1.0f;
+};
+OutputScales outputScales(const Settings& settings, float preExposure);
 // The images the frames write. They change only on resize (setSettings keeps
 // them, whatever method it switches to): bind them once per size.
 Outputs outputs(const Module* module);
