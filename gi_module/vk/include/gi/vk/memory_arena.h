@@ -1,5 +1,5 @@
 // The module's device memory: a few blocks, suballocated. Blocks grow from
-// 2 MiB, doubling with each live block of the same kind up to 64 MiB, so a small render size
+// 256 KiB, doubling with each live block of the same kind up to 64 MiB, so a small render size
 // holds little more than it uses; resources of half a block or more get a
 // block of their own size. A block is freed once its last resource is. A budget (bytes held,
 // 0 = none) lets an engine cap the module: an allocation beyond it fails with
@@ -35,7 +35,7 @@ struct MemoryArena {
     std::vector<Range> free;    // sorted by offset, neighbours merged
   };
   std::vector<Block> blocks;
-  VkDeviceSize firstBlockSize = VkDeviceSize(2) << 20, maxBlockSize = VkDeviceSize(64) << 20;
+  VkDeviceSize firstBlockSize = VkDeviceSize(256) << 10, maxBlockSize = VkDeviceSize(64) << 20;
   VkDeviceSize budget = 0;      // bytes the module may hold; 0: as many as the device gives
   VkDeviceSize held = 0;        // bytes allocated from the device
   VkDeviceSize used = 0;        // bytes handed to resources
