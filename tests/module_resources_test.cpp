@@ -178,6 +178,22 @@ TEST_F(ModuleResourcesTest, SetSettingsOutOfMemoryKeepsThePreviousSettings) {
   unload(s);
 }
 
+// Issue 17's budget: the demo's default method (hpsf) at 1080p, otherwise
+// with the defaults, holds at most 150 MB of device memory (blocks, not only
+// what is used).
+TEST_F(ModuleResourcesTest, HpsfAt1080pHoldsAtMost150MB) {
+  LoadedScene s;
+  load(sharedScene("cornell-simple/cornell_simple.gltf"), s);
+  gi::Settings settings;
+  settings.method = gi::Method::Hpsf;
+  gi::Module* m = nullptr;
+  ASSERT_FALSE(gi::create(tools::moduleDesc(ctx, s.gpu, {1920, 1080}), settings, m));
+  EXPECT_LE(m->gpu.memory.held, VkDeviceSize(150'000'000)) << m->gpu.memory.held << " bytes";
+  EXPECT_GE(m->gpu.memory.held, m->gpu.memory.used);
+  gi::destroy(m);
+  unload(s);
+}
+
 // Memory follows the method: raw holds no filter images and no hash map;
 // after switching from gif back to raw the gif images are released once the
 // frames that used them are done.
