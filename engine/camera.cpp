@@ -1,6 +1,7 @@
 #include "camera.h"
 
 #include <cmath>
+#include <cstring>
 
 namespace engine {
 
@@ -36,6 +37,14 @@ gpu::GpuCamera makeGpuCamera(const Camera& camera, uint32_t width, uint32_t heig
   c.ndcShift = ndcShift;
   c.previousClipFromWorld = previous ? previous->clipFromWorld : c.clipFromWorld;
   return c;
+}
+
+gi::CameraDesc moduleCamera(const gpu::GpuCamera& c) {
+  gi::CameraDesc d;
+  const glm::mat4 clipFromView = c.clipFromWorld * c.worldFromView;
+  std::memcpy(d.viewFromWorld, &c.viewFromWorld, sizeof(d.viewFromWorld));
+  std::memcpy(d.clipFromView, &clipFromView, sizeof(d.clipFromView));
+  return d;
 }
 
 }  // namespace engine

@@ -155,16 +155,17 @@ void uploadImageWithMips(const Context& ctx, Image& img, const void* texels, siz
 void uploadImage(const Context& ctx, Image& img, const void* texels, size_t bytes, VkImageLayout finalLayout) {
   Buffer staging = createBuffer(ctx, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryKind::HostVisible);
   std::memcpy(staging.mapped, texels, bytes);
+  const VkImageAspectFlags aspect = isDepthFormat(img.format) ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT;
   submitAndWait(ctx, [&](VkCommandBuffer cmd) {
     imageBarrier(cmd, img.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_PIPELINE_STAGE_2_NONE,
-                 0, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+                 0, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, aspect);
     VkBufferImageCopy copy{};
-    copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    copy.imageSubresource = {aspect, 0, 0, 1};
     copy.imageExtent = {img.extent.width, img.extent.height, 1};
     vkCmdCopyBufferToImage(cmd, staging.buffer, img.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &copy);
     imageBarrier(cmd, img.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, finalLayout, VK_PIPELINE_STAGE_2_TRANSFER_BIT,
                  VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
-                 VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
+                 VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT, aspect);
   });
   destroyBuffer(ctx, staging);
 }
@@ -187,30 +188,6 @@ std::vector<std::byte> readbackImage(const Context& ctx, const Image& img, VkIma
   std::vector<std::byte> out(bytes);
   std::memcpy(out.data(), staging.mapped, bytes);
   destroyBuffer(ctx, staging);
-  return out;
-}
-
-FloatImage readbackRgb(const Context& ctx, VkImage image, VkFormat format, VkExtent2D extent, float scale) {
-  Image view;
-  view.image = image;
-  view.format = format;
-  view.extent = extent;
-  const bool half = format == VK_FORMAT_R16G16B16A16_SFLOAT;
-  const size_t texel = half ? 8 : 16;
-  std::vector<std::byte> raw = readbackImage(ctx, view, VK_IMAGE_LAYOUT_GENERAL, texel);
-  FloatImage out(extent.width, extent.height, 3);
-  for (size_t p = 0; p < size_t(extent.width) * extent.height; ++p)
-    for (size_t c = 0; c < 3; ++c) {
-      float v;
-      if (half) {
-        uint16_t h;
-        std::memcpy(&h, &raw[texel * p + 2 * c], 2);
-        v = halfToFloat(h);
-      } else {
-        std::memcpy(&v, &raw[texel * p + 4 * c], 4);
-      }
-      out.pixels[3 * p + c] = v / scale;
-    }
   return out;
 }
 

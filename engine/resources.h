@@ -3,7 +3,6 @@
 // most, well under maxMemoryAllocationCount.
 #pragma once
 #include "context.h"
-#include "image_io.h"
 
 #include <cstddef>
 #include <span>
@@ -53,8 +52,6 @@ void uploadImage(const Context& ctx, Image& image, const void* texels, size_t by
 
 // Copies an image (in `layout`) to host memory, tightly packed; waits.
 std::vector<std::byte> readbackImage(const Context& ctx, const Image& image, VkImageLayout layout, size_t texelBytes);
-// The rgb of an rgba16f or rgba32f image in GENERAL layout (the GI module's outputs), divided by `scale`; waits.
-FloatImage readbackRgb(const Context& ctx, VkImage image, VkFormat format, VkExtent2D extent, float scale = 1.0f);
 
 uint32_t findMemoryType(const Context& ctx, uint32_t typeBits, VkMemoryPropertyFlags flags);
 

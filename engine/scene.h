@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "sky.h"
+
 namespace engine {
 
 enum class AlphaMode : uint32_t { Opaque, Mask, Blend };
@@ -105,6 +107,7 @@ struct Scene {
   std::vector<Texture> textures;
   std::vector<PunctualLight> lights;
   std::vector<Camera> cameras;  // never empty after loading: a default camera is added if needed
+  Sky sky;                      // not in glTF: set by the caller (--sky); black by default
 
   Bounds worldBounds() const;
   size_t triangleCount() const;  // instanced triangles

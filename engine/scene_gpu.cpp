@@ -30,10 +30,10 @@ const Binding kSceneBindings[] = {
     {gpu::SCENE_BINDING_BVH_TRIANGLES, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
     {gpu::SCENE_BINDING_BVH_TOP_NODES, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
     {gpu::SCENE_BINDING_BVH_INSTANCES, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
+    {gpu::SCENE_BINDING_SKY_DISTRIBUTION, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
     {gpu::SCENE_BINDING_TEXTURES, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 4096, true},
 };
 
-float luminance(const glm::vec3& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
 
 template <typename T>
 Buffer upload(const Context& ctx, const std::vector<T>& data, VkBufferUsageFlags usage) {
@@ -204,6 +204,34 @@ void writeBvhDescriptors(const Context& ctx, const SceneGpu& gpu) {
   w.write(ctx.vk);
 }
 
+// The sky's constants, sampling tables and map (texture index = the scene's
+// texture count: it is bound after them). A black sky, or a map of zeros,
+// is no sky: SCENE_SPEC_HAS_SKY stays off.
+void uploadSky(const Context& ctx, const Sky& sky, uint32_t textureCount, SceneGpu& gpu) {
+  gpu::GpuSceneConstants& c = gpu.sceneConstants;
+  c.skyRadiance = glm::vec3(0.0f);
+  c.skyTexture = gpu::NO_TEXTURE;
+  c.skySize = glm::uvec2(0);
+  c.skyDistributionSum = 0.0f;
+  std::vector<float> tables;
+  if (sky.enabled() && sky.hasMap()) tables = skyDistribution(sky.map, c.skyDistributionSum);
+  gpu.hasSky = sky.enabled() && (!sky.hasMap() || c.skyDistributionSum > 0.0f);
+  if (gpu.hasSky) c.skyRadiance = sky.radiance;
+  if (gpu.hasSky && sky.hasMap()) {
+    c.skyTexture = textureCount;
+    c.skySize = {sky.map.width, sky.map.height};
+    std::vector<float> rgba(size_t(sky.map.width) * sky.map.height * 4, 1.0f);
+    for (size_t p = 0; p < size_t(sky.map.width) * sky.map.height; ++p)
+      for (size_t k = 0; k < 3; ++k) rgba[4 * p + k] = sky.map.pixels[p * sky.map.channels + k];
+    gpu.skyMap = createImage(ctx, {sky.map.width, sky.map.height}, VK_FORMAT_R32G32B32A32_SFLOAT,
+                             VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT);
+    uploadImage(ctx, gpu.skyMap, rgba.data(), rgba.size() * sizeof(float), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+  }
+  const size_t bytes = std::max<size_t>(tables.size() * sizeof(float), 16);
+  gpu.skyDistribution = createBuffer(ctx, bytes, kStorage, MemoryKind::HostVisible);
+  if (!tables.empty()) std::memcpy(gpu.skyDistribution.mapped, tables.data(), tables.size() * sizeof(float));
+}
+
 }  // namespace
 
 void createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu) {
@@ -272,9 +300,11 @@ void createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu) {
   for (const PunctualLight& l : scene.lights)
     typical = std::max(typical, luminance(l.intensity) / (quarter * quarter) * 0.5f / 3.14159265f);
   for (const Material& m : scene.materials) typical = std::max(typical, 0.1f * luminance(m.emission));
+  typical = std::max(typical, 0.5f * luminance(scene.sky.radiance) * (scene.sky.hasMap() ? meanLuminance(scene.sky.map) : 1.0f));
   gpu.typicalRadiance = typical > 0.0f && std::isfinite(typical) ? typical : 1.0f;
   c.boundsMin = bounds.empty() ? glm::vec3(0.0f) : bounds.min;
   c.boundsMax = bounds.empty() ? glm::vec3(0.0f) : bounds.max;
+  uploadSky(ctx, scene.sky, uint32_t(std::max<size_t>(scene.textures.size(), 1)), gpu);  // after the textures below
   gpu.constants = createBuffer(ctx, sizeof(c), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, MemoryKind::HostVisible);
   std::memcpy(gpu.constants.mapped, &c, sizeof(c));
 
@@ -302,7 +332,7 @@ void createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu) {
   if (ctx.rayQuery) buildSceneAcceleration(ctx, scene, gpu.positions, gpu.indices, gpu.accel);
   buildBvhBuffers(ctx, scene, {}, gpu);
 
-  gpu.set = createDescriptorSet(ctx, sceneBindings(ctx), uint32_t(gpu.textures.size()));
+  gpu.set = createDescriptorSet(ctx, sceneBindings(ctx), uint32_t(gpu.textures.size()) + (gpu.skyMap.image ? 1u : 0u));
   writeBvhDescriptors(ctx, gpu);
   DescriptorWriter w(gpu.set.set);
   if (ctx.rayQuery) w.accelerationStructure(gpu::SCENE_BINDING_TLAS, &gpu.accel.tlas.handle);
@@ -315,9 +345,12 @@ void createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu) {
       .buffer(gpu::SCENE_BINDING_MATERIALS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, gpu.materials.buffer)
       .buffer(gpu::SCENE_BINDING_EMISSIVE_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, gpu.emissiveTriangles.buffer)
       .buffer(gpu::SCENE_BINDING_PUNCTUAL_LIGHTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, gpu.punctualLights.buffer)
-      .buffer(gpu::SCENE_BINDING_CONSTANTS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, gpu.constants.buffer);
+      .buffer(gpu::SCENE_BINDING_CONSTANTS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, gpu.constants.buffer)
+      .buffer(gpu::SCENE_BINDING_SKY_DISTRIBUTION, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, gpu.skyDistribution.buffer);
   for (uint32_t t = 0; t < gpu.textures.size(); ++t)
     w.sampledImage(gpu::SCENE_BINDING_TEXTURES, gpu.textures[t].view, gpu.sampler, t);
+  if (gpu.skyMap.image)
+    w.sampledImage(gpu::SCENE_BINDING_TEXTURES, gpu.skyMap.view, gpu.sampler, gpu.sceneConstants.skyTexture);
   w.write(ctx.vk);
 }
 
@@ -359,9 +392,10 @@ void destroySceneGpu(const Context& ctx, SceneGpu& gpu) {
   destroyDescriptorSet(ctx, gpu.set);
   destroySceneAcceleration(ctx, gpu.accel);
   for (Image& img : gpu.textures) destroyImage(ctx, img);
+  if (gpu.skyMap.image) destroyImage(ctx, gpu.skyMap);
   if (gpu.sampler) vkDestroySampler(ctx.device, gpu.sampler, nullptr);
   for (Buffer* b : {&gpu.positions, &gpu.normals, &gpu.uvs, &gpu.indices, &gpu.geometries, &gpu.materials, &gpu.instances,
-                    &gpu.emissiveTriangles, &gpu.punctualLights, &gpu.constants})
+                    &gpu.emissiveTriangles, &gpu.punctualLights, &gpu.constants, &gpu.skyDistribution})
     destroyBuffer(ctx, *b);
   gpu = SceneGpu{};
 }

@@ -21,6 +21,8 @@ struct SceneGpu {
   Buffer punctualLights;     // a 16-byte placeholder when the scene has none
   Buffer constants;          // host-visible GpuSceneConstants
   std::vector<Image> textures;  // at least one (a white texel) so the array is never empty
+  Image skyMap;              // rgba32f equirectangular sky, bound after `textures` (none without a map)
+  Buffer skyDistribution;    // its sampling tables; a 16-byte placeholder without a map
   VkSampler sampler = VK_NULL_HANDLE;
   SceneAcceleration accel;   // ray queries' BLAS/TLAS, only where ctx.rayQuery
   SceneBvh bvh;              // the compute backend's two-level BVH, always built
@@ -38,10 +40,11 @@ struct SceneGpu {
   bool hasAlphaMask = false;  // some material uses alphaMode MASK
   bool hasGlossyMaterials = false;  // some material has a GGX lobe (MATERIAL_FLAG_GLOSSY)
   float typicalRadiance = 1.0f;     // W/(sr·m²), rough: a grey surface lit by the brightest light (see scene_gpu.cpp)
+  bool hasSky = false;              // rays that leave the scene see light (Scene::sky)
 
   // Values for the SCENE_SPEC_* specialisation constants.
   std::array<uint32_t, SCENE_SPEC_COUNT> specialization() const {
-    return {hasEmissiveTriangles() ? 1u : 0u, hasPunctualLights() ? 1u : 0u, hasAlphaMask ? 1u : 0u};
+    return {hasEmissiveTriangles() ? 1u : 0u, hasPunctualLights() ? 1u : 0u, hasAlphaMask ? 1u : 0u, hasSky ? 1u : 0u};
   }
 };
 

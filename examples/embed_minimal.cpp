@@ -13,6 +13,7 @@
 #include "camera.h"
 #include "frame_slots.h"
 #include "gbuffer.h"
+#include "readback.h"
 #include "gi/gi.h"
 #include "image_io.h"
 #include "scene_gpu.h"
@@ -54,7 +55,7 @@ int main(int argc, char** argv) {
   desc.height = height;
   desc.scene = {sceneGpu.set.layout, sceneGpu.set.set, sceneGpu.hasEmissiveTriangles(), sceneGpu.hasPunctualLights(),
                 sceneGpu.hasAlphaMask, sceneGpu.sceneConstants.sceneExtent, sceneGpu.hasGlossyMaterials, sceneGpu.typicalRadiance,
-                sceneGpu.traversal};
+                sceneGpu.hasSky, sceneGpu.traversal};
   gi::Settings settings;
   settings.method = gi::Method::Gif;  // guided filtering of 1-spp indirect light
   settings.maxBounces = 2;
@@ -92,7 +93,7 @@ int main(int argc, char** argv) {
     // Raster the G-buffer; it leaves the images in GENERAL, visible to compute (the module's contract).
     engine::recordGBuffer(ctx, cmd, gbufferPass, scene, sceneGpu, gbuffer, current, nullptr);
     // Global illumination: records passes, never submits.
-    if (gi::Error e = gi::recordFrame(gi, cmd, {views, current, frame ? previous : current, frame})) {
+    if (gi::Error e = gi::recordFrame(gi, cmd, {views, engine::moduleCamera(current), engine::moduleCamera(frame ? previous : current), frame})) {
       std::fprintf(stderr, "gi::recordFrame: %s\n", e.message.c_str());
       return 1;
     }

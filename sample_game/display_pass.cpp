@@ -4,6 +4,7 @@
 
 #include "display.comp.h"
 #include "image_io.h"
+#include "readback.h"
 #include "shared/display.h"
 
 namespace demo {

@@ -51,6 +51,7 @@ const cli::Option kOptions[] = {
     {"still", nullptr, "a static scene: no animation and no walkthrough (the camera stays at the scene's)"},
     {"validation", nullptr, "enable Vulkan validation (exit status 3 if it reports anything)"},
     cli::kTraversalOption,
+    cli::kSkyOption,
     {"help", nullptr, "show this message"},
 };
 
@@ -62,6 +63,7 @@ struct Options {
   float budgetMs = 0.0f;
   fs::path out = "sample_game_out";
   engine::Traversal traversal = engine::Traversal::Auto;
+  engine::Sky sky;  // --sky; black by default
   bool help = false;
   bool headless = false, animate = true, walkthrough = true, validation = false;
 };
@@ -105,7 +107,7 @@ bool parseOptions(int argc, char** argv, Options& o, std::string& error) {
   o.animate = !args.has("no-animation") && !args.has("still");
   o.walkthrough = !args.has("still");
   o.validation = args.has("validation") || std::getenv("GI_VALIDATION") != nullptr;
-  return cli::getTraversal(args, o.traversal, error);
+  return cli::getTraversal(args, o.traversal, error) && cli::getSky(args, o.sky, error);
 }
 
 // Keyboard and mouse for the free camera and the demo's keys, unless ImGui wants them.
@@ -189,6 +191,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   engine::SceneGpu sceneGpu;
+  scene.sky = o.sky;
   engine::createSceneGpu(ctx, scene, sceneGpu);
   tools::ModuleSession session;
   if (!tools::createModuleSession(ctx, sceneGpu, {o.width, o.height}, o.settings, session, error)) {

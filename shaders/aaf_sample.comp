@@ -42,7 +42,7 @@ void main() {
       if (zMax == 0.0) zMin = zMax = 10.0 * pc.sceneExtent;
       zMin = aafClampZMin(zMin, pc.sceneExtent);
       zMax = max(zMax, zMin);
-      float d = aafPixelFootprint(imageLoad(giGbViewZ, p).r, 2.0 * giFrame.camera.tanHalfFovY / giFrame.camera.imageSize.y,
+      float d = aafPixelFootprint(giGbViewDepth(p), 2.0 * giFrame.camera.tanHalfFovY / giFrame.camera.imageSize.y,
                                   dot(s.normal, V));
       float n = pc.uniformSamples > 0u ? float(pc.uniformSamples)
                                        : aafSamples(pc.mu, AAF_OMEGA_DIFFUSE, AAF_GAMMA_DIFFUSE, zMin, zMax, pc.alpha, d);

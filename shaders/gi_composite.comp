@@ -3,6 +3,7 @@
 // the debug view the settings pick. AAF adds its glossy receivers' specular term.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
+#include "lights.glsl"
 #include "gi_frame.glsl"
 
 layout(local_size_x = GI_GROUP_SIZE, local_size_y = GI_GROUP_SIZE) in;
@@ -13,12 +14,17 @@ void main() {
   if (any(greaterThanEqual(gl_GlobalInvocationID.xy, giFrame.size))) return;
   vec3 direct = giLoadDirect(p);
   vec3 indirect = giLoadIndirect(p);
+  if (GI_SCENE_HAS_SKY && pc.ambientOcclusion == 0u && !giGbCovered(p)) {
+    // The background is the sky seen through the pixel's centre: the direct output holds it too.
+    direct = giSkyRadiance(giCameraRayDirection(giFrame.camera, vec2(p) + 0.5));
+    giStoreDirect(p, direct);
+  }
   vec3 result;
   switch (pc.debugView) {
     case GI_DEBUG_DIRECT: result = direct; break;
     case GI_DEBUG_INDIRECT: result = indirect; break;
-    case GI_DEBUG_ALBEDO: result = imageLoad(giGbAlbedo, p).rgb; break;
-    case GI_DEBUG_NORMAL: result = imageLoad(giGbNormal, p).xyz * 0.5 + 0.5; break;
+    case GI_DEBUG_ALBEDO: result = giGbAlbedo(p).rgb; break;
+    case GI_DEBUG_NORMAL: result = giGbCovered(p) ? giGbNormal(p) * 0.5 + 0.5 : vec3(0.5); break;
     case GI_DEBUG_GUIDANCE: result = imageLoad(giGuidance, p).xyz; break;
     case GI_DEBUG_GUIDANCE_DEPTH: result = vec3(imageLoad(giGuidance, p).w); break;
     case GI_DEBUG_FILTER_IN_OUT:
@@ -30,7 +36,7 @@ void main() {
     case GI_DEBUG_AAF_ZMAX: result = vec3(imageLoad(giAafParams, p).y / pc.sceneExtent); break;
     case GI_DEBUG_AAF_SAMPLES: result = vec3(imageLoad(giAafParams, p).z / 100.0); break;
     case GI_DEBUG_AAF_FILTER_WIDTH: {
-      float depth = imageLoad(giGbViewZ, p).r;
+      float depth = giGbViewDepth(p);
       result = vec3(depth > 0.0 ? imageLoad(giAafParams, p).w / (depth * pc.pixelScale) / 32.0 : 0.0);
       break;
     }
@@ -50,7 +56,7 @@ void main() {
     }
     case GI_DEBUG_HASH_OCCUPANCY: {
       float f = clamp(imageLoad(giDebug, p).w, 0.0, 1.0);
-      result = imageLoad(giGbNormal, p).w > 0.5 ? vec3(f, 1.0 - f, 0.0) : vec3(0.0);
+      result = giGbCoveredRaw(p) ? vec3(f, 1.0 - f, 0.0) : vec3(0.0);
       break;
     }
     case GI_DEBUG_CONTINUATION_DEPTH: result = vec3(clamp(imageLoad(giDebug, p).x, 0.0, 1.0)); break;

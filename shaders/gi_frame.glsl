@@ -2,18 +2,23 @@
 // the only place that knows how the engine's G-buffer encodes a surface.
 #ifndef GI_FRAME_GLSL
 #define GI_FRAME_GLSL
+#extension GL_EXT_samplerless_texture_functions : require
 #extension GL_EXT_shader_image_load_formatted : require
 #include "surface.glsl"
 #include "camera.glsl"
 #include "shared/gi_frame.h"
 
 layout(set = 1, binding = GI_BINDING_FRAME, scalar) uniform GiFrameBlock { GiFrameConstants giFrame; };
-layout(set = 1, binding = GI_BINDING_GB_NORMAL, rgba16f) uniform readonly image2D giGbNormal;
-layout(set = 1, binding = GI_BINDING_GB_ALBEDO, rgba8) uniform readonly image2D giGbAlbedo;
-layout(set = 1, binding = GI_BINDING_GB_MATERIAL, rg8) uniform readonly image2D giGbMaterial;
-layout(set = 1, binding = GI_BINDING_GB_EMISSION, rgba32f) uniform readonly image2D giGbEmission;
-layout(set = 1, binding = GI_BINDING_GB_MOTION, rg16f) uniform readonly image2D giGbMotion;
-layout(set = 1, binding = GI_BINDING_GB_VIEWZ, r32f) uniform readonly image2D giGbViewZ;
+layout(set = 1, binding = GI_BINDING_GB_NORMAL) uniform texture2D giGbNormalImage;
+layout(set = 1, binding = GI_BINDING_GB_ALBEDO) uniform texture2D giGbAlbedoImage;
+layout(set = 1, binding = GI_BINDING_GB_MATERIAL) uniform texture2D giGbMaterialImage;
+layout(set = 1, binding = GI_BINDING_GB_EMISSION) uniform texture2D giGbEmissionImage;
+layout(set = 1, binding = GI_BINDING_GB_MOTION) uniform texture2D giGbMotionImage;
+layout(set = 1, binding = GI_BINDING_GB_DEPTH) uniform texture2D giGbDepthImage;
+layout(constant_id = GI_SPEC_NORMAL_ENCODING) const uint GI_NORMAL_ENCODING = GI_NORMAL_XYZ;
+layout(constant_id = GI_SPEC_DEPTH_ENCODING) const uint GI_DEPTH_ENCODING = GI_DEPTH_LINEAR_VIEW_Z;
+layout(constant_id = GI_SPEC_MOTION_UNITS) const uint GI_MOTION_UNITS = GI_MOTION_PIXELS;
+layout(constant_id = GI_SPEC_GLOSSY_FLAG) const uint GI_GLOSSY_FLAG = GI_GLOSSY_ALBEDO_ALPHA;
 // Formatless: ModuleDesc::outputFormat picks half or single floats.
 layout(set = 1, binding = GI_BINDING_OUT_DIRECT) uniform image2D giOutDirect;
 layout(set = 1, binding = GI_BINDING_OUT_INDIRECT) uniform image2D giOutIndirect;
@@ -45,18 +50,65 @@ void giStoreNoisy(ivec2 p, vec3 radiance, float alpha) {
 }
 vec3 giLoadNoisy(ivec2 p) { return imageLoad(giNoisyIndirect, p).rgb / giFrame.noisyScale; }
 
+// --- The G-buffer decode: the only place that knows the engine's encodings.
+
+vec3 giOctahedralDecode(vec2 e) {  // e in [-1,1]²
+  vec3 n = vec3(e, 1.0 - abs(e.x) - abs(e.y));
+  float t = max(-n.z, 0.0);
+  n.xy += mix(vec2(t), vec2(-t), greaterThanEqual(n.xy, vec2(0.0)));
+  return n;
+}
+
+// The world normal as stored (not normalised: giGbValid checks it).
+vec3 giGbNormalRaw(ivec2 p) {
+  vec4 v = texelFetch(giGbNormalImage, p, 0);
+  if (GI_NORMAL_ENCODING == GI_NORMAL_XYZ_UNORM) return v.xyz * 2.0 - 1.0;
+  if (GI_NORMAL_ENCODING == GI_NORMAL_OCTAHEDRAL) return giOctahedralDecode(v.xy * 2.0 - 1.0);
+  if (GI_NORMAL_ENCODING == GI_NORMAL_OCTAHEDRAL_SIGNED) return giOctahedralDecode(clamp(v.xy, -1.0, 1.0));
+  return v.xyz;
+}
+vec3 giGbNormal(ivec2 p) { return normalize(giGbNormalRaw(p)); }
+
+// View depth along −Z in metres; 0 for background.
+float giGbViewDepth(ivec2 p) {
+  float d = texelFetch(giGbDepthImage, p, 0).r;
+  if (GI_DEPTH_ENCODING == GI_DEPTH_LINEAR_VIEW_Z) return d;
+  if (d == (GI_DEPTH_ENCODING == GI_DEPTH_HARDWARE_REVERSED ? 0.0 : 1.0)) return 0.0;  // the far plane: background
+  vec2 ndc = (vec2(p) + 0.5) / vec2(giFrame.size) * 2.0 - 1.0;
+  vec4 view = giFrame.viewFromClip * vec4(ndc, d, 1.0);
+  return -view.z / view.w;
+}
+
+vec4 giGbAlbedo(ivec2 p) { return texelFetch(giGbAlbedoImage, p, 0); }  // linear (an sRGB view decodes)
+vec2 giGbRoughnessMetallic(ivec2 p) { return texelFetch(giGbMaterialImage, p, 0).rg; }
+vec3 giGbEmission(ivec2 p) { return texelFetch(giGbEmissionImage, p, 0).rgb; }
+
+// Previous position − current, in pixels.
+vec2 giGbMotionPixels(ivec2 p) {
+  vec2 m = texelFetch(giGbMotionImage, p, 0).rg;
+  return GI_MOTION_UNITS == GI_MOTION_UV ? m * vec2(giFrame.size) : m;
+}
+
+bool giGbGlossy(ivec2 p) {
+  if (GI_GLOSSY_FLAG == GI_GLOSSY_FROM_MATERIAL) {
+    vec2 rm = giGbRoughnessMetallic(p);
+    return rm.y > 0.0 || rm.x < 0.9;
+  }
+  return giGbAlbedo(p).a > 0.5;
+}
+
 // True where the G-buffer holds geometry.
-bool giGbCoveredRaw(ivec2 p) { return imageLoad(giGbNormal, p).w > 0.5; }
+bool giGbCoveredRaw(ivec2 p) { return giGbViewDepth(p) != 0.0; }
 
 // Geometry whose G-buffer values are all finite and sane. NaN or Inf coming
 // in from the engine stops here: such a pixel is treated as background, so it
 // cannot spread through filters, caches or history (counted by the first
 // pass through giGbCoveredCounting).
 bool giGbValid(ivec2 p) {
-  vec4 n = imageLoad(giGbNormal, p);
-  float z = imageLoad(giGbViewZ, p).r;
-  return giIsFinite(n.xyz) && dot(n.xyz, n.xyz) > 1e-12 && !isnan(z) && !isinf(z) && z > 0.0 &&
-         giIsFinite(imageLoad(giGbAlbedo, p).rgb) && giIsFinite(imageLoad(giGbEmission, p).rgb);
+  vec3 n = giGbNormalRaw(p);
+  float z = giGbViewDepth(p);
+  return giIsFinite(n) && dot(n, n) > 1e-12 && !isnan(z) && !isinf(z) && z > 0.0 &&
+         giIsFinite(giGbAlbedo(p).rgb) && giIsFinite(giGbEmission(p));
 }
 bool giGbCovered(ivec2 p) { return giGbCoveredRaw(p) && giGbValid(p); }
 
@@ -72,7 +124,7 @@ bool giGbCoveredCounting(ivec2 p) {
 vec3 giGbPosition(ivec2 p, out vec3 dir) {
   dir = giCameraRayDirection(giFrame.camera, vec2(p) + 0.5);
   vec3 forward = -vec3(giFrame.camera.worldFromView[2]);
-  float viewZ = imageLoad(giGbViewZ, p).r;
+  float viewZ = giGbViewDepth(p);
   return giFrame.camera.position + dir * (viewZ / max(dot(dir, forward), 1e-6));
 }
 
@@ -87,20 +139,19 @@ GiSurface giGbSurface(ivec2 p, out vec3 V) {
   GiSurface s;
   vec3 dir;
   s.position = giGbPosition(p, dir);
-  s.normal = normalize(imageLoad(giGbNormal, p).xyz);
+  s.normal = giGbNormal(p);
   float reach = length(giFrame.camera.position) + distance(giFrame.camera.position, s.position);
   s.position += s.normal * (1e-6 * reach);
   s.geometricNormal = s.normal;
   s.frontFace = true;
   s.uv = vec2(0.0);
-  vec4 albedo = imageLoad(giGbAlbedo, p);
-  vec2 material = imageLoad(giGbMaterial, p).rg;
-  s.material.baseColor = albedo.rgb;
+  vec2 material = giGbRoughnessMetallic(p);
+  s.material.baseColor = giGbAlbedo(p).rgb;
   s.material.alpha = 1.0;
   s.material.roughness = material.r;
   s.material.metallic = material.g;
-  s.material.emission = imageLoad(giGbEmission, p).rgb;
-  s.material.flags = albedo.a > 0.5 ? MATERIAL_FLAG_GLOSSY : 0u;
+  s.material.emission = giGbEmission(p);
+  s.material.flags = giGbGlossy(p) ? MATERIAL_FLAG_GLOSSY : 0u;
   V = -dir;
   return s;
 }
@@ -108,16 +159,14 @@ GiSurface giGbSurface(ivec2 p, out vec3 V) {
 // The albedo that multiplies demodulated indirect light: the diffuse lobe's.
 vec3 giGbDiffuseAlbedo(ivec2 p) {
   if (!giGbCovered(p)) return vec3(0.0);
-  vec4 albedo = imageLoad(giGbAlbedo, p);
-  float metallic = albedo.a > 0.5 ? imageLoad(giGbMaterial, p).g : 0.0;
-  return (1.0 - metallic) * albedo.rgb;
+  float metallic = giGbGlossy(p) ? giGbRoughnessMetallic(p).g : 0.0;
+  return (1.0 - metallic) * giGbAlbedo(p).rgb;
 }
 
 // f0 of the glossy lobe (0 where the pixel has none): multiplies AAF's filtered specular term.
 vec3 giGbSpecularF0(ivec2 p) {
   if (!giGbCovered(p)) return vec3(0.0);
-  vec4 albedo = imageLoad(giGbAlbedo, p);
-  return albedo.a > 0.5 ? mix(vec3(0.04), albedo.rgb, imageLoad(giGbMaterial, p).g) : vec3(0.0);
+  return giGbGlossy(p) ? mix(vec3(0.04), giGbAlbedo(p).rgb, giGbRoughnessMetallic(p).g) : vec3(0.0);
 }
 
 void giCountRays(bool counted) {

@@ -16,8 +16,8 @@ void main() {
     imageStore(giPosition, p, vec4(0.0));
     return;
   }
-  vec3 n = normalize(imageLoad(giGbNormal, p).xyz);
-  float viewZ = imageLoad(giGbViewZ, p).r;
+  vec3 n = giGbNormal(p);
+  float viewZ = giGbViewDepth(p);
   vec3 dir;
   vec3 position = giGbPosition(p, dir);
   imageStore(giGuidance, p, vec4(n * 0.5 + 0.5, viewZ / giFrame.depthScale));

@@ -24,7 +24,10 @@ void main() {
       vec2 pos = vec2(p) + giRandom2(rng);
       vec3 dir = giCameraRayDirection(giFrame.camera, pos);
       GiHit hit = giTraceClosest(giFrame.camera.position, dir, 0.0, GI_FLT_MAX);
-      if (hit.t < 0.0) continue;  // background: black
+      if (hit.t < 0.0) {  // the background
+        sum += giSkyRadiance(dir);
+        continue;
+      }
       GiSurface s = giSurfaceFromHit(hit, dir);
       GiBsdf b = giMakeBsdf(s.material.baseColor, s.material.metallic, s.material.roughness, s.material.flags);
       vec3 direct = s.material.emission + giDirectLight(s, b, -dir, false, rng);
@@ -36,8 +39,8 @@ void main() {
       for (int i = 0; i < 4; ++i) {
         guides[i] = clamp(guides[i], ivec2(0), size - 1);
         bool covered = giGbCovered(guides[i]);
-        vec3 n = covered ? normalize(imageLoad(giGbNormal, guides[i]).xyz) : -s.normal;
-        float z = covered ? imageLoad(giGbViewZ, guides[i]).r : 0.0;
+        vec3 n = covered ? giGbNormal(guides[i]) : -s.normal;
+        float z = covered ? giGbViewDepth(guides[i]) : 0.0;
         dn[i] = length(s.normal - n);
         dd[i] = abs(depth - z);
       }

@@ -1,11 +1,13 @@
 // Next-event estimation: one emissive triangle picked by power (with MIS
-// against BSDF sampling) and every punctual light (delta lights, no MIS).
+// against BSDF sampling), every punctual light (delta lights, no MIS) and
+// the sky (sky.glsl).
 // Specialisation constants (scene.glsl) drop the loops a scene does not need.
 #ifndef GI_LIGHTS_GLSL
 #define GI_LIGHTS_GLSL
 #include "bsdf.glsl"
 #include "random.glsl"
 #include "surface.glsl"
+#include "sky.glsl"
 
 
 // Solid-angle density with which NEE would pick the emissive point `s` seen
@@ -101,11 +103,12 @@ vec3 giSamplePunctual(GiSurface s, GiBsdf b, vec3 V) {
 }
 
 // Reflected direct light at s towards V: f·cos·L / pdf for one emissive
-// sample plus all punctual lights. withMis as in giSampleEmissive.
+// sample, all punctual lights and one sky sample. withMis as in giSampleEmissive.
 vec3 giDirectLight(GiSurface s, GiBsdf b, vec3 V, bool withMis, inout GiRng rng) {
   vec3 sum = vec3(0.0);
   if (GI_SCENE_HAS_EMISSIVE && sceneConstants.emissiveTriangleCount > 0u) sum += giSampleEmissive(s, b, V, withMis, rng);
   if (GI_SCENE_HAS_PUNCTUAL) sum += giSamplePunctual(s, b, V);
+  if (GI_SCENE_HAS_SKY) sum += giSampleSky(s, b, V, withMis, rng);
   return sum;
 }
 

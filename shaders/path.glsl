@@ -27,7 +27,17 @@ GiPathSample giTracePathFromSurface(GiSurface vertex0, vec3 V, uint maxBounces, 
   for (uint depth = 0u;; ++depth) {
     if (depth > 0u) {
       GiHit hit = giTraceClosest(origin, direction, 0.0, GI_FLT_MAX);
-      if (hit.t < 0.0) break;  // no environment: the background is black
+      if (hit.t < 0.0) {  // the sky, weighed against its NEE (giSampleSky)
+        if (GI_SCENE_HAS_SKY) {
+          vec3 c = giSkyRadiance(direction) * giPowerHeuristic(previousBsdfPdf, giSkyLightPdf(direction));
+          if (depth == 1u) r.direct += throughput * c;
+          else {
+            r.indirect += throughput * c;
+            r.indirectDemod += throughputDemod * c;
+          }
+        }
+        break;
+      }
       s = giSurfaceFromHit(hit, direction);
       if (s.frontFace && giMaxComponent(s.material.emission) > 0.0) {
         float w = GI_SCENE_HAS_EMISSIVE ? giPowerHeuristic(previousBsdfPdf, giEmissiveLightPdf(s, hit.geometry, origin)) : 1.0;

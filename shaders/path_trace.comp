@@ -35,7 +35,10 @@ PathResult tracePath(uvec2 pixel, uint sampleIndex) {
   vec2 jitter = pc.pixelJitter != 0u ? giRandom2(rng) : vec2(0.5);
   vec3 direction = giCameraRayDirection(camera, vec2(pixel) + jitter);
   GiHit hit = giTraceClosest(camera.position, direction, 0.0, GI_FLT_MAX);
-  if (hit.t < 0.0) return r;
+  if (hit.t < 0.0) {
+    r.direct = giSkyRadiance(direction);  // the background
+    return r;
+  }
   GiSurface s = giSurfaceFromHit(hit, direction);
   r.albedo = s.material.baseColor;
   r.normal = s.normal;

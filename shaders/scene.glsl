@@ -24,6 +24,7 @@ layout(set = 0, binding = SCENE_BINDING_BVH_INSTANCES) uniform utextureBuffer sc
 layout(constant_id = SCENE_SPEC_HAS_EMISSIVE) const bool GI_SCENE_HAS_EMISSIVE = true;
 layout(constant_id = SCENE_SPEC_HAS_PUNCTUAL) const bool GI_SCENE_HAS_PUNCTUAL = true;
 layout(constant_id = SCENE_SPEC_HAS_ALPHA_MASK) const bool GI_SCENE_HAS_ALPHA_MASK = true;
+layout(constant_id = SCENE_SPEC_HAS_SKY) const bool GI_SCENE_HAS_SKY = true;
 
 layout(set = 0, binding = SCENE_BINDING_POSITIONS, scalar) readonly buffer ScenePositions { vec3 scenePositions[]; };
 layout(set = 0, binding = SCENE_BINDING_NORMALS, scalar) readonly buffer SceneNormals { vec3 sceneNormals[]; };

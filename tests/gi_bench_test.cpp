@@ -46,6 +46,14 @@ TEST(GiBenchTool, WritesResultsPlotsAndReport) {
                 out);
   ASSERT_EQ(rc, 0) << out;
   EXPECT_EQ(out.find("rendering reference"), std::string::npos) << out;
+  // Under a sky the light differs: its own reference, not the cached one.
+  rc = runBench("--scene " + std::string(GI_SHARED_SCENES) + "/cornell-box-mcguire/CornellBox-Original.gltf"
+                " --size 32x24 --methods raw --spp 1 --frames 1 --warmup 0 --max-bounces 2 --reference-spp 32 --no-plots"
+                " --sky 0.5,0.5,0.5 --validation --out " + dir.string(),
+                out);
+  ASSERT_EQ(rc, 0) << out;
+  EXPECT_NE(out.find("rendering reference"), std::string::npos) << out;
+  EXPECT_NE(out.find("_sky0.5-0.5-0.5"), std::string::npos) << out;
 }
 
 TEST(GiBenchTool, RefusesBadInput) {
@@ -60,6 +68,8 @@ TEST(GiBenchTool, RefusesBadInput) {
   EXPECT_EQ(runBench("--scene x.gltf --methods hpsf --move-at 2 --invalidate-at-move sometimes", out), 2) << out;
   EXPECT_NE(out.find("neither all nor lights"), std::string::npos) << out;
   EXPECT_EQ(runBench("--scene x.gltf --methods hpsf --invalidate-at-move all", out), 2) << out;
+  EXPECT_EQ(runBench("--scene x.gltf --methods raw --sky -1,0,0", out), 2) << out;
+  EXPECT_NE(out.find("--sky -1,0,0"), std::string::npos) << out;
 }
 
 // The moving-light experiment end to end: the jump, the engine's

@@ -27,6 +27,27 @@ TEST(GiRenderTool, BadInputExitsWithASentence) {
   EXPECT_EQ(runTool("--scene x.gltf --aov colour", out), 2) << out;
   EXPECT_EQ(runTool("--scene x.gltf --method magic", out), 2) << out;
   EXPECT_EQ(runTool("--scene", out), 2) << out;
+  EXPECT_EQ(runTool("--scene x.gltf --sky 1,2", out), 2) << out;
+  EXPECT_NE(out.find("--sky 1,2"), std::string::npos) << out;
+  EXPECT_EQ(runTool("--scene x.gltf --sky /no/such_sky.exr", out), 2) << out;
+  EXPECT_NE(out.find("such_sky.exr"), std::string::npos) << out;
+}
+
+// --sky end to end, for the reference and a module method, with validation
+// (its light is checked in tests/sky_test.cpp).
+TEST(GiRenderTool, SkyRunsWithoutValidationMessages) {
+  std::string dir = std::filesystem::temp_directory_path() / "gi_render_sky_test";
+  std::filesystem::create_directories(dir);
+  std::string out;
+  for (const char* method : {"reference", "hpsf"}) {
+    int rc = runTool("--scene " + std::string(GI_SHARED_SCENES) +
+                         "/cornell-box-mcguire/CornellBox-Original.gltf --size 16x16 --spp 2 --validation --sky 2,2,2"
+                         " --method " + method + " --stats " + dir + "/s.json",
+                     out);
+    ASSERT_EQ(rc, 0) << out;
+    std::ifstream f(dir + "/s.json");
+    EXPECT_EQ(nlohmann::json::parse(f)["validation_messages"], 0) << method;
+  }
 }
 
 TEST(GiRenderTool, RendersWithValidationAndWritesStats) {

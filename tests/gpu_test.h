@@ -32,9 +32,11 @@ class GpuTest : public ::testing::Test {
   void TearDown() override { EXPECT_EQ(ctx.validationMessages(), 0u) << "Vulkan validation reported problems"; }
 
   // Loads (Morton-sorted) and uploads; fails the test on a load error.
-  static void load(const std::string& path, LoadedScene& out) {
+  // `sky`: the light beyond the scene (black by default).
+  static void load(const std::string& path, LoadedScene& out, const engine::Sky& sky = {}) {
     std::string error;
     ASSERT_TRUE(engine::loadSceneForRendering(path, out.scene, error)) << error;
+    out.scene.sky = sky;
     engine::createSceneGpu(ctx, out.scene, out.gpu);
   }
   static void unload(LoadedScene& s) { engine::destroySceneGpu(ctx, s.gpu); }

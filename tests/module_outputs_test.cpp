@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "module_test_helpers.h"
+#include "readback.h"
 
 class ModuleOutputsTest : public GpuTest {};
 
@@ -152,7 +153,7 @@ TEST_F(ModuleOutputsTest, BadPreExposureIsANamedError) {
   for (float bad : {0.0f, -1.0f, std::nanf(""), INFINITY}) {
     gi::FrameInputs in;
     in.gbuffer = tools::gbufferViews(session.gbuffer);
-    in.camera = in.previousCamera = cam;
+    in.camera = in.previousCamera = engine::moduleCamera(cam);
     in.preExposure = bad;
     gi::Error e;
     engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { e = gi::recordFrame(session.module, cmd, in); });

@@ -344,7 +344,7 @@ TEST_F(ModuleResourcesTest, TwoModulesOnTwoThreadsAtOnce) {
     VK_CHECK(vkAllocateCommandBuffers(ctx.device, &alloc, &w.cmd));
     VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     VK_CHECK(vkBeginCommandBuffer(w.cmd, &begin));
-    w.error = gi::recordFrame(w.module, w.cmd, {views, cam, cam, 0});
+    w.error = gi::recordFrame(w.module, w.cmd, {views, engine::moduleCamera(cam), engine::moduleCamera(cam), 0});
     VK_CHECK(vkEndCommandBuffer(w.cmd));
   });
   for (Worker& w : workers) ASSERT_FALSE(w.error) << w.error.message;

@@ -316,9 +316,9 @@ TEST_F(ModuleTest, NonFiniteGBufferValuesDoNotSpread) {
           vkCmdClearColorImage(cmd, g.color[gpu::GBUFFER_VIEWZ].image, VK_IMAGE_LAYOUT_GENERAL, &nan, 1, &range);
           vkCmdClearColorImage(cmd, g.color[gpu::GBUFFER_EMISSION].image, VK_IMAGE_LAYOUT_GENERAL, &inf, 1, &range);
           engine::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                                VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+                                VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
         }
-        gi::recordFrame(session.module, cmd, {views, cam, cam, frame});
+        gi::recordFrame(session.module, cmd, {views, engine::moduleCamera(cam), engine::moduleCamera(cam), frame});
         engine::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                               VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
       });

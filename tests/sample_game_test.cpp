@@ -75,4 +75,5 @@ TEST(SampleGame, HelpListsTheOptionsAndExitsZero) {
   EXPECT_EQ(runGame("--help", output), 0) << output;
   EXPECT_NE(output.find("usage: sample_game"), std::string::npos) << output;
   EXPECT_NE(output.find("--traversal"), std::string::npos) << output;
+  EXPECT_NE(output.find("--sky"), std::string::npos) << output;
 }

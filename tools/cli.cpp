@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstdlib>
+#include <cstdio>
 #include <cstring>
+#include <filesystem>
 
 namespace cli {
 
@@ -107,6 +109,30 @@ std::vector<std::string> splitList(const std::string& text, char separator) {
     start = end + 1;
   }
   return out;
+}
+
+bool getSky(const Args& args, engine::Sky& sky, std::string& error) {
+  auto it = args.values.find("sky");
+  return it == args.values.end() || engine::parseSky(it->second, sky, error);
+}
+
+std::string skyKey(const engine::Sky& sky) {
+  if (!sky.enabled()) return "";
+  char text[96];
+  std::snprintf(text, sizeof(text), "_sky%g-%g-%g", sky.radiance.x, sky.radiance.y, sky.radiance.z);
+  std::string key = text;
+  if (sky.hasMap()) {
+    // The map's name and a checksum of its texels, so another map of the same name is another key.
+    uint64_t hash = 1469598103934665603ull;
+    for (float v : sky.map.pixels) {
+      uint32_t bits;
+      std::memcpy(&bits, &v, 4);
+      hash = (hash ^ bits) * 1099511628211ull;
+    }
+    std::snprintf(text, sizeof(text), "_%016llx", static_cast<unsigned long long>(hash));
+    key.append("_").append(std::filesystem::path(sky.mapPath).stem().string()).append(text);
+  }
+  return key;
 }
 
 bool getTraversal(const Args& args, engine::Traversal& traversal, std::string& error) {

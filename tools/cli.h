@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "context.h"
+#include "sky.h"
 
 namespace cli {
 
@@ -41,5 +42,15 @@ inline constexpr Option kTraversalOption{
     "auto (default), rayquery or compute: how rays are traced (auto: compute on CPU devices and on devices "
     "without ray queries, where it is faster or the only way)"};
 bool getTraversal(const Args& args, engine::Traversal& traversal, std::string& error);
+
+// --sky, shared likewise: the light of rays that leave the scene (default black).
+inline constexpr Option kSkyOption{
+    "sky", "R,G,B|FILE",
+    "light from beyond the scene: a constant radiance R,G,B in W/(sr·m²), or an equirectangular .exr/.pfm map "
+    "(+Y up, −Z at its centre column); default black"};
+// Leaves `sky` black when --sky is absent.
+bool getSky(const Args& args, engine::Sky& sky, std::string& error);
+// A short name of the sky for file names and cache keys: "" when black.
+std::string skyKey(const engine::Sky& sky);
 
 }  // namespace cli

@@ -52,6 +52,7 @@ const cli::Option kOptions[] = {
     {"rays", nullptr, "only the bare-ray microbenchmark: primary, diffuse and shadow Mrays/s for each traversal backend "
                       "and for Embree on the CPU; appends to DIR/rays.csv (no --methods needed)"},
     cli::kTraversalOption,
+    cli::kSkyOption,
     {"out", "DIR", "output folder (default bench_out)"},
     {"no-plots", nullptr, "skip plot_bench.py (plots and report)"},
     {"validation", nullptr, "enable Vulkan validation"},
@@ -207,6 +208,8 @@ int main(int argc, char** argv) {
   engine::ContextDesc desc;
   desc.validation = args.has("validation");
   if (!cli::getTraversal(args, desc.traversal, error)) return usageError(error);
+  engine::Sky sky;
+  if (!cli::getSky(args, sky, error)) return usageError(error);
 
   fs::path dir = args.has("out") ? args.values["out"] : "bench_out";
   std::error_code ec;
@@ -230,6 +233,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   engine::SceneGpu sceneGpu;
+  scene.sky = std::move(sky);
   engine::createSceneGpu(ctx, scene, sceneGpu);
   const engine::Camera& startCamera = scene.cameras[cameraIndex];
   gpu::GpuCamera camera = engine::makeGpuCamera(startCamera, width, height, nullptr);
@@ -242,7 +246,8 @@ int main(int argc, char** argv) {
   }
   std::string sceneName = fs::path(scene.sourcePath).stem().string();
   std::string key = sanitise(sceneName) + "_cam" + std::to_string(cameraIndex) + "_" + std::to_string(width) + "x" +
-                    std::to_string(height) + "_b" + std::to_string(bounces) + "_s" + std::to_string(refSpp);
+                    std::to_string(height) + "_b" + std::to_string(bounces) + "_s" + std::to_string(refSpp) +
+                    cli::skyKey(scene.sky);
   // Moving scenes: the pose at a time, uploaded (TLAS rebuilt) before the next frame.
   engine::SceneAnimation animation = engine::makeSceneAnimation(scene);
   auto pose = [&](float seconds) { engine::poseScene(ctx, animation, seconds, scene, sceneGpu); };

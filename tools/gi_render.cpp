@@ -37,6 +37,7 @@ const cli::Option kOptions[] = {
     {"stats", "FILE.json", "write device, timings, rays and wall time as JSON"},
     {"validation", nullptr, "enable Vulkan validation; any message makes the run fail"},
     cli::kTraversalOption,
+    cli::kSkyOption,
     {"window", nullptr, "show the frames in a GLFW window (module methods; needs a display)"},
     {"animate", nullptr, "the light and an object move, 30 frames a second (engine/animation.h); the reference "
                          "renders the last frame's pose"},
@@ -81,6 +82,8 @@ int main(int argc, char** argv) {
   if (uint64_t(spp) * frames > (1u << 24)) return usageError("spp × frames must not exceed 16777216");
   engine::Traversal traversal = engine::Traversal::Auto;
   if (!cli::getTraversal(args, traversal, error)) return usageError(error);
+  engine::Sky sky;
+  if (!cli::getSky(args, sky, error)) return usageError(error);
   gi::Settings moduleSettings;
   if (method != "reference") {
     gi::methodFromName(method, moduleSettings.method);
@@ -124,6 +127,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   engine::SceneGpu sceneGpu;
+  scene.sky = std::move(sky);
   engine::createSceneGpu(ctx, scene, sceneGpu);
   gpu::GpuCamera camera = engine::makeGpuCamera(scene.cameras[cameraIndex], width, height, nullptr);
   // --animate: the scene's pose for frame f, uploaded before the frame is recorded.

@@ -1,5 +1,8 @@
 #include "module_session.h"
 
+#include "camera.h"
+#include "readback.h"
+
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -12,9 +15,9 @@ gi::GBufferViews gbufferViews(const engine::GBuffer& g) {
 }
 
 gi::SceneDesc sceneDesc(const engine::SceneGpu& scene) {
-  return {scene.set.layout,    scene.set.set, scene.hasEmissiveTriangles(), scene.hasPunctualLights(),
+  return {scene.set.layout,    scene.set.set,   scene.hasEmissiveTriangles(), scene.hasPunctualLights(),
           scene.hasAlphaMask,  scene.sceneConstants.sceneExtent, scene.hasGlossyMaterials, scene.typicalRadiance,
-          scene.traversal};
+          scene.hasSky,        scene.traversal};
 }
 
 gi::ModuleDesc moduleDesc(const engine::Context& ctx, const engine::SceneGpu& scene, VkExtent2D extent) {
@@ -72,8 +75,8 @@ void recordModuleFrame(const engine::Context& ctx, VkCommandBuffer cmd, ModuleSe
   engine::resetGpuTimer(ctx, timer);
   gi::FrameInputs in;
   in.gbuffer = gbufferViews(s.gbuffer);
-  in.camera = camera;
-  in.previousCamera = previousCamera;
+  in.camera = engine::moduleCamera(camera);
+  in.previousCamera = engine::moduleCamera(previousCamera);
   in.frameIndex = frameIndex;
   in.preExposure = s.preExposure;
   // Frame script: raster the G-buffer, then the GI module's passes.

@@ -115,7 +115,7 @@ Image makeImage(const Host& h, VkFormat format, uint32_t width, uint32_t height)
   info.arrayLayers = 1;
   info.samples = VK_SAMPLE_COUNT_1_BIT;
   info.tiling = VK_IMAGE_TILING_OPTIMAL;
-  info.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+  info.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
   CHECK(vkCreateImage(h.device, &info, nullptr, &img.image));
   VkMemoryRequirements req;
   vkGetImageMemoryRequirements(h.device, img.image, &req);
@@ -248,7 +248,8 @@ EmptyScene createEmptyScene(const Host& h) {
   std::vector<VkDescriptorSetLayoutBinding> bindings;
   std::vector<VkDescriptorBindingFlags> flags;
   for (uint32_t b = gpu::SCENE_BINDING_POSITIONS; b <= gpu::SCENE_BINDING_TEXTURES; ++b) {
-    VkDescriptorType type = b <= gpu::SCENE_BINDING_PUNCTUAL_LIGHTS ? VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
+    VkDescriptorType type = b <= gpu::SCENE_BINDING_PUNCTUAL_LIGHTS || b == gpu::SCENE_BINDING_SKY_DISTRIBUTION
+                                ? VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
                             : b == gpu::SCENE_BINDING_CONSTANTS     ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER
                             : b == gpu::SCENE_BINDING_TEXTURES      ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER
                                                                     : VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
@@ -265,7 +266,7 @@ EmptyScene createEmptyScene(const Host& h) {
   layout.bindingCount = uint32_t(bindings.size());
   layout.pBindings = bindings.data();
   CHECK(vkCreateDescriptorSetLayout(h.device, &layout, nullptr, &s.layout));
-  VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 9},
+  VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 10},
                                   {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1},
                                   {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 4},
                                   {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1}};
@@ -287,9 +288,13 @@ EmptyScene createEmptyScene(const Host& h) {
   CHECK(vkAllocateDescriptorSets(h.device, &alloc, &s.set));
 
   std::vector<VkWriteDescriptorSet> writes;
-  std::vector<VkDescriptorBufferInfo> infos(16);
-  for (uint32_t b = gpu::SCENE_BINDING_POSITIONS; b <= gpu::SCENE_BINDING_CONSTANTS; ++b) {
+  std::vector<VkDescriptorBufferInfo> infos(gpu::SCENE_BINDING_COUNT);
+  std::vector<uint32_t> bufferBindings;
+  for (uint32_t b = gpu::SCENE_BINDING_POSITIONS; b <= gpu::SCENE_BINDING_CONSTANTS; ++b) bufferBindings.push_back(b);
+  bufferBindings.push_back(gpu::SCENE_BINDING_SKY_DISTRIBUTION);  // no sky: a placeholder
+  for (uint32_t b : bufferBindings) {
     gpu::GpuSceneConstants constants{};
+    constants.skyTexture = gpu::NO_TEXTURE;
     constants.sceneExtent = 10.0f;
     constants.boundsMin = glm::vec3(-5.0f);
     constants.boundsMax = glm::vec3(5.0f);
@@ -337,20 +342,16 @@ void destroyEmptyScene(const Host& h, EmptyScene& s) {
 }
 
 // A pinhole at the origin looking down −Z (reversed-Z projection, y down).
-gpu::GpuCamera camera(uint32_t width, uint32_t height) {
-  gpu::GpuCamera c{};
-  c.worldFromView = glm::mat4(1.0f);
-  c.viewFromWorld = glm::mat4(1.0f);
-  c.aspect = float(width) / float(height);
-  c.tanHalfFovY = std::tan(0.5f * 1.0f);
-  c.imageSize = glm::vec2(float(width), float(height));
-  glm::mat4 proj(0.0f);
-  proj[0][0] = 1.0f / (c.aspect * c.tanHalfFovY);
-  proj[1][1] = -1.0f / c.tanHalfFovY;
-  proj[2][3] = -1.0f;
-  proj[3][2] = 0.1f;
-  c.clipFromWorld = proj;
-  c.previousClipFromWorld = proj;
+// At the origin looking down −Z, 1 rad vertical field of view, reversed Z
+// with an infinite far plane: plain column-major arrays, [column * 4 + row].
+gi::CameraDesc camera(uint32_t width, uint32_t height) {
+  gi::CameraDesc c{};
+  for (int i = 0; i < 4; ++i) c.viewFromWorld[i * 5] = 1.0f;
+  const float tanHalfFovY = std::tan(0.5f), aspect = float(width) / float(height);
+  c.clipFromView[0] = 1.0f / (aspect * tanHalfFovY);
+  c.clipFromView[5] = -1.0f / tanHalfFovY;  // y down
+  c.clipFromView[11] = -1.0f;               // clip w = −z_view
+  c.clipFromView[14] = 0.1f;                // near plane 0.1 m at depth 1
   return c;
 }
 
@@ -387,7 +388,7 @@ int main() {
   for (uint32_t i = 0; i < gpu::GBUFFER_COLOR_COUNT; ++i) gbuffer[i] = makeImage(h, formats[i], kMaxW, kMaxH);
   const gi::GBufferViews views{gbuffer[gpu::GBUFFER_NORMAL].view,   gbuffer[gpu::GBUFFER_ALBEDO].view,
                                gbuffer[gpu::GBUFFER_MATERIAL].view, gbuffer[gpu::GBUFFER_EMISSION].view,
-                               gbuffer[gpu::GBUFFER_MOTION].view,   gbuffer[gpu::GBUFFER_VIEWZ].view};
+                               gbuffer[gpu::GBUFFER_MOTION].view,   gbuffer[gpu::GBUFFER_VIEWZ].view};  // depth: linear view Z
 
   gi::ModuleDesc desc;
   desc.getInstanceProcAddr = vkGetInstanceProcAddr;  // the loader's: the module loads its own table through it
@@ -487,8 +488,8 @@ int main() {
       vkCmdClearColorImage(cmd, gbuffer[i].image, VK_IMAGE_LAYOUT_GENERAL, &clears[i], 1, &all);
     }
     barrier(cmd, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-            VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
-    gpu::GpuCamera cam = camera(width, height);
+            VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+    const gi::CameraDesc cam = camera(width, height);
     gi::FrameInputs inputs{views, cam, cam, frame};
     inputs.preExposure = kPreExposure;
     if (gi::Error e = gi::recordFrame(module, cmd, inputs)) {

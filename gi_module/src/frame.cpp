@@ -75,12 +75,12 @@ void beginFrame(Module& m, VkCommandBuffer cmd, uint32_t slot, const FrameInputs
   SizedResources& r = m.sized;
   if (!sameViews(in.gbuffer, r.bound[slot])) {
     vk::DescriptorWriter(r.frameSets[slot])
-        .storageImage(gpu::GI_BINDING_GB_NORMAL, in.gbuffer.normal)
-        .storageImage(gpu::GI_BINDING_GB_ALBEDO, in.gbuffer.albedo)
-        .storageImage(gpu::GI_BINDING_GB_MATERIAL, in.gbuffer.material)
-        .storageImage(gpu::GI_BINDING_GB_EMISSION, in.gbuffer.emission)
-        .storageImage(gpu::GI_BINDING_GB_MOTION, in.gbuffer.motion)
-        .storageImage(gpu::GI_BINDING_GB_VIEWZ, in.gbuffer.viewZ)
+        .texture(gpu::GI_BINDING_GB_NORMAL, in.gbuffer.normal)
+        .texture(gpu::GI_BINDING_GB_ALBEDO, in.gbuffer.albedo)
+        .texture(gpu::GI_BINDING_GB_MATERIAL, in.gbuffer.material)
+        .texture(gpu::GI_BINDING_GB_EMISSION, in.gbuffer.emission)
+        .texture(gpu::GI_BINDING_GB_MOTION, in.gbuffer.motion)
+        .texture(gpu::GI_BINDING_GB_DEPTH, in.gbuffer.depth, m.desc.gbuffer.depthLayout)
         .write(g);
     r.bound[slot] = in.gbuffer;
   }
@@ -97,22 +97,22 @@ void beginFrame(Module& m, VkCommandBuffer cmd, uint32_t slot, const FrameInputs
                     VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
 }
 
-void recordHashPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const FrameInputs& in, uint32_t spp) {
+void recordHashPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const gpu::GiFrameConstants& frame, uint32_t spp) {
   const Settings& s = m.settings;
   const HpsfSettings& h = s.hpsf;
   const bool strict = h.eviction == EvictionPolicy::Strict;
   const glm::uvec2 size{m.width, m.height};
-  gpu::HgPush push{m.hash.capacity, h.probeWindow, h.filterWidth, pixelScale(in.camera), h.jitter, h.normalBits,
-                   h.stochasticLod ? 1u : 0u, h.clampSigma, in.frameIndex, h.historyFrames, h.staleFrames, h.minSamples,
-                   s.seed, spp, s.maxBounces, s.russianRouletteStart, hashTableBase(m.hash, in.frameIndex),
-                   previousHashTableBase(m.hash, in.frameIndex), strict ? 1u : 0u, uint32_t(s.debugView),
+  gpu::HgPush push{m.hash.capacity, h.probeWindow, h.filterWidth, pixelScale(frame.camera), h.jitter, h.normalBits,
+                   h.stochasticLod ? 1u : 0u, h.clampSigma, frame.frameIndex, h.historyFrames, h.staleFrames, h.minSamples,
+                   s.seed, spp, s.maxBounces, s.russianRouletteStart, hashTableBase(m.hash, frame.frameIndex),
+                   previousHashTableBase(m.hash, frame.frameIndex), strict ? 1u : 0u, uint32_t(s.debugView),
                    hashMode(s.method), s.method == Method::Nhpsf ? h.pathDepth : h.continuationDepth,
                    h.secondaryWidthScale, strict ? 0u : h.validationInterval, radianceScale(m),
                    m.hash.forgetLight ? 1u : 0u, h.normalJitter, uint32_t(h.secondaryLod),
                    s.method == Method::Hpsf ? 0u : h.historySamples, 0, 0, 0};
   m.hash.forgetLight = false;
   VkDescriptorSet sets[] = {m.desc.scene.set, m.sized.frameSets[slot], m.hash.set[0]};
-  recordHashGridFrameStart(m.gpu, cmd, m.hash, in.frameIndex);
+  recordHashGridFrameStart(m.gpu, cmd, m.hash, frame.frameIndex);
   if (s.method == Method::Hpsf) {
     // Pass: paths from the G-buffer; their indirect radiance goes into the filter vertex's cell.
     runPass(m, cmd, slot, Pass::HpsfInsert, m.hash.insert, sets, size, push);
@@ -128,8 +128,7 @@ void recordHashPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const Frame
   recordHashGridTelemetryCopy(m.gpu, cmd, m.hash, slot);
 }
 
-void recordFilterPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const FrameInputs& in,
-                        const gpu::GiFrameConstants& frame) {
+void recordFilterPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const gpu::GiFrameConstants& frame) {
   const Settings& s = m.settings;
   ScreenFilters& f = m.sized.filters;
   VkDescriptorSet sets[] = {m.desc.scene.set, m.sized.frameSets[slot]};
@@ -142,14 +141,14 @@ void recordFilterPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const Fra
   f.outputEncoding = {frame.outputScale, frame.outputMax};
   if (s.method == Method::Sspsf) {
     const SspsfSettings& ss = s.sspsf;
-    recordSspsf(g, cmd, f, {ss.window, ss.filterWidth, pixelScale(in.camera), cosDegrees(ss.normalLimitDegrees)}, hooks);
+    recordSspsf(g, cmd, f, {ss.window, ss.filterWidth, pixelScale(frame.camera), cosDegrees(ss.normalLimitDegrees)}, hooks);
   } else if (isAaf(s.method)) {
     float cosLimit = cosDegrees(s.aaf.normalLimitDegrees);
     const uint32_t maxRadius = s.aaf.maxRadius;
-    recordAafFilter(g, cmd, f, f.set[0], f.outputEncoding, Pass::AafFilterDiffuseRows, Pass::AafFilterDiffuseColumns, cosLimit, pixelScale(in.camera), maxRadius, hooks);
+    recordAafFilter(g, cmd, f, f.set[0], f.outputEncoding, Pass::AafFilterDiffuseRows, Pass::AafFilterDiffuseColumns, cosLimit, pixelScale(frame.camera), maxRadius, hooks);
     if (aafSpecular(m, s)) {  // glossy receivers: their specular terms, with the glossy β
-      recordAafFilter(g, cmd, f, f.aafGlossySets[0], kPlainOutput, Pass::AafFilterGlossyRows, Pass::AafFilterGlossyColumns, cosLimit, pixelScale(in.camera), maxRadius, hooks);
-      recordAafFilter(g, cmd, f, f.aafGlossySets[1], kPlainOutput, Pass::AafFilterGlossyEdgeRows, Pass::AafFilterGlossyEdgeColumns, cosLimit, pixelScale(in.camera), maxRadius, hooks);
+      recordAafFilter(g, cmd, f, f.aafGlossySets[0], kPlainOutput, Pass::AafFilterGlossyRows, Pass::AafFilterGlossyColumns, cosLimit, pixelScale(frame.camera), maxRadius, hooks);
+      recordAafFilter(g, cmd, f, f.aafGlossySets[1], kPlainOutput, Pass::AafFilterGlossyEdgeRows, Pass::AafFilterGlossyEdgeColumns, cosLimit, pixelScale(frame.camera), maxRadius, hooks);
     }
   } else if (s.method == Method::Gif) {
     GuidedFilterParams gif{s.gif.radius, s.gif.epsilonNormal, s.gif.epsilonDepth, s.gif.guidanceDimensions,
@@ -207,11 +206,14 @@ void endPass(Module& m, VkCommandBuffer cmd, uint32_t slot) {
 Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
   Module& m = *mp;
   const GBufferViews& gb = in.gbuffer;
-  if (!cmd || !gb.normal || !gb.albedo || !gb.material || !gb.emission || !gb.motion || !gb.viewZ)
+  if (!cmd || !gb.normal || !gb.albedo || !gb.material || !gb.emission || !gb.motion || !gb.depth)
     return {ErrorCode::MissingHandle, "gi::recordFrame: the command buffer and all six G-buffer views must be set"};
   if (!(in.preExposure > 0.0f) || !std::isfinite(in.preExposure))
     return {ErrorCode::OutOfRange, "gi::recordFrame: inputs.preExposure = " + std::to_string(in.preExposure) +
                                        " is not a positive finite factor"};
+  if (Error e = checkCamera(in.camera, "inputs.camera")) return e;
+  if (Error e = checkCamera(in.previousCamera, "inputs.previousCamera")) return e;
+  const gpu::GpuCamera camera = gpuCamera(in.camera, in.previousCamera, m.width, m.height);
   releaseRetired(m, false);
   const uint32_t slot = uint32_t(m.recordedFrames % m.desc.framesInFlight);
   const Settings& s = m.settings;
@@ -225,15 +227,23 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
   const float outputScale = outputScales(s, in.preExposure).indirect;
   const float outputMax = m.desc.outputFormat == VK_FORMAT_R16G16B16A16_SFLOAT ? 65504.0f : FLT_MAX;
   const bool noisyIsOutput = noisyAliasesIndirect(m.sized);
-  gpu::GiFrameConstants frame{in.camera,    in.previousCamera, {m.width, m.height},
-                              in.frameIndex, std::max(m.desc.scene.extent, 1e-6f), outputScale, outputMax,
-                              noisyIsOutput ? outputScale : 1.0f, noisyIsOutput ? outputMax : FLT_MAX};
+  const glm::mat4 clipFromView = camera.clipFromWorld * camera.worldFromView;
+  gpu::GiFrameConstants frame{camera,
+                              gpuCamera(in.previousCamera, in.previousCamera, m.width, m.height),
+                              {m.width, m.height},
+                              in.frameIndex,
+                              std::max(m.desc.scene.extent, 1e-6f),
+                              outputScale,
+                              outputMax,
+                              noisyIsOutput ? outputScale : 1.0f,
+                              noisyIsOutput ? outputMax : FLT_MAX,
+                              glm::inverse(clipFromView)};
   std::memcpy(static_cast<std::byte*>(m.frameConstants.memory.mapped) + slot * m.frameConstantsStride, &frame, sizeof(frame));
   beginFrame(m, cmd, slot, in);
   // History survives only while the view and the settings stay put.
   const bool accumulate = s.method == Method::Raw && s.raw.temporalAccumulation;
-  if (!accumulate || !sameCamera(in.camera, m.historyCamera)) m.historyLength = 0;
-  m.historyCamera = in.camera;
+  if (!accumulate || !sameCamera(camera, m.historyCamera)) m.historyLength = 0;
+  m.historyCamera = camera;
 
   VkDescriptorSet sets[] = {m.desc.scene.set, m.sized.frameSets[slot]};
   const glm::uvec2 size{m.width, m.height};
@@ -245,18 +255,18 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
     runPass(m, cmd, slot, Pass::AafSample, m.aafSample, sets, size, aaf);
     runPass(m, cmd, slot, Pass::AafAdaptive, m.aafAdaptive, sets, size, aaf);
   } else if (usesHashGrid(s.method)) {
-    recordHashPasses(m, cmd, slot, in, spp);
+    recordHashPasses(m, cmd, slot, frame, spp);
   } else {
     // Pass: trace paths from the G-buffer (direct + demodulated indirect, optional temporal mean).
     gpu::GiRawPush raw{s.seed, spp, s.maxBounces, s.russianRouletteStart,
                        m.historyLength, s.raw.maxAccumulatedFrames, accumulate ? 1u : 0u, 0};
     runPass(m, cmd, slot, Pass::RawTrace, m.rawTrace, sets, size, raw);
   }
-  if (usesScreenFilters(s.method)) recordFilterPasses(m, cmd, slot, in, frame);
+  if (usesScreenFilters(s.method)) recordFilterPasses(m, cmd, slot, frame);
 
   // Pass: composite (or the chosen debug view).
   gpu::GiCompositePush composite{uint32_t(s.debugView), s.method == Method::AafAo ? 1u : 0u, m.desc.scene.extent,
-                                 pixelScale(in.camera), aafSpecular(m, s) ? 1u : 0u,
+                                 pixelScale(camera), aafSpecular(m, s) ? 1u : 0u,
                                  debugViewCatalogue()[size_t(s.debugView)].radiance ? 1u : 0u, 0, 0};
   runPass(m, cmd, slot, Pass::Composite, m.composite, sets, size, composite);
 

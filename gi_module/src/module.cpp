@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstring>
 #include <memory>
+#include <utility>
+#include <vector>
 
 #include "gi_composite.comp.h"
 #include "gi_composite.comp.compute.h"
@@ -34,6 +36,101 @@ Error checkSize(const char* what, uint32_t w, uint32_t h) {
   return {};
 }
 
+// `what`: how the caller names the SceneDesc ("desc.scene", "gi::setScene scene").
+Error checkScene(const SceneDesc& scene, const std::string& what) {
+  if (!scene.layout || !scene.set) return {ErrorCode::MissingHandle, what + ".layout and " + what + ".set must be set"};
+  if (!(scene.typicalRadiance > 0.0f) || !std::isfinite(scene.typicalRadiance))
+    return {ErrorCode::OutOfRange, what + ".typicalRadiance = " + std::to_string(scene.typicalRadiance) +
+                                       " is not a positive finite radiance"};
+  if (scene.traversal != gpu::TRAVERSAL_RAY_QUERY && scene.traversal != gpu::TRAVERSAL_COMPUTE)
+    return {ErrorCode::OutOfRange, what + ".traversal = " + std::to_string(scene.traversal) +
+                                       " is neither TRAVERSAL_RAY_QUERY nor TRAVERSAL_COMPUTE"};
+  return {};
+}
+
+// The G-buffer formats each encoding accepts (gi.h lists them).
+struct AcceptedFormats {
+  uint32_t encoding;
+  std::vector<VkFormat> formats;
+};
+const AcceptedFormats kNormalFormats[] = {
+    {uint32_t(NormalEncoding::Xyz),
+     {VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R16G16B16A16_SNORM, VK_FORMAT_R8G8B8A8_SNORM}},
+    {uint32_t(NormalEncoding::XyzUnorm),
+     {VK_FORMAT_A2B10G10R10_UNORM_PACK32, VK_FORMAT_A2R10G10B10_UNORM_PACK32, VK_FORMAT_R8G8B8A8_UNORM,
+      VK_FORMAT_R16G16B16A16_UNORM}},
+    {uint32_t(NormalEncoding::Octahedral), {VK_FORMAT_R16G16_UNORM, VK_FORMAT_R8G8_UNORM}},
+    {uint32_t(NormalEncoding::OctahedralSigned), {VK_FORMAT_R16G16_SNORM, VK_FORMAT_R16G16_SFLOAT, VK_FORMAT_R32G32_SFLOAT}},
+};
+const AcceptedFormats kDepthFormats[] = {
+    {uint32_t(DepthEncoding::LinearViewZ), {VK_FORMAT_R32_SFLOAT, VK_FORMAT_R16_SFLOAT}},
+    {uint32_t(DepthEncoding::Hardware),
+     {VK_FORMAT_D32_SFLOAT, VK_FORMAT_D32_SFLOAT_S8_UINT, VK_FORMAT_D24_UNORM_S8_UINT, VK_FORMAT_X8_D24_UNORM_PACK32,
+      VK_FORMAT_D16_UNORM}},
+    {uint32_t(DepthEncoding::HardwareReversed),
+     {VK_FORMAT_D32_SFLOAT, VK_FORMAT_D32_SFLOAT_S8_UINT, VK_FORMAT_D24_UNORM_S8_UINT, VK_FORMAT_X8_D24_UNORM_PACK32,
+      VK_FORMAT_D16_UNORM}},
+};
+const VkFormat kAlbedoFormats[] = {VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_R8G8B8A8_SRGB, VK_FORMAT_B8G8R8A8_UNORM,
+                                   VK_FORMAT_B8G8R8A8_SRGB, VK_FORMAT_R16G16B16A16_SFLOAT};
+const VkImageLayout kDepthLayouts[] = {VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL,
+                                       VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL,
+                                       VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+
+template <typename T, size_t N>
+bool contains(const T (&list)[N], T value) {
+  return std::find(std::begin(list), std::end(list), value) != std::end(list);
+}
+
+// `encoding` valid and `format` one it accepts.
+Error checkEncoding(std::span<const AcceptedFormats> table, uint32_t encoding, VkFormat format, const char* encodingField,
+                    const char* formatField) {
+  for (const AcceptedFormats& a : table)
+    if (a.encoding == encoding) {
+      if (std::find(a.formats.begin(), a.formats.end(), format) != a.formats.end()) return {};
+      return {ErrorCode::UnsupportedFormat, std::string(formatField) + " = VkFormat " + std::to_string(int(format)) +
+                                                " is not one " + encodingField + " " + std::to_string(encoding) +
+                                                " accepts (gi.h lists them)"};
+    }
+  return {ErrorCode::OutOfRange, std::string(encodingField) + " = " + std::to_string(encoding) + " is not an encoding"};
+}
+
+Error checkGBuffer(const GBufferDesc& g) {
+  if (Error e = checkEncoding(kNormalFormats, uint32_t(g.normalEncoding), g.normalFormat, "desc.gbuffer.normalEncoding",
+                              "desc.gbuffer.normalFormat"))
+    return e;
+  if (Error e = checkEncoding(kDepthFormats, uint32_t(g.depthEncoding), g.depthFormat, "desc.gbuffer.depthEncoding",
+                              "desc.gbuffer.depthFormat"))
+    return e;
+  if (!contains(kAlbedoFormats, g.albedoFormat))
+    return {ErrorCode::UnsupportedFormat, "desc.gbuffer.albedoFormat = VkFormat " + std::to_string(int(g.albedoFormat)) +
+                                              " is not one the module reads (gi.h lists them)"};
+  if (!contains(kDepthLayouts, g.depthLayout))
+    return {ErrorCode::OutOfRange, "desc.gbuffer.depthLayout = VkImageLayout " + std::to_string(int(g.depthLayout)) +
+                                       " is not GENERAL or a read-only depth or shader layout"};
+  if (uint32_t(g.motion) > uint32_t(MotionUnits::Uv))
+    return {ErrorCode::OutOfRange, "desc.gbuffer.motion = " + std::to_string(uint32_t(g.motion)) + " is not a MotionUnits"};
+  if (uint32_t(g.glossy) > uint32_t(GlossyFlag::FromMaterial))
+    return {ErrorCode::OutOfRange, "desc.gbuffer.glossy = " + std::to_string(uint32_t(g.glossy)) + " is not a GlossyFlag"};
+  return {};
+}
+
+// The device samples every G-buffer format the engine named.
+Error checkGBufferFormats(const Module& m) {
+  const GBufferDesc& g = m.desc.gbuffer;
+  const std::pair<VkFormat, const char*> formats[] = {
+      {g.normalFormat, "desc.gbuffer.normalFormat"}, {g.albedoFormat, "desc.gbuffer.albedoFormat"},
+      {g.depthFormat, "desc.gbuffer.depthFormat"}};
+  for (const auto& [format, field] : formats) {
+    VkFormatProperties p{};
+    m.gpu.fn.vkGetPhysicalDeviceFormatProperties(m.desc.physicalDevice, format, &p);
+    if (!(p.optimalTilingFeatures & VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT))
+      return {ErrorCode::UnsupportedFormat, std::string(field) + " = VkFormat " + std::to_string(int(format)) +
+                                                ": the device cannot sample it"};
+  }
+  return {};
+}
+
 Error checkDesc(const ModuleDesc& d) {
   if (d.structSize != sizeof(ModuleDesc))
     return {ErrorCode::VersionMismatch, "desc.structSize = " + std::to_string(d.structSize) + " is not this library's " +
@@ -41,7 +138,7 @@ Error checkDesc(const ModuleDesc& d) {
   if (!d.getInstanceProcAddr)
     return {ErrorCode::MissingHandle, "desc.getInstanceProcAddr must be set (the engine's vkGetInstanceProcAddr)"};
   if (!d.instance || !d.physicalDevice || !d.device) return {ErrorCode::MissingHandle, "desc.instance, desc.physicalDevice and desc.device must be set"};
-  if (!d.scene.layout || !d.scene.set) return {ErrorCode::MissingHandle, "desc.scene.layout and desc.scene.set must be set"};
+  if (Error e = checkScene(d.scene, "desc.scene")) return e;
   if (Error e = checkSize("desc.width × desc.height", d.width, d.height)) return e;
   if (d.maxWidth || d.maxHeight) {
     if (Error e = checkSize("desc.maxWidth × desc.maxHeight", d.maxWidth, d.maxHeight)) return e;
@@ -52,9 +149,7 @@ Error checkDesc(const ModuleDesc& d) {
   if (d.framesInFlight < 1 || d.framesInFlight > kMaxFramesInFlight)
     return {ErrorCode::OutOfRange, "desc.framesInFlight = " + std::to_string(d.framesInFlight) + " is outside [1, " +
                                        std::to_string(kMaxFramesInFlight) + "]"};
-  if (!(d.scene.typicalRadiance > 0.0f) || !std::isfinite(d.scene.typicalRadiance))
-    return {ErrorCode::OutOfRange, "desc.scene.typicalRadiance = " + std::to_string(d.scene.typicalRadiance) +
-                                       " is not a positive finite radiance"};
+  if (Error e = checkGBuffer(d.gbuffer)) return e;
   if (d.outputFormat != VK_FORMAT_R16G16B16A16_SFLOAT && d.outputFormat != VK_FORMAT_R32G32B32A32_SFLOAT)
     return {ErrorCode::UnsupportedFormat, "desc.outputFormat = VkFormat " + std::to_string(int(d.outputFormat)) +
                                               " is not VK_FORMAT_R16G16B16A16_SFLOAT or VK_FORMAT_R32G32B32A32_SFLOAT"};
@@ -89,10 +184,24 @@ Error checkFeatures(const Module& m) {
                                          (rayQuery ? " (with ray-query traversal)" : "") + "; see gi/device.h"};
 }
 
-// The SCENE_SPEC_* specialisation values for this module's scene.
-std::array<uint32_t, SCENE_SPEC_COUNT> sceneSpecialization(const Module& m) {
-  return {m.desc.scene.hasEmissiveTriangles ? 1u : 0u, m.desc.scene.hasPunctualLights ? 1u : 0u,
-          m.desc.scene.hasAlphaMask ? 1u : 0u};
+// The SCENE_SPEC_* specialisation values for a scene.
+std::array<uint32_t, SCENE_SPEC_COUNT> sceneSpecialization(const SceneDesc& scene) {
+  return {scene.hasEmissiveTriangles ? 1u : 0u, scene.hasPunctualLights ? 1u : 0u, scene.hasAlphaMask ? 1u : 0u,
+          scene.hasSky ? 1u : 0u};
+}
+// The scene's values, then the G-buffer's encodings (GI_SPEC_*): what every module program is specialised on.
+std::array<uint32_t, GI_SPEC_COUNT> moduleSpecialization(const Module& m) {
+  static_assert(SCENE_SPEC_COUNT == GI_SPEC_NORMAL_ENCODING, "the G-buffer's constants follow the scene's");
+  const auto scene = sceneSpecialization(m.desc.scene);
+  const GBufferDesc& g = m.desc.gbuffer;
+  return {scene[0], scene[1], scene[2], scene[3], uint32_t(g.normalEncoding), uint32_t(g.depthEncoding),
+          uint32_t(g.motion), uint32_t(g.glossy)};
+}
+
+// Every program built against set 0's layout and the scene's specialisation.
+std::vector<vk::ComputeProgram*> scenePrograms(Module& m) {
+  return {&m.rawTrace, &m.composite,   &m.guidancePass, &m.supersample, &m.aafSample,
+          &m.aafAdaptive, &m.hash.insert, &m.hash.paths, &m.hash.resolve, &m.hash.lookup};
 }
 
 // The hash map `s` needs for renders up to `width` × `height`.
@@ -120,7 +229,7 @@ vk::Status createHashGridFor(Module& m, const Settings& s, uint32_t width, uint3
 vk::Status ensureHashGridProgramsFor(Module& m, const Settings& s, HashGrid& grid) {
   if (!usesHashGrid(s.method)) return {};
   VkDescriptorSetLayout layouts[2] = {m.desc.scene.layout, m.frameLayout};
-  return ensureHashGridPrograms(m.gpu, grid, layouts, sceneSpecialization(m), hashMode(s.method), m.desc.scene.traversal);
+  return ensureHashGridPrograms(m.gpu, grid, layouts, moduleSpecialization(m), hashMode(s.method), m.desc.scene.traversal);
 }
 
 // Each method's programs are compiled when it is first chosen: a module that
@@ -129,7 +238,7 @@ vk::Status ensureHashGridProgramsFor(Module& m, const Settings& s, HashGrid& gri
 vk::Status ensurePrograms(Module& m, const Settings& s) {
   VkDescriptorSetLayout layouts[] = {m.desc.scene.layout, m.frameLayout};
   const glm::uvec2 tile{GI_GROUP_SIZE, GI_GROUP_SIZE};
-  auto spec = sceneSpecialization(m);
+  auto spec = moduleSpecialization(m);
   const uint32_t traversal = m.desc.scene.traversal;
   auto make = [&](vk::ComputeProgram& p, std::span<const uint32_t> spirv, uint32_t push) -> vk::Status {
     if (p.pipeline) return {};
@@ -293,6 +402,10 @@ Error create(const ModuleDesc& desc, const Settings& settings, Module*& out) {
     delete m;
     return e;
   }
+  if (Error e = checkGBufferFormats(*m)) {
+    delete m;
+    return e;
+  }
   if (vk::Status s = createModuleResources(*m)) {
     Error e = vulkanError("gi::create", s);
     e.message += " (the module held " + std::to_string(m->gpu.memory.held) + " bytes of device memory)";
@@ -333,6 +446,48 @@ Error setSettings(Module* m, const Settings& settings) {
   if (newHash || (!usesHashGrid(settings.method) && m->hash.capacity)) replaceHashGrid(*m, hash);  // none: freed
   m->settings = settings;
   m->historyLength = 0;  // any change invalidates accumulated frames
+  return {};
+}
+
+Error setScene(Module* m, const SceneDesc& scene) {
+  if (Error e = checkScene(scene, "gi::setScene scene")) return e;
+  const ModuleDesc previousDesc = m->desc;
+  m->desc.scene = scene;
+  if (Error e = checkFeatures(*m)) {
+    m->desc = previousDesc;
+    return e;
+  }
+  // Programs change only with what they are specialised on or built against.
+  const bool rebuild = sceneSpecialization(scene) != sceneSpecialization(previousDesc.scene) ||
+                       scene.layout != previousDesc.scene.layout || scene.traversal != previousDesc.scene.traversal;
+  std::vector<vk::ComputeProgram> previous;
+  if (rebuild)
+    for (vk::ComputeProgram* p : scenePrograms(*m)) previous.push_back(std::exchange(*p, vk::ComputeProgram{}));
+  vk::Status s = ensurePrograms(*m, m->settings);
+  if (!s) s = ensureHashGridProgramsFor(*m, m->settings, m->hash);
+  SizedResources sized;  // the glossy images follow the scene's materials
+  const bool newSized = sizedResourcesNeeded(*m, m->settings) != m->sized.needs;
+  if (!s && newSized) s = createSizedResources(*m, m->settings, m->width, m->height, m->outputs, sized);
+  if (s) {
+    destroySizedResources(m->gpu, sized);
+    if (rebuild) {
+      size_t i = 0;
+      for (vk::ComputeProgram* p : scenePrograms(*m)) {
+        vk::destroyComputeProgram(m->gpu, *p);
+        *p = std::move(previous[i++]);
+      }
+    }
+    m->desc = previousDesc;
+    return vulkanError("gi::setScene", s);
+  }
+  if (rebuild) {
+    auto old = std::make_shared<std::vector<vk::ComputeProgram>>(std::move(previous));
+    retire(*m, [old](vk::Device& g) {
+      for (vk::ComputeProgram& p : *old) vk::destroyComputeProgram(g, p);
+    });
+  }
+  if (newSized) replaceSized(*m, sized);
+  m->historyLength = 0;
   return {};
 }
 

@@ -127,4 +127,9 @@ bool readFrameStats(Module& m, uint32_t slot, FrameStats& out);
 // A Status as the public Error: "<what>: <call> failed with VK_ERROR_...".
 Error vulkanError(const char* what, const vk::Status& status);
 
+// The engine's camera (camera.cpp): checked (finite, invertible view, a
+// perspective projection; `what` names it), then as the passes see it.
+Error checkCamera(const CameraDesc& camera, const char* what);
+gpu::GpuCamera gpuCamera(const CameraDesc& now, const CameraDesc& previous, uint32_t width, uint32_t height);
+
 }  // namespace gi

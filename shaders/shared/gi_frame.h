@@ -9,12 +9,14 @@
 GPU_NAMESPACE_BEGIN
 
 GPU_CONST GI_BINDING_FRAME = 0;          // uniform GiFrameConstants
-GPU_CONST GI_BINDING_GB_NORMAL = 1;      // G-buffer images (shared/gbuffer.h), read-only
+// The engine's G-buffer, sampled images read with texelFetch in its own
+// formats and encodings (gi::GBufferDesc; decoded in gi_frame.glsl).
+GPU_CONST GI_BINDING_GB_NORMAL = 1;
 GPU_CONST GI_BINDING_GB_ALBEDO = 2;
 GPU_CONST GI_BINDING_GB_MATERIAL = 3;
 GPU_CONST GI_BINDING_GB_EMISSION = 4;
 GPU_CONST GI_BINDING_GB_MOTION = 5;
-GPU_CONST GI_BINDING_GB_VIEWZ = 6;
+GPU_CONST GI_BINDING_GB_DEPTH = 6;      // linear view depth, or the hardware depth buffer
 // The outputs are in ModuleDesc::outputFormat (rgba16f or rgba32f), so the
 // shaders access them without a format qualifier, always through
 // giStoreOutput / giLoadOutput (gi_frame.glsl), which apply the pre-exposure.
@@ -36,6 +38,25 @@ GPU_CONST GI_BINDING_AAF_GLOSSY_EDGE = 20; // rgba32f: the same for lobe·s·L (
 GPU_CONST GI_BINDING_COUNT = 21;
 #define GI_GROUP_SIZE 8u                 // 8×8 threads per group
 
+// Specialisation constants of the module's passes after the scene's
+// (SCENE_SPEC_*): how the G-buffer is encoded (gi::GBufferDesc's enums).
+#define GI_SPEC_NORMAL_ENCODING 4
+#define GI_SPEC_DEPTH_ENCODING 5
+#define GI_SPEC_MOTION_UNITS 6
+#define GI_SPEC_GLOSSY_FLAG 7
+#define GI_SPEC_COUNT 8
+GPU_CONST GI_NORMAL_XYZ = 0u;              // rgb = n in [-1,1]
+GPU_CONST GI_NORMAL_XYZ_UNORM = 1u;        // rgb = n·0.5 + 0.5
+GPU_CONST GI_NORMAL_OCTAHEDRAL = 2u;       // rg = octahedral n in [0,1]
+GPU_CONST GI_NORMAL_OCTAHEDRAL_SIGNED = 3u;// rg = octahedral n in [-1,1]
+GPU_CONST GI_DEPTH_LINEAR_VIEW_Z = 0u;     // view depth along −Z in metres, 0 = background
+GPU_CONST GI_DEPTH_HARDWARE = 1u;          // depth buffer value, far (background) = 1
+GPU_CONST GI_DEPTH_HARDWARE_REVERSED = 2u; // depth buffer value, far (background) = 0
+GPU_CONST GI_MOTION_PIXELS = 0u;           // previous position − current, pixels
+GPU_CONST GI_MOTION_UV = 1u;               // the same in [0,1] texture coordinates
+GPU_CONST GI_GLOSSY_ALBEDO_ALPHA = 0u;     // albedo.a ≥ 0.5: the pixel has a GGX lobe
+GPU_CONST GI_GLOSSY_FROM_MATERIAL = 1u;    // metallic > 0 or roughness < 0.9 (the scene's rule)
+
 struct GiFrameConstants {
   GpuCamera camera;
   GpuCamera previousCamera;
@@ -46,8 +67,9 @@ struct GiFrameConstants {
   float outputMax;   // largest finite value of the output format (65504 for half floats): stores clamp to it
   float noisyScale;  // outputScale when the noisy indirect aliases the indirect output, else 1
   float noisyMax;    // outputMax when it aliases the indirect output, else the largest float
+  mat4 viewFromClip; // inverse of the camera's projection: hardware depth → view depth
 };
-GPU_ASSERT_SIZE(GiFrameConstants, 640);
+GPU_ASSERT_SIZE(GiFrameConstants, 704);
 
 struct GiCounters {
   uint raysTraced;        // added to by every tracing pass

@@ -27,8 +27,9 @@ GPU_CONST SCENE_BINDING_BVH_NODES = 11;        // GpuBvhNode[], every bottom lev
 GPU_CONST SCENE_BINDING_BVH_TRIANGLES = 12;    // GpuBvhTriangle[]
 GPU_CONST SCENE_BINDING_BVH_TOP_NODES = 13;    // GpuBvhNode[], the top level (node 0 = root), host-written
 GPU_CONST SCENE_BINDING_BVH_INSTANCES = 14;    // GpuBvhInstance[], host-written
-GPU_CONST SCENE_BINDING_TEXTURES = 15;         // sampler2D[], variable count (must stay the last binding)
-GPU_CONST SCENE_BINDING_COUNT = 16;
+GPU_CONST SCENE_BINDING_SKY_DISTRIBUTION = 15;// float[]: the sky map's sampling tables (sky.glsl); a placeholder without a map
+GPU_CONST SCENE_BINDING_TEXTURES = 16;         // sampler2D[], variable count (must stay the last binding)
+GPU_CONST SCENE_BINDING_COUNT = 17;
 
 // How rays are traced (trace.glsl): the SPIR-V variant a pipeline is built from.
 GPU_CONST TRAVERSAL_RAY_QUERY = 0u;  // VK_KHR_ray_query against the TLAS
@@ -38,7 +39,8 @@ GPU_CONST TRAVERSAL_COMPUTE = 1u;    // our BVH, walked in the shader (GI_TRACE_
 #define SCENE_SPEC_HAS_EMISSIVE 0
 #define SCENE_SPEC_HAS_PUNCTUAL 1
 #define SCENE_SPEC_HAS_ALPHA_MASK 2
-#define SCENE_SPEC_COUNT 3
+#define SCENE_SPEC_HAS_SKY 3
+#define SCENE_SPEC_COUNT 4
 
 GPU_CONST MATERIAL_FLAG_GLOSSY = 1u;       // has a GGX lobe (metallic > 0 or roughness < 0.9 or a roughness texture)
 GPU_CONST MATERIAL_FLAG_ALPHA_MASK = 2u;   // alphaMode MASK: texels below alphaCutoff are holes
@@ -119,8 +121,17 @@ struct GpuSceneConstants {
   float pad1;                  // (secondary rays offset by ULPs, giOffsetRay: no scene-scaled epsilon)
   vec3 boundsMax;
   float pad0;
+  // The sky: radiance of rays that leave the scene. Equirectangular map
+  // (skyTexture; +Y up, u = 0.5 + atan(x, −z)/2π, v = acos(y)/π, texels read
+  // nearest) times skyRadiance, or skyRadiance alone (NO_TEXTURE). Black sky:
+  // skyRadiance 0 and SCENE_SPEC_HAS_SKY off.
+  vec3 skyRadiance;      // W/(sr·m²), or the map's scale
+  uint skyTexture;       // index into SCENE_BINDING_TEXTURES, or NO_TEXTURE
+  uvec2 skySize;         // map texels (the sampling tables' resolution); 0 without a map
+  float skyDistributionSum; // Σ luminance × sin θ over the map's texels (before normalising)
+  uint pad2;
 };
-GPU_ASSERT_SIZE(GpuSceneConstants, 48);
+GPU_ASSERT_SIZE(GpuSceneConstants, 80);
 
 // Camera shared by every pass. View space is right-handed, looking down -Z.
 struct GpuCamera {

@@ -18,9 +18,11 @@
 // to one queue in recording order.
 //
 // Barrier contract for gi::recordFrame:
-//  - before: G-buffer images are in VK_IMAGE_LAYOUT_GENERAL with their writes
-//    made available to VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT reads; the TLAS
-//    build (if any) is complete for compute ray queries.
+//  - before: G-buffer images are in VK_IMAGE_LAYOUT_GENERAL (a hardware depth
+//    buffer: GBufferDesc::depthLayout) with their writes (colour attachment,
+//    depth attachment or shader) made available to
+//    VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT sampled reads; the TLAS build (if
+//    any) is complete for compute ray queries.
 //  - after: the output images are in GENERAL layout, written by compute
 //    shaders; the caller barriers COMPUTE_SHADER/SHADER_STORAGE_WRITE to its reader.
 //
@@ -66,8 +68,51 @@ struct SceneDesc {
   bool hasGlossyMaterials = false;                // some material has a glossy lobe: AAF filters its specular term separately
   float typicalRadiance = 1.0f;                   // W/(sr·m²) of lit surfaces, to within ×1000: the hash map's fixed-point
                                                   // sums resolve 2^-16 of it and hold 1e9 times it
+  bool hasSky = false;                            // rays that leave the scene see the sky (GpuSceneConstants' sky
+                                                  // fields): every pass compiles the sky's NEE and misses in
   uint32_t traversal = gpu::TRAVERSAL_RAY_QUERY;  // how set 0 is traced: TRAVERSAL_RAY_QUERY (binding 0 is the TLAS)
                                                   // or TRAVERSAL_COMPUTE (the BVH bindings; the device needs no ray queries)
+};
+
+// How the engine's G-buffer stores what the module reads. The module reads
+// each image as a sampled image (texelFetch; usage SAMPLED), so any format
+// below works as it is; create refuses any other (UnsupportedFormat, naming it).
+enum class NormalEncoding : uint32_t {
+  Xyz = 0,           // world normal in rgb, [-1,1]: R16G16B16A16_SFLOAT (ours), R32G32B32A32_SFLOAT,
+                     // R16G16B16A16_SNORM, R8G8B8A8_SNORM
+  XyzUnorm,          // normal·0.5 + 0.5: A2B10G10R10_UNORM_PACK32, A2R10G10B10_UNORM_PACK32, R8G8B8A8_UNORM,
+                     // R16G16B16A16_UNORM
+  Octahedral,        // octahedral in rg, [0,1]: R16G16_UNORM, R8G8_UNORM
+  OctahedralSigned,  // octahedral in rg, [-1,1]: R16G16_SNORM, R16G16_SFLOAT, R32G32_SFLOAT
+};
+enum class DepthEncoding : uint32_t {
+  LinearViewZ = 0,   // view depth along −Z in metres, 0 = background: R32_SFLOAT (ours), R16_SFLOAT
+  Hardware,          // the depth buffer, far = 1 = background: D32_SFLOAT, D32_SFLOAT_S8_UINT, D24_UNORM_S8_UINT,
+                     // X8_D24_UNORM_PACK32, D16_UNORM (a depth-aspect view); view depth from the projection
+  HardwareReversed,  // the same with reversed Z: far = 0 = background
+};
+enum class MotionUnits : uint32_t {
+  Pixels = 0,        // previous position − current, in pixels (ours)
+  Uv,                // the same in [0,1] texture coordinates
+};
+enum class GlossyFlag : uint32_t {
+  AlbedoAlpha = 0,   // albedo.a ≥ 0.5 where the pixel has a GGX lobe (ours)
+  FromMaterial,      // metallic > 0 or roughness < 0.9 (the rule our scenes use)
+};
+struct GBufferDesc {
+  VkFormat normalFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
+  NormalEncoding normalEncoding = NormalEncoding::Xyz;
+  VkFormat albedoFormat = VK_FORMAT_R8G8B8A8_UNORM;  // linear base colour: R8G8B8A8_UNORM/_SRGB, B8G8R8A8_UNORM/_SRGB
+                                                     // (an sRGB view decodes), R16G16B16A16_SFLOAT
+  GlossyFlag glossy = GlossyFlag::AlbedoAlpha;
+  VkFormat depthFormat = VK_FORMAT_R32_SFLOAT;
+  DepthEncoding depthEncoding = DepthEncoding::LinearViewZ;
+  VkImageLayout depthLayout = VK_IMAGE_LAYOUT_GENERAL;  // or DEPTH_READ_ONLY_OPTIMAL, DEPTH_STENCIL_READ_ONLY_OPTIMAL,
+                                                        // SHADER_READ_ONLY_OPTIMAL, as the engine leaves it
+  MotionUnits motion = MotionUnits::Pixels;
+  // Material: roughness (r), metallic (g) in any unorm or float format with r
+  // and g; emission: radiance towards the camera (rgb, W/(sr·m²)) in any
+  // float format. Motion: rg in any float or snorm format.
 };
 
 struct ModuleDesc {
@@ -95,21 +140,36 @@ struct ModuleDesc {
   // it). When given, create checks that it enables what the module needs;
   // when null, create checks what the device supports.
   const VkPhysicalDeviceFeatures2* enabledFeatures = nullptr;
+  GBufferDesc gbuffer;  // the engine's G-buffer formats and encodings (defaults: ours, shared/gbuffer.h)
   // Format of the three output images: VK_FORMAT_R16G16B16A16_SFLOAT (half
   // the memory; set FrameInputs::preExposure so the light stays within
   // ±65504) or VK_FORMAT_R32G32B32A32_SFLOAT. Anything else: UnsupportedFormat.
   VkFormat outputFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
 };
 
-// G-buffer views (formats and encodings in shaders/shared/gbuffer.h), GENERAL layout.
+// G-buffer views in the formats and encodings of ModuleDesc::gbuffer, GENERAL
+// layout (depth: GBufferDesc::depthLayout), sampled images.
 struct GBufferViews {
-  VkImageView normal, albedo, material, emission, motion, viewZ;
+  VkImageView normal, albedo, material, emission, motion, depth;
+};
+
+// A camera as the engine rendered the G-buffer with it. Matrices are plain
+// arrays, column-major: element [column * 4 + row] (GLM's, GLSL's and
+// DirectX-math-transposed layout), acting on column vectors.
+struct CameraDesc {
+  float viewFromWorld[16];  // world → view; view space is right-handed, looking down −Z
+  // view → Vulkan clip space, perspective (clip w = −z_view), depth in [0,1]
+  // forward or reversed, finite or infinite far plane, with the frame's
+  // sub-pixel jitter (TAA, upscalers) and any off-axis shift in it. NDC y runs
+  // down the image (Vulkan's standard viewport); a y-up projection drawn with
+  // a negative-height viewport (P[1][1] > 0) is taken as that flip.
+  float clipFromView[16];
 };
 
 struct FrameInputs {
   GBufferViews gbuffer;
-  gpu::GpuCamera camera;          // this frame's camera (previousClipFromWorld filled in)
-  gpu::GpuCamera previousCamera;  // last frame's camera; equal to `camera` on the first frame
+  CameraDesc camera;          // this frame's
+  CameraDesc previousCamera;  // last frame's; equal to `camera` on the first frame
   uint32_t frameIndex = 0;        // increases by one per frame
   // The outputs hold radiance × preExposure, (0, ∞) finite. With half-float
   // outputs pass the exposure the engine will apply (its last frame's, as
@@ -203,6 +263,16 @@ Error create(const ModuleDesc& desc, const Settings& settings, Module*& out);
 void destroy(Module* module);  // the caller ensures the GPU no longer uses it (every recorded frame completed)
 Error setSettings(Module* module, const Settings& settings);
 const Settings& settings(const Module* module);  // what it runs with now
+
+// The engine's scene changed: a new set 0 (meshes, lights or the sky added or
+// removed) or new facts about it (an emissive mesh streamed in:
+// hasEmissiveTriangles). Programs are rebuilt only when what they are
+// specialised on changes (the has* flags, the traversal, the set layout);
+// the old ones are released once the frames using them complete. The old set
+// 0 is the engine's to keep alive until those frames complete. Cached light
+// stays: call invalidate() too when it is stale. On failure the module keeps
+// the previous scene.
+Error setScene(Module* module, const SceneDesc& scene);
 
 // For engines that know what changed: drop cached light so stale radiance is
 // never shown. All (geometry moved): temporal history, the hash map and

@@ -164,6 +164,12 @@ DescriptorWriter& DescriptorWriter::sampledImage(uint32_t binding, VkImageView v
   return *this;
 }
 
+DescriptorWriter& DescriptorWriter::texture(uint32_t binding, VkImageView view, VkImageLayout layout) {
+  images_.push_back({VK_NULL_HANDLE, view, layout});
+  add(binding, VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE).pImageInfo = &images_.back();
+  return *this;
+}
+
 DescriptorWriter& DescriptorWriter::accelerationStructure(uint32_t binding, const VkAccelerationStructureKHR* structure) {
   VkWriteDescriptorSetAccelerationStructureKHR a{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET_ACCELERATION_STRUCTURE_KHR};
   a.accelerationStructureCount = 1;

@@ -13,7 +13,8 @@ namespace gi::vk {
   X(vkGetDeviceProcAddr)                \
   X(vkGetPhysicalDeviceProperties)      \
   X(vkGetPhysicalDeviceMemoryProperties) \
-  X(vkGetPhysicalDeviceFeatures2)
+  X(vkGetPhysicalDeviceFeatures2)       \
+  X(vkGetPhysicalDeviceFormatProperties)
 
 // Device-level functions (vkGetDeviceProcAddr with the engine's device); Vulkan 1.3 core.
 #define GI_VK_DEVICE_FUNCTIONS(X)  \

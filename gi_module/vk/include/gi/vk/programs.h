@@ -74,6 +74,8 @@ class DescriptorWriter {
                            VkDeviceSize range = VK_WHOLE_SIZE);
   DescriptorWriter& storageImage(uint32_t binding, VkImageView view, uint32_t arrayElement = 0);
   DescriptorWriter& sampledImage(uint32_t binding, VkImageView view, VkSampler sampler, uint32_t arrayElement = 0);
+  // VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE: read with texelFetch, no sampler.
+  DescriptorWriter& texture(uint32_t binding, VkImageView view, VkImageLayout layout = VK_IMAGE_LAYOUT_GENERAL);
   DescriptorWriter& accelerationStructure(uint32_t binding, const VkAccelerationStructureKHR* structure);
   DescriptorWriter& uniformTexelBuffer(uint32_t binding, VkBufferView view);
   void write(const Device& device);

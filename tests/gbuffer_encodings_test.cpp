@@ -1,0 +1,384 @@
+// The G-buffer adapter (gi::GBufferDesc): the module reads an engine's
+// G-buffer in the engine's own formats and encodings. Our G-buffer is
+// re-encoded on the CPU into each accepted encoding (octahedral RG16 normals,
+// RGB10A2 normals, sRGB albedo, hardware depth with forward and reversed Z,
+// motion in UV) and every one gives the image our own encoding gives.
+#include <cmath>
+#include <cstring>
+#include <functional>
+
+#include "metrics.h"
+#include "module_test_helpers.h"
+#include "readback.h"
+
+class GBufferEncodingsTest : public GpuTest {};
+
+namespace {
+
+constexpr uint32_t kSize = 48;
+
+// Our G-buffer, read back as floats.
+struct CpuGBuffer {
+  std::vector<glm::vec4> normal, albedo, material, emission;
+  std::vector<glm::vec2> motion;
+  std::vector<float> viewZ;
+};
+
+uint16_t toHalf(float f) {
+  uint32_t x;
+  std::memcpy(&x, &f, 4);
+  const uint32_t sign = (x >> 16) & 0x8000u;
+  const int exponent = int((x >> 23) & 0xff) - 127 + 15;
+  uint32_t mantissa = x & 0x7fffffu;
+  if (exponent <= 0) return uint16_t(sign);  // tiny values flush to zero (not in these images)
+  if (exponent >= 31) return uint16_t(sign | 0x7c00u);
+  return uint16_t(sign | uint32_t(exponent) << 10 | ((mantissa + 0x1000u) >> 13));
+}
+
+CpuGBuffer readGBuffer(const engine::Context& ctx, const engine::GBuffer& g) {
+  const size_t n = size_t(kSize) * kSize;
+  CpuGBuffer c;
+  auto halves = [&](uint32_t index, uint32_t channels) {
+    std::vector<std::byte> raw = engine::readbackImage(ctx, g.color[index], VK_IMAGE_LAYOUT_GENERAL, 2 * channels);
+    std::vector<float> out(n * channels);
+    for (size_t i = 0; i < out.size(); ++i) {
+      uint16_t h;
+      std::memcpy(&h, &raw[2 * i], 2);
+      out[i] = engine::halfToFloat(h);
+    }
+    return out;
+  };
+  std::vector<float> normal = halves(gpu::GBUFFER_NORMAL, 4), motion = halves(gpu::GBUFFER_MOTION, 2);
+  std::vector<std::byte> albedo = engine::readbackImage(ctx, g.color[gpu::GBUFFER_ALBEDO], VK_IMAGE_LAYOUT_GENERAL, 4);
+  std::vector<std::byte> material = engine::readbackImage(ctx, g.color[gpu::GBUFFER_MATERIAL], VK_IMAGE_LAYOUT_GENERAL, 2);
+  std::vector<std::byte> emission = engine::readbackImage(ctx, g.color[gpu::GBUFFER_EMISSION], VK_IMAGE_LAYOUT_GENERAL, 16);
+  std::vector<std::byte> viewZ = engine::readbackImage(ctx, g.color[gpu::GBUFFER_VIEWZ], VK_IMAGE_LAYOUT_GENERAL, 4);
+  for (size_t p = 0; p < n; ++p) {
+    c.normal.push_back({normal[4 * p], normal[4 * p + 1], normal[4 * p + 2], normal[4 * p + 3]});
+    glm::vec4 a;
+    for (int k = 0; k < 4; ++k) a[k] = float(uint8_t(albedo[4 * p + k])) / 255.0f;
+    c.albedo.push_back(a);
+    c.material.push_back({float(uint8_t(material[2 * p])) / 255.0f, float(uint8_t(material[2 * p + 1])) / 255.0f, 0, 0});
+    glm::vec4 e;
+    std::memcpy(&e, &emission[16 * p], 16);
+    c.emission.push_back(e);
+    c.motion.push_back({motion[2 * p], motion[2 * p + 1]});
+    float z;
+    std::memcpy(&z, &viewZ[4 * p], 4);
+    c.viewZ.push_back(z);
+  }
+  return c;
+}
+
+glm::vec2 octahedralEncode(glm::vec3 n) {  // → [-1,1]²
+  n /= std::fabs(n.x) + std::fabs(n.y) + std::fabs(n.z);
+  glm::vec2 e(n.x, n.y);
+  if (n.z < 0.0f)
+    e = (1.0f - glm::abs(glm::vec2(n.y, n.x))) * glm::vec2(e.x >= 0.0f ? 1.0f : -1.0f, e.y >= 0.0f ? 1.0f : -1.0f);
+  return e;
+}
+
+uint8_t srgbByte(float linear) { return uint8_t(std::lround(engine::linearToSrgb(linear) * 255.0f)); }
+
+// One image of the encoded G-buffer: its format and texels.
+struct Encoded {
+  VkFormat format;
+  std::vector<uint8_t> bytes;
+};
+template <typename T>
+void put(std::vector<uint8_t>& out, T value) {
+  const size_t at = out.size();
+  out.resize(at + sizeof(T));
+  std::memcpy(&out[at], &value, sizeof(T));
+}
+
+// The six images of an encoding, uploaded for the module to sample.
+struct UploadedGBuffer {
+  engine::Image images[6];
+  gi::GBufferViews views() const {
+    return {images[0].view, images[1].view, images[2].view, images[3].view, images[4].view, images[5].view};
+  }
+};
+
+UploadedGBuffer upload(const engine::Context& ctx, const Encoded (&encoded)[6]) {
+  UploadedGBuffer u;
+  for (int i = 0; i < 6; ++i) {
+    u.images[i] = engine::createImage(ctx, {kSize, kSize}, encoded[i].format,
+                                      VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT);
+    engine::uploadImage(ctx, u.images[i], encoded[i].bytes.data(), encoded[i].bytes.size(), VK_IMAGE_LAYOUT_GENERAL);
+  }
+  return u;
+}
+
+// The reversed-Z projection our engine uses, and the same frustum with forward Z.
+glm::mat4 clipFromView(const gpu::GpuCamera& cam) { return cam.clipFromWorld * cam.worldFromView; }
+
+struct Variant {
+  const char* what;
+  gi::GBufferDesc desc;
+  std::function<void(const CpuGBuffer&, const glm::mat4& clipFromView, Encoded (&)[6])> encode;
+  bool forwardZ = false;  // the camera's projection maps near to 0 and far to 1
+  bool yUp = false;       // the projection is handed over y up (an engine drawing with a negative-height viewport)
+};
+
+}  // namespace
+
+TEST_F(GBufferEncodingsTest, EveryAcceptedEncodingGivesTheSameImage) {
+  LoadedScene s;
+  ASSERT_NO_FATAL_FAILURE(load(sharedScene("cornell-simple/cornell_simple.gltf"), s));
+  const gpu::GpuCamera reversed = engine::makeGpuCamera(s.scene.cameras[0], kSize, kSize, nullptr);
+  // Forward Z with the same x and y rows: near → 0, far (or infinity) → 1.
+  gpu::GpuCamera forward = reversed;
+  {
+    glm::mat4 p = clipFromView(reversed);
+    const float n = s.scene.cameras[0].znear;
+    p[2][2] = -1.0f;  // infinite far plane: d = 1 − n / viewDepth
+    p[3][2] = -n;
+    forward.clipFromWorld = p * reversed.viewFromWorld;
+    forward.previousClipFromWorld = forward.clipFromWorld;
+  }
+
+  // Our own G-buffer, rendered once.
+  tools::ModuleSession native;
+  ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {kSize, kSize}, gi::Settings{}, native));
+  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+    engine::recordGBuffer(ctx, cmd, native.gbufferPass, s.scene, s.gpu, native.gbuffer, reversed, nullptr);
+  });
+  const CpuGBuffer g = readGBuffer(ctx, native.gbuffer);
+  const size_t n = size_t(kSize) * kSize;
+
+  // Each encoding writes the images in their order: normal, albedo, material, emission, motion, depth.
+  auto ours = [&](Encoded (&e)[6]) {
+    e[0].format = VK_FORMAT_R16G16B16A16_SFLOAT;
+    e[1].format = VK_FORMAT_R8G8B8A8_UNORM;
+    e[2].format = VK_FORMAT_R8G8_UNORM;
+    e[3].format = VK_FORMAT_R32G32B32A32_SFLOAT;
+    e[4].format = VK_FORMAT_R16G16_SFLOAT;
+    e[5].format = VK_FORMAT_R32_SFLOAT;
+    for (size_t p = 0; p < n; ++p) {
+      for (int k = 0; k < 4; ++k) put(e[0].bytes, toHalf(g.normal[p][k]));
+      for (int k = 0; k < 4; ++k) put(e[1].bytes, uint8_t(std::lround(g.albedo[p][k] * 255.0f)));
+      for (int k = 0; k < 2; ++k) put(e[2].bytes, uint8_t(std::lround(g.material[p][k] * 255.0f)));
+      put(e[3].bytes, g.emission[p]);
+      for (int k = 0; k < 2; ++k) put(e[4].bytes, toHalf(g.motion[p][k]));
+      put(e[5].bytes, g.viewZ[p]);
+    }
+  };
+  auto hardwareDepth = [&](Encoded& e, const glm::mat4& proj, bool reversedZ) {
+    e.format = VK_FORMAT_D32_SFLOAT;
+    e.bytes.clear();
+    for (size_t p = 0; p < n; ++p) {
+      const float z = g.viewZ[p];
+      // d = (P22·z_view + P32) / −z_view with z_view = −viewDepth.
+      put(e.bytes, z > 0.0f ? (proj[2][2] * -z + proj[3][2]) / z : (reversedZ ? 0.0f : 1.0f));
+    }
+  };
+
+  std::vector<Variant> variants;
+  variants.push_back({"ours", {}, [&](const CpuGBuffer&, const glm::mat4&, Encoded (&e)[6]) { ours(e); }});
+  for (bool isSigned : {false, true}) {
+    Variant v{isSigned ? "octahedral RG16 snorm normals" : "octahedral RG16 unorm normals", {}, nullptr};
+    v.desc.normalFormat = isSigned ? VK_FORMAT_R16G16_SNORM : VK_FORMAT_R16G16_UNORM;
+    v.desc.normalEncoding = isSigned ? gi::NormalEncoding::OctahedralSigned : gi::NormalEncoding::Octahedral;
+    v.encode = [&, isSigned, format = v.desc.normalFormat](const CpuGBuffer& c, const glm::mat4&, Encoded (&e)[6]) {
+      ours(e);
+      e[0] = {format, {}};
+      for (size_t p = 0; p < n; ++p) {
+        glm::vec2 o = c.normal[p].w > 0.5f ? octahedralEncode(glm::vec3(c.normal[p])) : glm::vec2(0.0f);
+        for (int k = 0; k < 2; ++k) {
+          if (isSigned) put(e[0].bytes, int16_t(std::lround(o[k] * 32767.0f)));
+          else put(e[0].bytes, uint16_t(std::lround((o[k] * 0.5f + 0.5f) * 65535.0f)));
+        }
+      }
+    };
+    variants.push_back(v);
+  }
+  {
+    Variant v{"RGB10A2 normals", {}, nullptr};
+    v.desc.normalFormat = VK_FORMAT_A2B10G10R10_UNORM_PACK32;
+    v.desc.normalEncoding = gi::NormalEncoding::XyzUnorm;
+    v.encode = [&](const CpuGBuffer& c, const glm::mat4&, Encoded (&e)[6]) {
+      ours(e);
+      e[0] = {VK_FORMAT_A2B10G10R10_UNORM_PACK32, {}};
+      for (size_t p = 0; p < n; ++p) {
+        uint32_t packed = 3u << 30;
+        for (int k = 0; k < 3; ++k)
+          packed |= uint32_t(std::lround((c.normal[p][k] * 0.5f + 0.5f) * 1023.0f)) << (10 * k);
+        put(e[0].bytes, packed);
+      }
+    };
+    variants.push_back(v);
+  }
+  {
+    Variant v{"sRGB albedo, glossy flag from the material", {}, nullptr};
+    v.desc.albedoFormat = VK_FORMAT_R8G8B8A8_SRGB;
+    v.desc.glossy = gi::GlossyFlag::FromMaterial;
+    v.encode = [&](const CpuGBuffer& c, const glm::mat4&, Encoded (&e)[6]) {
+      ours(e);
+      e[1] = {VK_FORMAT_R8G8B8A8_SRGB, {}};
+      for (size_t p = 0; p < n; ++p) {
+        for (int k = 0; k < 3; ++k) put(e[1].bytes, srgbByte(c.albedo[p][k]));
+        put(e[1].bytes, uint8_t(255));  // opacity, as engines store it: not a glossy flag
+      }
+    };
+    variants.push_back(v);
+  }
+  {
+    Variant v{"hardware depth, reversed Z", {}, nullptr};
+    v.desc.depthFormat = VK_FORMAT_D32_SFLOAT;
+    v.desc.depthEncoding = gi::DepthEncoding::HardwareReversed;
+    v.encode = [&](const CpuGBuffer&, const glm::mat4& proj, Encoded (&e)[6]) {
+      ours(e);
+      hardwareDepth(e[5], proj, true);
+    };
+    variants.push_back(v);
+  }
+  {
+    Variant v{"hardware depth, forward Z, motion in UV", {}, nullptr};
+    v.desc.depthFormat = VK_FORMAT_D32_SFLOAT;
+    v.desc.depthEncoding = gi::DepthEncoding::Hardware;
+    v.desc.motion = gi::MotionUnits::Uv;
+    v.forwardZ = true;
+    v.encode = [&](const CpuGBuffer& c, const glm::mat4& proj, Encoded (&e)[6]) {
+      ours(e);
+      hardwareDepth(e[5], proj, false);
+      e[4].bytes.clear();
+      for (size_t p = 0; p < n; ++p)
+        for (int k = 0; k < 2; ++k) put(e[4].bytes, toHalf(c.motion[p][k] / float(kSize)));
+    };
+    variants.push_back(v);
+  }
+
+  {
+    Variant v{"a y-up projection (negative-height viewport)", {}, nullptr};
+    v.encode = [&](const CpuGBuffer&, const glm::mat4&, Encoded (&e)[6]) { ours(e); };
+    v.yUp = true;
+    variants.push_back(v);
+  }
+
+  // One frame of raw (direct light and one indirect path per pixel) per encoding.
+  std::vector<engine::ReferenceImages> images;
+  for (const Variant& v : variants) {
+    const gpu::GpuCamera& cam = v.forwardZ ? forward : reversed;
+    Encoded encoded[6];
+    v.encode(g, clipFromView(cam), encoded);
+    UploadedGBuffer uploaded = upload(ctx, encoded);
+    gi::ModuleDesc desc = tools::moduleDesc(ctx, s.gpu, {kSize, kSize});
+    desc.gbuffer = v.desc;
+    desc.outputFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
+    gi::Module* module = nullptr;
+    gi::Error e = gi::create(desc, gi::Settings{}, module);
+    ASSERT_FALSE(e) << v.what << ": " << e.message;
+    gi::FrameInputs in;
+    in.gbuffer = uploaded.views();
+    in.camera = in.previousCamera = engine::moduleCamera(cam);
+    if (v.yUp)
+      for (int c = 0; c < 4; ++c) in.camera.clipFromView[c * 4 + 1] = in.previousCamera.clipFromView[c * 4 + 1] *= -1.0f;
+    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { ASSERT_FALSE(gi::recordFrame(module, cmd, in)); });
+    const gi::Outputs o = gi::outputs(module);
+    engine::ReferenceImages out;
+    out.final = engine::readbackRgb(ctx, o.composite, o.format, {kSize, kSize});
+    out.direct = engine::readbackRgb(ctx, o.direct, o.format, {kSize, kSize});
+    images.push_back(out);
+    gi::destroy(module);
+    for (engine::Image& img : uploaded.images) engine::destroyImage(ctx, img);
+  }
+  // Our encoding through the adapter is the native path exactly; the others
+  // differ by their quantisation (8-bit sRGB albedo, 10-bit normals, depth
+  // through the projection), which moves shading points and normals a little:
+  // a few pixels whose shadow ray grazes an edge flip between lit and shadowed.
+  // The direct light's relative L1 and the final image's mean within 1%.
+  const double finalMean = meanOf(images[0].final);
+  ASSERT_GT(finalMean, 0.0);
+  for (size_t i = 0; i < variants.size(); ++i) {
+    double diff = 0.0, sum = 0.0;
+    size_t worstAt = 0;
+    double worst = 0.0;
+    for (size_t k = 0; k < images[i].direct.pixels.size(); ++k) {
+      const double a = images[i].direct.pixels[k], b = images[0].direct.pixels[k];
+      diff += std::fabs(a - b);
+      sum += std::fabs(b);
+      if (std::fabs(a - b) > worst) {
+        worst = std::fabs(a - b);
+        worstAt = k;
+      }
+    }
+    const double meanShift = std::fabs(meanOf(images[i].final) / finalMean - 1.0);
+    const size_t p = worstAt / 3;
+    std::printf("%-45s direct: relative L1 %.2e (worst at %zu: %.4f vs %.4f, n %.4f %.4f %.4f z %.4f); final mean %+.2e\n",
+                variants[i].what, diff / sum, p, images[i].direct.pixels[worstAt], images[0].direct.pixels[worstAt],
+                g.normal[p].x, g.normal[p].y, g.normal[p].z, g.viewZ[p], meanShift);
+    EXPECT_LT(diff / sum, 0.01) << variants[i].what;
+    EXPECT_LT(meanShift, 0.01) << variants[i].what;
+  }
+  tools::destroyModuleSession(ctx, native);
+  unload(s);
+}
+
+// A camera that is not finite, not invertible or not a perspective
+// projection is a named error, and records nothing.
+TEST_F(GBufferEncodingsTest, BadCamerasAreNamedErrors) {
+  LoadedScene s;
+  ASSERT_NO_FATAL_FAILURE(load(sharedScene("cornell-simple/cornell_simple.gltf"), s));
+  tools::ModuleSession session;
+  ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {kSize, kSize}, gi::Settings{}, session));
+  const gi::CameraDesc good = engine::moduleCamera(engine::makeGpuCamera(s.scene.cameras[0], kSize, kSize, nullptr));
+  struct Case {
+    const char* what;
+    std::function<void(gi::CameraDesc&)> edit;
+    const char* message;
+  };
+  const Case cases[] = {
+      {"NaN in the view", [](gi::CameraDesc& c) { c.viewFromWorld[12] = std::nanf(""); }, "not finite"},
+      {"a flattened view", [](gi::CameraDesc& c) { c.viewFromWorld[0] = c.viewFromWorld[5] = 0.0f; }, "not invertible"},
+      {"an orthographic projection", [](gi::CameraDesc& c) { c.clipFromView[11] = 0.0f; c.clipFromView[15] = 1.0f; },
+       "not a perspective projection"},
+  };
+  for (const Case& c : cases) {
+    gi::FrameInputs in;
+    in.gbuffer = tools::gbufferViews(session.gbuffer);
+    in.camera = in.previousCamera = good;
+    c.edit(in.camera);
+    gi::Error e;
+    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { e = gi::recordFrame(session.module, cmd, in); });
+    EXPECT_EQ(e.code, gi::ErrorCode::OutOfRange) << c.what;
+    EXPECT_NE(e.message.find("inputs.camera"), std::string::npos) << e.message;
+    EXPECT_NE(e.message.find(c.message), std::string::npos) << e.message;
+  }
+  tools::destroyModuleSession(ctx, session);
+  unload(s);
+}
+
+// Encodings that do not match their format, and formats the module does not
+// read, are named errors at create.
+TEST_F(GBufferEncodingsTest, MismatchedEncodingsAreNamedErrors) {
+  LoadedScene s;
+  ASSERT_NO_FATAL_FAILURE(load(sharedScene("cornell-simple/cornell_simple.gltf"), s));
+  struct Case {
+    const char* what;
+    std::function<void(gi::GBufferDesc&)> edit;
+    const char* field;
+  };
+  const Case cases[] = {
+      {"octahedral in rgba16f", [](gi::GBufferDesc& d) { d.normalEncoding = gi::NormalEncoding::Octahedral; },
+       "desc.gbuffer.normalFormat"},
+      {"hardware depth in r32f", [](gi::GBufferDesc& d) { d.depthEncoding = gi::DepthEncoding::Hardware; },
+       "desc.gbuffer.depthFormat"},
+      {"linear depth in d32", [](gi::GBufferDesc& d) { d.depthFormat = VK_FORMAT_D32_SFLOAT; }, "desc.gbuffer.depthFormat"},
+      {"rgb565 albedo", [](gi::GBufferDesc& d) { d.albedoFormat = VK_FORMAT_R5G6B5_UNORM_PACK16; }, "desc.gbuffer.albedoFormat"},
+      {"unknown normal encoding", [](gi::GBufferDesc& d) { d.normalEncoding = gi::NormalEncoding(9); },
+       "desc.gbuffer.normalEncoding"},
+      {"depth in an attachment layout",
+       [](gi::GBufferDesc& d) { d.depthLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL; }, "desc.gbuffer.depthLayout"},
+  };
+  for (const Case& c : cases) {
+    gi::ModuleDesc desc = tools::moduleDesc(ctx, s.gpu, {16, 16});
+    c.edit(desc.gbuffer);
+    gi::Module* m = nullptr;
+    gi::Error e = gi::create(desc, gi::Settings{}, m);
+    EXPECT_TRUE(e) << c.what;
+    EXPECT_NE(e.message.find(c.field), std::string::npos) << c.what << ": " << e.message;
+    EXPECT_EQ(m, nullptr);
+  }
+  unload(s);
+}
