@@ -1,12 +1,23 @@
-// Next-event estimation: one emissive triangle picked by power (with MIS
-// against BSDF sampling), every punctual light (delta lights, no MIS) and
-// the sky (sky.glsl).
+// Next-event estimation: every punctual light (delta lights, no MIS), and one
+// shadow ray towards the area lights: an emissive triangle picked by power or
+// the sky (sky.glsl), each with MIS against BSDF sampling. Where a scene has
+// both, either is picked with probability 1/2 (one-sample MIS between them),
+// so NEE traces one traversal for them, not two.
 // Specialisation constants (scene.glsl) drop the loops a scene does not need.
 #ifndef GI_LIGHTS_GLSL
 #define GI_LIGHTS_GLSL
 #include "bsdf.glsl"
 #include "random.glsl"
 #include "surface.glsl"
+
+// A shadow ray of next-event estimation and the light it brings if nothing blocks it.
+struct GiShadowRay {
+  vec3 origin;
+  vec3 direction;
+  float tMax;
+  vec3 contribution;  // f·Le·(MIS weight)/(selection × light pdf)
+};
+
 #include "sky.glsl"
 
 
@@ -31,8 +42,9 @@ uint giPickEmissiveTriangle(float u) {
   return lo;
 }
 
+// The emissive triangle's shadow ray, picked with probability `selection`.
 // withMis: weight against BSDF sampling (the caller also adds BSDF-sampled emission).
-vec3 giSampleEmissive(GiSurface s, GiBsdf b, vec3 V, bool withMis, inout GiRng rng) {
+bool giPrepareEmissive(GiSurface s, GiBsdf b, vec3 V, bool withMis, float selection, inout GiRng rng, out GiShadowRay ray) {
   GpuEmissiveTriangle e = sceneEmissiveTriangles[giPickEmissiveTriangle(giRandom(rng))];
   uvec3 tri = sceneTriangle(e.geometry, e.triangle);
   vec2 u = giRandom2(rng);
@@ -44,24 +56,25 @@ vec3 giSampleEmissive(GiSurface s, GiBsdf b, vec3 V, bool withMis, inout GiRng r
   giTriangleNormals(e.instance, tri, w, p0, p1, p2, ns, ng);
   vec3 toLight = y - s.position;
   float dist2 = dot(toLight, toLight);
-  if (!(dist2 > 0.0)) return vec3(0.0);
+  if (!(dist2 > 0.0)) return false;
   float dist = sqrt(dist2);
   vec3 L = toLight / dist;
   float cosLight = dot(ng, -L);
-  if (cosLight <= 0.0) return vec3(0.0);  // emission is one-sided
+  if (cosLight <= 0.0) return false;  // emission is one-sided
   vec3 f = giBsdfEval(b, s.normal, V, L);
-  if (dot(s.geometricNormal, L) <= 0.0 || giMaxComponent(f) <= 0.0) return vec3(0.0);
+  if (dot(s.geometricNormal, L) <= 0.0 || giMaxComponent(f) <= 0.0) return false;
   GpuMaterial m = sceneMaterials[sceneGeometries[e.geometry].material];
   vec3 Le = m.emission;
   if (m.emissiveTexture != NO_TEXTURE) Le *= sceneTexture(m.emissiveTexture, sceneUv(tri, w)).rgb;
-  float lightPdf = giLuminance(m.emission) / sceneConstants.emissiveTotalPower * dist2 / cosLight;
-  vec3 origin = giOffsetRay(s.position, s.geometricNormal);
-  vec3 target = giOffsetRay(y, -L);
-  vec3 seg = target - origin;
-  float segLength = length(seg);
-  if (!(segLength > 0.0) || !giTraceVisible(origin, seg / segLength, 0.0, segLength)) return vec3(0.0);
+  float lightPdf = selection * (giLuminance(m.emission) / sceneConstants.emissiveTotalPower * dist2 / cosLight);
+  ray.origin = giOffsetRay(s.position, s.geometricNormal);
+  vec3 seg = giOffsetRay(y, -L) - ray.origin;
+  ray.tMax = length(seg);
+  if (!(ray.tMax > 0.0)) return false;
+  ray.direction = seg / ray.tMax;
   float mis = withMis ? giPowerHeuristic(lightPdf, giBsdfPdf(b, s.normal, V, L)) : 1.0;
-  return f * Le * (mis / lightPdf);
+  ray.contribution = f * Le * (mis / lightPdf);
+  return true;
 }
 
 vec3 giSamplePunctual(GiSurface s, GiBsdf b, vec3 V) {
@@ -102,13 +115,37 @@ vec3 giSamplePunctual(GiSurface s, GiBsdf b, vec3 V) {
   return sum;
 }
 
-// Reflected direct light at s towards V: f·cos·L / pdf for one emissive
-// sample, all punctual lights and one sky sample. withMis as in giSampleEmissive.
+// Probability that the area-light shadow ray goes to the sky: 1/2 where
+// emissive triangles and a sampled sky share it, else all or nothing. With
+// MIS a constant sky is not sampled (BSDF sampling finds it), so it takes no share.
+float giSkySelection(bool withMis) {
+  bool emissive = GI_SCENE_HAS_EMISSIVE && sceneConstants.emissiveTriangleCount > 0u;
+  bool sky = GI_SCENE_HAS_SKY && (giSkyHasMap() || !withMis) && giMaxComponent(sceneConstants.skyRadiance) > 0.0;
+  return sky ? (emissive ? 0.5 : 1.0) : 0.0;
+}
+
+// Solid-angle densities with which NEE (with MIS) picks an emitter's point or
+// a sky direction, for BSDF-sampled hits to weigh themselves against.
+float giEmissiveNeePdf(GiSurface s, uint geometry, vec3 from) {
+  return (1.0 - giSkySelection(true)) * giEmissiveLightPdf(s, geometry, from);
+}
+float giSkyNeePdf(vec3 dir) { return giSkySelection(true) * giSkyLightPdf(dir); }
+
+// Reflected direct light at s towards V: f·cos·L / pdf for all punctual
+// lights and one area-light sample. withMis as in giPrepareEmissive.
 vec3 giDirectLight(GiSurface s, GiBsdf b, vec3 V, bool withMis, inout GiRng rng) {
   vec3 sum = vec3(0.0);
-  if (GI_SCENE_HAS_EMISSIVE && sceneConstants.emissiveTriangleCount > 0u) sum += giSampleEmissive(s, b, V, withMis, rng);
   if (GI_SCENE_HAS_PUNCTUAL) sum += giSamplePunctual(s, b, V);
-  if (GI_SCENE_HAS_SKY) sum += giSampleSky(s, b, V, withMis, rng);
+  bool emissive = GI_SCENE_HAS_EMISSIVE && sceneConstants.emissiveTriangleCount > 0u;
+  float skyChance = giSkySelection(withMis);
+  if (emissive || skyChance > 0.0) {
+    // Scenes without a sky draw no extra random number: their paths are as before.
+    bool pickSky = skyChance >= 1.0 || (skyChance > 0.0 && giRandom(rng) < skyChance);
+    GiShadowRay ray;
+    bool ready = pickSky ? giPrepareSky(s, b, V, withMis, skyChance, rng, ray)
+                         : giPrepareEmissive(s, b, V, withMis, 1.0 - skyChance, rng, ray);
+    if (ready && giTraceVisible(ray.origin, ray.direction, 0.0, ray.tMax)) sum += ray.contribution;
+  }
   return sum;
 }
 

@@ -27,9 +27,9 @@ GiPathSample giTracePathFromSurface(GiSurface vertex0, vec3 V, uint maxBounces, 
   for (uint depth = 0u;; ++depth) {
     if (depth > 0u) {
       GiHit hit = giTraceClosest(origin, direction, 0.0, GI_FLT_MAX);
-      if (hit.t < 0.0) {  // the sky, weighed against its NEE (giSampleSky)
+      if (hit.t < 0.0) {  // the sky, weighed against its NEE (giPrepareSky)
         if (GI_SCENE_HAS_SKY) {
-          vec3 c = giSkyRadiance(direction) * giPowerHeuristic(previousBsdfPdf, giSkyLightPdf(direction));
+          vec3 c = giSkyRadiance(direction) * giPowerHeuristic(previousBsdfPdf, giSkyNeePdf(direction));
           if (depth == 1u) r.direct += throughput * c;
           else {
             r.indirect += throughput * c;
@@ -40,7 +40,7 @@ GiPathSample giTracePathFromSurface(GiSurface vertex0, vec3 V, uint maxBounces, 
       }
       s = giSurfaceFromHit(hit, direction);
       if (s.frontFace && giMaxComponent(s.material.emission) > 0.0) {
-        float w = GI_SCENE_HAS_EMISSIVE ? giPowerHeuristic(previousBsdfPdf, giEmissiveLightPdf(s, hit.geometry, origin)) : 1.0;
+        float w = GI_SCENE_HAS_EMISSIVE ? giPowerHeuristic(previousBsdfPdf, giEmissiveNeePdf(s, hit.geometry, origin)) : 1.0;
         vec3 c = s.material.emission * w;
         if (depth == 1u) r.direct += throughput * c;
         else {

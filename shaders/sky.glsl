@@ -1,5 +1,6 @@
 // The sky: the light of rays that leave the scene (GpuSceneConstants' sky
-// fields), and its next-event estimation.
+// fields), and its shadow ray for next-event estimation (lights.glsl picks
+// between it and the emissive triangles).
 //  - A constant sky is reached by BSDF sampling where the caller combines
 //    strategies (withMis: the map-less sky has no light pdf to weigh), and by
 //    cosine-distributed shadow rays where NEE stands alone.
@@ -83,27 +84,31 @@ vec3 giSampleSkyMap(vec2 u, out float pdf) {
   return dir;
 }
 
-// Reflected sky light at s towards V by one shadow ray. withMis: the map's
-// sample is weighed against BSDF sampling (the caller adds BSDF-sampled sky,
-// path.glsl), and a constant sky is left to BSDF sampling.
-vec3 giSampleSky(GiSurface s, GiBsdf b, vec3 V, bool withMis, inout GiRng rng) {
+// The sky's shadow ray, picked with probability `selection` (giSkySelection:
+// never with MIS for a constant sky, which BSDF sampling finds). A map is
+// sampled by its tables and, withMis, weighed against BSDF sampling; a
+// constant sky by cosine-distributed directions.
+bool giPrepareSky(GiSurface s, GiBsdf b, vec3 V, bool withMis, float selection, inout GiRng rng, out GiShadowRay ray) {
   vec2 u = giRandom2(rng);
   vec3 L;
   float pdf;
   if (giSkyHasMap()) {
     L = giSampleSkyMap(u, pdf);
   } else {
-    if (withMis) return vec3(0.0);
     L = giCosineSample(s.normal, u);
     pdf = max(dot(L, s.normal), 0.0) * GI_INV_PI;
   }
-  if (!(pdf > 0.0) || dot(s.geometricNormal, L) <= 0.0) return vec3(0.0);
+  pdf *= selection;
+  if (!(pdf > 0.0) || dot(s.geometricNormal, L) <= 0.0) return false;
   vec3 f = giBsdfEval(b, s.normal, V, L);
   vec3 Le = giSkyRadiance(L);
-  if (giMaxComponent(f * Le) <= 0.0) return vec3(0.0);
-  if (!giTraceVisible(giOffsetRay(s.position, s.geometricNormal), L, 0.0, GI_FLT_MAX)) return vec3(0.0);
+  if (giMaxComponent(f * Le) <= 0.0) return false;
   float mis = withMis ? giPowerHeuristic(pdf, giBsdfPdf(b, s.normal, V, L)) : 1.0;
-  return f * Le * (mis / pdf);
+  ray.origin = giOffsetRay(s.position, s.geometricNormal);
+  ray.direction = L;
+  ray.tMax = GI_FLT_MAX;
+  ray.contribution = f * Le * (mis / pdf);
+  return true;
 }
 
 #endif
