@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 #include <functional>
+#include <glm/gtc/packing.hpp>
 
 #include "metrics.h"
 #include "module_test_helpers.h"
@@ -24,16 +25,6 @@ struct CpuGBuffer {
   std::vector<float> viewZ;
 };
 
-uint16_t toHalf(float f) {
-  uint32_t x;
-  std::memcpy(&x, &f, 4);
-  const uint32_t sign = (x >> 16) & 0x8000u;
-  const int exponent = int((x >> 23) & 0xff) - 127 + 15;
-  uint32_t mantissa = x & 0x7fffffu;
-  if (exponent <= 0) return uint16_t(sign);  // tiny values flush to zero (not in these images)
-  if (exponent >= 31) return uint16_t(sign | 0x7c00u);
-  return uint16_t(sign | uint32_t(exponent) << 10 | ((mantissa + 0x1000u) >> 13));
-}
 
 CpuGBuffer readGBuffer(const engine::Context& ctx, const engine::GBuffer& g) {
   const size_t n = size_t(kSize) * kSize;
@@ -156,11 +147,11 @@ TEST_F(GBufferEncodingsTest, EveryAcceptedEncodingGivesTheSameImage) {
     e[4].format = VK_FORMAT_R16G16_SFLOAT;
     e[5].format = VK_FORMAT_R32_SFLOAT;
     for (size_t p = 0; p < n; ++p) {
-      for (int k = 0; k < 4; ++k) put(e[0].bytes, toHalf(g.normal[p][k]));
+      for (int k = 0; k < 4; ++k) put(e[0].bytes, glm::packHalf1x16(g.normal[p][k]));
       for (int k = 0; k < 4; ++k) put(e[1].bytes, uint8_t(std::lround(g.albedo[p][k] * 255.0f)));
       for (int k = 0; k < 2; ++k) put(e[2].bytes, uint8_t(std::lround(g.material[p][k] * 255.0f)));
       put(e[3].bytes, g.emission[p]);
-      for (int k = 0; k < 2; ++k) put(e[4].bytes, toHalf(g.motion[p][k]));
+      for (int k = 0; k < 2; ++k) put(e[4].bytes, glm::packHalf1x16(g.motion[p][k]));
       put(e[5].bytes, g.viewZ[p]);
     }
   };
@@ -244,7 +235,7 @@ TEST_F(GBufferEncodingsTest, EveryAcceptedEncodingGivesTheSameImage) {
       hardwareDepth(e[5], proj, false);
       e[4].bytes.clear();
       for (size_t p = 0; p < n; ++p)
-        for (int k = 0; k < 2; ++k) put(e[4].bytes, toHalf(c.motion[p][k] / float(kSize)));
+        for (int k = 0; k < 2; ++k) put(e[4].bytes, glm::packHalf1x16(c.motion[p][k] / float(kSize)));
     };
     variants.push_back(v);
   }

@@ -21,6 +21,8 @@
 #include <cstring>
 #include <vector>
 
+#include <glm/gtc/packing.hpp>  // unpackHalf1x16: the outputs are half floats
+
 namespace {
 
 int failures = 0;
@@ -358,14 +360,6 @@ gi::CameraDesc camera(uint32_t width, uint32_t height) {
 constexpr float kEmission[3] = {1.0f, 2.0f, 3.0f};
 constexpr float kPreExposure = 0.25f;  // the outputs hold light × this (half floats by default)
 
-// IEEE 754 binary16 → float, for the default half-float outputs.
-float halfToFloat(uint16_t h) {
-  const int exponent = (h >> 10) & 31, mantissa = h & 1023;
-  const float v = exponent == 0 ? std::ldexp(float(mantissa), -24)
-                  : exponent == 31 ? INFINITY
-                                   : std::ldexp(float(mantissa | 1024), exponent - 25);
-  return (h & 0x8000) ? -v : v;
-}
 
 }  // namespace
 
@@ -533,7 +527,7 @@ int main() {
   double worst = 0.0;  // relative
   for (size_t p = 0; p < size_t(width) * height; ++p)
     for (int c = 0; c < 3; ++c)
-      worst = std::max(worst, double(std::fabs(halfToFloat(texels[4 * p + c]) / kPreExposure - kEmission[c]) / kEmission[c]));
+      worst = std::max(worst, double(std::fabs(glm::unpackHalf1x16(texels[4 * p + c]) / kPreExposure - kEmission[c]) / kEmission[c]));
   expect(worst < 1e-3, "the composite equals the emission (to half-float rounding, pre-exposure divided out)");
   std::printf("%u frames, %u in flight, hpsf then gif, %ux%u then %ux%u: %llu rays, composite within %.2g (relative) of the "
               "emission, %.1f MiB in %u device allocations, %u validation messages\n",

@@ -49,9 +49,11 @@ Error checkCamera(const CameraDesc& c, const char* what) {
   return {};
 }
 
+glm::mat4 clipFromView(const CameraDesc& c) { return projectionYDown(c.clipFromView); }
+
 gpu::GpuCamera gpuCamera(const CameraDesc& now, const CameraDesc& previous, uint32_t width, uint32_t height) {
   gpu::GpuCamera c{};
-  const glm::mat4 proj = projectionYDown(now.clipFromView);
+  const glm::mat4 proj = clipFromView(now);
   c.viewFromWorld = toMat4(now.viewFromWorld);
   c.worldFromView = glm::inverse(c.viewFromWorld);
   c.clipFromWorld = proj * c.viewFromWorld;

@@ -138,28 +138,29 @@ void recordFilterPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const gpu
   PassHooks hooks = passHooks(m, slot);
   const vk::Device& g = m.gpu;
   // The filtered indirect lands in the indirect output: pre-exposed, within its format.
-  f.outputEncoding = {frame.outputScale, frame.outputMax};
+  const gpu::FilterOutputEncoding toIndirect{frame.outputScale, frame.outputMax};
   if (s.method == Method::Sspsf) {
     const SspsfSettings& ss = s.sspsf;
-    recordSspsf(g, cmd, f, {ss.window, ss.filterWidth, pixelScale(frame.camera), cosDegrees(ss.normalLimitDegrees)}, hooks);
+    recordSspsf(g, cmd, f, {ss.window, ss.filterWidth, pixelScale(frame.camera), cosDegrees(ss.normalLimitDegrees), toIndirect},
+                hooks);
   } else if (isAaf(s.method)) {
     float cosLimit = cosDegrees(s.aaf.normalLimitDegrees);
     const uint32_t maxRadius = s.aaf.maxRadius;
-    recordAafFilter(g, cmd, f, f.set[0], f.outputEncoding, Pass::AafFilterDiffuseRows, Pass::AafFilterDiffuseColumns, cosLimit, pixelScale(frame.camera), maxRadius, hooks);
+    recordAafFilter(g, cmd, f, f.set[0], toIndirect, Pass::AafFilterDiffuseRows, Pass::AafFilterDiffuseColumns, cosLimit, pixelScale(frame.camera), maxRadius, hooks);
     if (aafSpecular(m, s)) {  // glossy receivers: their specular terms, with the glossy β
       recordAafFilter(g, cmd, f, f.aafGlossySets[0], kPlainOutput, Pass::AafFilterGlossyRows, Pass::AafFilterGlossyColumns, cosLimit, pixelScale(frame.camera), maxRadius, hooks);
       recordAafFilter(g, cmd, f, f.aafGlossySets[1], kPlainOutput, Pass::AafFilterGlossyEdgeRows, Pass::AafFilterGlossyEdgeColumns, cosLimit, pixelScale(frame.camera), maxRadius, hooks);
     }
   } else if (s.method == Method::Gif) {
     GuidedFilterParams gif{s.gif.radius, s.gif.epsilonNormal, s.gif.epsilonDepth, s.gif.guidanceDimensions,
-                           s.debugView == DebugView::GifCoefficients};
+                           s.debugView == DebugView::GifCoefficients, toIndirect};
     recordGuidedFilter(g, cmd, f, gif, hooks);
   } else if (s.method == Method::Bilateral) {
     const BilateralSettings& b = s.bilateral;
-    recordBilateral(g, cmd, f, {b.radius, b.sigmaSpatial, b.sigmaNormal, b.sigmaDepth}, hooks);
+    recordBilateral(g, cmd, f, {b.radius, b.sigmaSpatial, b.sigmaNormal, b.sigmaDepth, toIndirect}, hooks);
   } else {
     const AtrousSettings& a = s.atrous;
-    recordAtrous(g, cmd, f, a.iterations, a.sigmaColor, a.sigmaNormal, a.sigmaPosition, hooks);
+    recordAtrous(g, cmd, f, toIndirect, a.iterations, a.sigmaColor, a.sigmaNormal, a.sigmaPosition, hooks);
   }
 }
 
@@ -227,7 +228,6 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
   const float outputScale = outputScales(s, in.preExposure).indirect;
   const float outputMax = m.desc.outputFormat == VK_FORMAT_R16G16B16A16_SFLOAT ? 65504.0f : FLT_MAX;
   const bool noisyIsOutput = noisyAliasesIndirect(m.sized);
-  const glm::mat4 clipFromView = camera.clipFromWorld * camera.worldFromView;
   gpu::GiFrameConstants frame{camera,
                               gpuCamera(in.previousCamera, in.previousCamera, m.width, m.height),
                               {m.width, m.height},
@@ -237,7 +237,7 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
                               outputMax,
                               noisyIsOutput ? outputScale : 1.0f,
                               noisyIsOutput ? outputMax : FLT_MAX,
-                              glm::inverse(clipFromView)};
+                              glm::inverse(clipFromView(in.camera))};
   std::memcpy(static_cast<std::byte*>(m.frameConstants.memory.mapped) + slot * m.frameConstantsStride, &frame, sizeof(frame));
   beginFrame(m, cmd, slot, in);
   // History survives only while the view and the settings stay put.

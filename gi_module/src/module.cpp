@@ -51,25 +51,28 @@ Error checkScene(const SceneDesc& scene, const std::string& what) {
 // The G-buffer formats each encoding accepts (gi.h lists them).
 struct AcceptedFormats {
   uint32_t encoding;
-  std::vector<VkFormat> formats;
+  std::span<const VkFormat> formats;
 };
+constexpr VkFormat kHardwareDepthFormats[] = {VK_FORMAT_D32_SFLOAT, VK_FORMAT_D32_SFLOAT_S8_UINT,
+                                              VK_FORMAT_D24_UNORM_S8_UINT, VK_FORMAT_X8_D24_UNORM_PACK32,
+                                              VK_FORMAT_D16_UNORM};
+constexpr VkFormat kLinearDepthFormats[] = {VK_FORMAT_R32_SFLOAT, VK_FORMAT_R16_SFLOAT};
+constexpr VkFormat kXyzNormalFormats[] = {VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT,
+                                          VK_FORMAT_R16G16B16A16_SNORM, VK_FORMAT_R8G8B8A8_SNORM};
+constexpr VkFormat kXyzUnormNormalFormats[] = {VK_FORMAT_A2B10G10R10_UNORM_PACK32, VK_FORMAT_A2R10G10B10_UNORM_PACK32,
+                                               VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_R16G16B16A16_UNORM};
+constexpr VkFormat kOctahedralFormats[] = {VK_FORMAT_R16G16_UNORM, VK_FORMAT_R8G8_UNORM};
+constexpr VkFormat kOctahedralSignedFormats[] = {VK_FORMAT_R16G16_SNORM, VK_FORMAT_R16G16_SFLOAT, VK_FORMAT_R32G32_SFLOAT};
 const AcceptedFormats kNormalFormats[] = {
-    {uint32_t(NormalEncoding::Xyz),
-     {VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R16G16B16A16_SNORM, VK_FORMAT_R8G8B8A8_SNORM}},
-    {uint32_t(NormalEncoding::XyzUnorm),
-     {VK_FORMAT_A2B10G10R10_UNORM_PACK32, VK_FORMAT_A2R10G10B10_UNORM_PACK32, VK_FORMAT_R8G8B8A8_UNORM,
-      VK_FORMAT_R16G16B16A16_UNORM}},
-    {uint32_t(NormalEncoding::Octahedral), {VK_FORMAT_R16G16_UNORM, VK_FORMAT_R8G8_UNORM}},
-    {uint32_t(NormalEncoding::OctahedralSigned), {VK_FORMAT_R16G16_SNORM, VK_FORMAT_R16G16_SFLOAT, VK_FORMAT_R32G32_SFLOAT}},
+    {uint32_t(NormalEncoding::Xyz), kXyzNormalFormats},
+    {uint32_t(NormalEncoding::XyzUnorm), kXyzUnormNormalFormats},
+    {uint32_t(NormalEncoding::Octahedral), kOctahedralFormats},
+    {uint32_t(NormalEncoding::OctahedralSigned), kOctahedralSignedFormats},
 };
 const AcceptedFormats kDepthFormats[] = {
-    {uint32_t(DepthEncoding::LinearViewZ), {VK_FORMAT_R32_SFLOAT, VK_FORMAT_R16_SFLOAT}},
-    {uint32_t(DepthEncoding::Hardware),
-     {VK_FORMAT_D32_SFLOAT, VK_FORMAT_D32_SFLOAT_S8_UINT, VK_FORMAT_D24_UNORM_S8_UINT, VK_FORMAT_X8_D24_UNORM_PACK32,
-      VK_FORMAT_D16_UNORM}},
-    {uint32_t(DepthEncoding::HardwareReversed),
-     {VK_FORMAT_D32_SFLOAT, VK_FORMAT_D32_SFLOAT_S8_UINT, VK_FORMAT_D24_UNORM_S8_UINT, VK_FORMAT_X8_D24_UNORM_PACK32,
-      VK_FORMAT_D16_UNORM}},
+    {uint32_t(DepthEncoding::LinearViewZ), kLinearDepthFormats},
+    {uint32_t(DepthEncoding::Hardware), kHardwareDepthFormats},
+    {uint32_t(DepthEncoding::HardwareReversed), kHardwareDepthFormats},
 };
 const VkFormat kAlbedoFormats[] = {VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_R8G8B8A8_SRGB, VK_FORMAT_B8G8R8A8_UNORM,
                                    VK_FORMAT_B8G8R8A8_SRGB, VK_FORMAT_R16G16B16A16_SFLOAT};

@@ -131,5 +131,6 @@ Error vulkanError(const char* what, const vk::Status& status);
 // perspective projection; `what` names it), then as the passes see it.
 Error checkCamera(const CameraDesc& camera, const char* what);
 gpu::GpuCamera gpuCamera(const CameraDesc& now, const CameraDesc& previous, uint32_t width, uint32_t height);
+glm::mat4 clipFromView(const CameraDesc& camera);  // with NDC y down the image, as the passes use it
 
 }  // namespace gi

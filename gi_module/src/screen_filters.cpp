@@ -153,7 +153,7 @@ void recordGuidedFilter(const vk::Device& d, VkCommandBuffer cmd, ScreenFilters&
                         const PassHooks& hooks) {
   ensureInitialised(d, cmd, f);
   const glm::uvec2 size{f.width, f.height};
-  const gpu::GuidedMomentsPush dims{p.guidanceDimensions, p.writeCoefficientView ? 1u : 0u, f.outputEncoding};
+  const gpu::GuidedMomentsPush dims{p.guidanceDimensions, p.writeCoefficientView ? 1u : 0u, p.output};
   // Window statistics: per-pixel products, then their box means (rows, then columns).
   pass(d, cmd, f, hooks, Pass::GifMoments, f.programs->moments, size, dims);
   pass(d, cmd, f, hooks, Pass::GifBoxRows, f.programs->box, {f.height, 1}, gpu::BoxPush{p.radius, 0, GIF_MOMENT_IMAGES, 0});
@@ -174,25 +174,24 @@ void recordAafFilter(const vk::Device& d, VkCommandBuffer cmd, const ScreenFilte
          gpu::AafFilterPush{1, cosNormalLimit, pixelScale, maxRadius, output});
 }
 
-void recordSspsf(const vk::Device& d, VkCommandBuffer cmd, ScreenFilters& f, gpu::SspsfPush params,
+void recordSspsf(const vk::Device& d, VkCommandBuffer cmd, ScreenFilters& f, const gpu::SspsfPush& params,
                  const PassHooks& hooks) {
-  params.encoding = f.outputEncoding;
   pass(d, cmd, f, hooks, Pass::Sspsf, f.programs->sspsf, {f.width, f.height}, params);
 }
 
-void recordBilateral(const vk::Device& d, VkCommandBuffer cmd, ScreenFilters& f, gpu::BilateralPush params,
+void recordBilateral(const vk::Device& d, VkCommandBuffer cmd, ScreenFilters& f, const gpu::BilateralPush& params,
                      const PassHooks& hooks) {
-  params.encoding = f.outputEncoding;
   pass(d, cmd, f, hooks, Pass::Bilateral, f.programs->bilateral, {f.width, f.height}, params);
 }
 
-void recordAtrous(const vk::Device& d, VkCommandBuffer cmd, ScreenFilters& f, uint32_t iterations, float sigmaColor,
+void recordAtrous(const vk::Device& d, VkCommandBuffer cmd, ScreenFilters& f, const gpu::FilterOutputEncoding& output,
+                  uint32_t iterations, float sigmaColor,
                   float sigmaNormal, float sigmaPosition, const PassHooks& hooks) {
   // Ping-pong between temp and output so the last iteration lands in output.
   uint32_t source = 0;
   for (uint32_t i = 0; i < iterations; ++i) {
     uint32_t destination = (iterations - 1 - i) % 2 == 0 ? 1u : 2u;
-    gpu::AtrousPush push{i, source, destination, sigmaColor, sigmaNormal, sigmaPosition, f.outputEncoding};
+    gpu::AtrousPush push{i, source, destination, sigmaColor, sigmaNormal, sigmaPosition, output};
     pass(d, cmd, f, hooks, Pass::Atrous, f.programs->atrous, {f.width, f.height}, push);
     source = destination;
   }

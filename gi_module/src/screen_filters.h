@@ -38,7 +38,6 @@ struct ScreenFilters {
   const FilterPrograms* programs = nullptr;
   vk::Image a[FILTER_STACK], b[FILTER_STACK];  // the guided filter's window statistics (created on its first use)
   vk::DescriptorSets set;                      // one set over the module's targets
-  gpu::FilterOutputEncoding outputEncoding = kPlainOutput;  // how set's output holds light (the module: per frame)
   vk::DescriptorSets aafGlossySets;            // two: AAF's specular terms filtered in place (glossy scenes)
   uint32_t width = 0, height = 0;
   uint64_t memoryBytes = 0;
@@ -50,6 +49,7 @@ struct GuidedFilterParams {
   float epsilonNormal = 0.01f, epsilonDepth = 0.02f;
   uint32_t guidanceDimensions = 4;
   bool writeCoefficientView = false;  // also write |a|, |b| to the temp image (debug view)
+  gpu::FilterOutputEncoding output = kPlainOutput;  // how the output image holds light
 };
 
 // Descriptor sets of the filters' layout, one per target: the same programs
@@ -67,13 +67,13 @@ void destroyScreenFilters(vk::Device& device, ScreenFilters& f);
 // The guided filter needs ensureGuidedStack first.
 void recordGuidedFilter(const vk::Device& device, VkCommandBuffer cmd, ScreenFilters& f, const GuidedFilterParams& params,
                         const PassHooks& hooks);
-// (params.encoding is f.outputEncoding)
-void recordBilateral(const vk::Device& device, VkCommandBuffer cmd, ScreenFilters& f, gpu::BilateralPush params,
+void recordBilateral(const vk::Device& device, VkCommandBuffer cmd, ScreenFilters& f, const gpu::BilateralPush& params,
                      const PassHooks& hooks);
-void recordAtrous(const vk::Device& device, VkCommandBuffer cmd, ScreenFilters& f, uint32_t iterations, float sigmaColor,
+void recordAtrous(const vk::Device& device, VkCommandBuffer cmd, ScreenFilters& f, const gpu::FilterOutputEncoding& output,
+                  uint32_t iterations, float sigmaColor,
                   float sigmaNormal, float sigmaPosition, const PassHooks& hooks);
 // Screen-space path filtering over a window (Meijer §4.1).
-void recordSspsf(const vk::Device& device, VkCommandBuffer cmd, ScreenFilters& f, gpu::SspsfPush params, const PassHooks& hooks);
+void recordSspsf(const vk::Device& device, VkCommandBuffer cmd, ScreenFilters& f, const gpu::SspsfPush& params, const PassHooks& hooks);
 // Axis-aligned filtering's separable Gaussian (β per pixel from the params
 // image's alpha; pixels with β = 0 neither filter nor contribute); uses temp.
 // `targets` is f.set or a set from createFilterSet.
