@@ -1,12 +1,14 @@
-// The scene uploaded for the GPU: geometry pools, materials, textures, light
-// tables, acceleration structures and the set-0 descriptor set that every
-// pass binds (layout in shaders/shared/gpu_scene.h).
+// The scene on the GPU: the engine's textures, and the GI module's scene
+// (gi/scene.h) built from the loaded glTF through the module's public API:
+// geometry, materials, lights, the sky, the acceleration structures and set 0
+// (layout in shaders/shared/gpu_scene.h), which the engine's own passes (the
+// G-buffer, the reference path tracer) bind too.
 #pragma once
 #include <array>
 
-#include "acceleration.h"
-#include "bvh_builder.h"
 #include "descriptors.h"
+#include "gi/scene.h"
+#include "resources.h"
 #include "scene.h"
 
 #include "shared/gpu_scene.h"
@@ -14,53 +16,36 @@
 namespace engine {
 
 struct SceneGpu {
-  Buffer positions, normals, uvs, indices;
-  Buffer geometries, materials;
-  Buffer instances;          // host-visible GpuInstance[], rewritten on transform updates
-  Buffer emissiveTriangles;  // host-visible; a 16-byte placeholder when the scene has none
-  Buffer punctualLights;     // a 16-byte placeholder when the scene has none
-  Buffer constants;          // host-visible GpuSceneConstants
-  std::vector<Image> textures;  // at least one (a white texel) so the array is never empty
-  Image skyMap;              // rgba32f equirectangular sky, bound after `textures` (none without a map)
-  Buffer skyDistribution;    // its sampling tables; a 16-byte placeholder without a map
+  std::vector<Image> textures;  // the engine's, sampled through `sampler`
   VkSampler sampler = VK_NULL_HANDLE;
-  SceneAcceleration accel;   // ray queries' BLAS/TLAS, only where ctx.rayQuery
-  SceneBvh bvh;              // the compute backend's two-level BVH, always built
-  Buffer bvhNodes, bvhTriangles;   // bottom levels, device-local
-  Buffer bvhTopNodes, bvhInstances;  // top level, host-visible, sized for every instance
-  VkBufferView bvhNodesView = VK_NULL_HANDLE, bvhTrianglesView = VK_NULL_HANDLE;  // RGBA32UI texel views of the four
-  VkBufferView bvhTopNodesView = VK_NULL_HANDLE, bvhInstancesView = VK_NULL_HANDLE;
-  DescriptorSet set;
-  gpu::GpuSceneConstants sceneConstants{};
-  std::vector<glm::mat4> previousTransforms;  // per instance, for motion vectors
+  gi::Scene* scene = nullptr;   // the module's
+  gi::SceneDesc desc;           // its facts; traversal = how the engine's users trace (ctx.traversalId())
+  struct {
+    VkDescriptorSetLayout layout = VK_NULL_HANDLE;
+    VkDescriptorSet set = VK_NULL_HANDLE;
+  } set;                        // set 0
 
-  bool hasEmissiveTriangles() const { return sceneConstants.emissiveTriangleCount > 0; }
-  bool hasPunctualLights() const { return sceneConstants.punctualLightCount > 0; }
-  uint32_t traversal = gpu::TRAVERSAL_COMPUTE;  // how its users trace (ctx.traversalId() at creation)
-  bool hasAlphaMask = false;  // some material uses alphaMode MASK
-  bool hasGlossyMaterials = false;  // some material has a GGX lobe (MATERIAL_FLAG_GLOSSY)
-  float typicalRadiance = 1.0f;     // W/(sr·m²), rough: a grey surface lit by the brightest light (see scene_gpu.cpp)
-  bool hasSky = false;              // rays that leave the scene see light (Scene::sky)
+  bool hasEmissiveTriangles() const { return desc.hasEmissiveTriangles; }
+  bool hasPunctualLights() const { return desc.hasPunctualLights; }
 
   // Values for the SCENE_SPEC_* specialisation constants.
   std::array<uint32_t, SCENE_SPEC_COUNT> specialization() const {
-    return {hasEmissiveTriangles() ? 1u : 0u, hasPunctualLights() ? 1u : 0u, hasAlphaMask ? 1u : 0u, hasSky ? 1u : 0u};
+    return {desc.hasEmissiveTriangles ? 1u : 0u, desc.hasPunctualLights ? 1u : 0u, desc.hasAlphaMask ? 1u : 0u,
+            desc.hasSky ? 1u : 0u};
   }
 };
 
-// Expects a scene already Morton-sorted (mortonSortScene). Uploads and builds; waits.
+// Expects a scene already Morton-sorted (mortonSortScene) whose primitives
+// are numbered mesh by mesh (as the loader does: the module's geometry
+// indices are then the scene's primitive indices). Uploads and builds; waits.
+// Throws std::runtime_error with the module's message when it refuses the scene.
 void createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu);
 void destroySceneGpu(const Context& ctx, SceneGpu& gpu);
 
-// For moving instances and lights: rewrites transforms, the emissive table
-// and the punctual lights from `scene`, rebuilds the compute BVH's top level
-// and records a TLAS rebuild into `cmd`. An instance that moves without
-// Instance::movable set costs one rebuild of the BVH's bottom levels. The caller must ensure the
-// previous frame's GPU work has finished (the buffers are host-written).
+// For moving instances and lights: hands the module `scene`'s transforms and
+// punctual lights (gi::updateInstances, gi::updateLights), which records the
+// TLAS rebuild into `cmd`. The caller must ensure the previous frame's GPU
+// work has finished (the tables are host-written).
 void recordSceneTransformUpdate(const Context& ctx, VkCommandBuffer cmd, const Scene& scene, SceneGpu& gpu);
-
-// The set-0 bindings, for pipelines that use the scene (binding 0, the TLAS,
-// only where the device has ray queries enabled).
-std::span<const Binding> sceneBindings(const Context& ctx);
 
 }  // namespace engine

@@ -60,40 +60,4 @@ bool parseSky(const std::string& value, Sky& out, std::string& error) {
   return true;
 }
 
-std::vector<float> skyDistribution(const FloatImage& map, float& sum) {
-  const uint32_t w = map.width, h = map.height;
-  std::vector<float> tables(size_t(h) + size_t(w) * h, 0.0f);
-  std::vector<double> rowSums(h, 0.0);
-  double total = 0.0;
-  for (uint32_t y = 0; y < h; ++y) {
-    const double sinTheta = std::sin(3.14159265358979 * (y + 0.5) / h);
-    float* row = &tables[h + size_t(y) * w];
-    double running = 0.0;
-    for (uint32_t x = 0; x < w; ++x) {
-      running += luminance({map.at(x, y, 0), map.at(x, y, 1), map.at(x, y, 2)}) * sinTheta;
-      row[x] = float(running);
-    }
-    // A black row: uniform (its probability is 0 anyway).
-    for (uint32_t x = 0; x < w; ++x) row[x] = running > 0.0 ? float(row[x] / running) : float(x + 1) / float(w);
-    row[w - 1] = 1.0f;
-    rowSums[y] = running;
-    total += running;
-  }
-  double running = 0.0;
-  for (uint32_t y = 0; y < h; ++y) {
-    running += rowSums[y];
-    tables[y] = total > 0.0 ? float(running / total) : float(y + 1) / float(h);
-  }
-  if (h > 0) tables[h - 1] = 1.0f;
-  sum = float(total);
-  return tables;
-}
-
-float meanLuminance(const FloatImage& map) {
-  double sum = 0.0;
-  for (uint32_t y = 0; y < map.height; ++y)
-    for (uint32_t x = 0; x < map.width; ++x) sum += luminance({map.at(x, y, 0), map.at(x, y, 1), map.at(x, y, 2)});
-  return map.width && map.height ? float(sum / (double(map.width) * map.height)) : 0.0f;
-}
-
 }  // namespace engine

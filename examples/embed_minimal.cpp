@@ -53,9 +53,7 @@ int main(int argc, char** argv) {
   desc.device = ctx.device;
   desc.width = width;
   desc.height = height;
-  desc.scene = {sceneGpu.set.layout, sceneGpu.set.set, sceneGpu.hasEmissiveTriangles(), sceneGpu.hasPunctualLights(),
-                sceneGpu.hasAlphaMask, sceneGpu.sceneConstants.sceneExtent, sceneGpu.hasGlossyMaterials, sceneGpu.typicalRadiance,
-                sceneGpu.hasSky, sceneGpu.traversal};
+  desc.scene = sceneGpu.desc;  // set 0 and the scene's facts, from gi::sceneDesc
   gi::Settings settings;
   settings.method = gi::Method::Gif;  // guided filtering of 1-spp indirect light
   settings.maxBounces = 2;

@@ -39,7 +39,7 @@ TEST_F(AafGlossyTest, MetalFloorReflectsTheLitWall) {
   d.target = {0, 0.1f, -0.4f};
   LoadedScene s;
   load(testscene::write(d, "aaf_glossy_floor"), s);
-  ASSERT_TRUE(s.gpu.hasGlossyMaterials);
+  ASSERT_TRUE(s.gpu.desc.hasGlossyMaterials);
   const uint32_t W = 32, H = 32;
   gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], W, H, nullptr);
   engine::ReferenceImages ref = pixelCentreReference(ctx, s, cam, 2, 1024);
@@ -62,7 +62,7 @@ TEST_F(AafGlossyTest, MetalFloorReflectsTheLitWall) {
   std::vector<std::string> glossyPasses, diffusePasses;
   engine::ReferenceImages glossy = render(s.gpu, &glossyPasses);
   engine::SceneGpu notGlossy = s.gpu;  // the same scene, described to the module as diffuse
-  notGlossy.hasGlossyMaterials = false;
+  notGlossy.desc.hasGlossyMaterials = false;
   engine::ReferenceImages diffuseOnly = render(notGlossy, &diffusePasses);
 
   double reference = floorMean(glossy, ref.final);
@@ -95,7 +95,7 @@ TEST_F(AafGlossyTest, UnusedMaterialsDoNotTurnOnGlossyOrAlphaWork) {
   LoadedScene s;
   load(sharedScene("cornell-box-mcguire/CornellBox-Original.gltf"), s);
   ASSERT_TRUE(s.scene.materials.back().needsGlossyLobe()) << "the loader's fallback material is a metal";
-  EXPECT_FALSE(s.gpu.hasGlossyMaterials);
-  EXPECT_FALSE(s.gpu.hasAlphaMask);
+  EXPECT_FALSE(s.gpu.desc.hasGlossyMaterials);
+  EXPECT_FALSE(s.gpu.desc.hasAlphaMask);
   unload(s);
 }

@@ -58,7 +58,7 @@ double relativeL1(const engine::FloatImage& a, const engine::FloatImage& b) {
 TEST_F(ModuleOutputsTest, HalfFloatOutputsMatchSingleFloatOnes) {
   LoadedScene s;
   load(sharedScene("cornell-simple/cornell_simple.gltf"), s);
-  const float preExposure = 1.0f / s.gpu.typicalRadiance;
+  const float preExposure = 1.0f / s.gpu.desc.typicalRadiance;
   for (uint32_t i = 0; i < gi::kMethodCount; ++i) {
     gi::Settings settings;
     settings.method = gi::Method(i);
@@ -130,7 +130,7 @@ TEST_F(ModuleOutputsTest, HalfFloatOutputsClampInsteadOfOverflowing) {
     gi::Settings settings;
     settings.method = method;
     Stored out;
-    ASSERT_NO_FATAL_FAILURE(renderOutputs(ctx, s, settings, VK_FORMAT_R16G16B16A16_SFLOAT, 1e9f / s.gpu.typicalRadiance, out));
+    ASSERT_NO_FATAL_FAILURE(renderOutputs(ctx, s, settings, VK_FORMAT_R16G16B16A16_SFLOAT, 1e9f / s.gpu.desc.typicalRadiance, out));
     size_t atLimit = 0;
     for (const engine::FloatImage* img : {&out.direct, &out.indirect, &out.composite})
       for (float v : img->pixels) {

@@ -89,7 +89,7 @@ TEST_F(SkyTest, OpenPlaneUnderAConstantSkyIsAlbedoTimesSky) {
   sky.radiance = {0.8f, 1.0f, 1.2f};
   LoadedScene s;
   ASSERT_NO_FATAL_FAILURE(load(openPlane("sky_open_plane"), s, sky));
-  ASSERT_TRUE(s.gpu.hasSky);
+  ASSERT_TRUE(s.gpu.desc.hasSky);
   const gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], kSize, kSize, nullptr);
   engine::ReferenceImages ref = pixelCentreReference(ctx, s, cam, 2, 16);
   auto check = [&](const engine::ReferenceImages& img, const char* what, bool ambientOcclusion) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "scene/sky_tables.h"
 #include "sky.h"
 
 namespace {
@@ -68,7 +69,7 @@ TEST(Sky, DistributionFollowsLuminanceTimesSinTheta) {
     for (uint32_t x = 0; x < w; ++x)
       for (uint32_t c = 0; c < 3; ++c) map.at(x, y, c) = float(1 + x + 10 * y);
   float sum = 0.0f;
-  std::vector<float> t = engine::skyDistribution(map, sum);
+  std::vector<float> t = gi::skyDistribution(map.pixels.data(), map.width, map.height, map.channels, sum);
   ASSERT_EQ(t.size(), size_t(h + w * h));
   double expectedSum = 0.0;
   std::vector<double> rows(h, 0.0);
@@ -95,7 +96,7 @@ TEST(Sky, DistributionFollowsLuminanceTimesSinTheta) {
 TEST(Sky, BlackMapHasZeroSumAndUniformTables) {
   engine::FloatImage map(4, 2, 3);
   float sum = 1.0f;
-  std::vector<float> t = engine::skyDistribution(map, sum);
+  std::vector<float> t = gi::skyDistribution(map.pixels.data(), map.width, map.height, map.channels, sum);
   EXPECT_EQ(sum, 0.0f);
   EXPECT_FLOAT_EQ(t[0], 0.5f);
   EXPECT_FLOAT_EQ(t[1], 1.0f);

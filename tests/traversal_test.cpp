@@ -14,6 +14,7 @@
 
 #include "cpu_tracer.h"
 #include "gpu_test.h"
+#include "scene/bvh_builder.h"
 #include "trace_batch.h"
 
 namespace {
@@ -200,7 +201,7 @@ TEST_F(TraversalTest, AlphaMaskedGeometryIsAHoleOnlyBelowTheCutoff) {
     engine::Scene scene = maskedQuads(alpha);
     engine::SceneGpu gpu;
     engine::createSceneGpu(ctx, scene, gpu);
-    ASSERT_TRUE(gpu.hasAlphaMask);
+    ASSERT_TRUE(gpu.desc.hasAlphaMask);
     std::vector<gpu::TraceBatchRay> rays;
     for (int i = 0; i < 64; ++i) rays.push_back({{0.02f * float(i % 8) - 0.07f, 0.02f * float(i / 8) - 0.07f, 3.0f}, 0.0f, {0, 0, -1}, 1e30f});
     std::vector<uint32_t> traversals = {gpu::TRAVERSAL_COMPUTE};
@@ -277,21 +278,21 @@ TEST(BvhBuilder, EveryTriangleOnceAndChildBoxesEncloseTheirSubtrees) {
   engine::Scene scene;
   std::string error;
   ASSERT_TRUE(engine::loadSceneForRendering(sharedScene("cornell-box-mcguire/CornellBox-Original.gltf"), scene, error)) << error;
-  std::vector<engine::BvhMesh> meshes(scene.meshes.size());
+  std::vector<gi::BvhMesh> meshes(scene.meshes.size());
   size_t triangles = 0;
   for (size_t m = 0; m < scene.meshes.size(); ++m)
     for (uint32_t p = 0; p < scene.meshes[m].primitiveCount; ++p) {
       const engine::Primitive& prim = scene.primitives[scene.meshes[m].firstPrimitive + p];
       meshes[m].geometries.push_back({prim.firstIndex, prim.indexCount / 3, prim.vertexOffset, scene.meshes[m].firstPrimitive + p});
     }
-  std::vector<engine::BvhInstance> instances;
+  std::vector<gi::BvhInstance> instances;
   for (const engine::Instance& inst : scene.instances) {
     instances.push_back({inst.mesh, inst.worldFromObject, false});
     for (uint32_t p = 0; p < scene.meshes[inst.mesh].primitiveCount; ++p)
       triangles += scene.primitives[scene.meshes[inst.mesh].firstPrimitive + p].indexCount / 3;
   }
   instances.back().movable = true;  // one instance keeps its own level
-  engine::SceneBvh bvh = engine::buildSceneBvh({scene.positions, scene.indices, meshes, instances});
+  gi::SceneBvh bvh = gi::buildSceneBvh({scene.positions, scene.indices, meshes, instances});
   std::vector<int> seen(bvh.triangles.size(), 0);
   std::set<std::tuple<uint32_t, uint32_t, uint32_t>> found;  // (geometry, triangle, instance) reached
   // Walks a subtree, checking that every triangle lies inside the box its parent gave it.

@@ -47,7 +47,7 @@ bool benchRays(const engine::Context& ctx, const engine::Scene& scene, const eng
   std::printf("  %-11s %16s %16s %16s\n", "backend", "primary", "diffuse", "shadow");
   for (const Row& r : rows) {
     auto of = [](double v, double ceiling) { return ceiling > 0.0 ? v / ceiling : 0.0; };
-    double buildMs = r.backend == "compute" ? sceneGpu.bvh.bottomBuildMs + sceneGpu.bvh.topBuildMs
+    double buildMs = r.backend == "compute" ? gi::sceneInfo(sceneGpu.scene).bvhBottomBuildMs + gi::sceneInfo(sceneGpu.scene).bvhTopBuildMs
                      : r.backend == "embree_cpu" ? embreeBuildMs
                                                  : 0.0;
     std::printf("  %-11s %8.3f (%4.2f) %8.3f (%4.2f) %8.3f (%4.2f)\n", r.backend.c_str(), r.primary, of(r.primary, e.primary),
@@ -58,7 +58,7 @@ bool benchRays(const engine::Context& ctx, const engine::Scene& scene, const eng
         << buildMs << '\n';
   }
   std::printf("  compute BVH build: %.1f ms bottom levels (once), %.2f ms top level (per transform change)\n",
-              sceneGpu.bvh.bottomBuildMs, sceneGpu.bvh.topBuildMs);
+              gi::sceneInfo(sceneGpu.scene).bvhBottomBuildMs, gi::sceneInfo(sceneGpu.scene).bvhTopBuildMs);
   return true;
 }
 

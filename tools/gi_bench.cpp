@@ -305,7 +305,7 @@ int main(int argc, char** argv) {
   double refFlicker = 0.0;
   if (args.has("camera-path")) {
     for (uint32_t k = 0; k < pathFrames && ok; ++k) {
-      gpu::GpuCamera c = engine::makeGpuCamera(pathCamera(startCamera, sceneGpu.sceneConstants.sceneExtent, k), width, height, nullptr);
+      gpu::GpuCamera c = engine::makeGpuCamera(pathCamera(startCamera, sceneGpu.desc.extent, k), width, height, nullptr);
       Reference r;
       ok = reference(ctx, sceneGpu, c, bounces, pathRefSpp, dir,
                      key + "_path" + std::to_string(k) + "_s" + std::to_string(pathRefSpp), r, error);
@@ -419,7 +419,7 @@ int main(int argc, char** argv) {
       double flicker = 0.0;
       engine::FloatImage last;
       for (uint32_t k = 0; k < pathFrames; ++k, ++frame) {
-        gpu::GpuCamera c = engine::makeGpuCamera(pathCamera(startCamera, sceneGpu.sceneConstants.sceneExtent, k), width,
+        gpu::GpuCamera c = engine::makeGpuCamera(pathCamera(startCamera, sceneGpu.desc.extent, k), width,
                                                  height, &previous);
         tools::renderModuleFrame(ctx, session, scene, sceneGpu, c, previous, frame);
         engine::FloatImage now = tools::readModuleImages(ctx, session).final;

@@ -14,11 +14,7 @@ gi::GBufferViews gbufferViews(const engine::GBuffer& g) {
           g.color[gpu::GBUFFER_EMISSION].view, g.color[gpu::GBUFFER_MOTION].view, g.color[gpu::GBUFFER_VIEWZ].view};
 }
 
-gi::SceneDesc sceneDesc(const engine::SceneGpu& scene) {
-  return {scene.set.layout,    scene.set.set,   scene.hasEmissiveTriangles(), scene.hasPunctualLights(),
-          scene.hasAlphaMask,  scene.sceneConstants.sceneExtent, scene.hasGlossyMaterials, scene.typicalRadiance,
-          scene.hasSky,        scene.traversal};
-}
+gi::SceneDesc sceneDesc(const engine::SceneGpu& scene) { return scene.desc; }
 
 gi::ModuleDesc moduleDesc(const engine::Context& ctx, const engine::SceneGpu& scene, VkExtent2D extent) {
   gi::ModuleDesc desc;
@@ -40,7 +36,7 @@ bool createModuleSession(const engine::Context& ctx, const engine::SceneGpu& sce
     return false;
   }
   s.extent = extent;
-  s.preExposure = 1.0f / scene.typicalRadiance;
+  s.preExposure = 1.0f / scene.desc.typicalRadiance;
   s.gbuffer = engine::createGBuffer(ctx, extent);
   s.gbufferPass = engine::createGBufferPass(ctx, scene);
   for (engine::GpuTimer& t : s.timers) t = engine::createGpuTimer(ctx, 4);

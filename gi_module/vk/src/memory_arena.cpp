@@ -53,6 +53,9 @@ Status newBlock(Device& d, uint32_t type, VkDeviceSize size, bool shared, bool h
   b.shared = shared;
   b.linear = linear;
   VkMemoryAllocateInfo info{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  VkMemoryAllocateFlagsInfo flags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
+  flags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;
+  if (d.deviceAddressMemory) info.pNext = &flags;
   info.allocationSize = size;
   info.memoryTypeIndex = type;
   GI_VK(d.fn.vkAllocateMemory(d.device, &info, d.allocator, &b.memory));

@@ -13,6 +13,7 @@ namespace gi::vk {
   X(vkGetDeviceProcAddr)                \
   X(vkGetPhysicalDeviceProperties)      \
   X(vkGetPhysicalDeviceMemoryProperties) \
+  X(vkGetPhysicalDeviceProperties2)     \
   X(vkGetPhysicalDeviceFeatures2)       \
   X(vkGetPhysicalDeviceFormatProperties)
 
@@ -25,6 +26,7 @@ namespace gi::vk {
   X(vkCmdBindDescriptorSets)       \
   X(vkCmdBindPipeline)             \
   X(vkCmdCopyBuffer)               \
+  X(vkCmdCopyBufferToImage)        \
   X(vkCmdDispatch)                 \
   X(vkCmdFillBuffer)               \
   X(vkCmdPipelineBarrier2)         \
@@ -32,6 +34,7 @@ namespace gi::vk {
   X(vkCmdResetQueryPool)           \
   X(vkCmdWriteTimestamp2)          \
   X(vkCreateBuffer)                \
+  X(vkCreateBufferView)            \
   X(vkCreateComputePipelines)      \
   X(vkCreateDescriptorPool)        \
   X(vkCreateDescriptorSetLayout)   \
@@ -39,8 +42,10 @@ namespace gi::vk {
   X(vkCreateImageView)             \
   X(vkCreatePipelineLayout)        \
   X(vkCreateQueryPool)             \
+  X(vkCreateSampler)               \
   X(vkCreateShaderModule)          \
   X(vkDestroyBuffer)               \
+  X(vkDestroyBufferView)           \
   X(vkDestroyDescriptorPool)       \
   X(vkDestroyDescriptorSetLayout)  \
   X(vkDestroyImage)                \
@@ -48,18 +53,26 @@ namespace gi::vk {
   X(vkDestroyPipeline)             \
   X(vkDestroyPipelineLayout)       \
   X(vkDestroyQueryPool)            \
+  X(vkDestroySampler)              \
   X(vkDestroyShaderModule)         \
   X(vkFreeMemory)                  \
+  X(vkGetBufferDeviceAddress)      \
   X(vkGetBufferMemoryRequirements) \
   X(vkGetImageMemoryRequirements)  \
   X(vkGetQueryPoolResults)         \
   X(vkMapMemory)                   \
   X(vkUpdateDescriptorSets)
 
-// Optional: present only when the instance enabled VK_EXT_debug_utils.
-#define GI_VK_OPTIONAL_DEVICE_FUNCTIONS(X) \
-  X(vkCmdBeginDebugUtilsLabelEXT)          \
-  X(vkCmdEndDebugUtilsLabelEXT)
+// Optional: present only when the instance enabled VK_EXT_debug_utils, or
+// the device VK_KHR_acceleration_structure (scenes traced with ray queries).
+#define GI_VK_OPTIONAL_DEVICE_FUNCTIONS(X)       \
+  X(vkCmdBeginDebugUtilsLabelEXT)                \
+  X(vkCmdEndDebugUtilsLabelEXT)                  \
+  X(vkCmdBuildAccelerationStructuresKHR)         \
+  X(vkCreateAccelerationStructureKHR)            \
+  X(vkDestroyAccelerationStructureKHR)           \
+  X(vkGetAccelerationStructureBuildSizesKHR)     \
+  X(vkGetAccelerationStructureDeviceAddressKHR)
 
 struct Functions {
 #define GI_VK_MEMBER(name) PFN_##name name = nullptr;

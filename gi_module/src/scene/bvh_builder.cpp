@@ -9,7 +9,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace engine {
+namespace gi {
 namespace {
 
 // Leaves of up to 4 triangles: on lavapipe a box test and a triangle test cost
@@ -352,4 +352,4 @@ void rebuildTopLevel(std::span<const BvhInstance> instances, SceneBvh& bvh) {
   bvh.topBuildMs = millisecondsSince(start);
 }
 
-}  // namespace engine
+}  // namespace gi

@@ -18,7 +18,7 @@
 
 #include "shared/gpu_bvh.h"
 
-namespace engine {
+namespace gi {
 
 struct BvhGeometry {
   uint32_t firstIndex = 0;    // into the index pool
@@ -71,4 +71,4 @@ void rebuildTopLevel(std::span<const BvhInstance> instances, SceneBvh& bvh);
 size_t maxTopNodes(size_t instanceCount);
 size_t maxTopInstances(size_t instanceCount);
 
-}  // namespace engine
+}  // namespace gi

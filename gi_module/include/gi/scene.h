@@ -1,0 +1,164 @@
+// gi/scene.h — the scene as the module traces it, described by the engine in
+// its own terms and built by the module: meshes as CPU arrays, glTF
+// metallic-roughness materials with the engine's image views, punctual
+// lights, instances and the sky. The module packs the geometry, builds the
+// emission CDF, the compute traversal's BVH and (for ray queries) the
+// BLAS/TLAS, and fills descriptor set 0 (shaders/shared/gpu_scene.h). The
+// engine hands sceneDesc(scene) to gi::create or gi::setScene; its own
+// passes may bind the same set 0 (the sample engine's G-buffer and reference
+// path tracer do).
+//
+// Like the rest of the module, a Scene records into the engine's command
+// buffers and never submits or waits.
+#pragma once
+#include <vulkan/vulkan_core.h>
+
+#include <cstdint>
+#include <span>
+
+#include "gi/gi.h"
+
+namespace gi {
+
+struct Scene;
+
+// One glTF primitive: a range of a mesh's indices with one material.
+struct PrimitiveDesc {
+  uint32_t firstIndex = 0;   // into MeshDesc::indices
+  uint32_t indexCount = 0;   // a multiple of 3 (triangle lists)
+  uint32_t firstVertex = 0;  // the primitive's indices count from this vertex of the mesh's arrays
+  uint32_t vertexCount = 0;  // and stay below this many
+  uint32_t material = 0;     // into SceneContents::materials
+};
+
+// A mesh as CPU arrays; the module copies what it needs during createScene.
+struct MeshDesc {
+  const float* positions = nullptr;  // xyz per vertex, object space, metres
+  uint32_t positionStride = 0;       // bytes between vertices; 0 = 12 (packed)
+  const float* normals = nullptr;    // xyz, unit length (required: generate them for files without)
+  uint32_t normalStride = 0;         // 0 = 12
+  const float* uvs = nullptr;        // uv per vertex; null: no texture coordinates (0, 0)
+  uint32_t uvStride = 0;             // 0 = 8
+  uint32_t vertexCount = 0;
+  const uint32_t* indices = nullptr;
+  uint32_t indexCount = 0;
+  std::span<const PrimitiveDesc> primitives;
+};
+
+enum class AlphaMode : uint32_t { Opaque = 0, Mask, Blend };  // Blend is lit as opaque
+
+// glTF 2.0 metallic-roughness, with KHR_materials_emissive_strength.
+struct MaterialDesc {
+  float baseColor[4] = {1.0f, 1.0f, 1.0f, 1.0f};  // linear factor × the texture
+  float metallic = 1.0f;                          // [0,1], glTF's defaults
+  float roughness = 1.0f;                         // [0,1], perceptual (GGX α = roughness²)
+  float emissive[3] = {0.0f, 0.0f, 0.0f};         // emissiveFactor, [0,1]
+  float emissiveStrength = 1.0f;                  // emission = emissive × this, W/(sr·m²)
+  AlphaMode alphaMode = AlphaMode::Opaque;
+  float alphaCutoff = 0.5f;                       // Mask: base colour alpha below it is a hole
+  int32_t baseColorTexture = -1;                  // into SceneContents::textures, or −1
+  int32_t metallicRoughnessTexture = -1;          // g = roughness, b = metallic
+  int32_t emissiveTexture = -1;
+};
+
+// The engine's texture: its view and sampler, sampled in
+// SHADER_READ_ONLY_OPTIMAL by every stage that binds set 0. Base colour and
+// emissive views should be _SRGB formats (decoded on read). The engine keeps
+// them alive while the scene exists.
+struct TextureDesc {
+  VkImageView view = VK_NULL_HANDLE;
+  VkSampler sampler = VK_NULL_HANDLE;
+};
+
+enum class LightType : uint32_t { Point = 0, Spot = 1, Directional = 2 };  // KHR_lights_punctual
+
+struct LightDesc {
+  LightType type = LightType::Point;
+  float position[3] = {0.0f, 0.0f, 0.0f};    // world, metres (point, spot)
+  float direction[3] = {0.0f, 0.0f, -1.0f};  // world, unit: the way the light travels (spot, directional)
+  float intensity[3] = {1.0f, 1.0f, 1.0f};   // colour × intensity: W/sr (point, spot), W/m² (directional)
+  float range = 0.0f;                        // metres; 0 = unlimited
+  float innerConeAngle = 0.0f;               // radians (spot)
+  float outerConeAngle = 0.7853982f;
+};
+
+struct InstanceDesc {
+  uint32_t mesh = 0;               // into SceneContents::meshes
+  float worldFromObject[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};  // column-major, affine
+  bool movable = false;            // may move through updateInstances (kept out of the static BVH level)
+};
+
+// Radiance of rays that leave the scene: a constant, or an equirectangular
+// map (+Y up, −Z at the centre column, row 0 at the top) scaled by it.
+// Black (radiance 0) is no sky: no pass compiles the sky in.
+struct SkyDesc {
+  float radiance[3] = {0.0f, 0.0f, 0.0f};  // W/(sr·m²), or the map's scale
+  const float* map = nullptr;              // linear rgb(a) texels, row-major; null: constant sky
+  uint32_t width = 0, height = 0;
+  uint32_t channels = 3;                   // 3 or 4 (alpha ignored)
+};
+
+struct SceneContents {
+  std::span<const MeshDesc> meshes;
+  std::span<const MaterialDesc> materials;
+  std::span<const TextureDesc> textures;
+  std::span<const LightDesc> lights;
+  std::span<const InstanceDesc> instances;
+  SkyDesc sky;
+};
+
+struct SceneCreateDesc {
+  uint32_t structSize = sizeof(SceneCreateDesc);  // leave as is
+  PFN_vkGetInstanceProcAddr getInstanceProcAddr = nullptr;
+  VkInstance instance = VK_NULL_HANDLE;
+  VkPhysicalDevice physicalDevice = VK_NULL_HANDLE;
+  VkDevice device = VK_NULL_HANDLE;  // with gi/device.h's features for this traversal
+  // gpu::TRAVERSAL_COMPUTE: the module's BVH, walked in its shaders (any
+  // device). gpu::TRAVERSAL_RAY_QUERY: BLAS/TLAS as well (the device has
+  // VK_KHR_acceleration_structure and VK_KHR_ray_query enabled).
+  uint32_t traversal = gpu::TRAVERSAL_COMPUTE;
+  const VkAllocationCallbacks* allocationCallbacks = nullptr;
+  uint64_t memoryBudgetBytes = 0;    // 0 = no limit
+};
+
+// Validates `contents` (indices within their vertex ranges, material,
+// texture and mesh references, finite values), packs it, and records into
+// `cmd` the uploads and acceleration-structure builds, ending with a barrier
+// that makes set 0 visible to vertex, fragment and compute shaders. The scene
+// is usable by commands recorded after these in `cmd` or submitted later.
+// The engine's arrays may be freed once this returns. Errors name the field:
+// "contents.meshes[2].primitives[0]: index 812 is not below vertexCount 800".
+Error createScene(const SceneCreateDesc& desc, const SceneContents& contents, VkCommandBuffer cmd, Scene*& out);
+// The staging memory of createScene is freed here; call once the command
+// buffer it recorded into has completed (or leave it to destroyScene).
+void finishSceneUpload(Scene* scene);
+// The caller ensures the GPU no longer uses the scene (and gi modules were
+// given another scene or destroyed first).
+void destroyScene(Scene* scene);
+
+// What gi::create and gi::setScene take: set 0 and the facts derived from
+// the contents (which lights, alpha masks, glossy materials, sky; extent,
+// typical radiance; traversal).
+SceneDesc sceneDesc(const Scene* scene);
+
+// New transforms for moving instances, one per instance in createScene's
+// order (same meshes). Rewrites the instance table, the emission CDF, the
+// BVH's top level and records the TLAS rebuild into `cmd`; an instance that
+// was not `movable` costs one rebuild of the BVH's bottom levels. Host-written
+// tables: the caller ensures the frames that read the previous ones have
+// completed. Light cached by gi modules is the engine's to invalidate.
+Error updateInstances(Scene* scene, VkCommandBuffer cmd, std::span<const InstanceDesc> instances);
+// New punctual lights, as many as at createScene; same rules as above.
+Error updateLights(Scene* scene, std::span<const LightDesc> lights);
+
+struct SceneInfo {
+  uint32_t triangles = 0;            // instanced
+  uint32_t emissiveTriangles = 0;    // entries of the emission CDF
+  double bvhBottomBuildMs = 0.0;     // CPU time of the BVH's bottom levels (paid at create)
+  double bvhTopBuildMs = 0.0;        // of its last top-level build
+  uint64_t memoryBytes = 0;          // device memory the scene holds
+  float boundsMin[3] = {0, 0, 0}, boundsMax[3] = {0, 0, 0};  // world, metres
+};
+SceneInfo sceneInfo(const Scene* scene);
+
+}  // namespace gi

@@ -1,0 +1,62 @@
+// Ray queries' acceleration structures for a Scene: one BLAS per mesh (one
+// geometry per primitive), one TLAS over the instances, rebuilt in place when
+// instances move. Conventions the shaders rely on (trace.glsl): a TLAS
+// instance's custom index is its mesh's first geometry (the ray query's
+// geometry index adds to it), its index is the instance's, cull mask 0xff,
+// facing culling off.
+#pragma once
+#include <glm/glm.hpp>
+
+#include <span>
+#include <vector>
+
+#include "gi/vk/resources.h"
+
+namespace gi {
+
+struct AccelerationStructure {
+  VkAccelerationStructureKHR handle = VK_NULL_HANDLE;
+  vk::Buffer storage;
+  VkDeviceAddress address = 0;
+};
+
+struct SceneAcceleration {
+  std::vector<AccelerationStructure> blas;  // per mesh
+  AccelerationStructure tlas;
+  vk::Buffer tlasScratch;
+  vk::Buffer instanceBuffer;  // host-visible VkAccelerationStructureInstanceKHR[]
+  uint32_t instanceCount = 0;
+  VkDeviceSize scratchAlignment = 0;
+};
+
+struct AccelerationGeometry {
+  uint32_t firstIndex = 0, triangleCount = 0, vertexOffset = 0, vertexCount = 0;
+  bool opaque = true;  // false: alpha-masked, the trace loop tests the texture
+};
+struct AccelerationMesh {
+  std::vector<AccelerationGeometry> geometries;
+  uint32_t firstGeometry = 0;  // the TLAS instances' custom index
+};
+struct AccelerationInstance {
+  uint32_t mesh = 0;
+  glm::mat4 worldFromObject{1.0f};
+};
+
+VkDeviceAddress deviceAddress(const vk::Device& device, const vk::Buffer& buffer);
+
+// Records the BLAS builds and the first TLAS build into `cmd`. `positions`
+// (vec3) and `indices` (uint32) hold the packed geometry, written before
+// `cmd`'s builds by earlier commands made visible to acceleration-structure
+// builds. The BLAS scratch buffer goes to `scratchOut`, to be freed once
+// `cmd` completes.
+vk::Status buildSceneAcceleration(vk::Device& device, VkCommandBuffer cmd, const vk::Buffer& positions,
+                                  const vk::Buffer& indices, std::span<const AccelerationMesh> meshes,
+                                  std::span<const AccelerationInstance> instances, SceneAcceleration& accel,
+                                  vk::Buffer& scratchOut);
+// Writes the instance transforms and records a TLAS rebuild, with barriers
+// before (earlier traces) and after (later ray queries in any shader stage).
+void recordTlasRebuild(const vk::Device& device, VkCommandBuffer cmd, std::span<const AccelerationMesh> meshes,
+                       std::span<const AccelerationInstance> instances, SceneAcceleration& accel);
+void destroySceneAcceleration(vk::Device& device, SceneAcceleration& accel);
+
+}  // namespace gi

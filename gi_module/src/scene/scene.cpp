@@ -1,0 +1,421 @@
+// gi::Scene: the engine's scene packed, uploaded through the engine's command
+// buffer, and bound as set 0.
+#include "scene/scene.h"
+
+#include <algorithm>
+#include <cstring>
+#include <memory>
+#include <new>
+#include <stdexcept>
+
+#include "gi/device.h"
+#include "scene/sky_tables.h"
+
+namespace gi {
+
+Error vulkanError(const char* what, const vk::Status& status);  // module.cpp
+
+namespace {
+
+constexpr VkBufferUsageFlags kStorage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+constexpr VkBufferUsageFlags kTexels = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
+constexpr VkBufferUsageFlags kBuildInput = VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR |
+                                           VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
+
+const vk::Binding kSceneBindings[] = {
+    {gpu::SCENE_BINDING_TLAS, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR},  // first: left out without ray queries
+    {gpu::SCENE_BINDING_POSITIONS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+    {gpu::SCENE_BINDING_NORMALS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+    {gpu::SCENE_BINDING_UVS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+    {gpu::SCENE_BINDING_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+    {gpu::SCENE_BINDING_GEOMETRIES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+    {gpu::SCENE_BINDING_INSTANCES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+    {gpu::SCENE_BINDING_MATERIALS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+    {gpu::SCENE_BINDING_EMISSIVE_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+    {gpu::SCENE_BINDING_PUNCTUAL_LIGHTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+    {gpu::SCENE_BINDING_CONSTANTS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER},
+    {gpu::SCENE_BINDING_BVH_NODES, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
+    {gpu::SCENE_BINDING_BVH_TRIANGLES, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
+    {gpu::SCENE_BINDING_BVH_TOP_NODES, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
+    {gpu::SCENE_BINDING_BVH_INSTANCES, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
+    {gpu::SCENE_BINDING_SKY_DISTRIBUTION, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+    {gpu::SCENE_BINDING_TEXTURES, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 4096, true},
+};
+
+bool rayQuery(const Scene& s) { return s.desc.traversal == gpu::TRAVERSAL_RAY_QUERY; }
+
+// A device-local buffer filled through a staging buffer copied in `cmd`.
+template <typename T>
+vk::Status upload(Scene& s, VkCommandBuffer cmd, const std::vector<T>& data, VkBufferUsageFlags usage, vk::Buffer& out) {
+  const size_t bytes = data.size() * sizeof(T), size = std::max<size_t>(bytes, 16);  // a buffer may not be empty
+  GI_TRY(vk::createBuffer(s.gpu, size, usage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, false, out));
+  vk::Buffer& staging = s.staging.emplace_back();
+  GI_TRY(vk::createBuffer(s.gpu, size, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true, staging));
+  std::memset(staging.memory.mapped, 0, size);
+  if (bytes) std::memcpy(staging.memory.mapped, data.data(), bytes);
+  VkBufferCopy region{0, 0, size};
+  s.gpu.fn.vkCmdCopyBuffer(cmd, staging.buffer, out.buffer, 1, &region);
+  return {};
+}
+
+// A host-visible buffer of `capacity` elements (at least 16 bytes), holding `data`.
+template <typename T>
+vk::Status hostBuffer(Scene& s, const std::vector<T>& data, size_t capacity, VkBufferUsageFlags usage, vk::Buffer& out) {
+  const size_t size = std::max<size_t>(capacity * sizeof(T), 16);
+  GI_TRY(vk::createBuffer(s.gpu, size, usage, true, out));
+  std::memset(out.memory.mapped, 0, size);
+  if (!data.empty()) std::memcpy(out.memory.mapped, data.data(), std::min(size, data.size() * sizeof(T)));
+  return {};
+}
+
+template <typename T>
+void writeMapped(vk::Buffer& buffer, const std::vector<T>& data) {
+  if (!data.empty()) std::memcpy(buffer.memory.mapped, data.data(), std::min<size_t>(buffer.size, data.size() * sizeof(T)));
+}
+
+// The BVH arrays are read as RGBA32UI texel buffers: on lavapipe a texel fetch
+// is much cheaper than a storage-buffer load with a per-lane address.
+vk::Status texelView(Scene& s, const vk::Buffer& buffer, VkBufferView& out) {
+  if (buffer.size / 16 > s.gpu.properties.limits.maxTexelBufferElements)
+    return {VK_ERROR_OUT_OF_DEVICE_MEMORY, "vkCreateBufferView (the BVH exceeds maxTexelBufferElements)"};
+  VkBufferViewCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
+  info.buffer = buffer.buffer;
+  info.format = VK_FORMAT_R32G32B32A32_UINT;  // integers: ids and float bits pass unchanged
+  info.range = VK_WHOLE_SIZE;
+  GI_VK(s.gpu.fn.vkCreateBufferView(s.gpu.device, &info, s.gpu.allocator, &out));
+  return {};
+}
+
+void destroyBvhBuffers(Scene& s) {
+  for (VkBufferView& v : s.bvhViews) {
+    if (v) s.gpu.fn.vkDestroyBufferView(s.gpu.device, v, s.gpu.allocator);
+    v = VK_NULL_HANDLE;
+  }
+  for (vk::Buffer* b : {&s.bvhNodes, &s.bvhTriangles, &s.bvhTopNodes, &s.bvhInstances}) vk::destroyBuffer(s.gpu, *b);
+}
+
+// Builds the compute BVH and stores it (bottom levels uploaded through `cmd`,
+// or host-visible without one; the top level host-visible, sized for every instance).
+vk::Status buildBvhBuffers(Scene& s, VkCommandBuffer cmd, std::span<const uint8_t> forceMovable) {
+  std::vector<BvhMesh> meshes = bvhMeshes(s.packed);
+  std::vector<BvhInstance> instances = bvhInstances(s.instances, forceMovable);
+  try {
+    s.bvh = buildSceneBvh({s.packed.positions, s.packed.indices, meshes, instances});
+  } catch (const std::bad_alloc&) {
+    return {VK_ERROR_OUT_OF_HOST_MEMORY, "rtcBuildBVH (Embree's BVH build)"};
+  } catch (const std::exception&) {
+    return {VK_ERROR_INITIALIZATION_FAILED, "rtcBuildBVH (Embree's BVH build)"};
+  }
+  destroyBvhBuffers(s);
+  if (cmd) {
+    GI_TRY(upload(s, cmd, s.bvh.bottomNodes, kTexels, s.bvhNodes));
+    GI_TRY(upload(s, cmd, s.bvh.triangles, kTexels, s.bvhTriangles));
+  } else {
+    GI_TRY(hostBuffer(s, s.bvh.bottomNodes, s.bvh.bottomNodes.size(), kTexels, s.bvhNodes));
+    GI_TRY(hostBuffer(s, s.bvh.triangles, s.bvh.triangles.size(), kTexels, s.bvhTriangles));
+  }
+  GI_TRY(hostBuffer(s, s.bvh.topNodes, maxTopNodes(s.instances.size()), kTexels, s.bvhTopNodes));
+  GI_TRY(hostBuffer(s, s.bvh.topInstances, maxTopInstances(s.instances.size()), kTexels, s.bvhInstances));
+  const vk::Buffer* buffers[] = {&s.bvhNodes, &s.bvhTriangles, &s.bvhTopNodes, &s.bvhInstances};
+  for (int i = 0; i < 4; ++i) GI_TRY(texelView(s, *buffers[i], s.bvhViews[i]));
+  return {};
+}
+
+void writeBvhDescriptors(Scene& s) {
+  vk::DescriptorWriter w(s.set[0]);
+  w.uniformTexelBuffer(gpu::SCENE_BINDING_BVH_NODES, s.bvhViews[0])
+      .uniformTexelBuffer(gpu::SCENE_BINDING_BVH_TRIANGLES, s.bvhViews[1])
+      .uniformTexelBuffer(gpu::SCENE_BINDING_BVH_TOP_NODES, s.bvhViews[2])
+      .uniformTexelBuffer(gpu::SCENE_BINDING_BVH_INSTANCES, s.bvhViews[3]);
+  w.write(s.gpu);
+}
+
+// The sky's constants, sampling tables and map (texture index = the engine's
+// texture count: it is bound after them). A black sky, or a map of zeros, is
+// no sky: SCENE_SPEC_HAS_SKY stays off.
+vk::Status uploadSky(Scene& s, VkCommandBuffer cmd, const SkyDesc& sky, uint32_t textureCount) {
+  gpu::GpuSceneConstants& c = s.sceneConstants;
+  const glm::vec3 radiance(sky.radiance[0], sky.radiance[1], sky.radiance[2]);
+  const bool enabled = radiance.x > 0.0f || radiance.y > 0.0f || radiance.z > 0.0f;
+  std::vector<float> tables;
+  if (enabled && sky.map) tables = skyDistribution(sky.map, sky.width, sky.height, sky.channels, c.skyDistributionSum);
+  s.facts.hasSky = enabled && (!sky.map || c.skyDistributionSum > 0.0f);
+  c.skyRadiance = s.facts.hasSky ? radiance : glm::vec3(0.0f);
+  c.skyTexture = gpu::NO_TEXTURE;
+  if (s.facts.hasSky && sky.map) {
+    c.skyTexture = textureCount;
+    c.skySize = {sky.width, sky.height};
+    std::vector<float> rgba(size_t(sky.width) * sky.height * 4, 1.0f);
+    for (size_t p = 0; p < size_t(sky.width) * sky.height; ++p)
+      for (size_t k = 0; k < 3; ++k) rgba[4 * p + k] = sky.map[p * sky.channels + k];
+    GI_TRY(vk::createImage(s.gpu, {sky.width, sky.height}, VK_FORMAT_R32G32B32A32_SFLOAT,
+                           VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT, s.skyMap));
+    vk::Buffer& staging = s.staging.emplace_back();
+    GI_TRY(vk::createBuffer(s.gpu, rgba.size() * sizeof(float), VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true, staging));
+    std::memcpy(staging.memory.mapped, rgba.data(), rgba.size() * sizeof(float));
+    vk::imageBarrier(s.gpu, cmd, s.skyMap.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                     VK_PIPELINE_STAGE_2_NONE, 0, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+    VkBufferImageCopy region{};
+    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    region.imageExtent = {sky.width, sky.height, 1};
+    s.gpu.fn.vkCmdCopyBufferToImage(cmd, staging.buffer, s.skyMap.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+    vk::imageBarrier(s.gpu, cmd, s.skyMap.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                     VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_2_COPY_BIT,
+                     VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_SHADER_READ_BIT);
+    VkSamplerCreateInfo info{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+    info.magFilter = info.minFilter = VK_FILTER_LINEAR;
+    info.addressModeU = info.addressModeV = info.addressModeW = VK_SAMPLER_ADDRESS_MODE_REPEAT;
+    GI_VK(s.gpu.fn.vkCreateSampler(s.gpu.device, &info, s.gpu.allocator, &s.skySampler));
+  }
+  return hostBuffer(s, tables, tables.size(), kStorage, s.skyDistribution);
+}
+
+vk::Status buildScene(Scene& s, VkCommandBuffer cmd, const SceneContents& contents) {
+  const PackedScene& p = s.packed;
+  const VkBufferUsageFlags geometryUsage = kStorage | (rayQuery(s) ? kBuildInput : 0);
+  GI_TRY(upload(s, cmd, p.positions, geometryUsage, s.positions));
+  GI_TRY(upload(s, cmd, p.normals, kStorage, s.normals));
+  GI_TRY(upload(s, cmd, p.uvs, kStorage, s.uvs));
+  GI_TRY(upload(s, cmd, p.indices, geometryUsage, s.indices));
+  GI_TRY(upload(s, cmd, p.geometries, kStorage, s.geometries));
+  GI_TRY(upload(s, cmd, p.materials, kStorage, s.materials));
+
+  GI_TRY(hostBuffer(s, gpuInstances(p, s.instances, {}), s.instances.size(), kStorage, s.instanceTable));
+  float totalPower = 0.0f;
+  std::vector<gpu::GpuEmissiveTriangle> emissive = emissiveTable(p, s.instances, totalPower);
+  s.emissiveCapacity = uint32_t(emissive.size());
+  GI_TRY(hostBuffer(s, emissive, emissive.size(), kStorage, s.emissiveTriangles));
+  std::vector<gpu::GpuPunctualLight> lights = punctualLights(contents.lights);
+  GI_TRY(hostBuffer(s, lights, lights.size(), kStorage, s.punctualLights));
+
+  gpu::GpuSceneConstants& c = s.sceneConstants;
+  glm::vec3 lo, hi;
+  worldBounds(p, s.instances, lo, hi);
+  const bool empty = lo.x > hi.x;
+  c.emissiveTriangleCount = uint32_t(emissive.size());
+  c.punctualLightCount = uint32_t(lights.size());
+  c.emissiveTotalPower = totalPower;
+  c.sceneExtent = std::max(empty ? 0.0f : std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z}), 1e-6f);
+  c.boundsMin = empty ? glm::vec3(0.0f) : lo;
+  c.boundsMax = empty ? glm::vec3(0.0f) : hi;
+  const uint32_t textureCount = uint32_t(contents.textures.size());
+  GI_TRY(uploadSky(s, cmd, contents.sky, textureCount));
+  GI_TRY(hostBuffer(s, std::vector<gpu::GpuSceneConstants>{c}, 1, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, s.constants));
+
+  // Everything copied so far is read by the builds below and by shaders.
+  vk::memoryBarrier(s.gpu, cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                    VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                    VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_UNIFORM_READ_BIT |
+                        (rayQuery(s) ? VK_ACCESS_2_ACCELERATION_STRUCTURE_READ_BIT_KHR : 0));
+  GI_TRY(buildBvhBuffers(s, cmd, {}));
+  if (rayQuery(s)) {
+    for (size_t m = 0; m < p.meshFirstGeometry.size(); ++m) {
+      AccelerationMesh mesh;
+      mesh.firstGeometry = p.meshFirstGeometry[m];
+      for (uint32_t id = mesh.firstGeometry; id < mesh.firstGeometry + p.meshGeometryCount[m]; ++id) {
+        const gpu::GpuGeometry& g = p.geometries[id];
+        mesh.geometries.push_back({g.firstIndex, g.triangleCount, g.vertexOffset, p.geometryVertexCount[id],
+                                   (p.materials[g.material].flags & gpu::MATERIAL_FLAG_ALPHA_MASK) == 0});
+      }
+      s.accelMeshes.push_back(std::move(mesh));
+    }
+    std::vector<AccelerationInstance> placed;
+    for (const InstanceDesc& inst : s.instances) placed.push_back({inst.mesh, toMat4(inst.worldFromObject)});
+    GI_TRY(buildSceneAcceleration(s.gpu, cmd, s.positions, s.indices, s.accelMeshes, placed, s.accel,
+                                  s.staging.emplace_back()));
+  }
+  // The BVH's bottom levels were copied after the first barrier.
+  vk::memoryBarrier(s.gpu, cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                    VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_SHADER_READ_BIT);
+
+  const bool skyMap = s.skyMap.image != VK_NULL_HANDLE;
+  GI_TRY(vk::createDescriptorSets(s.gpu, sceneBindings(rayQuery(s)), 1, s.set, VK_NULL_HANDLE,
+                                  textureCount + (skyMap ? 1u : 0u)));
+  writeBvhDescriptors(s);
+  vk::DescriptorWriter w(s.set[0]);
+  if (rayQuery(s)) w.accelerationStructure(gpu::SCENE_BINDING_TLAS, &s.accel.tlas.handle);
+  const std::pair<uint32_t, const vk::Buffer*> storage[] = {
+      {gpu::SCENE_BINDING_POSITIONS, &s.positions},   {gpu::SCENE_BINDING_NORMALS, &s.normals},
+      {gpu::SCENE_BINDING_UVS, &s.uvs},               {gpu::SCENE_BINDING_INDICES, &s.indices},
+      {gpu::SCENE_BINDING_GEOMETRIES, &s.geometries}, {gpu::SCENE_BINDING_INSTANCES, &s.instanceTable},
+      {gpu::SCENE_BINDING_MATERIALS, &s.materials},   {gpu::SCENE_BINDING_EMISSIVE_TRIANGLES, &s.emissiveTriangles},
+      {gpu::SCENE_BINDING_PUNCTUAL_LIGHTS, &s.punctualLights}, {gpu::SCENE_BINDING_SKY_DISTRIBUTION, &s.skyDistribution}};
+  for (auto [binding, buffer] : storage) w.buffer(binding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, buffer->buffer);
+  w.buffer(gpu::SCENE_BINDING_CONSTANTS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, s.constants.buffer);
+  for (uint32_t t = 0; t < textureCount; ++t)
+    w.sampledImage(gpu::SCENE_BINDING_TEXTURES, contents.textures[t].view, contents.textures[t].sampler, t);
+  if (skyMap) w.sampledImage(gpu::SCENE_BINDING_TEXTURES, s.skyMap.view, s.skySampler, textureCount);
+  w.write(s.gpu);
+
+  s.facts.layout = s.set.layout;
+  s.facts.set = s.set[0];
+  s.facts.hasEmissiveTriangles = c.emissiveTriangleCount > 0;
+  s.facts.hasPunctualLights = c.punctualLightCount > 0;
+  s.facts.hasAlphaMask = p.hasAlphaMask;
+  s.facts.hasGlossyMaterials = p.hasGlossyMaterials;
+  s.facts.extent = c.sceneExtent;
+  s.facts.typicalRadiance = typicalRadiance(p, contents.lights, contents.sky, c.sceneExtent);
+  s.facts.traversal = s.desc.traversal;
+  return {};
+}
+
+void freeStaging(Scene& s) {
+  for (vk::Buffer& b : s.staging) vk::destroyBuffer(s.gpu, b);
+  s.staging.clear();
+}
+
+void destroySceneResources(Scene& s) {
+  freeStaging(s);
+  destroyBvhBuffers(s);
+  destroySceneAcceleration(s.gpu, s.accel);
+  vk::destroyDescriptorSets(s.gpu, s.set);
+  vk::destroyImage(s.gpu, s.skyMap);
+  if (s.skySampler) s.gpu.fn.vkDestroySampler(s.gpu.device, s.skySampler, s.gpu.allocator);
+  s.skySampler = VK_NULL_HANDLE;
+  for (vk::Buffer* b : {&s.positions, &s.normals, &s.uvs, &s.indices, &s.geometries, &s.materials, &s.instanceTable,
+                        &s.emissiveTriangles, &s.punctualLights, &s.constants, &s.skyDistribution})
+    vk::destroyBuffer(s.gpu, *b);
+  vk::closeDevice(s.gpu);
+}
+
+Error sceneError(std::string message) { return {ErrorCode::OutOfRange, std::move(message)}; }
+
+}  // namespace
+
+std::span<const vk::Binding> sceneBindings(bool rayQuery) {
+  return rayQuery ? std::span<const vk::Binding>(kSceneBindings) : std::span<const vk::Binding>(kSceneBindings).subspan(1);
+}
+
+Error createScene(const SceneCreateDesc& desc, const SceneContents& contents, VkCommandBuffer cmd, Scene*& out) {
+  out = nullptr;
+  if (desc.structSize != sizeof(SceneCreateDesc))
+    return {ErrorCode::VersionMismatch, "gi::createScene: desc.structSize = " + std::to_string(desc.structSize) +
+                                            ", this library's SceneCreateDesc is " + std::to_string(sizeof(SceneCreateDesc))};
+  if (!desc.instance || !desc.physicalDevice || !desc.device || !desc.getInstanceProcAddr || !cmd)
+    return {ErrorCode::MissingHandle, "gi::createScene: instance, physicalDevice, device, getInstanceProcAddr and cmd "
+                                      "are required"};
+  if (desc.traversal != gpu::TRAVERSAL_RAY_QUERY && desc.traversal != gpu::TRAVERSAL_COMPUTE)
+    return sceneError("gi::createScene: desc.traversal = " + std::to_string(desc.traversal) +
+                      " is not TRAVERSAL_RAY_QUERY or TRAVERSAL_COMPUTE");
+  auto s = std::make_unique<Scene>();
+  s->desc = desc;
+  if (std::string e = packScene(contents, s->packed); !e.empty()) return sceneError("gi::createScene: " + e);
+  if (std::string e = checkInstances(s->packed, contents.instances, "contents.instances"); !e.empty())
+    return sceneError("gi::createScene: " + e);
+  if (std::string e = checkLights(contents.lights, "contents.lights"); !e.empty()) return sceneError("gi::createScene: " + e);
+  s->instances.assign(contents.instances.begin(), contents.instances.end());
+  for (const InstanceDesc& inst : s->instances) s->previousTransforms.push_back(toMat4(inst.worldFromObject));
+  s->lightCount = contents.lights.size();
+
+  s->gpu.allocator = desc.allocationCallbacks;
+  s->gpu.memory.budget = desc.memoryBudgetBytes;
+  s->gpu.deviceAddressMemory = desc.traversal == gpu::TRAVERSAL_RAY_QUERY;
+  if (vk::Status st = vk::openDevice(desc.getInstanceProcAddr, desc.instance, desc.physicalDevice, desc.device, s->gpu))
+    return {ErrorCode::MissingHandle, std::string("gi::createScene: desc.getInstanceProcAddr returned no ") + st.call,
+            st.result};
+  if (rayQuery(*s) && !s->gpu.fn.vkCmdBuildAccelerationStructuresKHR) {
+    vk::closeDevice(s->gpu);
+    return {ErrorCode::MissingFeature, "gi::createScene: TRAVERSAL_RAY_QUERY needs VK_KHR_acceleration_structure, "
+                                       "which the device was created without"};
+  }
+  if (vk::Status st = buildScene(*s, cmd, contents)) {
+    Error e = vulkanError("gi::createScene", st);
+    destroySceneResources(*s);
+    return e;
+  }
+  out = s.release();
+  return {};
+}
+
+void finishSceneUpload(Scene* s) {
+  if (s) freeStaging(*s);
+}
+
+void destroyScene(Scene* s) {
+  if (!s) return;
+  destroySceneResources(*s);
+  delete s;
+}
+
+SceneDesc sceneDesc(const Scene* s) { return s->facts; }
+
+Error updateInstances(Scene* s, VkCommandBuffer cmd, std::span<const InstanceDesc> instances) {
+  if (instances.size() != s->instances.size())
+    return sceneError("gi::updateInstances: " + std::to_string(instances.size()) + " instances given, the scene has " +
+                      std::to_string(s->instances.size()));
+  if (std::string e = checkInstances(s->packed, instances, "instances"); !e.empty()) return sceneError("gi::updateInstances: " + e);
+  for (size_t i = 0; i < instances.size(); ++i)
+    if (instances[i].mesh != s->instances[i].mesh)
+      return sceneError("gi::updateInstances: instances[" + std::to_string(i) + "].mesh changed from " +
+                        std::to_string(s->instances[i].mesh) + " to " + std::to_string(instances[i].mesh));
+  if (rayQuery(*s) && !cmd) return {ErrorCode::MissingHandle, "gi::updateInstances: cmd is required (the TLAS is rebuilt)"};
+  // Last update's transforms become the previous ones (motion vectors).
+  for (size_t i = 0; i < instances.size(); ++i) s->previousTransforms[i] = toMat4(s->instances[i].worldFromObject);
+  std::vector<uint8_t> moved(instances.size(), 0);
+  bool mergedMoved = false;
+  for (size_t i = 0; i < instances.size() && i < s->bvh.merged.size(); ++i) {
+    moved[i] = s->bvh.merged[i] && toMat4(instances[i].worldFromObject) != s->bvh.mergedTransforms[i];
+    mergedMoved |= moved[i] != 0;
+  }
+  for (size_t i = 0; i < instances.size(); ++i) {
+    const bool movable = s->instances[i].movable || moved[i];
+    s->instances[i] = instances[i];
+    s->instances[i].movable = movable;
+  }
+  writeMapped(s->instanceTable, gpuInstances(s->packed, s->instances, s->previousTransforms));
+  float totalPower = 0.0f;
+  std::vector<gpu::GpuEmissiveTriangle> emissive = emissiveTable(s->packed, s->instances, totalPower);
+  // Moving instances keep their triangles; only degenerate scaling could drop entries.
+  emissive.resize(std::min<size_t>(emissive.size(), s->emissiveCapacity));
+  writeMapped(s->emissiveTriangles, emissive);
+  s->sceneConstants.emissiveTriangleCount = uint32_t(emissive.size());
+  s->sceneConstants.emissiveTotalPower = totalPower;
+  std::memcpy(s->constants.memory.mapped, &s->sceneConstants, sizeof(s->sceneConstants));
+  if (mergedMoved) {  // merged as static: taken out once, its level rebuilt (host-visible, no copy)
+    if (vk::Status st = buildBvhBuffers(*s, VK_NULL_HANDLE, moved)) return vulkanError("gi::updateInstances", st);
+    writeBvhDescriptors(*s);
+  } else {
+    try {
+      rebuildTopLevel(bvhInstances(s->instances, {}), s->bvh);
+    } catch (const std::exception& e) {
+      return {ErrorCode::VulkanCall, std::string("gi::updateInstances: the BVH's top level: ") + e.what(),
+              VK_ERROR_INITIALIZATION_FAILED};
+    }
+    writeMapped(s->bvhTopNodes, s->bvh.topNodes);
+    writeMapped(s->bvhInstances, s->bvh.topInstances);
+  }
+  if (rayQuery(*s)) {
+    std::vector<AccelerationInstance> placed;
+    for (const InstanceDesc& inst : s->instances) placed.push_back({inst.mesh, toMat4(inst.worldFromObject)});
+    recordTlasRebuild(s->gpu, cmd, s->accelMeshes, placed, s->accel);
+  }
+  return {};
+}
+
+Error updateLights(Scene* s, std::span<const LightDesc> lights) {
+  if (lights.size() != s->lightCount)
+    return sceneError("gi::updateLights: " + std::to_string(lights.size()) + " lights given, the scene has " +
+                      std::to_string(s->lightCount));
+  if (std::string e = checkLights(lights, "lights"); !e.empty()) return sceneError("gi::updateLights: " + e);
+  writeMapped(s->punctualLights, punctualLights(lights));
+  return {};
+}
+
+SceneInfo sceneInfo(const Scene* s) {
+  SceneInfo info;
+  for (const InstanceDesc& inst : s->instances)
+    for (uint32_t id = s->packed.meshFirstGeometry[inst.mesh];
+         id < s->packed.meshFirstGeometry[inst.mesh] + s->packed.meshGeometryCount[inst.mesh]; ++id)
+      info.triangles += s->packed.geometries[id].triangleCount;
+  info.emissiveTriangles = s->sceneConstants.emissiveTriangleCount;
+  info.bvhBottomBuildMs = s->bvh.bottomBuildMs;
+  info.bvhTopBuildMs = s->bvh.topBuildMs;
+  info.memoryBytes = s->gpu.memory.held;
+  for (int k = 0; k < 3; ++k) {
+    info.boundsMin[k] = s->sceneConstants.boundsMin[k];
+    info.boundsMax[k] = s->sceneConstants.boundsMax[k];
+  }
+  return info;
+}
+
+}  // namespace gi

@@ -1,0 +1,43 @@
+// gi::Scene's state: the packed scene on the CPU (kept for updates), its
+// device buffers, the compute BVH and the ray-query acceleration structures,
+// and set 0.
+#pragma once
+#include <vector>
+
+#include "gi/scene.h"
+#include "gi/vk/programs.h"
+#include "gi/vk/resources.h"
+#include "scene/acceleration.h"
+#include "scene/bvh_builder.h"
+#include "scene/scene_tables.h"
+
+namespace gi {
+
+struct Scene {
+  vk::Device gpu;
+  SceneCreateDesc desc;
+  PackedScene packed;
+  std::vector<InstanceDesc> instances;          // as given, with the latest transforms
+  std::vector<glm::mat4> previousTransforms;    // per instance: last update's, for motion vectors
+  size_t lightCount = 0;
+  uint32_t emissiveCapacity = 0;                // entries the emission table's buffer holds
+
+  vk::Buffer positions, normals, uvs, indices, geometries, materials;  // device-local, uploaded once
+  vk::Buffer instanceTable, emissiveTriangles, punctualLights, constants, skyDistribution;  // host-written
+  vk::Image skyMap;                             // rgba32f equirectangular map (none for a constant sky)
+  VkSampler skySampler = VK_NULL_HANDLE;
+  SceneBvh bvh;                                 // the compute traversal's two levels
+  vk::Buffer bvhNodes, bvhTriangles, bvhTopNodes, bvhInstances;
+  VkBufferView bvhViews[4]{};                   // RGBA32UI texel views of the four, in that order
+  SceneAcceleration accel;                      // ray queries only
+  std::vector<AccelerationMesh> accelMeshes;
+  vk::DescriptorSets set;                       // set 0, one set
+  gpu::GpuSceneConstants sceneConstants{};
+  SceneDesc facts;                              // what sceneDesc() returns
+  std::vector<vk::Buffer> staging;              // freed by finishSceneUpload
+};
+
+// Set 0's bindings (binding 0, the TLAS, only for ray queries).
+std::span<const vk::Binding> sceneBindings(bool rayQuery);
+
+}  // namespace gi

@@ -1,0 +1,52 @@
+// The scene on the CPU as set 0 holds it: the engine's meshes packed into
+// one geometry pool, materials, the emission CDF, punctual lights and the
+// constants. No Vulkan: built from gi::SceneContents and checked on the way.
+#pragma once
+#include <glm/glm.hpp>
+
+#include <string>
+#include <vector>
+
+#include "gi/scene.h"
+#include "scene/bvh_builder.h"
+#include "shared/gpu_scene.h"
+
+namespace gi {
+
+struct PackedScene {
+  std::vector<glm::vec3> positions, normals;  // object space
+  std::vector<glm::vec2> uvs;
+  std::vector<uint32_t> indices;              // relative to their geometry's vertexOffset
+  std::vector<gpu::GpuGeometry> geometries;   // every mesh's primitives, mesh by mesh
+  std::vector<uint32_t> geometryVertexCount;
+  std::vector<uint32_t> meshFirstGeometry, meshGeometryCount;
+  std::vector<gpu::GpuMaterial> materials;
+  std::vector<glm::vec3> materialEmission;    // per material, W/(sr·m²)
+  bool hasAlphaMask = false, hasGlossyMaterials = false;  // among materials some primitive uses
+  float skyMeanLuminance = 0.0f;              // of the map's texels (1 for a constant sky)
+};
+
+// Checks and packs the geometry and materials. The error names the field.
+std::string packScene(const SceneContents& contents, PackedScene& out);
+std::string checkInstances(const PackedScene& packed, std::span<const InstanceDesc> instances, const char* what);
+std::string checkLights(std::span<const LightDesc> lights, const char* what);
+
+glm::mat4 toMat4(const float (&m)[16]);
+
+// One entry per emissive (instance, triangle), picked in proportion to world
+// area × luminance(emission); `totalPower` gets Σ of the weights.
+std::vector<gpu::GpuEmissiveTriangle> emissiveTable(const PackedScene& packed, std::span<const InstanceDesc> instances,
+                                                    float& totalPower);
+std::vector<gpu::GpuPunctualLight> punctualLights(std::span<const LightDesc> lights);
+std::vector<gpu::GpuInstance> gpuInstances(const PackedScene& packed, std::span<const InstanceDesc> instances,
+                                           std::span<const glm::mat4> previous);
+std::vector<BvhMesh> bvhMeshes(const PackedScene& packed);
+std::vector<BvhInstance> bvhInstances(std::span<const InstanceDesc> instances, std::span<const uint8_t> forceMovable);
+
+// World bounds of the instanced geometry (empty: min > max).
+void worldBounds(const PackedScene& packed, std::span<const InstanceDesc> instances, glm::vec3& lo, glm::vec3& hi);
+
+// A rough scale of the radiance the scene will hold (SceneDesc::typicalRadiance).
+float typicalRadiance(const PackedScene& packed, std::span<const LightDesc> lights, const SkyDesc& sky, float extent);
+
+}  // namespace gi
