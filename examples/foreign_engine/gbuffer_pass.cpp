@@ -1,0 +1,251 @@
+#include "gbuffer_pass.h"
+
+#include <cstring>
+
+#include "gbuffer.frag.h"
+#include "gbuffer.vert.h"
+
+namespace foreign {
+namespace {
+
+struct DrawPush {  // gbuffer.vert's Draw block
+  glm::mat4 worldFromObject;
+  glm::vec4 baseColor, emissionRoughness, metallic;
+};
+static_assert(sizeof(DrawPush) == 112);
+
+VkShaderModule shaderModule(const Host& h, const uint32_t* words, size_t bytes) {
+  VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+  info.codeSize = bytes;
+  info.pCode = words;
+  VkShaderModule m;
+  FOREIGN_CHECK(vkCreateShaderModule(h.device, &info, nullptr, &m));
+  return m;
+}
+
+void createPipeline(const Host& h, GBufferPass& p) {
+  VkDescriptorSetLayoutBinding binding{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1,
+                                       VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, nullptr};
+  VkDescriptorSetLayoutCreateInfo setInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+  setInfo.bindingCount = 1;
+  setInfo.pBindings = &binding;
+  FOREIGN_CHECK(vkCreateDescriptorSetLayout(h.device, &setInfo, nullptr, &p.setLayout));
+  VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 2};
+  VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+  poolInfo.maxSets = 2;
+  poolInfo.poolSizeCount = 1;
+  poolInfo.pPoolSizes = &size;
+  FOREIGN_CHECK(vkCreateDescriptorPool(h.device, &poolInfo, nullptr, &p.descriptorPool));
+  VkDescriptorSetLayout layouts[2] = {p.setLayout, p.setLayout};
+  VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+  alloc.descriptorPool = p.descriptorPool;
+  alloc.descriptorSetCount = 2;
+  alloc.pSetLayouts = layouts;
+  FOREIGN_CHECK(vkAllocateDescriptorSets(h.device, &alloc, p.sets));
+  for (int i = 0; i < 2; ++i) {
+    VkDescriptorBufferInfo info{p.uniforms[i].buffer, 0, VK_WHOLE_SIZE};
+    VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    w.dstSet = p.sets[i];
+    w.descriptorCount = 1;
+    w.descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    w.pBufferInfo = &info;
+    vkUpdateDescriptorSets(h.device, 1, &w, 0, nullptr);
+  }
+
+  VkPushConstantRange push{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(DrawPush)};
+  VkPipelineLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+  layoutInfo.setLayoutCount = 1;
+  layoutInfo.pSetLayouts = &p.setLayout;
+  layoutInfo.pushConstantRangeCount = 1;
+  layoutInfo.pPushConstantRanges = &push;
+  FOREIGN_CHECK(vkCreatePipelineLayout(h.device, &layoutInfo, nullptr, &p.layout));
+
+  VkShaderModule vert = shaderModule(h, spv_gbuffer_vert, sizeof(spv_gbuffer_vert));
+  VkShaderModule frag = shaderModule(h, spv_gbuffer_frag, sizeof(spv_gbuffer_frag));
+  VkPipelineShaderStageCreateInfo stages[2]{};
+  stages[0] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_VERTEX_BIT, vert, "main", nullptr};
+  stages[1] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_FRAGMENT_BIT, frag, "main", nullptr};
+  VkVertexInputBindingDescription vertexBinding{0, 24, VK_VERTEX_INPUT_RATE_VERTEX};
+  VkVertexInputAttributeDescription attributes[2] = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
+                                                     {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12}};
+  VkPipelineVertexInputStateCreateInfo vertexInput{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+  vertexInput.vertexBindingDescriptionCount = 1;
+  vertexInput.pVertexBindingDescriptions = &vertexBinding;
+  vertexInput.vertexAttributeDescriptionCount = 2;
+  vertexInput.pVertexAttributeDescriptions = attributes;
+  VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+  assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+  VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
+  viewport.viewportCount = 1;
+  viewport.scissorCount = 1;
+  VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+  raster.polygonMode = VK_POLYGON_MODE_FILL;
+  raster.cullMode = VK_CULL_MODE_NONE;  // surfaces are lit from both sides
+  raster.lineWidth = 1.0f;
+  VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+  multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+  VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+  depth.depthTestEnable = VK_TRUE;
+  depth.depthWriteEnable = VK_TRUE;
+  depth.depthCompareOp = VK_COMPARE_OP_GREATER;  // reversed Z: 1 near, 0 infinitely far
+  VkPipelineColorBlendAttachmentState blends[kTargetCount]{};
+  for (auto& b : blends) b.colorWriteMask = 0xf;
+  VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+  blend.attachmentCount = kTargetCount;
+  blend.pAttachments = blends;
+  VkDynamicState dynamics[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+  VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
+  dynamic.dynamicStateCount = 2;
+  dynamic.pDynamicStates = dynamics;
+  VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
+  rendering.colorAttachmentCount = kTargetCount;
+  rendering.pColorAttachmentFormats = kTargetFormats;
+  rendering.depthAttachmentFormat = kDepthFormat;
+  VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
+  info.pNext = &rendering;
+  info.stageCount = 2;
+  info.pStages = stages;
+  info.pVertexInputState = &vertexInput;
+  info.pInputAssemblyState = &assembly;
+  info.pViewportState = &viewport;
+  info.pRasterizationState = &raster;
+  info.pMultisampleState = &multisample;
+  info.pDepthStencilState = &depth;
+  info.pColorBlendState = &blend;
+  info.pDynamicState = &dynamic;
+  info.layout = p.layout;
+  FOREIGN_CHECK(vkCreateGraphicsPipelines(h.device, VK_NULL_HANDLE, 1, &info, nullptr, &p.pipeline));
+  vkDestroyShaderModule(h.device, vert, nullptr);
+  vkDestroyShaderModule(h.device, frag, nullptr);
+}
+
+}  // namespace
+
+gi::GBufferDesc gbufferDesc() {
+  gi::GBufferDesc d;
+  d.normalFormat = kTargetFormats[kNormal];
+  d.normalEncoding = gi::NormalEncoding::Octahedral;
+  d.albedoFormat = kTargetFormats[kAlbedo];
+  d.glossy = gi::GlossyFlag::FromMaterial;
+  d.depthFormat = kDepthFormat;
+  d.depthEncoding = gi::DepthEncoding::HardwareReversed;
+  d.depthLayout = VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL;
+  d.motion = gi::MotionUnits::Pixels;
+  return d;
+}
+
+void createGBufferPass(const Host& h, const SceneFile& scene, VkExtent2D extent, GBufferPass& p) {
+  p.extent = extent;
+  for (uint32_t t = 0; t < kTargetCount; ++t)
+    p.targets[t] = createImage(h, kTargetFormats[t], extent, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+                               VK_IMAGE_ASPECT_COLOR_BIT);
+  p.depth = createImage(h, kDepthFormat, extent, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+                        VK_IMAGE_ASPECT_DEPTH_BIT);
+  // One interleaved vertex buffer and one index buffer for every mesh.
+  std::vector<float> vertices;
+  std::vector<uint32_t> indices;
+  std::vector<std::vector<Draw>> meshDraws;
+  for (const Mesh& mesh : scene.meshes) {
+    const int32_t base = int32_t(vertices.size() / 6);
+    for (size_t v = 0; v < mesh.positions.size(); ++v)
+      for (const glm::vec3* a : {&mesh.positions[v], &mesh.normals[v]}) vertices.insert(vertices.end(), {a->x, a->y, a->z});
+    std::vector<Draw>& draws = meshDraws.emplace_back();
+    for (const gi::PrimitiveDesc& prim : mesh.primitives) {
+      draws.push_back({uint32_t(indices.size()), prim.indexCount, base + int32_t(prim.firstVertex), prim.material, {}});
+      indices.insert(indices.end(), mesh.indices.begin() + prim.firstIndex,
+                     mesh.indices.begin() + prim.firstIndex + prim.indexCount);
+    }
+  }
+  for (const Instance& inst : scene.instances)
+    for (Draw d : meshDraws[inst.mesh]) {
+      d.worldFromObject = inst.worldFromObject;
+      p.draws.push_back(d);
+    }
+  p.materials = scene.materials;
+  p.vertices = createBuffer(h, vertices.size() * sizeof(float), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, vertices.data());
+  p.indices = createBuffer(h, indices.size() * sizeof(uint32_t), VK_BUFFER_USAGE_INDEX_BUFFER_BIT, indices.data());
+  for (Buffer& u : p.uniforms) u = createBuffer(h, sizeof(FrameUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
+  createPipeline(h, p);
+}
+
+void destroyGBufferPass(const Host& h, GBufferPass& p) {
+  vkDestroyPipeline(h.device, p.pipeline, nullptr);
+  vkDestroyPipelineLayout(h.device, p.layout, nullptr);
+  vkDestroyDescriptorPool(h.device, p.descriptorPool, nullptr);
+  vkDestroyDescriptorSetLayout(h.device, p.setLayout, nullptr);
+  for (Buffer& u : p.uniforms) destroyBuffer(h, u);
+  destroyBuffer(h, p.vertices);
+  destroyBuffer(h, p.indices);
+  for (Image& t : p.targets) destroyImage(h, t);
+  destroyImage(h, p.depth);
+}
+
+void recordGBuffer(VkCommandBuffer cmd, GBufferPass& p, uint32_t slot, const FrameUniforms& uniforms) {
+  std::memcpy(p.uniforms[slot].mapped, &uniforms, sizeof(uniforms));  // the slot's fence was waited on
+  const VkPipelineStageFlags2 reads = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;  // the module read them last frame
+  for (Image& t : p.targets)
+    imageBarrier(cmd, t.image, VK_IMAGE_ASPECT_COLOR_BIT, p.initialised ? VK_IMAGE_LAYOUT_GENERAL : VK_IMAGE_LAYOUT_UNDEFINED,
+                 VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, reads, 0, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+                 VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+  imageBarrier(cmd, p.depth.image, VK_IMAGE_ASPECT_DEPTH_BIT,
+               p.initialised ? VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL : VK_IMAGE_LAYOUT_UNDEFINED,
+               VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, reads, 0,
+               VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
+               VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT);
+  p.initialised = true;
+
+  VkRenderingAttachmentInfo colors[kTargetCount]{};
+  for (uint32_t i = 0; i < kTargetCount; ++i) {
+    colors[i].sType = VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO;
+    colors[i].imageView = p.targets[i].view;
+    colors[i].imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+    colors[i].loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    colors[i].storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+  }
+  VkRenderingAttachmentInfo depth{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+  depth.imageView = p.depth.view;
+  depth.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+  depth.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+  depth.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+  depth.clearValue.depthStencil = {0.0f, 0};  // reversed Z: 0 is the background
+  VkRenderingInfo rendering{VK_STRUCTURE_TYPE_RENDERING_INFO};
+  rendering.renderArea = {{0, 0}, p.extent};
+  rendering.layerCount = 1;
+  rendering.colorAttachmentCount = kTargetCount;
+  rendering.pColorAttachments = colors;
+  rendering.pDepthAttachment = &depth;
+  vkCmdBeginRendering(cmd, &rendering);
+  VkViewport viewport{0.0f, 0.0f, float(p.extent.width), float(p.extent.height), 0.0f, 1.0f};
+  VkRect2D scissor{{0, 0}, p.extent};
+  vkCmdSetViewport(cmd, 0, 1, &viewport);
+  vkCmdSetScissor(cmd, 0, 1, &scissor);
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p.pipeline);
+  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p.layout, 0, 1, &p.sets[slot], 0, nullptr);
+  VkDeviceSize offset = 0;
+  vkCmdBindVertexBuffers(cmd, 0, 1, &p.vertices.buffer, &offset);
+  vkCmdBindIndexBuffer(cmd, p.indices.buffer, 0, VK_INDEX_TYPE_UINT32);
+  for (const Draw& d : p.draws) {
+    const gi::MaterialDesc& m = p.materials[d.material];
+    DrawPush push{d.worldFromObject, glm::vec4(m.baseColor[0], m.baseColor[1], m.baseColor[2], m.baseColor[3]),
+                  glm::vec4(glm::vec3(m.emissive[0], m.emissive[1], m.emissive[2]) * m.emissiveStrength, m.roughness),
+                  glm::vec4(m.metallic, 0.0f, 0.0f, 0.0f)};
+    vkCmdPushConstants(cmd, p.layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(push), &push);
+    vkCmdDrawIndexed(cmd, d.indexCount, 1, d.firstIndex, d.vertexOffset, 0);
+  }
+  vkCmdEndRendering(cmd);
+  for (Image& t : p.targets)
+    imageBarrier(cmd, t.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
+                 VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
+                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+  imageBarrier(cmd, p.depth.image, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
+               VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
+               VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+               VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+}
+
+gi::GBufferViews gbufferViews(const GBufferPass& p) {
+  return {p.targets[kNormal].view, p.targets[kAlbedo].view, p.targets[kMaterial].view,
+          p.targets[kEmission].view, p.targets[kMotion].view, p.depth.view};
+}
+
+}  // namespace foreign

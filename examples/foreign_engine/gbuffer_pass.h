@@ -1,0 +1,60 @@
+// The foreign engine's G-buffer: five colour targets and a reversed-Z depth
+// buffer in the formats it declares to the module (kGBufferDesc), drawn from
+// its own vertex and index buffers with dynamic rendering.
+#pragma once
+#include <glm/glm.hpp>
+
+#include <gi/gi.h>
+
+#include <vector>
+
+#include "gltf_scene.h"
+#include "host.h"
+
+namespace foreign {
+
+enum Target : uint32_t { kNormal, kAlbedo, kMaterial, kEmission, kMotion, kTargetCount };
+inline constexpr VkFormat kTargetFormats[kTargetCount] = {VK_FORMAT_R16G16_UNORM, VK_FORMAT_R8G8B8A8_SRGB,
+                                                          VK_FORMAT_R8G8_UNORM, VK_FORMAT_R16G16B16A16_SFLOAT,
+                                                          VK_FORMAT_R16G16_SFLOAT};
+inline constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
+
+// What the module is told about this G-buffer.
+gi::GBufferDesc gbufferDesc();
+
+struct FrameUniforms {  // gbuffer.vert's Frame block (std140)
+  glm::mat4 clipFromWorld, motionClipFromWorld, previousClipFromWorld;
+  glm::vec4 cameraPosition, imageSize;
+};
+
+struct Draw {
+  uint32_t firstIndex, indexCount;
+  int32_t vertexOffset;
+  uint32_t material;
+  glm::mat4 worldFromObject;
+};
+
+struct GBufferPass {
+  VkExtent2D extent{};
+  Image targets[kTargetCount];
+  Image depth;
+  Buffer vertices, indices;          // interleaved position, normal; uint32
+  std::vector<Draw> draws;
+  std::vector<gi::MaterialDesc> materials;
+  Buffer uniforms[2];                // per frame slot
+  VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
+  VkDescriptorPool descriptorPool = VK_NULL_HANDLE;
+  VkDescriptorSet sets[2]{};
+  VkPipelineLayout layout = VK_NULL_HANDLE;
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  bool initialised = false;          // targets left in their sampled layouts at least once
+};
+
+void createGBufferPass(const Host& h, const SceneFile& scene, VkExtent2D extent, GBufferPass& pass);
+void destroyGBufferPass(const Host& h, GBufferPass& pass);
+// Rasterises the scene; leaves the colour targets in GENERAL and the depth in
+// DEPTH_READ_ONLY_OPTIMAL, made visible to compute-shader sampled reads.
+void recordGBuffer(VkCommandBuffer cmd, GBufferPass& pass, uint32_t slot, const FrameUniforms& uniforms);
+gi::GBufferViews gbufferViews(const GBufferPass& pass);
+
+}  // namespace foreign
