@@ -12,8 +12,8 @@
 
 #include <gi/device.h>
 #include <gi/gi.h>
+#include <gi/scene.h>
 #include <shared/gbuffer.h>
-#include <shared/gpu_bvh.h>
 
 #include <cmath>
 #include <cstdio>
@@ -235,112 +235,37 @@ Host createHost() {
   return h;
 }
 
-// Set 0 for the compute traversal with nothing in it: placeholder arrays and
-// a top-level BVH node whose four children are empty, so every ray misses.
-struct EmptyScene {
-  VkDescriptorSetLayout layout = VK_NULL_HANDLE;
-  VkDescriptorPool pool = VK_NULL_HANDLE;
-  VkDescriptorSet set = VK_NULL_HANDLE;
-  std::vector<Buffer> buffers;
-  std::vector<VkBufferView> views;
-};
-
-EmptyScene createEmptyScene(const Host& h) {
-  EmptyScene s;
-  std::vector<VkDescriptorSetLayoutBinding> bindings;
-  std::vector<VkDescriptorBindingFlags> flags;
-  for (uint32_t b = gpu::SCENE_BINDING_POSITIONS; b <= gpu::SCENE_BINDING_TEXTURES; ++b) {
-    VkDescriptorType type = b <= gpu::SCENE_BINDING_PUNCTUAL_LIGHTS || b == gpu::SCENE_BINDING_SKY_DISTRIBUTION
-                                ? VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
-                            : b == gpu::SCENE_BINDING_CONSTANTS     ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER
-                            : b == gpu::SCENE_BINDING_TEXTURES      ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER
-                                                                    : VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
-    bool textures = b == gpu::SCENE_BINDING_TEXTURES;
-    bindings.push_back({b, type, textures ? 16u : 1u, VK_SHADER_STAGE_ALL, nullptr});
-    flags.push_back(textures ? VK_DESCRIPTOR_BINDING_VARIABLE_DESCRIPTOR_COUNT_BIT | VK_DESCRIPTOR_BINDING_PARTIALLY_BOUND_BIT
-                             : 0);
+// An empty scene (no meshes, no lights, black sky), built by the module:
+// every ray misses. The upload is recorded into a command buffer of ours.
+gi::Scene* createEmptyScene(const Host& h, VkCommandPool pool) {
+  gi::SceneCreateDesc desc;
+  desc.getInstanceProcAddr = vkGetInstanceProcAddr;
+  desc.instance = h.instance;
+  desc.physicalDevice = h.physical;
+  desc.device = h.device;
+  desc.traversal = gpu::TRAVERSAL_COMPUTE;
+  VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+  alloc.commandPool = pool;
+  alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  alloc.commandBufferCount = 1;
+  VkCommandBuffer cmd;
+  CHECK(vkAllocateCommandBuffers(h.device, &alloc, &cmd));
+  VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  CHECK(vkBeginCommandBuffer(cmd, &begin));
+  gi::Scene* scene = nullptr;
+  if (gi::Error e = gi::createScene(desc, gi::SceneContents{}, cmd, scene)) {
+    std::fprintf(stderr, "gi::createScene: %s\n", e.message.c_str());
+    std::exit(1);
   }
-  VkDescriptorSetLayoutBindingFlagsCreateInfo flagInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_BINDING_FLAGS_CREATE_INFO};
-  flagInfo.bindingCount = uint32_t(flags.size());
-  flagInfo.pBindingFlags = flags.data();
-  VkDescriptorSetLayoutCreateInfo layout{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-  layout.pNext = &flagInfo;
-  layout.bindingCount = uint32_t(bindings.size());
-  layout.pBindings = bindings.data();
-  CHECK(vkCreateDescriptorSetLayout(h.device, &layout, nullptr, &s.layout));
-  VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 10},
-                                  {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1},
-                                  {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 4},
-                                  {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1}};
-  VkDescriptorPoolCreateInfo pool{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-  pool.maxSets = 1;
-  pool.poolSizeCount = 4;
-  pool.pPoolSizes = sizes;
-  CHECK(vkCreateDescriptorPool(h.device, &pool, nullptr, &s.pool));
-  uint32_t textureCount = 1;  // none is ever read: no ray hits a material
-  VkDescriptorSetVariableDescriptorCountAllocateInfo variable{
-      VK_STRUCTURE_TYPE_DESCRIPTOR_SET_VARIABLE_DESCRIPTOR_COUNT_ALLOCATE_INFO};
-  variable.descriptorSetCount = 1;
-  variable.pDescriptorCounts = &textureCount;
-  VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-  alloc.pNext = &variable;
-  alloc.descriptorPool = s.pool;
-  alloc.descriptorSetCount = 1;
-  alloc.pSetLayouts = &s.layout;
-  CHECK(vkAllocateDescriptorSets(h.device, &alloc, &s.set));
-
-  std::vector<VkWriteDescriptorSet> writes;
-  std::vector<VkDescriptorBufferInfo> infos(gpu::SCENE_BINDING_COUNT);
-  std::vector<uint32_t> bufferBindings;
-  for (uint32_t b = gpu::SCENE_BINDING_POSITIONS; b <= gpu::SCENE_BINDING_CONSTANTS; ++b) bufferBindings.push_back(b);
-  bufferBindings.push_back(gpu::SCENE_BINDING_SKY_DISTRIBUTION);  // no sky: a placeholder
-  for (uint32_t b : bufferBindings) {
-    gpu::GpuSceneConstants constants{};
-    constants.skyTexture = gpu::NO_TEXTURE;
-    constants.sceneExtent = 10.0f;
-    constants.boundsMin = glm::vec3(-5.0f);
-    constants.boundsMax = glm::vec3(5.0f);
-    bool uniform = b == gpu::SCENE_BINDING_CONSTANTS;
-    s.buffers.push_back(makeBuffer(h, 256, uniform ? VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT : VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                                   nullptr));
-    if (uniform) std::memcpy(s.buffers.back().mapped, &constants, sizeof(constants));
-    infos[b] = {s.buffers.back().buffer, 0, VK_WHOLE_SIZE};
-    VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-    w.dstSet = s.set;
-    w.dstBinding = b;
-    w.descriptorCount = 1;
-    w.descriptorType = uniform ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    w.pBufferInfo = &infos[b];
-    writes.push_back(w);
-  }
-  gpu::GpuBvhNode empty{};
-  empty.child = glm::uvec4(gpu::BVH_NO_CHILD);
-  s.views.resize(4);
-  for (uint32_t i = 0; i < 4; ++i) {
-    uint32_t b = gpu::SCENE_BINDING_BVH_NODES + i;
-    s.buffers.push_back(makeBuffer(h, sizeof(empty), VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT, &empty));
-    VkBufferViewCreateInfo view{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
-    view.buffer = s.buffers.back().buffer;
-    view.format = VK_FORMAT_R32G32B32A32_UINT;
-    view.range = VK_WHOLE_SIZE;
-    CHECK(vkCreateBufferView(h.device, &view, nullptr, &s.views[i]));
-    VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-    w.dstSet = s.set;
-    w.dstBinding = b;
-    w.descriptorCount = 1;
-    w.descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
-    w.pTexelBufferView = &s.views[i];
-    writes.push_back(w);
-  }
-  vkUpdateDescriptorSets(h.device, uint32_t(writes.size()), writes.data(), 0, nullptr);
-  return s;
-}
-
-void destroyEmptyScene(const Host& h, EmptyScene& s) {
-  for (VkBufferView v : s.views) vkDestroyBufferView(h.device, v, nullptr);
-  for (Buffer& b : s.buffers) destroyBuffer(h, b);
-  vkDestroyDescriptorPool(h.device, s.pool, nullptr);
-  vkDestroyDescriptorSetLayout(h.device, s.layout, nullptr);
+  CHECK(vkEndCommandBuffer(cmd));
+  VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+  submit.commandBufferCount = 1;
+  submit.pCommandBuffers = &cmd;
+  CHECK(vkQueueSubmit(h.queue, 1, &submit, VK_NULL_HANDLE));
+  CHECK(vkQueueWaitIdle(h.queue));
+  vkFreeCommandBuffers(h.device, pool, 1, &cmd);
+  gi::finishSceneUpload(scene);
+  return scene;
 }
 
 // A pinhole at the origin looking down −Z (reversed-Z projection, y down).
@@ -369,7 +294,12 @@ int main() {
     return 1;
   }
   Host h = createHost();
-  EmptyScene scene = createEmptyScene(h);
+  VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+  poolInfo.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+  poolInfo.queueFamilyIndex = h.queueFamily;
+  VkCommandPool pool;
+  CHECK(vkCreateCommandPool(h.device, &poolInfo, nullptr, &pool));
+  gi::Scene* scene = createEmptyScene(h, pool);
   constexpr uint32_t kMaxW = 64, kMaxH = 64, kFramesInFlight = 2, kFrames = 16;
   const VkFormat formats[gpu::GBUFFER_COLOR_COUNT] = {VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_R8G8B8A8_UNORM,
                                                       VK_FORMAT_R8G8_UNORM,          VK_FORMAT_R32G32B32A32_SFLOAT,
@@ -394,11 +324,7 @@ int main() {
   desc.maxWidth = kMaxW;
   desc.maxHeight = kMaxH;
   desc.framesInFlight = kFramesInFlight;
-  desc.scene.layout = scene.layout;
-  desc.scene.set = scene.set;
-  desc.scene.hasAlphaMask = false;
-  desc.scene.extent = 10.0f;
-  desc.scene.traversal = gpu::TRAVERSAL_COMPUTE;
+  desc.scene = gi::sceneDesc(scene);
   gi::Settings settings;
   settings.method = gi::Method::Hpsf;
   gi::Module* module = nullptr;
@@ -418,11 +344,6 @@ int main() {
     return 1;
   }
 
-  VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
-  poolInfo.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
-  poolInfo.queueFamilyIndex = h.queueFamily;
-  VkCommandPool pool;
-  CHECK(vkCreateCommandPool(h.device, &poolInfo, nullptr, &pool));
   VkCommandBuffer cmds[kFramesInFlight];
   VkCommandBufferAllocateInfo cmdInfo{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
   cmdInfo.commandPool = pool;
@@ -539,7 +460,7 @@ int main() {
   for (VkFence f : fences) vkDestroyFence(h.device, f, nullptr);
   vkDestroyCommandPool(h.device, pool, nullptr);
   for (Image& img : gbuffer) destroyImage(h, img);
-  destroyEmptyScene(h, scene);
+  gi::destroyScene(scene);
   vkDestroyDevice(h.device, nullptr);
   if (h.messenger) {
     auto destroyMessenger = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(

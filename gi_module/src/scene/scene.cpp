@@ -195,7 +195,8 @@ vk::Status buildScene(Scene& s, VkCommandBuffer cmd, const SceneContents& conten
   c.emissiveTriangleCount = uint32_t(emissive.size());
   c.punctualLightCount = uint32_t(lights.size());
   c.emissiveTotalPower = totalPower;
-  c.sceneExtent = std::max(empty ? 0.0f : std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z}), 1e-6f);
+  // An empty scene (nothing streamed in yet) still needs a scale for depth guidance: 1 m.
+  c.sceneExtent = empty ? 1.0f : std::max(std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z}), 1e-6f);
   c.boundsMin = empty ? glm::vec3(0.0f) : lo;
   c.boundsMax = empty ? glm::vec3(0.0f) : hi;
   const uint32_t textureCount = uint32_t(contents.textures.size());
