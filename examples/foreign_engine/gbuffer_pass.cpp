@@ -14,34 +14,34 @@ struct DrawPush {  // gbuffer.vert's Draw block
 };
 static_assert(sizeof(DrawPush) == 112);
 
-VkShaderModule shaderModule(const Host& h, const uint32_t* words, size_t bytes) {
+VkShaderModule shaderModule(const example::Host& h, const uint32_t* words, size_t bytes) {
   VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
   info.codeSize = bytes;
   info.pCode = words;
   VkShaderModule m;
-  FOREIGN_CHECK(vkCreateShaderModule(h.device, &info, nullptr, &m));
+  EXAMPLE_CHECK(vkCreateShaderModule(h.device, &info, nullptr, &m));
   return m;
 }
 
-void createPipeline(const Host& h, GBufferPass& p) {
+void createPipeline(const example::Host& h, GBufferPass& p) {
   VkDescriptorSetLayoutBinding binding{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1,
                                        VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, nullptr};
   VkDescriptorSetLayoutCreateInfo setInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
   setInfo.bindingCount = 1;
   setInfo.pBindings = &binding;
-  FOREIGN_CHECK(vkCreateDescriptorSetLayout(h.device, &setInfo, nullptr, &p.setLayout));
+  EXAMPLE_CHECK(vkCreateDescriptorSetLayout(h.device, &setInfo, nullptr, &p.setLayout));
   VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 2};
   VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
   poolInfo.maxSets = 2;
   poolInfo.poolSizeCount = 1;
   poolInfo.pPoolSizes = &size;
-  FOREIGN_CHECK(vkCreateDescriptorPool(h.device, &poolInfo, nullptr, &p.descriptorPool));
+  EXAMPLE_CHECK(vkCreateDescriptorPool(h.device, &poolInfo, nullptr, &p.descriptorPool));
   VkDescriptorSetLayout layouts[2] = {p.setLayout, p.setLayout};
   VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
   alloc.descriptorPool = p.descriptorPool;
   alloc.descriptorSetCount = 2;
   alloc.pSetLayouts = layouts;
-  FOREIGN_CHECK(vkAllocateDescriptorSets(h.device, &alloc, p.sets));
+  EXAMPLE_CHECK(vkAllocateDescriptorSets(h.device, &alloc, p.sets));
   for (int i = 0; i < 2; ++i) {
     VkDescriptorBufferInfo info{p.uniforms[i].buffer, 0, VK_WHOLE_SIZE};
     VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
@@ -58,7 +58,7 @@ void createPipeline(const Host& h, GBufferPass& p) {
   layoutInfo.pSetLayouts = &p.setLayout;
   layoutInfo.pushConstantRangeCount = 1;
   layoutInfo.pPushConstantRanges = &push;
-  FOREIGN_CHECK(vkCreatePipelineLayout(h.device, &layoutInfo, nullptr, &p.layout));
+  EXAMPLE_CHECK(vkCreatePipelineLayout(h.device, &layoutInfo, nullptr, &p.layout));
 
   VkShaderModule vert = shaderModule(h, spv_gbuffer_vert, sizeof(spv_gbuffer_vert));
   VkShaderModule frag = shaderModule(h, spv_gbuffer_frag, sizeof(spv_gbuffer_frag));
@@ -114,7 +114,7 @@ void createPipeline(const Host& h, GBufferPass& p) {
   info.pColorBlendState = &blend;
   info.pDynamicState = &dynamic;
   info.layout = p.layout;
-  FOREIGN_CHECK(vkCreateGraphicsPipelines(h.device, VK_NULL_HANDLE, 1, &info, nullptr, &p.pipeline));
+  EXAMPLE_CHECK(vkCreateGraphicsPipelines(h.device, VK_NULL_HANDLE, 1, &info, nullptr, &p.pipeline));
   vkDestroyShaderModule(h.device, vert, nullptr);
   vkDestroyShaderModule(h.device, frag, nullptr);
 }
@@ -134,12 +134,12 @@ gi::GBufferDesc gbufferDesc() {
   return d;
 }
 
-void createGBufferPass(const Host& h, const SceneFile& scene, VkExtent2D extent, GBufferPass& p) {
+void createGBufferPass(const example::Host& h, const SceneFile& scene, VkExtent2D extent, GBufferPass& p) {
   p.extent = extent;
   for (uint32_t t = 0; t < kTargetCount; ++t)
-    p.targets[t] = createImage(h, kTargetFormats[t], extent, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+    p.targets[t] = example::createImage(h, kTargetFormats[t], extent, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
                                VK_IMAGE_ASPECT_COLOR_BIT);
-  p.depth = createImage(h, kDepthFormat, extent, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+  p.depth = example::createImage(h, kDepthFormat, extent, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
                         VK_IMAGE_ASPECT_DEPTH_BIT);
   // One interleaved vertex buffer and one index buffer for every mesh.
   std::vector<float> vertices;
@@ -162,32 +162,32 @@ void createGBufferPass(const Host& h, const SceneFile& scene, VkExtent2D extent,
       p.draws.push_back(d);
     }
   p.materials = scene.materials;
-  p.vertices = createBuffer(h, vertices.size() * sizeof(float), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, vertices.data());
-  p.indices = createBuffer(h, indices.size() * sizeof(uint32_t), VK_BUFFER_USAGE_INDEX_BUFFER_BIT, indices.data());
-  for (Buffer& u : p.uniforms) u = createBuffer(h, sizeof(FrameUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
+  p.vertices = example::createBuffer(h, vertices.size() * sizeof(float), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, vertices.data());
+  p.indices = example::createBuffer(h, indices.size() * sizeof(uint32_t), VK_BUFFER_USAGE_INDEX_BUFFER_BIT, indices.data());
+  for (example::Buffer& u : p.uniforms) u = example::createBuffer(h, sizeof(FrameUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
   createPipeline(h, p);
 }
 
-void destroyGBufferPass(const Host& h, GBufferPass& p) {
+void destroyGBufferPass(const example::Host& h, GBufferPass& p) {
   vkDestroyPipeline(h.device, p.pipeline, nullptr);
   vkDestroyPipelineLayout(h.device, p.layout, nullptr);
   vkDestroyDescriptorPool(h.device, p.descriptorPool, nullptr);
   vkDestroyDescriptorSetLayout(h.device, p.setLayout, nullptr);
-  for (Buffer& u : p.uniforms) destroyBuffer(h, u);
-  destroyBuffer(h, p.vertices);
-  destroyBuffer(h, p.indices);
-  for (Image& t : p.targets) destroyImage(h, t);
-  destroyImage(h, p.depth);
+  for (example::Buffer& u : p.uniforms) example::destroyBuffer(h, u);
+  example::destroyBuffer(h, p.vertices);
+  example::destroyBuffer(h, p.indices);
+  for (example::Image& t : p.targets) example::destroyImage(h, t);
+  example::destroyImage(h, p.depth);
 }
 
 void recordGBuffer(VkCommandBuffer cmd, GBufferPass& p, uint32_t slot, const FrameUniforms& uniforms) {
   std::memcpy(p.uniforms[slot].mapped, &uniforms, sizeof(uniforms));  // the slot's fence was waited on
   const VkPipelineStageFlags2 reads = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;  // the module read them last frame
-  for (Image& t : p.targets)
-    imageBarrier(cmd, t.image, VK_IMAGE_ASPECT_COLOR_BIT, p.initialised ? VK_IMAGE_LAYOUT_GENERAL : VK_IMAGE_LAYOUT_UNDEFINED,
+  for (example::Image& t : p.targets)
+    example::imageBarrier(cmd, t.image, VK_IMAGE_ASPECT_COLOR_BIT, p.initialised ? VK_IMAGE_LAYOUT_GENERAL : VK_IMAGE_LAYOUT_UNDEFINED,
                  VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, reads, 0, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
                  VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
-  imageBarrier(cmd, p.depth.image, VK_IMAGE_ASPECT_DEPTH_BIT,
+  example::imageBarrier(cmd, p.depth.image, VK_IMAGE_ASPECT_DEPTH_BIT,
                p.initialised ? VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL : VK_IMAGE_LAYOUT_UNDEFINED,
                VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, reads, 0,
                VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
@@ -233,11 +233,11 @@ void recordGBuffer(VkCommandBuffer cmd, GBufferPass& p, uint32_t slot, const Fra
     vkCmdDrawIndexed(cmd, d.indexCount, 1, d.firstIndex, d.vertexOffset, 0);
   }
   vkCmdEndRendering(cmd);
-  for (Image& t : p.targets)
-    imageBarrier(cmd, t.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
+  for (example::Image& t : p.targets)
+    example::imageBarrier(cmd, t.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
                  VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
-  imageBarrier(cmd, p.depth.image, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
+  example::imageBarrier(cmd, p.depth.image, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
                VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
                VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);

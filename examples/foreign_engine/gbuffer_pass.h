@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "gltf_scene.h"
-#include "host.h"
+#include "vulkan_host.h"
 
 namespace foreign {
 
@@ -36,12 +36,12 @@ struct Draw {
 
 struct GBufferPass {
   VkExtent2D extent{};
-  Image targets[kTargetCount];
-  Image depth;
-  Buffer vertices, indices;          // interleaved position, normal; uint32
+  example::Image targets[kTargetCount];
+  example::Image depth;
+  example::Buffer vertices, indices;          // interleaved position, normal; uint32
   std::vector<Draw> draws;
   std::vector<gi::MaterialDesc> materials;
-  Buffer uniforms[2];                // per frame slot
+  example::Buffer uniforms[2];                // per frame slot
   VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
   VkDescriptorPool descriptorPool = VK_NULL_HANDLE;
   VkDescriptorSet sets[2]{};
@@ -50,8 +50,8 @@ struct GBufferPass {
   bool initialised = false;          // targets left in their sampled layouts at least once
 };
 
-void createGBufferPass(const Host& h, const SceneFile& scene, VkExtent2D extent, GBufferPass& pass);
-void destroyGBufferPass(const Host& h, GBufferPass& pass);
+void createGBufferPass(const example::Host& h, const SceneFile& scene, VkExtent2D extent, GBufferPass& pass);
+void destroyGBufferPass(const example::Host& h, GBufferPass& pass);
 // Rasterises the scene; leaves the colour targets in GENERAL and the depth in
 // DEPTH_READ_ONLY_OPTIMAL, made visible to compute-shader sampled reads.
 void recordGBuffer(VkCommandBuffer cmd, GBufferPass& pass, uint32_t slot, const FrameUniforms& uniforms);

@@ -26,7 +26,7 @@
 
 #include "gbuffer_pass.h"
 #include "gltf_scene.h"
-#include "host.h"
+#include "vulkan_host.h"
 
 namespace {
 
@@ -143,8 +143,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "foreign_engine: %s\n", error.c_str());
     return 1;
   }
-  foreign::Host h;
-  foreign::createHost(options.validation, h);
+  example::Host h;
+  example::createHost(options.validation, h);
   const VkExtent2D extent{options.width, options.height};
 
   // --- the scene, handed to the module in its terms ---------------------------
@@ -174,7 +174,7 @@ int main(int argc, char** argv) {
   sceneCreate.traversal = gpu::TRAVERSAL_COMPUTE;  // the device has no ray-tracing extensions
   gi::Scene* scene = nullptr;
   gi::Error sceneError;
-  foreign::submitOnce(h, [&](VkCommandBuffer cmd) { sceneError = gi::createScene(sceneCreate, contents, cmd, scene); });
+  example::submitOnce(h, [&](VkCommandBuffer cmd) { sceneError = gi::createScene(sceneCreate, contents, cmd, scene); });
   if (sceneError) {
     std::fprintf(stderr, "foreign_engine: %s: %s\n", options.scene.c_str(), sceneError.message.c_str());
     return 1;
@@ -214,15 +214,15 @@ int main(int argc, char** argv) {
   alloc.commandPool = h.pool;
   alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
   alloc.commandBufferCount = kFramesInFlight;
-  FOREIGN_CHECK(vkAllocateCommandBuffers(h.device, &alloc, cmds));
+  EXAMPLE_CHECK(vkAllocateCommandBuffers(h.device, &alloc, cmds));
   VkFence fences[kFramesInFlight];
-  foreign::Buffer readback[kFramesInFlight];
+  example::Buffer readback[kFramesInFlight];
   const size_t pixels = size_t(extent.width) * extent.height;
   for (uint32_t i = 0; i < kFramesInFlight; ++i) {
     VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
     fenceInfo.flags = VK_FENCE_CREATE_SIGNALED_BIT;
-    FOREIGN_CHECK(vkCreateFence(h.device, &fenceInfo, nullptr, &fences[i]));
-    readback[i] = foreign::createBuffer(h, pixels * 8, VK_BUFFER_USAGE_TRANSFER_DST_BIT);  // rgba16f
+    EXAMPLE_CHECK(vkCreateFence(h.device, &fenceInfo, nullptr, &fences[i]));
+    readback[i] = example::createBuffer(h, pixels * 8, VK_BUFFER_USAGE_TRANSFER_DST_BIT);  // rgba16f
   }
 
   // --- frames ----------------------------------------------------------------------
@@ -242,9 +242,9 @@ int main(int argc, char** argv) {
   glm::mat4 previousMotionClip(0.0f);
   for (uint32_t frame = 0; frame < options.frames; ++frame) {
     const uint32_t slot = frame % kFramesInFlight;
-    FOREIGN_CHECK(vkWaitForFences(h.device, 1, &fences[slot], VK_TRUE, UINT64_MAX));
+    EXAMPLE_CHECK(vkWaitForFences(h.device, 1, &fences[slot], VK_TRUE, UINT64_MAX));
     if (frame >= kFramesInFlight) collect(slot);
-    FOREIGN_CHECK(vkResetFences(h.device, 1, &fences[slot]));
+    EXAMPLE_CHECK(vkResetFences(h.device, 1, &fences[slot]));
     const FrameCamera cam = frameCamera(file.camera, extent, frame);
     const FrameCamera previous = frameCamera(file.camera, extent, frame > 0 ? frame - 1 : 0);
     const glm::mat4 motionClip = cam.unjitteredClipFromView * cam.viewFromWorld;
@@ -254,10 +254,10 @@ int main(int argc, char** argv) {
     previousMotionClip = motionClip;
 
     VkCommandBuffer cmd = cmds[slot];
-    FOREIGN_CHECK(vkResetCommandBuffer(cmd, 0));
+    EXAMPLE_CHECK(vkResetCommandBuffer(cmd, 0));
     VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    FOREIGN_CHECK(vkBeginCommandBuffer(cmd, &begin));
+    EXAMPLE_CHECK(vkBeginCommandBuffer(cmd, &begin));
     foreign::recordGBuffer(cmd, gbuffer, slot, uniforms);
     gi::FrameInputs inputs{foreign::gbufferViews(gbuffer), cameraDesc(cam), cameraDesc(previous), frame};
     inputs.preExposure = preExposure;
@@ -265,22 +265,16 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "foreign_engine: gi::recordFrame: %s\n", e.message.c_str());
       return 1;
     }
-    foreign::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                           VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
-    VkBufferImageCopy region{};
-    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-    region.imageExtent = {extent.width, extent.height, 1};
     const gi::Outputs outputs = gi::outputs(module);  // a debug view is shown in the composite
-    vkCmdCopyImageToBuffer(cmd, options.view == gi::DebugView::None ? outputs.indirect : outputs.composite, VK_IMAGE_LAYOUT_GENERAL, readback[slot].buffer, 1, &region);
-    foreign::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
-                           VK_ACCESS_2_HOST_READ_BIT);
-    FOREIGN_CHECK(vkEndCommandBuffer(cmd));
+    example::recordReadback(cmd, options.view == gi::DebugView::None ? outputs.indirect : outputs.composite, extent,
+                            readback[slot]);
+    EXAMPLE_CHECK(vkEndCommandBuffer(cmd));
     VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
     submit.commandBufferCount = 1;
     submit.pCommandBuffers = &cmd;
-    FOREIGN_CHECK(vkQueueSubmit(h.queue, 1, &submit, fences[slot]));
+    EXAMPLE_CHECK(vkQueueSubmit(h.queue, 1, &submit, fences[slot]));
   }
-  FOREIGN_CHECK(vkDeviceWaitIdle(h.device));
+  EXAMPLE_CHECK(vkDeviceWaitIdle(h.device));
   for (uint32_t f = options.frames > kFramesInFlight ? options.frames - kFramesInFlight : 0; f < options.frames; ++f)
     collect(f % kFramesInFlight);
 
@@ -304,13 +298,13 @@ int main(int argc, char** argv) {
 
   for (uint32_t i = 0; i < kFramesInFlight; ++i) {
     vkDestroyFence(h.device, fences[i], nullptr);
-    foreign::destroyBuffer(h, readback[i]);
+    example::destroyBuffer(h, readback[i]);
   }
   gi::destroy(module);
   gi::destroyScene(scene);
   foreign::destroyGBufferPass(h, gbuffer);
   const uint32_t messages = h.validationMessages;
-  foreign::destroyHost(h);
+  example::destroyHost(h);
   std::printf("validation messages: %u\n", messages);
   return messages == 0 ? 0 : 1;
 }

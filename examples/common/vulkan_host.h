@@ -1,20 +1,23 @@
-// The foreign engine's Vulkan: the system loader with prototypes, its own
-// instance (validation with --validation), device, queue, command pool, and
+// The example hosts' Vulkan (examples/foreign_engine, examples/standalone_host):
+// the system loader with prototypes, their own instance (with the validation
+// layer on request, counting its messages), device, queue, command pool, and
 // plain buffers and images with their own memory. Nothing from the GI
 // repository but the module's public headers.
 #pragma once
-#include <vulkan/vulkan.h>
+#include <vulkan/vulkan.h>  // before gi.h: the host's own Vulkan header, prototypes and all
+
+#include <gi/gi.h>
 
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 
-namespace foreign {
+namespace example {
 
-#define FOREIGN_CHECK(call)                                                          \
+#define EXAMPLE_CHECK(call)                                                          \
   do {                                                                               \
     if (VkResult r_ = (call); r_ != VK_SUCCESS) {                                    \
-      std::fprintf(stderr, "foreign_engine: %s failed (VkResult %d)\n", #call, int(r_)); \
+      std::fprintf(stderr, "%s failed with %s\n", #call, gi::resultName(r_));           \
       std::exit(2);                                                                  \
     }                                                                                \
   } while (0)
@@ -60,6 +63,10 @@ void imageBarrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect,
 void memoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess,
                    VkPipelineStageFlags2 dstStage, VkAccessFlags2 dstAccess);
 
+// Copies a module output (GENERAL layout, written by compute shaders) into a
+// host-visible buffer, readable on the host once `cmd` completes.
+void recordReadback(VkCommandBuffer cmd, VkImage image, VkExtent2D extent, const Buffer& out);
+
 // One command buffer, recorded by `record`, submitted and waited for.
 template <typename F>
 void submitOnce(const Host& h, F&& record) {
@@ -68,18 +75,18 @@ void submitOnce(const Host& h, F&& record) {
   alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
   alloc.commandBufferCount = 1;
   VkCommandBuffer cmd;
-  FOREIGN_CHECK(vkAllocateCommandBuffers(h.device, &alloc, &cmd));
+  EXAMPLE_CHECK(vkAllocateCommandBuffers(h.device, &alloc, &cmd));
   VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
   begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-  FOREIGN_CHECK(vkBeginCommandBuffer(cmd, &begin));
+  EXAMPLE_CHECK(vkBeginCommandBuffer(cmd, &begin));
   record(cmd);
-  FOREIGN_CHECK(vkEndCommandBuffer(cmd));
+  EXAMPLE_CHECK(vkEndCommandBuffer(cmd));
   VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
   submit.commandBufferCount = 1;
   submit.pCommandBuffers = &cmd;
-  FOREIGN_CHECK(vkQueueSubmit(h.queue, 1, &submit, VK_NULL_HANDLE));
-  FOREIGN_CHECK(vkQueueWaitIdle(h.queue));
+  EXAMPLE_CHECK(vkQueueSubmit(h.queue, 1, &submit, VK_NULL_HANDLE));
+  EXAMPLE_CHECK(vkQueueWaitIdle(h.queue));
   vkFreeCommandBuffers(h.device, h.pool, 1, &cmd);
 }
 
-}  // namespace foreign
+}  // namespace example

@@ -1,11 +1,11 @@
-#include "host.h"
+#include "vulkan_host.h"
 
 #include <gi/device.h>
 
 #include <cstring>
 #include <vector>
 
-namespace foreign {
+namespace example {
 namespace {
 
 VKAPI_ATTR VkBool32 VKAPI_CALL onMessage(VkDebugUtilsMessageSeverityFlagBitsEXT severity, VkDebugUtilsMessageTypeFlagsEXT,
@@ -20,7 +20,7 @@ VKAPI_ATTR VkBool32 VKAPI_CALL onMessage(VkDebugUtilsMessageSeverityFlagBitsEXT 
 uint32_t memoryType(const Host& h, uint32_t bits, VkMemoryPropertyFlags flags) {
   for (uint32_t i = 0; i < h.memory.memoryTypeCount; ++i)
     if ((bits & (1u << i)) && (h.memory.memoryTypes[i].propertyFlags & flags) == flags) return i;
-  std::fprintf(stderr, "foreign_engine: no memory type with flags 0x%x\n", flags);
+  std::fprintf(stderr, "no memory type with flags 0x%x\n", flags);
   std::exit(2);
 }
 
@@ -40,7 +40,7 @@ struct FeatureChain {
 
 void createHost(bool validation, Host& h) {
   VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
-  app.pApplicationName = "foreign engine";
+  app.pApplicationName = "gi example host";
   app.apiVersion = VK_API_VERSION_1_3;
   const char* layers[] = {"VK_LAYER_KHRONOS_validation"};
   const char* extensions[] = {VK_EXT_DEBUG_UTILS_EXTENSION_NAME};
@@ -50,7 +50,7 @@ void createHost(bool validation, Host& h) {
   info.ppEnabledLayerNames = layers;
   info.enabledExtensionCount = validation ? 1 : 0;
   info.ppEnabledExtensionNames = extensions;
-  FOREIGN_CHECK(vkCreateInstance(&info, nullptr, &h.instance));
+  EXAMPLE_CHECK(vkCreateInstance(&info, nullptr, &h.instance));
   if (validation) {
     VkDebugUtilsMessengerCreateInfoEXT m{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
     m.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
@@ -59,7 +59,7 @@ void createHost(bool validation, Host& h) {
     m.pUserData = &h;
     auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
         vkGetInstanceProcAddr(h.instance, "vkCreateDebugUtilsMessengerEXT"));
-    FOREIGN_CHECK(create(h.instance, &m, nullptr, &h.messenger));
+    EXAMPLE_CHECK(create(h.instance, &m, nullptr, &h.messenger));
   }
   uint32_t count = 0;
   vkEnumeratePhysicalDevices(h.instance, &count, nullptr);
@@ -82,14 +82,14 @@ void createHost(bool validation, Host& h) {
     if (h.physical) break;
   }
   if (!h.physical) {
-    std::fprintf(stderr, "foreign_engine: no Vulkan 1.3 device with dynamic rendering and gi/device.h's features\n");
+    std::fprintf(stderr, "no Vulkan 1.3 device with dynamic rendering and gi/device.h's features\n");
     std::exit(2);
   }
   vkGetPhysicalDeviceMemoryProperties(h.physical, &h.memory);
   FeatureChain enabled;
   enabled.f13.dynamicRendering = VK_TRUE;
   if (const char* missing = gi::enableRequiredFeatures(enabled.f2, false)) {
-    std::fprintf(stderr, "foreign_engine: the feature chain lacks the struct of %s\n", missing);
+    std::fprintf(stderr, "the feature chain lacks the struct of %s\n", missing);
     std::exit(2);
   }
   float priority = 1.0f;
@@ -101,12 +101,12 @@ void createHost(bool validation, Host& h) {
   device.pNext = &enabled.f2;
   device.queueCreateInfoCount = 1;
   device.pQueueCreateInfos = &queue;
-  FOREIGN_CHECK(vkCreateDevice(h.physical, &device, nullptr, &h.device));
+  EXAMPLE_CHECK(vkCreateDevice(h.physical, &device, nullptr, &h.device));
   vkGetDeviceQueue(h.device, h.queueFamily, 0, &h.queue);
   VkCommandPoolCreateInfo pool{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
   pool.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
   pool.queueFamilyIndex = h.queueFamily;
-  FOREIGN_CHECK(vkCreateCommandPool(h.device, &pool, nullptr, &h.pool));
+  EXAMPLE_CHECK(vkCreateCommandPool(h.device, &pool, nullptr, &h.pool));
 }
 
 void destroyHost(Host& h) {
@@ -125,16 +125,16 @@ Buffer createBuffer(const Host& h, VkDeviceSize size, VkBufferUsageFlags usage, 
   VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
   info.size = size;
   info.usage = usage;
-  FOREIGN_CHECK(vkCreateBuffer(h.device, &info, nullptr, &b.buffer));
+  EXAMPLE_CHECK(vkCreateBuffer(h.device, &info, nullptr, &b.buffer));
   VkMemoryRequirements req;
   vkGetBufferMemoryRequirements(h.device, b.buffer, &req);
   VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
   alloc.allocationSize = req.size;
   alloc.memoryTypeIndex =
       memoryType(h, req.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
-  FOREIGN_CHECK(vkAllocateMemory(h.device, &alloc, nullptr, &b.memory));
-  FOREIGN_CHECK(vkBindBufferMemory(h.device, b.buffer, b.memory, 0));
-  FOREIGN_CHECK(vkMapMemory(h.device, b.memory, 0, VK_WHOLE_SIZE, 0, &b.mapped));
+  EXAMPLE_CHECK(vkAllocateMemory(h.device, &alloc, nullptr, &b.memory));
+  EXAMPLE_CHECK(vkBindBufferMemory(h.device, b.buffer, b.memory, 0));
+  EXAMPLE_CHECK(vkMapMemory(h.device, b.memory, 0, VK_WHOLE_SIZE, 0, &b.mapped));
   if (data) std::memcpy(b.mapped, data, size);
   else std::memset(b.mapped, 0, size);
   return b;
@@ -158,20 +158,20 @@ Image createImage(const Host& h, VkFormat format, VkExtent2D extent, VkImageUsag
   info.samples = VK_SAMPLE_COUNT_1_BIT;
   info.tiling = VK_IMAGE_TILING_OPTIMAL;
   info.usage = usage;
-  FOREIGN_CHECK(vkCreateImage(h.device, &info, nullptr, &img.image));
+  EXAMPLE_CHECK(vkCreateImage(h.device, &info, nullptr, &img.image));
   VkMemoryRequirements req;
   vkGetImageMemoryRequirements(h.device, img.image, &req);
   VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
   alloc.allocationSize = req.size;
   alloc.memoryTypeIndex = memoryType(h, req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-  FOREIGN_CHECK(vkAllocateMemory(h.device, &alloc, nullptr, &img.memory));
-  FOREIGN_CHECK(vkBindImageMemory(h.device, img.image, img.memory, 0));
+  EXAMPLE_CHECK(vkAllocateMemory(h.device, &alloc, nullptr, &img.memory));
+  EXAMPLE_CHECK(vkBindImageMemory(h.device, img.image, img.memory, 0));
   VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
   view.image = img.image;
   view.viewType = VK_IMAGE_VIEW_TYPE_2D;
   view.format = format;
   view.subresourceRange = {aspect, 0, 1, 0, 1};
-  FOREIGN_CHECK(vkCreateImageView(h.device, &view, nullptr, &img.view));
+  EXAMPLE_CHECK(vkCreateImageView(h.device, &view, nullptr, &img.view));
   return img;
 }
 
@@ -214,4 +214,15 @@ void memoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags2 srcStage, VkAccess
   vkCmdPipelineBarrier2(cmd, &dep);
 }
 
-}  // namespace foreign
+void recordReadback(VkCommandBuffer cmd, VkImage image, VkExtent2D extent, const Buffer& out) {
+  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+  VkBufferImageCopy region{};
+  region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+  region.imageExtent = {extent.width, extent.height, 1};
+  vkCmdCopyImageToBuffer(cmd, image, VK_IMAGE_LAYOUT_GENERAL, out.buffer, 1, &region);
+  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
+                VK_ACCESS_2_HOST_READ_BIT);
+}
+
+}  // namespace example
