@@ -1,8 +1,9 @@
 // gi — a drop-in global-illumination module for Vulkan engines.
-// The engine owns the instance, device, queues, the frame loop, the G-buffer
-// and the scene (descriptor set 0, layout in shaders/shared/gpu_scene.h); the
-// module owns its passes, their images and memory, and records into the
-// engine's command buffer. It never submits, waits or presents.
+// The engine owns the instance, device, queues, the frame loop and the
+// G-buffer, and describes its scene to the module (gi/scene.h), which builds
+// set 0 from it (layout in shaders/shared/gpu_scene.h); the module owns its
+// passes, their images and memory, and records into the engine's command
+// buffer. It never submits, waits or presents.
 //
 // Vulkan: this header needs only <vulkan/vulkan_core.h>. Include it after your
 // own Vulkan header (vulkan.h with or without prototypes, volk.h or another
@@ -53,11 +54,14 @@
 #include "shared/gpu_scene.h"
 
 #define GI_VERSION_MAJOR 0
-#define GI_VERSION_MINOR 3  // 0.3: half-float outputs with pre-exposure
+#define GI_VERSION_MINOR 4  // 0.4: the scene API (gi/scene.h), the G-buffer adapter, the camera as matrices
+                            // 0.3: half-float outputs with pre-exposure
                             // 0.2: own function table, frames in flight, returned Vulkan errors, catalogues
 
 namespace gi {
 
+// Set 0 and the facts the module specialises its passes on: what
+// gi::sceneDesc(scene) returns for a gi::Scene (gi/scene.h).
 struct SceneDesc {
   VkDescriptorSetLayout layout = VK_NULL_HANDLE;  // set 0 per shaders/shared/gpu_scene.h
   VkDescriptorSet set = VK_NULL_HANDLE;
