@@ -60,6 +60,13 @@ void main() {
       break;
     }
     case GI_DEBUG_CONTINUATION_DEPTH: result = vec3(clamp(imageLoad(giDebug, p).x, 0.0, 1.0)); break;
+    case GI_DEBUG_TEMPORAL_HISTORY: {
+      float frames = pc.temporalWritten == 0u   ? imageLoad(giHistoryIndirect, p).a
+                     : pc.temporalWritten == 1u ? imageLoad(giHistoryIndirectB, p).a
+                                                : 0.0;
+      result = vec3(min(frames, 32.0) / 32.0);
+      break;
+    }
     default:
       // aaf_ao: the indirect image holds occlusion (reflectors radiate 1); AO = 1 − occlusion.
       result = pc.ambientOcclusion != 0u ? vec3(1.0) - clamp(indirect, 0.0, 1.0)

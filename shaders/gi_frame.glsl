@@ -34,6 +34,10 @@ layout(set = 1, binding = GI_BINDING_AAF_PARAMS, rgba32f) uniform image2D giAafP
 layout(set = 1, binding = GI_BINDING_AAF_SUM, rgba32f) uniform image2D giAafSum;
 layout(set = 1, binding = GI_BINDING_AAF_GLOSSY, rgba32f) uniform image2D giAafGlossy;
 layout(set = 1, binding = GI_BINDING_AAF_GLOSSY_EDGE, rgba32f) uniform image2D giAafGlossyEdge;
+layout(set = 1, binding = GI_BINDING_HISTORY_DIRECT_B, rgba32f) uniform image2D giHistoryDirectB;
+layout(set = 1, binding = GI_BINDING_HISTORY_INDIRECT_B, rgba32f) uniform image2D giHistoryIndirectB;
+layout(set = 1, binding = GI_BINDING_HISTORY_GUIDE_A, rgba16f) uniform image2D giHistoryGuideA;
+layout(set = 1, binding = GI_BINDING_HISTORY_GUIDE_B, rgba16f) uniform image2D giHistoryGuideB;
 
 // Output images hold radiance × outputScale, clamped into the format's range
 // (a half float overflows to Inf past 65504). Loads give radiance back.

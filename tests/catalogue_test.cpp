@@ -74,7 +74,7 @@ TEST(Catalogue, MethodsViewsAndPassesAreCompleteAndUnique) {
     names.insert(m.name);
   }
   EXPECT_EQ(names.size(), size_t(gi::kMethodCount));
-  EXPECT_EQ(gi::debugViewCatalogue().size(), size_t(gi::DebugView::ContinuationDepth) + 1);
+  EXPECT_EQ(gi::debugViewCatalogue().size(), size_t(gi::DebugView::TemporalHistory) + 1);
   std::set<std::string> passes;
   for (const gi::PassInfo& p : gi::passCatalogue()) passes.insert(p.name);
   EXPECT_EQ(passes.size(), size_t(gi::Pass::Count));

@@ -14,7 +14,7 @@ constexpr uint32_t bit(Method m) { return 1u << uint32_t(m); }
 constexpr uint32_t kRaw = bit(Method::Raw), kGif = bit(Method::Gif), kBilateral = bit(Method::Bilateral),
                    kAtrous = bit(Method::Atrous), kAaf = bit(Method::Aaf) | bit(Method::AafAo),
                    kSspsf = bit(Method::Sspsf), kNhpsf = bit(Method::Nhpsf), kAnhpsf = bit(Method::Anhpsf),
-                   kHash = bit(Method::Hpsf) | kNhpsf | kAnhpsf;
+                   kHash = bit(Method::Hpsf) | kNhpsf | kAnhpsf, kTemporal = kRaw | kGif | kBilateral | kAtrous | kSspsf;
 
 // One row per field: the key, the field's path (for errors), unit, meaning, range and the methods reading it.
 #define GI_SETTING(key, member, unit, meaning, kind, lo, hi, openMin, methods)                                     \
@@ -35,7 +35,7 @@ constexpr uint32_t kRaw = bit(Method::Raw), kGif = bit(Method::Gif), kBilateral 
         [](Settings& s, double v) { s.member = decltype(s.member)(uint32_t(v)); }                                  \
   }
 
-constexpr double kLastView = double(DebugView::ContinuationDepth);
+constexpr double kLastView = double(DebugView::TemporalHistory);
 
 const SettingInfo kSettings[] = {
     GI_SETTING("bounces", maxBounces, "", "indirect bounces B (0 would be direct light only)", Uint, 1, 32, false, 0),
@@ -101,6 +101,15 @@ const SettingInfo kSettings[] = {
                false, kSspsf),
     GI_SETTING("sspsf.normal_limit", sspsf.normalLimitDegrees, "degrees", "normal rejection angle", Float, 0, 180, false,
                kSspsf),
+
+    GI_BOOL("temporal.on", temporal.enabled, "reproject last frame's light through the motion vectors and blend it in",
+            kTemporal),
+    GI_SETTING("temporal.min_blend", temporal.minBlend, "", "smallest weight of the new frame (history about 2/x - 1 frames)",
+               Float, 0, 1, true, kTemporal),
+    GI_SETTING("temporal.depth_tolerance", temporal.depthTolerance, "", "relative depth difference a history tap may have",
+               Float, 0, 10, true, kTemporal),
+    GI_SETTING("temporal.normal_limit", temporal.normalLimitDegrees, "degrees", "largest normal change a history tap may have",
+               Float, 0, 180, false, kTemporal),
 
     GI_SETTING("hpsf.spp", hpsf.samplesPerPixel, "paths per pixel", "paths traced per pixel per frame", Uint, 1, 64, false,
                kHash),
@@ -183,8 +192,9 @@ constexpr DebugViewInfo kViews[] = {
     {DebugView::HashFound, "hash cell found", "HPSF: green used, yellow too few samples, red no cell", false},
     {DebugView::HashOccupancy, "hash occupancy", "HPSF: how full the probe window at the pixel's cell is", false},
     {DebugView::ContinuationDepth, "continuation depth", "A-nHPSF: the pixel's continued path / the maximum depth", false},
+    {DebugView::TemporalHistory, "temporal history", "temporal.on: frames of history behind the pixel / 32", false},
 };
-static_assert(std::size(kViews) == size_t(DebugView::ContinuationDepth) + 1);
+static_assert(std::size(kViews) == size_t(DebugView::TemporalHistory) + 1);
 constexpr bool viewsInOrder() {
   for (uint32_t i = 0; i < std::size(kViews); ++i)
     if (kViews[i].view != DebugView(i)) return false;
@@ -201,6 +211,7 @@ constexpr PassInfo kPasses[] = {
     {Pass::AnhpsfPaths, "anhpsf_paths", true},
     {Pass::HpsfResolve, "hpsf_resolve", false},  // its probe rays are a small part: not counted as tracing time
     {Pass::HpsfLookup, "hpsf_lookup", false},
+    {Pass::Temporal, "temporal", false},
     {Pass::Guidance, "guidance", false},
     {Pass::Sspsf, "sspsf", false},
     {Pass::Bilateral, "bilateral", false},

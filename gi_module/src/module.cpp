@@ -22,6 +22,8 @@
 #include "aaf_sample.comp.compute.h"
 #include "gi_supersample.comp.h"
 #include "gi_supersample.comp.compute.h"
+#include "gi_temporal.comp.h"
+#include "gi_temporal.comp.compute.h"
 #include "shared/aaf.h"
 
 namespace gi {
@@ -203,8 +205,8 @@ std::array<uint32_t, GI_SPEC_COUNT> moduleSpecialization(const Module& m) {
 
 // Every program built against set 0's layout and the scene's specialisation.
 std::vector<vk::ComputeProgram*> scenePrograms(Module& m) {
-  return {&m.rawTrace, &m.composite,   &m.guidancePass, &m.supersample, &m.aafSample,
-          &m.aafAdaptive, &m.hash.insert, &m.hash.paths, &m.hash.resolve, &m.hash.lookup};
+  return {&m.rawTrace,    &m.composite,   &m.guidancePass, &m.supersample,   &m.aafSample,  &m.aafAdaptive,
+          &m.temporal,    &m.hash.insert, &m.hash.paths,   &m.hash.resolve, &m.hash.lookup};
 }
 
 // The hash map `s` needs for renders up to `width` × `height`.
@@ -250,6 +252,8 @@ vk::Status ensurePrograms(Module& m, const Settings& s) {
   GI_TRY(make(m.composite, GI_SCENE_SPIRV(traversal, gi_composite_comp), sizeof(gpu::GiCompositePush)));
   bool pathsFromGBuffer = !usesHashGrid(s.method) && !isAaf(s.method);
   if (pathsFromGBuffer) GI_TRY(make(m.rawTrace, GI_SCENE_SPIRV(traversal, gi_raw_trace_comp), sizeof(gpu::GiRawPush)));
+  if (usesTemporalReprojection(s))
+    GI_TRY(make(m.temporal, GI_SCENE_SPIRV(traversal, gi_temporal_comp), sizeof(gpu::GiTemporalPush)));
   if (usesScreenFilters(s.method)) {
     GI_TRY(make(m.guidancePass, GI_SCENE_SPIRV(traversal, gi_guidance_comp), 0));
     if (!m.filterPrograms.layout) GI_TRY(createFilterPrograms(m.gpu, m.filterPrograms));
@@ -305,7 +309,8 @@ void destroyModuleResources(Module& m) {
   vk::Device& g = m.gpu;
   if (m.timestamps) g.fn.vkDestroyQueryPool(g.device, m.timestamps, g.allocator);
   m.timestamps = VK_NULL_HANDLE;
-  for (vk::ComputeProgram* p : {&m.rawTrace, &m.composite, &m.guidancePass, &m.supersample, &m.aafSample, &m.aafAdaptive})
+  for (vk::ComputeProgram* p : {&m.rawTrace, &m.composite, &m.guidancePass, &m.supersample, &m.aafSample, &m.aafAdaptive,
+                                &m.temporal})
     vk::destroyComputeProgram(g, *p);
   destroySizedResources(g, m.sized);
   destroyOutputImages(g, m.outputs);
@@ -448,7 +453,7 @@ Error setSettings(Module* m, const Settings& settings) {
   if (newSized) replaceSized(*m, sized);
   if (newHash || (!usesHashGrid(settings.method) && m->hash.capacity)) replaceHashGrid(*m, hash);  // none: freed
   m->settings = settings;
-  m->historyLength = 0;  // any change invalidates accumulated frames
+  dropHistory(*m);  // any change invalidates accumulated frames
   return {};
 }
 
@@ -490,7 +495,7 @@ Error setScene(Module* m, const SceneDesc& scene) {
     });
   }
   if (newSized) replaceSized(*m, sized);
-  m->historyLength = 0;
+  dropHistory(*m);
   return {};
 }
 
@@ -529,12 +534,12 @@ Error resize(Module* m, uint32_t width, uint32_t height) {
   m->outputs = outputs;
   if (hash.capacity) replaceHashGrid(*m, hash);
   else m->hash.walksCleared = false;  // continued paths belong to pixels of the old size
-  m->historyLength = 0;
+  dropHistory(*m);
   return {};
 }
 
 void invalidate(Module* m, Invalidate what) {
-  m->historyLength = 0;
+  dropHistory(*m);
   if (what == Invalidate::All) m->hash.cleared = false;  // re-zeroed at the start of the next frame
   else m->hash.forgetLight = true;  // geometry stands: cells, probes and continued paths stay, their light goes
 }

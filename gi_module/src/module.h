@@ -35,7 +35,9 @@ struct OutputImages {
 struct SizedResources {
   uint32_t width = 0, height = 0;
   uint32_t needs = 0;                             // sizedResourcesNeeded() it was built for
-  vk::Image historyDirect, historyIndirect;       // temporal accumulation (raw)
+  vk::Image historyDirect, historyIndirect;       // raw's still-camera mean; temporal reprojection's set A
+  vk::Image historyDirectB, historyIndirectB;     // temporal reprojection's set B
+  vk::Image historyGuideA, historyGuideB;         // temporal reprojection: each frame's normal and view depth
   vk::Image noisyIndirect;                        // demodulated indirect before filtering
   vk::Image guidance, position, debug;            // filter guidance, world position, filter debug/temp
   vk::Image aafParams, aafSum;                    // AAF per-pixel z_min, z_max, samples, β; sample sums
@@ -76,7 +78,7 @@ struct Module {
   vk::Buffer counters;                             // host-visible GiCounters[1 + slots]: live, then per-slot copies
   VkDescriptorSetLayout frameLayout = VK_NULL_HANDLE;  // set 1
 
-  vk::ComputeProgram rawTrace, composite, guidancePass, supersample, aafSample, aafAdaptive;
+  vk::ComputeProgram rawTrace, composite, guidancePass, supersample, aafSample, aafAdaptive, temporal;
   FilterPrograms filterPrograms;                   // built when a screen-space filter is first chosen
 
   VkQueryPool timestamps = VK_NULL_HANDLE;         // 2 per pass per slot (null when desc.timestamps is off)
@@ -84,7 +86,8 @@ struct Module {
   uint64_t recordedFrames = 0;                     // recordFrame calls so far
   std::vector<Retired> retired;
 
-  uint32_t historyLength = 0;                      // frames in the history images
+  uint32_t historyLength = 0;                      // frames in the history images (raw.accumulate)
+  uint32_t temporalFrames = 0;                     // frames the temporal reprojection has run since its history started
   gpu::GpuCamera historyCamera{};                  // camera the history was gathered with
   FrameStats lastStats;
 };
@@ -119,6 +122,12 @@ void endPass(Module& m, VkCommandBuffer cmd, uint32_t slot);
 // The counters frame slot `slot` copied back (valid once its frame has completed; frame.cpp).
 gpu::GiCounters slotCounters(const Module& m, uint32_t slot);
 // gpu::HG_MODE_* of a hash method (module.cpp).
+// Accumulated light is stale (settings, scene, size or invalidate): raw's
+// still-camera mean and the temporal reprojection's history start over.
+inline void dropHistory(Module& m) {
+  m.historyLength = 0;
+  m.temporalFrames = 0;
+}
 uint32_t hashMode(Method method);
 
 // Frame stats (frame_stats.cpp).

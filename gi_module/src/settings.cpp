@@ -72,5 +72,11 @@ uint32_t tracedSamplesPerPixel(const Settings& s) {
 bool usesHashGrid(Method m) { return m == Method::Hpsf || m == Method::Nhpsf || m == Method::Anhpsf; }
 bool usesScreenFilters(Method m) { return m != Method::Raw && !usesHashGrid(m); }
 bool isAaf(Method m) { return m == Method::Aaf || m == Method::AafAo; }
+bool usesTemporalReprojection(const Settings& s) {
+  if (!s.temporal.enabled) return false;
+  // raw.accumulate keeps its own still-camera mean in the same history images.
+  if (s.method == Method::Raw) return !s.raw.temporalAccumulation;
+  return !usesHashGrid(s.method) && !isAaf(s.method);
+}
 
 }  // namespace gi

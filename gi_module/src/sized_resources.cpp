@@ -12,10 +12,12 @@ namespace {
 // pre-exposure (the outputs are in ModuleDesc::outputFormat).
 constexpr VkFormat kImageFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
 
-// Every module image but the outputs: its member, its binding in set 1 and its bit in SizedResources::needs.
+// Every module image but the outputs: its member, its binding in set 1, its
+// format, and its bit in SizedResources::needs (its index here).
 struct SizedImage {
   vk::Image SizedResources::*image;
   uint32_t binding;
+  VkFormat format = kImageFormat;
 };
 constexpr SizedImage kSizedImages[] = {
     {&SizedResources::historyDirect, gpu::GI_BINDING_HISTORY_DIRECT},
@@ -28,8 +30,14 @@ constexpr SizedImage kSizedImages[] = {
     {&SizedResources::aafSum, gpu::GI_BINDING_AAF_SUM},
     {&SizedResources::aafGlossy, gpu::GI_BINDING_AAF_GLOSSY},
     {&SizedResources::aafGlossyEdge, gpu::GI_BINDING_AAF_GLOSSY_EDGE},
+    {&SizedResources::historyDirectB, gpu::GI_BINDING_HISTORY_DIRECT_B},
+    {&SizedResources::historyIndirectB, gpu::GI_BINDING_HISTORY_INDIRECT_B},
+    // Normal and view depth compared to a tolerance of several per cent: half floats hold them.
+    {&SizedResources::historyGuideA, gpu::GI_BINDING_HISTORY_GUIDE_A, VK_FORMAT_R16G16B16A16_SFLOAT},
+    {&SizedResources::historyGuideB, gpu::GI_BINDING_HISTORY_GUIDE_B, VK_FORMAT_R16G16B16A16_SFLOAT},
 };
 // Beyond the image bits: which screen filters exist.
+static_assert(std::size(kSizedImages) <= 24, "the image bits stay below the flags");
 constexpr uint32_t kNeedsFilters = 1u << 24, kNeedsGuidedStack = 1u << 25, kNeedsGlossySets = 1u << 26;
 // The hash methods' per-pixel sample goes straight into the indirect output,
 // which the lookup then overwrites pixel by pixel: set 1's noisy-indirect
@@ -64,6 +72,10 @@ const vk::Binding kFrameBindings[] = {
     {gpu::GI_BINDING_AAF_SUM, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
     {gpu::GI_BINDING_AAF_GLOSSY, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
     {gpu::GI_BINDING_AAF_GLOSSY_EDGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_HISTORY_DIRECT_B, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_HISTORY_INDIRECT_B, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_HISTORY_GUIDE_A, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_HISTORY_GUIDE_B, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
 };
 
 }  // namespace
@@ -74,8 +86,11 @@ uint32_t sizedResourcesNeeded(const Module& m, const Settings& s) {
   uint32_t need = 0;
   if (usesHashGrid(s.method) && s.debugView != DebugView::FilterInOut) need |= kNoisyIsIndirect;
   else need |= bit(&SizedResources::noisyIndirect);
-  if (s.method == Method::Raw && s.raw.temporalAccumulation)
+  if ((s.method == Method::Raw && s.raw.temporalAccumulation) || usesTemporalReprojection(s))
     need |= bit(&SizedResources::historyDirect) | bit(&SizedResources::historyIndirect);
+  if (usesTemporalReprojection(s))
+    need |= bit(&SizedResources::historyDirectB) | bit(&SizedResources::historyIndirectB) |
+            bit(&SizedResources::historyGuideA) | bit(&SizedResources::historyGuideB);
   if (usesScreenFilters(s.method))
     need |= bit(&SizedResources::guidance) | bit(&SizedResources::position) | bit(&SizedResources::debug);
   if (isAaf(s.method)) need |= bit(&SizedResources::aafParams) | bit(&SizedResources::aafSum);
@@ -95,6 +110,9 @@ uint32_t sizedResourcesNeeded(const Module& m, const Settings& s) {
     case DebugView::HashFound:
     case DebugView::HashOccupancy:
     case DebugView::ContinuationDepth: need |= bit(&SizedResources::debug); break;
+    case DebugView::TemporalHistory:
+      need |= bit(&SizedResources::historyIndirect) | bit(&SizedResources::historyIndirectB);
+      break;
     default: break;
   }
   if (usesScreenFilters(s.method)) need |= kNeedsFilters;
@@ -153,7 +171,7 @@ vk::Status createSizedResources(Module& m, const Settings& settings, uint32_t wi
   auto build = [&]() -> vk::Status {
     for (uint32_t i = 0; i < std::size(kSizedImages); ++i) {
       VkExtent2D extent = (r.needs >> i) & 1u ? VkExtent2D{width, height} : VkExtent2D{1, 1};
-      GI_TRY(vk::createImage(m.gpu, extent, kImageFormat,
+      GI_TRY(vk::createImage(m.gpu, extent, kSizedImages[i].format,
                              VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
                              r.*kSizedImages[i].image));
     }

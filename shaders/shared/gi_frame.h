@@ -35,7 +35,13 @@ GPU_CONST GI_BINDING_AAF_PARAMS = 17;    // rgba32f: AAF z_min, z_max, samples, 
 GPU_CONST GI_BINDING_AAF_SUM = 18;       // rgba32f: AAF Σ demodulated indirect samples (rgb), count (a)
 GPU_CONST GI_BINDING_AAF_GLOSSY = 19;    // rgba32f: AAF glossy receivers: Σ, then mean, of lobe·(1 − s)·L (rgb); β_glossy (a)
 GPU_CONST GI_BINDING_AAF_GLOSSY_EDGE = 20; // rgba32f: the same for lobe·s·L (Schlick's s); specular = f0·glossy + edge
-GPU_CONST GI_BINDING_COUNT = 21;
+// Temporal reprojection (gi_temporal.comp): two sets of history, read one, write the other, by frame parity.
+// Set A's colour images are the raw method's still-camera history above.
+GPU_CONST GI_BINDING_HISTORY_DIRECT_B = 21;   // rgba32f: accumulated direct (rgb)
+GPU_CONST GI_BINDING_HISTORY_INDIRECT_B = 22; // rgba32f: accumulated demodulated indirect (rgb), history frames (a)
+GPU_CONST GI_BINDING_HISTORY_GUIDE_A = 23;    // rgba16f: the frame's world normal (xyz) and view depth (w; 0 = background)
+GPU_CONST GI_BINDING_HISTORY_GUIDE_B = 24;
+GPU_CONST GI_BINDING_COUNT = 25;
 #define GI_GROUP_SIZE 8u                 // 8×8 threads per group
 
 // Specialisation constants of the module's passes after the scene's
@@ -95,6 +101,23 @@ struct GiRawPush {
 };
 GPU_ASSERT_SIZE(GiRawPush, 32);
 
+// Temporal reprojection of a screen-space method's noisy direct and indirect
+// light (SVGF's temporal half): last frame's history is reprojected through
+// the motion vectors, bilinearly, each tap kept only where its depth and
+// normal agree; the pixel then blends in this frame by 1/(frames + 1), at
+// least minBlend.
+struct GiTemporalPush {
+  uint parity;          // 0: read set A, write set B; 1: the other way round
+  uint reset;           // 1: no history (first frame, new size, settings or invalidate)
+  float minBlend;       // (0, 1]: the smallest weight of the new frame (caps the history at about 1/minBlend frames)
+  float depthTolerance; // relative view-depth difference a history tap may have
+  float cosNormalLimit; // cosine of the largest normal change a history tap may have
+  uint pad0;
+  uint pad1;
+  uint pad2;
+};
+GPU_ASSERT_SIZE(GiTemporalPush, 32);
+
 GPU_CONST GI_DEBUG_NONE = 0;
 GPU_CONST GI_DEBUG_DIRECT = 1;
 GPU_CONST GI_DEBUG_INDIRECT = 2;
@@ -115,6 +138,7 @@ GPU_CONST GI_DEBUG_HASH_SAMPLES = 15;
 GPU_CONST GI_DEBUG_HASH_FOUND = 16;
 GPU_CONST GI_DEBUG_HASH_OCCUPANCY = 17;
 GPU_CONST GI_DEBUG_CONTINUATION_DEPTH = 18;
+GPU_CONST GI_DEBUG_TEMPORAL_HISTORY = 19;
 
 struct GiCompositePush {
   uint debugView;      // GI_DEBUG_*
@@ -123,7 +147,7 @@ struct GiCompositePush {
   float pixelScale;    // world pixel size per metre of depth, for the AAF filter-width view
   uint aafSpecular;    // 1: add AAF's filtered specular term (f0·glossy + edge) on glossy receivers
   uint radiance;       // 1: the view is light and carries the pre-exposure; 0: a [0,1] picture stored as is
-  uint pad1;
+  uint temporalWritten;// the history set the temporal pass wrote this frame: 0 = A, 1 = B, 2 = it did not run
   uint pad2;
 };
 

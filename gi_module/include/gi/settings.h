@@ -44,6 +44,7 @@ enum class DebugView : uint32_t {
   HashFound,       // HPSF: green = cell used, yellow = too few samples, red = no cell (fallback)
   HashOccupancy,   // HPSF: how full the probe window around the pixel's cell is, green (empty) → red (full; red also = no cell)
   ContinuationDepth,  // A-nHPSF: depth of the pixel's continued path / the maximum depth
+  TemporalHistory,    // temporal reprojection: frames of history behind the pixel / 32 (1/32: it started over)
 };
 
 struct RawSettings {
@@ -92,6 +93,18 @@ struct SspsfSettings {
   uint32_t window = 9;            // odd window side in pixels, [1, 31]
   float filterWidth = 16.0f;      // pixels, [0.5, 256]: the position kernel matches the HPSF cell of this width
   float normalLimitDegrees = 25.0f;  // [0, 180]
+};
+
+// Temporal reprojection for the screen-space methods (raw without
+// raw.accumulate, gif, bilateral, atrous, sspsf): last frame's direct and
+// indirect light, reprojected through the G-buffer's motion vectors, is
+// blended into this frame's before the method's filter (SVGF's temporal
+// accumulation). Disoccluded pixels (depth or normal disagree) start over.
+struct TemporalSettings {
+  bool enabled = false;
+  float minBlend = 0.1f;            // (0, 1]: the smallest weight of the new frame; history ≈ 2/minBlend − 1 frames
+  float depthTolerance = 0.1f;      // (0, 10]: relative view-depth difference a history tap may have
+  float normalLimitDegrees = 25.0f; // [0, 180]: the largest normal change a history tap may have
 };
 
 enum class EvictionPolicy : uint32_t {
@@ -149,6 +162,7 @@ struct Settings {
   AafSettings aaf;                     // also used by aaf_ao
   SspsfSettings sspsf;
   HpsfSettings hpsf;
+  TemporalSettings temporal;
   uint32_t maxBounces = 1;             // indirect bounces B, [1, 32] (B = 0 would be direct light only)
   uint32_t russianRouletteStart = 3;   // bounce from which paths may stop early (unbiased), [1, 64]
   uint64_t rayBudget = 0;              // rays per frame; 0 = unlimited. The module lowers its sample
@@ -164,5 +178,6 @@ uint32_t hashCapacity(const HpsfSettings& settings, uint32_t width, uint32_t hei
 bool usesScreenFilters(Method method);  // every method but raw and hpsf
 bool isAaf(Method method);              // aaf, aaf_ao: adaptive sample counts (tracedSamplesPerPixel is 0)
 bool usesHashGrid(Method method);       // hpsf, nhpsf, anhpsf: the persistent world-space hash map
+bool usesTemporalReprojection(const Settings& settings);  // temporal.enabled and a method it applies to
 
 }  // namespace gi

@@ -1,0 +1,109 @@
+#version 460
+// Temporal reprojection of a screen-space method's noisy light (SVGF's
+// temporal accumulation, Schied et al. 2017 §4.1): last frame's accumulated
+// direct and demodulated indirect light are fetched where the motion vector
+// says this pixel was, bilinearly; a tap counts only if the surface it saw
+// had this pixel's normal and the depth this pixel's point had from the
+// previous camera (static geometry) or has now (moving geometry). The pixel
+// then takes 1/(frames + 1) of this frame, at least minBlend; disoccluded
+// pixels start over. The results replace the noisy direct and indirect, so
+// the method's filter works on them. Emission is not accumulated: it is
+// exact in every frame.
+#extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#include "gi_frame.glsl"
+
+layout(local_size_x = GI_GROUP_SIZE, local_size_y = GI_GROUP_SIZE) in;
+layout(push_constant, scalar) uniform Push { GiTemporalPush pc; };
+
+struct History {
+  vec3 direct, indirect;
+  float frames;  // 0: none
+};
+
+vec4 readGuide(ivec2 q) { return pc.parity == 0u ? imageLoad(giHistoryGuideA, q) : imageLoad(giHistoryGuideB, q); }
+vec4 readDirect(ivec2 q) { return pc.parity == 0u ? imageLoad(giHistoryDirect, q) : imageLoad(giHistoryDirectB, q); }
+vec4 readIndirect(ivec2 q) { return pc.parity == 0u ? imageLoad(giHistoryIndirect, q) : imageLoad(giHistoryIndirectB, q); }
+void write(ivec2 p, vec3 direct, vec3 indirect, float frames, vec3 n, float depth) {
+  if (pc.parity == 0u) {
+    imageStore(giHistoryDirectB, p, vec4(direct, 1.0));
+    imageStore(giHistoryIndirectB, p, vec4(indirect, frames));
+    imageStore(giHistoryGuideB, p, vec4(n, depth));
+  } else {
+    imageStore(giHistoryDirect, p, vec4(direct, 1.0));
+    imageStore(giHistoryIndirect, p, vec4(indirect, frames));
+    imageStore(giHistoryGuideA, p, vec4(n, depth));
+  }
+}
+
+// The view depth `world` had from the previous camera.
+float previousViewDepth(vec3 world) { return -(giFrame.previousCamera.viewFromWorld * vec4(world, 1.0)).z; }
+
+bool depthAgrees(float stored, float expected) {
+  return stored > 0.0 && abs(stored - expected) <= pc.depthTolerance * expected;
+}
+
+History reproject(ivec2 p, vec3 n, float depth, vec3 world) {
+  History h = History(vec3(0.0), vec3(0.0), 0.0);
+  if (pc.reset != 0u) return h;
+  // Continuous pixel coordinates in the previous frame, then its four nearest texel centres.
+  const vec2 previous = vec2(p) + 0.5 + giGbMotionPixels(p) - 0.5;
+  const ivec2 base = ivec2(floor(previous));
+  const vec2 f = previous - vec2(base);
+  const float staticDepth = previousViewDepth(world);
+  float weights = 0.0;
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < 2; ++i) {
+      const ivec2 q = base + ivec2(i, j);
+      if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, ivec2(giFrame.size)))) continue;
+      const vec4 guide = readGuide(q);
+      if (!(depthAgrees(guide.w, staticDepth) || depthAgrees(guide.w, depth))) continue;
+      if (dot(guide.xyz, n) < pc.cosNormalLimit) continue;
+      const float w = (i == 1 ? f.x : 1.0 - f.x) * (j == 1 ? f.y : 1.0 - f.y);
+      if (w <= 0.0) continue;
+      const vec4 indirect = readIndirect(q);
+      h.direct += w * readDirect(q).rgb;
+      h.indirect += w * indirect.rgb;
+      h.frames += w * indirect.a;
+      weights += w;
+    }
+  // Too little of the footprint survives: start over rather than trust one corner.
+  if (weights < 0.01) return History(vec3(0.0), vec3(0.0), 0.0);
+  h.direct /= weights;
+  h.indirect /= weights;
+  h.frames /= weights;
+  return h;
+}
+
+void main() {
+  const ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+  if (any(greaterThanEqual(gl_GlobalInvocationID.xy, giFrame.size))) return;
+  if (!giGbCovered(p)) {
+    write(p, vec3(0.0), vec3(0.0), 0.0, vec3(0.0), 0.0);
+    return;
+  }
+  vec3 dir;
+  const vec3 world = giGbPosition(p, dir);
+  const vec3 n = giGbNormal(p);
+  const float depth = giGbViewDepth(p);
+  // Emission is exact in every frame: only the reflected direct light is
+  // accumulated (a bright emitter would bleed into its neighbours through the
+  // bilinear history taps).
+  const vec3 emission = giGbEmission(p);
+  const vec3 direct = giLoadDirect(p) - emission;
+  const vec4 noisy = imageLoad(giNoisyIndirect, p);  // alpha: sspsf's filter-vertex flag, kept
+  const vec3 indirect = noisy.rgb / giFrame.noisyScale;
+  const History h = reproject(p, n, depth, world);
+  if (h.frames == 0.0) {  // no history: this frame's light stands as the trace wrote it
+    write(p, direct, indirect, 1.0, n, depth);
+    return;
+  }
+  const float frames = h.frames + 1.0;
+  const float blend = max(1.0 / frames, pc.minBlend);
+  const vec3 outDirect = mix(h.direct, direct, blend);
+  const vec3 outIndirect = mix(h.indirect, indirect, blend);
+  write(p, outDirect, outIndirect, min(frames, 65536.0), n, depth);
+  giStoreDirect(p, emission + outDirect);
+  giStoreIndirect(p, outIndirect);  // raw's result; a filter that follows overwrites it
+  giStoreNoisy(p, outIndirect, noisy.a);
+}
