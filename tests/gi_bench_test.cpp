@@ -22,8 +22,8 @@ TEST(GiBenchTool, WritesResultsPlotsAndReport) {
   std::filesystem::remove_all(dir);
   std::string out;
   int rc = runBench("--scene " + std::string(GI_SHARED_SCENES) + "/cornell-box-mcguire/CornellBox-Original.gltf"
-                    " --size 32x24 --methods raw --spp 1,2 --set raw.accumulate=0 --frames 2 --warmup 0 --max-bounces 2"
-                    " --reference-spp 32 --camera-path --path-frames 3 --path-reference-spp 8 --validation --out " + dir.string(),
+                    " --size 32x24 --methods raw --spp 1,2 --set raw.accumulate=0 --frames 3 --warmup 0 --max-bounces 2"
+                    " --reference-spp 32 --camera-path --path-reference-spp 8 --validation --out " + dir.string(),
                     out);
   ASSERT_EQ(rc, 0) << out;
   std::ifstream csv(dir / "results.csv");
@@ -37,6 +37,11 @@ TEST(GiBenchTool, WritesResultsPlotsAndReport) {
     EXPECT_NE(line.find("raw_trace:"), std::string::npos) << line;
   }
   EXPECT_EQ(rows, 2);
+  // --camera-path: every timed frame of the walk has its own errors in series.csv.
+  std::ifstream series(dir / "series.csv");
+  int seriesRows = -1;  // the header
+  while (std::getline(series, line)) ++seriesRows;
+  EXPECT_EQ(seriesRows, 2 * 3);
   for (const char* f : {"tradeoff.png", "insets.png", "report.md", "run.txt", "images/reference.pfm"})
     EXPECT_TRUE(std::filesystem::exists(dir / f)) << f;
   // The reference is cached: a second run renders none.

@@ -39,9 +39,11 @@ const cli::Option kOptions[] = {
     {"max-bounces", "B", "indirect bounces for methods and reference (default 4)"},
     {"reference", "REF.exr", "use this reference image instead of rendering one"},
     {"reference-spp", "N", "samples per pixel of a rendered reference (default 4096)"},
-    {"camera-path", nullptr, "also run a scripted camera move and report flicker against the reference's"},
-    {"path-frames", "N", "frames of the camera move (default 8)"},
-    {"path-reference-spp", "N", "samples per pixel of each camera-path reference (default reference-spp / 4)"},
+    {"camera-path", nullptr, "the timed frames walk a scripted camera move (a sideways dolly with a yaw), each compared "
+                             "with a reference of its own pose: the error columns are the walk's means (per frame: "
+                             "series.csv), flicker_ratio its frame-to-frame change against the references'"},
+    {"path-reference-spp", "N", "samples per pixel of each per-frame reference, --camera-path and --animate (default "
+                                "reference-spp / 4)"},
     {"series", nullptr, "also write series.csv: the error after every timed frame (for temporal methods)"},
     {"animate", nullptr, "the light and an object move (engine/animation.h, 30 frames a second); each timed frame is "
                          "compared with a reference of its own pose (path-reference-spp)"},
@@ -168,20 +170,22 @@ int main(int argc, char** argv) {
   }
   const bool raysOnly = args.has("rays");
   if (!args.has("scene") || (!args.has("methods") && !raysOnly)) return usageError("--scene and --methods are required");
-  uint32_t width, height, cameraIndex, frames, warmup, bounces, refSpp, pathFrames, pathRefSpp, moveAt = 0;
+  uint32_t width, height, cameraIndex, frames, warmup, bounces, refSpp, pathRefSpp, moveAt = 0;
   if (!cli::getSize(args, "size", 320, 180, width, height, error) ||
       !cli::getUint(args, "camera", 0, 0, 1u << 20, cameraIndex, error) ||
       !cli::getUint(args, "frames", 8, 1, 100000, frames, error) ||
       !cli::getUint(args, "warmup", 2, 0, 100000, warmup, error) ||
       !cli::getUint(args, "max-bounces", 4, 1, 32, bounces, error) ||
       !cli::getUint(args, "reference-spp", 4096, 1, 1u << 24, refSpp, error) ||
-      !cli::getUint(args, "path-frames", 8, 2, 1000, pathFrames, error) ||
       !cli::getUint(args, "path-reference-spp", std::max(1u, refSpp / 4), 1, 1u << 24, pathRefSpp, error) ||
       !cli::getUint(args, "move-at", 0, 0, 1u << 20, moveAt, error))
     return usageError(error);
   const bool animate = args.has("animate"), move = args.has("move-at");
   if (animate && move) return usageError("--animate and --move-at are two different experiments; choose one");
   if (animate && args.has("reference")) return usageError("--animate renders a reference per frame; drop --reference");
+  if (args.has("camera-path") && (animate || move))
+    return usageError("--camera-path moves the camera, --animate and --move-at the scene; choose one");
+  if (args.has("camera-path") && frames < 2) return usageError("--camera-path walks the timed frames: --frames must be 2 or more");
   std::optional<gi::Invalidate> invalidateAtMove;
   if (args.has("invalidate-at-move")) {
     const std::string& what = args.values["invalidate-at-move"];
@@ -300,19 +304,26 @@ int main(int argc, char** argv) {
     return 1;
   }
 
-  // Camera-path references (cached like the main one).
+  // --camera-path: the camera of each timed frame (warm-up frames stand at the
+  // start) and a reference per pose, cached like the main one.
+  const bool cameraPath = args.has("camera-path");
+  auto walkCamera = [&](uint32_t f, const gpu::GpuCamera* previous) {
+    return engine::makeGpuCamera(pathCamera(startCamera, sceneGpu.desc.extent, f), width, height, previous);
+  };
   std::vector<Reference> pathRefs;
   double refFlicker = 0.0;
-  if (args.has("camera-path")) {
-    for (uint32_t k = 0; k < pathFrames && ok; ++k) {
-      gpu::GpuCamera c = engine::makeGpuCamera(pathCamera(startCamera, sceneGpu.desc.extent, k), width, height, nullptr);
-      Reference r;
-      ok = reference(ctx, sceneGpu, c, bounces, pathRefSpp, dir,
-                     key + "_path" + std::to_string(k) + "_s" + std::to_string(pathRefSpp), r, error);
-      pathRefs.push_back(r);
-    }
-    for (uint32_t k = 1; k < pathRefs.size(); ++k) refFlicker += meanFrameDifference(pathRefs[k].final, pathRefs[k - 1].final);
-    refFlicker /= double(pathRefs.size() - 1);
+  for (uint32_t f = 0; cameraPath && f < frames && ok; ++f) {
+    Reference r;
+    ok = reference(ctx, sceneGpu, walkCamera(f, nullptr), bounces, pathRefSpp, dir,
+                   key + "_path" + std::to_string(f) + "_s" + std::to_string(pathRefSpp), r, error);
+    pathRefs.push_back(r);
+    if (f > 0) refFlicker += meanFrameDifference(pathRefs[f].final, pathRefs[f - 1].final) / double(frames - 1);
+  }
+  if (!ok) {
+    std::fprintf(stderr, "gi-bench: %s\n", error.c_str());
+    engine::destroySceneGpu(ctx, sceneGpu);
+    engine::destroyContext(ctx);
+    return 1;
   }
 
   // The tracing passes' ceiling: the active backend's camera + diffuse rays.
@@ -323,7 +334,7 @@ int main(int argc, char** argv) {
 
   std::vector<Row> rows;
   std::ofstream series;
-  if (args.has("series")) {
+  if (args.has("series") || cameraPath) {
     series.open(dir / "series.csv");
     series << "label,frame,mse,relmse,mse_indirect,energy_indirect,hash_occupancy,hash_stale_resets,hash_read_misses\n";
   }
@@ -354,11 +365,15 @@ int main(int argc, char** argv) {
       tools::renderModuleFrame(ctx, session, scene, sceneGpu, camera, camera, frame);
     }
     engine::ReferenceImages out;
+    gpu::GpuCamera previousCamera = camera;  // the walk starts where the warm-up stood
+    double flicker = 0.0;                    // --camera-path: mean change between consecutive frames
     for (uint32_t f = 0; f < frames; ++f, ++frame) {
       poseFor(frame);
       if (invalidateAtMove && move && frame == moveAt) gi::invalidate(session.module, *invalidateAtMove);
-      const Reference& frameRef = animate ? animationRefs[f] : ref;
-      tools::FrameTiming t = tools::renderModuleFrame(ctx, session, scene, sceneGpu, camera, camera, frame);
+      const Reference& frameRef = animate ? animationRefs[f] : cameraPath ? pathRefs[f] : ref;
+      const gpu::GpuCamera frameCamera = cameraPath ? walkCamera(f, &previousCamera) : camera;
+      tools::FrameTiming t = tools::renderModuleFrame(ctx, session, scene, sceneGpu, frameCamera, previousCamera, frame);
+      previousCamera = frameCamera;
       // A pass that runs several times a frame (à-trous iterations, the guided filter's two box
       // passes) counts with its frame total.
       std::map<std::string, double> frameTotals;
@@ -372,7 +387,9 @@ int main(int argc, char** argv) {
       rays.push_back(double(t.rays));
       const gi::FrameStats frameStats = gi::stats(session.module);
       staleResets += frameStats.hash.staleResets;
+      engine::FloatImage lastFinal = std::move(out.final);
       out = tools::readModuleImages(ctx, session);
+      if (cameraPath && f > 0) flicker += meanFrameDifference(out.final, lastFinal) / double(frames - 1);
       finals.push_back(metrics::compare(out.final, frameRef.final));
       if (!frameRef.indirect.pixels.empty()) indirects.push_back(metrics::compare(out.indirect, frameRef.indirect));
       // The caches hold indirect light: recovery is judged on it (on the final image without an indirect reference).
@@ -413,23 +430,7 @@ int main(int argc, char** argv) {
     if (animate) pose(0.0f);
     engine::writeImage((dir / "images" / (sanitise(config.label) + ".pfm")).string(), out.final, error);
 
-    if (args.has("camera-path")) {
-      // Warm up at the start of the path, then move.
-      gpu::GpuCamera previous = camera;
-      double flicker = 0.0;
-      engine::FloatImage last;
-      for (uint32_t k = 0; k < pathFrames; ++k, ++frame) {
-        gpu::GpuCamera c = engine::makeGpuCamera(pathCamera(startCamera, sceneGpu.desc.extent, k), width,
-                                                 height, &previous);
-        tools::renderModuleFrame(ctx, session, scene, sceneGpu, c, previous, frame);
-        engine::FloatImage now = tools::readModuleImages(ctx, session).final;
-        if (k > 0) flicker += meanFrameDifference(now, last);
-        last = std::move(now);
-        previous = c;
-      }
-      flicker /= double(pathFrames - 1);
-      row.flickerRatio = refFlicker > 0.0 ? flicker / refFlicker : 0.0;
-    }
+    if (cameraPath) row.flickerRatio = refFlicker > 0.0 ? flicker / refFlicker : 0.0;
     tools::destroyModuleSession(ctx, session);
     std::printf("gi-bench: %-40s %9.2f ms  MSE %.4e  relMSE %.4e  SSIM %.4f\n", config.label.c_str(), row.totalMs,
                 row.final.mse, row.final.relMse, row.final.ssim);
