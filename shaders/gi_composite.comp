@@ -61,8 +61,8 @@ void main() {
     }
     case GI_DEBUG_CONTINUATION_DEPTH: result = vec3(clamp(imageLoad(giDebug, p).x, 0.0, 1.0)); break;
     case GI_DEBUG_TEMPORAL_HISTORY: {
-      float frames = pc.temporalWritten == 0u   ? imageLoad(giHistoryIndirect, p).a
-                     : pc.temporalWritten == 1u ? imageLoad(giHistoryIndirectB, p).a
+      float frames = pc.temporalWritten == 0u   ? imageLoad(giHistoryDirect, p).a
+                     : pc.temporalWritten == 1u ? imageLoad(giHistoryDirectB, p).a
                                                 : 0.0;
       result = vec3(min(frames, 32.0) / 32.0);
       break;

@@ -8,13 +8,17 @@
 // then takes 1/(frames + 1) of this frame, at least minBlend; disoccluded
 // pixels start over. The results replace the noisy direct and indirect, so
 // the method's filter works on them. Emission is not accumulated: it is
-// exact in every frame.
+// exact in every frame; the direct light is accumulated over the base colour,
+// and only where the scene has area lights (emissive triangles or a sky):
+// punctual lights' direct light has no noise to average, only detail to blur.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #include "gi_frame.glsl"
 
 layout(local_size_x = GI_GROUP_SIZE, local_size_y = GI_GROUP_SIZE) in;
 layout(push_constant, scalar) uniform Push { GiTemporalPush pc; };
+
+const float kMinAlbedo = 1.0 / 64.0;  // darker base colours are divided by this: black texels keep their light
 
 struct History {
   vec3 direct, indirect;
@@ -24,15 +28,19 @@ struct History {
 vec4 readGuide(ivec2 q) { return pc.parity == 0u ? imageLoad(giHistoryGuideA, q) : imageLoad(giHistoryGuideB, q); }
 vec4 readDirect(ivec2 q) { return pc.parity == 0u ? imageLoad(giHistoryDirect, q) : imageLoad(giHistoryDirectB, q); }
 vec4 readIndirect(ivec2 q) { return pc.parity == 0u ? imageLoad(giHistoryIndirect, q) : imageLoad(giHistoryIndirectB, q); }
+// The guide keeps view depth over the scene extent: half floats then hold it
+// at any scene scale (metres would overflow past 65504).
+// The history frames ride in the direct image's alpha; with directOnly the
+// indirect images are 1×1 placeholders and never touched.
 void write(ivec2 p, vec3 direct, vec3 indirect, float frames, vec3 n, float depth) {
   if (pc.parity == 0u) {
-    imageStore(giHistoryDirectB, p, vec4(direct, 1.0));
-    imageStore(giHistoryIndirectB, p, vec4(indirect, frames));
-    imageStore(giHistoryGuideB, p, vec4(n, depth));
+    imageStore(giHistoryDirectB, p, vec4(direct, frames));
+    if (pc.directOnly == 0u) imageStore(giHistoryIndirectB, p, vec4(indirect, 1.0));
+    imageStore(giHistoryGuideB, p, vec4(n, depth / giFrame.depthScale));
   } else {
-    imageStore(giHistoryDirect, p, vec4(direct, 1.0));
-    imageStore(giHistoryIndirect, p, vec4(indirect, frames));
-    imageStore(giHistoryGuideA, p, vec4(n, depth));
+    imageStore(giHistoryDirect, p, vec4(direct, frames));
+    if (pc.directOnly == 0u) imageStore(giHistoryIndirect, p, vec4(indirect, 1.0));
+    imageStore(giHistoryGuideA, p, vec4(n, depth / giFrame.depthScale));
   }
 }
 
@@ -57,14 +65,15 @@ History reproject(ivec2 p, vec3 n, float depth, vec3 world) {
       const ivec2 q = base + ivec2(i, j);
       if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, ivec2(giFrame.size)))) continue;
       const vec4 guide = readGuide(q);
-      if (!(depthAgrees(guide.w, staticDepth) || depthAgrees(guide.w, depth))) continue;
+      const float stored = guide.w * giFrame.depthScale;
+      if (!(depthAgrees(stored, staticDepth) || depthAgrees(stored, depth))) continue;
       if (dot(guide.xyz, n) < pc.cosNormalLimit) continue;
       const float w = (i == 1 ? f.x : 1.0 - f.x) * (j == 1 ? f.y : 1.0 - f.y);
       if (w <= 0.0) continue;
-      const vec4 indirect = readIndirect(q);
-      h.direct += w * readDirect(q).rgb;
-      h.indirect += w * indirect.rgb;
-      h.frames += w * indirect.a;
+      const vec4 direct = readDirect(q);
+      h.direct += w * direct.rgb;
+      if (pc.directOnly == 0u) h.indirect += w * readIndirect(q).rgb;
+      h.frames += w * direct.a;
       weights += w;
     }
   // Too little of the footprint survives: start over rather than trust one corner.
@@ -90,7 +99,11 @@ void main() {
   // accumulated (a bright emitter would bleed into its neighbours through the
   // bilinear history taps).
   const vec3 emission = giGbEmission(p);
-  const vec3 direct = giLoadDirect(p) - emission;
+  // Direct light is accumulated demodulated by the base colour (SVGF §4): the
+  // history then carries light, not texture, and bilinear taps under motion
+  // do not smear the texture; this frame's base colour puts it back.
+  const vec3 albedo = max(giGbAlbedo(p).rgb, vec3(kMinAlbedo));
+  const vec3 direct = (giLoadDirect(p) - emission) / albedo;
   const vec4 noisy = imageLoad(giNoisyIndirect, p);  // alpha: sspsf's filter-vertex flag, kept
   const vec3 indirect = noisy.rgb / giFrame.noisyScale;
   const History h = reproject(p, n, depth, world);
@@ -100,10 +113,11 @@ void main() {
   }
   const float frames = h.frames + 1.0;
   const float blend = max(1.0 / frames, pc.minBlend);
-  const vec3 outDirect = mix(h.direct, direct, blend);
-  const vec3 outIndirect = mix(h.indirect, indirect, blend);
+  const vec3 outDirect = pc.direct != 0u ? mix(h.direct, direct, blend) : direct;
+  const vec3 outIndirect = pc.directOnly != 0u ? indirect : mix(h.indirect, indirect, blend);
   write(p, outDirect, outIndirect, min(frames, 65536.0), n, depth);
-  giStoreDirect(p, emission + outDirect);
+  if (pc.direct != 0u) giStoreDirect(p, emission + albedo * outDirect);
+  if (pc.directOnly != 0u) return;
   giStoreIndirect(p, outIndirect);  // raw's result; a filter that follows overwrites it
   giStoreNoisy(p, outIndirect, noisy.a);
 }

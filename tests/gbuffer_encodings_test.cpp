@@ -101,6 +101,25 @@ UploadedGBuffer upload(const engine::Context& ctx, const Encoded (&encoded)[6]) 
   return u;
 }
 
+// Our G-buffer in our formats, its motion vectors × `motionScale` (1/size: UV).
+void encodeOurs(const CpuGBuffer& g, float motionScale, Encoded (&e)[6]) {
+  e[0].format = VK_FORMAT_R16G16B16A16_SFLOAT;
+  e[1].format = VK_FORMAT_R8G8B8A8_UNORM;
+  e[2].format = VK_FORMAT_R8G8_UNORM;
+  e[3].format = VK_FORMAT_R32G32B32A32_SFLOAT;
+  e[4].format = VK_FORMAT_R16G16_SFLOAT;
+  e[5].format = VK_FORMAT_R32_SFLOAT;
+  for (Encoded& image : e) image.bytes.clear();
+  for (size_t p = 0; p < g.viewZ.size(); ++p) {
+    for (int k = 0; k < 4; ++k) put(e[0].bytes, glm::packHalf1x16(g.normal[p][k]));
+    for (int k = 0; k < 4; ++k) put(e[1].bytes, uint8_t(std::lround(g.albedo[p][k] * 255.0f)));
+    for (int k = 0; k < 2; ++k) put(e[2].bytes, uint8_t(std::lround(g.material[p][k] * 255.0f)));
+    put(e[3].bytes, g.emission[p]);
+    for (int k = 0; k < 2; ++k) put(e[4].bytes, glm::packHalf1x16(g.motion[p][k] * motionScale));
+    put(e[5].bytes, g.viewZ[p]);
+  }
+}
+
 // The reversed-Z projection our engine uses, and the same frustum with forward Z.
 glm::mat4 clipFromView(const gpu::GpuCamera& cam) { return cam.clipFromWorld * cam.worldFromView; }
 
@@ -139,22 +158,7 @@ TEST_F(GBufferEncodingsTest, EveryAcceptedEncodingGivesTheSameImage) {
   const size_t n = size_t(kSize) * kSize;
 
   // Each encoding writes the images in their order: normal, albedo, material, emission, motion, depth.
-  auto ours = [&](Encoded (&e)[6]) {
-    e[0].format = VK_FORMAT_R16G16B16A16_SFLOAT;
-    e[1].format = VK_FORMAT_R8G8B8A8_UNORM;
-    e[2].format = VK_FORMAT_R8G8_UNORM;
-    e[3].format = VK_FORMAT_R32G32B32A32_SFLOAT;
-    e[4].format = VK_FORMAT_R16G16_SFLOAT;
-    e[5].format = VK_FORMAT_R32_SFLOAT;
-    for (size_t p = 0; p < n; ++p) {
-      for (int k = 0; k < 4; ++k) put(e[0].bytes, glm::packHalf1x16(g.normal[p][k]));
-      for (int k = 0; k < 4; ++k) put(e[1].bytes, uint8_t(std::lround(g.albedo[p][k] * 255.0f)));
-      for (int k = 0; k < 2; ++k) put(e[2].bytes, uint8_t(std::lround(g.material[p][k] * 255.0f)));
-      put(e[3].bytes, g.emission[p]);
-      for (int k = 0; k < 2; ++k) put(e[4].bytes, glm::packHalf1x16(g.motion[p][k]));
-      put(e[5].bytes, g.viewZ[p]);
-    }
-  };
+  auto ours = [&](Encoded (&e)[6]) { encodeOurs(g, 1.0f, e); };
   auto hardwareDepth = [&](Encoded& e, const glm::mat4& proj, bool reversedZ) {
     e.format = VK_FORMAT_D32_SFLOAT;
     e.bytes.clear();
@@ -371,5 +375,86 @@ TEST_F(GBufferEncodingsTest, MismatchedEncodingsAreNamedErrors) {
     EXPECT_NE(e.message.find(c.field), std::string::npos) << c.what << ": " << e.message;
     EXPECT_EQ(m, nullptr);
   }
+  unload(s);
+}
+
+// Motion vectors in UV reproject exactly as motion in pixels: temporal
+// reprojection over a camera pan of about a pixel gives the same frame from
+// our G-buffer with its motion in pixels and in UV (the UV's half floats round
+// the motion a little). Declared as UV but handed pixels, the history lands
+// 48 times too far: the frame differs, so the test sees the units.
+TEST_F(GBufferEncodingsTest, MotionInUvReprojectsAsMotionInPixels) {
+  LoadedScene s;
+  ASSERT_NO_FATAL_FAILURE(load(sharedScene("cornell-simple/cornell_simple.gltf"), s));
+  engine::Camera moved = s.scene.cameras[0];
+  moved.worldFromView[3] += moved.worldFromView[0] * 0.05f;
+  const gpu::GpuCamera a = engine::makeGpuCamera(s.scene.cameras[0], kSize, kSize, nullptr);
+  const gpu::GpuCamera b = engine::makeGpuCamera(moved, kSize, kSize, &a);
+  tools::ModuleSession native;
+  ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {kSize, kSize}, gi::Settings{}, native));
+  CpuGBuffer frames[2];
+  for (int f = 0; f < 2; ++f) {
+    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+      engine::recordGBuffer(ctx, cmd, native.gbufferPass, s.scene, s.gpu, native.gbuffer, f == 0 ? a : b, nullptr);
+    });
+    frames[f] = readGBuffer(ctx, native.gbuffer);
+  }
+  double largest = 0.0;
+  for (const glm::vec2& m : frames[1].motion) largest = std::max(largest, double(glm::length(m)));
+  ASSERT_GT(largest, 0.3) << "the pan should move the picture";
+
+  struct Run {
+    const char* what;
+    gi::MotionUnits units;
+    float scale;  // applied to our pixel motion before encoding
+  };
+  const Run runs[] = {{"pixels", gi::MotionUnits::Pixels, 1.0f},
+                      {"uv", gi::MotionUnits::Uv, 1.0f / float(kSize)},
+                      {"uv declared, pixels given", gi::MotionUnits::Uv, 1.0f}};
+  std::vector<engine::ReferenceImages> images;
+  for (const Run& run : runs) {
+    gi::ModuleDesc desc = tools::moduleDesc(ctx, s.gpu, {kSize, kSize});
+    desc.gbuffer.motion = run.units;
+    desc.outputFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
+    gi::Settings settings;
+    settings.raw.temporalReprojection = true;
+    gi::Module* module = nullptr;
+    ASSERT_FALSE(gi::create(desc, settings, module));
+    for (uint32_t f = 0; f < 2; ++f) {
+      Encoded encoded[6];
+      encodeOurs(frames[f], run.scale, encoded);
+      UploadedGBuffer uploaded = upload(ctx, encoded);
+      gi::FrameInputs in;
+      in.gbuffer = uploaded.views();
+      in.camera = engine::moduleCamera(f == 0 ? a : b);
+      in.previousCamera = engine::moduleCamera(a);
+      in.frameIndex = f;
+      engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { ASSERT_FALSE(gi::recordFrame(module, cmd, in)); });
+      for (engine::Image& img : uploaded.images) engine::destroyImage(ctx, img);
+    }
+    const gi::Outputs o = gi::outputs(module);
+    engine::ReferenceImages out;
+    out.indirect = engine::readbackRgb(ctx, o.indirect, o.format, {kSize, kSize});
+    out.direct = engine::readbackRgb(ctx, o.direct, o.format, {kSize, kSize});
+    images.push_back(out);
+    gi::destroy(module);
+  }
+  tools::destroyModuleSession(ctx, native);
+  auto relativeL1 = [](const engine::FloatImage& x, const engine::FloatImage& y) {
+    double diff = 0.0, sum = 0.0;
+    for (size_t k = 0; k < x.pixels.size(); ++k) {
+      diff += std::fabs(double(x.pixels[k]) - y.pixels[k]);
+      sum += std::fabs(double(y.pixels[k]));
+    }
+    return diff / sum;
+  };
+  const double uvIndirect = relativeL1(images[1].indirect, images[0].indirect);
+  const double uvDirect = relativeL1(images[1].direct, images[0].direct);
+  const double wrong = relativeL1(images[2].indirect, images[0].indirect);
+  std::printf("motion in UV against pixels: indirect relative L1 %.2e, direct %.2e; UV declared but pixels given: %.2e\n",
+              uvIndirect, uvDirect, wrong);
+  EXPECT_LT(uvIndirect, 1e-3);
+  EXPECT_LT(uvDirect, 1e-3);
+  EXPECT_GT(wrong, 1e-2);
   unload(s);
 }

@@ -1,4 +1,4 @@
-// Temporal reprojection (gi_temporal.comp, Settings::temporal): under a
+// Temporal reprojection (gi_temporal.comp, <method>.temporalReprojection): under a
 // camera pan the reprojected history lowers the error about as 1/frames, and
 // pixels the pan uncovers start over with this frame's light only.
 #include "module_test_helpers.h"
@@ -58,7 +58,7 @@ TEST_F(TemporalTest, ReprojectedHistoryLowersTheErrorAsItGrows) {
   double indirect[2][3], direct[2][3];
   const uint32_t frames[3] = {1, 4, 16};
   for (int on = 0; on < 2; ++on) {
-    settings.temporal.enabled = on == 1;
+    settings.raw.temporalReprojection = on == 1;
     for (int k = 0; k < 3; ++k) {
       const engine::ReferenceImages img = renderPan(ctx, s, settings, frames[k], step);
       indirect[on][k] = mse(img.indirect, reference.indirect);
@@ -74,6 +74,20 @@ TEST_F(TemporalTest, ReprojectedHistoryLowersTheErrorAsItGrows) {
   EXPECT_LT(direct[1][2], 0.25 * direct[1][0]);
   // Without it the pan leaves every frame on its own.
   EXPECT_GT(indirect[0][2], 0.7 * indirect[0][0]);
+  // The hash methods reproject their direct light only (hpsf.temporal): the map caches the indirect.
+  gi::Settings hpsf;
+  hpsf.method = gi::Method::Hpsf;
+  double hpsfDirect[2], hpsfIndirect[2];
+  for (int on = 0; on < 2; ++on) {
+    hpsf.hpsf.temporalDirect = on == 1;
+    const engine::ReferenceImages img = renderPan(ctx, s, hpsf, 16, step);
+    hpsfDirect[on] = mse(img.direct, reference.direct);
+    hpsfIndirect[on] = mse(img.indirect, reference.indirect);
+    std::printf("hpsf, hpsf.temporal %s, 16 frames: indirect MSE %.3e, direct MSE %.3e\n", on ? "on " : "off",
+                hpsfIndirect[on], hpsfDirect[on]);
+  }
+  EXPECT_LT(hpsfDirect[1], 0.25 * hpsfDirect[0]);
+  EXPECT_EQ(hpsfIndirect[1], hpsfIndirect[0]) << "the map's indirect light is left as it is";
   unload(s);
 }
 
@@ -87,7 +101,7 @@ TEST_F(TemporalTest, DisoccludedPixelsStartOver) {
   const engine::Camera before = panned(s.scene.cameras[0], -0.15f), after = panned(s.scene.cameras[0], 0.15f);
   gi::Settings settings;
   settings.method = gi::Method::Raw;
-  settings.temporal.enabled = true;
+  settings.raw.temporalReprojection = true;
   auto run = [&](const gi::Settings& st, bool stillFrames) {
     tools::ModuleSession session;
     EXPECT_NO_FATAL_FAILURE(openSession(ctx, s, {kSize, kSize}, st, session));
@@ -105,7 +119,7 @@ TEST_F(TemporalTest, DisoccludedPixelsStartOver) {
   history.debugView = gi::DebugView::TemporalHistory;
   const engine::ReferenceImages frames = run(history, true);
   gi::Settings none = settings;
-  none.temporal.enabled = false;
+  none.raw.temporalReprojection = false;
   const engine::ReferenceImages fresh = run(none, false);
 
   // Where each covered pixel's surface was in the frame before the jump: off

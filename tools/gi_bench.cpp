@@ -87,16 +87,21 @@ double meanFrameDifference(const engine::FloatImage& a, const engine::FloatImage
   return sum / std::max(double(a.width) * double(a.height), 1.0);
 }
 
-// The scripted move: a sideways dolly of 1% of the scene extent per frame
-// with a 0.5° yaw, so every method sees parallax and disocclusion.
+// The scripted move: the camera sways sideways, ±4% of the scene extent, and
+// turns ±3° about the vertical, one period every 32 frames (up to 0.8% of the
+// extent and 0.6° a frame), so every method sees parallax and disocclusion
+// and the camera stays where the scene put it (a straight dolly left
+// Conference's room within ten frames).
+constexpr const char* kWalkKey = "_sway32";  // in the references' cache keys: change it with the walk
 engine::Camera pathCamera(const engine::Camera& start, float sceneExtent, uint32_t k) {
   engine::Camera c = start;
   glm::vec3 right = glm::vec3(start.worldFromView[0]);
-  float angle = glm::radians(0.5f) * float(k);
+  const float phase = std::sin(2.0f * 3.14159265f * float(k) / 32.0f);
+  float angle = glm::radians(3.0f) * phase;
   glm::mat4 yaw = glm::mat4(glm::mat3(glm::vec3(std::cos(angle), 0, -std::sin(angle)), glm::vec3(0, 1, 0),
                                       glm::vec3(std::sin(angle), 0, std::cos(angle))));
   c.worldFromView = start.worldFromView * yaw;
-  c.worldFromView[3] = start.worldFromView[3] + glm::vec4(right * (0.01f * sceneExtent * float(k)), 0.0f);
+  c.worldFromView[3] = start.worldFromView[3] + glm::vec4(right * (0.04f * sceneExtent * phase), 0.0f);
   return c;
 }
 
@@ -315,7 +320,7 @@ int main(int argc, char** argv) {
   for (uint32_t f = 0; cameraPath && f < frames && ok; ++f) {
     Reference r;
     ok = reference(ctx, sceneGpu, walkCamera(f, nullptr), bounces, pathRefSpp, dir,
-                   key + "_path" + std::to_string(f) + "_s" + std::to_string(pathRefSpp), r, error);
+                   key + kWalkKey + "_path" + std::to_string(f) + "_s" + std::to_string(pathRefSpp), r, error);
     pathRefs.push_back(r);
     if (f > 0) refFlicker += meanFrameDifference(pathRefs[f].final, pathRefs[f - 1].final) / double(frames - 1);
   }

@@ -57,10 +57,7 @@ bool parseOptions(int argc, char** argv, Options& o) {
     } else if (arg == "--scene" && value) {
       o.scene = argv[++i];
     } else if (arg == "--method" && value) {
-      bool found = false;
-      for (const gi::MethodInfo& m : gi::methodCatalogue())
-        if (m.name == std::string(value)) o.method = m.method, found = true;
-      if (!found) return std::fprintf(stderr, "foreign_engine: unknown method %s\n", value), false;
+      if (!gi::methodFromName(value, o.method)) return std::fprintf(stderr, "foreign_engine: unknown method %s\n", value), false;
       ++i;
     } else if (arg == "--size" && value && std::sscanf(value, "%ux%u", &o.width, &o.height) == 2 && o.width && o.height) {
       ++i;

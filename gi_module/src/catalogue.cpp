@@ -14,7 +14,7 @@ constexpr uint32_t bit(Method m) { return 1u << uint32_t(m); }
 constexpr uint32_t kRaw = bit(Method::Raw), kGif = bit(Method::Gif), kBilateral = bit(Method::Bilateral),
                    kAtrous = bit(Method::Atrous), kAaf = bit(Method::Aaf) | bit(Method::AafAo),
                    kSspsf = bit(Method::Sspsf), kNhpsf = bit(Method::Nhpsf), kAnhpsf = bit(Method::Anhpsf),
-                   kHash = bit(Method::Hpsf) | kNhpsf | kAnhpsf, kTemporal = kRaw | kGif | kBilateral | kAtrous | kSspsf;
+                   kHash = bit(Method::Hpsf) | kNhpsf | kAnhpsf, kTemporal = kRaw | kGif | kBilateral | kAtrous | kSspsf | kHash;
 
 // One row per field: the key, the field's path (for errors), unit, meaning, range and the methods reading it.
 #define GI_SETTING(key, member, unit, meaning, kind, lo, hi, openMin, methods)                                     \
@@ -36,6 +36,7 @@ constexpr uint32_t kRaw = bit(Method::Raw), kGif = bit(Method::Gif), kBilateral 
   }
 
 constexpr double kLastView = double(DebugView::TemporalHistory);
+constexpr const char* kTemporalMeaning = "blend in last frame's light, reprojected through the motion vectors (temporal.*)";
 
 const SettingInfo kSettings[] = {
     GI_SETTING("bounces", maxBounces, "", "indirect bounces B (0 would be direct light only)", Uint, 1, 32, false, 0),
@@ -49,6 +50,7 @@ const SettingInfo kSettings[] = {
 
     GI_SETTING("raw.spp", raw.samplesPerPixel, "paths per pixel", "paths traced per pixel per frame", Uint, 1, 64, false, kRaw),
     GI_BOOL("raw.accumulate", raw.temporalAccumulation, "average frames while the camera and settings stay", kRaw),
+    GI_BOOL("raw.temporal", raw.temporalReprojection, kTemporalMeaning, kRaw),
     GI_SETTING("raw.history", raw.maxAccumulatedFrames, "frames", "accumulation cap; older frames fade out past it", Uint,
                1, 1 << 20, false, kRaw),
 
@@ -61,6 +63,7 @@ const SettingInfo kSettings[] = {
                false, kGif),
     GI_SETTING("gif.supersamples", gif.supersamples, "rays per pixel", "extra eye rays with geometry-aware lookup", Uint, 0,
                16, false, kGif),
+    GI_BOOL("gif.temporal", gif.temporalReprojection, kTemporalMeaning, kGif),
 
     GI_SETTING("bilateral.spp", bilateral.samplesPerPixel, "paths per pixel", "paths traced per pixel per frame", Uint, 1,
                64, false, kBilateral),
@@ -72,6 +75,7 @@ const SettingInfo kSettings[] = {
                true, kBilateral),
     GI_SETTING("bilateral.sigma_depth", bilateral.sigmaDepth, "", "depth sigma, relative to the centre's depth", Float, 0,
                1e4, true, kBilateral),
+    GI_BOOL("bilateral.temporal", bilateral.temporalReprojection, kTemporalMeaning, kBilateral),
 
     GI_SETTING("atrous.spp", atrous.samplesPerPixel, "paths per pixel", "paths traced per pixel per frame", Uint, 1, 64,
                false, kAtrous),
@@ -83,6 +87,7 @@ const SettingInfo kSettings[] = {
                kAtrous),
     GI_SETTING("atrous.sigma_position", atrous.sigmaPosition, "", "position stop, a fraction of the centre's view depth",
                Float, 0, 1e4, true, kAtrous),
+    GI_BOOL("atrous.temporal", atrous.temporalReprojection, kTemporalMeaning, kAtrous),
 
     GI_SETTING("aaf.mu", aaf.mu, "", "filter scale mu (> 1 narrows filters and raises sample counts)", Float, 0, 16, true,
                kAaf),
@@ -101,9 +106,8 @@ const SettingInfo kSettings[] = {
                false, kSspsf),
     GI_SETTING("sspsf.normal_limit", sspsf.normalLimitDegrees, "degrees", "normal rejection angle", Float, 0, 180, false,
                kSspsf),
+    GI_BOOL("sspsf.temporal", sspsf.temporalReprojection, kTemporalMeaning, kSspsf),
 
-    GI_BOOL("temporal.on", temporal.enabled, "reproject last frame's light through the motion vectors and blend it in",
-            kTemporal),
     GI_SETTING("temporal.min_blend", temporal.minBlend, "", "smallest weight of the new frame (history about 2/x - 1 frames)",
                Float, 0, 1, true, kTemporal),
     GI_SETTING("temporal.depth_tolerance", temporal.depthTolerance, "", "relative depth difference a history tap may have",
@@ -146,6 +150,8 @@ const SettingInfo kSettings[] = {
                Uint, 2, 16, false, kAnhpsf),
     GI_SETTING("hpsf.secondary_width", hpsf.secondaryWidthScale, "", "cells after the first vertex are this much wider",
                Float, 1, 16, false, kNhpsf | kAnhpsf),
+    GI_BOOL("hpsf.temporal", hpsf.temporalDirect, "blend in last frame's direct light, reprojected (the map holds the indirect)",
+            kHash),
 };
 
 #undef GI_SETTING
@@ -192,7 +198,7 @@ constexpr DebugViewInfo kViews[] = {
     {DebugView::HashFound, "hash cell found", "HPSF: green used, yellow too few samples, red no cell", false},
     {DebugView::HashOccupancy, "hash occupancy", "HPSF: how full the probe window at the pixel's cell is", false},
     {DebugView::ContinuationDepth, "continuation depth", "A-nHPSF: the pixel's continued path / the maximum depth", false},
-    {DebugView::TemporalHistory, "temporal history", "temporal.on: frames of history behind the pixel / 32", false},
+    {DebugView::TemporalHistory, "temporal history", "temporal reprojection: frames of history behind the pixel / 32", false},
 };
 static_assert(std::size(kViews) == size_t(DebugView::TemporalHistory) + 1);
 constexpr bool viewsInOrder() {

@@ -261,14 +261,19 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
     gpu::GiRawPush raw{s.seed, spp, s.maxBounces, s.russianRouletteStart,
                        m.historyLength, s.raw.maxAccumulatedFrames, accumulate ? 1u : 0u, 0};
     runPass(m, cmd, slot, Pass::RawTrace, m.rawTrace, sets, size, raw);
-    if (usesTemporalReprojection(s)) {
-      // Pass: last frame's light, reprojected through the motion vectors, blended into this frame's.
-      const TemporalSettings& t = s.temporal;
-      gpu::GiTemporalPush temporal{m.temporalFrames & 1u, m.temporalFrames == 0 ? 1u : 0u, t.minBlend, t.depthTolerance,
-                                   cosDegrees(t.normalLimitDegrees), 0, 0, 0};
-      runPass(m, cmd, slot, Pass::Temporal, m.temporal, sets, size, temporal);
-      m.temporalFrames++;
-    }
+  }
+  // Direct light has noise to average only from area lights (emissive triangles, a sky).
+  const bool noisyDirect = m.desc.scene.hasEmissiveTriangles || m.desc.scene.hasSky;
+  const bool runTemporal = usesTemporalReprojection(s) && (noisyDirect || !usesHashGrid(s.method));
+  if (runTemporal) {
+    // Pass: last frame's light, reprojected through the motion vectors, blended into this frame's
+    // (the hash methods' direct light only: their map holds the indirect).
+    const TemporalSettings& t = s.temporal;
+    gpu::GiTemporalPush temporal{m.temporalFrames & 1u, m.temporalFrames == 0 ? 1u : 0u, t.minBlend, t.depthTolerance,
+                                 cosDegrees(t.normalLimitDegrees), usesHashGrid(s.method) ? 1u : 0u,
+                                 noisyDirect ? 1u : 0u, 0};
+    runPass(m, cmd, slot, Pass::Temporal, m.temporal, sets, size, temporal);
+    m.temporalFrames++;
   }
   if (usesScreenFilters(s.method)) recordFilterPasses(m, cmd, slot, frame);
 
@@ -276,7 +281,7 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
   gpu::GiCompositePush composite{uint32_t(s.debugView), s.method == Method::AafAo ? 1u : 0u, m.desc.scene.extent,
                                  pixelScale(camera), aafSpecular(m, s) ? 1u : 0u,
                                  debugViewCatalogue()[size_t(s.debugView)].radiance ? 1u : 0u,
-                                 usesTemporalReprojection(s) ? m.temporalFrames & 1u : 2u,  // odd counts: this frame wrote B
+                                 runTemporal ? m.temporalFrames & 1u : 2u,  // odd counts: this frame wrote B
                                  0};
   runPass(m, cmd, slot, Pass::Composite, m.composite, sets, size, composite);
 

@@ -73,10 +73,18 @@ bool usesHashGrid(Method m) { return m == Method::Hpsf || m == Method::Nhpsf || 
 bool usesScreenFilters(Method m) { return m != Method::Raw && !usesHashGrid(m); }
 bool isAaf(Method m) { return m == Method::Aaf || m == Method::AafAo; }
 bool usesTemporalReprojection(const Settings& s) {
-  if (!s.temporal.enabled) return false;
-  // raw.accumulate keeps its own still-camera mean in the same history images.
-  if (s.method == Method::Raw) return !s.raw.temporalAccumulation;
-  return !usesHashGrid(s.method) && !isAaf(s.method);
+  switch (s.method) {
+    // raw.accumulate keeps its own still-camera mean in the same history images.
+    case Method::Raw: return s.raw.temporalReprojection && !s.raw.temporalAccumulation;
+    case Method::Gif: return s.gif.temporalReprojection;
+    case Method::Bilateral: return s.bilateral.temporalReprojection;
+    case Method::Atrous: return s.atrous.temporalReprojection;
+    case Method::Sspsf: return s.sspsf.temporalReprojection;
+    case Method::Hpsf:
+    case Method::Nhpsf:
+    case Method::Anhpsf: return s.hpsf.temporalDirect;  // direct light only: the map caches the indirect
+    default: return false;  // AAF samples adaptively per frame
+  }
 }
 
 }  // namespace gi

@@ -86,11 +86,14 @@ uint32_t sizedResourcesNeeded(const Module& m, const Settings& s) {
   uint32_t need = 0;
   if (usesHashGrid(s.method) && s.debugView != DebugView::FilterInOut) need |= kNoisyIsIndirect;
   else need |= bit(&SizedResources::noisyIndirect);
-  if ((s.method == Method::Raw && s.raw.temporalAccumulation) || usesTemporalReprojection(s))
+  if (s.method == Method::Raw && s.raw.temporalAccumulation)
     need |= bit(&SizedResources::historyDirect) | bit(&SizedResources::historyIndirect);
-  if (usesTemporalReprojection(s))
-    need |= bit(&SizedResources::historyDirectB) | bit(&SizedResources::historyIndirectB) |
+  if (usesTemporalReprojection(s)) {
+    need |= bit(&SizedResources::historyDirect) | bit(&SizedResources::historyDirectB) |
             bit(&SizedResources::historyGuideA) | bit(&SizedResources::historyGuideB);
+    // The hash methods reproject their direct light only.
+    if (!usesHashGrid(s.method)) need |= bit(&SizedResources::historyIndirect) | bit(&SizedResources::historyIndirectB);
+  }
   if (usesScreenFilters(s.method))
     need |= bit(&SizedResources::guidance) | bit(&SizedResources::position) | bit(&SizedResources::debug);
   if (isAaf(s.method)) need |= bit(&SizedResources::aafParams) | bit(&SizedResources::aafSum);
@@ -111,7 +114,7 @@ uint32_t sizedResourcesNeeded(const Module& m, const Settings& s) {
     case DebugView::HashOccupancy:
     case DebugView::ContinuationDepth: need |= bit(&SizedResources::debug); break;
     case DebugView::TemporalHistory:
-      need |= bit(&SizedResources::historyIndirect) | bit(&SizedResources::historyIndirectB);
+      need |= bit(&SizedResources::historyDirect) | bit(&SizedResources::historyDirectB);
       break;
     default: break;
   }

@@ -37,9 +37,9 @@ GPU_CONST GI_BINDING_AAF_GLOSSY = 19;    // rgba32f: AAF glossy receivers: Σ, t
 GPU_CONST GI_BINDING_AAF_GLOSSY_EDGE = 20; // rgba32f: the same for lobe·s·L (Schlick's s); specular = f0·glossy + edge
 // Temporal reprojection (gi_temporal.comp): two sets of history, read one, write the other, by frame parity.
 // Set A's colour images are the raw method's still-camera history above.
-GPU_CONST GI_BINDING_HISTORY_DIRECT_B = 21;   // rgba32f: accumulated direct (rgb)
-GPU_CONST GI_BINDING_HISTORY_INDIRECT_B = 22; // rgba32f: accumulated demodulated indirect (rgb), history frames (a)
-GPU_CONST GI_BINDING_HISTORY_GUIDE_A = 23;    // rgba16f: the frame's world normal (xyz) and view depth (w; 0 = background)
+GPU_CONST GI_BINDING_HISTORY_DIRECT_B = 21;   // rgba32f: accumulated direct over the base colour (rgb), history frames (a)
+GPU_CONST GI_BINDING_HISTORY_INDIRECT_B = 22; // rgba32f: accumulated demodulated indirect (rgb)
+GPU_CONST GI_BINDING_HISTORY_GUIDE_A = 23;    // rgba16f: the frame's world normal (xyz), view depth / depthScale (w; 0 = background)
 GPU_CONST GI_BINDING_HISTORY_GUIDE_B = 24;
 GPU_CONST GI_BINDING_COUNT = 25;
 #define GI_GROUP_SIZE 8u                 // 8×8 threads per group
@@ -112,8 +112,8 @@ struct GiTemporalPush {
   float minBlend;       // (0, 1]: the smallest weight of the new frame (caps the history at about 1/minBlend frames)
   float depthTolerance; // relative view-depth difference a history tap may have
   float cosNormalLimit; // cosine of the largest normal change a history tap may have
-  uint pad0;
-  uint pad1;
+  uint directOnly;      // 1: the indirect light is left as it is (the hash methods' map already filters it in time)
+  uint direct;          // 1: accumulate the direct light too; 0: it is exact every frame (punctual lights only)
   uint pad2;
 };
 GPU_ASSERT_SIZE(GiTemporalPush, 32);

@@ -50,6 +50,8 @@ enum class DebugView : uint32_t {
 struct RawSettings {
   uint32_t samplesPerPixel = 1;        // paths per pixel per frame, [1, 64]
   bool temporalAccumulation = false;   // average frames while the camera and settings stay unchanged
+  bool temporalReprojection = false;   // blend in last frame's reprojected light (TemporalSettings); off: raw stays
+                                       // the per-frame Monte Carlo baseline
   uint32_t maxAccumulatedFrames = 4096;// history cap, [1, 1<<20]; older frames fade out past it
 };
 
@@ -60,6 +62,7 @@ struct GifSettings {
   float epsilonDepth = 0.02f;       // ridge term for the depth channel, [0, 1e6]
   uint32_t guidanceDimensions = 4;  // 1 = grey normal, 3 = normal, 4 = normal + depth
   uint32_t supersamples = 0;        // extra eye rays per pixel with geometry-aware lookup, [0, 16]
+  bool temporalReprojection = true; // blend in last frame's reprojected light before filtering (TemporalSettings)
 };
 
 struct BilateralSettings {
@@ -68,6 +71,7 @@ struct BilateralSettings {
   float sigmaSpatial = 8.0f;     // pixels, (0, 1e4]
   float sigmaNormal = 0.1f;      // on the difference of normal·0.5+0.5, (0, 1e4]
   float sigmaDepth = 0.05f;      // on the depth difference relative to the centre's depth, (0, 1e4]
+  bool temporalReprojection = true; // blend in last frame's reprojected light before filtering (TemporalSettings)
 };
 
 struct AtrousSettings {
@@ -76,6 +80,7 @@ struct AtrousSettings {
   float sigmaColor = 0.5f;       // colour stop in demodulated radiance, halved per iteration, (0, 1e6]
   float sigmaNormal = 0.1f;      // on the difference of normal·0.5+0.5, (0, 1e4]
   float sigmaPosition = 0.05f;   // world distance as a fraction of the centre's view depth, (0, 1e4]
+  bool temporalReprojection = true; // blend in last frame's reprojected light before filtering (TemporalSettings)
 };
 
 struct AafSettings {
@@ -93,15 +98,16 @@ struct SspsfSettings {
   uint32_t window = 9;            // odd window side in pixels, [1, 31]
   float filterWidth = 16.0f;      // pixels, [0.5, 256]: the position kernel matches the HPSF cell of this width
   float normalLimitDegrees = 25.0f;  // [0, 180]
+  bool temporalReprojection = true; // blend in last frame's reprojected light before filtering (TemporalSettings)
 };
 
-// Temporal reprojection for the screen-space methods (raw without
-// raw.accumulate, gif, bilateral, atrous, sspsf): last frame's direct and
-// indirect light, reprojected through the G-buffer's motion vectors, is
-// blended into this frame's before the method's filter (SVGF's temporal
-// accumulation). Disoccluded pixels (depth or normal disagree) start over.
+// Temporal reprojection, for the screen-space methods that turn it on
+// (<method>.temporalReprojection: raw without raw.accumulate, gif, bilateral,
+// atrous, sspsf): last frame's direct and indirect light, reprojected through
+// the G-buffer's motion vectors, is blended into this frame's before the
+// method's filter (SVGF's temporal accumulation). Disoccluded pixels (depth or
+// normal disagree) start over. These are its tunables, shared by the methods.
 struct TemporalSettings {
-  bool enabled = false;
   float minBlend = 0.1f;            // (0, 1]: the smallest weight of the new frame; history ≈ 2/minBlend − 1 frames
   float depthTolerance = 0.1f;      // (0, 10]: relative view-depth difference a history tap may have
   float normalLimitDegrees = 25.0f; // [0, 180]: the largest normal change a history tap may have
@@ -151,6 +157,10 @@ struct HpsfSettings {
   SecondaryLod secondaryLod = SecondaryLod::Camera;  // nhpsf/anhpsf: the travel behind later vertices' cells
                                                      // (Meijer's Segment makes them small: noisier, the map fills)
   float secondaryWidthScale = 1.0f;  // cells at vertices after the first are this much wider, [1, 16]
+  bool temporalDirect = false;    // blend in last frame's direct light, reprojected (TemporalSettings): the map
+                                  // holds the indirect light in world space, the direct light has no cache. Runs
+                                  // only where the scene has area lights (emissive, sky). Off by default: its
+                                  // four full-size history images would take hpsf at 1080p past 150 MB
 };
 
 struct Settings {
@@ -178,6 +188,6 @@ uint32_t hashCapacity(const HpsfSettings& settings, uint32_t width, uint32_t hei
 bool usesScreenFilters(Method method);  // every method but raw and hpsf
 bool isAaf(Method method);              // aaf, aaf_ao: adaptive sample counts (tracedSamplesPerPixel is 0)
 bool usesHashGrid(Method method);       // hpsf, nhpsf, anhpsf: the persistent world-space hash map
-bool usesTemporalReprojection(const Settings& settings);  // temporal.enabled and a method it applies to
+bool usesTemporalReprojection(const Settings& settings);  // the method reprojects last frame's light (TemporalSettings)
 
 }  // namespace gi
