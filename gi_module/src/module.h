@@ -13,6 +13,7 @@
 #include "hash_grid.h"
 #include "screen_filters.h"
 #include "shared/gi_frame.h"
+#include "vulkan_error.h"
 
 namespace gi {
 
@@ -133,8 +134,6 @@ uint32_t hashMode(Method method);
 // Frame stats (frame_stats.cpp).
 bool readFrameStats(Module& m, uint32_t slot, FrameStats& out);
 
-// A Status as the public Error: "<what>: <call> failed with VK_ERROR_...".
-Error vulkanError(const char* what, const vk::Status& status);
 
 // The engine's camera (camera.cpp): checked (finite, invertible view, a
 // perspective projection; `what` names it), then as the passes see it.

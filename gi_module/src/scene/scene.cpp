@@ -10,11 +10,9 @@
 
 #include "gi/device.h"
 #include "scene/sky_tables.h"
+#include "vulkan_error.h"
 
 namespace gi {
-
-Error vulkanError(const char* what, const vk::Status& status);  // module.cpp
-
 namespace {
 
 constexpr VkBufferUsageFlags kStorage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
