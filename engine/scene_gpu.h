@@ -35,7 +35,7 @@ struct SceneGpu {
   }
 };
 
-// Expects a scene already Morton-sorted (mortonSortScene) whose primitives
+// Expects a scene whose primitives
 // are numbered mesh by mesh (as the loader does: the module's geometry
 // indices are then the scene's primitive indices). Uploads and builds; waits.
 // Throws std::runtime_error with the module's message when it refuses the scene.

@@ -46,7 +46,7 @@ bool giAlphaAccepts(uint geometry, uint triangle, vec2 bary) {
 void giResolveCandidates(rayQueryEXT query) {
   while (rayQueryProceedEXT(query)) {
     if (rayQueryGetIntersectionTypeEXT(query, false) == gl_RayQueryCandidateIntersectionTriangleEXT) {
-      uint geometry = rayQueryGetIntersectionInstanceCustomIndexEXT(query, false) +
+      uint geometry = sceneInstances[rayQueryGetIntersectionInstanceCustomIndexEXT(query, false)].firstGeometry +
                       rayQueryGetIntersectionGeometryIndexEXT(query, false);
       uint triangle = rayQueryGetIntersectionPrimitiveIndexEXT(query, false);
       if (giAlphaAccepts(geometry, triangle, rayQueryGetIntersectionBarycentricsEXT(query, false)))
@@ -65,9 +65,9 @@ GiHit giTraceClosest(vec3 origin, vec3 direction, float tMin, float tMax) {
   GiHit hit = giNoHit();
   if (rayQueryGetIntersectionTypeEXT(query, true) == gl_RayQueryCommittedIntersectionTriangleEXT) {
     hit.t = rayQueryGetIntersectionTEXT(query, true);
-    hit.instance = rayQueryGetIntersectionInstanceIdEXT(query, true);
-    hit.geometry = rayQueryGetIntersectionInstanceCustomIndexEXT(query, true) +
-                   rayQueryGetIntersectionGeometryIndexEXT(query, true);
+    // TLAS instances are Morton-ordered: the custom index is the instance table's.
+    hit.instance = rayQueryGetIntersectionInstanceCustomIndexEXT(query, true);
+    hit.geometry = sceneInstances[hit.instance].firstGeometry + rayQueryGetIntersectionGeometryIndexEXT(query, true);
     hit.triangle = rayQueryGetIntersectionPrimitiveIndexEXT(query, true);
     hit.barycentrics = rayQueryGetIntersectionBarycentricsEXT(query, true);
   }

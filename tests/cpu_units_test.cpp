@@ -1,4 +1,4 @@
-// CPU-side building blocks: Morton ordering, image files, camera maths, scene animation.
+// CPU-side building blocks: Morton ordering (the module's), image files, camera maths, scene animation.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -8,42 +8,47 @@
 #include "animation.h"
 #include "camera.h"
 #include "image_io.h"
-#include "morton.h"
+#include "gi/morton.h"
 #include "shared/gi_filters.h"
 
 TEST(Morton, CodesInterleaveAxesAndOrderPreservesLocality) {
   glm::vec3 lo(0.0f), hi(1.0f);
-  EXPECT_EQ(engine::mortonCode(lo, lo, hi), 0u);
-  EXPECT_EQ(engine::mortonCode(hi, lo, hi), (1u << 30) - 1u);  // all 30 bits set
+  EXPECT_EQ(gi::mortonCode(lo, lo, hi), 0u);
+  EXPECT_EQ(gi::mortonCode(hi, lo, hi), (1u << 30) - 1u);  // all 30 bits set
   // x is the most significant axis of each triple.
-  EXPECT_GT(engine::mortonCode({0.6f, 0.0f, 0.0f}, lo, hi), engine::mortonCode({0.0f, 0.6f, 0.0f}, lo, hi));
+  EXPECT_GT(gi::mortonCode({0.6f, 0.0f, 0.0f}, lo, hi), gi::mortonCode({0.0f, 0.6f, 0.0f}, lo, hi));
   std::vector<glm::vec3> points = {{0.9f, 0.9f, 0.9f}, {0.1f, 0.1f, 0.1f}, {0.88f, 0.9f, 0.9f}, {0.12f, 0.1f, 0.1f}};
-  std::vector<uint32_t> order = engine::mortonOrder(points);
+  std::vector<uint32_t> order = gi::mortonOrder(points);
   ASSERT_EQ(order.size(), 4u);
   // Near points end up adjacent.
   EXPECT_EQ(std::abs(int(std::find(order.begin(), order.end(), 1u) - std::find(order.begin(), order.end(), 3u))), 1);
   EXPECT_EQ(std::abs(int(std::find(order.begin(), order.end(), 0u) - std::find(order.begin(), order.end(), 2u))), 1);
 }
 
-TEST(Morton, SceneSortKeepsEveryTriangle) {
-  engine::Scene scene;
+TEST(Morton, TriangleSortKeepsEveryTriangleWholeAndIsStable) {
+  std::vector<glm::vec3> positions;
+  std::vector<uint32_t> indices;
   for (int i = 0; i < 30; ++i) {
     float x = float((i * 7) % 30);
-    scene.positions.insert(scene.positions.end(), {{x, 0, 0}, {x + 1, 0, 0}, {x, 1, 0}});
-    scene.normals.insert(scene.normals.end(), 3, glm::vec3(0, 0, 1));
-    scene.uvs.insert(scene.uvs.end(), 3, glm::vec2(0));
-    scene.indices.insert(scene.indices.end(), {uint32_t(3 * i), uint32_t(3 * i + 1), uint32_t(3 * i + 2)});
+    positions.insert(positions.end(), {{x, 0, 0}, {x + 1, 0, 0}, {x, 1, 0}});
+    indices.insert(indices.end(), {uint32_t(3 * i), uint32_t(3 * i + 1), uint32_t(3 * i + 2)});
   }
-  scene.primitives.push_back({0, 90, 0, 90, 0});
-  std::vector<uint32_t> before = scene.indices;
-  engine::mortonSortScene(scene);
-  std::vector<uint32_t> a = before, b = scene.indices;
+  std::vector<uint32_t> before = indices;
+  gi::mortonSortTriangles(positions, indices);
+  std::vector<uint32_t> a = before, b = indices;
   std::sort(a.begin(), a.end());
   std::sort(b.begin(), b.end());
   EXPECT_EQ(a, b);
-  EXPECT_NE(before, scene.indices);
+  EXPECT_NE(before, indices);
   // Triangles stay whole: each consecutive triple is one original triangle.
-  for (size_t t = 0; t < 30; ++t) EXPECT_EQ(scene.indices[3 * t] % 3, 0u);
+  for (size_t t = 0; t < 30; ++t) {
+    EXPECT_EQ(indices[3 * t] % 3, 0u);
+    EXPECT_EQ(indices[3 * t + 1], indices[3 * t] + 1);
+  }
+  // Sorted input stays as it is (an engine may sort its own copy first).
+  std::vector<uint32_t> again = indices;
+  gi::mortonSortTriangles(positions, again);
+  EXPECT_EQ(again, indices);
 }
 
 TEST(ImageIo, PfmAndExrRoundTripExactly) {

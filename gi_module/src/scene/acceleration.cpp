@@ -140,17 +140,17 @@ vk::Status buildSceneAcceleration(vk::Device& d, VkCommandBuffer cmd, const vk::
   GI_TRY(createAs(d, VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR, sizes.accelerationStructureSize, accel.tlas));
   GI_TRY(vk::createBuffer(d, sizes.buildScratchSize + accel.scratchAlignment,
                           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | kAddressable, false, accel.tlasScratch));
-  recordTlasRebuild(d, cmd, meshes, instances, accel);
+  recordTlasRebuild(d, cmd, instances, accel);
   return {};
 }
 
-void recordTlasRebuild(const vk::Device& d, VkCommandBuffer cmd, std::span<const AccelerationMesh> meshes,
-                       std::span<const AccelerationInstance> instances, SceneAcceleration& accel) {
+void recordTlasRebuild(const vk::Device& d, VkCommandBuffer cmd, std::span<const AccelerationInstance> instances,
+                       SceneAcceleration& accel) {
   auto* out = static_cast<VkAccelerationStructureInstanceKHR*>(accel.instanceBuffer.memory.mapped);
   for (uint32_t i = 0; i < accel.instanceCount; ++i) {
     VkAccelerationStructureInstanceKHR vi{};
     vi.transform = toVk(instances[i].worldFromObject);
-    vi.instanceCustomIndex = meshes[instances[i].mesh].firstGeometry;  // + geometry index = the scene's geometry
+    vi.instanceCustomIndex = instances[i].index;
     vi.mask = 0xff;
     // Surfaces are lit from both sides; only emission is one-sided (decided in the shader).
     vi.flags = VK_GEOMETRY_INSTANCE_TRIANGLE_FACING_CULL_DISABLE_BIT_KHR;

@@ -1,9 +1,10 @@
 // Ray queries' acceleration structures for a Scene: one BLAS per mesh (one
 // geometry per primitive), one TLAS over the instances, rebuilt in place when
 // instances move. Conventions the shaders rely on (trace.glsl): a TLAS
-// instance's custom index is its mesh's first geometry (the ray query's
-// geometry index adds to it), its index is the instance's, cull mask 0xff,
-// facing culling off.
+// instance's custom index is its index in set 0's instance table (whose
+// firstGeometry plus the ray query's geometry index is the scene's
+// geometry), cull mask 0xff, facing culling off. TLAS instances may come in
+// any order (Morton order: lavapipe's builder does not sort).
 #pragma once
 #include <glm/glm.hpp>
 
@@ -35,9 +36,9 @@ struct AccelerationGeometry {
 };
 struct AccelerationMesh {
   std::vector<AccelerationGeometry> geometries;
-  uint32_t firstGeometry = 0;  // the TLAS instances' custom index
 };
 struct AccelerationInstance {
+  uint32_t index = 0;  // in the instance table: the TLAS instance's custom index (24 bits)
   uint32_t mesh = 0;
   glm::mat4 worldFromObject{1.0f};
 };
@@ -55,8 +56,8 @@ vk::Status buildSceneAcceleration(vk::Device& device, VkCommandBuffer cmd, const
                                   vk::Buffer& scratchOut);
 // Writes the instance transforms and records a TLAS rebuild, with barriers
 // before (earlier traces) and after (later ray queries in any shader stage).
-void recordTlasRebuild(const vk::Device& device, VkCommandBuffer cmd, std::span<const AccelerationMesh> meshes,
-                       std::span<const AccelerationInstance> instances, SceneAcceleration& accel);
+void recordTlasRebuild(const vk::Device& device, VkCommandBuffer cmd, std::span<const AccelerationInstance> instances,
+                       SceneAcceleration& accel);
 void destroySceneAcceleration(vk::Device& device, SceneAcceleration& accel);
 
 }  // namespace gi

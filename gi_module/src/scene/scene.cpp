@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "gi/device.h"
+#include "gi/morton.h"
 #include "scene/sky_tables.h"
 #include "vulkan_error.h"
 
@@ -41,6 +42,17 @@ const vk::Binding kSceneBindings[] = {
 };
 
 bool rayQuery(const Scene& s) { return s.desc.traversal == gpu::TRAVERSAL_RAY_QUERY; }
+
+// The TLAS's instances in Morton order of their world-space centres.
+std::vector<AccelerationInstance> placedInstances(const Scene& s) {
+  std::vector<glm::vec3> centres;
+  for (const InstanceDesc& inst : s.instances)
+    centres.push_back(glm::vec3(toMat4(inst.worldFromObject) * glm::vec4(s.packed.meshCentres[inst.mesh], 1.0f)));
+  std::vector<AccelerationInstance> placed;
+  for (uint32_t i : mortonOrder(centres))
+    placed.push_back({i, s.instances[i].mesh, toMat4(s.instances[i].worldFromObject)});
+  return placed;
+}
 
 // A device-local buffer filled through a staging buffer copied in `cmd`.
 template <typename T>
@@ -210,17 +222,14 @@ vk::Status buildScene(Scene& s, VkCommandBuffer cmd, const SceneContents& conten
   if (rayQuery(s)) {
     for (size_t m = 0; m < p.meshFirstGeometry.size(); ++m) {
       AccelerationMesh mesh;
-      mesh.firstGeometry = p.meshFirstGeometry[m];
-      for (uint32_t id = mesh.firstGeometry; id < mesh.firstGeometry + p.meshGeometryCount[m]; ++id) {
+      for (uint32_t id = p.meshFirstGeometry[m]; id < p.meshFirstGeometry[m] + p.meshGeometryCount[m]; ++id) {
         const gpu::GpuGeometry& g = p.geometries[id];
         mesh.geometries.push_back({g.firstIndex, g.triangleCount, g.vertexOffset, p.geometryVertexCount[id],
                                    (p.materials[g.material].flags & gpu::MATERIAL_FLAG_ALPHA_MASK) == 0});
       }
       s.accelMeshes.push_back(std::move(mesh));
     }
-    std::vector<AccelerationInstance> placed;
-    for (const InstanceDesc& inst : s.instances) placed.push_back({inst.mesh, toMat4(inst.worldFromObject)});
-    GI_TRY(buildSceneAcceleration(s.gpu, cmd, s.positions, s.indices, s.accelMeshes, placed, s.accel,
+    GI_TRY(buildSceneAcceleration(s.gpu, cmd, s.positions, s.indices, s.accelMeshes, placedInstances(s), s.accel,
                                   s.staging.emplace_back()));
   }
   // The BVH's bottom levels were copied after the first barrier.
@@ -302,6 +311,9 @@ Error createScene(const SceneCreateDesc& desc, const SceneContents& contents, Vk
   if (std::string e = checkInstances(s->packed, contents.instances, "contents.instances"); !e.empty())
     return sceneError("gi::createScene: " + e);
   if (std::string e = checkLights(contents.lights, "contents.lights"); !e.empty()) return sceneError("gi::createScene: " + e);
+  if (desc.traversal == gpu::TRAVERSAL_RAY_QUERY && contents.instances.size() > (1u << 24))
+    return sceneError("gi::createScene: " + std::to_string(contents.instances.size()) +
+                      " instances; ray queries index at most 2^24 (a TLAS instance's custom index)");
   s->instances.assign(contents.instances.begin(), contents.instances.end());
   for (const InstanceDesc& inst : s->instances) s->previousTransforms.push_back(toMat4(inst.worldFromObject));
   s->lightCount = contents.lights.size();
@@ -384,9 +396,7 @@ Error updateInstances(Scene* s, VkCommandBuffer cmd, std::span<const InstanceDes
     writeMapped(s->bvhInstances, s->bvh.topInstances);
   }
   if (rayQuery(*s)) {
-    std::vector<AccelerationInstance> placed;
-    for (const InstanceDesc& inst : s->instances) placed.push_back({inst.mesh, toMat4(inst.worldFromObject)});
-    recordTlasRebuild(s->gpu, cmd, s->accelMeshes, placed, s->accel);
+    recordTlasRebuild(s->gpu, cmd, placedInstances(*s), s->accel);
   }
   return {};
 }

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
+#include "gi/morton.h"
 #include "scene/sky_tables.h"
 
 namespace gi {
@@ -119,6 +121,8 @@ std::string packMesh(const MeshDesc& mesh, size_t materialCount, const std::stri
         out.uvs.emplace_back(0.0f);
       }
     }
+    mortonSortTriangles(std::span(out.positions).subspan(g.vertexOffset, prim.vertexCount),
+                        std::span(out.indices).subspan(g.firstIndex, prim.indexCount));
   }
   return {};
 }
@@ -152,6 +156,15 @@ std::string packScene(const SceneContents& contents, PackedScene& out) {
   }
   if (!finite(std::span(reinterpret_cast<const float*>(out.positions.data()), out.positions.size() * 3)))
     return "contents.meshes: a vertex position is not finite";
+  for (size_t m = 0; m < contents.meshes.size(); ++m) {
+    glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+    for (uint32_t id = out.meshFirstGeometry[m]; id < out.meshFirstGeometry[m] + out.meshGeometryCount[m]; ++id)
+      for (uint32_t v = 0; v < out.geometryVertexCount[id]; ++v) {
+        lo = glm::min(lo, out.positions[out.geometries[id].vertexOffset + v]);
+        hi = glm::max(hi, out.positions[out.geometries[id].vertexOffset + v]);
+      }
+    out.meshCentres.push_back(lo.x <= hi.x ? 0.5f * (lo + hi) : glm::vec3(0.0f));
+  }
   // Only materials some primitive uses decide which passes run.
   for (const gpu::GpuGeometry& g : out.geometries) {
     out.hasAlphaMask |= (out.materials[g.material].flags & gpu::MATERIAL_FLAG_ALPHA_MASK) != 0;

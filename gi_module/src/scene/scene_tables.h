@@ -16,10 +16,11 @@ namespace gi {
 struct PackedScene {
   std::vector<glm::vec3> positions, normals;  // object space
   std::vector<glm::vec2> uvs;
-  std::vector<uint32_t> indices;              // relative to their geometry's vertexOffset
+  std::vector<uint32_t> indices;              // relative to their geometry's vertexOffset, Morton-sorted per geometry
   std::vector<gpu::GpuGeometry> geometries;   // every mesh's primitives, mesh by mesh
   std::vector<uint32_t> geometryVertexCount;
   std::vector<uint32_t> meshFirstGeometry, meshGeometryCount;
+  std::vector<glm::vec3> meshCentres;         // centre of each mesh's object-space bounds
   std::vector<gpu::GpuMaterial> materials;
   std::vector<glm::vec3> materialEmission;    // per material, W/(sr·m²)
   bool hasAlphaMask = false, hasGlossyMaterials = false;  // among materials some primitive uses
