@@ -133,7 +133,7 @@ void createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu) {
     destroySceneGpu(ctx, gpu);
     throw std::runtime_error(scene.sourcePath + ": " + error.message);
   }
-  gi::finishSceneUpload(gpu.scene);
+  throwIf(gi::finishSceneUpload(gpu.scene));  // CPU meshes: frees the staging, builds nothing
   gpu.desc = gi::sceneDesc(gpu.scene);
   gpu.desc.traversal = ctx.traversalId();
   gpu.set.layout = gpu.desc.layout;

@@ -2,7 +2,8 @@
 // module only by its public API, with its own device, glTF loading,
 // reversed-Z octahedral G-buffer and jittered camera. Its mean indirect light
 // on the Cornell box must match gi-render's for the same method and samples,
-// with no validation message in either.
+// with no validation message in either, whether its meshes are handed over
+// as its own device buffers or as CPU arrays.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,6 +11,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <vector>
 
@@ -71,6 +73,25 @@ TEST(ForeignEngine, MeanIndirectMatchesGiRenderOnTheCornellBox) {
                 foreign[c], error[c], render[c], 100.0 * (foreign[c] / render[c] - 1.0), 100.0 * tolerance / render[c]);
     EXPECT_NEAR(foreign[c], render[c], tolerance) << "channel " << c;
   }
+}
+
+// The foreign engine hands the module its G-buffer's own vertex and index
+// buffers (device addresses, interleaved stride 24) by default: the image
+// must be the one the same meshes give as CPU arrays, bit for bit.
+TEST(ForeignEngine, DeviceBufferMeshesRenderAsCpuArrays) {
+  const std::string dir = std::filesystem::temp_directory_path() / "foreign_engine_test";
+  std::filesystem::create_directories(dir);
+  const std::string common = " --method raw --frames 4 --size 48x48 --validation --scene " + kCornell;
+  std::string device, cpu;
+  ASSERT_EQ(runProcess(GI_FOREIGN_ENGINE_BINARY, "--meshes device --out " + dir + "/device.pfm" + common, device), 0) << device;
+  ASSERT_EQ(runProcess(GI_FOREIGN_ENGINE_BINARY, "--meshes cpu --out " + dir + "/cpu.pfm" + common, cpu), 0) << cpu;
+  EXPECT_NE(device.find("from the G-buffer's device buffers"), std::string::npos) << device;
+  EXPECT_NE(device.find("validation messages: 0"), std::string::npos) << device;
+  EXPECT_NE(cpu.find("validation messages: 0"), std::string::npos) << cpu;
+  std::ifstream a(dir + "/device.pfm", std::ios::binary), b(dir + "/cpu.pfm", std::ios::binary);
+  const std::string bytesA((std::istreambuf_iterator<char>(a)), {}), bytesB((std::istreambuf_iterator<char>(b)), {});
+  ASSERT_GT(bytesA.size(), 48u * 48u * 12u);
+  EXPECT_TRUE(bytesA == bytesB) << "device-buffer meshes rendered another image";
 }
 
 TEST(ForeignEngine, BadInputIsANamedError) {

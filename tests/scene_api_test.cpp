@@ -2,11 +2,13 @@
 // instance moved through gi::updateInstances renders as a scene loaded in
 // that pose.
 #include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/packing.hpp>
 
 #include <cstring>
 
 #include "gi/scene.h"
 #include "gpu_test.h"
+#include "scene/scene.h"
 
 class SceneApiTest : public GpuTest {
  protected:
@@ -188,4 +190,173 @@ TEST_F(SceneApiTest, InstanceMovedThroughUpdateInstancesMatchesTheSceneLoadedInT
     unload(moved);
     unload(posed);
   }
+}
+
+namespace {
+
+// The engine's Cornell box as device buffers in packed encodings: half-float
+// positions (stride 8), snorm8 normals interleaved with unorm16 uvs (stride
+// 8, uvs at +4), uint16 indices; and the same values decoded on the CPU.
+struct PackedCornell {
+  engine::Buffer positions, attributes, indices;
+  std::vector<float> cpuPositions, cpuNormals, cpuUvs;
+  std::vector<uint32_t> cpuIndices;
+  std::vector<gi::PrimitiveDesc> primitives;
+  std::vector<gi::MaterialDesc> materials;
+  std::vector<gi::InstanceDesc> instances;
+  std::vector<gi::MeshDesc> deviceMeshes, cpuMeshes;
+};
+
+void packCornell(const engine::Context& ctx, const engine::Scene& scene, PackedCornell& out) {
+  const size_t vertices = scene.positions.size();
+  ASSERT_LT(vertices, 65536u);
+  std::vector<uint16_t> halfs, indices16(scene.indices.begin(), scene.indices.end());
+  std::vector<uint32_t> attributes;
+  for (size_t v = 0; v < vertices; ++v) {
+    const glm::vec3 p = scene.positions[v], n = scene.normals[v];
+    const glm::vec2 uv = scene.uvs.empty() ? glm::vec2(float(v % 7) / 7.0f, float(v % 5) / 5.0f) : scene.uvs[v];
+    for (int k = 0; k < 3; ++k) halfs.push_back(glm::packHalf1x16(p[k]));
+    halfs.push_back(0);
+    attributes.push_back(glm::packSnorm4x8(glm::vec4(n, 0.0f)));
+    attributes.push_back(glm::packUnorm2x16(glm::clamp(uv, 0.0f, 1.0f)));
+    for (int k = 0; k < 3; ++k) out.cpuPositions.push_back(glm::unpackHalf1x16(halfs[4 * v + size_t(k)]));
+    const glm::vec4 decoded = glm::unpackSnorm4x8(attributes[2 * v]);
+    const float length = std::sqrt(decoded.x * decoded.x + decoded.y * decoded.y + decoded.z * decoded.z);
+    for (int k = 0; k < 3; ++k) out.cpuNormals.push_back(decoded[k] / length);
+    const glm::vec2 uvDecoded = glm::unpackUnorm2x16(attributes[2 * v + 1]);
+    out.cpuUvs.insert(out.cpuUvs.end(), {uvDecoded.x, uvDecoded.y});
+  }
+  if (indices16.size() % 2) indices16.push_back(0);  // read in whole words
+  out.cpuIndices = scene.indices;
+  const VkBufferUsageFlags usage = VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+  out.positions = engine::createBufferWithData(ctx, halfs.data(), halfs.size() * 2, usage);
+  out.attributes = engine::createBufferWithData(ctx, attributes.data(), attributes.size() * 4, usage);
+  out.indices = engine::createBufferWithData(ctx, indices16.data(), indices16.size() * 2, usage);
+  for (const engine::Primitive& p : scene.primitives)
+    out.primitives.push_back({p.firstIndex, p.indexCount, p.vertexOffset, p.vertexCount, p.material});
+  for (const engine::Material& m : scene.materials) {
+    gi::MaterialDesc d;
+    for (int k = 0; k < 4; ++k) d.baseColor[k] = m.baseColor[k];
+    for (int k = 0; k < 3; ++k) d.emissive[k] = m.emission[k];
+    d.metallic = 0.0f;
+    out.materials.push_back(d);
+  }
+  for (const engine::Instance& inst : scene.instances) {
+    gi::InstanceDesc d;
+    d.mesh = inst.mesh;
+    std::memcpy(d.worldFromObject, &inst.worldFromObject[0][0], sizeof(d.worldFromObject));
+    out.instances.push_back(d);
+  }
+  for (const engine::Mesh& mesh : scene.meshes) {
+    gi::MeshDesc d;
+    d.vertexCount = uint32_t(vertices);
+    d.indexCount = uint32_t(scene.indices.size());
+    d.primitives = std::span(out.primitives).subspan(mesh.firstPrimitive, mesh.primitiveCount);
+    gi::MeshDesc c = d;
+    d.device.positions = {out.positions.address, VK_FORMAT_R16G16B16A16_SFLOAT, 0};
+    d.device.normals = {out.attributes.address, VK_FORMAT_R8G8B8A8_SNORM, 8};
+    d.device.uvs = {out.attributes.address + 4, VK_FORMAT_R16G16_UNORM, 8};
+    d.device.indices = out.indices.address;
+    d.device.indexType = VK_INDEX_TYPE_UINT16;
+    out.deviceMeshes.push_back(d);
+    c.positions = out.cpuPositions.data();
+    c.normals = out.cpuNormals.data();
+    c.uvs = out.cpuUvs.data();
+    c.indices = out.cpuIndices.data();
+    out.cpuMeshes.push_back(c);
+  }
+}
+
+gi::SceneContents cornellContents(PackedCornell& p, bool device) {
+  gi::SceneContents c;
+  c.meshes = device ? p.deviceMeshes : p.cpuMeshes;
+  c.materials = p.materials;
+  c.instances = p.instances;
+  return c;
+}
+
+}  // namespace
+
+// The engine's own device buffers in packed encodings decode to the values
+// the CPU decodes (positions and indices exactly, normals and uvs to float
+// rounding), through createScene's read-back and finishSceneUpload's build;
+// bad streams are named errors at createScene, bad indices (seen only after
+// the read-back) at finishSceneUpload.
+TEST_F(SceneApiTest, DeviceBufferMeshesDecodeAsTheirCpuValues) {
+  LoadedScene loaded;
+  std::string error;
+  ASSERT_TRUE(engine::loadSceneForRendering(sharedScene("cornell-box-mcguire/CornellBox-Original.gltf"), loaded.scene, error))
+      << error;
+  PackedCornell p;
+  ASSERT_NO_FATAL_FAILURE(packCornell(ctx, loaded.scene, p));
+  gi::Scene* device = nullptr;
+  gi::Scene* cpu = nullptr;
+  ASSERT_FALSE(create(cornellContents(p, true), device));
+  EXPECT_FALSE(gi::sceneBuilt(device));
+  EXPECT_EQ(gi::sceneDesc(device).set, VK_NULL_HANDLE);
+  gi::Error e;
+  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { e = gi::finishSceneUpload(device, cmd); });
+  ASSERT_FALSE(e) << e.message;
+  EXPECT_TRUE(gi::sceneBuilt(device));
+  ASSERT_FALSE(create(cornellContents(p, false), cpu));
+  const gi::PackedScene& a = device->packed;
+  const gi::PackedScene& b = cpu->packed;
+  ASSERT_EQ(a.positions.size(), b.positions.size());
+  EXPECT_TRUE(a.positions == b.positions);
+  EXPECT_TRUE(a.indices == b.indices);  // Morton order follows from equal positions
+  float normalError = 0.0f, uvError = 0.0f;
+  for (size_t v = 0; v < a.normals.size(); ++v) {
+    normalError = std::max(normalError, glm::length(a.normals[v] - b.normals[v]));
+    uvError = std::max(uvError, glm::length(a.uvs[v] - b.uvs[v]));
+  }
+  std::printf("device-buffer decode: %zu vertices, max |normal difference| %.2e, max |uv difference| %.2e\n",
+              a.normals.size(), normalError, uvError);
+  EXPECT_LE(normalError, 1e-6f);
+  EXPECT_LE(uvError, 1e-6f);
+  const gi::SceneDesc da = gi::sceneDesc(device), db = gi::sceneDesc(cpu);
+  EXPECT_EQ(da.hasEmissiveTriangles, db.hasEmissiveTriangles);
+  EXPECT_EQ(da.extent, db.extent);
+  EXPECT_EQ(gi::sceneInfo(device).triangles, gi::sceneInfo(cpu).triangles);
+  gi::destroyScene(device);
+  gi::destroyScene(cpu);
+
+  struct Case {
+    const char* what;
+    void (*spoil)(gi::MeshDesc&);
+    const char* field;
+  };
+  const Case cases[] = {
+      {"unlisted format", [](gi::MeshDesc& m) { m.device.normals.format = VK_FORMAT_R8G8B8A8_UNORM; },
+       "contents.meshes[0].device.normals.format"},
+      {"stride below the format", [](gi::MeshDesc& m) { m.device.positions.stride = 4; }, "device.positions.stride = 4"},
+      {"misaligned address", [](gi::MeshDesc& m) { m.device.uvs.address += 2; }, "multiples of 4 bytes"},
+      {"CPU arrays as well", [](gi::MeshDesc& m) { m.normals = reinterpret_cast<const float*>(&m); }, "both given"},
+      {"no index address", [](gi::MeshDesc& m) { m.device.indices = 0; }, "device.indices"},
+  };
+  for (const Case& c : cases) {
+    std::vector<gi::MeshDesc> meshes = p.deviceMeshes;
+    c.spoil(meshes[0]);
+    gi::SceneContents contents = cornellContents(p, true);
+    contents.meshes = meshes;
+    gi::Scene* scene = nullptr;
+    e = create(contents, scene);
+    EXPECT_EQ(e.code, gi::ErrorCode::OutOfRange) << c.what;
+    EXPECT_NE(e.message.find(c.field), std::string::npos) << c.what << ": " << e.message;
+    EXPECT_EQ(scene, nullptr) << c.what;
+  }
+  // An index past its primitive's vertices is found once read back.
+  std::vector<gi::PrimitiveDesc> tooFew = p.primitives;
+  tooFew[0].vertexCount = 1;
+  std::vector<gi::MeshDesc> meshes = p.deviceMeshes;
+  meshes[0].primitives = std::span(tooFew).subspan(0, meshes[0].primitives.size());
+  gi::SceneContents contents = cornellContents(p, true);
+  contents.meshes = meshes;
+  gi::Scene* scene = nullptr;
+  ASSERT_FALSE(create(contents, scene));
+  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { e = gi::finishSceneUpload(scene, cmd); });
+  EXPECT_EQ(e.code, gi::ErrorCode::OutOfRange);
+  EXPECT_NE(e.message.find("gi::finishSceneUpload: contents.meshes[0].primitives[0]: index"), std::string::npos) << e.message;
+  EXPECT_FALSE(gi::sceneBuilt(scene));
+  gi::destroyScene(scene);
+  for (engine::Buffer* buffer : {&p.positions, &p.attributes, &p.indices}) engine::destroyBuffer(ctx, *buffer);
 }

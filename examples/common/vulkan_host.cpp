@@ -132,6 +132,9 @@ Buffer createBuffer(const Host& h, VkDeviceSize size, VkBufferUsageFlags usage, 
   alloc.allocationSize = req.size;
   alloc.memoryTypeIndex =
       memoryType(h, req.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
+  VkMemoryAllocateFlagsInfo flags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
+  flags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;
+  if (usage & VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT) alloc.pNext = &flags;
   EXAMPLE_CHECK(vkAllocateMemory(h.device, &alloc, nullptr, &b.memory));
   EXAMPLE_CHECK(vkBindBufferMemory(h.device, b.buffer, b.memory, 0));
   EXAMPLE_CHECK(vkMapMemory(h.device, b.memory, 0, VK_WHOLE_SIZE, 0, &b.mapped));

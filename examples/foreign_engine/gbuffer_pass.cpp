@@ -147,14 +147,22 @@ void createGBufferPass(const example::Host& h, const SceneFile& scene, VkExtent2
   std::vector<std::vector<Draw>> meshDraws;
   for (const Mesh& mesh : scene.meshes) {
     const int32_t base = int32_t(vertices.size() / 6);
+    MeshRange& range = p.meshes.emplace_back();
+    range.firstVertex = uint32_t(base);
+    range.vertexCount = uint32_t(mesh.positions.size());
+    range.firstIndex = uint32_t(indices.size());
     for (size_t v = 0; v < mesh.positions.size(); ++v)
       for (const glm::vec3* a : {&mesh.positions[v], &mesh.normals[v]}) vertices.insert(vertices.end(), {a->x, a->y, a->z});
     std::vector<Draw>& draws = meshDraws.emplace_back();
     for (const gi::PrimitiveDesc& prim : mesh.primitives) {
       draws.push_back({uint32_t(indices.size()), prim.indexCount, base + int32_t(prim.firstVertex), prim.material, {}});
+      gi::PrimitiveDesc placed = prim;
+      placed.firstIndex = uint32_t(indices.size()) - range.firstIndex;
+      range.primitives.push_back(placed);
       indices.insert(indices.end(), mesh.indices.begin() + prim.firstIndex,
                      mesh.indices.begin() + prim.firstIndex + prim.indexCount);
     }
+    range.indexCount = uint32_t(indices.size()) - range.firstIndex;
   }
   for (const Instance& inst : scene.instances)
     for (Draw d : meshDraws[inst.mesh]) {
@@ -162,8 +170,11 @@ void createGBufferPass(const example::Host& h, const SceneFile& scene, VkExtent2
       p.draws.push_back(d);
     }
   p.materials = scene.materials;
-  p.vertices = example::createBuffer(h, vertices.size() * sizeof(float), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, vertices.data());
-  p.indices = example::createBuffer(h, indices.size() * sizeof(uint32_t), VK_BUFFER_USAGE_INDEX_BUFFER_BIT, indices.data());
+  // Device addresses: the module reads its scene from these same buffers.
+  p.vertices = example::createBuffer(h, vertices.size() * sizeof(float),
+                                     VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT, vertices.data());
+  p.indices = example::createBuffer(h, indices.size() * sizeof(uint32_t),
+                                    VK_BUFFER_USAGE_INDEX_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT, indices.data());
   for (example::Buffer& u : p.uniforms) u = example::createBuffer(h, sizeof(FrameUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
   createPipeline(h, p);
 }
@@ -246,6 +257,32 @@ void recordGBuffer(VkCommandBuffer cmd, GBufferPass& p, uint32_t slot, const Fra
 gi::GBufferViews gbufferViews(const GBufferPass& p) {
   return {p.targets[kNormal].view, p.targets[kAlbedo].view, p.targets[kMaterial].view,
           p.targets[kEmission].view, p.targets[kMotion].view, p.depth.view};
+}
+
+}  // namespace foreign
+
+namespace foreign {
+
+std::vector<gi::MeshDesc> deviceMeshes(const example::Host& h, const GBufferPass& p) {
+  auto address = [&](const example::Buffer& b) {
+    VkBufferDeviceAddressInfo info{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
+    info.buffer = b.buffer;
+    return vkGetBufferDeviceAddress(h.device, &info);
+  };
+  const VkDeviceAddress vertices = address(p.vertices), indices = address(p.indices);
+  std::vector<gi::MeshDesc> out;
+  for (const MeshRange& range : p.meshes) {
+    gi::MeshDesc d;
+    d.vertexCount = range.vertexCount;
+    d.indexCount = range.indexCount;
+    d.primitives = range.primitives;
+    d.device.positions = {vertices + VkDeviceAddress(range.firstVertex) * 24, VK_FORMAT_R32G32B32_SFLOAT, 24};
+    d.device.normals = {vertices + VkDeviceAddress(range.firstVertex) * 24 + 12, VK_FORMAT_R32G32B32_SFLOAT, 24};
+    d.device.indices = indices + VkDeviceAddress(range.firstIndex) * 4;
+    d.device.indexType = VK_INDEX_TYPE_UINT32;
+    out.push_back(d);
+  }
+  return out;
 }
 
 }  // namespace foreign

@@ -34,11 +34,18 @@ struct Draw {
   glm::mat4 worldFromObject;
 };
 
+// Where a mesh of the scene file lies in the pass's vertex and index buffers.
+struct MeshRange {
+  uint32_t firstVertex = 0, vertexCount = 0, firstIndex = 0, indexCount = 0;
+  std::vector<gi::PrimitiveDesc> primitives;  // firstIndex counts from the range's first index
+};
+
 struct GBufferPass {
   VkExtent2D extent{};
   example::Image targets[kTargetCount];
   example::Image depth;
-  example::Buffer vertices, indices;          // interleaved position, normal; uint32
+  example::Buffer vertices, indices;          // interleaved position, normal; uint32 (with device addresses)
+  std::vector<MeshRange> meshes;              // per mesh of the scene file
   std::vector<Draw> draws;
   std::vector<gi::MaterialDesc> materials;
   example::Buffer uniforms[2];                // per frame slot
@@ -56,5 +63,8 @@ void destroyGBufferPass(const example::Host& h, GBufferPass& pass);
 // DEPTH_READ_ONLY_OPTIMAL, made visible to compute-shader sampled reads.
 void recordGBuffer(VkCommandBuffer cmd, GBufferPass& pass, uint32_t slot, const FrameUniforms& uniforms);
 gi::GBufferViews gbufferViews(const GBufferPass& pass);
+// The pass's own vertex and index buffers, as the module's device meshes
+// (positions and normals interleaved, stride 24; uint32 indices).
+std::vector<gi::MeshDesc> deviceMeshes(const example::Host& h, const GBufferPass& pass);
 
 }  // namespace foreign

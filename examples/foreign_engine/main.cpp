@@ -7,7 +7,7 @@
 // (gi::recordFrame), two frames in flight. It reports the mean demodulated
 // indirect light over its frames, which the tests compare with gi-render's.
 //
-//   foreign_engine --scene FILE.gltf [--method NAME] [--size WxH] [--frames N] [--max-bounces B] [--view NAME] [--out FILE.pfm] [--validation]
+//   foreign_engine --scene FILE.gltf [--method NAME] [--size WxH] [--frames N] [--max-bounces B] [--view NAME] [--meshes device|cpu] [--out FILE.pfm] [--validation]
 //
 // Exit status: 0 when the frames ran and validation (with --validation)
 // reported nothing; 1 otherwise; 2 on a Vulkan failure.
@@ -38,6 +38,7 @@ struct Options {
   std::string out;  // the frames' mean indirect light (or debug view) as a .pfm, if given
   gi::DebugView view = gi::DebugView::None;
   uint32_t maxBounces = 0;  // 0: gi::Settings' default
+  bool deviceMeshes = true;  // the G-buffer's own vertex/index buffers (false: the loaded CPU arrays)
 };
 
 bool parseOptions(int argc, char** argv, Options& o) {
@@ -52,6 +53,8 @@ bool parseOptions(int argc, char** argv, Options& o) {
         if (v.name == std::string(value)) o.view = v.view, found = true;
       if (!found) return std::fprintf(stderr, "foreign_engine: unknown debug view %s\n", value), false;
       ++i;
+    } else if (arg == "--meshes" && value && (std::string(value) == "device" || std::string(value) == "cpu")) {
+      o.deviceMeshes = std::string(argv[++i]) == "device";
     } else if (arg == "--out" && value) {
       o.out = argv[++i];
     } else if (arg == "--scene" && value) {
@@ -66,7 +69,7 @@ bool parseOptions(int argc, char** argv, Options& o) {
     } else if (arg == "--frames" && value && std::sscanf(value, "%u", &o.frames) == 1 && o.frames > 0) {
       ++i;
     } else {
-      std::fprintf(stderr, "usage: foreign_engine --scene FILE.gltf [--method NAME] [--size WxH] [--frames N] [--max-bounces B] [--view NAME] [--out FILE.pfm] [--validation]\n");
+      std::fprintf(stderr, "usage: foreign_engine --scene FILE.gltf [--method NAME] [--size WxH] [--frames N] [--max-bounces B] [--view NAME] [--meshes device|cpu] [--out FILE.pfm] [--validation]\n");
       return false;
     }
   }
@@ -145,16 +148,24 @@ int main(int argc, char** argv) {
   const VkExtent2D extent{options.width, options.height};
 
   // --- the scene, handed to the module in its terms ---------------------------
+  // The G-buffer pass owns the vertex and index buffers; the module reads its
+  // meshes from them (or, with --meshes cpu, from the loaded arrays).
+  foreign::GBufferPass gbuffer;
+  foreign::createGBufferPass(h, file, extent, gbuffer);
   std::vector<gi::MeshDesc> meshes;
-  for (const foreign::Mesh& m : file.meshes) {
-    gi::MeshDesc d;
-    d.positions = &m.positions[0].x;
-    d.normals = &m.normals[0].x;
-    d.vertexCount = uint32_t(m.positions.size());
-    d.indices = m.indices.data();
-    d.indexCount = uint32_t(m.indices.size());
-    d.primitives = m.primitives;
-    meshes.push_back(d);
+  if (options.deviceMeshes) {
+    meshes = foreign::deviceMeshes(h, gbuffer);
+  } else {
+    for (const foreign::Mesh& m : file.meshes) {
+      gi::MeshDesc d;
+      d.positions = &m.positions[0].x;
+      d.normals = &m.normals[0].x;
+      d.vertexCount = uint32_t(m.positions.size());
+      d.indices = m.indices.data();
+      d.indexCount = uint32_t(m.indices.size());
+      d.primitives = m.primitives;
+      meshes.push_back(d);
+    }
   }
   std::vector<gi::InstanceDesc> instances;
   for (const foreign::Instance& inst : file.instances) instances.push_back(instanceDesc(inst));
@@ -172,15 +183,19 @@ int main(int argc, char** argv) {
   gi::Scene* scene = nullptr;
   gi::Error sceneError;
   example::submitOnce(h, [&](VkCommandBuffer cmd) { sceneError = gi::createScene(sceneCreate, contents, cmd, scene); });
+  // That command buffer has completed: device meshes were read back, and the
+  // scene is built from them into a second one.
+  if (!sceneError) example::submitOnce(h, [&](VkCommandBuffer cmd) { sceneError = gi::finishSceneUpload(scene, cmd); });
   if (sceneError) {
     std::fprintf(stderr, "foreign_engine: %s: %s\n", options.scene.c_str(), sceneError.message.c_str());
+    gi::destroyScene(scene);
+    foreign::destroyGBufferPass(h, gbuffer);
+    example::destroyHost(h);
     return 1;
   }
-  gi::finishSceneUpload(scene);  // the upload's command buffer has completed
+  gi::finishSceneUpload(scene);  // frees the build's staging
 
   // --- the module ----------------------------------------------------------------
-  foreign::GBufferPass gbuffer;
-  foreign::createGBufferPass(h, file, extent, gbuffer);
   constexpr uint32_t kFramesInFlight = 2;
   gi::ModuleDesc desc;
   desc.getInstanceProcAddr = vkGetInstanceProcAddr;
@@ -282,9 +297,10 @@ int main(int argc, char** argv) {
   for (const glm::dvec3& m : frameMeans) mean += m / double(frameMeans.size());
   for (const glm::dvec3& m : frameMeans) variance += (m - mean) * (m - mean) / double(std::max<size_t>(frameMeans.size() - 1, 1));
   const glm::dvec3 standardError = glm::sqrt(variance / double(frameMeans.size()));
-  std::printf("%s: %s, %ux%u, %u frames (jittered, %u in flight), %zu triangles' scene through gi::createScene\n",
+  std::printf("%s: %s, %ux%u, %u frames (jittered, %u in flight), %zu triangles' scene through gi::createScene from %s\n",
               options.scene.c_str(), gi::methodCatalogue()[size_t(options.method)].name, extent.width, extent.height,
-              options.frames, kFramesInFlight, size_t(gi::sceneInfo(scene).triangles));
+              options.frames, kFramesInFlight, size_t(gi::sceneInfo(scene).triangles),
+              options.deviceMeshes ? "the G-buffer's device buffers" : "CPU arrays");
   std::printf("mean %s: %.6f %.6f %.6f\n", options.view == gi::DebugView::None ? "indirect" : "composite", mean.x, mean.y, mean.z);
   std::printf("standard error: %.6f %.6f %.6f\n", standardError.x, standardError.y, standardError.z);
 

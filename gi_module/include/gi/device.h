@@ -49,8 +49,9 @@ inline constexpr DeviceFeature kRequiredFeatures[] = {
      offsetof(VkPhysicalDeviceVulkan12Features, hostQueryReset), false},
     {"synchronization2", VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES,
      offsetof(VkPhysicalDeviceVulkan13Features, synchronization2), false},
+    // Acceleration-structure inputs, and the engine's device meshes (gi/scene.h), are read through device addresses.
     {"bufferDeviceAddress", VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES,
-     offsetof(VkPhysicalDeviceVulkan12Features, bufferDeviceAddress), true},
+     offsetof(VkPhysicalDeviceVulkan12Features, bufferDeviceAddress), false},
     {"accelerationStructure", VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR,
      offsetof(VkPhysicalDeviceAccelerationStructureFeaturesKHR, accelerationStructure), true},
     {"rayQuery", VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR,

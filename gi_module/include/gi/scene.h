@@ -1,5 +1,6 @@
 // gi/scene.h — the scene as the module traces it, described by the engine in
-// its own terms and built by the module: meshes as CPU arrays, glTF
+// its own terms and built by the module: meshes as CPU arrays or the
+// engine's device buffers, glTF
 // metallic-roughness materials with the engine's image views, punctual
 // lights, instances and the sky. The module packs the geometry, builds the
 // emission CDF, the compute traversal's BVH and (for ray queries) the
@@ -31,7 +32,36 @@ struct PrimitiveDesc {
   uint32_t material = 0;     // into SceneContents::materials
 };
 
-// A mesh as CPU arrays; the module copies what it needs during createScene.
+// A vertex stream in one of the engine's device buffers, read through its
+// device address by a compute pass: the buffer was created with
+// SHADER_DEVICE_ADDRESS usage (and its memory with DEVICE_ADDRESS), the
+// device with bufferDeviceAddress. Address and stride are multiples of 4 bytes.
+struct DeviceStream {
+  VkDeviceAddress address = 0;  // of vertex 0 (0: absent, for uvs only)
+  VkFormat format = VK_FORMAT_UNDEFINED;
+  uint32_t stride = 0;          // bytes between vertices; 0 = the format's size
+};
+
+// Formats accepted for each stream (xyz of a 4-component normal or position
+// is used; normals are normalised after decoding):
+//   positions  R32G32B32_SFLOAT, R32G32B32A32_SFLOAT, R16G16B16A16_SFLOAT
+//   normals    R32G32B32_SFLOAT, R32G32B32A32_SFLOAT, R16G16B16A16_SFLOAT,
+//              R16G16B16A16_SNORM, R8G8B8A8_SNORM
+//   uvs        R32G32_SFLOAT, R16G16_SFLOAT, R16G16_UNORM
+//   indices    VK_INDEX_TYPE_UINT32, VK_INDEX_TYPE_UINT16
+struct DeviceMeshDesc {
+  DeviceStream positions, normals, uvs;
+  VkDeviceAddress indices = 0;  // of index 0
+  VkIndexType indexType = VK_INDEX_TYPE_UINT32;
+};
+
+// A mesh as CPU arrays (the module copies what it needs during createScene),
+// or in the engine's device buffers (`device.positions.address` set, the
+// CPU pointers null). The compute traversal's BVH and the emission CDF are
+// built on the CPU, so device meshes are read back: createScene records a
+// pass that decodes them into a host-visible buffer, and finishSceneUpload
+// (once that completed) builds the scene from them into a second command
+// buffer. The engine's buffers may be freed once createScene's commands completed.
 struct MeshDesc {
   const float* positions = nullptr;  // xyz per vertex, object space, metres
   uint32_t positionStride = 0;       // bytes between vertices; 0 = 12 (packed)
@@ -43,6 +73,7 @@ struct MeshDesc {
   const uint32_t* indices = nullptr;
   uint32_t indexCount = 0;
   std::span<const PrimitiveDesc> primitives;
+  DeviceMeshDesc device;             // instead of the arrays above (vertexCount, indexCount, primitives apply)
 };
 
 enum class AlphaMode : uint32_t { Opaque = 0, Mask, Blend };  // Blend is lit as opaque
@@ -128,10 +159,20 @@ struct SceneCreateDesc {
 // is usable by commands recorded after these in `cmd` or submitted later.
 // The engine's arrays may be freed once this returns. Errors name the field:
 // "contents.meshes[2].primitives[0]: index 812 is not below vertexCount 800".
+// With device meshes only their read-back is recorded (and only their
+// descriptions are checked): the scene is built by finishSceneUpload.
 Error createScene(const SceneCreateDesc& desc, const SceneContents& contents, VkCommandBuffer cmd, Scene*& out);
-// The staging memory of createScene is freed here; call once the command
-// buffer it recorded into has completed (or leave it to destroyScene).
-void finishSceneUpload(Scene* scene);
+// Call once the command buffer createScene recorded into has completed: frees
+// its staging memory. A scene with device meshes is built here, from what was
+// read back, recording its uploads and builds into `cmd` (required then; the
+// scene is usable by commands after them, and this call's own staging is
+// freed by the next finishSceneUpload or by destroyScene); the checks of
+// createScene apply and their errors are returned here. Without device
+// meshes `cmd` is not used.
+Error finishSceneUpload(Scene* scene, VkCommandBuffer cmd = VK_NULL_HANDLE);
+// False while a scene with device meshes waits for finishSceneUpload (its
+// sceneDesc has no set yet).
+bool sceneBuilt(const Scene* scene);
 // The caller ensures the GPU no longer uses the scene (and gi modules were
 // given another scene or destroyed first).
 void destroyScene(Scene* scene);

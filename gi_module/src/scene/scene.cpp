@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "gi/device.h"
+#include "scene/device_meshes.h"
 #include "gi/morton.h"
 #include "scene/sky_tables.h"
 #include "vulkan_error.h"
@@ -274,6 +275,7 @@ void freeStaging(Scene& s) {
 
 void destroySceneResources(Scene& s) {
   freeStaging(s);
+  destroyDeviceMeshReadback(s.gpu, s.readback);
   destroyBvhBuffers(s);
   destroySceneAcceleration(s.gpu, s.accel);
   vk::destroyDescriptorSets(s.gpu, s.set);
@@ -287,6 +289,17 @@ void destroySceneResources(Scene& s) {
 }
 
 Error sceneError(std::string message) { return {ErrorCode::OutOfRange, std::move(message)}; }
+
+// Checks and packs CPU-array contents and keeps what updates need; "" when good.
+std::string prepare(Scene& s, const SceneContents& contents) {
+  if (std::string e = packScene(contents, s.packed); !e.empty()) return e;
+  if (std::string e = checkInstances(s.packed, contents.instances, "contents.instances"); !e.empty()) return e;
+  if (std::string e = checkLights(contents.lights, "contents.lights"); !e.empty()) return e;
+  s.instances.assign(contents.instances.begin(), contents.instances.end());
+  for (const InstanceDesc& inst : s.instances) s.previousTransforms.push_back(toMat4(inst.worldFromObject));
+  s.lightCount = contents.lights.size();
+  return {};
+}
 
 }  // namespace
 
@@ -307,20 +320,23 @@ Error createScene(const SceneCreateDesc& desc, const SceneContents& contents, Vk
                       " is not TRAVERSAL_RAY_QUERY or TRAVERSAL_COMPUTE");
   auto s = std::make_unique<Scene>();
   s->desc = desc;
-  if (std::string e = packScene(contents, s->packed); !e.empty()) return sceneError("gi::createScene: " + e);
-  if (std::string e = checkInstances(s->packed, contents.instances, "contents.instances"); !e.empty())
-    return sceneError("gi::createScene: " + e);
-  if (std::string e = checkLights(contents.lights, "contents.lights"); !e.empty()) return sceneError("gi::createScene: " + e);
+  bool deviceMeshes = false;
+  for (size_t m = 0; m < contents.meshes.size(); ++m)
+    if (isDeviceMesh(contents.meshes[m])) {
+      deviceMeshes = true;
+      if (std::string e = checkDeviceMesh(contents.meshes[m], "contents.meshes[" + std::to_string(m) + "]"); !e.empty())
+        return sceneError("gi::createScene: " + e);
+    }
+  if (!deviceMeshes)
+    if (std::string e = prepare(*s, contents); !e.empty()) return sceneError("gi::createScene: " + e);
   if (desc.traversal == gpu::TRAVERSAL_RAY_QUERY && contents.instances.size() > (1u << 24))
     return sceneError("gi::createScene: " + std::to_string(contents.instances.size()) +
                       " instances; ray queries index at most 2^24 (a TLAS instance's custom index)");
-  s->instances.assign(contents.instances.begin(), contents.instances.end());
-  for (const InstanceDesc& inst : s->instances) s->previousTransforms.push_back(toMat4(inst.worldFromObject));
-  s->lightCount = contents.lights.size();
 
   s->gpu.allocator = desc.allocationCallbacks;
   s->gpu.memory.budget = desc.memoryBudgetBytes;
-  s->gpu.deviceAddressMemory = desc.traversal == gpu::TRAVERSAL_RAY_QUERY;
+  // Acceleration-structure inputs and the device meshes' read-back are used through device addresses.
+  s->gpu.deviceAddressMemory = desc.traversal == gpu::TRAVERSAL_RAY_QUERY || deviceMeshes;
   if (vk::Status st = vk::openDevice(desc.getInstanceProcAddr, desc.instance, desc.physicalDevice, desc.device, s->gpu))
     return {ErrorCode::MissingHandle, std::string("gi::createScene: desc.getInstanceProcAddr returned no ") + st.call,
             st.result};
@@ -329,7 +345,19 @@ Error createScene(const SceneCreateDesc& desc, const SceneContents& contents, Vk
     return {ErrorCode::MissingFeature, "gi::createScene: TRAVERSAL_RAY_QUERY needs VK_KHR_acceleration_structure, "
                                        "which the device was created without"};
   }
-  if (vk::Status st = buildScene(*s, cmd, contents)) {
+  if (deviceMeshes && !s->gpu.fn.vkGetBufferDeviceAddress) {
+    vk::closeDevice(s->gpu);
+    return {ErrorCode::MissingFeature, "gi::createScene: device meshes need bufferDeviceAddress (Vulkan 1.2)"};
+  }
+  vk::Status st;
+  if (deviceMeshes) {
+    holdContents(contents, s->held);
+    s->awaitingGeometry = true;
+    st = recordDeviceMeshReadback(s->gpu, cmd, s->held, s->readback);
+  } else {
+    st = buildScene(*s, cmd, contents);
+  }
+  if (st) {
     Error e = vulkanError("gi::createScene", st);
     destroySceneResources(*s);
     return e;
@@ -338,9 +366,25 @@ Error createScene(const SceneCreateDesc& desc, const SceneContents& contents, Vk
   return {};
 }
 
-void finishSceneUpload(Scene* s) {
-  if (s) freeStaging(*s);
+Error finishSceneUpload(Scene* s, VkCommandBuffer cmd) {
+  if (!s) return {};
+  freeStaging(*s);
+  if (!s->awaitingGeometry) return {};
+  if (!cmd) return {ErrorCode::MissingHandle, "gi::finishSceneUpload: cmd is required (the scene's device meshes are built now)"};
+  s->awaitingGeometry = false;  // one attempt: a failed build leaves the scene unbuilt, for destroyScene
+  takeDeviceMeshes(s->readback, s->held);
+  destroyDeviceMeshReadback(s->gpu, s->readback);
+  const SceneContents contents = heldView(s->held);
+  if (std::string e = prepare(*s, contents); !e.empty()) return sceneError("gi::finishSceneUpload: " + e);
+  if (vk::Status st = buildScene(*s, cmd, contents)) {
+    s->facts = SceneDesc{};
+    return vulkanError("gi::finishSceneUpload", st);
+  }
+  s->held = HeldContents{};
+  return {};
 }
+
+bool sceneBuilt(const Scene* s) { return s && s->facts.set != VK_NULL_HANDLE; }
 
 void destroyScene(Scene* s) {
   if (!s) return;
@@ -351,6 +395,7 @@ void destroyScene(Scene* s) {
 SceneDesc sceneDesc(const Scene* s) { return s->facts; }
 
 Error updateInstances(Scene* s, VkCommandBuffer cmd, std::span<const InstanceDesc> instances) {
+  if (!sceneBuilt(s)) return {ErrorCode::MissingHandle, "gi::updateInstances: the scene is not built (finishSceneUpload)"};
   if (instances.size() != s->instances.size())
     return sceneError("gi::updateInstances: " + std::to_string(instances.size()) + " instances given, the scene has " +
                       std::to_string(s->instances.size()));
@@ -402,6 +447,7 @@ Error updateInstances(Scene* s, VkCommandBuffer cmd, std::span<const InstanceDes
 }
 
 Error updateLights(Scene* s, std::span<const LightDesc> lights) {
+  if (!sceneBuilt(s)) return {ErrorCode::MissingHandle, "gi::updateLights: the scene is not built (finishSceneUpload)"};
   if (lights.size() != s->lightCount)
     return sceneError("gi::updateLights: " + std::to_string(lights.size()) + " lights given, the scene has " +
                       std::to_string(s->lightCount));

@@ -9,6 +9,7 @@
 #include "gi/vk/resources.h"
 #include "scene/acceleration.h"
 #include "scene/bvh_builder.h"
+#include "scene/device_meshes.h"
 #include "scene/scene_tables.h"
 
 namespace gi {
@@ -35,6 +36,9 @@ struct Scene {
   gpu::GpuSceneConstants sceneConstants{};
   SceneDesc facts;                              // what sceneDesc() returns
   std::vector<vk::Buffer> staging;              // freed by finishSceneUpload
+  bool awaitingGeometry = false;                // device meshes: built by finishSceneUpload
+  HeldContents held;                            // the contents meanwhile
+  DeviceMeshReadback readback;
 };
 
 // Set 0's bindings (binding 0, the TLAS, only for ray queries).
