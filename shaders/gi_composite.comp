@@ -67,6 +67,12 @@ void main() {
       result = vec3(min(frames, 32.0) / 32.0);
       break;
     }
+    // svgf: the variance estimate before the à-trous iterations, and the history behind it.
+    case GI_DEBUG_SVGF_VARIANCE: {
+      const vec4 v = imageLoad(giDebug, p);
+      result = vec3(v.x, v.y, min(v.z, 32.0) / 32.0);
+      break;
+    }
     default:
       // aaf_ao: the indirect image holds occlusion (reflectors radiate 1); AO = 1 − occlusion.
       result = pc.ambientOcclusion != 0u ? vec3(1.0) - clamp(indirect, 0.0, 1.0)

@@ -38,6 +38,13 @@ layout(set = 1, binding = GI_BINDING_HISTORY_DIRECT_B, rgba32f) uniform image2D 
 layout(set = 1, binding = GI_BINDING_HISTORY_INDIRECT_B, rgba32f) uniform image2D giHistoryIndirectB;
 layout(set = 1, binding = GI_BINDING_HISTORY_GUIDE_A, rgba16f) uniform image2D giHistoryGuideA;
 layout(set = 1, binding = GI_BINDING_HISTORY_GUIDE_B, rgba16f) uniform image2D giHistoryGuideB;
+layout(set = 1, binding = GI_BINDING_SVGF_MOMENTS_A, rgba32f) uniform image2D giSvgfMomentsA;
+layout(set = 1, binding = GI_BINDING_SVGF_MOMENTS_B, rgba32f) uniform image2D giSvgfMomentsB;
+layout(set = 1, binding = GI_BINDING_SVGF_DIRECT_PING, rgba32f) uniform image2D giSvgfDirectPing;
+layout(set = 1, binding = GI_BINDING_SVGF_INDIRECT_PING, rgba32f) uniform image2D giSvgfIndirectPing;
+layout(set = 1, binding = GI_BINDING_SVGF_DIRECT_PONG, rgba32f) uniform image2D giSvgfDirectPong;
+layout(set = 1, binding = GI_BINDING_SVGF_INDIRECT_PONG, rgba32f) uniform image2D giSvgfIndirectPong;
+layout(set = 1, binding = GI_BINDING_SVGF_GUIDE, rgba32f) uniform image2D giSvgfGuide;
 
 // Output images hold radiance × outputScale, clamped into the format's range
 // (a half float overflows to Inf past 65504). Loads give radiance back.
@@ -86,6 +93,10 @@ float giGbViewDepth(ivec2 p) {
 vec4 giGbAlbedo(ivec2 p) { return texelFetch(giGbAlbedoImage, p, 0); }  // linear (an sRGB view decodes)
 vec2 giGbRoughnessMetallic(ivec2 p) { return texelFetch(giGbMaterialImage, p, 0).rg; }
 vec3 giGbEmission(ivec2 p) { return texelFetch(giGbEmissionImage, p, 0).rgb; }
+// Direct light is accumulated and filtered over the base colour (SVGF's
+// demodulation; gi_temporal.comp, svgf_atrous.comp); darker base colours count
+// as 1/64, so black texels keep their light.
+vec3 giDirectAlbedo(ivec2 p) { return max(giGbAlbedo(p).rgb, vec3(1.0 / 64.0)); }
 
 // Previous position − current, in pixels.
 vec2 giGbMotionPixels(ivec2 p) {

@@ -18,16 +18,23 @@
 layout(local_size_x = GI_GROUP_SIZE, local_size_y = GI_GROUP_SIZE) in;
 layout(push_constant, scalar) uniform Push { GiTemporalPush pc; };
 
-const float kMinAlbedo = 1.0 / 64.0;  // darker base colours are divided by this: black texels keep their light
-
 struct History {
   vec3 direct, indirect;
+  vec4 moments;  // svgf: luminance mean and mean square of direct (xy) and indirect (zw)
   float frames;  // 0: none
 };
 
 vec4 readGuide(ivec2 q) { return pc.parity == 0u ? imageLoad(giHistoryGuideA, q) : imageLoad(giHistoryGuideB, q); }
 vec4 readDirect(ivec2 q) { return pc.parity == 0u ? imageLoad(giHistoryDirect, q) : imageLoad(giHistoryDirectB, q); }
 vec4 readIndirect(ivec2 q) { return pc.parity == 0u ? imageLoad(giHistoryIndirect, q) : imageLoad(giHistoryIndirectB, q); }
+vec4 readMoments(ivec2 q) { return pc.parity == 0u ? imageLoad(giSvgfMomentsA, q) : imageLoad(giSvgfMomentsB, q); }
+// svgf: the luminance moments, and the guide its passes read (unit normal, view depth).
+void writeMoments(ivec2 p, vec4 moments, vec4 guide) {
+  if (pc.moments == 0u) return;
+  if (pc.parity == 0u) imageStore(giSvgfMomentsB, p, moments);
+  else imageStore(giSvgfMomentsA, p, moments);
+  imageStore(giSvgfGuide, p, guide);
+}
 // The guide keeps view depth over the scene extent: half floats then hold it
 // at any scene scale (metres would overflow past 65504).
 // The history frames ride in the direct image's alpha; with directOnly the
@@ -52,7 +59,7 @@ bool depthAgrees(float stored, float expected) {
 }
 
 History reproject(ivec2 p, vec3 n, float depth, vec3 world) {
-  History h = History(vec3(0.0), vec3(0.0), 0.0);
+  History h = History(vec3(0.0), vec3(0.0), vec4(0.0), 0.0);
   if (pc.reset != 0u) return h;
   // Continuous pixel coordinates in the previous frame, then its four nearest texel centres.
   const vec2 previous = vec2(p) + 0.5 + giGbMotionPixels(p) - 0.5;
@@ -73,13 +80,15 @@ History reproject(ivec2 p, vec3 n, float depth, vec3 world) {
       const vec4 direct = readDirect(q);
       h.direct += w * direct.rgb;
       if (pc.directOnly == 0u) h.indirect += w * readIndirect(q).rgb;
+      if (pc.moments != 0u) h.moments += w * readMoments(q);
       h.frames += w * direct.a;
       weights += w;
     }
   // Too little of the footprint survives: start over rather than trust one corner.
-  if (weights < 0.01) return History(vec3(0.0), vec3(0.0), 0.0);
+  if (weights < 0.01) return History(vec3(0.0), vec3(0.0), vec4(0.0), 0.0);
   h.direct /= weights;
   h.indirect /= weights;
+  h.moments /= weights;
   h.frames /= weights;
   return h;
 }
@@ -89,6 +98,7 @@ void main() {
   if (any(greaterThanEqual(gl_GlobalInvocationID.xy, giFrame.size))) return;
   if (!giGbCovered(p)) {
     write(p, vec3(0.0), vec3(0.0), 0.0, vec3(0.0), 0.0);
+    writeMoments(p, vec4(0.0), vec4(0.0));
     return;
   }
   vec3 dir;
@@ -102,13 +112,16 @@ void main() {
   // Direct light is accumulated demodulated by the base colour (SVGF §4): the
   // history then carries light, not texture, and bilinear taps under motion
   // do not smear the texture; this frame's base colour puts it back.
-  const vec3 albedo = max(giGbAlbedo(p).rgb, vec3(kMinAlbedo));
+  const vec3 albedo = giDirectAlbedo(p);
   const vec3 direct = (giLoadDirect(p) - emission) / albedo;
   const vec4 noisy = imageLoad(giNoisyIndirect, p);  // alpha: sspsf's filter-vertex flag, kept
   const vec3 indirect = noisy.rgb / giFrame.noisyScale;
   const History h = reproject(p, n, depth, world);
+  const float lumDirect = giLuminance(direct), lumIndirect = giLuminance(indirect);
+  const vec4 moments = vec4(lumDirect, lumDirect * lumDirect, lumIndirect, lumIndirect * lumIndirect);
   if (h.frames == 0.0) {  // no history: this frame's light stands as the trace wrote it
     write(p, direct, indirect, 1.0, n, depth);
+    writeMoments(p, moments, vec4(n, depth));
     return;
   }
   const float frames = h.frames + 1.0;
@@ -116,6 +129,7 @@ void main() {
   const vec3 outDirect = pc.direct != 0u ? mix(h.direct, direct, blend) : direct;
   const vec3 outIndirect = pc.directOnly != 0u ? indirect : mix(h.indirect, indirect, blend);
   write(p, outDirect, outIndirect, min(frames, 65536.0), n, depth);
+  writeMoments(p, mix(h.moments, moments, max(1.0 / frames, pc.momentsMinBlend)), vec4(n, depth));
   if (pc.direct != 0u) giStoreDirect(p, emission + albedo * outDirect);
   if (pc.directOnly != 0u) return;
   giStoreIndirect(p, outIndirect);  // raw's result; a filter that follows overwrites it

@@ -20,6 +20,7 @@ uint32_t* samplesPerPixelField(gi::Settings& settings) {
     case gi::Method::Hpsf:
     case gi::Method::Nhpsf:
     case gi::Method::Anhpsf: return &settings.hpsf.samplesPerPixel;
+    case gi::Method::Svgf: return &settings.svgf.samplesPerPixel;
   }
   return nullptr;
 }

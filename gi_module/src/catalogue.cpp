@@ -14,7 +14,8 @@ constexpr uint32_t bit(Method m) { return 1u << uint32_t(m); }
 constexpr uint32_t kRaw = bit(Method::Raw), kGif = bit(Method::Gif), kBilateral = bit(Method::Bilateral),
                    kAtrous = bit(Method::Atrous), kAaf = bit(Method::Aaf) | bit(Method::AafAo),
                    kSspsf = bit(Method::Sspsf), kNhpsf = bit(Method::Nhpsf), kAnhpsf = bit(Method::Anhpsf),
-                   kHash = bit(Method::Hpsf) | kNhpsf | kAnhpsf, kTemporal = kRaw | kGif | kBilateral | kAtrous | kSspsf | kHash;
+                   kHash = bit(Method::Hpsf) | kNhpsf | kAnhpsf, kTemporal = kRaw | kGif | kBilateral | kAtrous | kSspsf | kHash,
+                   kSvgf = bit(Method::Svgf);
 
 // One row per field: the key, the field's path (for errors), unit, meaning, range and the methods reading it.
 #define GI_SETTING(key, member, unit, meaning, kind, lo, hi, openMin, methods)                                     \
@@ -35,7 +36,7 @@ constexpr uint32_t kRaw = bit(Method::Raw), kGif = bit(Method::Gif), kBilateral 
         [](Settings& s, double v) { s.member = decltype(s.member)(uint32_t(v)); }                                  \
   }
 
-constexpr double kLastView = double(DebugView::TemporalHistory);
+constexpr double kLastView = double(DebugView::SvgfVariance);  // the last of gi::DebugView (kViews is checked against it)
 constexpr const char* kTemporalMeaning = "blend in last frame's light, reprojected through the motion vectors (temporal.*)";
 
 const SettingInfo kSettings[] = {
@@ -111,9 +112,24 @@ const SettingInfo kSettings[] = {
     GI_SETTING("temporal.min_blend", temporal.minBlend, "", "smallest weight of the new frame (history about 2/x - 1 frames)",
                Float, 0, 1, true, kTemporal),
     GI_SETTING("temporal.depth_tolerance", temporal.depthTolerance, "", "relative depth difference a history tap may have",
-               Float, 0, 10, true, kTemporal),
+               Float, 0, 10, true, kTemporal | kSvgf),
     GI_SETTING("temporal.normal_limit", temporal.normalLimitDegrees, "degrees", "largest normal change a history tap may have",
-               Float, 0, 180, false, kTemporal),
+               Float, 0, 180, false, kTemporal | kSvgf),
+
+    GI_SETTING("svgf.spp", svgf.samplesPerPixel, "paths per pixel", "paths traced per pixel per frame", Uint, 1, 64, false,
+               kSvgf),
+    GI_SETTING("svgf.alpha", svgf.alpha, "", "smallest weight of the new frame's colour (the paper's alpha)", Float, 0, 1,
+               true, kSvgf),
+    GI_SETTING("svgf.moments_alpha", svgf.momentsAlpha, "", "smallest weight of the new frame's luminance moments", Float, 0,
+               1, true, kSvgf),
+    GI_SETTING("svgf.iterations", svgf.iterations, "", "a-trous iterations (0: accumulation only)", Uint, 0, 8, false, kSvgf),
+    GI_SETTING("svgf.sigma_luminance", svgf.sigmaLuminance, "standard deviations", "luminance edge stop", Float, 0, 1e4,
+               true, kSvgf),
+    GI_SETTING("svgf.sigma_normal", svgf.sigmaNormal, "", "normal edge stop: the exponent on max(0, n.n')", Float, 0, 1e4,
+               true, kSvgf),
+    GI_SETTING("svgf.sigma_depth", svgf.sigmaDepth, "depth gradients", "depth edge stop", Float, 0, 1e4, true, kSvgf),
+    GI_BOOL("svgf.filter_direct", svgf.filterDirect, "filter the area lights' direct light too (off: accumulated only)",
+            kSvgf),
 
     GI_SETTING("hpsf.spp", hpsf.samplesPerPixel, "paths per pixel", "paths traced per pixel per frame", Uint, 1, 64, false,
                kHash),
@@ -169,6 +185,7 @@ constexpr MethodInfo kMethods[] = {
     {Method::Hpsf, "hpsf", "hashed path space filtering on a persistent world-space hash map (Meijer 2019)"},
     {Method::Nhpsf, "nhpsf", "HPSF at every diffuse vertex of a path (Meijer 2019)"},
     {Method::Anhpsf, "anhpsf", "nHPSF amortised: each pixel continues one long path over frames (Meijer 2019)"},
+    {Method::Svgf, "svgf", "spatiotemporal variance-guided filtering of direct and indirect (Schied et al. 2017)"},
 };
 static_assert(std::size(kMethods) == kMethodCount);
 constexpr bool methodsInOrder() {
@@ -199,8 +216,9 @@ constexpr DebugViewInfo kViews[] = {
     {DebugView::HashOccupancy, "hash occupancy", "HPSF: how full the probe window at the pixel's cell is", false},
     {DebugView::ContinuationDepth, "continuation depth", "A-nHPSF: the pixel's continued path / the maximum depth", false},
     {DebugView::TemporalHistory, "temporal history", "temporal reprojection: frames of history behind the pixel / 32", false},
+    {DebugView::SvgfVariance, "svgf variance", "svgf: luminance variance of direct (red) and indirect (green), history frames / 32 (blue)", false},
 };
-static_assert(std::size(kViews) == size_t(DebugView::TemporalHistory) + 1);
+static_assert(std::size(kViews) == size_t(kLastView) + 1);
 constexpr bool viewsInOrder() {
   for (uint32_t i = 0; i < std::size(kViews); ++i)
     if (kViews[i].view != DebugView(i)) return false;
@@ -218,6 +236,8 @@ constexpr PassInfo kPasses[] = {
     {Pass::HpsfResolve, "hpsf_resolve", false},  // its probe rays are a small part: not counted as tracing time
     {Pass::HpsfLookup, "hpsf_lookup", false},
     {Pass::Temporal, "temporal", false},
+    {Pass::SvgfVariance, "svgf_variance", false},
+    {Pass::SvgfAtrous, "svgf_atrous", false},
     {Pass::Guidance, "guidance", false},
     {Pass::Sspsf, "sspsf", false},
     {Pass::Bilateral, "bilateral", false},

@@ -128,6 +128,23 @@ void recordHashPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const gpu::
   recordHashGridTelemetryCopy(m.gpu, cmd, m.hash, slot);
 }
 
+// SVGF after its temporal accumulation (which wrote set B on odd counts).
+void recordSvgfPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, bool filterDirect) {
+  const SvgfSettings& v = m.settings.svgf;
+  VkDescriptorSet sets[] = {m.desc.scene.set, m.sized.frameSets[slot]};
+  const glm::uvec2 size{m.width, m.height};
+  gpu::GiSvgfPush push{m.temporalFrames & 1u, 0, v.sigmaLuminance, v.sigmaNormal, v.sigmaDepth, 0,
+                       filterDirect ? 1u : 0u, m.settings.debugView == DebugView::SvgfVariance ? 1u : 0u};
+  // Pass: the luminance variance of direct and indirect light, from their moments.
+  runPass(m, cmd, slot, Pass::SvgfVariance, m.svgfVariance, sets, size, push);
+  // Passes: the à-trous iterations (the first feeds the history back).
+  for (uint32_t i = 0; i < v.iterations; ++i) {
+    push.iteration = i;
+    push.last = i + 1 == v.iterations ? 1u : 0u;
+    runPass(m, cmd, slot, Pass::SvgfAtrous, m.svgfAtrous, sets, size, push);
+  }
+}
+
 void recordFilterPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const gpu::GiFrameConstants& frame) {
   const Settings& s = m.settings;
   ScreenFilters& f = m.sized.filters;
@@ -269,12 +286,20 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
     // Pass: last frame's light, reprojected through the motion vectors, blended into this frame's
     // (the hash methods' direct light only: their map holds the indirect).
     const TemporalSettings& t = s.temporal;
-    gpu::GiTemporalPush temporal{m.temporalFrames & 1u, m.temporalFrames == 0 ? 1u : 0u, t.minBlend, t.depthTolerance,
-                                 cosDegrees(t.normalLimitDegrees), usesHashGrid(s.method) ? 1u : 0u,
-                                 noisyDirect ? 1u : 0u, 0};
+    const bool svgf = s.method == Method::Svgf;
+    gpu::GiTemporalPush temporal{m.temporalFrames & 1u,
+                                 m.temporalFrames == 0 ? 1u : 0u,
+                                 svgf ? s.svgf.alpha : t.minBlend,
+                                 t.depthTolerance,
+                                 cosDegrees(t.normalLimitDegrees),
+                                 usesHashGrid(s.method) ? 1u : 0u,
+                                 noisyDirect ? 1u : 0u,
+                                 svgf ? 1u : 0u,
+                                 s.svgf.momentsAlpha};
     runPass(m, cmd, slot, Pass::Temporal, m.temporal, sets, size, temporal);
     m.temporalFrames++;
   }
+  if (s.method == Method::Svgf) recordSvgfPasses(m, cmd, slot, noisyDirect && s.svgf.filterDirect);
   if (usesScreenFilters(s.method)) recordFilterPasses(m, cmd, slot, frame);
 
   // Pass: composite (or the chosen debug view).

@@ -24,6 +24,10 @@
 #include "gi_supersample.comp.compute.h"
 #include "gi_temporal.comp.h"
 #include "gi_temporal.comp.compute.h"
+#include "svgf_atrous.comp.h"
+#include "svgf_atrous.comp.compute.h"
+#include "svgf_variance.comp.h"
+#include "svgf_variance.comp.compute.h"
 #include "shared/aaf.h"
 
 namespace gi {
@@ -205,8 +209,9 @@ std::array<uint32_t, GI_SPEC_COUNT> moduleSpecialization(const Module& m) {
 
 // Every program built against set 0's layout and the scene's specialisation.
 std::vector<vk::ComputeProgram*> scenePrograms(Module& m) {
-  return {&m.rawTrace,    &m.composite,   &m.guidancePass, &m.supersample,   &m.aafSample,  &m.aafAdaptive,
-          &m.temporal,    &m.hash.insert, &m.hash.paths,   &m.hash.resolve, &m.hash.lookup};
+  return {&m.rawTrace,  &m.composite,   &m.guidancePass, &m.supersample,  &m.aafSample,    &m.aafAdaptive,
+          &m.temporal,  &m.svgfVariance, &m.svgfAtrous,  &m.hash.insert,  &m.hash.paths,   &m.hash.resolve,
+          &m.hash.lookup};
 }
 
 // The hash map `s` needs for renders up to `width` × `height`.
@@ -254,6 +259,10 @@ vk::Status ensurePrograms(Module& m, const Settings& s) {
   if (pathsFromGBuffer) GI_TRY(make(m.rawTrace, GI_SCENE_SPIRV(traversal, gi_raw_trace_comp), sizeof(gpu::GiRawPush)));
   if (usesTemporalReprojection(s))
     GI_TRY(make(m.temporal, GI_SCENE_SPIRV(traversal, gi_temporal_comp), sizeof(gpu::GiTemporalPush)));
+  if (s.method == Method::Svgf) {
+    GI_TRY(make(m.svgfVariance, GI_SCENE_SPIRV(traversal, svgf_variance_comp), sizeof(gpu::GiSvgfPush)));
+    GI_TRY(make(m.svgfAtrous, GI_SCENE_SPIRV(traversal, svgf_atrous_comp), sizeof(gpu::GiSvgfPush)));
+  }
   if (usesScreenFilters(s.method)) {
     GI_TRY(make(m.guidancePass, GI_SCENE_SPIRV(traversal, gi_guidance_comp), 0));
     if (!m.filterPrograms.layout) GI_TRY(createFilterPrograms(m.gpu, m.filterPrograms));
@@ -310,7 +319,7 @@ void destroyModuleResources(Module& m) {
   if (m.timestamps) g.fn.vkDestroyQueryPool(g.device, m.timestamps, g.allocator);
   m.timestamps = VK_NULL_HANDLE;
   for (vk::ComputeProgram* p : {&m.rawTrace, &m.composite, &m.guidancePass, &m.supersample, &m.aafSample, &m.aafAdaptive,
-                                &m.temporal})
+                                &m.temporal, &m.svgfVariance, &m.svgfAtrous})
     vk::destroyComputeProgram(g, *p);
   destroySizedResources(g, m.sized);
   destroyOutputImages(g, m.outputs);

@@ -39,6 +39,9 @@ struct SizedResources {
   vk::Image historyDirect, historyIndirect;       // raw's still-camera mean; temporal reprojection's set A
   vk::Image historyDirectB, historyIndirectB;     // temporal reprojection's set B
   vk::Image historyGuideA, historyGuideB;         // temporal reprojection: each frame's normal and view depth
+  vk::Image svgfMomentsA, svgfMomentsB;           // svgf: luminance moments' history (sets A and B)
+  vk::Image svgfDirectPing, svgfIndirectPing, svgfDirectPong, svgfIndirectPong;  // svgf: à-trous ping-pong
+  vk::Image svgfGuide;                            // svgf: normal and view depth, one load per tap
   vk::Image noisyIndirect;                        // demodulated indirect before filtering
   vk::Image guidance, position, debug;            // filter guidance, world position, filter debug/temp
   vk::Image aafParams, aafSum;                    // AAF per-pixel z_min, z_max, samples, β; sample sums
@@ -80,6 +83,7 @@ struct Module {
   VkDescriptorSetLayout frameLayout = VK_NULL_HANDLE;  // set 1
 
   vk::ComputeProgram rawTrace, composite, guidancePass, supersample, aafSample, aafAdaptive, temporal;
+  vk::ComputeProgram svgfVariance, svgfAtrous;
   FilterPrograms filterPrograms;                   // built when a screen-space filter is first chosen
 
   VkQueryPool timestamps = VK_NULL_HANDLE;         // 2 per pass per slot (null when desc.timestamps is off)

@@ -65,12 +65,13 @@ uint32_t tracedSamplesPerPixel(const Settings& s) {
     case Method::Hpsf:
     case Method::Nhpsf:
     case Method::Anhpsf: return s.hpsf.samplesPerPixel;
+    case Method::Svgf: return s.svgf.samplesPerPixel;
   }
   return 1;
 }
 
 bool usesHashGrid(Method m) { return m == Method::Hpsf || m == Method::Nhpsf || m == Method::Anhpsf; }
-bool usesScreenFilters(Method m) { return m != Method::Raw && !usesHashGrid(m); }
+bool usesScreenFilters(Method m) { return m != Method::Raw && m != Method::Svgf && !usesHashGrid(m); }
 bool isAaf(Method m) { return m == Method::Aaf || m == Method::AafAo; }
 bool usesTemporalReprojection(const Settings& s) {
   switch (s.method) {
@@ -83,6 +84,7 @@ bool usesTemporalReprojection(const Settings& s) {
     case Method::Hpsf:
     case Method::Nhpsf:
     case Method::Anhpsf: return s.hpsf.temporalDirect;  // direct light only: the map caches the indirect
+    case Method::Svgf: return true;                      // its first half
     default: return false;  // AAF samples adaptively per frame
   }
 }

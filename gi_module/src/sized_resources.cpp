@@ -35,6 +35,13 @@ constexpr SizedImage kSizedImages[] = {
     // Normal and view depth compared to a tolerance of several per cent: half floats hold them.
     {&SizedResources::historyGuideA, gpu::GI_BINDING_HISTORY_GUIDE_A, VK_FORMAT_R16G16B16A16_SFLOAT},
     {&SizedResources::historyGuideB, gpu::GI_BINDING_HISTORY_GUIDE_B, VK_FORMAT_R16G16B16A16_SFLOAT},
+    {&SizedResources::svgfMomentsA, gpu::GI_BINDING_SVGF_MOMENTS_A},
+    {&SizedResources::svgfMomentsB, gpu::GI_BINDING_SVGF_MOMENTS_B},
+    {&SizedResources::svgfDirectPing, gpu::GI_BINDING_SVGF_DIRECT_PING},
+    {&SizedResources::svgfIndirectPing, gpu::GI_BINDING_SVGF_INDIRECT_PING},
+    {&SizedResources::svgfDirectPong, gpu::GI_BINDING_SVGF_DIRECT_PONG},
+    {&SizedResources::svgfIndirectPong, gpu::GI_BINDING_SVGF_INDIRECT_PONG},
+    {&SizedResources::svgfGuide, gpu::GI_BINDING_SVGF_GUIDE},
 };
 // Beyond the image bits: which screen filters exist.
 static_assert(std::size(kSizedImages) <= 24, "the image bits stay below the flags");
@@ -76,6 +83,13 @@ const vk::Binding kFrameBindings[] = {
     {gpu::GI_BINDING_HISTORY_INDIRECT_B, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
     {gpu::GI_BINDING_HISTORY_GUIDE_A, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
     {gpu::GI_BINDING_HISTORY_GUIDE_B, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_SVGF_MOMENTS_A, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_SVGF_MOMENTS_B, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_SVGF_DIRECT_PING, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_SVGF_INDIRECT_PING, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_SVGF_DIRECT_PONG, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_SVGF_INDIRECT_PONG, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_SVGF_GUIDE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
 };
 
 }  // namespace
@@ -96,6 +110,10 @@ uint32_t sizedResourcesNeeded(const Module& m, const Settings& s) {
   }
   if (usesScreenFilters(s.method))
     need |= bit(&SizedResources::guidance) | bit(&SizedResources::position) | bit(&SizedResources::debug);
+  if (s.method == Method::Svgf)
+    need |= bit(&SizedResources::svgfMomentsA) | bit(&SizedResources::svgfMomentsB) |
+            bit(&SizedResources::svgfDirectPing) | bit(&SizedResources::svgfIndirectPing) |
+            bit(&SizedResources::svgfDirectPong) | bit(&SizedResources::svgfIndirectPong) | bit(&SizedResources::svgfGuide);
   if (isAaf(s.method)) need |= bit(&SizedResources::aafParams) | bit(&SizedResources::aafSum);
   if (aafSpecular(m, s)) need |= bit(&SizedResources::aafGlossy) | bit(&SizedResources::aafGlossyEdge);
   // Debug views read their source at full size whatever the method (zero where it does not write).
@@ -112,7 +130,8 @@ uint32_t sizedResourcesNeeded(const Module& m, const Settings& s) {
     case DebugView::HashSamples:
     case DebugView::HashFound:
     case DebugView::HashOccupancy:
-    case DebugView::ContinuationDepth: need |= bit(&SizedResources::debug); break;
+    case DebugView::ContinuationDepth:
+    case DebugView::SvgfVariance: need |= bit(&SizedResources::debug); break;
     case DebugView::TemporalHistory:
       need |= bit(&SizedResources::historyDirect) | bit(&SizedResources::historyDirectB);
       break;

@@ -41,7 +41,16 @@ GPU_CONST GI_BINDING_HISTORY_DIRECT_B = 21;   // rgba32f: accumulated direct ove
 GPU_CONST GI_BINDING_HISTORY_INDIRECT_B = 22; // rgba32f: accumulated demodulated indirect (rgb)
 GPU_CONST GI_BINDING_HISTORY_GUIDE_A = 23;    // rgba16f: the frame's world normal (xyz), view depth / depthScale (w; 0 = background)
 GPU_CONST GI_BINDING_HISTORY_GUIDE_B = 24;
-GPU_CONST GI_BINDING_COUNT = 25;
+// SVGF (svgf_variance.comp, svgf_atrous.comp): the luminance moments' history, read and written with the
+// colour's (sets A and B by parity), and the à-trous iterations' ping-pong images.
+GPU_CONST GI_BINDING_SVGF_MOMENTS_A = 25;     // rgba32f: direct luminance mean, mean square; indirect's (zw)
+GPU_CONST GI_BINDING_SVGF_MOMENTS_B = 26;
+GPU_CONST GI_BINDING_SVGF_DIRECT_PING = 27;   // rgba32f: demodulated direct light (rgb), its luminance variance (a)
+GPU_CONST GI_BINDING_SVGF_INDIRECT_PING = 28; // rgba32f: demodulated indirect light (rgb), its luminance variance (a)
+GPU_CONST GI_BINDING_SVGF_DIRECT_PONG = 29;
+GPU_CONST GI_BINDING_SVGF_INDIRECT_PONG = 30;
+GPU_CONST GI_BINDING_SVGF_GUIDE = 31;         // rgba32f: the G-buffer's unit normal (xyz) and view depth (w; 0 = no surface)
+GPU_CONST GI_BINDING_COUNT = 32;
 #define GI_GROUP_SIZE 8u                 // 8×8 threads per group
 
 // Specialisation constants of the module's passes after the scene's
@@ -114,9 +123,23 @@ struct GiTemporalPush {
   float cosNormalLimit; // cosine of the largest normal change a history tap may have
   uint directOnly;      // 1: the indirect light is left as it is (the hash methods' map already filters it in time)
   uint direct;          // 1: accumulate the direct light too; 0: it is exact every frame (punctual lights only)
-  uint pad2;
+  uint moments;         // 1 (svgf): also accumulate the luminance moments of direct and indirect light
+  float momentsMinBlend;// (0, 1]: their smallest weight of the new frame
 };
-GPU_ASSERT_SIZE(GiTemporalPush, 32);
+GPU_ASSERT_SIZE(GiTemporalPush, 36);
+
+// svgf_variance.comp and svgf_atrous.comp.
+struct GiSvgfPush {
+  uint parity;          // the history set the temporal pass wrote this frame: 0 = A, 1 = B
+  uint iteration;       // à-trous: taps 2^iteration pixels apart; reads ping when even, pong when odd
+  float sigmaLuminance; // σ_l: luminance stop in standard deviations
+  float sigmaNormal;    // σ_n: exponent on max(0, n·n')
+  float sigmaDepth;     // σ_z: depth stop in local depth gradients
+  uint last;            // 1: this iteration writes the outputs
+  uint direct;          // 1: the direct light is filtered too (area lights); 0: left as the trace wrote it
+  uint debug;           // 1: the variance estimate also goes to the debug image (the svgf variance view)
+};
+GPU_ASSERT_SIZE(GiSvgfPush, 32);
 
 GPU_CONST GI_DEBUG_NONE = 0;
 GPU_CONST GI_DEBUG_DIRECT = 1;
@@ -139,6 +162,7 @@ GPU_CONST GI_DEBUG_HASH_FOUND = 16;
 GPU_CONST GI_DEBUG_HASH_OCCUPANCY = 17;
 GPU_CONST GI_DEBUG_CONTINUATION_DEPTH = 18;
 GPU_CONST GI_DEBUG_TEMPORAL_HISTORY = 19;
+GPU_CONST GI_DEBUG_SVGF_VARIANCE = 20;
 
 struct GiCompositePush {
   uint debugView;      // GI_DEBUG_*

@@ -18,9 +18,10 @@ enum class Method : uint32_t {
   Hpsf,       // hashed path space filtering on a persistent world-space hash map (§4.2)
   Nhpsf,      // HPSF at every diffuse vertex of a path; the last vertex reads the map (§4.3)
   Anhpsf,     // nHPSF amortised: each pixel extends one long path by a segment per frame (§4.4)
+  Svgf,       // spatiotemporal variance-guided filtering (Schied et al. 2017): the production baseline
 };
-inline constexpr uint32_t kMethodCount = 10;
-// "raw", "gif", "bilateral", "atrous", "aaf", "aaf_ao", "sspsf", "hpsf", "nhpsf", "anhpsf"
+inline constexpr uint32_t kMethodCount = 11;
+// "raw", "gif", "bilateral", "atrous", "aaf", "aaf_ao", "sspsf", "hpsf", "nhpsf", "anhpsf", "svgf"
 const char* methodName(Method method);
 bool methodFromName(const std::string& name, Method& out);  // false for unknown names
 
@@ -45,6 +46,7 @@ enum class DebugView : uint32_t {
   HashOccupancy,   // HPSF: how full the probe window around the pixel's cell is, green (empty) → red (full; red also = no cell)
   ContinuationDepth,  // A-nHPSF: depth of the pixel's continued path / the maximum depth
   TemporalHistory,    // temporal reprojection: frames of history behind the pixel / 32 (1/32: it started over)
+  SvgfVariance,       // svgf: the luminance variance estimate of direct (r) and indirect (g) light, history frames / 32 (b)
 };
 
 struct RawSettings {
@@ -99,6 +101,26 @@ struct SspsfSettings {
   float filterWidth = 16.0f;      // pixels, [0.5, 256]: the position kernel matches the HPSF cell of this width
   float normalLimitDegrees = 25.0f;  // [0, 180]
   bool temporalReprojection = true; // blend in last frame's reprojected light before filtering (TemporalSettings)
+};
+
+// SVGF (Schied et al. 2017) as published: temporal accumulation of the
+// demodulated direct and indirect light with their luminance moments
+// (TemporalSettings' reprojection tests), per-pixel variance from the moments
+// (a 7×7 spatial estimate while a pixel has fewer than 4 frames of history),
+// then à-trous iterations with the variance-guided luminance edge stop and
+// normal and depth stops; the first iteration's result is fed back as the
+// history. Direct light is filtered where it has noise (area lights: emissive
+// triangles, a sky); punctual lights' direct light is exact and left alone.
+struct SvgfSettings {
+  uint32_t samplesPerPixel = 1;   // [1, 64]
+  float alpha = 0.2f;             // (0, 1]: the smallest weight of the new frame's colour (the paper's α)
+  float momentsAlpha = 0.2f;      // (0, 1]: the same for the luminance moments (the paper's α for moments)
+  uint32_t iterations = 5;        // [0, 8]: à-trous iterations (taps up to 2^(iterations+1) pixels away); 0 =
+                                  // accumulation only
+  float sigmaLuminance = 4.0f;    // (0, 1e4]: σ_l, the luminance stop in standard deviations
+  float sigmaNormal = 128.0f;     // (0, 1e4]: σ_n, the exponent on max(0, n·n')
+  float sigmaDepth = 1.0f;        // (0, 1e4]: σ_z, the depth stop in units of the local depth gradient
+  bool filterDirect = true;       // filter the area lights' direct light too (the paper); off: accumulated only
 };
 
 // Temporal reprojection, for the screen-space methods that turn it on
@@ -172,6 +194,7 @@ struct Settings {
   AafSettings aaf;                     // also used by aaf_ao
   SspsfSettings sspsf;
   HpsfSettings hpsf;
+  SvgfSettings svgf;
   TemporalSettings temporal;
   uint32_t maxBounces = 1;             // indirect bounces B, [1, 32] (B = 0 would be direct light only)
   uint32_t russianRouletteStart = 3;   // bounce from which paths may stop early (unbiased), [1, 64]
@@ -185,7 +208,7 @@ struct Settings {
 uint32_t tracedSamplesPerPixel(const Settings& settings);
 // The hash map capacity in cells for a render size (settings.hpsf.capacity, or its default).
 uint32_t hashCapacity(const HpsfSettings& settings, uint32_t width, uint32_t height);
-bool usesScreenFilters(Method method);  // every method but raw and hpsf
+bool usesScreenFilters(Method method);  // the filters of screen_filters (every method but raw, the hash methods and svgf)
 bool isAaf(Method method);              // aaf, aaf_ao: adaptive sample counts (tracedSamplesPerPixel is 0)
 bool usesHashGrid(Method method);       // hpsf, nhpsf, anhpsf: the persistent world-space hash map
 bool usesTemporalReprojection(const Settings& settings);  // the method reprojects last frame's light (TemporalSettings)
