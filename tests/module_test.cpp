@@ -1,5 +1,6 @@
 // The GI module's API: named errors for impossible settings, and the raw
 // method's convergence to the reference as frames accumulate.
+#include "gi/catalogue.h"
 #include "gpu_test.h"
 #include "metrics.h"
 #include "module_test_helpers.h"
@@ -197,7 +198,7 @@ TEST_F(ModuleTest, EveryMethodAndDebugViewRunsAndStaysFinite) {
     for (float v : out.final.pixels) sum += v;
     EXPECT_GT(sum, 0.0) << what << ": the lit Cornell box cannot be black";
   };
-  for (gi::Method method : {gi::Method::Raw, gi::Method::Gif, gi::Method::Bilateral, gi::Method::Atrous}) {
+  for (gi::Method method : {gi::Method::Raw, gi::Method::Gif, gi::Method::Bilateral, gi::Method::Atrous, gi::Method::Svgf}) {
     settings = gi::Settings{};
     settings.method = method;
     ASSERT_FALSE(gi::setSettings(session.module, settings));
@@ -221,6 +222,13 @@ TEST_F(ModuleTest, EveryMethodAndDebugViewRunsAndStaysFinite) {
     } else {
       check("debug view");
     }
+  }
+  settings = gi::Settings{};
+  settings.method = gi::Method::Svgf;
+  for (gi::DebugView view : {gi::DebugView::SvgfVariance, gi::DebugView::TemporalHistory}) {
+    settings.debugView = view;
+    ASSERT_FALSE(gi::setSettings(session.module, settings));
+    check(gi::debugViewCatalogue()[size_t(view)].name);
   }
   tools::destroyModuleSession(ctx, session);
   unload(s);

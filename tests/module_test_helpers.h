@@ -19,3 +19,29 @@ inline void openSession(const engine::Context& ctx, const LoadedScene& s, VkExte
   std::string error;
   ASSERT_TRUE(tools::createModuleSession(ctx, s.gpu, size, settings, session, error, desc)) << error;
 }
+
+// The scene's camera moved sideways by `offset` metres along its own x axis.
+inline engine::Camera panned(const engine::Camera& camera, float offset) {
+  engine::Camera c = camera;
+  c.worldFromView[3] += c.worldFromView[0] * offset;
+  return c;
+}
+
+// Renders `frames` frames while the camera pans towards the scene's own
+// camera (reaching it on the last frame, `step` metres a frame), and returns
+// the last frame's images.
+inline engine::ReferenceImages renderPan(const engine::Context& ctx, const LoadedScene& s, VkExtent2D size,
+                                         const gi::Settings& settings, uint32_t frames, float step) {
+  tools::ModuleSession session;
+  EXPECT_NO_FATAL_FAILURE(openSession(ctx, s, size, settings, session));
+  gpu::GpuCamera previous{};
+  for (uint32_t i = 0; i < frames; ++i) {
+    const engine::Camera c = panned(s.scene.cameras[0], float(frames - 1 - i) * step);
+    const gpu::GpuCamera cam = engine::makeGpuCamera(c, size.width, size.height, i > 0 ? &previous : nullptr);
+    tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, i > 0 ? previous : cam, i);
+    previous = cam;
+  }
+  engine::ReferenceImages out = tools::readModuleImages(ctx, session);
+  tools::destroyModuleSession(ctx, session);
+  return out;
+}

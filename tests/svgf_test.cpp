@@ -3,6 +3,7 @@
 // light, and the filter's effect under a camera pan.
 #include <cmath>
 
+#include "metrics.h"
 #include "module_test_helpers.h"
 
 class SvgfTest : public GpuTest {};
@@ -124,15 +125,6 @@ TEST_F(SvgfTest, VarianceEstimateMatchesTheCpu) {
   unload(s);
 }
 
-namespace {
-
-double mse(const engine::FloatImage& a, const engine::FloatImage& reference) {
-  double sum = 0.0;
-  for (size_t i = 0; i < a.pixels.size(); ++i) sum += (double(a.pixels[i]) - reference.pixels[i]) * (a.pixels[i] - reference.pixels[i]);
-  return sum / double(a.pixels.size());
-}
-
-}  // namespace
 
 // Twelve frames of a sideways pan onto the scene's camera at 1 spp, the
 // last frame's light against a converged reference. SVGF's indirect light is
@@ -150,19 +142,7 @@ TEST_F(SvgfTest, FilteringLowersDirectAndIndirectErrorUnderAPan) {
   const gpu::GpuCamera finalCamera = engine::makeGpuCamera(s.scene.cameras[0], kSize, kSize, nullptr);
   const engine::ReferenceImages reference = pixelCentreReference(ctx, s, finalCamera, 1, 1024);
   auto render = [&](const gi::Settings& settings, uint32_t frames) {
-    tools::ModuleSession session;
-    EXPECT_NO_FATAL_FAILURE(openSession(ctx, s, {kSize, kSize}, settings, session));
-    gpu::GpuCamera previous{};
-    for (uint32_t i = 0; i < frames; ++i) {
-      engine::Camera c = s.scene.cameras[0];
-      c.worldFromView[3] += c.worldFromView[0] * (float(frames - 1 - i) * 0.01f);
-      const gpu::GpuCamera cam = engine::makeGpuCamera(c, kSize, kSize, i > 0 ? &previous : nullptr);
-      tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, i > 0 ? previous : cam, i);
-      previous = cam;
-    }
-    engine::ReferenceImages out = tools::readModuleImages(ctx, session);
-    tools::destroyModuleSession(ctx, session);
-    return out;
+    return renderPan(ctx, s, {kSize, kSize}, settings, frames, 0.01f);
   };
   gi::Settings svgf;
   svgf.method = gi::Method::Svgf;
@@ -171,18 +151,18 @@ TEST_F(SvgfTest, FilteringLowersDirectAndIndirectErrorUnderAPan) {
   const engine::ReferenceImages one = render(svgf, 1), filtered = render(svgf, 12), accumulated = render(accumulationOnly, 12);
   gi::Settings raw;
   const engine::ReferenceImages noisy = render(raw, 1);
-  const double direct[3] = {mse(noisy.direct, reference.direct), mse(accumulated.direct, reference.direct),
-                            mse(filtered.direct, reference.direct)};
-  const double indirect[3] = {mse(noisy.indirect, reference.indirect), mse(accumulated.indirect, reference.indirect),
-                              mse(filtered.indirect, reference.indirect)};
+  const double direct[3] = {metrics::mse(noisy.direct, reference.direct), metrics::mse(accumulated.direct, reference.direct),
+                            metrics::mse(filtered.direct, reference.direct)};
+  const double indirect[3] = {metrics::mse(noisy.indirect, reference.indirect), metrics::mse(accumulated.indirect, reference.indirect),
+                              metrics::mse(filtered.indirect, reference.indirect)};
   std::printf("direct MSE: one raw frame %.3e, 12 frames accumulated %.3e, filtered %.3e (one svgf frame %.3e)\n", direct[0],
-              direct[1], direct[2], mse(one.direct, reference.direct));
+              direct[1], direct[2], metrics::mse(one.direct, reference.direct));
   std::printf("indirect MSE: one raw frame %.3e, 12 frames accumulated %.3e, filtered %.3e (one svgf frame %.3e)\n",
-              indirect[0], indirect[1], indirect[2], mse(one.indirect, reference.indirect));
+              indirect[0], indirect[1], indirect[2], metrics::mse(one.indirect, reference.indirect));
   EXPECT_LT(indirect[2], 0.7 * indirect[1]);
   EXPECT_LT(indirect[2], 0.1 * indirect[0]);
-  EXPECT_LT(mse(one.indirect, reference.indirect), 0.5 * indirect[0]);
-  EXPECT_LT(mse(one.direct, reference.direct), 0.2 * direct[0]);
+  EXPECT_LT(metrics::mse(one.indirect, reference.indirect), 0.5 * indirect[0]);
+  EXPECT_LT(metrics::mse(one.direct, reference.direct), 0.2 * direct[0]);
   EXPECT_LT(direct[2], 0.2 * direct[0]);
   // svgf.filter_direct off: the direct light is the accumulation's, exactly.
   gi::Settings unfilteredDirect = svgf;

@@ -1,6 +1,7 @@
 // Temporal reprojection (gi_temporal.comp, <method>.temporalReprojection): under a
 // camera pan the reprojected history lowers the error about as 1/frames, and
 // pixels the pan uncovers start over with this frame's light only.
+#include "metrics.h"
 #include "module_test_helpers.h"
 
 class TemporalTest : public GpuTest {};
@@ -8,38 +9,6 @@ class TemporalTest : public GpuTest {};
 namespace {
 
 constexpr uint32_t kSize = 48;
-
-// The scene's camera moved sideways by `offset` metres along its own x axis.
-engine::Camera panned(const engine::Camera& camera, float offset) {
-  engine::Camera c = camera;
-  c.worldFromView[3] += c.worldFromView[0] * offset;
-  return c;
-}
-
-double mse(const engine::FloatImage& a, const engine::FloatImage& reference) {
-  double sum = 0.0;
-  for (size_t i = 0; i < a.pixels.size(); ++i) sum += (double(a.pixels[i]) - reference.pixels[i]) * (a.pixels[i] - reference.pixels[i]);
-  return sum / double(a.pixels.size());
-}
-
-// Renders `frames` frames of raw at 1 spp while the camera pans towards the
-// scene's own camera (reaching it on the last frame, `step` metres a frame),
-// and returns the last frame's images.
-engine::ReferenceImages renderPan(const engine::Context& ctx, const LoadedScene& s, const gi::Settings& settings,
-                                  uint32_t frames, float step) {
-  tools::ModuleSession session;
-  EXPECT_NO_FATAL_FAILURE(openSession(ctx, s, {kSize, kSize}, settings, session));
-  gpu::GpuCamera previous{};
-  for (uint32_t i = 0; i < frames; ++i) {
-    const engine::Camera c = panned(s.scene.cameras[0], float(frames - 1 - i) * step);
-    const gpu::GpuCamera cam = engine::makeGpuCamera(c, kSize, kSize, i > 0 ? &previous : nullptr);
-    tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, i > 0 ? previous : cam, i);
-    previous = cam;
-  }
-  engine::ReferenceImages out = tools::readModuleImages(ctx, session);
-  tools::destroyModuleSession(ctx, session);
-  return out;
-}
 
 }  // namespace
 
@@ -60,9 +29,9 @@ TEST_F(TemporalTest, ReprojectedHistoryLowersTheErrorAsItGrows) {
   for (int on = 0; on < 2; ++on) {
     settings.raw.temporalReprojection = on == 1;
     for (int k = 0; k < 3; ++k) {
-      const engine::ReferenceImages img = renderPan(ctx, s, settings, frames[k], step);
-      indirect[on][k] = mse(img.indirect, reference.indirect);
-      direct[on][k] = mse(img.direct, reference.direct);
+      const engine::ReferenceImages img = renderPan(ctx, s, {kSize, kSize}, settings, frames[k], step);
+      indirect[on][k] = metrics::mse(img.indirect, reference.indirect);
+      direct[on][k] = metrics::mse(img.direct, reference.direct);
       std::printf("temporal %s, %2u frames: indirect MSE %.3e, direct MSE %.3e\n", on ? "on " : "off", frames[k],
                   indirect[on][k], direct[on][k]);
     }
@@ -80,9 +49,9 @@ TEST_F(TemporalTest, ReprojectedHistoryLowersTheErrorAsItGrows) {
   double hpsfDirect[2], hpsfIndirect[2];
   for (int on = 0; on < 2; ++on) {
     hpsf.hpsf.temporalDirect = on == 1;
-    const engine::ReferenceImages img = renderPan(ctx, s, hpsf, 16, step);
-    hpsfDirect[on] = mse(img.direct, reference.direct);
-    hpsfIndirect[on] = mse(img.indirect, reference.indirect);
+    const engine::ReferenceImages img = renderPan(ctx, s, {kSize, kSize}, hpsf, 16, step);
+    hpsfDirect[on] = metrics::mse(img.direct, reference.direct);
+    hpsfIndirect[on] = metrics::mse(img.indirect, reference.indirect);
     std::printf("hpsf, hpsf.temporal %s, 16 frames: indirect MSE %.3e, direct MSE %.3e\n", on ? "on " : "off",
                 hpsfIndirect[on], hpsfDirect[on]);
   }

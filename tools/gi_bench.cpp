@@ -39,6 +39,9 @@ const cli::Option kOptions[] = {
     {"max-bounces", "B", "indirect bounces for methods and reference (default 4)"},
     {"reference", "REF.exr", "use this reference image instead of rendering one"},
     {"reference-spp", "N", "samples per pixel of a rendered reference (default 4096)"},
+    {"reference-primary", "traced|gbuffer", "rendered references trace from the camera (default), or start from the "
+                                            "raster G-buffer's hits (the module's raw paths accumulated: errors are the "
+                                            "filters' alone, with the G-buffer's seams, near plane and texture mips)"},
     {"camera-path", nullptr, "the timed frames walk a scripted camera move (a sideways dolly with a yaw), each compared "
                              "with a reference of its own pose: the error columns are the walk's means (per frame: "
                              "series.csv), flicker_ratio its frame-to-frame change against the references'"},
@@ -110,23 +113,57 @@ struct Reference {
   engine::FloatImage final, indirect;
 };
 
-// Loads the cached reference for `key` or renders (pixel centres, to match the
-// raster G-buffer) and caches it.
-bool reference(const engine::Context& ctx, const engine::SceneGpu& sceneGpu, const gpu::GpuCamera& camera,
-               uint32_t bounces, uint32_t spp, const fs::path& dir, const std::string& key, Reference& out,
-               std::string& error) {
+// The reference with the G-buffer's primary hits: the module's unfiltered
+// paths (raw) from the same raster G-buffer, accumulated at a still camera
+// (own seed) to `spp` samples. The filters' errors then mean the filters'
+// alone: same first surface (seams and the near plane as the raster sees
+// them), same textures at the same mip level.
+bool gbufferReference(const engine::Context& ctx, const engine::Scene& scene, const engine::SceneGpu& sceneGpu,
+                      const gpu::GpuCamera& camera, uint32_t bounces, uint32_t spp, Reference& out, std::string& error) {
+  const VkExtent2D extent{uint32_t(camera.imageSize.x), uint32_t(camera.imageSize.y)};
+  gi::Settings settings;
+  settings.method = gi::Method::Raw;
+  settings.maxBounces = bounces;
+  settings.seed = 0x5eed;  // not the measured runs' samples
+  settings.raw.samplesPerPixel = std::min(spp, 64u);
+  settings.raw.temporalAccumulation = true;
+  settings.raw.maxAccumulatedFrames = 1u << 20;
+  gi::ModuleDesc desc = tools::moduleDesc(ctx, sceneGpu, extent);
+  desc.outputFormat = VK_FORMAT_R32G32B32A32_SFLOAT;  // a converged image needs no half-float rounding
+  tools::ModuleSession session;
+  if (!tools::createModuleSession(ctx, sceneGpu, extent, settings, session, error, &desc)) return false;
+  const uint32_t frames = (spp + settings.raw.samplesPerPixel - 1) / settings.raw.samplesPerPixel;
+  for (uint32_t f = 0; f < frames; ++f) tools::renderModuleFrame(ctx, session, scene, sceneGpu, camera, camera, f);
+  engine::ReferenceImages images = tools::readModuleImages(ctx, session);
+  tools::destroyModuleSession(ctx, session);
+  out.final = std::move(images.final);
+  out.indirect = std::move(images.indirect);
+  return true;
+}
+
+// Loads the cached reference for `key` or renders and caches it: traced from
+// the camera through pixel centres (to match the raster G-buffer), or, with
+// `gbufferPrimary`, from the G-buffer's hits (gbufferReference; key + "_gb").
+bool reference(const engine::Context& ctx, const engine::Scene& scene, const engine::SceneGpu& sceneGpu,
+               const gpu::GpuCamera& camera, uint32_t bounces, uint32_t spp, bool gbufferPrimary, const fs::path& dir,
+               std::string key, Reference& out, std::string& error) {
+  if (gbufferPrimary) key += "_gb";
   fs::path finalPath = dir / ("ref_" + key + "_final.exr"), indirectPath = dir / ("ref_" + key + "_indirect.exr");
   if (fs::exists(finalPath) && fs::exists(indirectPath))
     return engine::readImage(finalPath, out.final, error) && engine::readImage(indirectPath, out.indirect, error);
   std::printf("gi-bench: rendering reference %s (%u spp)...\n", key.c_str(), spp);
   std::fflush(stdout);
-  engine::ReferenceSettings settings;
-  settings.maxBounces = bounces;
-  settings.pixelJitter = false;
-  settings.seed = 0x5eed;
-  engine::ReferenceRun run = engine::renderReference(ctx, sceneGpu, camera, settings, spp, 8);
-  out.final = run.images.final;
-  out.indirect = run.images.indirect;
+  if (gbufferPrimary) {
+    if (!gbufferReference(ctx, scene, sceneGpu, camera, bounces, spp, out, error)) return false;
+  } else {
+    engine::ReferenceSettings settings;
+    settings.maxBounces = bounces;
+    settings.pixelJitter = false;
+    settings.seed = 0x5eed;
+    engine::ReferenceRun run = engine::renderReference(ctx, sceneGpu, camera, settings, spp, 8);
+    out.final = run.images.final;
+    out.indirect = run.images.indirect;
+  }
   return engine::writeImage(finalPath, out.final, error) && engine::writeImage(indirectPath, out.indirect, error);
 }
 
@@ -191,6 +228,10 @@ int main(int argc, char** argv) {
   if (args.has("camera-path") && (animate || move))
     return usageError("--camera-path moves the camera, --animate and --move-at the scene; choose one");
   if (args.has("camera-path") && frames < 2) return usageError("--camera-path walks the timed frames: --frames must be 2 or more");
+  const std::string primary = args.has("reference-primary") ? args.values["reference-primary"] : "traced";
+  if (primary != "traced" && primary != "gbuffer")
+    return usageError("--reference-primary: '" + primary + "' is not traced or gbuffer");
+  const bool gbufferPrimary = primary == "gbuffer";
   std::optional<gi::Invalidate> invalidateAtMove;
   if (args.has("invalidate-at-move")) {
     const std::string& what = args.values["invalidate-at-move"];
@@ -284,7 +325,7 @@ int main(int argc, char** argv) {
       ok = false;
     }
   } else {
-    ok = reference(ctx, sceneGpu, camera, bounces, refSpp, dir, key, ref, error);
+    ok = reference(ctx, scene, sceneGpu, camera, bounces, refSpp, gbufferPrimary, dir, key, ref, error);
   }
   if (!ok) {
     std::fprintf(stderr, "gi-bench: %s\n", error.c_str());
@@ -298,7 +339,7 @@ int main(int argc, char** argv) {
   for (uint32_t f = 0; animate && f < frames && ok; ++f) {
     pose(float(warmup + f) * frameSeconds);
     Reference r;
-    ok = reference(ctx, sceneGpu, camera, bounces, pathRefSpp, dir,
+    ok = reference(ctx, scene, sceneGpu, camera, bounces, pathRefSpp, gbufferPrimary, dir,
                    key + "_anim" + std::to_string(warmup + f) + "_s" + std::to_string(pathRefSpp), r, error);
     animationRefs.push_back(r);
   }
@@ -319,7 +360,7 @@ int main(int argc, char** argv) {
   double refFlicker = 0.0;
   for (uint32_t f = 0; cameraPath && f < frames && ok; ++f) {
     Reference r;
-    ok = reference(ctx, sceneGpu, walkCamera(f, nullptr), bounces, pathRefSpp, dir,
+    ok = reference(ctx, scene, sceneGpu, walkCamera(f, nullptr), bounces, pathRefSpp, gbufferPrimary, dir,
                    key + kWalkKey + "_path" + std::to_string(f) + "_s" + std::to_string(pathRefSpp), r, error);
     pathRefs.push_back(r);
     if (f > 0) refFlicker += meanFrameDifference(pathRefs[f].final, pathRefs[f - 1].final) / double(frames - 1);
