@@ -59,6 +59,15 @@ TEST(GiBenchTool, WritesResultsPlotsAndReport) {
   ASSERT_EQ(rc, 0) << out;
   EXPECT_NE(out.find("rendering reference"), std::string::npos) << out;
   EXPECT_NE(out.find("_sky0.5-0.5-0.5"), std::string::npos) << out;
+  // References from the G-buffer's hits are their own (…_gb), and raw's error against one of
+  // many samples is about raw's noise: relMSE well above 0, finite.
+  rc = runBench("--scene " + std::string(GI_SHARED_SCENES) + "/cornell-box-mcguire/CornellBox-Original.gltf"
+                " --size 32x24 --methods raw --spp 1 --frames 1 --warmup 0 --max-bounces 2 --reference-spp 64 --no-plots"
+                " --reference-primary gbuffer --validation --out " + dir.string(),
+                out);
+  ASSERT_EQ(rc, 0) << out;
+  EXPECT_NE(out.find("rendering reference CornellBox-Original_cam0_32x24_b2_s64_gb (64 spp)"), std::string::npos) << out;
+  EXPECT_TRUE(std::filesystem::exists(dir / "ref_CornellBox-Original_cam0_32x24_b2_s64_gb_final.exr"));
 }
 
 TEST(GiBenchTool, RefusesBadInput) {
@@ -75,6 +84,8 @@ TEST(GiBenchTool, RefusesBadInput) {
   EXPECT_EQ(runBench("--scene x.gltf --methods hpsf --invalidate-at-move all", out), 2) << out;
   EXPECT_EQ(runBench("--scene x.gltf --methods raw --sky -1,0,0", out), 2) << out;
   EXPECT_NE(out.find("--sky -1,0,0"), std::string::npos) << out;
+  EXPECT_EQ(runBench("--scene x.gltf --methods raw --reference-primary eyes", out), 2) << out;
+  EXPECT_NE(out.find("'eyes' is not traced or gbuffer"), std::string::npos) << out;
 }
 
 // The moving-light experiment end to end: the jump, the engine's
