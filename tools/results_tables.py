@@ -5,6 +5,7 @@
   tools/results_tables.py frames DIR K,K,..  final-image MSE after frame k per configuration (series.csv)
   tools/results_tables.py indirect DIR K,..  indirect MSE and indirect light over the reference's after frame k
   tools/results_tables.py move DIR           the moving-light columns (recovery frames, steady indirect MSE)
+  tools/results_tables.py walk DIR           a --camera-path run: the walk's mean errors and flicker
 
 "Tracing ms" is the time gi-bench divided the rays by (its tracing passes):
 rays / Mrays/s.
@@ -71,6 +72,14 @@ def move(directory):
               f"{float(r['move_steady_mse_indirect']):.3e} | {float(r['mse']):.3e} |")
 
 
+def walk(directory):
+    print("| configuration | ms/frame | relMSE final | relMSE indirect | MSE final | flicker |")
+    print("|---|---|---|---|---|---|")
+    for r in rows(f"{directory}/results.csv"):
+        print(f"| {r['label']} | {float(r['total_ms']):.1f} | {float(r['relmse']):.3e} | "
+              f"{float(r['relmse_indirect']):.3e} | {float(r['mse']):.3e} | {float(r['flicker_ratio']):.2f} |")
+
+
 if __name__ == "__main__":
     kind = sys.argv[1]
     if kind == "trade":
@@ -81,5 +90,7 @@ if __name__ == "__main__":
         indirect(sys.argv[2], sys.argv[3])
     elif kind == "move":
         move(sys.argv[2])
+    elif kind == "walk":
+        walk(sys.argv[2])
     else:
         sys.exit(f"results_tables.py: unknown table '{kind}'")

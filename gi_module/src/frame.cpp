@@ -280,8 +280,8 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
     runPass(m, cmd, slot, Pass::RawTrace, m.rawTrace, sets, size, raw);
   }
   // Direct light has noise to average only from area lights (emissive triangles, a sky).
-  const bool noisyDirect = m.desc.scene.hasEmissiveTriangles || m.desc.scene.hasSky;
-  const bool runTemporal = usesTemporalReprojection(s) && (noisyDirect || !usesHashGrid(s.method));
+  const bool noisyDirect = hasNoisyDirect(m.desc.scene);
+  const bool runTemporal = runsTemporalPass(m, s);
   if (runTemporal) {
     // Pass: last frame's light, reprojected through the motion vectors, blended into this frame's
     // (the hash methods' direct light only: their map holds the indirect).

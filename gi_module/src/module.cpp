@@ -257,7 +257,7 @@ vk::Status ensurePrograms(Module& m, const Settings& s) {
   GI_TRY(make(m.composite, GI_SCENE_SPIRV(traversal, gi_composite_comp), sizeof(gpu::GiCompositePush)));
   bool pathsFromGBuffer = !usesHashGrid(s.method) && !isAaf(s.method);
   if (pathsFromGBuffer) GI_TRY(make(m.rawTrace, GI_SCENE_SPIRV(traversal, gi_raw_trace_comp), sizeof(gpu::GiRawPush)));
-  if (usesTemporalReprojection(s))
+  if (runsTemporalPass(m, s))
     GI_TRY(make(m.temporal, GI_SCENE_SPIRV(traversal, gi_temporal_comp), sizeof(gpu::GiTemporalPush)));
   if (s.method == Method::Svgf) {
     GI_TRY(make(m.svgfVariance, GI_SCENE_SPIRV(traversal, svgf_variance_comp), sizeof(gpu::GiSvgfPush)));
@@ -354,6 +354,10 @@ uint32_t hashMode(Method method) {
 }
 
 bool aafSpecular(const Module& m, const Settings& s) { return s.method == Method::Aaf && m.desc.scene.hasGlossyMaterials; }
+bool hasNoisyDirect(const SceneDesc& scene) { return scene.hasEmissiveTriangles || scene.hasSky; }
+bool runsTemporalPass(const Module& m, const Settings& s) {
+  return usesTemporalReprojection(s) && (hasNoisyDirect(m.desc.scene) || !usesHashGrid(s.method));
+}
 
 Error vulkanError(const char* what, const vk::Status& status) {
   return {ErrorCode::VulkanCall,

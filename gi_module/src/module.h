@@ -118,6 +118,12 @@ void releaseRetired(Module& m, bool all);
 
 // Scene facts the passes specialise on (module.cpp).
 bool aafSpecular(const Module& m, const Settings& settings);
+// Direct light has noise to average only from area lights (emissive triangles, a sky).
+bool hasNoisyDirect(const SceneDesc& scene);
+// The temporal pass runs (and its images and program exist) when the method
+// reprojects and there is something to reproject: the hash methods reproject
+// only their direct light, so not without area lights.
+bool runsTemporalPass(const Module& m, const Settings& settings);
 
 // Pass helpers (frame.cpp).
 PassHooks passHooks(Module& m, uint32_t slot);

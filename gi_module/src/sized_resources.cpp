@@ -102,7 +102,7 @@ uint32_t sizedResourcesNeeded(const Module& m, const Settings& s) {
   else need |= bit(&SizedResources::noisyIndirect);
   if (s.method == Method::Raw && s.raw.temporalAccumulation)
     need |= bit(&SizedResources::historyDirect) | bit(&SizedResources::historyIndirect);
-  if (usesTemporalReprojection(s)) {
+  if (runsTemporalPass(m, s)) {
     need |= bit(&SizedResources::historyDirect) | bit(&SizedResources::historyDirectB) |
             bit(&SizedResources::historyGuideA) | bit(&SizedResources::historyGuideB);
     // The hash methods reproject their direct light only.
