@@ -74,7 +74,8 @@ TEST(Catalogue, MethodsViewsAndPassesAreCompleteAndUnique) {
     names.insert(m.name);
   }
   EXPECT_EQ(names.size(), size_t(gi::kMethodCount));
-  EXPECT_EQ(gi::debugViewCatalogue().size(), size_t(gi::DebugView::TemporalHistory) + 1);
+  ASSERT_EQ(gi::debugViewCatalogue().size(), size_t(gi::kDebugViewCount));
+  for (uint32_t v = 0; v < gi::kDebugViewCount; ++v) EXPECT_EQ(gi::debugViewCatalogue()[v].view, gi::DebugView(v));
   std::set<std::string> passes;
   for (const gi::PassInfo& p : gi::passCatalogue()) passes.insert(p.name);
   EXPECT_EQ(passes.size(), size_t(gi::Pass::Count));

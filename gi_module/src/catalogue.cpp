@@ -36,7 +36,7 @@ constexpr uint32_t kRaw = bit(Method::Raw), kGif = bit(Method::Gif), kBilateral 
         [](Settings& s, double v) { s.member = decltype(s.member)(uint32_t(v)); }                                  \
   }
 
-constexpr double kLastView = double(DebugView::SvgfVariance);  // the last of gi::DebugView (kViews is checked against it)
+constexpr double kLastView = double(kDebugViewCount - 1);
 constexpr const char* kTemporalMeaning = "blend in last frame's light, reprojected through the motion vectors (temporal.*)";
 
 const SettingInfo kSettings[] = {
@@ -218,7 +218,7 @@ constexpr DebugViewInfo kViews[] = {
     {DebugView::TemporalHistory, "temporal history", "temporal reprojection: frames of history behind the pixel / 32", false},
     {DebugView::SvgfVariance, "svgf variance", "svgf: luminance variance of direct (red) and indirect (green), history frames / 32 (blue)", false},
 };
-static_assert(std::size(kViews) == size_t(kLastView) + 1);
+static_assert(std::size(kViews) == kDebugViewCount);
 constexpr bool viewsInOrder() {
   for (uint32_t i = 0; i < std::size(kViews); ++i)
     if (kViews[i].view != DebugView(i)) return false;

@@ -48,6 +48,7 @@ enum class DebugView : uint32_t {
   TemporalHistory,    // temporal reprojection: frames of history behind the pixel / 32 (1/32: it started over)
   SvgfVariance,       // svgf: the luminance variance estimate of direct (r) and indirect (g) light, history frames / 32 (b)
 };
+inline constexpr uint32_t kDebugViewCount = uint32_t(DebugView::SvgfVariance) + 1;  // keep after the last view
 
 struct RawSettings {
   uint32_t samplesPerPixel = 1;        // paths per pixel per frame, [1, 64]
