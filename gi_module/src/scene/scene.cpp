@@ -44,14 +44,18 @@ const vk::Binding kSceneBindings[] = {
 
 bool rayQuery(const Scene& s) { return s.desc.traversal == gpu::TRAVERSAL_RAY_QUERY; }
 
-// The TLAS's instances in Morton order of their world-space centres.
-std::vector<AccelerationInstance> placedInstances(const Scene& s) {
-  std::vector<glm::vec3> centres;
-  for (const InstanceDesc& inst : s.instances)
-    centres.push_back(glm::vec3(toMat4(inst.worldFromObject) * glm::vec4(s.packed.meshCentres[inst.mesh], 1.0f)));
+// The TLAS's instances in Morton order of their world-space centres at
+// create (s.tlasOrder); updates keep that order: moving instances change
+// little of it, and the sort stays off the per-frame path.
+std::vector<AccelerationInstance> placedInstances(Scene& s) {
+  if (s.tlasOrder.size() != s.instances.size()) {
+    std::vector<glm::vec3> centres;
+    for (const InstanceDesc& inst : s.instances)
+      centres.push_back(glm::vec3(toMat4(inst.worldFromObject) * glm::vec4(s.packed.meshCentres[inst.mesh], 1.0f)));
+    s.tlasOrder = mortonOrder(centres);
+  }
   std::vector<AccelerationInstance> placed;
-  for (uint32_t i : mortonOrder(centres))
-    placed.push_back({i, s.instances[i].mesh, toMat4(s.instances[i].worldFromObject)});
+  for (uint32_t i : s.tlasOrder) placed.push_back({i, s.instances[i].mesh, toMat4(s.instances[i].worldFromObject)});
   return placed;
 }
 

@@ -32,6 +32,7 @@ struct Scene {
   VkBufferView bvhViews[4]{};                   // RGBA32UI texel views of the four, in that order
   SceneAcceleration accel;                      // ray queries only
   std::vector<AccelerationMesh> accelMeshes;
+  std::vector<uint32_t> tlasOrder;              // instance indices in the TLAS's (Morton) order, fixed at create
   vk::DescriptorSets set;                       // set 0, one set
   gpu::GpuSceneConstants sceneConstants{};
   SceneDesc facts;                              // what sceneDesc() returns
