@@ -5,6 +5,7 @@
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #include "lights.glsl"
 #include "gi_frame.glsl"
+#include "temporal.glsl"
 
 layout(local_size_x = GI_GROUP_SIZE, local_size_y = GI_GROUP_SIZE) in;
 layout(push_constant, scalar) uniform Push { GiCompositePush pc; };
@@ -73,6 +74,8 @@ void main() {
       result = vec3(v.x, v.y, min(v.z, 32.0) / 32.0);
       break;
     }
+    // Temporal gradients: λ, the share of the history dropped (0 where the gradients are off).
+    case GI_DEBUG_TEMPORAL_GRADIENT: result = pc.gradients != 0u ? vec3(giTemporalLambda(p), 0.0) : vec3(0.0); break;
     default:
       // aaf_ao: the indirect image holds occlusion (reflectors radiate 1); AO = 1 − occlusion.
       result = pc.ambientOcclusion != 0u ? vec3(1.0) - clamp(indirect, 0.0, 1.0)

@@ -45,6 +45,9 @@ layout(set = 1, binding = GI_BINDING_SVGF_INDIRECT_PING, rgba32f) uniform image2
 layout(set = 1, binding = GI_BINDING_SVGF_DIRECT_PONG, rgba32f) uniform image2D giSvgfDirectPong;
 layout(set = 1, binding = GI_BINDING_SVGF_INDIRECT_PONG, rgba32f) uniform image2D giSvgfIndirectPong;
 layout(set = 1, binding = GI_BINDING_SVGF_GUIDE, rgba32f) uniform image2D giSvgfGuide;
+layout(set = 1, binding = GI_BINDING_GRADIENT_SAMPLES_A, rgba32ui) uniform uimage2D giGradientSamplesA;
+layout(set = 1, binding = GI_BINDING_GRADIENT_SAMPLES_B, rgba32ui) uniform uimage2D giGradientSamplesB;
+layout(set = 1, binding = GI_BINDING_TEMPORAL_GRADIENT, rgba32f) uniform image2D giTemporalGradient;
 
 // Output images hold radiance × outputScale, clamped into the format's range
 // (a half float overflows to Inf past 65504). Loads give radiance back.

@@ -11,9 +11,11 @@
 // exact in every frame; the direct light is accumulated over the base colour,
 // and only where the scene has area lights (emissive triangles or a sky):
 // punctual lights' direct light has no noise to average, only detail to blur.
+// With temporal gradients (temporal.glsl) the new frame weighs more where the
+// light changed: (1 − λ)·weight + λ, and the history count drops to match.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
-#include "gi_frame.glsl"
+#include "temporal.glsl"
 
 layout(local_size_x = GI_GROUP_SIZE, local_size_y = GI_GROUP_SIZE) in;
 layout(push_constant, scalar) uniform Push { GiTemporalPush pc; };
@@ -24,7 +26,6 @@ struct History {
   float frames;  // 0: none
 };
 
-vec4 readGuide(ivec2 q) { return pc.parity == 0u ? imageLoad(giHistoryGuideA, q) : imageLoad(giHistoryGuideB, q); }
 vec4 readDirect(ivec2 q) { return pc.parity == 0u ? imageLoad(giHistoryDirect, q) : imageLoad(giHistoryDirectB, q); }
 vec4 readIndirect(ivec2 q) { return pc.parity == 0u ? imageLoad(giHistoryIndirect, q) : imageLoad(giHistoryIndirectB, q); }
 vec4 readMoments(ivec2 q) { return pc.parity == 0u ? imageLoad(giSvgfMomentsA, q) : imageLoad(giSvgfMomentsB, q); }
@@ -51,13 +52,6 @@ void write(ivec2 p, vec3 direct, vec3 indirect, float frames, vec3 n, float dept
   }
 }
 
-// The view depth `world` had from the previous camera.
-float previousViewDepth(vec3 world) { return -(giFrame.previousCamera.viewFromWorld * vec4(world, 1.0)).z; }
-
-bool depthAgrees(float stored, float expected) {
-  return stored > 0.0 && abs(stored - expected) <= pc.depthTolerance * expected;
-}
-
 History reproject(ivec2 p, vec3 n, float depth, vec3 world) {
   History h = History(vec3(0.0), vec3(0.0), vec4(0.0), 0.0);
   if (pc.reset != 0u) return h;
@@ -65,16 +59,14 @@ History reproject(ivec2 p, vec3 n, float depth, vec3 world) {
   const vec2 previous = vec2(p) + 0.5 + giGbMotionPixels(p) - 0.5;
   const ivec2 base = ivec2(floor(previous));
   const vec2 f = previous - vec2(base);
-  const float staticDepth = previousViewDepth(world);
+  const float staticDepth = giPreviousViewDepth(world);
   float weights = 0.0;
   for (int j = 0; j < 2; ++j)
     for (int i = 0; i < 2; ++i) {
       const ivec2 q = base + ivec2(i, j);
       if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, ivec2(giFrame.size)))) continue;
-      const vec4 guide = readGuide(q);
-      const float stored = guide.w * giFrame.depthScale;
-      if (!(depthAgrees(stored, staticDepth) || depthAgrees(stored, depth))) continue;
-      if (dot(guide.xyz, n) < pc.cosNormalLimit) continue;
+      if (!giHistoryTexelAgrees(giPreviousGuide(q, pc.parity), n, staticDepth, depth, pc.depthTolerance, pc.cosNormalLimit))
+        continue;
       const float w = (i == 1 ? f.x : 1.0 - f.x) * (j == 1 ? f.y : 1.0 - f.y);
       if (w <= 0.0) continue;
       const vec4 direct = readDirect(q);
@@ -124,12 +116,18 @@ void main() {
     writeMoments(p, moments, vec4(n, depth));
     return;
   }
-  const float frames = h.frames + 1.0;
-  const float blend = max(1.0 / frames, pc.minBlend);
-  const vec3 outDirect = pc.direct != 0u ? mix(h.direct, direct, blend) : direct;
-  const vec3 outIndirect = pc.directOnly != 0u ? indirect : mix(h.indirect, indirect, blend);
+  float frames = h.frames + 1.0;
+  const float blend = max(1.0 / frames, pc.minBlend), momentsBlend = max(1.0 / frames, pc.momentsMinBlend);
+  const vec2 lambda = pc.gradients != 0u ? giTemporalLambda(p) : vec2(0.0);  // direct, indirect
+  const vec2 blends = mix(vec2(blend), vec2(1.0), lambda);
+  // One history count serves both: where light changed it drops to the shorter history's.
+  if (max(lambda.x, lambda.y) > 0.0) frames = min(frames, 1.0 / max(blends.x, blends.y));
+  const vec3 outDirect = pc.direct != 0u ? mix(h.direct, direct, blends.x) : direct;
+  const vec3 outIndirect = pc.directOnly != 0u ? indirect : mix(h.indirect, indirect, blends.y);
   write(p, outDirect, outIndirect, min(frames, 65536.0), n, depth);
-  writeMoments(p, mix(h.moments, moments, max(1.0 / frames, pc.momentsMinBlend)), vec4(n, depth));
+  const vec2 momentsBlends = mix(vec2(momentsBlend), vec2(1.0), lambda);
+  writeMoments(p, vec4(mix(h.moments.xy, moments.xy, momentsBlends.x), mix(h.moments.zw, moments.zw, momentsBlends.y)),
+               vec4(n, depth));
   if (pc.direct != 0u) giStoreDirect(p, emission + albedo * outDirect);
   if (pc.directOnly != 0u) return;
   giStoreIndirect(p, outIndirect);  // raw's result; a filter that follows overwrites it

@@ -115,6 +115,9 @@ const SettingInfo kSettings[] = {
                Float, 0, 10, true, kTemporal | kSvgf),
     GI_SETTING("temporal.normal_limit", temporal.normalLimitDegrees, "degrees", "largest normal change a history tap may have",
                Float, 0, 180, false, kTemporal | kSvgf),
+    GI_BOOL("temporal.gradients", temporal.gradients,
+            "A-SVGF temporal gradients: drop history where a re-traced sample says the light changed",
+            (kTemporal & ~kHash) | kSvgf),
 
     GI_SETTING("svgf.spp", svgf.samplesPerPixel, "paths per pixel", "paths traced per pixel per frame", Uint, 1, 64, false,
                kSvgf),
@@ -217,6 +220,7 @@ constexpr DebugViewInfo kViews[] = {
     {DebugView::ContinuationDepth, "continuation depth", "A-nHPSF: the pixel's continued path / the maximum depth", false},
     {DebugView::TemporalHistory, "temporal history", "temporal reprojection: frames of history behind the pixel / 32", false},
     {DebugView::SvgfVariance, "svgf variance", "svgf: luminance variance of direct (red) and indirect (green), history frames / 32 (blue)", false},
+    {DebugView::TemporalGradient, "temporal gradient", "temporal gradients: share of the history dropped, direct (red) and indirect (green)", false},
 };
 static_assert(std::size(kViews) == kDebugViewCount);
 constexpr bool viewsInOrder() {

@@ -264,6 +264,8 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
 
   VkDescriptorSet sets[] = {m.desc.scene.set, m.sized.frameSets[slot]};
   const glm::uvec2 size{m.width, m.height};
+  // Temporal gradients need last frame's samples, kept in the set the temporal pass reads.
+  const bool gradientsTraced = usesTemporalGradients(m, s) && m.temporalFrames > 0;
   if (isAaf(s.method)) {
     // Passes: 16 stratified rays give reflector distances, β and n per pixel; then the remaining n − 16.
     gpu::AafPush aaf{s.aaf.mu, s.aaf.alpha, m.desc.scene.extent, s.seed, s.method == Method::AafAo ? 1u : 0u,
@@ -275,8 +277,17 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
     recordHashPasses(m, cmd, slot, frame, spp);
   } else {
     // Pass: trace paths from the G-buffer (direct + demodulated indirect, optional temporal mean).
-    gpu::GiRawPush raw{s.seed, spp, s.maxBounces, s.russianRouletteStart,
-                       m.historyLength, s.raw.maxAccumulatedFrames, accumulate ? 1u : 0u, 0};
+    gpu::GiRawPush raw{s.seed,
+                       spp,
+                       s.maxBounces,
+                       s.russianRouletteStart,
+                       m.historyLength,
+                       s.raw.maxAccumulatedFrames,
+                       accumulate ? 1u : 0u,
+                       usesTemporalGradients(m, s) ? (gradientsTraced ? 2u : 1u) : 0u,
+                       m.temporalFrames & 1u,
+                       s.temporal.depthTolerance,
+                       cosDegrees(s.temporal.normalLimitDegrees)};
     runPass(m, cmd, slot, Pass::RawTrace, m.rawTrace, sets, size, raw);
   }
   // Direct light has noise to average only from area lights (emissive triangles, a sky).
@@ -295,7 +306,8 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
                                  usesHashGrid(s.method) ? 1u : 0u,
                                  noisyDirect ? 1u : 0u,
                                  svgf ? 1u : 0u,
-                                 s.svgf.momentsAlpha};
+                                 s.svgf.momentsAlpha,
+                                 gradientsTraced ? 1u : 0u};
     runPass(m, cmd, slot, Pass::Temporal, m.temporal, sets, size, temporal);
     m.temporalFrames++;
   }
@@ -307,7 +319,7 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
                                  pixelScale(camera), aafSpecular(m, s) ? 1u : 0u,
                                  debugViewCatalogue()[size_t(s.debugView)].radiance ? 1u : 0u,
                                  runTemporal ? m.temporalFrames & 1u : 2u,  // odd counts: this frame wrote B
-                                 0};
+                                 gradientsTraced ? 1u : 0u};
   runPass(m, cmd, slot, Pass::Composite, m.composite, sets, size, composite);
 
   if (s.method == Method::Gif && s.gif.supersamples > 0 && s.debugView == DebugView::None) {

@@ -359,6 +359,10 @@ bool runsTemporalPass(const Module& m, const Settings& s) {
   return usesTemporalReprojection(s) && (hasNoisyDirect(m.desc.scene) || !usesHashGrid(s.method));
 }
 
+bool usesTemporalGradients(const Module& m, const Settings& s) {
+  return s.temporal.gradients && runsTemporalPass(m, s) && !usesHashGrid(s.method) && !isAaf(s.method);
+}
+
 Error vulkanError(const char* what, const vk::Status& status) {
   return {ErrorCode::VulkanCall,
           std::string(what) + ": " + (status.call ? status.call : "a Vulkan call") + " failed with " + resultName(status.result),

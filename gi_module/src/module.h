@@ -42,6 +42,8 @@ struct SizedResources {
   vk::Image svgfMomentsA, svgfMomentsB;           // svgf: luminance moments' history (sets A and B)
   vk::Image svgfDirectPing, svgfIndirectPing, svgfDirectPong, svgfIndirectPong;  // svgf: à-trous ping-pong
   vk::Image svgfGuide;                            // svgf: normal and view depth, one load per tap
+  vk::Image gradientSamplesA, gradientSamplesB;   // temporal gradients: each pixel's first sample (sets A and B)
+  vk::Image temporalGradient;                     // temporal gradients: one texel per tile
   vk::Image noisyIndirect;                        // demodulated indirect before filtering
   vk::Image guidance, position, debug;            // filter guidance, world position, filter debug/temp
   vk::Image aafParams, aafSum;                    // AAF per-pixel z_min, z_max, samples, β; sample sums
@@ -124,6 +126,9 @@ bool hasNoisyDirect(const SceneDesc& scene);
 // reprojects and there is something to reproject: the hash methods reproject
 // only their direct light, so not without area lights.
 bool runsTemporalPass(const Module& m, const Settings& settings);
+// Temporal gradients are traced (raw's trace pass) when the temporal pass runs
+// for a method whose paths start there (not the hash methods).
+bool usesTemporalGradients(const Module& m, const Settings& settings);
 
 // Pass helpers (frame.cpp).
 PassHooks passHooks(Module& m, uint32_t slot);

@@ -18,6 +18,7 @@ struct SizedImage {
   vk::Image SizedResources::*image;
   uint32_t binding;
   VkFormat format = kImageFormat;
+  uint32_t tile = 1;  // pixels per texel along each axis
 };
 constexpr SizedImage kSizedImages[] = {
     {&SizedResources::historyDirect, gpu::GI_BINDING_HISTORY_DIRECT},
@@ -42,6 +43,9 @@ constexpr SizedImage kSizedImages[] = {
     {&SizedResources::svgfDirectPong, gpu::GI_BINDING_SVGF_DIRECT_PONG},
     {&SizedResources::svgfIndirectPong, gpu::GI_BINDING_SVGF_INDIRECT_PONG},
     {&SizedResources::svgfGuide, gpu::GI_BINDING_SVGF_GUIDE},
+    {&SizedResources::gradientSamplesA, gpu::GI_BINDING_GRADIENT_SAMPLES_A, VK_FORMAT_R32G32B32A32_UINT},
+    {&SizedResources::gradientSamplesB, gpu::GI_BINDING_GRADIENT_SAMPLES_B, VK_FORMAT_R32G32B32A32_UINT},
+    {&SizedResources::temporalGradient, gpu::GI_BINDING_TEMPORAL_GRADIENT, kImageFormat, GI_GRADIENT_TILE},
 };
 // Beyond the image bits: which screen filters exist.
 static_assert(std::size(kSizedImages) <= 24, "the image bits stay below the flags");
@@ -90,6 +94,9 @@ const vk::Binding kFrameBindings[] = {
     {gpu::GI_BINDING_SVGF_DIRECT_PONG, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
     {gpu::GI_BINDING_SVGF_INDIRECT_PONG, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
     {gpu::GI_BINDING_SVGF_GUIDE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_GRADIENT_SAMPLES_A, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_GRADIENT_SAMPLES_B, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_TEMPORAL_GRADIENT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
 };
 
 }  // namespace
@@ -114,6 +121,9 @@ uint32_t sizedResourcesNeeded(const Module& m, const Settings& s) {
     need |= bit(&SizedResources::svgfMomentsA) | bit(&SizedResources::svgfMomentsB) |
             bit(&SizedResources::svgfDirectPing) | bit(&SizedResources::svgfIndirectPing) |
             bit(&SizedResources::svgfDirectPong) | bit(&SizedResources::svgfIndirectPong) | bit(&SizedResources::svgfGuide);
+  if (usesTemporalGradients(m, s))
+    need |= bit(&SizedResources::gradientSamplesA) | bit(&SizedResources::gradientSamplesB) |
+            bit(&SizedResources::temporalGradient);
   if (isAaf(s.method)) need |= bit(&SizedResources::aafParams) | bit(&SizedResources::aafSum);
   if (aafSpecular(m, s)) need |= bit(&SizedResources::aafGlossy) | bit(&SizedResources::aafGlossyEdge);
   // Debug views read their source at full size whatever the method (zero where it does not write).
@@ -135,6 +145,7 @@ uint32_t sizedResourcesNeeded(const Module& m, const Settings& s) {
     case DebugView::TemporalHistory:
       need |= bit(&SizedResources::historyDirect) | bit(&SizedResources::historyDirectB);
       break;
+    case DebugView::TemporalGradient: need |= bit(&SizedResources::temporalGradient); break;
     default: break;
   }
   if (usesScreenFilters(s.method)) need |= kNeedsFilters;
@@ -192,7 +203,9 @@ vk::Status createSizedResources(Module& m, const Settings& settings, uint32_t wi
   r.needs = sizedResourcesNeeded(m, settings);
   auto build = [&]() -> vk::Status {
     for (uint32_t i = 0; i < std::size(kSizedImages); ++i) {
-      VkExtent2D extent = (r.needs >> i) & 1u ? VkExtent2D{width, height} : VkExtent2D{1, 1};
+      const uint32_t tile = kSizedImages[i].tile;
+      VkExtent2D extent = (r.needs >> i) & 1u ? VkExtent2D{(width + tile - 1) / tile, (height + tile - 1) / tile}
+                                               : VkExtent2D{1, 1};
       GI_TRY(vk::createImage(m.gpu, extent, kSizedImages[i].format,
                              VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
                              r.*kSizedImages[i].image));

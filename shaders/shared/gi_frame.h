@@ -50,7 +50,13 @@ GPU_CONST GI_BINDING_SVGF_INDIRECT_PING = 28; // rgba32f: demodulated indirect l
 GPU_CONST GI_BINDING_SVGF_DIRECT_PONG = 29;
 GPU_CONST GI_BINDING_SVGF_INDIRECT_PONG = 30;
 GPU_CONST GI_BINDING_SVGF_GUIDE = 31;         // rgba32f: the G-buffer's unit normal (xyz) and view depth (w; 0 = no surface)
-GPU_CONST GI_BINDING_COUNT = 32;
+// Temporal gradients (TemporalSettings::gradients, A-SVGF, Schied et al. 2018): one pixel per
+// GI_GRADIENT_TILE² tile traces with the random numbers its reprojected pixel used last frame.
+GPU_CONST GI_BINDING_GRADIENT_SAMPLES_A = 32; // rgba32ui: the pixel's first sample, luminance of direct over base colour
+GPU_CONST GI_BINDING_GRADIENT_SAMPLES_B = 33; //   (x) and of demodulated indirect (y) as float bits, its random state (z)
+GPU_CONST GI_BINDING_TEMPORAL_GRADIENT = 34;  // rgba32f, one texel per tile: direct's change and max(then, now) (xy), indirect's (zw)
+GPU_CONST GI_BINDING_COUNT = 35;
+#define GI_GRADIENT_TILE 3u              // pixels per side of a gradient tile (A-SVGF's strata)
 #define GI_GROUP_SIZE 8u                 // 8×8 threads per group
 
 // Specialisation constants of the module's passes after the scene's
@@ -106,9 +112,13 @@ struct GiRawPush {
   uint historyLength;         // frames already in the history images; 0 = start over
   uint maxHistory;            // cap on the running mean's weight
   uint accumulate;            // 1 = blend with history, 0 = this frame only
-  uint pad0;
+  uint gradients;             // TemporalSettings::gradients: 0 off; 1 keep each pixel's first sample;
+                              // 2 also trace the tiles' gradient samples against last frame's
+  uint parity;                // the temporal pass's this frame: 0 = last frame wrote set A, 1 = set B
+  float depthTolerance;       // gradients: the reprojection tests of GiTemporalPush
+  float cosNormalLimit;
 };
-GPU_ASSERT_SIZE(GiRawPush, 32);
+GPU_ASSERT_SIZE(GiRawPush, 44);
 
 // Temporal reprojection of a screen-space method's noisy direct and indirect
 // light (SVGF's temporal half): last frame's history is reprojected through
@@ -125,8 +135,9 @@ struct GiTemporalPush {
   uint direct;          // 1: accumulate the direct light too; 0: it is exact every frame (punctual lights only)
   uint moments;         // 1 (svgf): also accumulate the luminance moments of direct and indirect light
   float momentsMinBlend;// (0, 1]: their smallest weight of the new frame
+  uint gradients;       // 1: where the tiles' temporal gradients say the light changed, the new frame weighs more
 };
-GPU_ASSERT_SIZE(GiTemporalPush, 36);
+GPU_ASSERT_SIZE(GiTemporalPush, 40);
 
 // svgf_variance.comp and svgf_atrous.comp.
 struct GiSvgfPush {
@@ -163,6 +174,7 @@ GPU_CONST GI_DEBUG_HASH_OCCUPANCY = 17;
 GPU_CONST GI_DEBUG_CONTINUATION_DEPTH = 18;
 GPU_CONST GI_DEBUG_TEMPORAL_HISTORY = 19;
 GPU_CONST GI_DEBUG_SVGF_VARIANCE = 20;
+GPU_CONST GI_DEBUG_TEMPORAL_GRADIENT = 21;
 
 struct GiCompositePush {
   uint debugView;      // GI_DEBUG_*
@@ -172,7 +184,7 @@ struct GiCompositePush {
   uint aafSpecular;    // 1: add AAF's filtered specular term (f0·glossy + edge) on glossy receivers
   uint radiance;       // 1: the view is light and carries the pre-exposure; 0: a [0,1] picture stored as is
   uint temporalWritten;// the history set the temporal pass wrote this frame: 0 = A, 1 = B, 2 = it did not run
-  uint pad2;
+  uint gradients;      // 1: the trace wrote this frame's temporal gradients
 };
 
 struct GiSupersamplePush {

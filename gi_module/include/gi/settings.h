@@ -47,8 +47,9 @@ enum class DebugView : uint32_t {
   ContinuationDepth,  // A-nHPSF: depth of the pixel's continued path / the maximum depth
   TemporalHistory,    // temporal reprojection: frames of history behind the pixel / 32 (1/32: it started over)
   SvgfVariance,       // svgf: the luminance variance estimate of direct (r) and indirect (g) light, history frames / 32 (b)
+  TemporalGradient,   // temporal gradients: how much of the history the pixel drops, direct (r) and indirect (g)
 };
-inline constexpr uint32_t kDebugViewCount = uint32_t(DebugView::SvgfVariance) + 1;  // keep after the last view
+inline constexpr uint32_t kDebugViewCount = uint32_t(DebugView::TemporalGradient) + 1;  // keep after the last view
 
 struct RawSettings {
   uint32_t samplesPerPixel = 1;        // paths per pixel per frame, [1, 64]
@@ -134,6 +135,10 @@ struct TemporalSettings {
   float minBlend = 0.1f;            // (0, 1]: the smallest weight of the new frame; history ≈ 2/minBlend − 1 frames
   float depthTolerance = 0.1f;      // (0, 10]: relative view-depth difference a history tap may have
   float normalLimitDegrees = 25.0f; // [0, 180]: the largest normal change a history tap may have
+  bool gradients = false;           // A-SVGF's temporal gradients (Schied et al. 2018): one pixel per 3×3 tile
+                                    // re-traces last frame's random numbers; where its light changed, the
+                                    // new frame weighs more. For the methods whose paths start in raw's
+                                    // trace (not the hash methods, whose map has its probes)
 };
 
 enum class EvictionPolicy : uint32_t {

@@ -1,0 +1,79 @@
+// What the temporal passes share: the test a history texel must pass to
+// count for this pixel, and A-SVGF's temporal gradients (Schied et al. 2018).
+//
+// Temporal gradients: in every GI_GRADIENT_TILE² tile one pixel, picked at
+// random each frame, traces its first path with the random numbers of the
+// pixel it reprojects to (the nearest one) last frame. Where nothing changed
+// the two samples are equal, bit for bit with a still camera; where the light
+// changed they differ by that change, without noise. The tile stores the
+// change and the larger of the two luminances; each pixel then sums both over
+// the 3×3 tiles around it and drops the share λ = |Σ change| / Σ max of its
+// history (the new frame's weight becomes (1 − λ)·α + λ). A-SVGF projects the
+// samples forwards through a visibility buffer so that they land on the very
+// same surface point; the module has no such buffer, so the sample is taken
+// at this frame's pixel centre: under camera motion up to half a pixel from
+// last frame's, and at sharp light edges the change then also counts that
+// offset. A-SVGF reconstructs the gradients with an edge-aware à-trous filter;
+// here a box over the 3×3 tiles (9×9 pixels).
+#ifndef GI_TEMPORAL_GLSL
+#define GI_TEMPORAL_GLSL
+#include "gi_frame.glsl"
+#include "random.glsl"
+
+// The view depth `world` had from the previous camera.
+float giPreviousViewDepth(vec3 world) { return -(giFrame.previousCamera.viewFromWorld * vec4(world, 1.0)).z; }
+
+bool giDepthAgrees(float stored, float expected, float tolerance) {
+  return stored > 0.0 && abs(stored - expected) <= tolerance * expected;
+}
+
+// Last frame's guide (unit normal, view depth / depthScale) in the set the temporal pass reads (`parity`).
+vec4 giPreviousGuide(ivec2 q, uint parity) {
+  return parity == 0u ? imageLoad(giHistoryGuideA, q) : imageLoad(giHistoryGuideB, q);
+}
+
+// Whether last frame's texel q saw this pixel's surface: its normal within
+// the limit, and its depth the one this pixel's point had from the previous
+// camera (static geometry) or has now (moving geometry).
+bool giHistoryTexelAgrees(vec4 guide, vec3 n, float staticDepth, float depth, float tolerance, float cosNormalLimit) {
+  const float stored = guide.w * giFrame.depthScale;
+  return (giDepthAgrees(stored, staticDepth, tolerance) || giDepthAgrees(stored, depth, tolerance)) &&
+         dot(guide.xyz, n) >= cosNormalLimit;
+}
+
+ivec2 giGradientTile(ivec2 p) { return p / int(GI_GRADIENT_TILE); }
+ivec2 giGradientTiles() { return (ivec2(giFrame.size) + int(GI_GRADIENT_TILE) - 1) / int(GI_GRADIENT_TILE); }
+
+// The tile's gradient pixel this frame (tiles at the right and bottom edges may be cut short).
+ivec2 giGradientPixel(ivec2 tile, uint frameIndex, uint seed) {
+  const ivec2 origin = tile * int(GI_GRADIENT_TILE);
+  const ivec2 extent = min(ivec2(GI_GRADIENT_TILE), ivec2(giFrame.size) - origin);
+  const uint pick = giPcgHash(uint(tile.x) ^ giPcgHash(uint(tile.y) ^ giPcgHash(frameIndex ^ giPcgHash(seed)))) %
+                    uint(extent.x * extent.y);
+  return origin + ivec2(int(pick) % extent.x, int(pick) / extent.x);
+}
+
+// Where the gradient pixel p was last frame: the nearest texel to its
+// reprojected centre, if that texel saw the same surface.
+bool giGradientSource(ivec2 p, uint parity, float tolerance, float cosNormalLimit, out ivec2 q) {
+  q = ivec2(floor(vec2(p) + 0.5 + giGbMotionPixels(p)));
+  if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, ivec2(giFrame.size)))) return false;
+  vec3 dir;
+  const vec3 world = giGbPosition(p, dir);
+  return giHistoryTexelAgrees(giPreviousGuide(q, parity), giGbNormal(p), giPreviousViewDepth(world), giGbViewDepth(p),
+                              tolerance, cosNormalLimit);
+}
+
+// λ for direct (x) and indirect (y): the share of the history that pixel p drops.
+vec2 giTemporalLambda(ivec2 p) {
+  const ivec2 tile = giGradientTile(p), tiles = giGradientTiles();
+  vec4 sum = vec4(0.0);
+  for (int j = -1; j <= 1; ++j)
+    for (int i = -1; i <= 1; ++i) {
+      const ivec2 t = tile + ivec2(i, j);
+      if (all(greaterThanEqual(t, ivec2(0))) && all(lessThan(t, tiles))) sum += imageLoad(giTemporalGradient, t);
+    }
+  return vec2(sum.y > 0.0 ? min(abs(sum.x) / sum.y, 1.0) : 0.0, sum.w > 0.0 ? min(abs(sum.z) / sum.w, 1.0) : 0.0);
+}
+
+#endif
