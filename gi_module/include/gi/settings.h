@@ -202,7 +202,9 @@ struct Settings {
   HpsfSettings hpsf;
   SvgfSettings svgf;
   TemporalSettings temporal;
-  uint32_t maxBounces = 1;             // indirect bounces B, [1, 32] (B = 0 would be direct light only)
+  uint32_t maxBounces = 1;             // indirect bounces B, [1, 32] (B = 0 would be direct light only).
+                                       // nhpsf and anhpsf gather every bounce through the map (each cell
+                                       // reads the next vertex's, over frames) whatever B says
   uint32_t russianRouletteStart = 3;   // bounce from which paths may stop early (unbiased), [1, 64]
   uint64_t rayBudget = 0;              // rays per frame; 0 = unlimited. The module lowers its sample
                                        // count (never below 1 spp) from the rays per path it last measured
