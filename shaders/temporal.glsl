@@ -2,10 +2,15 @@
 // count for this pixel, and A-SVGF's temporal gradients (Schied et al. 2018).
 //
 // Temporal gradients: in every GI_GRADIENT_TILE² tile one pixel, picked at
-// random each frame, traces its first path with the random numbers of the
-// pixel it reprojects to (the nearest one) last frame. Where nothing changed
-// the two samples are equal, bit for bit with a still camera; where the light
-// changed they differ by that change, without noise. The tile stores the
+// random each frame, traces one more path with the random numbers the first
+// path of the pixel it reprojects to (the nearest one) had last frame
+// (gi_temporal_gradient.comp, a dispatch over tiles, so that only tiles pay
+// for the extra path). Where nothing changed the two samples are equal, bit
+// for bit with a still camera; where the light changed they differ by that
+// change, without noise. (A-SVGF's gradient sample is also the pixel's
+// sample for the frame; a repeated sample adds nothing new, and measured
+// here that cost up to 30% more error in steady state, so the module pays
+// one path per tile instead.) The tile stores the
 // change and the larger of the two luminances; each pixel then sums both over
 // the 3×3 tiles around it and drops the share λ = |Σ change| / Σ max of its
 // history (the new frame's weight becomes (1 − λ)·α + λ). A-SVGF projects the
@@ -62,6 +67,11 @@ bool giGradientSource(ivec2 p, uint parity, float tolerance, float cosNormalLimi
   const vec3 world = giGbPosition(p, dir);
   return giHistoryTexelAgrees(giPreviousGuide(q, parity), giGbNormal(p), giPreviousViewDepth(world), giGbViewDepth(p),
                               tolerance, cosNormalLimit);
+}
+
+// What a gradient compares: luminance of the direct light over the base colour, and of the demodulated indirect.
+vec2 giGradientLuminance(vec3 direct, vec3 indirectDemod, ivec2 p) {
+  return vec2(giLuminance(direct / giDirectAlbedo(p)), giLuminance(indirectDemod));
 }
 
 // λ for direct (x) and indirect (y): the share of the history that pixel p drops.

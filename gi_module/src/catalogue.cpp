@@ -239,6 +239,7 @@ constexpr PassInfo kPasses[] = {
     {Pass::AnhpsfPaths, "anhpsf_paths", true},
     {Pass::HpsfResolve, "hpsf_resolve", false},  // its probe rays are a small part: not counted as tracing time
     {Pass::HpsfLookup, "hpsf_lookup", false},
+    {Pass::TemporalGradient, "temporal_gradient", true},
     {Pass::Temporal, "temporal", false},
     {Pass::SvgfVariance, "svgf_variance", false},
     {Pass::SvgfAtrous, "svgf_atrous", false},

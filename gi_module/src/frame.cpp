@@ -284,11 +284,16 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
                        m.historyLength,
                        s.raw.maxAccumulatedFrames,
                        accumulate ? 1u : 0u,
-                       usesTemporalGradients(m, s) ? (gradientsTraced ? 2u : 1u) : 0u,
+                       usesTemporalGradients(m, s) ? 1u : 0u,
                        m.temporalFrames & 1u,
                        s.temporal.depthTolerance,
                        cosDegrees(s.temporal.normalLimitDegrees)};
     runPass(m, cmd, slot, Pass::RawTrace, m.rawTrace, sets, size, raw);
+    // Pass: one more path per 3×3 tile with last frame's random numbers: how much its light changed.
+    if (gradientsTraced)
+      runPass(m, cmd, slot, Pass::TemporalGradient, m.temporalGradient, sets,
+              {(m.width + GI_GRADIENT_TILE - 1) / GI_GRADIENT_TILE, (m.height + GI_GRADIENT_TILE - 1) / GI_GRADIENT_TILE},
+              raw);
   }
   // Direct light has noise to average only from area lights (emissive triangles, a sky).
   const bool noisyDirect = hasNoisyDirect(m.desc.scene);

@@ -28,6 +28,8 @@
 #include "svgf_atrous.comp.compute.h"
 #include "svgf_variance.comp.h"
 #include "svgf_variance.comp.compute.h"
+#include "gi_temporal_gradient.comp.h"
+#include "gi_temporal_gradient.comp.compute.h"
 #include "shared/aaf.h"
 
 namespace gi {
@@ -210,8 +212,8 @@ std::array<uint32_t, GI_SPEC_COUNT> moduleSpecialization(const Module& m) {
 // Every program built against set 0's layout and the scene's specialisation.
 std::vector<vk::ComputeProgram*> scenePrograms(Module& m) {
   return {&m.rawTrace,  &m.composite,   &m.guidancePass, &m.supersample,  &m.aafSample,    &m.aafAdaptive,
-          &m.temporal,  &m.svgfVariance, &m.svgfAtrous,  &m.hash.insert,  &m.hash.paths,   &m.hash.resolve,
-          &m.hash.lookup};
+          &m.temporal,  &m.temporalGradient, &m.svgfVariance, &m.svgfAtrous,  &m.hash.insert,  &m.hash.paths,
+          &m.hash.resolve, &m.hash.lookup};
 }
 
 // The hash map `s` needs for renders up to `width` × `height`.
@@ -259,6 +261,8 @@ vk::Status ensurePrograms(Module& m, const Settings& s) {
   if (pathsFromGBuffer) GI_TRY(make(m.rawTrace, GI_SCENE_SPIRV(traversal, gi_raw_trace_comp), sizeof(gpu::GiRawPush)));
   if (runsTemporalPass(m, s))
     GI_TRY(make(m.temporal, GI_SCENE_SPIRV(traversal, gi_temporal_comp), sizeof(gpu::GiTemporalPush)));
+  if (usesTemporalGradients(m, s))
+    GI_TRY(make(m.temporalGradient, GI_SCENE_SPIRV(traversal, gi_temporal_gradient_comp), sizeof(gpu::GiRawPush)));
   if (s.method == Method::Svgf) {
     GI_TRY(make(m.svgfVariance, GI_SCENE_SPIRV(traversal, svgf_variance_comp), sizeof(gpu::GiSvgfPush)));
     GI_TRY(make(m.svgfAtrous, GI_SCENE_SPIRV(traversal, svgf_atrous_comp), sizeof(gpu::GiSvgfPush)));
@@ -319,7 +323,7 @@ void destroyModuleResources(Module& m) {
   if (m.timestamps) g.fn.vkDestroyQueryPool(g.device, m.timestamps, g.allocator);
   m.timestamps = VK_NULL_HANDLE;
   for (vk::ComputeProgram* p : {&m.rawTrace, &m.composite, &m.guidancePass, &m.supersample, &m.aafSample, &m.aafAdaptive,
-                                &m.temporal, &m.svgfVariance, &m.svgfAtrous})
+                                &m.temporal, &m.temporalGradient, &m.svgfVariance, &m.svgfAtrous})
     vk::destroyComputeProgram(g, *p);
   destroySizedResources(g, m.sized);
   destroyOutputImages(g, m.outputs);

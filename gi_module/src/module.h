@@ -85,7 +85,7 @@ struct Module {
   VkDescriptorSetLayout frameLayout = VK_NULL_HANDLE;  // set 1
 
   vk::ComputeProgram rawTrace, composite, guidancePass, supersample, aafSample, aafAdaptive, temporal;
-  vk::ComputeProgram svgfVariance, svgfAtrous;
+  vk::ComputeProgram svgfVariance, svgfAtrous, temporalGradient;
   FilterPrograms filterPrograms;                   // built when a screen-space filter is first chosen
 
   VkQueryPool timestamps = VK_NULL_HANDLE;         // 2 per pass per slot (null when desc.timestamps is off)

@@ -112,9 +112,9 @@ struct GiRawPush {
   uint historyLength;         // frames already in the history images; 0 = start over
   uint maxHistory;            // cap on the running mean's weight
   uint accumulate;            // 1 = blend with history, 0 = this frame only
-  uint gradients;             // TemporalSettings::gradients: 0 off; 1 keep each pixel's first sample;
-                              // 2 also trace the tiles' gradient samples against last frame's
-  uint parity;                // the temporal pass's this frame: 0 = last frame wrote set A, 1 = set B
+  uint gradients;             // 1 (TemporalSettings::gradients): keep each pixel's first sample for the
+                              // next frame's gradients (gi_temporal_gradient.comp reads this struct too)
+  uint parity;                // the temporal pass's this frame: 0 = last frame wrote set A (this one writes B)
   float depthTolerance;       // gradients: the reprojection tests of GiTemporalPush
   float cosNormalLimit;
 };
