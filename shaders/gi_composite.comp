@@ -1,6 +1,7 @@
 #version 460
-// The module's last pass: direct + diffuse albedo × demodulated indirect, or
-// the debug view the settings pick. AAF adds its glossy receivers' specular term.
+// The module's last pass: the filter clamp (temporal.glsl) on what the method
+// filtered, then direct + diffuse albedo × demodulated indirect, or the debug
+// view the settings pick. AAF adds its glossy receivers' specular term.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #include "lights.glsl"
@@ -10,11 +11,47 @@
 layout(local_size_x = GI_GROUP_SIZE, local_size_y = GI_GROUP_SIZE) in;
 layout(push_constant, scalar) uniform Push { GiCompositePush pc; };
 
+// The luminance spread of the accumulated indirect and direct light (over
+// the base colour) over p's 3×3 neighbourhood: svgf's first luminance moments
+// (the set written this frame), or the noisy image the filter read (indirect).
+void accumulatedSpread(ivec2 p, out GiLuminanceSpread indirect, out GiLuminanceSpread direct) {
+  vec2 sum = vec2(0.0), squares = vec2(0.0);
+  float count = 0.0;
+  for (int j = -1; j <= 1; ++j)
+    for (int i = -1; i <= 1; ++i) {
+      const ivec2 q = p + ivec2(i, j);
+      if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, ivec2(giFrame.size))) || !giGbCovered(q)) continue;
+      vec2 l;  // indirect, direct
+      if ((pc.clampLight & GI_CLAMP_FROM_MOMENTS) != 0u)
+        l = (pc.temporalWritten == 0u ? imageLoad(giSvgfMomentsA, q) : imageLoad(giSvgfMomentsB, q)).zx;
+      else
+        l = vec2(giLuminance(giLoadNoisy(q)), 0.0);
+      sum += l;
+      squares += l * l;
+      count += 1.0;
+    }
+  indirect = giSpread(sum.x, squares.x, count);
+  direct = giSpread(sum.y, squares.y, count);
+}
+
 void main() {
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(gl_GlobalInvocationID.xy, giFrame.size))) return;
   vec3 direct = giLoadDirect(p);
   vec3 indirect = giLoadIndirect(p);
+  if (pc.filterClamp > 0.0 && pc.clampLight != 0u && giGbCovered(p)) {
+    GiLuminanceSpread indirectSpread, directSpread;
+    accumulatedSpread(p, indirectSpread, directSpread);
+    if ((pc.clampLight & GI_CLAMP_INDIRECT) != 0u) {
+      indirect = giClampLuminance(indirect, indirectSpread, pc.filterClamp);
+      giStoreIndirect(p, indirect);
+    }
+    if ((pc.clampLight & GI_CLAMP_DIRECT) != 0u) {
+      const vec3 emission = giGbEmission(p), albedo = giDirectAlbedo(p);
+      direct = emission + albedo * giClampLuminance((direct - emission) / albedo, directSpread, pc.filterClamp);
+      giStoreDirect(p, direct);
+    }
+  }
   if (GI_SCENE_HAS_SKY && pc.ambientOcclusion == 0u && !giGbCovered(p)) {
     // The background is the sky seen through the pixel's centre: the direct output holds it too.
     direct = giSkyRadiance(giCameraRayDirection(giFrame.camera, vec2(p) + 0.5));

@@ -130,6 +130,6 @@ void main() {
                vec4(n, depth));
   if (pc.direct != 0u) giStoreDirect(p, emission + albedo * outDirect);
   if (pc.directOnly != 0u) return;
-  giStoreIndirect(p, outIndirect);  // raw's result; a filter that follows overwrites it
+  if (pc.indirectOutput != 0u) giStoreIndirect(p, outIndirect);  // raw's result; a filter that follows overwrites it
   giStoreNoisy(p, outIndirect, noisy.a);
 }

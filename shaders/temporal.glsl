@@ -86,4 +86,26 @@ vec2 giTemporalLambda(ivec2 p) {
   return vec2(sum.y > 0.0 ? min(abs(sum.x) / sum.y, 1.0) : 0.0, sum.w > 0.0 ? min(abs(sum.z) / sum.w, 1.0) : 0.0);
 }
 
+// The filter clamp (TemporalSettings::filterClamp): a filter's result at p
+// whose luminance lies further than γ standard deviations from the mean of
+// the accumulated light's luminances around p (3×3, surfaces only) is scaled
+// back to that bound. As the history grows the accumulated light converges,
+// its spread narrows, and the filter can no longer leave a bias its own input
+// disproves (light leaking across a shadow, a luminance stop keeping what
+// resembles the centre); with a short history the spread is the noise's and
+// the filter works as before. TAA's variance clipping (Salvi 2016) applied to
+// a spatial filter's output instead of a history.
+struct GiLuminanceSpread {
+  float mean, sigma;
+};
+GiLuminanceSpread giSpread(float sum, float squares, float count) {
+  const float mean = sum / max(count, 1.0);
+  return GiLuminanceSpread(mean, sqrt(max(squares / max(count, 1.0) - mean * mean, 0.0)));
+}
+vec3 giClampLuminance(vec3 light, GiLuminanceSpread spread, float gamma) {
+  const float l = giLuminance(light);
+  const float clamped = clamp(l, spread.mean - gamma * spread.sigma, spread.mean + gamma * spread.sigma);
+  return l > 0.0 ? light * (clamped / l) : light;
+}
+
 #endif

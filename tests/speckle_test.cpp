@@ -1,24 +1,24 @@
-// What the player sees with the camera still: after 32 frames at 1 spp a
-// filtering method's image should have no speckle, no pixel where the
-// reference is smooth that lies further from it than 3σ of a 32-sample mean
-// (σ: the pixel's one-sample standard deviation, measured from raw frames),
-// i.e. noisier or more biased than averaging the 32 frames' samples alone
-// would leave it. The reference starts from the same G-buffer (raw's paths,
-// 4096 samples), so only the estimator and the filter count. Every bounce
-// (B = 31, Russian roulette from the third): nhpsf and anhpsf gather every
-// bounce through the map whatever settings.maxBounces says, so a reference of
-// fewer bounces would count the missing light as their bias (at B = 1 it
-// was 28% of the image's luminance). The hash methods run with hpsf.temporal
-// (their direct light reprojected and accumulated; off by default for
-// memory, without it their direct light is one frame's samples).
+// What the player sees with the camera still: after 32 frames at 1 spp no
+// method's image may have a speckle, a pixel where the reference is smooth
+// that lies further from it than 3σ of a 32-sample mean (σ: the pixel's
+// one-sample standard deviation, measured from raw frames), i.e. noisier or
+// more biased than averaging the 32 frames' samples alone would leave it. The
+// reference starts from the same G-buffer (raw's paths, 4096 samples), so
+// only the estimator and the filter count. Every bounce (B = 31, Russian
+// roulette from the third): nhpsf and anhpsf gather every bounce through the
+// map whatever settings.maxBounces says, so a reference of fewer bounces
+// would count the missing light as their bias (at B = 1 it was 28% of the
+// image's luminance). The hash methods run with hpsf.temporal (their direct
+// light reprojected and accumulated, and with the filter clamp their map's
+// light held near their own accumulated samples; off by default for memory:
+// without it their direct light is one frame's samples and speckles).
 //
-// Issue 19 asks this of every method; measured at 64² on the Cornell box
-// (counts of 1411 smooth pixels, printed by the test): bilateral 0, atrous 0,
-// sspsf 0 (asserted); gif 19 (worst 22σ: the floor in the short box's shadow,
-// 3× the reference's light, the guided filter's window reaching the box's
-// lit indirect), hpsf 4, nhpsf 2, anhpsf 2, svgf 3 (worst 3.9–4.5σ; svgf's
-// are 10–20% too dark). The methods that pass are held to it; the others are
-// printed, the open part of the issue.
+// What it took (counts of 1411 smooth pixels at 64², before → now): the
+// filter clamp (temporal.filterClamp, 0.5) for gif 15 → 0 (its window
+// carried the short box's lit indirect light onto the shadowed floor, three
+// times the reference) and svgf 2 → 0 (too dark where its luminance stop,
+// fed back as history, kept what resembles the centre); a σ pooled over 3×3
+// (below). The worst pixel of any method is now 2.7σ (printed).
 #include <cmath>
 
 #include "module_test_helpers.h"
@@ -65,10 +65,14 @@ TEST_F(SpeckleTest, NoSpeckleAfter32StillFramesWhereTheReferenceIsSmooth) {
   engine::ReferenceImages reference;
   reference.final = lastOfStillFrames(ctx, s, converged, 64);
   const size_t pixels = size_t(kSize) * kSize;
-  // Each pixel's one-sample σ: raw's frames at 1 spp (independent samples; 64 of them).
+  // Each pixel's one-sample σ: raw's frames at 1 spp (independent samples; 64 of them), the
+  // variance pooled over the pixel's 3×3 neighbourhood (576 samples): where the reference is
+  // smooth the neighbours share the distribution, and 64 samples alone miss the rare bright
+  // paths of a heavy tail (the shadowed floor behind the short box: σ from 64 frames was a third
+  // of what its neighbours' gave, and every method "speckled" there).
   std::vector<engine::FloatImage> raw;
   lastOfStillFrames(ctx, s, defaults, 64, &raw);
-  std::vector<double> sigma(pixels);
+  std::vector<double> variance(pixels), sigma(pixels);
   for (size_t p = 0; p < pixels; ++p) {
     double sum = 0.0, squares = 0.0;
     for (const engine::FloatImage& f : raw) {
@@ -76,8 +80,16 @@ TEST_F(SpeckleTest, NoSpeckleAfter32StillFramesWhereTheReferenceIsSmooth) {
       squares += luminance(f, p) * luminance(f, p);
     }
     const double mean = sum / double(raw.size());
-    sigma[p] = std::sqrt(std::max(0.0, (squares - mean * sum) / double(raw.size() - 1)));
+    variance[p] = std::max(0.0, (squares - mean * sum) / double(raw.size() - 1));
   }
+  for (uint32_t y = 0; y < kSize; ++y)
+    for (uint32_t x = 0; x < kSize; ++x) {
+      double pooled = 0.0, count = 0.0;
+      for (uint32_t j = y > 0 ? y - 1 : 0; j <= std::min(y + 1, kSize - 1); ++j)
+        for (uint32_t i = x > 0 ? x - 1 : 0; i <= std::min(x + 1, kSize - 1); ++i, count += 1.0)
+          pooled += variance[size_t(j) * kSize + i];
+      sigma[size_t(y) * kSize + x] = std::sqrt(pooled / count);
+    }
   // Smooth: no edge (every neighbour within 15% of the pixel's luminance) and
   // no kink (their mean within 3% of it: gradients are smooth, shadow
   // boundaries and corners are not).
@@ -115,11 +127,9 @@ TEST_F(SpeckleTest, NoSpeckleAfter32StillFramesWhereTheReferenceIsSmooth) {
       worst = std::max(worst, deviation);
       speckles += deviation > 3.0;
     }
-    std::printf("%-10s %zu of %zu smooth pixels beyond 3 sigma (worst %.1f sigma)\n", gi::methodName(method), speckles,
+    std::printf("%-10s %zu of %zu smooth pixels beyond 3 sigma (worst %.3f sigma)\n", gi::methodName(method), speckles,
                 smoothCount, worst);
-    if (method == gi::Method::Bilateral || method == gi::Method::Atrous || method == gi::Method::Sspsf) {
-      EXPECT_EQ(speckles, 0u) << gi::methodName(method);
-    }
+    EXPECT_EQ(speckles, 0u) << gi::methodName(method);
   }
   unload(s);
 }

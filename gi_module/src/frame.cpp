@@ -300,7 +300,8 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
   const bool runTemporal = runsTemporalPass(m, s);
   if (runTemporal) {
     // Pass: last frame's light, reprojected through the motion vectors, blended into this frame's
-    // (the hash methods' direct light only: their map holds the indirect).
+    // (the hash methods' direct light; their map holds the indirect, and their own samples are
+    // accumulated only for the filter clamp).
     const TemporalSettings& t = s.temporal;
     const bool svgf = s.method == Method::Svgf;
     gpu::GiTemporalPush temporal{m.temporalFrames & 1u,
@@ -308,23 +309,33 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
                                  svgf ? s.svgf.alpha : t.minBlend,
                                  t.depthTolerance,
                                  cosDegrees(t.normalLimitDegrees),
-                                 usesHashGrid(s.method) ? 1u : 0u,
+                                 usesHashGrid(s.method) && !clampsHashIndirect(s) ? 1u : 0u,
                                  noisyDirect ? 1u : 0u,
                                  svgf ? 1u : 0u,
                                  s.svgf.momentsAlpha,
-                                 gradientsTraced ? 1u : 0u};
+                                 gradientsTraced ? 1u : 0u,
+                                 usesHashGrid(s.method) ? 0u : 1u};
     runPass(m, cmd, slot, Pass::Temporal, m.temporal, sets, size, temporal);
     m.temporalFrames++;
   }
   if (s.method == Method::Svgf) recordSvgfPasses(m, cmd, slot, noisyDirect && s.svgf.filterDirect);
   if (usesScreenFilters(s.method)) recordFilterPasses(m, cmd, slot, frame);
 
+  // What the filter clamp holds (TemporalSettings::filterClamp): what the method filtered, against
+  // the light the temporal pass accumulated.
+  uint32_t clampLight = 0;
+  if (runTemporal && (usesScreenFilters(s.method) || clampsHashIndirect(s))) clampLight = gpu::GI_CLAMP_INDIRECT;
+  if (s.method == Method::Svgf)
+    clampLight = gpu::GI_CLAMP_INDIRECT | gpu::GI_CLAMP_FROM_MOMENTS |
+                 (noisyDirect && s.svgf.filterDirect ? gpu::GI_CLAMP_DIRECT : 0u);
   // Pass: composite (or the chosen debug view).
   gpu::GiCompositePush composite{uint32_t(s.debugView), s.method == Method::AafAo ? 1u : 0u, m.desc.scene.extent,
                                  pixelScale(camera), aafSpecular(m, s) ? 1u : 0u,
                                  debugViewCatalogue()[size_t(s.debugView)].radiance ? 1u : 0u,
                                  runTemporal ? m.temporalFrames & 1u : 2u,  // odd counts: this frame wrote B
-                                 gradientsTraced ? 1u : 0u};
+                                 gradientsTraced ? 1u : 0u,
+                                 s.temporal.filterClamp,
+                                 clampLight};
   runPass(m, cmd, slot, Pass::Composite, m.composite, sets, size, composite);
 
   if (s.method == Method::Gif && s.gif.supersamples > 0 && s.debugView == DebugView::None) {

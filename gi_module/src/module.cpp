@@ -360,7 +360,11 @@ uint32_t hashMode(Method method) {
 bool aafSpecular(const Module& m, const Settings& s) { return s.method == Method::Aaf && m.desc.scene.hasGlossyMaterials; }
 bool hasNoisyDirect(const SceneDesc& scene) { return scene.hasEmissiveTriangles || scene.hasSky; }
 bool runsTemporalPass(const Module& m, const Settings& s) {
-  return usesTemporalReprojection(s) && (hasNoisyDirect(m.desc.scene) || !usesHashGrid(s.method));
+  return usesTemporalReprojection(s) && (hasNoisyDirect(m.desc.scene) || !usesHashGrid(s.method) || clampsHashIndirect(s));
+}
+
+bool clampsHashIndirect(const Settings& s) {
+  return usesHashGrid(s.method) && s.hpsf.temporalDirect && s.temporal.filterClamp > 0.0f;
 }
 
 bool usesTemporalGradients(const Module& m, const Settings& s) {

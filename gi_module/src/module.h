@@ -124,8 +124,11 @@ bool aafSpecular(const Module& m, const Settings& settings);
 bool hasNoisyDirect(const SceneDesc& scene);
 // The temporal pass runs (and its images and program exist) when the method
 // reprojects and there is something to reproject: the hash methods reproject
-// only their direct light, so not without area lights.
+// their direct light, so not without area lights, unless they clamp.
 bool runsTemporalPass(const Module& m, const Settings& settings);
+// The hash methods with hpsf.temporal and the filter clamp also accumulate
+// each pixel's own indirect sample, which the map's light is held against.
+bool clampsHashIndirect(const Settings& settings);
 // Temporal gradients are traced (raw's trace pass) when the temporal pass runs
 // for a method whose paths start there (not the hash methods).
 bool usesTemporalGradients(const Module& m, const Settings& settings);

@@ -105,15 +105,16 @@ std::span<const vk::Binding> frameBindings() { return kFrameBindings; }
 
 uint32_t sizedResourcesNeeded(const Module& m, const Settings& s) {
   uint32_t need = 0;
-  if (usesHashGrid(s.method) && s.debugView != DebugView::FilterInOut) need |= kNoisyIsIndirect;
+  if (usesHashGrid(s.method) && s.debugView != DebugView::FilterInOut && !clampsHashIndirect(s)) need |= kNoisyIsIndirect;
   else need |= bit(&SizedResources::noisyIndirect);
   if (s.method == Method::Raw && s.raw.temporalAccumulation)
     need |= bit(&SizedResources::historyDirect) | bit(&SizedResources::historyIndirect);
   if (runsTemporalPass(m, s)) {
     need |= bit(&SizedResources::historyDirect) | bit(&SizedResources::historyDirectB) |
             bit(&SizedResources::historyGuideA) | bit(&SizedResources::historyGuideB);
-    // The hash methods reproject their direct light only.
-    if (!usesHashGrid(s.method)) need |= bit(&SizedResources::historyIndirect) | bit(&SizedResources::historyIndirectB);
+    // The hash methods reproject their direct light only, and with the filter clamp accumulate their samples.
+    if (!usesHashGrid(s.method) || clampsHashIndirect(s))
+      need |= bit(&SizedResources::historyIndirect) | bit(&SizedResources::historyIndirectB);
   }
   if (usesScreenFilters(s.method))
     need |= bit(&SizedResources::guidance) | bit(&SizedResources::position) | bit(&SizedResources::debug);

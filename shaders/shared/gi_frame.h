@@ -136,8 +136,10 @@ struct GiTemporalPush {
   uint moments;         // 1 (svgf): also accumulate the luminance moments of direct and indirect light
   float momentsMinBlend;// (0, 1]: their smallest weight of the new frame
   uint gradients;       // 1: where the tiles' temporal gradients say the light changed, the new frame weighs more
+  uint indirectOutput;  // 1: the accumulated indirect replaces the indirect output (the filters read it); 0 (the
+                        // hash methods' filter clamp): it goes to the noisy image only, the map's light stays
 };
-GPU_ASSERT_SIZE(GiTemporalPush, 40);
+GPU_ASSERT_SIZE(GiTemporalPush, 44);
 
 // svgf_variance.comp and svgf_atrous.comp.
 struct GiSvgfPush {
@@ -176,6 +178,11 @@ GPU_CONST GI_DEBUG_TEMPORAL_HISTORY = 19;
 GPU_CONST GI_DEBUG_SVGF_VARIANCE = 20;
 GPU_CONST GI_DEBUG_TEMPORAL_GRADIENT = 21;
 
+GPU_CONST GI_CLAMP_INDIRECT = 1;      // the filter clamp holds the indirect output
+GPU_CONST GI_CLAMP_DIRECT = 2;        // and the direct output (svgf with filterDirect)
+GPU_CONST GI_CLAMP_FROM_MOMENTS = 4;  // against svgf's first luminance moments (its colour history holds its
+                                      // filter's feedback); otherwise against the noisy image (indirect only)
+
 struct GiCompositePush {
   uint debugView;      // GI_DEBUG_*
   uint ambientOcclusion;  // 1: the indirect image holds occlusion; show AO = 1 − occlusion
@@ -185,6 +192,8 @@ struct GiCompositePush {
   uint radiance;       // 1: the view is light and carries the pre-exposure; 0: a [0,1] picture stored as is
   uint temporalWritten;// the history set the temporal pass wrote this frame: 0 = A, 1 = B, 2 = it did not run
   uint gradients;      // 1: the trace wrote this frame's temporal gradients
+  float filterClamp;   // γ (TemporalSettings::filterClamp): the filtered light within γ local σ of the accumulated; 0 = off
+  uint clampLight;     // GI_CLAMP_*: what the filter changed, and what it is held against
 };
 
 struct GiSupersamplePush {
@@ -192,7 +201,7 @@ struct GiSupersamplePush {
   uint supersamples;  // extra eye rays per pixel
 };
 GPU_ASSERT_SIZE(GiSupersamplePush, 8);
-GPU_ASSERT_SIZE(GiCompositePush, 32);
+GPU_ASSERT_SIZE(GiCompositePush, 40);
 
 GPU_NAMESPACE_END
 #endif

@@ -130,11 +130,16 @@ struct SvgfSettings {
 // atrous, sspsf): last frame's direct and indirect light, reprojected through
 // the G-buffer's motion vectors, is blended into this frame's before the
 // method's filter (SVGF's temporal accumulation). Disoccluded pixels (depth or
-// normal disagree) start over. These are its tunables, shared by the methods.
+// normal disagree) start over. The filter's result is then held near the
+// accumulated light (filterClamp). These are its tunables, shared by the methods.
 struct TemporalSettings {
   float minBlend = 0.1f;            // (0, 1]: the smallest weight of the new frame; history ≈ 2/minBlend − 1 frames
   float depthTolerance = 0.1f;      // (0, 10]: relative view-depth difference a history tap may have
   float normalLimitDegrees = 25.0f; // [0, 180]: the largest normal change a history tap may have
+  float filterClamp = 0.5f;         // [0, 10]: γ, the filtered light may lie at most γ standard deviations from
+                                    // the mean of the accumulated light around the pixel (3×3, luminance); 0 = off.
+                                    // As the history grows the filter can no longer leave a bias its input
+                                    // disproves (RESULTS: 0.5 removes the speckles; 1 keeps a few of svgf's)
   bool gradients = false;           // A-SVGF's temporal gradients (Schied et al. 2018): one pixel per 3×3 tile
                                     // re-traces last frame's random numbers; where its light changed, the
                                     // new frame weighs more. For the methods whose paths start in raw's
@@ -188,7 +193,9 @@ struct HpsfSettings {
   bool temporalDirect = false;    // blend in last frame's direct light, reprojected (TemporalSettings): the map
                                   // holds the indirect light in world space, the direct light has no cache. Runs
                                   // only where the scene has area lights (emissive, sky). Off by default: its
-                                  // four full-size history images would take hpsf at 1080p past 150 MB
+                                  // four full-size history images would take hpsf at 1080p past 150 MB.
+                                  // With temporal.filterClamp the pixels' own indirect samples are accumulated
+                                  // too (three more images), and the map's light is held within γσ of them
 };
 
 struct Settings {
