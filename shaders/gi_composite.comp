@@ -20,7 +20,7 @@ void accumulatedSpread(ivec2 p, out GiLuminanceSpread indirect, out GiLuminanceS
   for (int j = -1; j <= 1; ++j)
     for (int i = -1; i <= 1; ++i) {
       const ivec2 q = p + ivec2(i, j);
-      if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, ivec2(giFrame.size))) || !giGbCovered(q)) continue;
+      if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, ivec2(giFrame.size))) || !giGbCoveredRaw(q)) continue;
       vec2 l;  // indirect, direct
       if ((pc.clampLight & GI_CLAMP_FROM_MOMENTS) != 0u)
         l = (pc.temporalWritten == 0u ? imageLoad(giSvgfMomentsA, q) : imageLoad(giSvgfMomentsB, q)).zx;
@@ -39,7 +39,15 @@ void main() {
   if (any(greaterThanEqual(gl_GlobalInvocationID.xy, giFrame.size))) return;
   vec3 direct = giLoadDirect(p);
   vec3 indirect = giLoadIndirect(p);
-  if (pc.filterClamp > 0.0 && pc.clampLight != 0u && giGbCovered(p)) {
+  // Only where the history is long enough to speak for itself (a few samples' spread says little:
+  // nine 1-spp samples that all missed the light would hold the filter at black).
+  const float historyFrames = pc.temporalWritten == 0u   ? imageLoad(giHistoryDirect, p).a
+                              : pc.temporalWritten == 1u ? imageLoad(giHistoryDirectB, p).a
+                                                         : 0.0;
+  const bool clamped = pc.filterClamp > 0.0 && pc.clampLight != 0u && historyFrames >= GI_TRUSTED_HISTORY &&
+                       giGbCovered(p) &&
+                       ((pc.clampLight & GI_CLAMP_FILTER_VERTICES) == 0u || imageLoad(giNoisyIndirect, p).a > 0.5);
+  if (clamped) {
     GiLuminanceSpread indirectSpread, directSpread;
     accumulatedSpread(p, indirectSpread, directSpread);
     if ((pc.clampLight & GI_CLAMP_INDIRECT) != 0u) {

@@ -2,7 +2,7 @@
 // SVGF's variance estimate (Schied et al. 2017 §4.2): per pixel, the
 // luminance variance of the accumulated direct and indirect light from their
 // temporally integrated moments, σ² = E[l²] − E[l]²; while a pixel has fewer
-// than 4 frames of history, from the moments of its 7×7 neighbourhood
+// than GI_TRUSTED_HISTORY (4) frames of history, from the moments of its 7×7 neighbourhood
 // instead, weighted by depth and normal. Writes the ping images (light, σ²)
 // the à-trous iterations start from, and for the svgf variance view the
 // debug image (σ² direct, σ² indirect, frames).
@@ -23,7 +23,7 @@ void main() {
   const float frames = direct.a;
   const vec4 guide = svgfGuide(p);
   vec2 variance = vec2(0.0);
-  if (guide.w > 0.0 && frames < 4.0) {
+  if (guide.w > 0.0 && frames < GI_TRUSTED_HISTORY) {
     const vec2 gradient = svgfDepthGradient(p, guide.w);
     vec4 sum = vec4(0.0);
     float weights = 0.0;

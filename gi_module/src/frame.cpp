@@ -324,8 +324,10 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
   // What the filter clamp holds (TemporalSettings::filterClamp): what the method filtered, against
   // the light the temporal pass accumulated.
   uint32_t clampLight = 0;
-  if (runTemporal && (usesScreenFilters(s.method) || clampsHashIndirect(s))) clampLight = gpu::GI_CLAMP_INDIRECT;
-  if (s.method == Method::Svgf)
+  if (runTemporal && usesScreenFilters(s.method)) clampLight = gpu::GI_CLAMP_INDIRECT;
+  if (runTemporal && (s.method == Method::Sspsf || clampsHashIndirect(s)))  // they filter filter vertices only
+    clampLight = gpu::GI_CLAMP_INDIRECT | gpu::GI_CLAMP_FILTER_VERTICES;
+  if (s.method == Method::Svgf && s.svgf.iterations > 0)
     clampLight = gpu::GI_CLAMP_INDIRECT | gpu::GI_CLAMP_FROM_MOMENTS |
                  (noisyDirect && s.svgf.filterDirect ? gpu::GI_CLAMP_DIRECT : 0u);
   // Pass: composite (or the chosen debug view).

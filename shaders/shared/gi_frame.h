@@ -57,6 +57,8 @@ GPU_CONST GI_BINDING_GRADIENT_SAMPLES_B = 33; //   (x) and of demodulated indire
 GPU_CONST GI_BINDING_TEMPORAL_GRADIENT = 34;  // rgba32f, one texel per tile: direct's change and max(then, now) (xy), indirect's (zw)
 GPU_CONST GI_BINDING_COUNT = 35;
 #define GI_GRADIENT_TILE 3u              // pixels per side of a gradient tile (A-SVGF's strata)
+#define GI_TRUSTED_HISTORY 4.0           // frames of history from which a pixel's accumulated light speaks for
+                                         // itself: SVGF's temporal variance (spatial before), the filter clamp
 #define GI_GROUP_SIZE 8u                 // 8×8 threads per group
 
 // Specialisation constants of the module's passes after the scene's
@@ -182,6 +184,8 @@ GPU_CONST GI_CLAMP_INDIRECT = 1;      // the filter clamp holds the indirect out
 GPU_CONST GI_CLAMP_DIRECT = 2;        // and the direct output (svgf with filterDirect)
 GPU_CONST GI_CLAMP_FROM_MOMENTS = 4;  // against svgf's first luminance moments (its colour history holds its
                                       // filter's feedback); otherwise against the noisy image (indirect only)
+GPU_CONST GI_CLAMP_FILTER_VERTICES = 8;  // only where the noisy image's alpha marks a filter vertex (sspsf, the hash
+                                         // methods: the other pixels keep their own samples, untouched)
 
 struct GiCompositePush {
   uint debugView;      // GI_DEBUG_*
