@@ -1,41 +1,15 @@
 #include "bench_configs.h"
 
+#include <algorithm>
+
 #include "cli.h"
 #include "settings_keys.h"
 
 namespace tools {
 
-namespace {
+void setSamplesPerPixel(gi::Settings& settings, uint32_t spp) { gi::setTracedSamplesPerPixel(settings, spp); }
 
-// The active method's paths-per-pixel field, or null (AAF is adaptive: μ is its quality knob).
-uint32_t* samplesPerPixelField(gi::Settings& settings) {
-  switch (settings.method) {
-    case gi::Method::Raw: return &settings.raw.samplesPerPixel;
-    case gi::Method::Gif: return &settings.gif.samplesPerPixel;
-    case gi::Method::Bilateral: return &settings.bilateral.samplesPerPixel;
-    case gi::Method::Atrous: return &settings.atrous.samplesPerPixel;
-    case gi::Method::Aaf:
-    case gi::Method::AafAo: return nullptr;
-    case gi::Method::Sspsf: return &settings.sspsf.samplesPerPixel;
-    case gi::Method::Hpsf:
-    case gi::Method::Nhpsf:
-    case gi::Method::Anhpsf: return &settings.hpsf.samplesPerPixel;
-    case gi::Method::Svgf: return &settings.svgf.samplesPerPixel;
-  }
-  return nullptr;
-}
-
-}  // namespace
-
-void setSamplesPerPixel(gi::Settings& settings, uint32_t spp) {
-  if (uint32_t* field = samplesPerPixelField(settings)) *field = spp;
-}
-
-uint32_t samplesPerPixel(const gi::Settings& settings) {
-  gi::Settings copy = settings;
-  const uint32_t* field = samplesPerPixelField(copy);
-  return field ? *field : 1u;
-}
+uint32_t samplesPerPixel(const gi::Settings& settings) { return std::max(1u, gi::tracedSamplesPerPixel(settings)); }
 
 bool expandConfigs(const std::vector<std::string>& methods, const std::vector<uint32_t>& spps, const std::string& sweeps,
                    const gi::Settings& base, std::vector<BenchConfig>& out, std::string& error) {

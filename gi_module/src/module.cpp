@@ -209,11 +209,17 @@ std::array<uint32_t, GI_SPEC_COUNT> moduleSpecialization(const Module& m) {
           uint32_t(g.motion), uint32_t(g.glossy)};
 }
 
+// The module's own passes' programs (the hash map's are its own: hash_grid.cpp).
+std::vector<vk::ComputeProgram*> modulePrograms(Module& m) {
+  return {&m.rawTrace, &m.composite,        &m.guidancePass, &m.supersample, &m.aafSample,
+          &m.aafAdaptive, &m.temporal, &m.temporalGradient, &m.svgfVariance, &m.svgfAtrous};
+}
+
 // Every program built against set 0's layout and the scene's specialisation.
 std::vector<vk::ComputeProgram*> scenePrograms(Module& m) {
-  return {&m.rawTrace,  &m.composite,   &m.guidancePass, &m.supersample,  &m.aafSample,    &m.aafAdaptive,
-          &m.temporal,  &m.temporalGradient, &m.svgfVariance, &m.svgfAtrous,  &m.hash.insert,  &m.hash.paths,
-          &m.hash.resolve, &m.hash.lookup};
+  std::vector<vk::ComputeProgram*> programs = modulePrograms(m);
+  programs.insert(programs.end(), {&m.hash.insert, &m.hash.paths, &m.hash.resolve, &m.hash.lookup});
+  return programs;
 }
 
 // The hash map `s` needs for renders up to `width` × `height`.
@@ -322,9 +328,7 @@ void destroyModuleResources(Module& m) {
   vk::Device& g = m.gpu;
   if (m.timestamps) g.fn.vkDestroyQueryPool(g.device, m.timestamps, g.allocator);
   m.timestamps = VK_NULL_HANDLE;
-  for (vk::ComputeProgram* p : {&m.rawTrace, &m.composite, &m.guidancePass, &m.supersample, &m.aafSample, &m.aafAdaptive,
-                                &m.temporal, &m.temporalGradient, &m.svgfVariance, &m.svgfAtrous})
-    vk::destroyComputeProgram(g, *p);
+  for (vk::ComputeProgram* p : modulePrograms(m)) vk::destroyComputeProgram(g, *p);
   destroySizedResources(g, m.sized);
   destroyOutputImages(g, m.outputs);
   destroyFilterPrograms(g, m.filterPrograms);

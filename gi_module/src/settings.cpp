@@ -53,21 +53,36 @@ uint32_t hashCapacity(const HpsfSettings& s, uint32_t width, uint32_t height) {
   return c;
 }
 
-uint32_t tracedSamplesPerPixel(const Settings& s) {
+namespace {
+
+// The active method's paths-per-pixel field (const or not), or null for AAF (adaptive: chosen per pixel).
+template <typename SettingsT>
+auto samplesPerPixelField(SettingsT& s) -> decltype(&s.raw.samplesPerPixel) {
   switch (s.method) {
-    case Method::Raw: return s.raw.samplesPerPixel;
-    case Method::Gif: return s.gif.samplesPerPixel;
-    case Method::Bilateral: return s.bilateral.samplesPerPixel;
-    case Method::Atrous: return s.atrous.samplesPerPixel;
+    case Method::Raw: return &s.raw.samplesPerPixel;
+    case Method::Gif: return &s.gif.samplesPerPixel;
+    case Method::Bilateral: return &s.bilateral.samplesPerPixel;
+    case Method::Atrous: return &s.atrous.samplesPerPixel;
     case Method::Aaf:
-    case Method::AafAo: return 0;  // adaptive: chosen per pixel
-    case Method::Sspsf: return s.sspsf.samplesPerPixel;
+    case Method::AafAo: return nullptr;
+    case Method::Sspsf: return &s.sspsf.samplesPerPixel;
     case Method::Hpsf:
     case Method::Nhpsf:
-    case Method::Anhpsf: return s.hpsf.samplesPerPixel;
-    case Method::Svgf: return s.svgf.samplesPerPixel;
+    case Method::Anhpsf: return &s.hpsf.samplesPerPixel;
+    case Method::Svgf: return &s.svgf.samplesPerPixel;
   }
-  return 1;
+  return nullptr;
+}
+
+}  // namespace
+
+uint32_t tracedSamplesPerPixel(const Settings& s) {
+  const uint32_t* field = samplesPerPixelField(s);
+  return field ? *field : 0u;
+}
+
+void setTracedSamplesPerPixel(Settings& s, uint32_t spp) {
+  if (uint32_t* field = samplesPerPixelField(s)) *field = spp;
 }
 
 bool usesHashGrid(Method m) { return m == Method::Hpsf || m == Method::Nhpsf || m == Method::Anhpsf; }

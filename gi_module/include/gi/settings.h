@@ -220,7 +220,8 @@ struct Settings {
 };
 
 // The knob --spp and the ray budget act on: the active method's paths per pixel.
-uint32_t tracedSamplesPerPixel(const Settings& settings);
+uint32_t tracedSamplesPerPixel(const Settings& settings);           // 0 for AAF (adaptive)
+void setTracedSamplesPerPixel(Settings& settings, uint32_t spp);  // no effect for AAF
 // The hash map capacity in cells for a render size (settings.hpsf.capacity, or its default).
 uint32_t hashCapacity(const HpsfSettings& settings, uint32_t width, uint32_t height);
 bool usesScreenFilters(Method method);  // the filters of screen_filters (every method but raw, the hash methods and svgf)
