@@ -100,4 +100,9 @@ void poseScene(const Context& ctx, const SceneAnimation& animation, float second
   submitAndWait(ctx, [&](VkCommandBuffer cmd) { recordSceneTransformUpdate(ctx, cmd, scene, gpu); });
 }
 
+void jumpScene(const Context& ctx, const SceneAnimation& animation, float seconds, Scene& scene, SceneGpu& gpu) {
+  poseScene(ctx, animation, seconds, scene, gpu);
+  poseScene(ctx, animation, seconds, scene, gpu);
+}
+
 }  // namespace engine

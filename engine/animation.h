@@ -32,5 +32,9 @@ SceneAnimation makeSceneAnimation(const Scene& scene);
 void animateScene(const SceneAnimation& animation, float seconds, Scene& scene);
 // animateScene, then uploads the pose and rebuilds the TLAS; waits. The GPU must be idle.
 void poseScene(const Context& ctx, const SceneAnimation& animation, float seconds, Scene& scene, SceneGpu& gpu);
+// poseScene for a jump: the pose is uploaded twice, so the instances' previous transforms (what
+// the motion vectors come from) are this pose too; a jump has no motion, and without this every
+// later frame would reproject the moved instances from where they were before it.
+void jumpScene(const Context& ctx, const SceneAnimation& animation, float seconds, Scene& scene, SceneGpu& gpu);
 
 }  // namespace engine

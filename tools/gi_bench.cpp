@@ -401,12 +401,8 @@ int main(int argc, char** argv) {
     // The scene's pose for a frame: moving with --animate, before and after the jump with --move-at.
     auto poseFor = [&](uint32_t f) {
       if (animate) pose(float(f) * frameSeconds);
-      else if (move && (f == 0 || f == moveAt)) {
-        // A jump has no motion: posed twice, the instances' previous transforms (what the motion
-        // vectors come from) are this pose too, not the one before the jump, in every later frame.
-        pose(f < moveAt ? 0.0f : movedSeconds);
-        pose(f < moveAt ? 0.0f : movedSeconds);
-      }
+      else if (move && (f == 0 || f == moveAt))
+        engine::jumpScene(ctx, animation, f < moveAt ? 0.0f : movedSeconds, scene, sceneGpu);
     };
     std::vector<double> afterMove;
     uint32_t staleResets = 0;  // over the timed frames (the stats hold one frame's)
