@@ -5,7 +5,10 @@
   tools/results_tables.py frames DIR K,K,..  final-image MSE after frame k per configuration (series.csv)
   tools/results_tables.py indirect DIR K,..  indirect MSE and indirect light over the reference's after frame k
   tools/results_tables.py move DIR           the moving-light columns (recovery frames, steady indirect MSE)
-  tools/results_tables.py walk DIR           a --camera-path run: the walk's mean errors and flicker
+  tools/results_tables.py walk DIR [DIR64]   a --camera-path run: the walk's mean errors and flicker, time over
+                                             raw at 1 spp; with DIR64, raw at 64 spp's run over the same walk
+  tools/results_tables.py sweep DIR KEY      relMSE per method for each value of a swept setting KEY, and over
+                                             its first value (plus flicker and the composite pass's ms)
 
 "Tracing ms" is the time gi-bench divided the rays by (its tracing passes):
 rays / Mrays/s.
@@ -72,12 +75,42 @@ def move(directory):
               f"{float(r['move_steady_mse_indirect']):.3e} | {float(r['mse']):.3e} |")
 
 
-def walk(directory):
-    print("| configuration | ms/frame | relMSE final | relMSE indirect | MSE final | flicker |")
-    print("|---|---|---|---|---|---|")
+def walk(directory, raw64=None):
+    rows_ = rows(f"{directory}/results.csv")
+    base = float(next(r for r in rows_ if r["label"].startswith("raw spp=1 raw.temporal=0"))["total_ms"])
+    if raw64:
+        r = dict(rows(f"{raw64}/results.csv")[0])
+        r["label"] = "raw spp=64 (separate run)"
+        rows_ = rows_ + [r]
+    print("| configuration | ms/frame | × raw 1 spp | relMSE final | relMSE indirect | MSE final | flicker |")
+    print("|---|---|---|---|---|---|---|")
+    for r in rows_:
+        print(f"| {r['label']} | {float(r['total_ms']):.1f} | {float(r['total_ms']) / base:.2f} | "
+              f"{float(r['relmse']):.3e} | {float(r['relmse_indirect']):.3e} | {float(r['mse']):.3e} | "
+              f"{float(r['flicker_ratio']):.2f} |")
+
+
+def pass_ms(row, name):
+    return next(float(x.split(":")[1]) for x in row["pass_ms"].split(";") if x.startswith(name + ":"))
+
+
+def sweep(directory, key):
+    by_method = {}
     for r in rows(f"{directory}/results.csv"):
-        print(f"| {r['label']} | {float(r['total_ms']):.1f} | {float(r['relmse']):.3e} | "
-              f"{float(r['relmse_indirect']):.3e} | {float(r['mse']):.3e} | {float(r['flicker_ratio']):.2f} |")
+        value = r["label"].split(f"{key}=")[1].split()[0]
+        by_method.setdefault(r["method"], {})[value] = r
+    values = list(next(iter(by_method.values())).keys())
+    print(f"| method | " + " | ".join(f"{key} = {v}" for v in values) + f" | flicker {values[0]} → {values[1]} "
+          f"| composite ms {values[0]} → {values[1]} |")
+    print("|---|" + "---|" * (len(values) + 2))
+    for method, runs in by_method.items():
+        first = float(runs[values[0]]["relmse"])
+        cells = [f"{first:.3e}"] + [f"{float(runs[v]['relmse']):.3e} ({float(runs[v]['relmse']) / first:.2f}×)"
+                                    for v in values[1:]]
+        a, b = runs[values[0]], runs[values[1]]
+        flicker = f"{float(a['flicker_ratio']):.2f} → {float(b['flicker_ratio']):.2f}" if a["flicker_ratio"] else "–"
+        print(f"| {method} | " + " | ".join(cells) + f" | {flicker} | "
+              f"{pass_ms(a, 'composite'):.2f} → {pass_ms(b, 'composite'):.2f} |")
 
 
 if __name__ == "__main__":
@@ -91,6 +124,8 @@ if __name__ == "__main__":
     elif kind == "move":
         move(sys.argv[2])
     elif kind == "walk":
-        walk(sys.argv[2])
+        walk(sys.argv[2], sys.argv[3] if len(sys.argv) > 3 else None)
+    elif kind == "sweep":
+        sweep(sys.argv[2], sys.argv[3])
     else:
         sys.exit(f"results_tables.py: unknown table '{kind}'")
