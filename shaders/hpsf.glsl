@@ -8,7 +8,6 @@ layout(set = 2, binding = HG_BINDING_KEYS, scalar) buffer HgKeys { uint hgKeys[]
 layout(set = 2, binding = HG_BINDING_ACCUM, scalar) buffer HgAccums { HgAccum hgAccum[]; };
 layout(set = 2, binding = HG_BINDING_CELLS, scalar) buffer HgCells { HgCell hgCells[]; };
 layout(set = 2, binding = HG_BINDING_TELEMETRY, scalar) buffer HgTelemetryBlock { HgTelemetry hgTelemetry; };
-layout(set = 2, binding = HG_BINDING_PIXEL_CELL, r32ui) uniform uimage2D hgPixelCell;
 layout(set = 2, binding = HG_BINDING_CONTINUATION, scalar) buffer HgWalks { HgWalk hgWalks[]; };
 
 // A walk's state word: vertices reached, whether the next segment continues
@@ -105,16 +104,14 @@ void hgEvict(uint table, uint slot, uint capacity) {
   empty.lumMoment2 = 0.0;
   empty.tail = vec3(0.0);
   empty.frames = 0.0;
+  empty.recent = vec3(0.0);
   empty.lastSeen = 0u;
-  empty.lod = 0;
-  empty.samples = 0u;
-  empty.previous = 0u;
   empty.probeOrigin = vec3(0.0);
   empty.probeDistance = 0.0;
-  empty.probeDirection = vec3(0.0);
   empty.probeLight = 0.0;
-  empty.recent = vec3(0.0);
-  empty.pad0 = 0u;
+  empty.probeDirection = 0u;
+  empty.samples = 0u;
+  empty.previousLod = 0u;
   hgCells[slot] = empty;
 }
 
@@ -143,6 +140,19 @@ void hgAccumulate(int slot, vec3 radiance, vec3 tail, float momentLuminance, uin
   if (count == 0u) return;
   atomicAdd(hgAccum[slot].lum2, hgToFixed(min(momentLuminance * momentLuminance, float(HG_MAX_SAMPLE))));
   atomicAdd(hgAccum[slot].count, count);
+}
+
+// Walk directions are stored octahedral in 2 × 16 bits (HgWalk::direction, HgCell::probeDirection).
+uint hgPackDirection(vec3 d) {
+  d /= abs(d.x) + abs(d.y) + abs(d.z);
+  vec2 signs = vec2(d.x >= 0.0 ? 1.0 : -1.0, d.y >= 0.0 ? 1.0 : -1.0);
+  return packSnorm2x16(d.z >= 0.0 ? d.xy : (1.0 - abs(d.yx)) * signs);
+}
+vec3 hgUnpackDirection(uint packed) {
+  vec2 o = unpackSnorm2x16(packed);
+  vec3 d = vec3(o, 1.0 - abs(o.x) - abs(o.y));
+  if (d.z < 0.0) d.xy = (1.0 - abs(d.yx)) * vec2(d.x >= 0.0 ? 1.0 : -1.0, d.y >= 0.0 ? 1.0 : -1.0);
+  return normalize(d);
 }
 
 // A cell's radiance: the mean of its clamped samples plus the clamp's tail.

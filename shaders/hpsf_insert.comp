@@ -19,7 +19,6 @@ void main() {
   bool inside = all(lessThan(gl_GlobalInvocationID.xy, giFrame.size));
   if (inside) {
     vec3 direct = vec3(0.0), indirect = vec3(0.0);
-    uint cell = 0u;
     bool filterVertex = false;
     if (giGbCoveredCounting(p)) {
       vec3 V;
@@ -42,13 +41,12 @@ void main() {
         HgDescriptor d = hgPrimaryDescriptor(s.position, s.normal, rng);
         vec3 probeOrigin = giOffsetRay(s.position, s.geometricNormal);
         vec3 probeDirection = giCosineSample(s.normal, giRandom2(rng));
-        int slot = hgInsertSample(hgIndexHash(d), hgVerificationKey(d), indirect, 1u, d.lod, probeOrigin, probeDirection);
-        if (slot >= 0) cell = uint(slot) + 1u;
+        // The lookup finds this cell again from the same surface and random numbers (hgPixelCell).
+        hgInsertSample(hgIndexHash(d), hgVerificationKey(d), indirect, 1u, d.lod, probeOrigin, probeDirection);
       }
     }
     giStoreDirect(p, direct);
     giStoreNoisy(p, indirect, filterVertex ? 1.0 : 0.0);
-    imageStore(hgPixelCell, p, uvec4(cell));
   }
   hgFlushTelemetry();
   giCountRays(inside);

@@ -7,24 +7,38 @@
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_shader_atomic_int64 : require
-#include "gi_frame.glsl"
-#include "hpsf.glsl"
+#include "hpsf_walk.glsl"
 
 layout(local_size_x = GI_GROUP_SIZE, local_size_y = GI_GROUP_SIZE) in;
-layout(push_constant, scalar) uniform Push { HgPush pc; };
+
+// The pixel's cell, found again as the insert made it: the same surface, the
+// same random numbers (GI_STREAM_HASH of this frame), so the same key; the
+// global slot + 1, 0 = none. Recomputing costs a few hashes and one probe
+// walk, where keeping it costs an r32ui image the size of the render
+// (8.3 MB at 1080p, a twentieth of hpsf's memory).
+uint hgPixelCell(ivec2 p) {
+  if (!giGbCovered(p)) return 0u;
+  vec3 V;
+  const GiSurface s = giGbSurface(p, V);
+  if (!giHasDiffuseLobe(s.material)) return 0u;
+  GiRng rng = giRngCreate(uvec2(p), pc.frameIndex, pc.seed, GI_STREAM_HASH);
+  const HgDescriptor d = hgPrimaryDescriptor(s.position, s.normal, rng);
+  const int slot = hgFind(pc.table, hgIndexHash(d), hgVerificationKey(d), pc.capacity, pc.probeWindow);
+  return slot >= 0 ? uint(slot) + 1u : 0u;
+}
 
 void main() {
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(gl_GlobalInvocationID.xy, giFrame.size))) return;
   vec3 result = giLoadNoisy(p);
-  uint cell = imageLoad(hgPixelCell, p).r;
+  uint cell = hgPixelCell(p);
   vec4 debug = vec4(0.0);
   if (cell > 0u) {
     HgCell c = hgCells[cell - 1u];
     if (c.samples >= pc.minSamples && c.frames > 0.0) result = hgCellRadiance(c);
     uint key = hgKeys[cell - 1u];
     // Debug: cell colour from its key, LOD, samples, and whether the cell was used.
-    debug = vec4(float(key & 0xffffffu), float(c.lod), float(c.samples), c.samples >= pc.minSamples ? 1.0 : 0.5);
+    debug = vec4(float(key & 0xffffffu), float(hgCellLod(c.previousLod)), float(c.samples), c.samples >= pc.minSamples ? 1.0 : 0.5);
   }
   if (pc.debugView == GI_DEBUG_HASH_OCCUPANCY) {
     // Occupied share of the probe window starting at the pixel's cell: where

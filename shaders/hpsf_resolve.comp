@@ -25,8 +25,9 @@ void resolveStrict(uint i, inout uint live, inout uint evicted) {
     HgAccum a = hgAccum[slot];
     HgCell c = hgCells[slot];
     c.frames = 1.0;
-    if (c.previous > 0u && pc.forgetLight == 0u) {
-      HgAccum b = hgAccum[c.previous - 1u];
+    const uint previous = hgCellPrevious(c.previousLod);
+    if (previous > 0u && pc.forgetLight == 0u) {
+      HgAccum b = hgAccum[previous - 1u];
       a.r += b.r;
       a.g += b.g;
       a.b += b.b;
@@ -35,7 +36,7 @@ void resolveStrict(uint i, inout uint live, inout uint evicted) {
       a.tb += b.tb;
       a.lum2 += b.lum2;
       a.count += b.count;
-      c.frames = hgCells[c.previous - 1u].frames + 1.0;
+      c.frames = hgCells[previous - 1u].frames + 1.0;
     }
     if (a.count >= HG_STRICT_MAX_COUNT) {
       a.r /= 2ul;
@@ -106,13 +107,13 @@ void resolveAging(uint slot, inout uint live, inout uint evicted, inout uint res
     // learns the new light now (so that its next check does not cut again).
     // The cell keeps its key and its probe; until this frame's samples (if
     // any) restart its mean, it is not read.
-    if (hasProbe) hgTraceProbe(c.probeOrigin, c.probeDirection, key, c.probeDistance, c.probeLight);
+    if (hasProbe) hgTraceProbe(c.probeOrigin, hgUnpackDirection(c.probeDirection), key, c.probeDistance, c.probeLight);
     c.frames = 0.0;
     c.samples = 0u;
     hgCells[slot] = c;
   } else if (hasProbe && c.frames > 0.0 && (slot + pc.frameIndex) % pc.validationInterval == 0u) {
     float distance_, light;
-    hgTraceProbe(c.probeOrigin, c.probeDirection, key, distance_, light);
+    hgTraceProbe(c.probeOrigin, hgUnpackDirection(c.probeDirection), key, distance_, light);
     float mean = giLuminance(c.mean);
     float change = hgProbeChange(c.probeDistance, c.probeLight, distance_, light, mean);
     if (change > 0.0) {

@@ -71,10 +71,12 @@ int hgInsertSample(uint index, uint key, vec3 radiance, uint count, int lod, vec
     return -1;
   }
   if (created && pc.validationInterval > 0u) {
+    // The direction is traced as the cell stores it (packed), so the checks re-trace the very same ray.
+    const uint packedDirection = hgPackDirection(probeDirection);
     float distance_, light;
-    hgTraceProbe(probeOrigin, probeDirection, key, distance_, light);
+    hgTraceProbe(probeOrigin, hgUnpackDirection(packedDirection), key, distance_, light);
     hgCells[slot].probeOrigin = probeOrigin;
-    hgCells[slot].probeDirection = probeDirection;
+    hgCells[slot].probeDirection = packedDirection;
     hgCells[slot].probeDistance = distance_;
     hgCells[slot].probeLight = light;
   }
@@ -83,11 +85,12 @@ int hgInsertSample(uint index, uint key, vec3 radiance, uint count, int lod, vec
   // With strict eviction the history is the same key's cell in the previous
   // frame's table, which this cell links to and keeps alive.
   HgCell history = hgCells[slot];
+  uint linked = 0u;
   if (pc.strict != 0u) {
     int previous = hgFind(pc.previousTable, index, key, pc.capacity, pc.probeWindow);
     if (previous >= 0) {
       history = hgCells[previous];
-      hgCells[slot].previous = uint(previous) + 1u;  // every writer of this key writes the same value
+      linked = uint(previous) + 1u;
       hgCells[previous].lastSeen = pc.frameIndex;
     }
   }
@@ -117,7 +120,7 @@ int hgInsertSample(uint index, uint key, vec3 radiance, uint count, int lod, vec
   bool overflowed = false;
   hgAccumulate(slot, sample_ * pc.radianceScale, tail * pc.radianceScale, lum * pc.radianceScale, count, overflowed);
   if (overflowed) hgOverflowCount++;
-  hgCells[slot].lod = lod;  // every writer of this key writes the same value
+  hgCells[slot].previousLod = hgPackPreviousLod(linked, lod);  // every writer of this key writes the same value
   hgInsertedCount++;
   return slot;
 }
@@ -134,18 +137,6 @@ bool hgReadCell(uint index, uint key, out vec3 mean) {
   return true;
 }
 
-// Walk directions are stored octahedral in 2 × 16 bits (HgWalk::direction).
-uint hgPackDirection(vec3 d) {
-  d /= abs(d.x) + abs(d.y) + abs(d.z);
-  vec2 signs = vec2(d.x >= 0.0 ? 1.0 : -1.0, d.y >= 0.0 ? 1.0 : -1.0);
-  return packSnorm2x16(d.z >= 0.0 ? d.xy : (1.0 - abs(d.yx)) * signs);
-}
-vec3 hgUnpackDirection(uint packed) {
-  vec2 o = unpackSnorm2x16(packed);
-  vec3 d = vec3(o, 1.0 - abs(o.x) - abs(o.y));
-  if (d.z < 0.0) d.xy = (1.0 - abs(d.yx)) * vec2(d.x >= 0.0 ? 1.0 : -1.0, d.y >= 0.0 ? 1.0 : -1.0);
-  return normalize(d);
-}
 
 // A walk that starts at filter vertex s (it has a diffuse lobe): a cosine
 // direction, feeding s's cell d; `travel` is what the next vertex's level of

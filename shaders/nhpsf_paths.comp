@@ -28,7 +28,6 @@ void main() {
   uint continued = 0u, depthSum = 0u;
   if (inside) {
     vec3 direct = vec3(0.0), indirect = vec3(0.0);
-    uint cell = 0u;
     bool filterVertex = false;
     uint pixel = uint(p.y) * giFrame.size.x + uint(p.x);
     HgWalk stored;
@@ -62,17 +61,12 @@ void main() {
         continued = hgWalkDepth(stored) > 0u ? 1u : 0u;
         depthSum = hgWalkSegments(stored);
       }
-      if (filterVertex) {
-        int slot = hgFind(pc.table, hgIndexHash(d0), hgVerificationKey(d0), pc.capacity, pc.probeWindow);
-        if (slot >= 0) cell = uint(slot) + 1u;
-      }
     } else {
       stored.state = 0u;  // background: nothing to continue
     }
     if (pc.mode == HG_MODE_ANHPSF) hgWalks[pixel] = stored;
     giStoreDirect(p, direct);
     giStoreNoisy(p, indirect, filterVertex ? 1.0 : 0.0);
-    imageStore(hgPixelCell, p, uvec4(cell));
   }
   uint sumContinued = subgroupAdd(continued), sumDepth = subgroupAdd(depthSum);
   if (subgroupElect() && sumContinued > 0u) {

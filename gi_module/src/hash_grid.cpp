@@ -32,13 +32,11 @@ vk::Status createHashGrid(vk::Device& d, uint32_t capacity, uint32_t tables, uin
     GI_TRY(vk::createBuffer(d, sizeof(gpu::HgTelemetry) * (1 + slots), usage, true, g.telemetry));
     std::memset(g.telemetry.memory.mapped, 0, g.telemetry.size);
     GI_TRY(vk::createBuffer(d, sizeof(gpu::HgWalk) * std::max(g.walkPixels, 1u), usage, false, g.walks));
-    GI_TRY(vk::createImage(d, {width, height}, VK_FORMAT_R32_UINT, VK_IMAGE_USAGE_STORAGE_BIT, g.pixelCell));
     const vk::Binding bindings[] = {
         {gpu::HG_BINDING_KEYS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
         {gpu::HG_BINDING_ACCUM, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
         {gpu::HG_BINDING_CELLS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
         {gpu::HG_BINDING_TELEMETRY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-        {gpu::HG_BINDING_PIXEL_CELL, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
         {gpu::HG_BINDING_CONTINUATION, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
     };
     GI_TRY(vk::createDescriptorSets(d, bindings, 1, g.set));
@@ -49,13 +47,12 @@ vk::Status createHashGrid(vk::Device& d, uint32_t capacity, uint32_t tables, uin
     return s;
   }
   g.memoryBytes = g.keys.memory.size + g.accum.memory.size + g.cells.memory.size + g.telemetry.memory.size +
-                  g.walks.memory.size + g.pixelCell.memory.size;
+                  g.walks.memory.size;
   vk::DescriptorWriter(g.set[0])
       .buffer(gpu::HG_BINDING_KEYS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.keys.buffer)
       .buffer(gpu::HG_BINDING_ACCUM, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.accum.buffer)
       .buffer(gpu::HG_BINDING_CELLS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.cells.buffer)
       .buffer(gpu::HG_BINDING_TELEMETRY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.telemetry.buffer)
-      .storageImage(gpu::HG_BINDING_PIXEL_CELL, g.pixelCell.view)
       .buffer(gpu::HG_BINDING_CONTINUATION, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.walks.buffer)
       .write(d);
   out = std::move(g);
@@ -81,7 +78,6 @@ void destroyHashGrid(vk::Device& d, HashGrid& g) {
   for (vk::ComputeProgram* p : {&g.insert, &g.paths, &g.resolve, &g.lookup}) vk::destroyComputeProgram(d, *p);
   vk::destroyDescriptorSets(d, g.set);
   for (vk::Buffer* b : {&g.keys, &g.accum, &g.cells, &g.telemetry, &g.walks}) vk::destroyBuffer(d, *b);
-  vk::destroyImage(d, g.pixelCell);
   g = HashGrid{};
 }
 
@@ -99,9 +95,6 @@ void recordHashGridFrameStart(const vk::Device& d, VkCommandBuffer cmd, HashGrid
     d.fn.vkCmdFillBuffer(cmd, g.keys.buffer, 0, VK_WHOLE_SIZE, 0);
     d.fn.vkCmdFillBuffer(cmd, g.accum.buffer, 0, VK_WHOLE_SIZE, 0);
     d.fn.vkCmdFillBuffer(cmd, g.cells.buffer, 0, VK_WHOLE_SIZE, 0);
-    vk::imageBarrier(d, cmd, g.pixelCell.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
-                         VK_PIPELINE_STAGE_2_NONE, 0, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                         VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
     g.cleared = true;
     g.walksCleared = false;
   }

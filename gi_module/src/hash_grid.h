@@ -17,7 +17,6 @@ struct HashGrid {
   vk::Buffer telemetry;      // host-visible HgTelemetry[1 + slots]: [0] is live, the rest per-frame copies
   vk::Buffer walks;          // HgWalk per pixel of the largest render size (anhpsf), else one placeholder
   uint32_t walkPixels = 0;   // pixels with a walk slot (0: the placeholder)
-  vk::Image pixelCell;       // r32ui, the largest render size
   vk::DescriptorSets set;    // one set
   vk::ComputeProgram insert, paths, resolve, lookup;  // paths: nhpsf/anhpsf (built on first use)
   uint64_t memoryBytes = 0;
@@ -26,7 +25,7 @@ struct HashGrid {
   bool forgetLight = false;  // gi::invalidate(LightsChanged): the next resolve restarts every cell's mean
 };
 
-// The buffers (`tables` tables of `capacity` slots), image and set 2; `slots`
+// The buffers (`tables` tables of `capacity` slots) and set 2; `slots`
 // telemetry copies for readback; a walk per pixel when `walks` (anhpsf).
 // `width` × `height` is the largest render size: smaller ones keep the map.
 vk::Status createHashGrid(vk::Device& device, uint32_t capacity, uint32_t tables, uint32_t width, uint32_t height,

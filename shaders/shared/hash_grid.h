@@ -25,7 +25,6 @@ GPU_CONST HG_BINDING_KEYS = 0;       // uint[tables·capacity]: verification key
 GPU_CONST HG_BINDING_ACCUM = 1;      // HgAccum[tables·capacity]: a frame's sums (atomics); aging clears them in resolve
 GPU_CONST HG_BINDING_CELLS = 2;      // HgCell[tables·capacity]: resolved means
 GPU_CONST HG_BINDING_TELEMETRY = 3;  // HgTelemetry: counters of the current frame
-GPU_CONST HG_BINDING_PIXEL_CELL = 4; // r32ui image: cell index + 1 per pixel, 0 = none
 GPU_CONST HG_BINDING_CONTINUATION = 5; // HgWalk[pixels]: anhpsf's paths continued over frames
 
 GPU_CONST HG_MODE_HPSF = 0u;         // full paths from the primary hit; the primary cell filters
@@ -57,22 +56,29 @@ struct HgCell {
   vec3 tail;          // resolved mean of what the clamp took off (HG_TAIL_HISTORY): the cell's radiance
                       // is mean + tail
   float frames;       // frames of history behind the mean (capped)
+  vec3 recent;        // nhpsf/anhpsf: the mean over the last historySamples samples only; what the
+                      // map passes on to the vertices before this one (recent + tail)
   uint lastSeen;      // frame index of the last update
-  int lod;            // the cell's level of detail (log2 of its size)
-  uint samples;       // samples behind the mean (capped with the history)
-  uint previous;      // strict: global slot + 1 of the same key in the previous frame's table, 0 = none
   // Aging: the probe that detects stale radiance. A ray from the cell's first
   // vertex; re-traced with the same random numbers it gives the same hit
   // distance and the same light at the hit unless the scene moved.
   vec3 probeOrigin;
   float probeDistance;  // metres; < 0: the ray missed; 0 with probeLight 0: no probe
-  vec3 probeDirection;
   float probeLight;     // luminance of the light (NEE) at the hit
-  vec3 recent;          // nhpsf/anhpsf: the mean over the last historySamples samples only; what the
-                        // map passes on to the vertices before this one (recent + tail)
-  uint pad0;
+  uint probeDirection;  // octahedral, 2 × 16-bit snorm (hgPackDirection); traced as it unpacks, both times
+  uint samples;         // samples behind the mean (capped with the history)
+  uint previousLod;     // bits 0–23, strict: global slot + 1 of the same key in the previous frame's
+                        // table, 0 = none; bits 24–31: the cell's level of detail + 128 (hgPackPreviousLod)
 };
-GPU_ASSERT_SIZE(HgCell, 96);
+GPU_ASSERT_SIZE(HgCell, 80);
+
+// HgCell::previousLod. Slots stay below 2^23 (two tables of at most 2^21 cells).
+GPU_FN uint hgPackPreviousLod(uint previous, int lod) {
+  const int biased = lod + 128;
+  return (previous & 0xffffffu) | (uint(biased < 0 ? 0 : biased > 255 ? 255 : biased) << 24u);
+}
+GPU_FN uint hgCellPrevious(uint previousLod) { return previousLod & 0xffffffu; }
+GPU_FN int hgCellLod(uint previousLod) { return int(previousLod >> 24u) - 128; }
 
 struct HgTelemetry {
   uint occupied;      // live cells after resolve
