@@ -41,9 +41,20 @@ void main() {
   vec3 indirect = giLoadIndirect(p);
   // Only where the history is long enough to speak for itself (a few samples' spread says little:
   // nine 1-spp samples that all missed the light would hold the filter at black).
-  const float historyFrames = pc.temporalWritten == 0u   ? imageLoad(giHistoryDirect, p).a
+  const float historyFrames = pc.packedHistory != 0u     ? imageLoad(giOutDirect, p).a
+                              : pc.temporalWritten == 0u ? imageLoad(giHistoryDirect, p).a
                               : pc.temporalWritten == 1u ? imageLoad(giHistoryDirectB, p).a
                                                          : 0.0;
+  if (pc.packedHistory != 0u) {
+    // The hash methods' direct history, now that the temporal pass has read every neighbour's texel:
+    // this frame's accumulated direct light over the base colour, the pixel's guide and its frames.
+    uvec2 texel = uvec2(0u);  // no surface: no history
+    if (giGbCovered(p))
+      texel = giPackHistory(GiPackedHistory((direct - giGbEmission(p)) / giDirectAlbedo(p) * pc.historyScale,
+                                            vec4(giGbNormal(p), giGbViewDepth(p) / giFrame.depthScale), historyFrames));
+    imageStore(giHistoryPacked, p, uvec4(texel, 0u, 0u));
+    giStoreDirect(p, direct);  // the alpha back to 1
+  }
   const bool clamped = pc.filterClamp > 0.0 && pc.clampLight != 0u && historyFrames >= GI_TRUSTED_HISTORY &&
                        giGbCovered(p) &&
                        ((pc.clampLight & GI_CLAMP_FILTER_VERTICES) == 0u || imageLoad(giNoisyIndirect, p).a > 0.5);
@@ -106,13 +117,7 @@ void main() {
       break;
     }
     case GI_DEBUG_CONTINUATION_DEPTH: result = vec3(clamp(imageLoad(giDebug, p).x, 0.0, 1.0)); break;
-    case GI_DEBUG_TEMPORAL_HISTORY: {
-      float frames = pc.temporalWritten == 0u   ? imageLoad(giHistoryDirect, p).a
-                     : pc.temporalWritten == 1u ? imageLoad(giHistoryDirectB, p).a
-                                                : 0.0;
-      result = vec3(min(frames, 32.0) / 32.0);
-      break;
-    }
+    case GI_DEBUG_TEMPORAL_HISTORY: result = vec3(min(historyFrames, 32.0) / 32.0); break;
     // svgf: the variance estimate before the à-trous iterations, and the history behind it.
     case GI_DEBUG_SVGF_VARIANCE: {
       const vec4 v = imageLoad(giDebug, p);

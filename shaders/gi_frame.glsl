@@ -48,6 +48,8 @@ layout(set = 1, binding = GI_BINDING_SVGF_GUIDE, rgba32f) uniform image2D giSvgf
 layout(set = 1, binding = GI_BINDING_GRADIENT_SAMPLES_A, rgba32ui) uniform uimage2D giGradientSamplesA;
 layout(set = 1, binding = GI_BINDING_GRADIENT_SAMPLES_B, rgba32ui) uniform uimage2D giGradientSamplesB;
 layout(set = 1, binding = GI_BINDING_TEMPORAL_GRADIENT, rgba32f) uniform image2D giTemporalGradient;
+layout(set = 1, binding = GI_BINDING_TEMPORAL_SPREAD, rgba32f) uniform image2D giTemporalSpread;
+layout(set = 1, binding = GI_BINDING_HISTORY_PACKED, rg32ui) uniform uimage2D giHistoryPacked;
 
 // Output images hold radiance × outputScale, clamped into the format's range
 // (a half float overflows to Inf past 65504). Loads give radiance back.
@@ -56,6 +58,11 @@ vec3 giOutputEncode(vec3 radiance, float scale, float limit) { return clamp(radi
   void giStore##Name(ivec2 p, vec3 radiance) { imageStore(image, p, vec4(giOutputEncode(radiance, giFrame.outputScale, giFrame.outputMax), 1.0)); } \
   vec3 giLoad##Name(ivec2 p) { return imageLoad(image, p).rgb / giFrame.outputScale; }
 GI_OUTPUT_ACCESS(Direct, giOutDirect)
+// The hash methods' temporal pass hands the history's frames to the composite pass in the direct
+// output's alpha; the composite puts the 1 back.
+void giStoreDirectAndFrames(ivec2 p, vec3 radiance, float frames) {
+  imageStore(giOutDirect, p, vec4(giOutputEncode(radiance, giFrame.outputScale, giFrame.outputMax), frames));
+}
 GI_OUTPUT_ACCESS(Indirect, giOutIndirect)
 GI_OUTPUT_ACCESS(Composite, giOutComposite)
 // The noisy indirect keeps its alpha (the filter-vertex flag).
@@ -71,6 +78,11 @@ vec3 giOctahedralDecode(vec2 e) {  // e in [-1,1]²
   float t = max(-n.z, 0.0);
   n.xy += mix(vec2(t), vec2(-t), greaterThanEqual(n.xy, vec2(0.0)));
   return n;
+}
+
+vec2 giOctahedralEncode(vec3 n) {  // n a unit vector; the result in [-1,1]²
+  n /= abs(n.x) + abs(n.y) + abs(n.z);
+  return n.z >= 0.0 ? n.xy : (1.0 - abs(n.yx)) * mix(vec2(-1.0), vec2(1.0), greaterThanEqual(n.xy, vec2(0.0)));
 }
 
 // The world normal as stored (not normalised: giGbValid checks it).

@@ -26,7 +26,16 @@ struct History {
   float frames;  // 0: none
 };
 
-vec4 readDirect(ivec2 q) { return pc.parity == 0u ? imageLoad(giHistoryDirect, q) : imageLoad(giHistoryDirectB, q); }
+vec4 readDirect(ivec2 q) {
+  if (pc.packedHistory != 0u) {
+    const GiPackedHistory h = giUnpackHistory(imageLoad(giHistoryPacked, q).xy);
+    return vec4(h.direct / pc.historyScale, h.frames);
+  }
+  return pc.parity == 0u ? imageLoad(giHistoryDirect, q) : imageLoad(giHistoryDirectB, q);
+}
+vec4 readGuide(ivec2 q) {
+  return pc.packedHistory != 0u ? giUnpackHistory(imageLoad(giHistoryPacked, q).xy).guide : giPreviousGuide(q, pc.parity);
+}
 vec4 readIndirect(ivec2 q) { return pc.parity == 0u ? imageLoad(giHistoryIndirect, q) : imageLoad(giHistoryIndirectB, q); }
 vec4 readMoments(ivec2 q) { return pc.parity == 0u ? imageLoad(giSvgfMomentsA, q) : imageLoad(giSvgfMomentsB, q); }
 // svgf: the luminance moments, and the guide its passes read (unit normal, view depth).
@@ -40,7 +49,10 @@ void writeMoments(ivec2 p, vec4 moments, vec4 guide) {
 // at any scene scale (metres would overflow past 65504).
 // The history frames ride in the direct image's alpha; with directOnly the
 // indirect images are 1×1 placeholders and never touched.
+// The packed history (the hash methods) is written by the composite pass, once every neighbour has read
+// it: this pass hands the frames on in the direct output's alpha.
 void write(ivec2 p, vec3 direct, vec3 indirect, float frames, vec3 n, float depth) {
+  if (pc.packedHistory != 0u) return;
   if (pc.parity == 0u) {
     imageStore(giHistoryDirectB, p, vec4(direct, frames));
     if (pc.directOnly == 0u) imageStore(giHistoryIndirectB, p, vec4(indirect, 1.0));
@@ -65,7 +77,7 @@ History reproject(ivec2 p, vec3 n, float depth, vec3 world) {
     for (int i = 0; i < 2; ++i) {
       const ivec2 q = base + ivec2(i, j);
       if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, ivec2(giFrame.size)))) continue;
-      if (!giHistoryTexelAgrees(giPreviousGuide(q, pc.parity), n, staticDepth, depth, pc.depthTolerance, pc.cosNormalLimit))
+      if (!giHistoryTexelAgrees(readGuide(q), n, staticDepth, depth, pc.depthTolerance, pc.cosNormalLimit))
         continue;
       const float w = (i == 1 ? f.x : 1.0 - f.x) * (j == 1 ? f.y : 1.0 - f.y);
       if (w <= 0.0) continue;
@@ -105,10 +117,19 @@ void main() {
   // history then carries light, not texture, and bilinear taps under motion
   // do not smear the texture; this frame's base colour puts it back.
   const vec3 albedo = giDirectAlbedo(p);
-  const vec3 direct = (giLoadDirect(p) - emission) / albedo;
-  const vec4 noisy = imageLoad(giNoisyIndirect, p);  // alpha: sspsf's filter-vertex flag, kept
-  const vec3 indirect = noisy.rgb / giFrame.noisyScale;
-  const History h = reproject(p, n, depth, world);
+  vec3 direct, indirect;
+  giNewFrameLight(p, direct, indirect);
+  const float noisyAlpha = imageLoad(giNoisyIndirect, p).a;  // sspsf's filter-vertex flag, kept
+  History h = reproject(p, n, depth, world);
+  if (pc.historyClamp > 0.0 && h.frames > 0.0) {
+    // The history clamp: what this frame's samples around the pixel cannot have come from is scaled back.
+    // Nine equal samples (at 1 spp most often nine paths that all found no light) say nothing of the
+    // spread: a band of width 0 would hold the history at their value, black where light is rare.
+    const vec4 spread = imageLoad(giTemporalSpread, p);
+    if (spread.y > 0.0) h.direct = giClampLuminance(h.direct, GiLuminanceSpread(spread.x, spread.y), pc.historyClamp);
+    if (spread.w > 0.0)
+      h.indirect = giClampLuminance(h.indirect, GiLuminanceSpread(spread.z, spread.w), pc.historyClamp);
+  }
   const float lumDirect = giLuminance(direct), lumIndirect = giLuminance(indirect);
   const vec4 moments = vec4(lumDirect, lumDirect * lumDirect, lumIndirect, lumIndirect * lumIndirect);
   if (h.frames == 0.0) {  // no history: this frame's light stands as the trace wrote it
@@ -128,8 +149,9 @@ void main() {
   const vec2 momentsBlends = mix(vec2(momentsBlend), vec2(1.0), lambda);
   writeMoments(p, vec4(mix(h.moments.xy, moments.xy, momentsBlends.x), mix(h.moments.zw, moments.zw, momentsBlends.y)),
                vec4(n, depth));
-  if (pc.direct != 0u) giStoreDirect(p, emission + albedo * outDirect);
+  if (pc.packedHistory != 0u) giStoreDirectAndFrames(p, emission + albedo * outDirect, min(frames, 63.0));
+  else if (pc.direct != 0u) giStoreDirect(p, emission + albedo * outDirect);
   if (pc.directOnly != 0u) return;
   if (pc.indirectOutput != 0u) giStoreIndirect(p, outIndirect);  // raw's result; a filter that follows overwrites it
-  giStoreNoisy(p, outIndirect, noisy.a);
+  giStoreNoisy(p, outIndirect, noisyAlpha);
 }

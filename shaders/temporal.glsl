@@ -46,6 +46,53 @@ bool giHistoryTexelAgrees(vec4 guide, vec3 n, float staticDepth, float depth, fl
          dot(guide.xyz, n) >= cosNormalLimit;
 }
 
+// This frame's light at p as the temporal pass blends it: the reflected
+// direct light over the base colour (emission is exact in every frame, and
+// the history carries light, not texture: SVGF §4) and the demodulated indirect.
+void giNewFrameLight(ivec2 p, out vec3 direct, out vec3 indirect) {
+  direct = (giLoadDirect(p) - giGbEmission(p)) / giDirectAlbedo(p);
+  indirect = giLoadNoisy(p);
+}
+
+// The packed history texel (GI_BINDING_HISTORY_PACKED). RGB9E5 (the
+// EXT_texture_shared_exponent encoding, rounded to nearest): 9 bits of
+// mantissa per channel, values up to 65408 times the scene's typical radiance.
+uint giPackRgb9e5(vec3 rgb) {
+  const vec3 c = clamp(rgb, vec3(0.0), vec3(65408.0));
+  const float largest = max(c.r, max(c.g, c.b));
+  if (!(largest > 0.0)) return 0u;
+  int e;
+  frexp(largest, e);                     // largest = m · 2^e, m in [0.5, 1): floor(log2) = e − 1
+  int exponent = max(e - 1, -16) + 16;   // biased exponent (bias 15) of the largest channel, + 1
+  float unit = exp2(float(exponent - 24));  // the value of one mantissa step
+  if (floor(largest / unit + 0.5) >= 512.0) {
+    exponent += 1;
+    unit *= 2.0;
+  }
+  const uvec3 m = uvec3(min(floor(c / unit + 0.5), vec3(511.0)));
+  return m.r | (m.g << 9u) | (m.b << 18u) | (uint(exponent) << 27u);
+}
+vec3 giUnpackRgb9e5(uint v) {
+  return vec3(uvec3(v, v >> 9u, v >> 18u) & 511u) * exp2(float(int(v >> 27u) - 24));
+}
+
+struct GiPackedHistory {
+  vec3 direct;   // reflected direct light over the base colour, × GiTemporalPush::historyScale
+  vec4 guide;    // unit normal (xyz), view depth / depthScale (w), as giHistoryTexelAgrees reads it
+  float frames;  // 0: none
+};
+uvec2 giPackHistory(GiPackedHistory h) {
+  const uvec2 normal = uvec2(round((giOctahedralEncode(h.guide.xyz) * 0.5 + 0.5) * 31.0));
+  const uint frames = uint(clamp(h.frames, 0.0, 63.0) + 0.5);
+  return uvec2(giPackRgb9e5(h.direct),
+               (packHalf2x16(vec2(h.guide.w, 0.0)) & 0xffffu) | (normal.x << 16u) | (normal.y << 21u) | (frames << 26u));
+}
+GiPackedHistory giUnpackHistory(uvec2 v) {
+  const vec2 e = vec2(uvec2(v.y >> 16u, v.y >> 21u) & 31u) / 31.0 * 2.0 - 1.0;
+  return GiPackedHistory(giUnpackRgb9e5(v.x), vec4(normalize(giOctahedralDecode(e)), unpackHalf2x16(v.y).x),
+                         float(v.y >> 26u));
+}
+
 ivec2 giGradientTile(ivec2 p) { return p / int(GI_GRADIENT_TILE); }
 ivec2 giGradientTiles() { return (ivec2(giFrame.size) + int(GI_GRADIENT_TILE) - 1) / int(GI_GRADIENT_TILE); }
 

@@ -8,10 +8,10 @@
 // roulette from the third): nhpsf and anhpsf gather every bounce through the
 // map whatever settings.maxBounces says, so a reference of fewer bounces
 // would count the missing light as their bias (at B = 1 it was 28% of the
-// image's luminance). The hash methods run with hpsf.temporal (their direct
-// light reprojected and accumulated, and with the filter clamp their map's
-// light held near their own accumulated samples; off by default for memory:
-// without it their direct light is one frame's samples and speckles).
+// image's luminance). Every method runs with its defaults: the hash methods'
+// direct light is reprojected and accumulated (hpsf.temporal, on since its
+// history fits in 8 bytes a pixel; without it their direct light is one
+// frame's samples and speckles).
 //
 // What it took (counts of 1411 smooth pixels at 64², before → now): the
 // filter clamp (temporal.filterClamp, 0.5) for gif 15 → 0 (its window
@@ -117,7 +117,6 @@ TEST_F(SpeckleTest, NoSpeckleAfter32StillFramesWhereTheReferenceIsSmooth) {
     gi::Settings settings;
     settings.method = method;
     settings.maxBounces = kBounces;
-    settings.hpsf.temporalDirect = true;  // the hash methods' direct light accumulated (see above)
     const engine::FloatImage image = lastOfStillFrames(ctx, s, settings, kFrames);
     size_t speckles = 0;
     double worst = 0.0;

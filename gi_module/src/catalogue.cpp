@@ -118,6 +118,9 @@ const SettingInfo kSettings[] = {
     GI_SETTING("temporal.filter_clamp", temporal.filterClamp, "standard deviations",
                "the filtered light stays within this many local sigma of the accumulated light (0 = off)", Float, 0, 10,
                false, kGif | kBilateral | kAtrous | kSspsf | kSvgf | kHash),
+    GI_SETTING("temporal.history_clamp", temporal.historyClamp, "standard deviations",
+               "the reprojected history stays within this many local sigma of this frame's samples (0 = off)", Float,
+               0, 10, false, kTemporal | kSvgf),
     GI_BOOL("temporal.gradients", temporal.gradients,
             "A-SVGF temporal gradients: drop history where a re-traced sample says the light changed",
             (kTemporal & ~kHash) | kSvgf),
@@ -173,6 +176,10 @@ const SettingInfo kSettings[] = {
     GI_SETTING("hpsf.secondary_width", hpsf.secondaryWidthScale, "", "cells after the first vertex are this much wider",
                Float, 1, 16, false, kNhpsf | kAnhpsf),
     GI_BOOL("hpsf.temporal", hpsf.temporalDirect, "blend in last frame's direct light, reprojected (the map holds the indirect)",
+            kHash),
+    GI_BOOL("hpsf.temporal_indirect", hpsf.temporalIndirect,
+            "with hpsf.temporal: accumulate the pixels' own indirect samples and hold the map's light near them "
+            "(temporal.filter_clamp)",
             kHash),
 };
 
@@ -243,6 +250,7 @@ constexpr PassInfo kPasses[] = {
     {Pass::HpsfResolve, "hpsf_resolve", false},  // its probe rays are a small part: not counted as tracing time
     {Pass::HpsfLookup, "hpsf_lookup", false},
     {Pass::TemporalGradient, "temporal_gradient", true},
+    {Pass::TemporalSpread, "temporal_spread", false},
     {Pass::Temporal, "temporal", false},
     {Pass::SvgfVariance, "svgf_variance", false},
     {Pass::SvgfAtrous, "svgf_atrous", false},

@@ -314,7 +314,13 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
                                  svgf ? 1u : 0u,
                                  s.svgf.momentsAlpha,
                                  gradientsTraced ? 1u : 0u,
-                                 usesHashGrid(s.method) ? 0u : 1u};
+                                 usesHashGrid(s.method) ? 0u : 1u,
+                                 usesHistoryClamp(m, s) ? t.historyClamp : 0.0f,
+                                 usesPackedHistory(m, s) ? 1u : 0u,
+                                 radianceScale(m)};
+    // Pass: this frame's samples' spread around each pixel, which the history is clamped to.
+    if (usesHistoryClamp(m, s) && m.temporalFrames > 0)
+      runPass(m, cmd, slot, Pass::TemporalSpread, m.temporalSpread, sets, size, temporal);
     runPass(m, cmd, slot, Pass::Temporal, m.temporal, sets, size, temporal);
     m.temporalFrames++;
   }
@@ -337,7 +343,9 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
                                  runTemporal ? m.temporalFrames & 1u : 2u,  // odd counts: this frame wrote B
                                  gradientsTraced ? 1u : 0u,
                                  s.temporal.filterClamp,
-                                 clampLight};
+                                 clampLight,
+                                 usesPackedHistory(m, s) ? 1u : 0u,
+                                 radianceScale(m)};
   runPass(m, cmd, slot, Pass::Composite, m.composite, sets, size, composite);
 
   if (s.method == Method::Gif && s.gif.supersamples > 0 && s.debugView == DebugView::None) {

@@ -30,6 +30,8 @@
 #include "svgf_variance.comp.compute.h"
 #include "gi_temporal_gradient.comp.h"
 #include "gi_temporal_gradient.comp.compute.h"
+#include "gi_temporal_spread.comp.h"
+#include "gi_temporal_spread.comp.compute.h"
 #include "shared/aaf.h"
 
 namespace gi {
@@ -212,7 +214,7 @@ std::array<uint32_t, GI_SPEC_COUNT> moduleSpecialization(const Module& m) {
 // The module's own passes' programs (the hash map's are its own: hash_grid.cpp).
 std::vector<vk::ComputeProgram*> modulePrograms(Module& m) {
   return {&m.rawTrace, &m.composite,        &m.guidancePass, &m.supersample, &m.aafSample,
-          &m.aafAdaptive, &m.temporal, &m.temporalGradient, &m.svgfVariance, &m.svgfAtrous};
+          &m.aafAdaptive, &m.temporal, &m.temporalGradient, &m.temporalSpread, &m.svgfVariance, &m.svgfAtrous};
 }
 
 // Every program built against set 0's layout and the scene's specialisation.
@@ -267,6 +269,8 @@ vk::Status ensurePrograms(Module& m, const Settings& s) {
   if (pathsFromGBuffer) GI_TRY(make(m.rawTrace, GI_SCENE_SPIRV(traversal, gi_raw_trace_comp), sizeof(gpu::GiRawPush)));
   if (runsTemporalPass(m, s))
     GI_TRY(make(m.temporal, GI_SCENE_SPIRV(traversal, gi_temporal_comp), sizeof(gpu::GiTemporalPush)));
+  if (usesHistoryClamp(m, s))
+    GI_TRY(make(m.temporalSpread, GI_SCENE_SPIRV(traversal, gi_temporal_spread_comp), sizeof(gpu::GiTemporalPush)));
   if (usesTemporalGradients(m, s))
     GI_TRY(make(m.temporalGradient, GI_SCENE_SPIRV(traversal, gi_temporal_gradient_comp), sizeof(gpu::GiRawPush)));
   if (s.method == Method::Svgf) {
@@ -368,7 +372,15 @@ bool runsTemporalPass(const Module& m, const Settings& s) {
 }
 
 bool clampsHashIndirect(const Settings& s) {
-  return usesHashGrid(s.method) && s.hpsf.temporalDirect && s.temporal.filterClamp > 0.0f;
+  return usesHashGrid(s.method) && s.hpsf.temporalDirect && s.hpsf.temporalIndirect && s.temporal.filterClamp > 0.0f;
+}
+
+bool usesPackedHistory(const Module& m, const Settings& s) {
+  return runsTemporalPass(m, s) && usesHashGrid(s.method) && !clampsHashIndirect(s);
+}
+
+bool usesHistoryClamp(const Module& m, const Settings& s) {
+  return s.temporal.historyClamp > 0.0f && runsTemporalPass(m, s);
 }
 
 bool usesTemporalGradients(const Module& m, const Settings& s) {

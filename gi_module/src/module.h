@@ -44,6 +44,8 @@ struct SizedResources {
   vk::Image svgfGuide;                            // svgf: normal and view depth, one load per tap
   vk::Image gradientSamplesA, gradientSamplesB;   // temporal gradients: each pixel's first sample (sets A and B)
   vk::Image temporalGradient;                     // temporal gradients: one texel per tile
+  vk::Image temporalSpread;                       // history clamp: this frame's 3×3 luminance mean and σ
+  vk::Image historyPacked;                        // the hash methods' direct history, 8 bytes a pixel
   vk::Image noisyIndirect;                        // demodulated indirect before filtering
   vk::Image guidance, position, debug;            // filter guidance, world position, filter debug/temp
   vk::Image aafParams, aafSum;                    // AAF per-pixel z_min, z_max, samples, β; sample sums
@@ -85,7 +87,7 @@ struct Module {
   VkDescriptorSetLayout frameLayout = VK_NULL_HANDLE;  // set 1
 
   vk::ComputeProgram rawTrace, composite, guidancePass, supersample, aafSample, aafAdaptive, temporal;
-  vk::ComputeProgram svgfVariance, svgfAtrous, temporalGradient;
+  vk::ComputeProgram svgfVariance, svgfAtrous, temporalGradient, temporalSpread;
   FilterPrograms filterPrograms;                   // built when a screen-space filter is first chosen
 
   VkQueryPool timestamps = VK_NULL_HANDLE;         // 2 per pass per slot (null when desc.timestamps is off)
@@ -126,12 +128,18 @@ bool hasNoisyDirect(const SceneDesc& scene);
 // reprojects and there is something to reproject: the hash methods reproject
 // their direct light, so not without area lights, unless they clamp.
 bool runsTemporalPass(const Module& m, const Settings& settings);
-// The hash methods with hpsf.temporal and the filter clamp also accumulate
-// each pixel's own indirect sample, which the map's light is held against.
+// The hash methods with hpsf.temporal, hpsf.temporalIndirect and the filter
+// clamp also accumulate each pixel's own indirect sample, which the map's
+// light is held against.
 bool clampsHashIndirect(const Settings& settings);
+// The hash methods' direct light alone is reprojected: its history is one
+// packed image (GI_BINDING_HISTORY_PACKED) that the composite pass writes.
+bool usesPackedHistory(const Module& m, const Settings& settings);
 // Temporal gradients are traced (raw's trace pass) when the temporal pass runs
 // for a method whose paths start there (not the hash methods).
 bool usesTemporalGradients(const Module& m, const Settings& settings);
+// The temporal pass clamps the reprojected history to this frame's samples (TemporalSettings::historyClamp).
+bool usesHistoryClamp(const Module& m, const Settings& settings);
 
 // Pass helpers (frame.cpp).
 PassHooks passHooks(Module& m, uint32_t slot);

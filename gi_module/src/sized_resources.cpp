@@ -46,14 +46,16 @@ constexpr SizedImage kSizedImages[] = {
     {&SizedResources::gradientSamplesA, gpu::GI_BINDING_GRADIENT_SAMPLES_A, VK_FORMAT_R32G32B32A32_UINT},
     {&SizedResources::gradientSamplesB, gpu::GI_BINDING_GRADIENT_SAMPLES_B, VK_FORMAT_R32G32B32A32_UINT},
     {&SizedResources::temporalGradient, gpu::GI_BINDING_TEMPORAL_GRADIENT, kImageFormat, GI_GRADIENT_TILE},
+    {&SizedResources::temporalSpread, gpu::GI_BINDING_TEMPORAL_SPREAD},
+    {&SizedResources::historyPacked, gpu::GI_BINDING_HISTORY_PACKED, VK_FORMAT_R32G32_UINT},
 };
 // Beyond the image bits: which screen filters exist.
-static_assert(std::size(kSizedImages) <= 24, "the image bits stay below the flags");
-constexpr uint32_t kNeedsFilters = 1u << 24, kNeedsGuidedStack = 1u << 25, kNeedsGlossySets = 1u << 26;
+static_assert(std::size(kSizedImages) <= 28, "the image bits stay below the flags");
+constexpr uint32_t kNeedsFilters = 1u << 28, kNeedsGuidedStack = 1u << 29, kNeedsGlossySets = 1u << 30;
 // The hash methods' per-pixel sample goes straight into the indirect output,
 // which the lookup then overwrites pixel by pixel: set 1's noisy-indirect
 // binding names the indirect image, and no separate image is held.
-constexpr uint32_t kNoisyIsIndirect = 1u << 27;
+constexpr uint32_t kNoisyIsIndirect = 1u << 31;
 
 constexpr uint32_t bit(vk::Image SizedResources::*image) {
   for (uint32_t i = 0; i < std::size(kSizedImages); ++i)
@@ -97,6 +99,8 @@ const vk::Binding kFrameBindings[] = {
     {gpu::GI_BINDING_GRADIENT_SAMPLES_A, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
     {gpu::GI_BINDING_GRADIENT_SAMPLES_B, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
     {gpu::GI_BINDING_TEMPORAL_GRADIENT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_TEMPORAL_SPREAD, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_HISTORY_PACKED, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
 };
 
 }  // namespace
@@ -109,7 +113,9 @@ uint32_t sizedResourcesNeeded(const Module& m, const Settings& s) {
   else need |= bit(&SizedResources::noisyIndirect);
   if (s.method == Method::Raw && s.raw.temporalAccumulation)
     need |= bit(&SizedResources::historyDirect) | bit(&SizedResources::historyIndirect);
-  if (runsTemporalPass(m, s)) {
+  if (usesPackedHistory(m, s)) {
+    need |= bit(&SizedResources::historyPacked);
+  } else if (runsTemporalPass(m, s)) {
     need |= bit(&SizedResources::historyDirect) | bit(&SizedResources::historyDirectB) |
             bit(&SizedResources::historyGuideA) | bit(&SizedResources::historyGuideB);
     // The hash methods reproject their direct light only, and with the filter clamp accumulate their samples.
@@ -125,6 +131,7 @@ uint32_t sizedResourcesNeeded(const Module& m, const Settings& s) {
   if (usesTemporalGradients(m, s))
     need |= bit(&SizedResources::gradientSamplesA) | bit(&SizedResources::gradientSamplesB) |
             bit(&SizedResources::temporalGradient);
+  if (usesHistoryClamp(m, s)) need |= bit(&SizedResources::temporalSpread);
   if (isAaf(s.method)) need |= bit(&SizedResources::aafParams) | bit(&SizedResources::aafSum);
   if (aafSpecular(m, s)) need |= bit(&SizedResources::aafGlossy) | bit(&SizedResources::aafGlossyEdge);
   // Debug views read their source at full size whatever the method (zero where it does not write).

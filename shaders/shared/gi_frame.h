@@ -55,7 +55,15 @@ GPU_CONST GI_BINDING_SVGF_GUIDE = 31;         // rgba32f: the G-buffer's unit no
 GPU_CONST GI_BINDING_GRADIENT_SAMPLES_A = 32; // rgba32ui: the pixel's first sample, luminance of direct over base colour
 GPU_CONST GI_BINDING_GRADIENT_SAMPLES_B = 33; //   (x) and of demodulated indirect (y) as float bits, its random state (z)
 GPU_CONST GI_BINDING_TEMPORAL_GRADIENT = 34;  // rgba32f, one texel per tile: direct's change and max(then, now) (xy), indirect's (zw)
-GPU_CONST GI_BINDING_COUNT = 35;
+GPU_CONST GI_BINDING_TEMPORAL_SPREAD = 35;    // rgba32f: this frame's samples around the pixel (3×3): luminance mean
+                                              //   and σ of direct over base colour (xy) and of demodulated indirect (zw)
+// The hash methods' direct light history (hpsf.temporal), one texel per pixel in 8 bytes
+// (temporal.glsl, giPackHistory): the reflected direct light over the base colour, relative to the
+// scene's typical radiance, as RGB9E5 (x); view depth / depthScale as a half float, the octahedral
+// normal in 2 × 5 bits and the frames of history (to 63) (y). Written by the composite pass, once the
+// temporal pass has read every neighbour's texel: one image, not two.
+GPU_CONST GI_BINDING_HISTORY_PACKED = 36;
+GPU_CONST GI_BINDING_COUNT = 37;
 #define GI_GRADIENT_TILE 3u              // pixels per side of a gradient tile (A-SVGF's strata)
 #define GI_TRUSTED_HISTORY 4.0           // frames of history from which a pixel's accumulated light speaks for
                                          // itself: SVGF's temporal variance (spatial before), the filter clamp
@@ -140,8 +148,12 @@ struct GiTemporalPush {
   uint gradients;       // 1: where the tiles' temporal gradients say the light changed, the new frame weighs more
   uint indirectOutput;  // 1: the accumulated indirect replaces the indirect output (the filters read it); 0 (the
                         // hash methods' filter clamp): it goes to the noisy image only, the map's light stays
+  float historyClamp;   // γ_h: history held within γ_h σ of this frame's 3×3 samples (the spread image); 0 = off
+  uint packedHistory;   // 1 (the hash methods, direct only): the history is GI_BINDING_HISTORY_PACKED, and this
+                        // frame's goes out through the direct output (frames in its alpha) for the composite
+  float historyScale;   // packed history: radiance × this (1 / the scene's typical radiance) is stored
 };
-GPU_ASSERT_SIZE(GiTemporalPush, 44);
+GPU_ASSERT_SIZE(GiTemporalPush, 56);
 
 // svgf_variance.comp and svgf_atrous.comp.
 struct GiSvgfPush {
@@ -198,6 +210,9 @@ struct GiCompositePush {
   uint gradients;      // 1: the trace wrote this frame's temporal gradients
   float filterClamp;   // γ (TemporalSettings::filterClamp): the filtered light within γ local σ of the accumulated; 0 = off
   uint clampLight;     // GI_CLAMP_*: what the filter changed, and what it is held against
+  uint packedHistory;  // 1: store the packed direct history (GiTemporalPush::packedHistory), frames from
+                       // the direct output's alpha, which goes back to 1
+  float historyScale;  // GiTemporalPush::historyScale
 };
 
 struct GiSupersamplePush {
@@ -205,7 +220,7 @@ struct GiSupersamplePush {
   uint supersamples;  // extra eye rays per pixel
 };
 GPU_ASSERT_SIZE(GiSupersamplePush, 8);
-GPU_ASSERT_SIZE(GiCompositePush, 40);
+GPU_ASSERT_SIZE(GiCompositePush, 48);
 
 GPU_NAMESPACE_END
 #endif

@@ -58,7 +58,7 @@ std::span<const DebugViewInfo> debugViewCatalogue();  // in gi::DebugView's orde
 // script records them by this enum.
 enum class Pass : uint32_t {
   RawTrace, AafSample, AafAdaptive, HpsfInsert, NhpsfPaths, AnhpsfPaths, HpsfResolve, HpsfLookup,
-  TemporalGradient, Temporal, SvgfVariance, SvgfAtrous, Guidance, Sspsf, Bilateral, Atrous,
+  TemporalGradient, TemporalSpread, Temporal, SvgfVariance, SvgfAtrous, Guidance, Sspsf, Bilateral, Atrous,
   GifMoments, GifBoxRows, GifBoxColumns, GifCoefficients, GifOutput,
   AafFilterDiffuseRows, AafFilterDiffuseColumns, AafFilterGlossyRows, AafFilterGlossyColumns,
   AafFilterGlossyEdgeRows, AafFilterGlossyEdgeColumns,

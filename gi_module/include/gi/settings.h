@@ -140,6 +140,11 @@ struct TemporalSettings {
                                     // the mean of the accumulated light around the pixel (3×3, luminance); 0 = off.
                                     // As the history grows the filter can no longer leave a bias its input
                                     // disproves (RESULTS: 0.5 removes the speckles; 1 keeps a few of svgf's)
+  float historyClamp = 0.0f;        // [0, 10]: γ_h, the reprojected history may lie at most γ_h standard
+                                    // deviations from the mean of this frame's samples around the pixel (3×3,
+                                    // luminance) before it is blended in (TAA's clamp, Salvi 2016); 0 = off.
+                                    // Off by default: measured over the walk, the demo's scene and a moved
+                                    // light (docs/RESULTS.md, "The history clamp")
   bool gradients = false;           // A-SVGF's temporal gradients (Schied et al. 2018): one pixel per 3×3 tile
                                     // re-traces last frame's random numbers; where its light changed, the
                                     // new frame weighs more. For the methods whose paths start in raw's
@@ -190,12 +195,15 @@ struct HpsfSettings {
   SecondaryLod secondaryLod = SecondaryLod::Camera;  // nhpsf/anhpsf: the travel behind later vertices' cells
                                                      // (Meijer's Segment makes them small: noisier, the map fills)
   float secondaryWidthScale = 1.0f;  // cells at vertices after the first are this much wider, [1, 16]
-  bool temporalDirect = false;    // blend in last frame's direct light, reprojected (TemporalSettings): the map
-                                  // holds the indirect light in world space, the direct light has no cache. Runs
-                                  // only where the scene has area lights (emissive, sky). Off by default: its
-                                  // four full-size history images would take hpsf at 1080p past 150 MB.
-                                  // With temporal.filterClamp the pixels' own indirect samples are accumulated
-                                  // too (three more images), and the map's light is held within γσ of them
+  bool temporalDirect = true;     // blend in last frame's direct light, reprojected (TemporalSettings): the map
+                                  // holds the indirect light in world space, the direct light has no cache, and
+                                  // without this it is one frame's samples (speckles at 1 spp). Runs only where
+                                  // the scene has area lights (emissive, sky). Its history is one packed image,
+                                  // 8 bytes a pixel (RGB9E5 light, half depth, 2 × 5-bit normal, frames to 63)
+  bool temporalIndirect = false;  // with temporalDirect and temporal.filterClamp: the pixels' own indirect
+                                  // samples are accumulated too and the map's light is held within γσ of them
+                                  // (RESULTS: 0.89–0.94× the error under motion). Off by default: it takes four
+                                  // full-size fp32 history images more, past issue 17's 150 MB for hpsf at 1080p
 };
 
 struct Settings {
