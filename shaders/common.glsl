@@ -12,4 +12,17 @@ float giLuminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
 float giMaxComponent(vec3 c) { return max(c.x, max(c.y, c.z)); }
 bool giIsFinite(vec3 v) { return !any(isnan(v)) && !any(isinf(v)); }
 
+// Octahedral unit vectors: the engine's G-buffer normals, the packed history's
+// normals and the hash map's directions.
+vec2 giOctahedralEncode(vec3 n) {  // n a unit vector; the result in [-1,1]²
+  n /= abs(n.x) + abs(n.y) + abs(n.z);
+  return n.z >= 0.0 ? n.xy : (1.0 - abs(n.yx)) * mix(vec2(-1.0), vec2(1.0), greaterThanEqual(n.xy, vec2(0.0)));
+}
+vec3 giOctahedralDecode(vec2 e) {  // e in [-1,1]²; not normalised
+  vec3 n = vec3(e, 1.0 - abs(e.x) - abs(e.y));
+  float t = max(-n.z, 0.0);
+  n.xy += mix(vec2(t), vec2(-t), greaterThanEqual(n.xy, vec2(0.0)));
+  return n;
+}
+
 #endif

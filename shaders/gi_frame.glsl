@@ -4,6 +4,7 @@
 #define GI_FRAME_GLSL
 #extension GL_EXT_samplerless_texture_functions : require
 #extension GL_EXT_shader_image_load_formatted : require
+#include "common.glsl"
 #include "surface.glsl"
 #include "camera.glsl"
 #include "shared/gi_frame.h"
@@ -72,18 +73,6 @@ void giStoreNoisy(ivec2 p, vec3 radiance, float alpha) {
 vec3 giLoadNoisy(ivec2 p) { return imageLoad(giNoisyIndirect, p).rgb / giFrame.noisyScale; }
 
 // --- The G-buffer decode: the only place that knows the engine's encodings.
-
-vec3 giOctahedralDecode(vec2 e) {  // e in [-1,1]²
-  vec3 n = vec3(e, 1.0 - abs(e.x) - abs(e.y));
-  float t = max(-n.z, 0.0);
-  n.xy += mix(vec2(t), vec2(-t), greaterThanEqual(n.xy, vec2(0.0)));
-  return n;
-}
-
-vec2 giOctahedralEncode(vec3 n) {  // n a unit vector; the result in [-1,1]²
-  n /= abs(n.x) + abs(n.y) + abs(n.z);
-  return n.z >= 0.0 ? n.xy : (1.0 - abs(n.yx)) * mix(vec2(-1.0), vec2(1.0), greaterThanEqual(n.xy, vec2(0.0)));
-}
 
 // The world normal as stored (not normalised: giGbValid checks it).
 vec3 giGbNormalRaw(ivec2 p) {

@@ -26,15 +26,19 @@ struct History {
   float frames;  // 0: none
 };
 
-vec4 readDirect(ivec2 q) {
-  if (pc.packedHistory != 0u) {
+// Last frame's texel q: its guide (unit normal, view depth / depthScale) and its direct light over the
+// base colour with its frames (a). With directOnly (the hash methods) both come from the one packed
+// texel; otherwise from the set last frame wrote.
+struct HistoryTexel {
+  vec4 guide, direct;
+};
+HistoryTexel readTexel(ivec2 q) {
+  if (pc.directOnly != 0u) {
     const GiPackedHistory h = giUnpackHistory(imageLoad(giHistoryPacked, q).xy);
-    return vec4(h.direct / pc.historyScale, h.frames);
+    return HistoryTexel(h.guide, vec4(h.direct / pc.historyScale, h.frames));
   }
-  return pc.parity == 0u ? imageLoad(giHistoryDirect, q) : imageLoad(giHistoryDirectB, q);
-}
-vec4 readGuide(ivec2 q) {
-  return pc.packedHistory != 0u ? giUnpackHistory(imageLoad(giHistoryPacked, q).xy).guide : giPreviousGuide(q, pc.parity);
+  return HistoryTexel(giPreviousGuide(q, pc.parity),
+                      pc.parity == 0u ? imageLoad(giHistoryDirect, q) : imageLoad(giHistoryDirectB, q));
 }
 vec4 readIndirect(ivec2 q) { return pc.parity == 0u ? imageLoad(giHistoryIndirect, q) : imageLoad(giHistoryIndirectB, q); }
 vec4 readMoments(ivec2 q) { return pc.parity == 0u ? imageLoad(giSvgfMomentsA, q) : imageLoad(giSvgfMomentsB, q); }
@@ -47,19 +51,18 @@ void writeMoments(ivec2 p, vec4 moments, vec4 guide) {
 }
 // The guide keeps view depth over the scene extent: half floats then hold it
 // at any scene scale (metres would overflow past 65504).
-// The history frames ride in the direct image's alpha; with directOnly the
-// indirect images are 1×1 placeholders and never touched.
-// The packed history (the hash methods) is written by the composite pass, once every neighbour has read
-// it: this pass hands the frames on in the direct output's alpha.
+// The history frames ride in the direct image's alpha. With directOnly the
+// packed history is written by the composite pass, once every neighbour has
+// read it: this pass hands the frames on in the direct output's alpha.
 void write(ivec2 p, vec3 direct, vec3 indirect, float frames, vec3 n, float depth) {
-  if (pc.packedHistory != 0u) return;
+  if (pc.directOnly != 0u) return;
   if (pc.parity == 0u) {
     imageStore(giHistoryDirectB, p, vec4(direct, frames));
-    if (pc.directOnly == 0u) imageStore(giHistoryIndirectB, p, vec4(indirect, 1.0));
+    imageStore(giHistoryIndirectB, p, vec4(indirect, 1.0));
     imageStore(giHistoryGuideB, p, vec4(n, depth / giFrame.depthScale));
   } else {
     imageStore(giHistoryDirect, p, vec4(direct, frames));
-    if (pc.directOnly == 0u) imageStore(giHistoryIndirect, p, vec4(indirect, 1.0));
+    imageStore(giHistoryIndirect, p, vec4(indirect, 1.0));
     imageStore(giHistoryGuideA, p, vec4(n, depth / giFrame.depthScale));
   }
 }
@@ -77,11 +80,11 @@ History reproject(ivec2 p, vec3 n, float depth, vec3 world) {
     for (int i = 0; i < 2; ++i) {
       const ivec2 q = base + ivec2(i, j);
       if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, ivec2(giFrame.size)))) continue;
-      if (!giHistoryTexelAgrees(readGuide(q), n, staticDepth, depth, pc.depthTolerance, pc.cosNormalLimit))
-        continue;
+      const HistoryTexel texel = readTexel(q);
+      if (!giHistoryTexelAgrees(texel.guide, n, staticDepth, depth, pc.depthTolerance, pc.cosNormalLimit)) continue;
       const float w = (i == 1 ? f.x : 1.0 - f.x) * (j == 1 ? f.y : 1.0 - f.y);
       if (w <= 0.0) continue;
-      const vec4 direct = readDirect(q);
+      const vec4 direct = texel.direct;
       h.direct += w * direct.rgb;
       if (pc.directOnly == 0u) h.indirect += w * readIndirect(q).rgb;
       if (pc.moments != 0u) h.moments += w * readMoments(q);
@@ -149,7 +152,7 @@ void main() {
   const vec2 momentsBlends = mix(vec2(momentsBlend), vec2(1.0), lambda);
   writeMoments(p, vec4(mix(h.moments.xy, moments.xy, momentsBlends.x), mix(h.moments.zw, moments.zw, momentsBlends.y)),
                vec4(n, depth));
-  if (pc.packedHistory != 0u) giStoreDirectAndFrames(p, emission + albedo * outDirect, min(frames, 63.0));
+  if (pc.directOnly != 0u) giStoreDirectAndFrames(p, emission + albedo * outDirect, min(frames, 63.0));
   else if (pc.direct != 0u) giStoreDirect(p, emission + albedo * outDirect);
   if (pc.directOnly != 0u) return;
   if (pc.indirectOutput != 0u) giStoreIndirect(p, outIndirect);  // raw's result; a filter that follows overwrites it

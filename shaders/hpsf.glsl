@@ -2,6 +2,7 @@
 // and its insert-or-find with bounded linear probing (Meijer Alg. 4).
 #ifndef GI_HPSF_GLSL
 #define GI_HPSF_GLSL
+#include "common.glsl"
 #include "shared/hash_grid.h"
 
 layout(set = 2, binding = HG_BINDING_KEYS, scalar) buffer HgKeys { uint hgKeys[]; };
@@ -143,11 +144,7 @@ void hgAccumulate(int slot, vec3 radiance, vec3 tail, float momentLuminance, uin
 }
 
 // Walk directions are stored octahedral in 2 × 16 bits (HgWalk::direction, HgCell::probeDirection).
-uint hgPackDirection(vec3 d) {
-  d /= abs(d.x) + abs(d.y) + abs(d.z);
-  vec2 signs = vec2(d.x >= 0.0 ? 1.0 : -1.0, d.y >= 0.0 ? 1.0 : -1.0);
-  return packSnorm2x16(d.z >= 0.0 ? d.xy : (1.0 - abs(d.yx)) * signs);
-}
+uint hgPackDirection(vec3 d) { return packSnorm2x16(giOctahedralEncode(d)); }
 vec3 hgUnpackDirection(uint packed) {
   vec2 o = unpackSnorm2x16(packed);
   vec3 d = vec3(o, 1.0 - abs(o.x) - abs(o.y));

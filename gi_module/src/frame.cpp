@@ -309,14 +309,13 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
                                  svgf ? s.svgf.alpha : t.minBlend,
                                  t.depthTolerance,
                                  cosDegrees(t.normalLimitDegrees),
-                                 usesHashGrid(s.method) && !clampsHashIndirect(s) ? 1u : 0u,
+                                 usesPackedHistory(m, s) ? 1u : 0u,
                                  noisyDirect ? 1u : 0u,
                                  svgf ? 1u : 0u,
                                  s.svgf.momentsAlpha,
                                  gradientsTraced ? 1u : 0u,
                                  usesHashGrid(s.method) ? 0u : 1u,
                                  usesHistoryClamp(m, s) ? t.historyClamp : 0.0f,
-                                 usesPackedHistory(m, s) ? 1u : 0u,
                                  radianceScale(m)};
     // Pass: this frame's samples' spread around each pixel, which the history is clamped to.
     if (usesHistoryClamp(m, s) && m.temporalFrames > 0)

@@ -1,6 +1,7 @@
 // The module's per-size images and what binds them, built for the method the
 // settings choose; and the retire list that releases replaced resources once
 // no frame in flight can read them.
+#include <array>
 #include <iterator>
 
 #include "module.h"
@@ -63,7 +64,9 @@ constexpr uint32_t bit(vk::Image SizedResources::*image) {
   return 0;
 }
 
-const vk::Binding kFrameBindings[] = {
+// Set 1: the frame constants, the G-buffer, the outputs and the counters, then one storage image per
+// entry of kSizedImages (derived, so an image and its binding are declared once).
+constexpr vk::Binding kFixedFrameBindings[] = {
     {gpu::GI_BINDING_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER},
     {gpu::GI_BINDING_GB_NORMAL, VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE},
     {gpu::GI_BINDING_GB_ALBEDO, VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE},
@@ -74,34 +77,16 @@ const vk::Binding kFrameBindings[] = {
     {gpu::GI_BINDING_OUT_DIRECT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
     {gpu::GI_BINDING_OUT_INDIRECT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
     {gpu::GI_BINDING_OUT_COMPOSITE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-    {gpu::GI_BINDING_HISTORY_DIRECT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-    {gpu::GI_BINDING_HISTORY_INDIRECT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
     {gpu::GI_BINDING_COUNTERS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-    {gpu::GI_BINDING_NOISY_INDIRECT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-    {gpu::GI_BINDING_GUIDANCE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-    {gpu::GI_BINDING_POSITION, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-    {gpu::GI_BINDING_DEBUG, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-    {gpu::GI_BINDING_AAF_PARAMS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-    {gpu::GI_BINDING_AAF_SUM, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-    {gpu::GI_BINDING_AAF_GLOSSY, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-    {gpu::GI_BINDING_AAF_GLOSSY_EDGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-    {gpu::GI_BINDING_HISTORY_DIRECT_B, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-    {gpu::GI_BINDING_HISTORY_INDIRECT_B, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-    {gpu::GI_BINDING_HISTORY_GUIDE_A, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-    {gpu::GI_BINDING_HISTORY_GUIDE_B, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-    {gpu::GI_BINDING_SVGF_MOMENTS_A, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-    {gpu::GI_BINDING_SVGF_MOMENTS_B, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-    {gpu::GI_BINDING_SVGF_DIRECT_PING, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-    {gpu::GI_BINDING_SVGF_INDIRECT_PING, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-    {gpu::GI_BINDING_SVGF_DIRECT_PONG, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-    {gpu::GI_BINDING_SVGF_INDIRECT_PONG, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-    {gpu::GI_BINDING_SVGF_GUIDE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-    {gpu::GI_BINDING_GRADIENT_SAMPLES_A, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-    {gpu::GI_BINDING_GRADIENT_SAMPLES_B, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-    {gpu::GI_BINDING_TEMPORAL_GRADIENT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-    {gpu::GI_BINDING_TEMPORAL_SPREAD, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-    {gpu::GI_BINDING_HISTORY_PACKED, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
 };
+constexpr auto kFrameBindings = [] {
+  std::array<vk::Binding, std::size(kFixedFrameBindings) + std::size(kSizedImages)> all{};
+  size_t n = 0;
+  for (const vk::Binding& b : kFixedFrameBindings) all[n++] = b;
+  for (const SizedImage& image : kSizedImages) all[n++] = {image.binding, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
+  return all;
+}();
+static_assert(std::size(kFrameBindings) == gpu::GI_BINDING_COUNT, "every binding of set 1 once");
 
 }  // namespace
 
@@ -150,8 +135,8 @@ uint32_t sizedResourcesNeeded(const Module& m, const Settings& s) {
     case DebugView::HashOccupancy:
     case DebugView::ContinuationDepth:
     case DebugView::SvgfVariance: need |= bit(&SizedResources::debug); break;
-    case DebugView::TemporalHistory:
-      need |= bit(&SizedResources::historyDirect) | bit(&SizedResources::historyDirectB);
+    case DebugView::TemporalHistory:  // the packed history's frames reach the composite in the direct output
+      if (!usesPackedHistory(m, s)) need |= bit(&SizedResources::historyDirect) | bit(&SizedResources::historyDirectB);
       break;
     case DebugView::TemporalGradient: need |= bit(&SizedResources::temporalGradient); break;
     default: break;

@@ -141,7 +141,9 @@ struct GiTemporalPush {
   float minBlend;       // (0, 1]: the smallest weight of the new frame (caps the history at about 1/minBlend frames)
   float depthTolerance; // relative view-depth difference a history tap may have
   float cosNormalLimit; // cosine of the largest normal change a history tap may have
-  uint directOnly;      // 1: the indirect light is left as it is (the hash methods' map already filters it in time)
+  uint directOnly;      // 1 (the hash methods): only the direct light is reprojected (their map filters the
+                        // indirect in time); its history is GI_BINDING_HISTORY_PACKED, and this frame's goes
+                        // out through the direct output (frames in its alpha) for the composite to store
   uint direct;          // 1: accumulate the direct light too; 0: it is exact every frame (punctual lights only)
   uint moments;         // 1 (svgf): also accumulate the luminance moments of direct and indirect light
   float momentsMinBlend;// (0, 1]: their smallest weight of the new frame
@@ -149,11 +151,9 @@ struct GiTemporalPush {
   uint indirectOutput;  // 1: the accumulated indirect replaces the indirect output (the filters read it); 0 (the
                         // hash methods' filter clamp): it goes to the noisy image only, the map's light stays
   float historyClamp;   // γ_h: history held within γ_h σ of this frame's 3×3 samples (the spread image); 0 = off
-  uint packedHistory;   // 1 (the hash methods, direct only): the history is GI_BINDING_HISTORY_PACKED, and this
-                        // frame's goes out through the direct output (frames in its alpha) for the composite
   float historyScale;   // packed history: radiance × this (1 / the scene's typical radiance) is stored
 };
-GPU_ASSERT_SIZE(GiTemporalPush, 56);
+GPU_ASSERT_SIZE(GiTemporalPush, 52);
 
 // svgf_variance.comp and svgf_atrous.comp.
 struct GiSvgfPush {
@@ -210,7 +210,7 @@ struct GiCompositePush {
   uint gradients;      // 1: the trace wrote this frame's temporal gradients
   float filterClamp;   // γ (TemporalSettings::filterClamp): the filtered light within γ local σ of the accumulated; 0 = off
   uint clampLight;     // GI_CLAMP_*: what the filter changed, and what it is held against
-  uint packedHistory;  // 1: store the packed direct history (GiTemporalPush::packedHistory), frames from
+  uint packedHistory;  // 1: store the packed direct history (GiTemporalPush::directOnly), frames from
                        // the direct output's alpha, which goes back to 1
   float historyScale;  // GiTemporalPush::historyScale
 };
