@@ -10,6 +10,13 @@
 
 layout(local_size_x = GI_GROUP_SIZE, local_size_y = GI_GROUP_SIZE) in;
 
+// Sample i of n: in a stratum of its own (aafStratum), then the lobe choice.
+vec3 aafSampleU(uint i, uint n, uint offset, GiBsdf b, inout GiRng rng) {
+  float cell;
+  vec2 u = aafStratum(i, n, offset, cell) + giRandom2(rng) * cell;
+  return vec3(u, aafLobeChoice(b, rng));
+}
+
 void main() {
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   bool inside = all(lessThan(gl_GlobalInvocationID.xy, giFrame.size));
@@ -25,7 +32,6 @@ void main() {
     if (sum.a > 0.0) {
       vec3 V;
       GiSurface s = giGbSurface(p, V);
-      GiBsdf b = giMakeBsdf(s.material.baseColor, s.material.metallic, s.material.roughness, s.material.flags);
       GiRng rng = giRngCreate(uvec2(p), giFrame.frameIndex, pc.seed ^ 0x68bc21ebu, GI_STREAM_AAF);
       float extra = max(params.z - float(AAF_INITIAL_SAMPLES), 0.0);
       if (pc.sampleBudget > 0u) {
@@ -35,14 +41,14 @@ void main() {
         extra = floor(extra * scale + giRandom(rng));  // unbiased rounding of the scaled count
       }
       uint offset = uint(giRandom(rng) * 4294967040.0);
-      for (uint i = 0u; i < uint(extra); ++i) {
-        float cell;
-        vec2 u = aafStratum(i, uint(extra), offset, cell) + giRandom2(rng) * cell;
-        AafSample r = aafSample(s, b, V, vec3(u, aafLobeChoice(b, rng)), rng);
-        sum.rgb += r.diffuse;
-        glossy.rgb += r.specular;
-        edge.rgb += r.specularEdge;
-      }
+      GiTask t = aafTaskStart(s, V, rng, false, uint(extra), offset);
+      t.diffuse = sum.rgb;  // the sums go on from pass 1's
+      t.specular = glossy.rgb;
+      t.specularEdge = edge.rgb;
+      giRunTask(t);
+      sum.rgb = t.diffuse;
+      glossy.rgb = t.specular;
+      edge.rgb = t.specularEdge;
       sum.a += float(uint(extra));
       params.z = sum.a;
       traced = uint(sum.a);

@@ -11,6 +11,12 @@
 
 layout(local_size_x = GI_GROUP_SIZE, local_size_y = GI_GROUP_SIZE) in;
 
+// Sample i of the 16: stratified 4×4, then the lobe choice.
+vec3 aafSampleU(uint i, uint n, uint offset, GiBsdf b, inout GiRng rng) {
+  vec2 stratum = (vec2(float(i % 4u), float(i / 4u)) + giRandom2(rng)) * 0.25;
+  return vec3(stratum, aafLobeChoice(b, rng));
+}
+
 void main() {
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   bool inside = all(lessThan(gl_GlobalInvocationID.xy, giFrame.size));
@@ -22,21 +28,14 @@ void main() {
       vec3 V;
       GiSurface s = giGbSurface(p, V);
       GiRng rng = giRngCreate(uvec2(p), giFrame.frameIndex, pc.seed, GI_STREAM_AAF);
-      GiBsdf b = giMakeBsdf(s.material.baseColor, s.material.metallic, s.material.roughness, s.material.flags);
-      direct = s.material.emission;
-      if (pc.ambientOcclusion == 0u) direct += giDirectLight(s, b, V, false, rng);
-      float zMin = GI_FLT_MAX, zMax = 0.0;
-      for (uint i = 0u; i < AAF_INITIAL_SAMPLES; ++i) {
-        vec2 stratum = (vec2(float(i % 4u), float(i / 4u)) + giRandom2(rng)) * 0.25;  // 4×4 strata
-        AafSample r = aafSample(s, b, V, vec3(stratum, aafLobeChoice(b, rng)), rng);
-        sum.rgb += r.diffuse;
-        glossy.rgb += r.specular;
-        edge.rgb += r.specularEdge;
-        if (r.hitDistance >= 0.0) {
-          zMin = min(zMin, r.hitDistance);
-          zMax = max(zMax, r.hitDistance);
-        }
-      }
+      GiTask t = aafTaskStart(s, V, rng, pc.ambientOcclusion == 0u, AAF_INITIAL_SAMPLES, 0u);
+      giRunTask(t);
+      GiBsdf b = t.b;
+      direct = s.material.emission + t.direct;
+      sum.rgb = t.diffuse;
+      glossy.rgb = t.specular;
+      edge.rgb = t.specularEdge;
+      float zMin = t.zMin, zMax = t.zMax;
       sum.a = float(AAF_INITIAL_SAMPLES);
       // No reflector seen: treat it as ten scene extents away.
       if (zMax == 0.0) zMin = zMax = 10.0 * pc.sceneExtent;

@@ -6,7 +6,7 @@
 // luminances and random state for gi_temporal_gradient.comp next frame.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
-#include "path.glsl"
+#include "path_task.glsl"
 #include "gi_frame.glsl"
 #include "temporal.glsl"
 

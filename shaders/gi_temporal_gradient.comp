@@ -6,7 +6,7 @@
 // the base colour, demodulated indirect); zero where the pixel has no source.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
-#include "path.glsl"
+#include "path_task.glsl"
 #include "temporal.glsl"
 
 layout(local_size_x = GI_GROUP_SIZE, local_size_y = GI_GROUP_SIZE) in;

@@ -14,6 +14,88 @@
 
 layout(local_size_x = GI_GROUP_SIZE, local_size_y = GI_GROUP_SIZE) in;
 
+// A pixel's work as a ray task (ray_loop.glsl): its paths, then the probe of
+// the cell it made, if it made one.
+struct GiTask {
+  GiSurface s;
+  vec3 V;
+  ivec2 p;
+  uint sampleIndex;
+  GiPath path;
+  GiRng rng;
+  float kept;          // paths kept (finite)
+  vec3 direct, indirect;
+  bool probing;        // the paths are done; the probe is out
+  int slot;            // the cell the pixel made, while its probe is out
+  HgProbe probe;
+};
+
+GiRng hgSampleRng(ivec2 p, uint i) {
+  return giRngCreate(uvec2(p), pc.frameIndex * pc.samplesPerPixel + i, pc.seed, GI_STREAM_MODULE);
+}
+
+// The pixel's mean goes into its filter vertex's cell.
+void hgInsertPixel(inout GiTask t) {
+  float inv = 1.0 / max(t.kept, 1.0);
+  t.direct = t.s.material.emission + t.direct * inv;
+  t.indirect *= inv;
+  t.probing = true;
+  t.probe.phase = HG_PROBE_DONE;
+  if (!giHasDiffuseLobe(t.s.material)) return;
+  GiRng rng = giRngCreate(uvec2(t.p), pc.frameIndex, pc.seed, GI_STREAM_HASH);
+  HgDescriptor d = hgPrimaryDescriptor(t.s.position, t.s.normal, rng);
+  vec3 probeOrigin = giOffsetRay(t.s.position, t.s.geometricNormal);
+  vec3 probeDirection = giCosineSample(t.s.normal, giRandom2(rng));
+  // The lookup finds this cell again from the same surface and random numbers (hgPixelCell).
+  const uint key = hgVerificationKey(d);
+  bool needsProbe;
+  const int slot = hgInsertSample(hgIndexHash(d), key, t.indirect, 1u, d.lod, needsProbe);
+  if (!needsProbe) return;
+  t.slot = slot;
+  t.probe = hgNewCellProbe(probeOrigin, probeDirection, key);
+}
+
+uint giTaskNext(inout GiTask t, out GiRay ray, out GiNeeRequest nee) {
+  if (!t.probing) {
+    for (;;) {
+      const uint step = giPathNext(t.path, t.rng, ray, nee);
+      if (step != GI_STEP_DONE) return step;
+      GiPathSample path = t.path.result;
+      if (giKeepSample(path.direct, path.indirectDemod)) {
+        t.kept += 1.0;
+        t.direct += path.direct;
+        t.indirect += path.indirectDemod;
+      }
+      if (++t.sampleIndex == pc.samplesPerPixel) break;
+      t.rng = hgSampleRng(t.p, t.sampleIndex);
+      t.path = giPathStart(t.s, t.V, pc.maxBounces, pc.russianRouletteStart);
+    }
+    hgInsertPixel(t);
+  }
+  const uint step = hgProbeNext(t.probe, ray, nee);
+  if (step == GI_STEP_DONE && t.slot >= 0) {
+    hgStoreProbe(t.slot, t.probe);
+    t.slot = -1;
+  }
+  return step;
+}
+
+void giTaskTakeHit(inout GiTask t, GiHit hit, GiSurface s) {
+  if (t.probing) hgProbeTakeHit(t.probe, hit, s);
+  else giPathTakeHit(t.path, hit, s);
+}
+
+void giTaskTakeNee(inout GiTask t, vec3 light, GiRng rng) {
+  if (t.probing) {
+    hgProbeTakeNee(t.probe, light);
+    return;
+  }
+  t.rng = rng;
+  giPathTakeNee(t.path, light, t.rng);
+}
+
+#include "ray_loop.glsl"
+
 void main() {
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   bool inside = all(lessThan(gl_GlobalInvocationID.xy, giFrame.size));
@@ -21,29 +103,20 @@ void main() {
     vec3 direct = vec3(0.0), indirect = vec3(0.0);
     bool filterVertex = false;
     if (giGbCoveredCounting(p)) {
-      vec3 V;
-      GiSurface s = giGbSurface(p, V);
-      float kept = 0.0;
-      for (uint i = 0u; i < pc.samplesPerPixel; ++i) {
-        GiRng rng = giRngCreate(uvec2(p), pc.frameIndex * pc.samplesPerPixel + i, pc.seed, GI_STREAM_MODULE);
-        GiPathSample path = giTracePathFromSurface(s, V, pc.maxBounces, pc.russianRouletteStart, rng);
-        if (!giKeepSample(path.direct, path.indirectDemod)) continue;
-        kept += 1.0;
-        direct += path.direct;
-        indirect += path.indirectDemod;
-      }
-      float inv = 1.0 / max(kept, 1.0);
-      direct = s.material.emission + direct * inv;
-      indirect *= inv;
-      filterVertex = giHasDiffuseLobe(s.material);
-      if (filterVertex) {
-        GiRng rng = giRngCreate(uvec2(p), pc.frameIndex, pc.seed, GI_STREAM_HASH);
-        HgDescriptor d = hgPrimaryDescriptor(s.position, s.normal, rng);
-        vec3 probeOrigin = giOffsetRay(s.position, s.geometricNormal);
-        vec3 probeDirection = giCosineSample(s.normal, giRandom2(rng));
-        // The lookup finds this cell again from the same surface and random numbers (hgPixelCell).
-        hgInsertSample(hgIndexHash(d), hgVerificationKey(d), indirect, 1u, d.lod, probeOrigin, probeDirection);
-      }
+      GiTask t;
+      t.s = giGbSurface(p, t.V);
+      t.p = p;
+      t.sampleIndex = 0u;
+      t.rng = hgSampleRng(p, 0u);
+      t.path = giPathStart(t.s, t.V, pc.maxBounces, pc.russianRouletteStart);
+      t.kept = 0.0;
+      t.direct = t.indirect = vec3(0.0);
+      t.probing = false;
+      t.slot = -1;
+      giRunTask(t);
+      direct = t.direct;
+      indirect = t.indirect;
+      filterVertex = giHasDiffuseLobe(t.s.material);
     }
     giStoreDirect(p, direct);
     giStoreNoisy(p, indirect, filterVertex ? 1.0 : 0.0);

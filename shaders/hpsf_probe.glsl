@@ -11,17 +11,62 @@
 #include "surface.glsl"
 #include "random.glsl"
 
-// Traces the probe: distance (< 0 on a miss) and NEE luminance at the hit.
-void hgTraceProbe(vec3 origin, vec3 direction, uint key, out float distance_, out float light) {
-  distance_ = -1.0;
-  light = 0.0;
-  GiHit hit = giTraceClosest(origin, direction, 0.0, GI_FLT_MAX);
+// The probe as a part of a ray task (ray_loop.glsl): its ray, then NEE at
+// the hit. Once hgProbeNext says GI_STEP_DONE, `distance_` is the hit
+// distance (< 0 on a miss) and `light` the NEE luminance at the hit.
+#define HG_PROBE_TRACE 0u    // the probe ray is next
+#define HG_PROBE_WAITING 1u  // for its hit or its NEE
+#define HG_PROBE_NEE 2u      // NEE at the hit is next
+#define HG_PROBE_DONE 3u
+
+struct HgProbe {
+  vec3 origin;
+  vec3 direction;
+  uint key;
+  uint phase;  // HG_PROBE_*
+  float distance_;
+  float light;
+  GiNeeRequest nee;  // at the hit
+};
+
+HgProbe hgProbeStart(vec3 origin, vec3 direction, uint key) {
+  HgProbe p;
+  p.origin = origin;
+  p.direction = direction;
+  p.key = key;
+  p.phase = HG_PROBE_TRACE;
+  p.distance_ = -1.0;
+  p.light = 0.0;
+  return p;
+}
+
+uint hgProbeNext(inout HgProbe p, out GiRay ray, out GiNeeRequest nee) {
+  if (p.phase == HG_PROBE_TRACE) {
+    ray = giClosestRay(p.origin, p.direction, 0.0, GI_FLT_MAX);
+    p.phase = HG_PROBE_WAITING;
+    return GI_STEP_TRACE;
+  }
+  if (p.phase == HG_PROBE_NEE) {
+    nee = p.nee;
+    p.phase = HG_PROBE_WAITING;
+    return GI_STEP_NEE;
+  }
+  return GI_STEP_DONE;
+}
+
+void hgProbeTakeHit(inout HgProbe p, GiHit hit, GiSurface w) {
+  p.phase = HG_PROBE_DONE;
   if (hit.t < 0.0) return;
-  distance_ = hit.t;
-  GiSurface w = giSurfaceFromHit(hit, direction);
+  p.distance_ = hit.t;
   GiBsdf b = giMakeBsdf(w.material.baseColor, w.material.metallic, w.material.roughness, w.material.flags);
-  GiRng rng = giRngCreate(uvec2(key, 0x9e3779b9u), 0u, 0u, GI_STREAM_HASH);
-  light = giLuminance(giDirectLight(w, b, -direction, false, rng));
+  // Random numbers seeded by the cell's key: a re-trace draws the same ones.
+  p.nee = GiNeeRequest(w, b, -p.direction, false, giRngCreate(uvec2(p.key, 0x9e3779b9u), 0u, 0u, GI_STREAM_HASH));
+  p.phase = HG_PROBE_NEE;
+}
+
+void hgProbeTakeNee(inout HgProbe p, vec3 light) {
+  p.light = giLuminance(light);
+  p.phase = HG_PROBE_DONE;
 }
 
 // How far the cell's mean has moved, as far as the probe can tell (luminance,

@@ -13,6 +13,23 @@
 layout(local_size_x = 64) in;
 layout(push_constant, scalar) uniform Push { HgPush pc; };
 
+// A cell's probe, re-traced as a ray task (ray_loop.glsl).
+struct GiTask {
+  HgProbe probe;
+};
+uint giTaskNext(inout GiTask task, out GiRay ray, out GiNeeRequest nee) { return hgProbeNext(task.probe, ray, nee); }
+void giTaskTakeHit(inout GiTask task, GiHit hit, GiSurface s) { hgProbeTakeHit(task.probe, hit, s); }
+void giTaskTakeNee(inout GiTask task, vec3 light, GiRng rng) { hgProbeTakeNee(task.probe, light); }
+#include "ray_loop.glsl"
+
+// What the cell's probe sees now: its hit distance and NEE light. Called at one place.
+void hgRetraceProbe(HgCell c, uint key, out float distance_, out float light) {
+  GiTask task = GiTask(hgProbeStart(c.probeOrigin, hgUnpackDirection(c.probeDirection), key));
+  giRunTask(task);
+  distance_ = task.probe.distance_;
+  light = task.probe.light;
+}
+
 // Strict eviction (Meijer §4.2.2): the cell's sums are this frame's samples
 // plus everything its key held in the last frame's table, written back so
 // that the next frame finds them there in turn: a cell touched every frame
@@ -102,18 +119,20 @@ void resolveAging(uint slot, inout uint live, inout uint evicted, inout uint res
   // restarts it. Resetting on any change cost Conference accuracy: one of its
   // four lights moving changed every probe that picked that light.
   bool hasProbe = pc.validationInterval > 0u && (c.probeDistance != 0.0 || c.probeLight != 0.0);
+  bool validate = hasProbe && c.frames > 0.0 && (slot + pc.frameIndex) % pc.validationInterval == 0u;
+  float distance_ = c.probeDistance, light = c.probeLight;
+  if (pc.forgetLight != 0u ? hasProbe : validate) hgRetraceProbe(c, key, distance_, light);
   if (pc.forgetLight != 0u) {
     // The engine says the lights changed: the history goes, and every probe
     // learns the new light now (so that its next check does not cut again).
     // The cell keeps its key and its probe; until this frame's samples (if
     // any) restart its mean, it is not read.
-    if (hasProbe) hgTraceProbe(c.probeOrigin, hgUnpackDirection(c.probeDirection), key, c.probeDistance, c.probeLight);
+    c.probeDistance = distance_;
+    c.probeLight = light;
     c.frames = 0.0;
     c.samples = 0u;
     hgCells[slot] = c;
-  } else if (hasProbe && c.frames > 0.0 && (slot + pc.frameIndex) % pc.validationInterval == 0u) {
-    float distance_, light;
-    hgTraceProbe(c.probeOrigin, hgUnpackDirection(c.probeDirection), key, distance_, light);
+  } else if (validate) {
     float mean = giLuminance(c.mean);
     float change = hgProbeChange(c.probeDistance, c.probeLight, distance_, light, mean);
     if (change > 0.0) {

@@ -57,12 +57,13 @@ uint hgReadTable() { return pc.strict != 0u ? pc.previousTable : pc.table; }
 // Adds a sample (count = 1 for a new sample, 0 for more light on one already
 // counted, which only finds the cell) to the cell (index, key) of this frame's table. Samples above the
 // cell's history mean + kσ of luminance are clamped so one firefly cannot
-// poison the cache. The invocation that makes the cell stores its stale-radiance
-// probe: the ray (probeOrigin, probeDirection) from the vertex, and what it sees.
-// Returns the global slot, or -1 when the probe window is full.
-int hgInsertSample(uint index, uint key, vec3 radiance, uint count, int lod, vec3 probeOrigin, vec3 probeDirection) {
+// poison the cache. Returns the global slot, or -1 when the probe window is
+// full; `needsProbe` when this invocation made the cell and the cell keeps a
+// stale-radiance probe, which the caller traces (HgProbe) and stores (hgStoreProbe).
+int hgInsertSample(uint index, uint key, vec3 radiance, uint count, int lod, out bool needsProbe) {
   uint probes;
   bool created;
+  needsProbe = false;
   // More light for a sample already counted belongs to an existing cell: it never makes one (a cell
   // holding light but no sample would pass that light on to whatever key claims the slot next).
   int slot = hgInsertOrFind(pc.table, index, key, pc.capacity, pc.probeWindow, count > 0u, probes, created);
@@ -70,16 +71,7 @@ int hgInsertSample(uint index, uint key, vec3 radiance, uint count, int lod, vec
     hgFailedCount++;
     return -1;
   }
-  if (created && pc.validationInterval > 0u) {
-    // The direction is traced as the cell stores it (packed), so the checks re-trace the very same ray.
-    const uint packedDirection = hgPackDirection(probeDirection);
-    float distance_, light;
-    hgTraceProbe(probeOrigin, hgUnpackDirection(packedDirection), key, distance_, light);
-    hgCells[slot].probeOrigin = probeOrigin;
-    hgCells[slot].probeDirection = packedDirection;
-    hgCells[slot].probeDistance = distance_;
-    hgCells[slot].probeLight = light;
-  }
+  needsProbe = created && pc.validationInterval > 0u;
   hgProbeCount += probes;
   hgProbeMax = max(hgProbeMax, probes);
   // With strict eviction the history is the same key's cell in the previous
@@ -125,6 +117,19 @@ int hgInsertSample(uint index, uint key, vec3 radiance, uint count, int lod, vec
   return slot;
 }
 
+// A new cell's probe: the ray from the vertex that made it, with its
+// direction as the cell stores it (packed), so the checks re-trace the very same ray.
+HgProbe hgNewCellProbe(vec3 origin, vec3 direction, uint key) {
+  return hgProbeStart(origin, hgUnpackDirection(hgPackDirection(direction)), key);
+}
+// Stores the traced probe in the cell that made it.
+void hgStoreProbe(int slot, HgProbe probe) {
+  hgCells[slot].probeOrigin = probe.origin;
+  hgCells[slot].probeDirection = hgPackDirection(probe.direction);
+  hgCells[slot].probeDistance = probe.distance_;
+  hgCells[slot].probeLight = probe.light;
+}
+
 // Last frame's radiance at (index, key) as the map passes it on (the cell's
 // recent mean and tail); false when the cell is missing or holds too few samples.
 bool hgReadCell(uint index, uint key, out vec3 mean) {
@@ -154,70 +159,153 @@ HgWalk hgWalkFrom(GiSurface s, HgDescriptor d, bool feeds, uint depth, float tra
   return w;
 }
 
-// One segment: traces the walk's ray to w, adds what arrives (× throughput)
-// to the cell it feeds, and moves the walk on. What arrives is NEE at w plus,
-// when w is a filter vertex (it has a diffuse lobe), w's diffuse albedo × its
-// cell from last frame's map. Then the walk goes on through one of w's lobes:
-// the diffuse lobe starts a walk of w's own (feeding w's cell), the glossy
-// lobe carries this walk on (what arrives next is more light for the same
-// sample, through the glossy BSDF weight). A vertex with both picks the
-// glossy lobe with its sampling probability and divides by it, so light
-// through either lobe reaches the cell without bias; a pure metal always
-// takes the glossy lobe. A miss ends the walk (after counting its zero
-// sample). Returns the radiance arriving at the walk's vertex (before throughput).
-vec3 hgStep(inout HgWalk walk, inout GiRng rng) {
-  vec3 arriving = vec3(0.0);
-  vec3 direction = hgUnpackDirection(walk.direction);
-  GiHit hit = giTraceClosest(walk.origin, direction, 0.0, GI_FLT_MAX);
+// One segment of a walk as a part of a ray task (ray_loop.glsl): traces the
+// walk's ray to w, adds what arrives (× throughput) to the cell it feeds,
+// and moves the walk on. What arrives is NEE at w plus, when w is a filter
+// vertex (it has a diffuse lobe), w's diffuse albedo × its cell from last
+// frame's map. Then the walk goes on through one of w's lobes: the diffuse
+// lobe starts a walk of w's own (feeding w's cell), the glossy lobe carries
+// this walk on (what arrives next is more light for the same sample, through
+// the glossy BSDF weight). A vertex with both picks the glossy lobe with its
+// sampling probability and divides by it, so light through either lobe
+// reaches the cell without bias; a pure metal always takes the glossy lobe.
+// A miss ends the walk (after counting its zero sample). `arriving` is the
+// radiance arriving at the walk's vertex (before throughput) once
+// hgStepNext says GI_STEP_DONE.
+#define HG_STEP_SEGMENT 0u   // the segment's ray is next
+#define HG_STEP_WAITING 1u   // for its hit or NEE's light
+#define HG_STEP_NEE 2u       // NEE at w is next
+#define HG_STEP_INSERT 3u    // what arrived goes into the fed cell
+#define HG_STEP_PROBE 4u     // the cell just made traces its probe
+#define HG_STEP_CONTINUE 5u  // the walk moves on
+#define HG_STEP_DONE 6u
+
+struct HgStep {
+  uint phase;        // HG_STEP_*
+  vec3 direction;    // the segment's
+  bool hit;          // it reached a vertex w
   GiSurface w;
   GiBsdf b;
-  HgDescriptor dw;
-  bool filterVertex = false;
-  float segment = 0.0;
-  if (hit.t >= 0.0) {
-    w = giSurfaceFromHit(hit, direction);
-    b = giMakeBsdf(w.material.baseColor, w.material.metallic, w.material.roughness, w.material.flags);
-    arriving = giDirectLight(w, b, -direction, false, rng);  // NEE alone: no emitter is hit after w
-    filterVertex = giHasDiffuseLobe(w.material);
-    segment = hgLinf(walk.origin, w.position);
-    if (filterVertex) {
+  vec3 arriving;
+  HgDescriptor dw;   // w's cell, where w is a filter vertex
+  bool filterVertex;
+  float segment;     // L∞ length of the segment
+  int slot;          // the fed cell, while its probe is traced
+  HgProbe probe;
+};
+
+HgStep hgStepStart(HgWalk walk) {
+  HgStep st;
+  st.phase = HG_STEP_SEGMENT;
+  st.direction = hgUnpackDirection(walk.direction);
+  st.hit = false;
+  st.arriving = vec3(0.0);
+  st.filterVertex = false;
+  st.segment = 0.0;
+  st.slot = -1;
+  return st;
+}
+
+// What arrived at the walk's vertex goes into the cell it feeds.
+void hgStepInsert(inout HgStep st, HgWalk walk, inout GiRng rng) {
+  st.phase = HG_STEP_CONTINUE;
+  if (st.hit) {
+    st.filterVertex = giHasDiffuseLobe(st.w.material);
+    st.segment = hgLinf(walk.origin, st.w.position);
+    if (st.filterVertex) {
       bool fromCamera = pc.secondaryLod == HG_LOD_CAMERA;
-      dw = hgVertexDescriptor(w.position, w.normal, fromCamera ? giFrame.camera.position : walk.origin,
-                              fromCamera ? 0.0 : walk.travel, pc.secondaryWidthScale, rng);
+      st.dw = hgVertexDescriptor(st.w.position, st.w.normal, fromCamera ? giFrame.camera.position : walk.origin,
+                                 fromCamera ? 0.0 : walk.travel, pc.secondaryWidthScale, rng);
       vec3 cell;
       hgReadCount++;
-      if (hgReadCell(hgIndexHash(dw), hgVerificationKey(dw), cell)) arriving += b.diffuse * cell;
+      if (hgReadCell(hgIndexHash(st.dw), hgVerificationKey(st.dw), cell)) st.arriving += st.b.diffuse * cell;
       else hgReadMissCount++;
     }
-    if (!giKeepSample(arriving, vec3(0.0))) arriving = vec3(0.0);
+    if (!giKeepSample(st.arriving, vec3(0.0))) st.arriving = vec3(0.0);
   }
-  if (walk.key != HG_EMPTY_KEY) {
-    vec3 added = walk.throughput * arriving;
-    hgInsertSample(walk.index, walk.key, added, hgWalkContinues(walk) ? 0u : 1u, hgWalkLod(walk), walk.origin,
-                   direction);
-    if (pc.mode == HG_MODE_ANHPSF && hgWalkDepth(walk) > 1u) hgTransported += giLuminance(added);
+  if (walk.key == HG_EMPTY_KEY) return;
+  vec3 added = walk.throughput * st.arriving;
+  bool needsProbe;
+  st.slot = hgInsertSample(walk.index, walk.key, added, hgWalkContinues(walk) ? 0u : 1u, hgWalkLod(walk), needsProbe);
+  if (pc.mode == HG_MODE_ANHPSF && hgWalkDepth(walk) > 1u) hgTransported += giLuminance(added);
+  if (needsProbe) {
+    st.probe = hgNewCellProbe(walk.origin, st.direction, walk.key);
+    st.phase = HG_STEP_PROBE;
   }
+}
+
+// The walk moves on through one of w's lobes, or ends.
+void hgStepContinue(HgStep st, inout HgWalk walk, inout GiRng rng) {
   uint depth = hgWalkDepth(walk) + 1u;
-  if (hit.t < 0.0) {
+  if (!st.hit) {
     walk.state = 0u;
-    return arriving;
+    return;
   }
-  float glossyChance = filterVertex ? b.specularProbability : 1.0;
+  float glossyChance = st.filterVertex ? st.b.specularProbability : 1.0;
   if (glossyChance > 0.0 && giRandom(rng) < glossyChance) {
     vec3 L, weight;
-    if (!giSpecularSample(b, w.normal, -direction, giRandom2(rng), L, weight) || dot(L, w.geometricNormal) <= 0.0) {
+    if (!giSpecularSample(st.b, st.w.normal, -st.direction, giRandom2(rng), L, weight) ||
+        dot(L, st.w.geometricNormal) <= 0.0) {
       walk.state = 0u;
     } else {
-      walk.origin = giOffsetRay(w.position, w.geometricNormal);
+      walk.origin = giOffsetRay(st.w.position, st.w.geometricNormal);
       walk.direction = hgPackDirection(L);
       walk.throughput *= weight / glossyChance;
-      walk.travel += segment;  // unfiltered travel, for every secondary-LOD rule that counts travel
+      walk.travel += st.segment;  // unfiltered travel, for every secondary-LOD rule that counts travel
       walk.state = hgWalkState(depth, true, hgWalkLod(walk));
     }
   } else {
-    walk = hgWalkFrom(w, dw, true, depth, pc.secondaryLod == HG_LOD_PATH ? walk.travel + segment : 0.0, rng);
+    walk = hgWalkFrom(st.w, st.dw, true, depth, pc.secondaryLod == HG_LOD_PATH ? walk.travel + st.segment : 0.0, rng);
   }
-  return arriving;
+}
+
+uint hgStepNext(inout HgStep st, inout HgWalk walk, inout GiRng rng, out GiRay ray, out GiNeeRequest nee) {
+  if (st.phase == HG_STEP_SEGMENT) {
+    ray = giClosestRay(walk.origin, st.direction, 0.0, GI_FLT_MAX);
+    st.phase = HG_STEP_WAITING;
+    return GI_STEP_TRACE;
+  }
+  if (st.phase == HG_STEP_NEE) {
+    nee = GiNeeRequest(st.w, st.b, -st.direction, false, rng);  // NEE alone: no emitter is hit after w
+    st.phase = HG_STEP_WAITING;
+    return GI_STEP_NEE;
+  }
+  if (st.phase == HG_STEP_INSERT) hgStepInsert(st, walk, rng);
+  if (st.phase == HG_STEP_PROBE) {
+    const uint step = hgProbeNext(st.probe, ray, nee);
+    if (step != GI_STEP_DONE) return step;
+    hgStoreProbe(st.slot, st.probe);
+    st.phase = HG_STEP_CONTINUE;
+  }
+  if (st.phase == HG_STEP_CONTINUE) {
+    hgStepContinue(st, walk, rng);
+    st.phase = HG_STEP_DONE;
+  }
+  return GI_STEP_DONE;
+}
+
+void hgStepTakeHit(inout HgStep st, GiHit hit, GiSurface s) {
+  if (st.phase == HG_STEP_PROBE) {
+    hgProbeTakeHit(st.probe, hit, s);
+    return;
+  }
+  st.hit = hit.t >= 0.0;
+  st.phase = HG_STEP_INSERT;
+  if (!st.hit) return;
+  st.w = s;
+  st.b = giMakeBsdf(s.material.baseColor, s.material.metallic, s.material.roughness, s.material.flags);
+  st.phase = HG_STEP_NEE;
+}
+
+// NEE's light, and the random state after it: the walk's, unless the probe's (its own) asked.
+void hgStepTakeNee(inout HgStep st, vec3 light, GiRng after, inout GiRng rng) {
+  if (st.phase == HG_STEP_PROBE) {
+    hgProbeTakeNee(st.probe, light);
+    return;
+  }
+  rng = after;
+  st.arriving = light;
+  st.phase = HG_STEP_INSERT;
 }
 
 // Adds this invocation's telemetry to the frame's, one atomic per subgroup and counter.

@@ -3,6 +3,9 @@
 // the sky (sky.glsl), each with MIS against BSDF sampling. Where a scene has
 // both, either is picked with probability 1/2 (one-sample MIS between them),
 // so NEE traces one traversal for them, not two.
+// NEE is a ray machine (GiNee): it hands out its shadow rays one at a time,
+// so the program that runs it traces them through its one giTrace call
+// (trace.glsl says why).
 // Specialisation constants (scene.glsl) drop the loops a scene does not need.
 #ifndef GI_LIGHTS_GLSL
 #define GI_LIGHTS_GLSL
@@ -77,42 +80,42 @@ bool giPrepareEmissive(GiSurface s, GiBsdf b, vec3 V, bool withMis, float select
   return true;
 }
 
-vec3 giSamplePunctual(GiSurface s, GiBsdf b, vec3 V) {
-  vec3 sum = vec3(0.0);
-  vec3 origin = giOffsetRay(s.position, s.geometricNormal);
-  for (uint i = 0u; i < sceneConstants.punctualLightCount; ++i) {
-    GpuPunctualLight l = scenePunctualLights[i];
-    vec3 L;
-    float tMax;
-    vec3 radiance = l.intensity;  // becomes irradiance at the receiver (W/m²)
-    if (l.type == PUNCTUAL_DIRECTIONAL) {
-      L = -l.direction;
-      tMax = GI_FLT_MAX;
-    } else {
-      vec3 d = l.position - origin;
-      float dist2 = dot(d, d);
-      if (!(dist2 > 0.0)) continue;
-      float dist = sqrt(dist2);
-      L = d / dist;
-      tMax = dist;
-      radiance /= dist2;
-      if (l.range > 0.0) {  // KHR_lights_punctual's recommended smooth range window
-        float r = dist / l.range;
-        radiance *= clamp(1.0 - r * r * r * r, 0.0, 1.0);
-      }
-      if (l.type == PUNCTUAL_SPOT) {
-        float cd = dot(l.direction, -L);
-        float scale = 1.0 / max(l.cosInner - l.cosOuter, 1e-4);
-        float t = clamp((cd - l.cosOuter) * scale, 0.0, 1.0);
-        radiance *= t * t;
-      }
+// Punctual light i's shadow ray; false when it cannot light s.
+bool giPreparePunctual(uint i, GiSurface s, GiBsdf b, vec3 V, out GiShadowRay ray) {
+  GpuPunctualLight l = scenePunctualLights[i];
+  ray.origin = giOffsetRay(s.position, s.geometricNormal);
+  vec3 L;
+  float tMax;
+  vec3 radiance = l.intensity;  // becomes irradiance at the receiver (W/m²)
+  if (l.type == PUNCTUAL_DIRECTIONAL) {
+    L = -l.direction;
+    tMax = GI_FLT_MAX;
+  } else {
+    vec3 d = l.position - ray.origin;
+    float dist2 = dot(d, d);
+    if (!(dist2 > 0.0)) return false;
+    float dist = sqrt(dist2);
+    L = d / dist;
+    tMax = dist;
+    radiance /= dist2;
+    if (l.range > 0.0) {  // KHR_lights_punctual's recommended smooth range window
+      float r = dist / l.range;
+      radiance *= clamp(1.0 - r * r * r * r, 0.0, 1.0);
     }
-    if (dot(s.geometricNormal, L) <= 0.0) continue;
-    vec3 f = giBsdfEval(b, s.normal, V, L);
-    if (giMaxComponent(f * radiance) <= 0.0) continue;
-    if (giTraceVisible(origin, L, 0.0, tMax)) sum += f * radiance;
+    if (l.type == PUNCTUAL_SPOT) {
+      float cd = dot(l.direction, -L);
+      float scale = 1.0 / max(l.cosInner - l.cosOuter, 1e-4);
+      float t = clamp((cd - l.cosOuter) * scale, 0.0, 1.0);
+      radiance *= t * t;
+    }
   }
-  return sum;
+  if (dot(s.geometricNormal, L) <= 0.0) return false;
+  vec3 f = giBsdfEval(b, s.normal, V, L);
+  if (giMaxComponent(f * radiance) <= 0.0) return false;
+  ray.direction = L;
+  ray.tMax = tMax;
+  ray.contribution = f * radiance;
+  return true;
 }
 
 // Probability that the area-light shadow ray goes to the sky: 1/2 where
@@ -131,22 +134,62 @@ float giEmissiveNeePdf(GiSurface s, uint geometry, vec3 from) {
 }
 float giSkyNeePdf(vec3 dir) { return giSkySelection(true) * giSkyLightPdf(dir); }
 
-// Reflected direct light at s towards V: f·cos·L / pdf for all punctual
-// lights and one area-light sample. withMis as in giPrepareEmissive.
-vec3 giDirectLight(GiSurface s, GiBsdf b, vec3 V, bool withMis, inout GiRng rng) {
-  vec3 sum = vec3(0.0);
-  if (GI_SCENE_HAS_PUNCTUAL) sum += giSamplePunctual(s, b, V);
+// The area lights' one shadow ray (giSkySelection shares it between the sky
+// and the emissive triangles); false when there is none or it cannot light s.
+bool giPrepareArea(GiSurface s, GiBsdf b, vec3 V, bool withMis, inout GiRng rng, out GiShadowRay ray) {
   bool emissive = GI_SCENE_HAS_EMISSIVE && sceneConstants.emissiveTriangleCount > 0u;
   float skyChance = giSkySelection(withMis);
-  if (emissive || skyChance > 0.0) {
-    // Scenes without a sky draw no extra random number: their paths are as before.
-    bool pickSky = skyChance >= 1.0 || (skyChance > 0.0 && giRandom(rng) < skyChance);
-    GiShadowRay ray;
-    bool ready = pickSky ? giPrepareSky(s, b, V, withMis, skyChance, rng, ray)
-                         : giPrepareEmissive(s, b, V, withMis, 1.0 - skyChance, rng, ray);
-    if (ready && giTraceVisible(ray.origin, ray.direction, 0.0, ray.tMax)) sum += ray.contribution;
-  }
-  return sum;
+  if (!emissive && !(skyChance > 0.0)) return false;
+  // Scenes without a sky draw no extra random number: their paths are as before.
+  bool pickSky = skyChance >= 1.0 || (skyChance > 0.0 && giRandom(rng) < skyChance);
+  return pickSky ? giPrepareSky(s, b, V, withMis, skyChance, rng, ray)
+                 : giPrepareEmissive(s, b, V, withMis, 1.0 - skyChance, rng, ray);
 }
+
+// Next-event estimation at one surface as a ray machine: giNeeNextRay hands
+// out the shadow rays (each punctual light, then the area-light sample) one
+// at a time, giNeeTakeHit takes each one's answer. `light` is then the
+// reflected direct light towards V: f·cos·L / pdf summed over them.
+struct GiNee {
+  uint next;     // the next light to try: punctual 0..count-1, then the area lights; done past them
+  vec3 light;    // what the unblocked shadow rays brought so far
+  vec3 pending;  // what the ray handed out last brings if unblocked
+};
+
+GiNee giNeeStart() { return GiNee(0u, vec3(0.0), vec3(0.0)); }
+
+// The next shadow ray; false when NEE at s is done. withMis as in giPrepareEmissive.
+bool giNeeNextRay(inout GiNee nee, GiSurface s, GiBsdf b, vec3 V, bool withMis, inout GiRng rng, out GiRay ray) {
+  const uint punctual = GI_SCENE_HAS_PUNCTUAL ? sceneConstants.punctualLightCount : 0u;
+  GiShadowRay shadow;
+  bool ready = false;
+  while (!ready && nee.next <= punctual) {
+    const uint i = nee.next++;
+    ready = i < punctual ? giPreparePunctual(i, s, b, V, shadow) : giPrepareArea(s, b, V, withMis, rng, shadow);
+  }
+  if (!ready) return false;
+  nee.pending = shadow.contribution;
+  ray = giShadowRay(shadow.origin, shadow.direction, shadow.tMax);
+  return true;
+}
+
+void giNeeTakeHit(inout GiNee nee, GiHit hit) {
+  if (hit.t < 0.0) nee.light += nee.pending;
+}
+
+// What a ray task (ray_loop.glsl) asks of the ray loop at each step.
+#define GI_STEP_DONE 0u   // the task is finished
+#define GI_STEP_TRACE 1u  // trace the ray it gave; the hit comes back through giTaskTakeHit
+#define GI_STEP_NEE 2u    // run NEE as it asked; the light comes back through giTaskTakeNee
+
+// NEE as a task asks for it: at s (BSDF b) towards V, with the task's random
+// state, which NEE advances and hands back with the light.
+struct GiNeeRequest {
+  GiSurface s;
+  GiBsdf b;
+  vec3 V;
+  bool withMis;
+  GiRng rng;
+};
 
 #endif

@@ -16,66 +16,114 @@ struct GiPathSample {
   vec3 indirectDemod;  // the same light with vertex 0's BSDF replaced by a white Lambertian
 };
 
-GiPathSample giTracePathFromSurface(GiSurface vertex0, vec3 V, uint maxBounces, uint russianRouletteStart, inout GiRng rng) {
-  GiPathSample r;
-  r.direct = r.indirect = r.indirectDemod = vec3(0.0);
-  GiSurface s = vertex0;
-  vec3 throughput = vec3(1.0);
-  vec3 throughputDemod = vec3(1.0);
-  float previousBsdfPdf = 0.0;
-  vec3 origin = vec3(0.0), direction = vec3(0.0);
-  for (uint depth = 0u;; ++depth) {
-    if (depth > 0u) {
-      GiHit hit = giTraceClosest(origin, direction, 0.0, GI_FLT_MAX);
-      if (hit.t < 0.0) {  // the sky, weighed against its NEE (giPrepareSky)
-        if (GI_SCENE_HAS_SKY) {
-          vec3 c = giSkyRadiance(direction) * giPowerHeuristic(previousBsdfPdf, giSkyNeePdf(direction));
-          if (depth == 1u) r.direct += throughput * c;
-          else {
-            r.indirect += throughput * c;
-            r.indirectDemod += throughputDemod * c;
-          }
-        }
-        break;
-      }
-      s = giSurfaceFromHit(hit, direction);
-      if (s.frontFace && giMaxComponent(s.material.emission) > 0.0) {
-        float w = GI_SCENE_HAS_EMISSIVE ? giPowerHeuristic(previousBsdfPdf, giEmissiveNeePdf(s, hit.geometry, origin)) : 1.0;
-        vec3 c = s.material.emission * w;
-        if (depth == 1u) r.direct += throughput * c;
-        else {
-          r.indirect += throughput * c;
-          r.indirectDemod += throughputDemod * c;
-        }
-      }
-      if (depth > maxBounces) break;
-      V = -direction;
-    }
-    GiBsdf b = giMakeBsdf(s.material.baseColor, s.material.metallic, s.material.roughness, s.material.flags);
-    vec3 Ld = giDirectLight(s, b, V, true, rng);
-    if (depth == 0u) r.direct += Ld;
-    else {
-      r.indirect += throughput * Ld;
-      r.indirectDemod += throughputDemod * Ld;
-    }
-    vec3 L, weight;
-    float pdf;
-    vec3 u = vec3(giRandom2(rng), giRandom(rng));
-    if (!giBsdfSample(b, s.normal, V, u, L, weight, pdf)) break;
-    if (dot(L, s.geometricNormal) <= 0.0) break;  // would pass through the surface
-    throughputDemod = depth == 0u ? vec3(max(dot(s.normal, L), 0.0) * GI_INV_PI / pdf) : throughputDemod * weight;
-    throughput *= weight;
-    if (depth + 1u >= russianRouletteStart) {
-      float survive = clamp(giMaxComponent(throughput), 0.05, 0.95);
-      if (giRandom(rng) >= survive) break;
-      throughput /= survive;
-      throughputDemod /= survive;
-    }
-    previousBsdfPdf = pdf;
-    origin = giOffsetRay(s.position, s.geometricNormal);
-    direction = L;
+// The path as a part of a ray task (ray_loop.glsl): giPathNext asks for NEE
+// at the vertex, then for the BSDF-sampled continuation; giPathTakeNee and
+// giPathTakeHit take their answers. `result` is final once giPathNext says
+// GI_STEP_DONE. Random numbers are drawn in the order of a plain loop (NEE,
+// the BSDF sample, Russian roulette) from the task's `rng`.
+#define GI_PATH_NEE 0u       // NEE at s is next
+#define GI_PATH_WAITING 1u   // for NEE's light or the continuation's hit
+#define GI_PATH_CONTINUE 2u  // the continuation ray is next
+#define GI_PATH_DONE 3u
+
+struct GiPath {
+  GiPathSample result;
+  GiSurface s;     // the vertex being shaded (vertex `depth`)
+  GiBsdf b;
+  vec3 V;          // towards the previous vertex
+  vec3 throughput;
+  vec3 throughputDemod;
+  float previousBsdfPdf;
+  vec3 origin;     // the continuation ray
+  vec3 direction;
+  uint depth;
+  uint maxBounces;
+  uint russianRouletteStart;
+  uint phase;      // GI_PATH_*
+};
+
+GiPath giPathStart(GiSurface vertex0, vec3 V, uint maxBounces, uint russianRouletteStart) {
+  GiPath p;
+  p.result.direct = p.result.indirect = p.result.indirectDemod = vec3(0.0);
+  p.s = vertex0;
+  p.b = giMakeBsdf(vertex0.material.baseColor, vertex0.material.metallic, vertex0.material.roughness,
+                   vertex0.material.flags);
+  p.V = V;
+  p.throughput = p.throughputDemod = vec3(1.0);
+  p.previousBsdfPdf = 0.0;
+  p.origin = p.direction = vec3(0.0);
+  p.depth = 0u;
+  p.maxBounces = maxBounces;
+  p.russianRouletteStart = russianRouletteStart;
+  p.phase = GI_PATH_NEE;
+  return p;
+}
+
+uint giPathNext(inout GiPath p, GiRng rng, out GiRay ray, out GiNeeRequest nee) {
+  if (p.phase == GI_PATH_NEE) {
+    nee = GiNeeRequest(p.s, p.b, p.V, true, rng);
+    p.phase = GI_PATH_WAITING;
+    return GI_STEP_NEE;
   }
-  return r;
+  if (p.phase == GI_PATH_CONTINUE) {
+    ray = giClosestRay(p.origin, p.direction, 0.0, GI_FLT_MAX);
+    p.phase = GI_PATH_WAITING;
+    return GI_STEP_TRACE;
+  }
+  return GI_STEP_DONE;
+}
+
+// Light reflected at vertex `depth` (by NEE, or an emitter seen from it): direct at vertex 0, else indirect.
+void giPathAdd(inout GiPath p, vec3 light, bool atVertex0) {
+  if (atVertex0) p.result.direct += p.throughput * light;  // at vertex 0 the throughput is still 1
+  else {
+    p.result.indirect += p.throughput * light;
+    p.result.indirectDemod += p.throughputDemod * light;
+  }
+}
+
+// NEE's light at the vertex; then the BSDF sample that continues the path.
+void giPathTakeNee(inout GiPath p, vec3 light, inout GiRng rng) {
+  giPathAdd(p, light, p.depth == 0u);
+  vec3 L, weight;
+  float pdf;
+  vec3 u = vec3(giRandom2(rng), giRandom(rng));
+  p.phase = GI_PATH_DONE;
+  if (!giBsdfSample(p.b, p.s.normal, p.V, u, L, weight, pdf)) return;
+  if (dot(L, p.s.geometricNormal) <= 0.0) return;  // would pass through the surface
+  p.throughputDemod = p.depth == 0u ? vec3(max(dot(p.s.normal, L), 0.0) * GI_INV_PI / pdf) : p.throughputDemod * weight;
+  p.throughput *= weight;
+  if (p.depth + 1u >= p.russianRouletteStart) {
+    float survive = clamp(giMaxComponent(p.throughput), 0.05, 0.95);
+    if (giRandom(rng) >= survive) return;
+    p.throughput /= survive;
+    p.throughputDemod /= survive;
+  }
+  p.previousBsdfPdf = pdf;
+  p.origin = giOffsetRay(p.s.position, p.s.geometricNormal);
+  p.direction = L;
+  p.phase = GI_PATH_CONTINUE;
+}
+
+// The continuation's hit: vertex depth + 1 (light found there has taken `depth` bounces).
+void giPathTakeHit(inout GiPath p, GiHit hit, GiSurface s) {
+  p.depth++;
+  p.phase = GI_PATH_DONE;
+  if (hit.t < 0.0) {  // the sky, weighed against its NEE (giPrepareSky)
+    if (GI_SCENE_HAS_SKY)
+      giPathAdd(p, giSkyRadiance(p.direction) * giPowerHeuristic(p.previousBsdfPdf, giSkyNeePdf(p.direction)),
+                p.depth == 1u);
+    return;
+  }
+  p.s = s;
+  if (s.frontFace && giMaxComponent(s.material.emission) > 0.0) {
+    float w = GI_SCENE_HAS_EMISSIVE ? giPowerHeuristic(p.previousBsdfPdf, giEmissiveNeePdf(s, hit.geometry, p.origin)) : 1.0;
+    giPathAdd(p, s.material.emission * w, p.depth == 1u);
+  }
+  if (p.depth > p.maxBounces) return;
+  p.V = -p.direction;
+  p.b = giMakeBsdf(s.material.baseColor, s.material.metallic, s.material.roughness, s.material.flags);
+  p.phase = GI_PATH_NEE;
 }
 
 #endif

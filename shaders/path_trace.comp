@@ -27,27 +27,63 @@ struct PathResult {
   float depth;
 };
 
-PathResult tracePath(uvec2 pixel, uint sampleIndex) {
+// One sample as a ray task (ray_loop.glsl): the primary ray, then the path from its hit.
+struct GiTask {
   PathResult r;
-  r.direct = r.indirect = r.indirectDemod = r.albedo = r.normal = vec3(0.0);
-  r.depth = 0.0;
-  GiRng rng = giRngCreate(pixel, sampleIndex, pc.seed, GI_STREAM_REFERENCE);
-  vec2 jitter = pc.pixelJitter != 0u ? giRandom2(rng) : vec2(0.5);
-  vec3 direction = giCameraRayDirection(camera, vec2(pixel) + jitter);
-  GiHit hit = giTraceClosest(camera.position, direction, 0.0, GI_FLT_MAX);
-  if (hit.t < 0.0) {
-    r.direct = giSkyRadiance(direction);  // the background
-    return r;
+  GiPath path;
+  GiRng rng;
+  vec3 primaryDirection;
+  uint phase;  // 0: the primary ray is next, 1: it is out, 2: the path
+};
+
+uint giTaskNext(inout GiTask task, out GiRay ray, out GiNeeRequest nee) {
+  if (task.phase == 0u) {
+    ray = giClosestRay(camera.position, task.primaryDirection, 0.0, GI_FLT_MAX);
+    task.phase = 1u;
+    return GI_STEP_TRACE;
   }
-  GiSurface s = giSurfaceFromHit(hit, direction);
-  r.albedo = s.material.baseColor;
-  r.normal = s.normal;
-  r.depth = giViewDepth(camera, s.position);
-  GiPathSample p = giTracePathFromSurface(s, -direction, pc.maxBounces, pc.russianRouletteStart, rng);
-  r.direct = s.material.emission + p.direct;
-  r.indirect = p.indirect;
-  r.indirectDemod = p.indirectDemod;
-  return r;
+  return task.phase == 2u ? giPathNext(task.path, task.rng, ray, nee) : GI_STEP_DONE;
+}
+
+void giTaskTakeHit(inout GiTask task, GiHit hit, GiSurface s) {
+  if (task.phase == 2u) {
+    giPathTakeHit(task.path, hit, s);
+    return;
+  }
+  if (hit.t < 0.0) {
+    task.r.direct = giSkyRadiance(task.primaryDirection);  // the background
+    return;
+  }
+  task.r.albedo = s.material.baseColor;
+  task.r.normal = s.normal;
+  task.r.depth = giViewDepth(camera, s.position);
+  task.r.direct = s.material.emission;
+  task.path = giPathStart(s, -task.primaryDirection, pc.maxBounces, pc.russianRouletteStart);
+  task.phase = 2u;
+}
+
+void giTaskTakeNee(inout GiTask task, vec3 light, GiRng rng) {
+  task.rng = rng;
+  giPathTakeNee(task.path, light, task.rng);
+}
+
+#include "ray_loop.glsl"
+
+PathResult tracePath(uvec2 pixel, uint sampleIndex) {
+  GiTask task;
+  task.r.direct = task.r.indirect = task.r.indirectDemod = task.r.albedo = task.r.normal = vec3(0.0);
+  task.r.depth = 0.0;
+  task.rng = giRngCreate(pixel, sampleIndex, pc.seed, GI_STREAM_REFERENCE);
+  vec2 jitter = pc.pixelJitter != 0u ? giRandom2(task.rng) : vec2(0.5);
+  task.primaryDirection = giCameraRayDirection(camera, vec2(pixel) + jitter);
+  task.phase = 0u;
+  giRunTask(task);
+  if (task.phase == 2u) {
+    task.r.direct += task.path.result.direct;
+    task.r.indirect = task.path.result.indirect;
+    task.r.indirectDemod = task.path.result.indirectDemod;
+  }
+  return task.r;
 }
 
 // The first dispatch of a render overwrites the sums, so no clear pass is needed.

@@ -1,6 +1,14 @@
-// The one trace interface. Every ray in every shader goes through
-// giTraceClosest (nearest hit) or giTraceVisible (any hit = occluded); the
-// backend is ray queries, or with GI_TRACE_COMPUTE our BVH (trace_bvh.glsl).
+// The one trace interface. Every ray in every shader goes through giTrace
+// (a GiRay: nearest hit, or any hit for a shadow ray); the backend is ray
+// queries, or with GI_TRACE_COMPUTE our BVH (trace_bvh.glsl).
+//
+// Each call site of giTrace inlines a whole traversal (Mesa inlines every
+// function; lavapipe compiles at a program's first dispatch), so a program's
+// compile time grows with its call sites, faster than linearly: the path
+// programs are written as ray machines (lights.glsl GiNee, path.glsl GiPath,
+// hpsf_probe.glsl, hpsf_walk.glsl) whose rays all go through one giTrace call
+// in the program's main loop. giTraceClosest and giTraceVisible are one-ray
+// conveniences for programs that trace a single ray.
 // Alpha-masked geometry is non-opaque in the BLAS; its candidates are accepted
 // only where the base-colour alpha reaches the material's cutoff.
 #ifndef GI_TRACE_GLSL
@@ -17,6 +25,20 @@ struct GiHit {
 
 // Rays traced by this invocation; shaders add it to their counters.
 uint giRaysTraced = 0u;
+
+// A ray for giTrace: the segment [tMin, tMax] along a unit direction.
+struct GiRay {
+  vec3 origin;
+  float tMin;
+  vec3 direction;
+  float tMax;
+  bool anyHit;  // a shadow ray: any hit ends the search; giTrace's hit then says only hit or miss
+};
+
+GiRay giClosestRay(vec3 origin, vec3 direction, float tMin, float tMax) {
+  return GiRay(origin, tMin, direction, tMax, false);
+}
+GiRay giShadowRay(vec3 origin, vec3 direction, float tMax) { return GiRay(origin, 0.0, direction, tMax, true); }
 
 GiHit giNoHit() {
   GiHit hit;
@@ -55,12 +77,13 @@ void giResolveCandidates(rayQueryEXT query) {
   }
 }
 
-GiHit giTraceClosest(vec3 origin, vec3 direction, float tMin, float tMax) {
+GiHit giTrace(GiRay ray) {
   giRaysTraced++;
   rayQueryEXT query;
   // Without alpha-masked geometry every hit is final: let traversal skip the candidate loop.
-  uint flags = GI_SCENE_HAS_ALPHA_MASK ? gl_RayFlagsNoneEXT : gl_RayFlagsOpaqueEXT;
-  rayQueryInitializeEXT(query, sceneTlas, flags, 0xff, origin, tMin, direction, tMax);
+  uint flags = (ray.anyHit ? gl_RayFlagsTerminateOnFirstHitEXT : gl_RayFlagsNoneEXT) |
+               (GI_SCENE_HAS_ALPHA_MASK ? gl_RayFlagsNoneEXT : gl_RayFlagsOpaqueEXT);
+  rayQueryInitializeEXT(query, sceneTlas, flags, 0xff, ray.origin, ray.tMin, ray.direction, ray.tMax);
   giResolveCandidates(query);
   GiHit hit = giNoHit();
   if (rayQueryGetIntersectionTypeEXT(query, true) == gl_RayQueryCommittedIntersectionTriangleEXT) {
@@ -73,17 +96,16 @@ GiHit giTraceClosest(vec3 origin, vec3 direction, float tMin, float tMax) {
   }
   return hit;
 }
+#endif  // GI_TRACE_COMPUTE
 
+// One-ray conveniences (each call inlines a traversal: see the top of the file).
+GiHit giTraceClosest(vec3 origin, vec3 direction, float tMin, float tMax) {
+  return giTrace(giClosestRay(origin, direction, tMin, tMax));
+}
 // True when nothing blocks the segment [tMin, tMax] along the ray.
 bool giTraceVisible(vec3 origin, vec3 direction, float tMin, float tMax) {
-  giRaysTraced++;
-  rayQueryEXT query;
-  uint flags = gl_RayFlagsTerminateOnFirstHitEXT | (GI_SCENE_HAS_ALPHA_MASK ? gl_RayFlagsNoneEXT : gl_RayFlagsOpaqueEXT);
-  rayQueryInitializeEXT(query, sceneTlas, flags, 0xff, origin, tMin, direction, tMax);
-  giResolveCandidates(query);
-  return rayQueryGetIntersectionTypeEXT(query, true) == gl_RayQueryCommittedIntersectionNoneEXT;
+  return giTrace(GiRay(origin, tMin, direction, tMax, true)).t < 0.0;
 }
-#endif  // GI_TRACE_COMPUTE
 
 // Offsets a ray origin off a surface by a few float ULPs along the normal, so
 // secondary rays neither re-hit their own triangle nor skip thin geometry, at

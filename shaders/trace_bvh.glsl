@@ -192,15 +192,9 @@ GiHit giBvhTrace(vec3 origin, vec3 direction, float tMin, float tMax, bool anyHi
   return hit;
 }
 
-GiHit giTraceClosest(vec3 origin, vec3 direction, float tMin, float tMax) {
+GiHit giTrace(GiRay ray) {
   giRaysTraced++;
-  return giBvhTrace(origin, direction, tMin, tMax, false);
-}
-
-// True when nothing blocks the segment [tMin, tMax] along the ray.
-bool giTraceVisible(vec3 origin, vec3 direction, float tMin, float tMax) {
-  giRaysTraced++;
-  return giBvhTrace(origin, direction, tMin, tMax, true).t < 0.0;
+  return giBvhTrace(ray.origin, ray.direction, ray.tMin, ray.tMax, ray.anyHit);
 }
 
 #endif

@@ -1,0 +1,55 @@
+// The one ray loop of a path program. trace.glsl says why a program traces
+// through one giTrace call: here every ray of the program's task is traced,
+// every closest hit becomes a shading point and every NEE asked for runs its
+// shadow rays, each written once, so the traversal, the hit's surface and
+// NEE's light sampling are compiled once per program whatever the task does.
+//
+// Include after defining the task: a struct GiTask (a state machine over the
+// program's work) and
+//   uint giTaskNext(inout GiTask task, out GiRay ray, out GiNeeRequest nee)
+//       returns GI_STEP_TRACE (trace `ray`), GI_STEP_NEE (NEE as `nee` says)
+//       or GI_STEP_DONE (lights.glsl);
+//   void giTaskTakeHit(inout GiTask task, GiHit hit, GiSurface s)
+//       the hit of the ray it gave; `s` is its shading point where the ray
+//       was a closest-hit ray and hit (undefined otherwise);
+//   void giTaskTakeNee(inout GiTask task, vec3 light, GiRng rng)
+//       NEE's reflected light towards nee.V and the random state after it.
+// Each of the three is called at one place below, so the task's own code is
+// compiled once too, provided it calls each of its parts at one place.
+#ifndef GI_RAY_LOOP_GLSL
+#define GI_RAY_LOOP_GLSL
+#include "lights.glsl"
+
+void giRunTask(inout GiTask task) {
+  GiNeeRequest at;
+  GiNee nee = giNeeStart();
+  bool neeActive = false;
+  for (;;) {
+    GiRay ray;
+    if (neeActive) {
+      neeActive = giNeeNextRay(nee, at.s, at.b, at.V, at.withMis, at.rng, ray);
+      if (!neeActive) {
+        giTaskTakeNee(task, nee.light, at.rng);
+        continue;
+      }
+    } else {
+      const uint step = giTaskNext(task, ray, at);
+      if (step == GI_STEP_DONE) break;
+      if (step == GI_STEP_NEE) {
+        nee = giNeeStart();
+        neeActive = true;
+        continue;
+      }
+    }
+    const GiHit hit = giTrace(ray);
+    if (neeActive) {
+      giNeeTakeHit(nee, hit);
+      continue;
+    }
+    GiSurface s;
+    if (!ray.anyHit && hit.t >= 0.0) s = giSurfaceFromHit(hit, ray.direction);
+    giTaskTakeHit(task, hit, s);
+  }
+}
+
+#endif
