@@ -26,8 +26,9 @@ layout(location = GBUFFER_MOTION) out vec2 outMotion;
 layout(location = GBUFFER_VIEWZ) out float outViewZ;
 
 void main() {
-  MaterialSample m = sceneMaterial(sceneGeometries[pc.geometry].material, inUv);
-  if ((m.flags & MATERIAL_FLAG_ALPHA_MASK) != 0u && m.alpha < sceneMaterials[sceneGeometries[pc.geometry].material].alphaCutoff)
+  const uint material = sceneGeometry(pc.geometry).material;
+  MaterialSample m = sceneMaterial(material, inUv);
+  if ((m.flags & MATERIAL_FLAG_ALPHA_MASK) != 0u && m.alpha < sceneMaterialData(material).alphaCutoff)
     discard;
   // Orientation as in surface.glsl: the triangle normal, agreeing with the
   // interpolated normal, decides the emitting side; shading faces the camera.

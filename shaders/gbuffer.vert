@@ -1,5 +1,5 @@
 #version 460
-// G-buffer raster, vertex stage: pulls vertices from the scene's storage
+// G-buffer raster, vertex stage: pulls vertices from the scene's texel
 // buffers (no vertex input state), one draw per (instance, geometry).
 #extension GL_GOOGLE_include_directive : require
 #define SCENE_NO_TLAS
@@ -16,14 +16,15 @@ layout(location = 3) out vec4 outPreviousClip;
 layout(location = 4) out vec4 outClip;
 
 void main() {
-  GpuGeometry g = sceneGeometries[pc.geometry];
-  uint vertex = sceneIndices[g.firstIndex + uint(gl_VertexIndex)] + g.vertexOffset;
-  GpuInstance inst = sceneInstances[pc.instance];
-  vec4 world = inst.worldFromObject * vec4(scenePositions[vertex], 1.0);
+  GpuGeometry g = sceneGeometry(pc.geometry);
+  uint vertex = sceneIndex(g.firstIndex + uint(gl_VertexIndex)) + g.vertexOffset;
+  GpuInstance inst = sceneInstance(pc.instance);
+  vec3 position = scenePosition(vertex);
+  vec4 world = inst.worldFromObject * vec4(position, 1.0);
   outWorldPosition = world.xyz;
-  outNormal = mat3(inst.normalWorldFromObject) * sceneNormals[vertex];
-  outUv = sceneUvs[vertex];
-  outPreviousClip = camera.previousClipFromWorld * (inst.previousWorldFromObject * vec4(scenePositions[vertex], 1.0));
+  outNormal = mat3(inst.normalWorldFromObject) * sceneNormal(vertex);
+  outUv = sceneUvAt(vertex);
+  outPreviousClip = camera.previousClipFromWorld * (inst.previousWorldFromObject * vec4(position, 1.0));
   outClip = camera.clipFromWorld * world;
   gl_Position = outClip;
 }

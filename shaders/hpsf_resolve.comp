@@ -8,27 +8,9 @@
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_shader_atomic_int64 : require
 #include "hpsf.glsl"
-#include "hpsf_probe.glsl"
 
 layout(local_size_x = 64) in;
 layout(push_constant, scalar) uniform Push { HgPush pc; };
-
-// A cell's probe, re-traced as a ray task (ray_loop.glsl).
-struct GiTask {
-  HgProbe probe;
-};
-uint giTaskNext(inout GiTask task, out GiRay ray, out GiNeeRequest nee) { return hgProbeNext(task.probe, ray, nee); }
-void giTaskTakeHit(inout GiTask task, GiHit hit, GiSurface s) { hgProbeTakeHit(task.probe, hit, s); }
-void giTaskTakeNee(inout GiTask task, vec3 light, GiRng rng) { hgProbeTakeNee(task.probe, light); }
-#include "ray_loop.glsl"
-
-// What the cell's probe sees now: its hit distance and NEE light. Called at one place.
-void hgRetraceProbe(HgCell c, uint key, out float distance_, out float light) {
-  GiTask task = GiTask(hgProbeStart(c.probeOrigin, hgUnpackDirection(c.probeDirection), key));
-  giRunTask(task);
-  distance_ = task.probe.distance_;
-  light = task.probe.light;
-}
 
 // Strict eviction (Meijer §4.2.2): the cell's sums are this frame's samples
 // plus everything its key held in the last frame's table, written back so
@@ -93,7 +75,7 @@ vec3 frameMean(HgAccum a) {
 // `recent` mean over the last historySamples samples only; the pixel shows
 // the long one. The transported light is a little noisier, and it is
 // averaged again in the receiving cell.
-void resolveAging(uint slot, inout uint live, inout uint evicted, inout uint reset) {
+void resolveAging(uint slot, inout uint live, inout uint evicted) {
   uint key = hgKeys[slot];
   if (key == HG_EMPTY_KEY) return;
   if (key == HG_TOMBSTONE_KEY) {
@@ -109,46 +91,14 @@ void resolveAging(uint slot, inout uint live, inout uint evicted, inout uint res
   float cap = float(pc.historyCap);
   float recentCap = cap;
   if (pc.historySamples > 0u && a.count > 0u) recentCap = clamp(float(pc.historySamples) / float(a.count), 1.0, cap);
-  // Stale radiance: every validationInterval frames (staggered over cells)
-  // the probe is re-traced. If the cell's mean moved by Δ, a history of n
-  // frames carries a bias of about Δ while its noise is σ²/n (σ² the variance
-  // of one frame's mean), so the history is cut to n = σ²/Δ² frames, where
-  // bias and noise match (A-SVGF's temporal gradients, Schied et al. 2018,
-  // weighed against the cell's noise rather than its value). A change lost in
-  // the noise keeps the history; a shadow that moved across the probe
-  // restarts it. Resetting on any change cost Conference accuracy: one of its
-  // four lights moving changed every probe that picked that light.
-  bool hasProbe = pc.validationInterval > 0u && (c.probeDistance != 0.0 || c.probeLight != 0.0);
-  bool validate = hasProbe && c.frames > 0.0 && (slot + pc.frameIndex) % pc.validationInterval == 0u;
-  float distance_ = c.probeDistance, light = c.probeLight;
-  if (pc.forgetLight != 0u ? hasProbe : validate) hgRetraceProbe(c, key, distance_, light);
+  // Stale radiance: hpsf_validate.comp, before this pass, cut histories the probes found stale.
   if (pc.forgetLight != 0u) {
-    // The engine says the lights changed: the history goes, and every probe
-    // learns the new light now (so that its next check does not cut again).
-    // The cell keeps its key and its probe; until this frame's samples (if
-    // any) restart its mean, it is not read.
-    c.probeDistance = distance_;
-    c.probeLight = light;
+    // The engine says the lights changed: the history goes (hpsf_validate.comp
+    // taught every probe the new light). The cell keeps its key and its probe;
+    // until this frame's samples (if any) restart its mean, it is not read.
     c.frames = 0.0;
     c.samples = 0u;
     hgCells[slot] = c;
-  } else if (validate) {
-    float mean = giLuminance(c.mean);
-    float change = hgProbeChange(c.probeDistance, c.probeLight, distance_, light, mean);
-    if (change > 0.0) {
-      float window = min(c.frames, cap);
-      float samplesPerFrame = max(float(c.samples) / window, 1.0);
-      float frameVariance = max(c.lumMoment2 - mean * mean, 0.0) / samplesPerFrame;
-      float kept = floor(min(window, frameVariance / (change * change)));
-      if (kept < window) {
-        c.samples = uint(float(c.samples) * kept / window);
-        c.frames = kept;
-        reset = 1u;
-      }
-      c.probeDistance = distance_;
-      c.probeLight = light;
-      hgCells[slot] = c;
-    }
   }
   if (a.count > 0u) {
     vec3 frameMean = frameMean(a);
@@ -181,15 +131,14 @@ void resolveAging(uint slot, inout uint live, inout uint evicted, inout uint res
 
 void main() {
   uint i = gl_GlobalInvocationID.x;
-  uint live = 0u, evicted = 0u, reset = 0u;
+  uint live = 0u, evicted = 0u;
   if (i < pc.capacity) {
     if (pc.strict != 0u) resolveStrict(i, live, evicted);
-    else resolveAging(pc.table + i, live, evicted, reset);
+    else resolveAging(pc.table + i, live, evicted);
   }
-  uint sumLive = subgroupAdd(live), sumEvicted = subgroupAdd(evicted), sumReset = subgroupAdd(reset);
+  uint sumLive = subgroupAdd(live), sumEvicted = subgroupAdd(evicted);
   if (subgroupElect()) {
     if (sumLive > 0u) atomicAdd(hgTelemetry.occupied, sumLive);
     if (sumEvicted > 0u) atomicAdd(hgTelemetry.evicted, sumEvicted);
-    if (sumReset > 0u) atomicAdd(hgTelemetry.staleResets, sumReset);
   }
 }

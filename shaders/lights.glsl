@@ -31,7 +31,7 @@ float giEmissiveLightPdf(GiSurface s, uint geometry, vec3 from) {
   vec3 d = s.position - from;
   float dist2 = dot(d, d);
   float cosLight = abs(dot(s.geometricNormal, normalize(d)));
-  float areaPdf = giLuminance(sceneMaterials[sceneGeometries[geometry].material].emission) / sceneConstants.emissiveTotalPower;
+  float areaPdf = giLuminance(sceneMaterialData(sceneGeometry(geometry).material).emission) / sceneConstants.emissiveTotalPower;
   return areaPdf * dist2 / max(cosLight, 1e-8);
 }
 
@@ -39,7 +39,7 @@ uint giPickEmissiveTriangle(float u) {
   uint lo = 0u, hi = sceneConstants.emissiveTriangleCount - 1u;
   while (lo < hi) {
     uint mid = (lo + hi) / 2u;
-    if (sceneEmissiveTriangles[mid].cdf <= u) lo = mid + 1u;
+    if (sceneEmissiveTriangle(mid).cdf <= u) lo = mid + 1u;
     else hi = mid;
   }
   return lo;
@@ -48,7 +48,7 @@ uint giPickEmissiveTriangle(float u) {
 // The emissive triangle's shadow ray, picked with probability `selection`.
 // withMis: weight against BSDF sampling (the caller also adds BSDF-sampled emission).
 bool giPrepareEmissive(GiSurface s, GiBsdf b, vec3 V, bool withMis, float selection, inout GiRng rng, out GiShadowRay ray) {
-  GpuEmissiveTriangle e = sceneEmissiveTriangles[giPickEmissiveTriangle(giRandom(rng))];
+  GpuEmissiveTriangle e = sceneEmissiveTriangle(giPickEmissiveTriangle(giRandom(rng)));
   uvec3 tri = sceneTriangle(e.geometry, e.triangle);
   vec2 u = giRandom2(rng);
   float su = sqrt(u.x);
@@ -66,7 +66,7 @@ bool giPrepareEmissive(GiSurface s, GiBsdf b, vec3 V, bool withMis, float select
   if (cosLight <= 0.0) return false;  // emission is one-sided
   vec3 f = giBsdfEval(b, s.normal, V, L);
   if (dot(s.geometricNormal, L) <= 0.0 || giMaxComponent(f) <= 0.0) return false;
-  GpuMaterial m = sceneMaterials[sceneGeometries[e.geometry].material];
+  GpuMaterial m = sceneMaterialData(sceneGeometry(e.geometry).material);
   vec3 Le = m.emission;
   if (m.emissiveTexture != NO_TEXTURE) Le *= sceneTexture(m.emissiveTexture, sceneUv(tri, w)).rgb;
   float lightPdf = selection * (giLuminance(m.emission) / sceneConstants.emissiveTotalPower * dist2 / cosLight);
@@ -82,7 +82,7 @@ bool giPrepareEmissive(GiSurface s, GiBsdf b, vec3 V, bool withMis, float select
 
 // Punctual light i's shadow ray; false when it cannot light s.
 bool giPreparePunctual(uint i, GiSurface s, GiBsdf b, vec3 V, out GiShadowRay ray) {
-  GpuPunctualLight l = scenePunctualLights[i];
+  GpuPunctualLight l = scenePunctualLight(i);
   ray.origin = giOffsetRay(s.position, s.geometricNormal);
   vec3 L;
   float tMax;

@@ -13,7 +13,6 @@ layout(set = 0, binding = SCENE_BINDING_TLAS) uniform accelerationStructureEXT s
 #include "shared/gpu_bvh.h"
 // Texel buffers (16-byte rows of the structs), read by trace_bvh.glsl
 // (textureBuffer, not samplerBuffer: SPIR-V wants no sampler on a buffer).
-#extension GL_EXT_samplerless_texture_functions : require
 layout(set = 0, binding = SCENE_BINDING_BVH_NODES) uniform utextureBuffer sceneBvhNodes;
 layout(set = 0, binding = SCENE_BINDING_BVH_TRIANGLES) uniform utextureBuffer sceneBvhTriangles;
 layout(set = 0, binding = SCENE_BINDING_BVH_TOP_NODES) uniform utextureBuffer sceneBvhTopNodes;
@@ -26,28 +25,83 @@ layout(constant_id = SCENE_SPEC_HAS_PUNCTUAL) const bool GI_SCENE_HAS_PUNCTUAL =
 layout(constant_id = SCENE_SPEC_HAS_ALPHA_MASK) const bool GI_SCENE_HAS_ALPHA_MASK = true;
 layout(constant_id = SCENE_SPEC_HAS_SKY) const bool GI_SCENE_HAS_SKY = true;
 
-layout(set = 0, binding = SCENE_BINDING_POSITIONS, scalar) readonly buffer ScenePositions { vec3 scenePositions[]; };
-layout(set = 0, binding = SCENE_BINDING_NORMALS, scalar) readonly buffer SceneNormals { vec3 sceneNormals[]; };
-layout(set = 0, binding = SCENE_BINDING_UVS, scalar) readonly buffer SceneUvs { vec2 sceneUvs[]; };
-layout(set = 0, binding = SCENE_BINDING_INDICES, scalar) readonly buffer SceneIndices { uint sceneIndices[]; };
-layout(set = 0, binding = SCENE_BINDING_GEOMETRIES, scalar) readonly buffer SceneGeometries { GpuGeometry sceneGeometries[]; };
-layout(set = 0, binding = SCENE_BINDING_INSTANCES, scalar) readonly buffer SceneInstances { GpuInstance sceneInstances[]; };
-layout(set = 0, binding = SCENE_BINDING_MATERIALS, scalar) readonly buffer SceneMaterials { GpuMaterial sceneMaterials[]; };
-layout(set = 0, binding = SCENE_BINDING_EMISSIVE_TRIANGLES, scalar) readonly buffer SceneEmissive { GpuEmissiveTriangle sceneEmissiveTriangles[]; };
-layout(set = 0, binding = SCENE_BINDING_PUNCTUAL_LIGHTS, scalar) readonly buffer ScenePunctual { GpuPunctualLight scenePunctualLights[]; };
+// The scene's arrays are uniform texel buffers (gpu_scene.h): on lavapipe a
+// texel fetch is one call for all lanes, where a storage-buffer load with a
+// per-lane address unrolls into a bounds-checked load per lane (about 220
+// lines of LLVM IR each), and a program's compile time grows faster than its size.
+#extension GL_EXT_samplerless_texture_functions : require
+layout(set = 0, binding = SCENE_BINDING_POSITIONS) uniform textureBuffer scenePositionTexels;     // R32_SFLOAT, 3 a vertex
+layout(set = 0, binding = SCENE_BINDING_NORMALS) uniform textureBuffer sceneNormalTexels;         // R32_SFLOAT, 3 a vertex
+layout(set = 0, binding = SCENE_BINDING_UVS) uniform textureBuffer sceneUvTexels;                 // R32G32_SFLOAT
+layout(set = 0, binding = SCENE_BINDING_INDICES) uniform utextureBuffer sceneIndexTexels;         // R32_UINT
+layout(set = 0, binding = SCENE_BINDING_GEOMETRIES) uniform utextureBuffer sceneGeometryRows;     // RGBA32UI rows
+layout(set = 0, binding = SCENE_BINDING_INSTANCES) uniform utextureBuffer sceneInstanceRows;
+layout(set = 0, binding = SCENE_BINDING_MATERIALS) uniform utextureBuffer sceneMaterialRows;
+layout(set = 0, binding = SCENE_BINDING_EMISSIVE_TRIANGLES) uniform utextureBuffer sceneEmissiveRows;
+layout(set = 0, binding = SCENE_BINDING_PUNCTUAL_LIGHTS) uniform utextureBuffer scenePunctualRows;
 layout(set = 0, binding = SCENE_BINDING_CONSTANTS, scalar) uniform SceneConstantsBlock { GpuSceneConstants sceneConstants; };
 layout(set = 0, binding = SCENE_BINDING_TEXTURES) uniform sampler2D sceneTextures[];
 
+// The arrays' elements. Unused fields cost nothing: the compiler drops their fetches.
+vec3 scenePosition(uint vertex) {
+  int i = int(3u * vertex);
+  return vec3(texelFetch(scenePositionTexels, i).r, texelFetch(scenePositionTexels, i + 1).r,
+              texelFetch(scenePositionTexels, i + 2).r);
+}
+vec3 sceneNormal(uint vertex) {
+  int i = int(3u * vertex);
+  return vec3(texelFetch(sceneNormalTexels, i).r, texelFetch(sceneNormalTexels, i + 1).r,
+              texelFetch(sceneNormalTexels, i + 2).r);
+}
+vec2 sceneUvAt(uint vertex) { return texelFetch(sceneUvTexels, int(vertex)).rg; }
+uint sceneIndex(uint i) { return texelFetch(sceneIndexTexels, int(i)).r; }
+
+GpuGeometry sceneGeometry(uint index) {
+  uvec4 r = texelFetch(sceneGeometryRows, int(index));
+  return GpuGeometry(r.x, r.y, r.z, r.w);
+}
+// The rows of a mat4 (column-major, a column per row of the buffer) starting at `row`.
+mat4 sceneRowsMat4(utextureBuffer rows, int row) {
+  return mat4(uintBitsToFloat(texelFetch(rows, row)), uintBitsToFloat(texelFetch(rows, row + 1)),
+              uintBitsToFloat(texelFetch(rows, row + 2)), uintBitsToFloat(texelFetch(rows, row + 3)));
+}
+GpuInstance sceneInstance(uint index) {
+  int row = int(index) * 13;  // 208 bytes
+  uvec4 ids = texelFetch(sceneInstanceRows, row + 12);
+  return GpuInstance(sceneRowsMat4(sceneInstanceRows, row), sceneRowsMat4(sceneInstanceRows, row + 4),
+                     sceneRowsMat4(sceneInstanceRows, row + 8), ids.x, ids.y, ids.z, ids.w);
+}
+GpuMaterial sceneMaterialData(uint index) {
+  int row = int(index) * 4;  // 64 bytes
+  vec4 a = uintBitsToFloat(texelFetch(sceneMaterialRows, row));
+  vec4 b = uintBitsToFloat(texelFetch(sceneMaterialRows, row + 1));
+  uvec4 c = texelFetch(sceneMaterialRows, row + 2);
+  uvec4 d = texelFetch(sceneMaterialRows, row + 3);
+  return GpuMaterial(a, b.xyz, b.w, uintBitsToFloat(c.x), uintBitsToFloat(c.y), c.z, c.w, d.x, d.y, d.z, d.w);
+}
+GpuEmissiveTriangle sceneEmissiveTriangle(uint index) {
+  uvec4 r = texelFetch(sceneEmissiveRows, int(index));
+  return GpuEmissiveTriangle(r.x, r.y, r.z, uintBitsToFloat(r.w));
+}
+GpuPunctualLight scenePunctualLight(uint index) {
+  int row = int(index) * 4;  // 64 bytes
+  uvec4 a = texelFetch(scenePunctualRows, row), b = texelFetch(scenePunctualRows, row + 1);
+  uvec4 c = texelFetch(scenePunctualRows, row + 2), d = texelFetch(scenePunctualRows, row + 3);
+  return GpuPunctualLight(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), uintBitsToFloat(b.w),
+                          uintBitsToFloat(c.xyz), uintBitsToFloat(c.w), uintBitsToFloat(d.x), uintBitsToFloat(d.y),
+                          uintBitsToFloat(d.z), uintBitsToFloat(d.w));
+}
+
 // Absolute vertex indices of one triangle.
 uvec3 sceneTriangle(uint geometry, uint triangle) {
-  GpuGeometry g = sceneGeometries[geometry];
+  GpuGeometry g = sceneGeometry(geometry);
   uint base = g.firstIndex + 3u * triangle;
-  return uvec3(sceneIndices[base], sceneIndices[base + 1u], sceneIndices[base + 2u]) + g.vertexOffset;
+  return uvec3(sceneIndex(base), sceneIndex(base + 1u), sceneIndex(base + 2u)) + g.vertexOffset;
 }
 
 vec3 giBarycentricWeights(vec2 bary) { return vec3(1.0 - bary.x - bary.y, bary.x, bary.y); }
 
-vec2 sceneUv(uvec3 tri, vec3 w) { return sceneUvs[tri.x] * w.x + sceneUvs[tri.y] * w.y + sceneUvs[tri.z] * w.z; }
+vec2 sceneUv(uvec3 tri, vec3 w) { return sceneUvAt(tri.x) * w.x + sceneUvAt(tri.y) * w.y + sceneUvAt(tri.z) * w.z; }
 
 // Texture reads: fragment stages use implicit derivatives (mips), ray-traced
 // stages read the top level, since a ray hit has no screen footprint.
@@ -69,7 +123,7 @@ struct MaterialSample {
 };
 
 MaterialSample sceneMaterial(uint materialIndex, vec2 uv) {
-  GpuMaterial m = sceneMaterials[materialIndex];
+  GpuMaterial m = sceneMaterialData(materialIndex);
   MaterialSample s;
   vec4 base = m.baseColor;
   if (m.baseColorTexture != NO_TEXTURE) base *= sceneTexture(m.baseColorTexture, uv);

@@ -13,7 +13,8 @@
 #include "random.glsl"
 #include "surface.glsl"
 
-layout(set = 0, binding = SCENE_BINDING_SKY_DISTRIBUTION, scalar) readonly buffer SceneSkyDistribution { float sceneSkyCdf[]; };
+layout(set = 0, binding = SCENE_BINDING_SKY_DISTRIBUTION) uniform textureBuffer sceneSkyCdfTexels;  // R32_SFLOAT
+float sceneSkyCdf(uint i) { return texelFetch(sceneSkyCdfTexels, int(i)).r; }
 
 bool giSkyHasMap() { return GI_SCENE_HAS_SKY && sceneConstants.skyTexture != NO_TEXTURE; }
 
@@ -36,9 +37,9 @@ vec3 giSkyRadiance(vec3 dir) {
 // Probability of texel (column x, row y) under the tables.
 float giSkyTexelProbability(ivec2 t) {
   uint w = sceneConstants.skySize.x, h = sceneConstants.skySize.y;
-  float row = sceneSkyCdf[t.y] - (t.y > 0 ? sceneSkyCdf[t.y - 1] : 0.0);
+  float row = sceneSkyCdf(uint(t.y)) - (t.y > 0 ? sceneSkyCdf(uint(t.y - 1)) : 0.0);
   uint base = h + uint(t.y) * w;
-  float column = sceneSkyCdf[base + uint(t.x)] - (t.x > 0 ? sceneSkyCdf[base + uint(t.x) - 1u] : 0.0);
+  float column = sceneSkyCdf(base + uint(t.x)) - (t.x > 0 ? sceneSkyCdf(base + uint(t.x) - 1u) : 0.0);
   return row * column;
 }
 
@@ -57,7 +58,7 @@ uint giSkySearch(uint first, uint count, float u) {
   uint lo = 0u, hi = count - 1u;
   while (lo < hi) {
     uint mid = (lo + hi) / 2u;
-    if (sceneSkyCdf[first + mid] <= u) lo = mid + 1u;
+    if (sceneSkyCdf(first + mid) <= u) lo = mid + 1u;
     else hi = mid;
   }
   return lo;
@@ -65,7 +66,7 @@ uint giSkySearch(uint first, uint count, float u) {
 
 // Where u falls within entry i of the CDF starting at `first`, in [0,1).
 float giSkyRemap(uint first, uint i, float u) {
-  float lo = i > 0u ? sceneSkyCdf[first + i - 1u] : 0.0, hi = sceneSkyCdf[first + i];
+  float lo = i > 0u ? sceneSkyCdf(first + i - 1u) : 0.0, hi = sceneSkyCdf(first + i);
   return hi > lo ? clamp((u - lo) / (hi - lo), 0.0, 0.99999994) : 0.5;
 }
 

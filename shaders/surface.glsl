@@ -21,16 +21,16 @@ bool giHasDiffuseLobe(MaterialSample m) { return (m.flags & MATERIAL_FLAG_GLOSSY
 
 // World-space triangle corners of (instance, geometry, triangle).
 void giTriangleWorld(uint instance, uvec3 tri, out vec3 p0, out vec3 p1, out vec3 p2) {
-  mat4 m = sceneInstances[instance].worldFromObject;
-  p0 = (m * vec4(scenePositions[tri.x], 1.0)).xyz;
-  p1 = (m * vec4(scenePositions[tri.y], 1.0)).xyz;
-  p2 = (m * vec4(scenePositions[tri.z], 1.0)).xyz;
+  mat4 m = sceneInstance(instance).worldFromObject;
+  p0 = (m * vec4(scenePosition(tri.x), 1.0)).xyz;
+  p1 = (m * vec4(scenePosition(tri.y), 1.0)).xyz;
+  p2 = (m * vec4(scenePosition(tri.z), 1.0)).xyz;
 }
 
 // Interpolated world normal (unit) and the triangle normal oriented to agree with it.
 void giTriangleNormals(uint instance, uvec3 tri, vec3 w, vec3 p0, vec3 p1, vec3 p2, out vec3 shading, out vec3 geometric) {
-  mat3 nm = mat3(sceneInstances[instance].normalWorldFromObject);
-  vec3 n = nm * (sceneNormals[tri.x] * w.x + sceneNormals[tri.y] * w.y + sceneNormals[tri.z] * w.z);
+  mat3 nm = mat3(sceneInstance(instance).normalWorldFromObject);
+  vec3 n = nm * (sceneNormal(tri.x) * w.x + sceneNormal(tri.y) * w.y + sceneNormal(tri.z) * w.z);
   float nl = length(n);
   vec3 g = cross(p1 - p0, p2 - p0);
   float gl = length(g);
@@ -55,7 +55,7 @@ GiSurface giSurfaceFromHit(GiHit hit, vec3 rayDirection) {
   // Interpolated normals can face away from the viewer near silhouettes; fall back to the true normal.
   if (dot(s.normal, rayDirection) > 0.0) s.normal = s.geometricNormal;
   s.uv = sceneUv(tri, w);
-  s.material = sceneMaterial(sceneGeometries[hit.geometry].material, s.uv);
+  s.material = sceneMaterial(sceneGeometry(hit.geometry).material, s.uv);
   if (!s.frontFace) s.material.emission = vec3(0.0);
   return s;
 }

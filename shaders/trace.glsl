@@ -51,8 +51,7 @@ GiHit giNoHit() {
 }
 
 bool giAlphaAccepts(uint geometry, uint triangle, vec2 bary) {
-  uint materialIndex = sceneGeometries[geometry].material;
-  GpuMaterial m = sceneMaterials[materialIndex];
+  GpuMaterial m = sceneMaterialData(sceneGeometry(geometry).material);
   float alpha = m.baseColor.a;
   if (m.baseColorTexture != NO_TEXTURE) {
     vec2 uv = sceneUv(sceneTriangle(geometry, triangle), giBarycentricWeights(bary));
@@ -68,7 +67,7 @@ bool giAlphaAccepts(uint geometry, uint triangle, vec2 bary) {
 void giResolveCandidates(rayQueryEXT query) {
   while (rayQueryProceedEXT(query)) {
     if (rayQueryGetIntersectionTypeEXT(query, false) == gl_RayQueryCandidateIntersectionTriangleEXT) {
-      uint geometry = sceneInstances[rayQueryGetIntersectionInstanceCustomIndexEXT(query, false)].firstGeometry +
+      uint geometry = sceneInstance(rayQueryGetIntersectionInstanceCustomIndexEXT(query, false)).firstGeometry +
                       rayQueryGetIntersectionGeometryIndexEXT(query, false);
       uint triangle = rayQueryGetIntersectionPrimitiveIndexEXT(query, false);
       if (giAlphaAccepts(geometry, triangle, rayQueryGetIntersectionBarycentricsEXT(query, false)))
@@ -90,7 +89,7 @@ GiHit giTrace(GiRay ray) {
     hit.t = rayQueryGetIntersectionTEXT(query, true);
     // TLAS instances are Morton-ordered: the custom index is the instance table's.
     hit.instance = rayQueryGetIntersectionInstanceCustomIndexEXT(query, true);
-    hit.geometry = sceneInstances[hit.instance].firstGeometry + rayQueryGetIntersectionGeometryIndexEXT(query, true);
+    hit.geometry = sceneInstance(hit.instance).firstGeometry + rayQueryGetIntersectionGeometryIndexEXT(query, true);
     hit.triangle = rayQueryGetIntersectionPrimitiveIndexEXT(query, true);
     hit.barycentrics = rayQueryGetIntersectionBarycentricsEXT(query, true);
   }

@@ -85,8 +85,7 @@ bool giBvhTriangleHit(GpuBvhTriangle tri, vec3 origin, vec3 direction, float tMi
 
 bool giBvhTriangleAccepted(GpuBvhTriangle tri, vec2 bary) {
   if (!GI_SCENE_HAS_ALPHA_MASK) return true;
-  uint material = sceneGeometries[tri.geometry].material;
-  if ((sceneMaterials[material].flags & MATERIAL_FLAG_ALPHA_MASK) == 0u) return true;
+  if ((sceneMaterialData(sceneGeometry(tri.geometry).material).flags & MATERIAL_FLAG_ALPHA_MASK) == 0u) return true;
   return giAlphaAccepts(tri.geometry, tri.triangle, bary);
 }
 

@@ -247,7 +247,8 @@ constexpr PassInfo kPasses[] = {
     {Pass::HpsfInsert, "hpsf_insert", true},
     {Pass::NhpsfPaths, "nhpsf_paths", true},
     {Pass::AnhpsfPaths, "anhpsf_paths", true},
-    {Pass::HpsfResolve, "hpsf_resolve", false},  // its probe rays are a small part: not counted as tracing time
+    {Pass::HpsfValidate, "hpsf_validate", false},  // its probe rays are a small part: not counted as tracing time
+    {Pass::HpsfResolve, "hpsf_resolve", false},
     {Pass::HpsfLookup, "hpsf_lookup", false},
     {Pass::TemporalGradient, "temporal_gradient", true},
     {Pass::TemporalSpread, "temporal_spread", false},

@@ -121,6 +121,10 @@ void recordHashPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const gpu::
     // one of each pixel's continued path); each diffuse vertex's cell gets what its segment brings.
     runPass(m, cmd, slot, s.method == Method::Nhpsf ? Pass::NhpsfPaths : Pass::AnhpsfPaths, m.hash.paths, sets, size, push);
   }
+  if (validatesHashCells(s)) {
+    // Pass: re-trace the probes due this frame; cut histories whose light changed.
+    runPass(m, cmd, slot, Pass::HpsfValidate, m.hash.validate, sets, {m.hash.capacity, 1}, push);
+  }
   // Pass: fold the frame's sums into each cell's history; evict stale cells.
   runPass(m, cmd, slot, Pass::HpsfResolve, m.hash.resolve, sets, {m.hash.capacity, 1}, push);
   // Pass: each pixel reads its cell (or keeps its own sample).

@@ -8,7 +8,8 @@
 #include "hpsf_lookup.comp.h"
 #include "hpsf_lookup.comp.compute.h"
 #include "hpsf_resolve.comp.h"
-#include "hpsf_resolve.comp.compute.h"
+#include "hpsf_validate.comp.h"
+#include "hpsf_validate.comp.compute.h"
 #include "nhpsf_paths.comp.h"
 #include "nhpsf_paths.comp.compute.h"
 #include "shared/gi_frame.h"
@@ -60,7 +61,7 @@ vk::Status createHashGrid(vk::Device& d, uint32_t capacity, uint32_t tables, uin
 }
 
 vk::Status ensureHashGridPrograms(const vk::Device& d, HashGrid& g, const VkDescriptorSetLayout layouts[2],
-                                  std::span<const uint32_t> spec, uint32_t mode, uint32_t traversal) {
+                                  std::span<const uint32_t> spec, uint32_t mode, bool validates, uint32_t traversal) {
   VkDescriptorSetLayout all[] = {layouts[0], layouts[1], g.set.layout};
   const glm::uvec2 tile{GI_GROUP_SIZE, GI_GROUP_SIZE};
   auto make = [&](vk::ComputeProgram& p, std::span<const uint32_t> spirv, glm::uvec2 group) -> vk::Status {
@@ -69,13 +70,14 @@ vk::Status ensureHashGridPrograms(const vk::Device& d, HashGrid& g, const VkDesc
   };
   if (mode == gpu::HG_MODE_HPSF) GI_TRY(make(g.insert, GI_SCENE_SPIRV(traversal, hpsf_insert_comp), tile));
   else GI_TRY(make(g.paths, GI_SCENE_SPIRV(traversal, nhpsf_paths_comp), tile));
-  GI_TRY(make(g.resolve, GI_SCENE_SPIRV(traversal, hpsf_resolve_comp), {64, 1}));
+  if (validates) GI_TRY(make(g.validate, GI_SCENE_SPIRV(traversal, hpsf_validate_comp), {64, 1}));
+  GI_TRY(make(g.resolve, spv_hpsf_resolve_comp, {64, 1}));  // traces nothing: one variant
   GI_TRY(make(g.lookup, GI_SCENE_SPIRV(traversal, hpsf_lookup_comp), tile));
   return {};
 }
 
 void destroyHashGrid(vk::Device& d, HashGrid& g) {
-  for (vk::ComputeProgram* p : {&g.insert, &g.paths, &g.resolve, &g.lookup}) vk::destroyComputeProgram(d, *p);
+  for (vk::ComputeProgram* p : {&g.insert, &g.paths, &g.validate, &g.resolve, &g.lookup}) vk::destroyComputeProgram(d, *p);
   vk::destroyDescriptorSets(d, g.set);
   for (vk::Buffer* b : {&g.keys, &g.accum, &g.cells, &g.telemetry, &g.walks}) vk::destroyBuffer(d, *b);
   g = HashGrid{};

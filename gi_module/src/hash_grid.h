@@ -18,7 +18,7 @@ struct HashGrid {
   vk::Buffer walks;          // HgWalk per pixel of the largest render size (anhpsf), else one placeholder
   uint32_t walkPixels = 0;   // pixels with a walk slot (0: the placeholder)
   vk::DescriptorSets set;    // one set
-  vk::ComputeProgram insert, paths, resolve, lookup;  // paths: nhpsf/anhpsf (built on first use)
+  vk::ComputeProgram insert, paths, validate, resolve, lookup;  // paths: nhpsf/anhpsf; validate: probes (built on first use)
   uint64_t memoryBytes = 0;
   bool cleared = false;      // buffers zeroed on the GPU
   bool walksCleared = false; // continued paths reset (a new render size restarts them)
@@ -30,10 +30,11 @@ struct HashGrid {
 // `width` × `height` is the largest render size: smaller ones keep the map.
 vk::Status createHashGrid(vk::Device& device, uint32_t capacity, uint32_t tables, uint32_t width, uint32_t height,
                           uint32_t slots, bool walks, HashGrid& out);
-// The programs the mode needs (insert for hpsf, paths for nhpsf/anhpsf; resolve
-// and lookup always): `layouts` are sets 0 and 1 (scene, frame).
+// The programs the mode needs (insert for hpsf, paths for nhpsf/anhpsf;
+// validate where stale radiance is checked; resolve and lookup always):
+// `layouts` are sets 0 and 1 (scene, frame).
 vk::Status ensureHashGridPrograms(const vk::Device& device, HashGrid& grid, const VkDescriptorSetLayout layouts[2],
-                                  std::span<const uint32_t> spec, uint32_t mode, uint32_t traversal);
+                                  std::span<const uint32_t> spec, uint32_t mode, bool validates, uint32_t traversal);
 void destroyHashGrid(vk::Device& device, HashGrid& grid);
 
 // First slot of the table written in frame `frameIndex`, and of the one it reads as the last frame.

@@ -220,7 +220,7 @@ std::vector<vk::ComputeProgram*> modulePrograms(Module& m) {
 // Every program built against set 0's layout and the scene's specialisation.
 std::vector<vk::ComputeProgram*> scenePrograms(Module& m) {
   std::vector<vk::ComputeProgram*> programs = modulePrograms(m);
-  programs.insert(programs.end(), {&m.hash.insert, &m.hash.paths, &m.hash.resolve, &m.hash.lookup});
+  programs.insert(programs.end(), {&m.hash.insert, &m.hash.paths, &m.hash.validate, &m.hash.resolve, &m.hash.lookup});
   return programs;
 }
 
@@ -249,7 +249,8 @@ vk::Status createHashGridFor(Module& m, const Settings& s, uint32_t width, uint3
 vk::Status ensureHashGridProgramsFor(Module& m, const Settings& s, HashGrid& grid) {
   if (!usesHashGrid(s.method)) return {};
   VkDescriptorSetLayout layouts[2] = {m.desc.scene.layout, m.frameLayout};
-  return ensureHashGridPrograms(m.gpu, grid, layouts, moduleSpecialization(m), hashMode(s.method), m.desc.scene.traversal);
+  return ensureHashGridPrograms(m.gpu, grid, layouts, moduleSpecialization(m), hashMode(s.method), validatesHashCells(s),
+                                m.desc.scene.traversal);
 }
 
 // Each method's programs are compiled when it is first chosen: a module that
@@ -367,6 +368,10 @@ uint32_t hashMode(Method method) {
 
 bool aafSpecular(const Module& m, const Settings& s) { return s.method == Method::Aaf && m.desc.scene.hasGlossyMaterials; }
 bool hasNoisyDirect(const SceneDesc& scene) { return scene.hasEmissiveTriangles || scene.hasSky; }
+bool validatesHashCells(const Settings& s) {
+  return usesHashGrid(s.method) && s.hpsf.eviction == EvictionPolicy::Aging && s.hpsf.validationInterval > 0;
+}
+
 bool runsTemporalPass(const Module& m, const Settings& s) {
   return usesTemporalReprojection(s) && (hasNoisyDirect(m.desc.scene) || !usesHashGrid(s.method) || clampsHashIndirect(s));
 }

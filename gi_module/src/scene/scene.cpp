@@ -17,28 +17,27 @@
 namespace gi {
 namespace {
 
-constexpr VkBufferUsageFlags kStorage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
 constexpr VkBufferUsageFlags kTexels = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
 constexpr VkBufferUsageFlags kBuildInput = VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR |
                                            VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
 
 const vk::Binding kSceneBindings[] = {
     {gpu::SCENE_BINDING_TLAS, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR},  // first: left out without ray queries
-    {gpu::SCENE_BINDING_POSITIONS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-    {gpu::SCENE_BINDING_NORMALS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-    {gpu::SCENE_BINDING_UVS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-    {gpu::SCENE_BINDING_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-    {gpu::SCENE_BINDING_GEOMETRIES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-    {gpu::SCENE_BINDING_INSTANCES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-    {gpu::SCENE_BINDING_MATERIALS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-    {gpu::SCENE_BINDING_EMISSIVE_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-    {gpu::SCENE_BINDING_PUNCTUAL_LIGHTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+    {gpu::SCENE_BINDING_POSITIONS, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
+    {gpu::SCENE_BINDING_NORMALS, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
+    {gpu::SCENE_BINDING_UVS, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
+    {gpu::SCENE_BINDING_INDICES, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
+    {gpu::SCENE_BINDING_GEOMETRIES, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
+    {gpu::SCENE_BINDING_INSTANCES, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
+    {gpu::SCENE_BINDING_MATERIALS, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
+    {gpu::SCENE_BINDING_EMISSIVE_TRIANGLES, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
+    {gpu::SCENE_BINDING_PUNCTUAL_LIGHTS, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
     {gpu::SCENE_BINDING_CONSTANTS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER},
     {gpu::SCENE_BINDING_BVH_NODES, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
     {gpu::SCENE_BINDING_BVH_TRIANGLES, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
     {gpu::SCENE_BINDING_BVH_TOP_NODES, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
     {gpu::SCENE_BINDING_BVH_INSTANCES, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
-    {gpu::SCENE_BINDING_SKY_DISTRIBUTION, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+    {gpu::SCENE_BINDING_SKY_DISTRIBUTION, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
     {gpu::SCENE_BINDING_TEXTURES, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 4096, true},
 };
 
@@ -88,24 +87,35 @@ void writeMapped(vk::Buffer& buffer, const std::vector<T>& data) {
   if (!data.empty()) std::memcpy(buffer.memory.mapped, data.data(), std::min<size_t>(buffer.size, data.size() * sizeof(T)));
 }
 
-// The BVH arrays are read as RGBA32UI texel buffers: on lavapipe a texel fetch
-// is much cheaper than a storage-buffer load with a per-lane address.
-vk::Status texelView(Scene& s, const vk::Buffer& buffer, VkBufferView& out) {
-  if (buffer.size / 16 > s.gpu.properties.limits.maxTexelBufferElements)
-    return {VK_ERROR_OUT_OF_DEVICE_MEMORY, "vkCreateBufferView (the BVH exceeds maxTexelBufferElements)"};
+// Every array of set 0 is read as a uniform texel buffer (gpu_scene.h): on
+// lavapipe a texel fetch is much cheaper, to run and to compile, than a
+// storage-buffer load with a per-lane address. Structs are RGBA32UI rows
+// (integers: ids and float bits pass unchanged).
+// `tooLarge` names the array in the failed call's description.
+vk::Status texelView(Scene& s, const vk::Buffer& buffer, VkFormat format, uint32_t texelBytes, const char* tooLarge,
+                     VkBufferView& out) {
+  if (buffer.size / texelBytes > s.gpu.properties.limits.maxTexelBufferElements)
+    return {VK_ERROR_OUT_OF_DEVICE_MEMORY, tooLarge};
   VkBufferViewCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
   info.buffer = buffer.buffer;
-  info.format = VK_FORMAT_R32G32B32A32_UINT;  // integers: ids and float bits pass unchanged
+  info.format = format;
   info.range = VK_WHOLE_SIZE;
   GI_VK(s.gpu.fn.vkCreateBufferView(s.gpu.device, &info, s.gpu.allocator, &out));
   return {};
 }
+vk::Status rowView(Scene& s, const vk::Buffer& buffer, const char* tooLarge, VkBufferView& out) {
+  return texelView(s, buffer, VK_FORMAT_R32G32B32A32_UINT, 16, tooLarge, out);
+}
 
-void destroyBvhBuffers(Scene& s) {
-  for (VkBufferView& v : s.bvhViews) {
+void destroyViews(Scene& s, std::span<VkBufferView> views) {
+  for (VkBufferView& v : views) {
     if (v) s.gpu.fn.vkDestroyBufferView(s.gpu.device, v, s.gpu.allocator);
     v = VK_NULL_HANDLE;
   }
+}
+
+void destroyBvhBuffers(Scene& s) {
+  destroyViews(s, s.bvhViews);
   for (vk::Buffer* b : {&s.bvhNodes, &s.bvhTriangles, &s.bvhTopNodes, &s.bvhInstances}) vk::destroyBuffer(s.gpu, *b);
 }
 
@@ -132,7 +142,7 @@ vk::Status buildBvhBuffers(Scene& s, VkCommandBuffer cmd, std::span<const uint8_
   GI_TRY(hostBuffer(s, s.bvh.topNodes, maxTopNodes(s.instances.size()), kTexels, s.bvhTopNodes));
   GI_TRY(hostBuffer(s, s.bvh.topInstances, maxTopInstances(s.instances.size()), kTexels, s.bvhInstances));
   const vk::Buffer* buffers[] = {&s.bvhNodes, &s.bvhTriangles, &s.bvhTopNodes, &s.bvhInstances};
-  for (int i = 0; i < 4; ++i) GI_TRY(texelView(s, *buffers[i], s.bvhViews[i]));
+  for (int i = 0; i < 4; ++i) GI_TRY(rowView(s, *buffers[i], "vkCreateBufferView (the BVH exceeds maxTexelBufferElements)", s.bvhViews[i]));
   return {};
 }
 
@@ -182,26 +192,26 @@ vk::Status uploadSky(Scene& s, VkCommandBuffer cmd, const SkyDesc& sky, uint32_t
     info.addressModeU = info.addressModeV = info.addressModeW = VK_SAMPLER_ADDRESS_MODE_REPEAT;
     GI_VK(s.gpu.fn.vkCreateSampler(s.gpu.device, &info, s.gpu.allocator, &s.skySampler));
   }
-  return hostBuffer(s, tables, tables.size(), kStorage, s.skyDistribution);
+  return hostBuffer(s, tables, tables.size(), kTexels, s.skyDistribution);
 }
 
 vk::Status buildScene(Scene& s, VkCommandBuffer cmd, const SceneContents& contents) {
   const PackedScene& p = s.packed;
-  const VkBufferUsageFlags geometryUsage = kStorage | (rayQuery(s) ? kBuildInput : 0);
+  const VkBufferUsageFlags geometryUsage = kTexels | (rayQuery(s) ? kBuildInput : 0);
   GI_TRY(upload(s, cmd, p.positions, geometryUsage, s.positions));
-  GI_TRY(upload(s, cmd, p.normals, kStorage, s.normals));
-  GI_TRY(upload(s, cmd, p.uvs, kStorage, s.uvs));
+  GI_TRY(upload(s, cmd, p.normals, kTexels, s.normals));
+  GI_TRY(upload(s, cmd, p.uvs, kTexels, s.uvs));
   GI_TRY(upload(s, cmd, p.indices, geometryUsage, s.indices));
-  GI_TRY(upload(s, cmd, p.geometries, kStorage, s.geometries));
-  GI_TRY(upload(s, cmd, p.materials, kStorage, s.materials));
+  GI_TRY(upload(s, cmd, p.geometries, kTexels, s.geometries));
+  GI_TRY(upload(s, cmd, p.materials, kTexels, s.materials));
 
-  GI_TRY(hostBuffer(s, gpuInstances(p, s.instances, {}), s.instances.size(), kStorage, s.instanceTable));
+  GI_TRY(hostBuffer(s, gpuInstances(p, s.instances, {}), s.instances.size(), kTexels, s.instanceTable));
   float totalPower = 0.0f;
   std::vector<gpu::GpuEmissiveTriangle> emissive = emissiveTable(p, s.instances, totalPower);
   s.emissiveCapacity = uint32_t(emissive.size());
-  GI_TRY(hostBuffer(s, emissive, emissive.size(), kStorage, s.emissiveTriangles));
+  GI_TRY(hostBuffer(s, emissive, emissive.size(), kTexels, s.emissiveTriangles));
   std::vector<gpu::GpuPunctualLight> lights = punctualLights(contents.lights);
-  GI_TRY(hostBuffer(s, lights, lights.size(), kStorage, s.punctualLights));
+  GI_TRY(hostBuffer(s, lights, lights.size(), kTexels, s.punctualLights));
 
   gpu::GpuSceneConstants& c = s.sceneConstants;
   glm::vec3 lo, hi;
@@ -247,13 +257,28 @@ vk::Status buildScene(Scene& s, VkCommandBuffer cmd, const SceneContents& conten
   writeBvhDescriptors(s);
   vk::DescriptorWriter w(s.set[0]);
   if (rayQuery(s)) w.accelerationStructure(gpu::SCENE_BINDING_TLAS, &s.accel.tlas.handle);
-  const std::pair<uint32_t, const vk::Buffer*> storage[] = {
-      {gpu::SCENE_BINDING_POSITIONS, &s.positions},   {gpu::SCENE_BINDING_NORMALS, &s.normals},
-      {gpu::SCENE_BINDING_UVS, &s.uvs},               {gpu::SCENE_BINDING_INDICES, &s.indices},
-      {gpu::SCENE_BINDING_GEOMETRIES, &s.geometries}, {gpu::SCENE_BINDING_INSTANCES, &s.instanceTable},
-      {gpu::SCENE_BINDING_MATERIALS, &s.materials},   {gpu::SCENE_BINDING_EMISSIVE_TRIANGLES, &s.emissiveTriangles},
-      {gpu::SCENE_BINDING_PUNCTUAL_LIGHTS, &s.punctualLights}, {gpu::SCENE_BINDING_SKY_DISTRIBUTION, &s.skyDistribution}};
-  for (auto [binding, buffer] : storage) w.buffer(binding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, buffer->buffer);
+  const struct {
+    uint32_t binding;
+    const vk::Buffer* buffer;
+    VkFormat format;
+    uint32_t texelBytes;
+    const char* tooLarge;
+  } arrays[] = {
+      {gpu::SCENE_BINDING_POSITIONS, &s.positions, VK_FORMAT_R32_SFLOAT, 4, "vkCreateBufferView (the positions exceed maxTexelBufferElements)"},
+      {gpu::SCENE_BINDING_NORMALS, &s.normals, VK_FORMAT_R32_SFLOAT, 4, "vkCreateBufferView (the normals exceed maxTexelBufferElements)"},
+      {gpu::SCENE_BINDING_UVS, &s.uvs, VK_FORMAT_R32G32_SFLOAT, 8, "vkCreateBufferView (the texture coordinates exceed maxTexelBufferElements)"},
+      {gpu::SCENE_BINDING_INDICES, &s.indices, VK_FORMAT_R32_UINT, 4, "vkCreateBufferView (the indices exceed maxTexelBufferElements)"},
+      {gpu::SCENE_BINDING_GEOMETRIES, &s.geometries, VK_FORMAT_R32G32B32A32_UINT, 16, "vkCreateBufferView (the geometry table exceeds maxTexelBufferElements)"},
+      {gpu::SCENE_BINDING_INSTANCES, &s.instanceTable, VK_FORMAT_R32G32B32A32_UINT, 16, "vkCreateBufferView (the instance table exceeds maxTexelBufferElements)"},
+      {gpu::SCENE_BINDING_MATERIALS, &s.materials, VK_FORMAT_R32G32B32A32_UINT, 16, "vkCreateBufferView (the material table exceeds maxTexelBufferElements)"},
+      {gpu::SCENE_BINDING_EMISSIVE_TRIANGLES, &s.emissiveTriangles, VK_FORMAT_R32G32B32A32_UINT, 16, "vkCreateBufferView (the emission table exceeds maxTexelBufferElements)"},
+      {gpu::SCENE_BINDING_PUNCTUAL_LIGHTS, &s.punctualLights, VK_FORMAT_R32G32B32A32_UINT, 16, "vkCreateBufferView (the light table exceeds maxTexelBufferElements)"},
+      {gpu::SCENE_BINDING_SKY_DISTRIBUTION, &s.skyDistribution, VK_FORMAT_R32_SFLOAT, 4, "vkCreateBufferView (the sky's tables exceed maxTexelBufferElements)"}};
+  static_assert(std::size(arrays) == std::size(Scene{}.arrayViews));
+  for (size_t i = 0; i < std::size(arrays); ++i) {
+    GI_TRY(texelView(s, *arrays[i].buffer, arrays[i].format, arrays[i].texelBytes, arrays[i].tooLarge, s.arrayViews[i]));
+    w.uniformTexelBuffer(arrays[i].binding, s.arrayViews[i]);
+  }
   w.buffer(gpu::SCENE_BINDING_CONSTANTS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, s.constants.buffer);
   for (uint32_t t = 0; t < textureCount; ++t)
     w.sampledImage(gpu::SCENE_BINDING_TEXTURES, contents.textures[t].view, contents.textures[t].sampler, t);
@@ -281,6 +306,7 @@ void destroySceneResources(Scene& s) {
   freeStaging(s);
   destroyDeviceMeshReadback(s.gpu, s.readback);
   destroyBvhBuffers(s);
+  destroyViews(s, s.arrayViews);
   destroySceneAcceleration(s.gpu, s.accel);
   vk::destroyDescriptorSets(s.gpu, s.set);
   vk::destroyImage(s.gpu, s.skyMap);
