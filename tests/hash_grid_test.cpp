@@ -22,6 +22,7 @@ constexpr uint32_t kInsert = 0, kEvict = 1, kTidy = 2;
 class HashGridTest : public GpuTest {
  protected:
   engine::DescriptorSet empty;
+  VkDescriptorSetLayout gridLayout = VK_NULL_HANDLE;
   gi::HashGrid grid;
   engine::ComputeProgram stress;
   gi::vk::Device dev;
@@ -29,13 +30,15 @@ class HashGridTest : public GpuTest {
   void make(uint32_t capacity) {
     dev = openModuleDevice(ctx);
     empty = engine::createDescriptorSet(ctx, {});
-    ASSERT_FALSE(gi::createHashGrid(dev, capacity, 1, 8, 8, 1, false, grid));
-    VkDescriptorSetLayout all[] = {empty.layout, empty.layout, grid.set.layout};
+    ASSERT_FALSE(gi::createHashGridLayout(dev, gridLayout));
+    ASSERT_FALSE(gi::createHashGrid(dev, gridLayout, capacity, 1, 8, 8, 1, false, grid));
+    VkDescriptorSetLayout all[] = {empty.layout, empty.layout, gridLayout};
     stress = engine::createComputeProgram(ctx, spv_hash_stress_comp, all, sizeof(StressPush), {64, 1});
   }
   void TearDown() override {
     engine::destroyComputeProgram(ctx, stress);
     gi::destroyHashGrid(dev, grid);
+    if (gridLayout) dev.fn.vkDestroyDescriptorSetLayout(dev.device, gridLayout, dev.allocator);
     gi::vk::closeDevice(dev);
     engine::destroyDescriptorSet(ctx, empty);
     GpuTest::TearDown();

@@ -115,20 +115,20 @@ void recordHashPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const gpu::
   recordHashGridFrameStart(m.gpu, cmd, m.hash, frame.frameIndex);
   if (s.method == Method::Hpsf) {
     // Pass: paths from the G-buffer; their indirect radiance goes into the filter vertex's cell.
-    runPass(m, cmd, slot, Pass::HpsfInsert, m.hash.insert, sets, size, push);
+    runPass(m, cmd, slot, Pass::HpsfInsert, m.hashInsert, sets, size, push);
   } else {
     // Pass: path segments from the G-buffer (nhpsf: pathDepth of them; anhpsf: the primary one and
     // one of each pixel's continued path); each diffuse vertex's cell gets what its segment brings.
-    runPass(m, cmd, slot, s.method == Method::Nhpsf ? Pass::NhpsfPaths : Pass::AnhpsfPaths, m.hash.paths, sets, size, push);
+    runPass(m, cmd, slot, s.method == Method::Nhpsf ? Pass::NhpsfPaths : Pass::AnhpsfPaths, m.hashPaths, sets, size, push);
   }
   if (validatesHashCells(s)) {
     // Pass: re-trace the probes due this frame; cut histories whose light changed.
-    runPass(m, cmd, slot, Pass::HpsfValidate, m.hash.validate, sets, {m.hash.capacity, 1}, push);
+    runPass(m, cmd, slot, Pass::HpsfValidate, m.hashValidate, sets, {m.hash.capacity, 1}, push);
   }
   // Pass: fold the frame's sums into each cell's history; evict stale cells.
-  runPass(m, cmd, slot, Pass::HpsfResolve, m.hash.resolve, sets, {m.hash.capacity, 1}, push);
+  runPass(m, cmd, slot, Pass::HpsfResolve, m.hashResolve, sets, {m.hash.capacity, 1}, push);
   // Pass: each pixel reads its cell (or keeps its own sample).
-  runPass(m, cmd, slot, Pass::HpsfLookup, m.hash.lookup, sets, size, push);
+  runPass(m, cmd, slot, Pass::HpsfLookup, m.hashLookup, sets, size, push);
   recordHashGridTelemetryCopy(m.gpu, cmd, m.hash, slot);
 }
 

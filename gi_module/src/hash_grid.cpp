@@ -3,21 +3,26 @@
 #include <algorithm>
 #include <cstring>
 
-#include "hpsf_insert.comp.h"
-#include "hpsf_insert.comp.compute.h"
-#include "hpsf_lookup.comp.h"
-#include "hpsf_lookup.comp.compute.h"
-#include "hpsf_resolve.comp.h"
-#include "hpsf_validate.comp.h"
-#include "hpsf_validate.comp.compute.h"
-#include "nhpsf_paths.comp.h"
-#include "nhpsf_paths.comp.compute.h"
 #include "shared/gi_frame.h"
 
 namespace gi {
 
-vk::Status createHashGrid(vk::Device& d, uint32_t capacity, uint32_t tables, uint32_t width, uint32_t height,
-                          uint32_t slots, bool walks, HashGrid& out) {
+namespace {
+const vk::Binding kHashGridBindings[] = {
+    {gpu::HG_BINDING_KEYS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+    {gpu::HG_BINDING_ACCUM, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+    {gpu::HG_BINDING_CELLS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+    {gpu::HG_BINDING_TELEMETRY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+    {gpu::HG_BINDING_CONTINUATION, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+};
+}  // namespace
+
+vk::Status createHashGridLayout(const vk::Device& d, VkDescriptorSetLayout& out) {
+  return vk::createDescriptorLayout(d, kHashGridBindings, out);
+}
+
+vk::Status createHashGrid(vk::Device& d, VkDescriptorSetLayout layout, uint32_t capacity, uint32_t tables,
+                          uint32_t width, uint32_t height, uint32_t slots, bool walks, HashGrid& out) {
   HashGrid g;
   g.capacity = capacity;
   g.tables = tables;
@@ -33,14 +38,7 @@ vk::Status createHashGrid(vk::Device& d, uint32_t capacity, uint32_t tables, uin
     GI_TRY(vk::createBuffer(d, sizeof(gpu::HgTelemetry) * (1 + slots), usage, true, g.telemetry));
     std::memset(g.telemetry.memory.mapped, 0, g.telemetry.size);
     GI_TRY(vk::createBuffer(d, sizeof(gpu::HgWalk) * std::max(g.walkPixels, 1u), usage, false, g.walks));
-    const vk::Binding bindings[] = {
-        {gpu::HG_BINDING_KEYS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-        {gpu::HG_BINDING_ACCUM, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-        {gpu::HG_BINDING_CELLS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-        {gpu::HG_BINDING_TELEMETRY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-        {gpu::HG_BINDING_CONTINUATION, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-    };
-    GI_TRY(vk::createDescriptorSets(d, bindings, 1, g.set));
+    GI_TRY(vk::createDescriptorSets(d, kHashGridBindings, 1, g.set, layout));
     return {};
   };
   if (vk::Status s = build()) {
@@ -60,24 +58,7 @@ vk::Status createHashGrid(vk::Device& d, uint32_t capacity, uint32_t tables, uin
   return {};
 }
 
-vk::Status ensureHashGridPrograms(const vk::Device& d, HashGrid& g, const VkDescriptorSetLayout layouts[2],
-                                  std::span<const uint32_t> spec, uint32_t mode, bool validates, uint32_t traversal) {
-  VkDescriptorSetLayout all[] = {layouts[0], layouts[1], g.set.layout};
-  const glm::uvec2 tile{GI_GROUP_SIZE, GI_GROUP_SIZE};
-  auto make = [&](vk::ComputeProgram& p, std::span<const uint32_t> spirv, glm::uvec2 group) -> vk::Status {
-    if (p.pipeline) return {};
-    return vk::createComputeProgram(d, spirv, all, sizeof(gpu::HgPush), group, spec, p);
-  };
-  if (mode == gpu::HG_MODE_HPSF) GI_TRY(make(g.insert, GI_SCENE_SPIRV(traversal, hpsf_insert_comp), tile));
-  else GI_TRY(make(g.paths, GI_SCENE_SPIRV(traversal, nhpsf_paths_comp), tile));
-  if (validates) GI_TRY(make(g.validate, GI_SCENE_SPIRV(traversal, hpsf_validate_comp), {64, 1}));
-  GI_TRY(make(g.resolve, spv_hpsf_resolve_comp, {64, 1}));  // traces nothing: one variant
-  GI_TRY(make(g.lookup, GI_SCENE_SPIRV(traversal, hpsf_lookup_comp), tile));
-  return {};
-}
-
 void destroyHashGrid(vk::Device& d, HashGrid& g) {
-  for (vk::ComputeProgram* p : {&g.insert, &g.paths, &g.validate, &g.resolve, &g.lookup}) vk::destroyComputeProgram(d, *p);
   vk::destroyDescriptorSets(d, g.set);
   for (vk::Buffer* b : {&g.keys, &g.accum, &g.cells, &g.telemetry, &g.walks}) vk::destroyBuffer(d, *b);
   g = HashGrid{};

@@ -3,6 +3,8 @@
 // that fails leaves the module as it was.
 #include "module.h"
 
+#include "programs.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -10,28 +12,6 @@
 #include <utility>
 #include <vector>
 
-#include "gi_composite.comp.h"
-#include "gi_composite.comp.compute.h"
-#include "gi_guidance.comp.h"
-#include "gi_guidance.comp.compute.h"
-#include "gi_raw_trace.comp.h"
-#include "gi_raw_trace.comp.compute.h"
-#include "aaf_adaptive.comp.h"
-#include "aaf_adaptive.comp.compute.h"
-#include "aaf_sample.comp.h"
-#include "aaf_sample.comp.compute.h"
-#include "gi_supersample.comp.h"
-#include "gi_supersample.comp.compute.h"
-#include "gi_temporal.comp.h"
-#include "gi_temporal.comp.compute.h"
-#include "svgf_atrous.comp.h"
-#include "svgf_atrous.comp.compute.h"
-#include "svgf_variance.comp.h"
-#include "svgf_variance.comp.compute.h"
-#include "gi_temporal_gradient.comp.h"
-#include "gi_temporal_gradient.comp.compute.h"
-#include "gi_temporal_spread.comp.h"
-#include "gi_temporal_spread.comp.compute.h"
 #include "shared/aaf.h"
 
 namespace gi {
@@ -197,33 +177,6 @@ Error checkFeatures(const Module& m) {
                                          (rayQuery ? " (with ray-query traversal)" : "") + "; see gi/device.h"};
 }
 
-// The SCENE_SPEC_* specialisation values for a scene.
-std::array<uint32_t, SCENE_SPEC_COUNT> sceneSpecialization(const SceneDesc& scene) {
-  return {scene.hasEmissiveTriangles ? 1u : 0u, scene.hasPunctualLights ? 1u : 0u, scene.hasAlphaMask ? 1u : 0u,
-          scene.hasSky ? 1u : 0u};
-}
-// The scene's values, then the G-buffer's encodings (GI_SPEC_*): what every module program is specialised on.
-std::array<uint32_t, GI_SPEC_COUNT> moduleSpecialization(const Module& m) {
-  static_assert(SCENE_SPEC_COUNT == GI_SPEC_NORMAL_ENCODING, "the G-buffer's constants follow the scene's");
-  const auto scene = sceneSpecialization(m.desc.scene);
-  const GBufferDesc& g = m.desc.gbuffer;
-  return {scene[0], scene[1], scene[2], scene[3], uint32_t(g.normalEncoding), uint32_t(g.depthEncoding),
-          uint32_t(g.motion), uint32_t(g.glossy)};
-}
-
-// The module's own passes' programs (the hash map's are its own: hash_grid.cpp).
-std::vector<vk::ComputeProgram*> modulePrograms(Module& m) {
-  return {&m.rawTrace, &m.composite,        &m.guidancePass, &m.supersample, &m.aafSample,
-          &m.aafAdaptive, &m.temporal, &m.temporalGradient, &m.temporalSpread, &m.svgfVariance, &m.svgfAtrous};
-}
-
-// Every program built against set 0's layout and the scene's specialisation.
-std::vector<vk::ComputeProgram*> scenePrograms(Module& m) {
-  std::vector<vk::ComputeProgram*> programs = modulePrograms(m);
-  programs.insert(programs.end(), {&m.hash.insert, &m.hash.paths, &m.hash.validate, &m.hash.resolve, &m.hash.lookup});
-  return programs;
-}
-
 // The hash map `s` needs for renders up to `width` × `height`.
 struct HashGridShape {
   uint32_t capacity, tables;
@@ -243,52 +196,8 @@ bool hashGridChanges(const Module& m, const Settings& s) {
 
 vk::Status createHashGridFor(Module& m, const Settings& s, uint32_t width, uint32_t height, HashGrid& out) {
   const HashGridShape shape = hashGridShape(s, width, height);
-  return createHashGrid(m.gpu, shape.capacity, shape.tables, width, height, m.desc.framesInFlight, shape.walks, out);
-}
-
-vk::Status ensureHashGridProgramsFor(Module& m, const Settings& s, HashGrid& grid) {
-  if (!usesHashGrid(s.method)) return {};
-  VkDescriptorSetLayout layouts[2] = {m.desc.scene.layout, m.frameLayout};
-  return ensureHashGridPrograms(m.gpu, grid, layouts, moduleSpecialization(m), hashMode(s.method), validatesHashCells(s),
-                                m.desc.scene.traversal);
-}
-
-// Each method's programs are compiled when it is first chosen: a module that
-// only ever runs one method compiles only that method's shaders. Programs
-// are kept (a later switch back costs nothing) and never rewritten.
-vk::Status ensurePrograms(Module& m, const Settings& s) {
-  VkDescriptorSetLayout layouts[] = {m.desc.scene.layout, m.frameLayout};
-  const glm::uvec2 tile{GI_GROUP_SIZE, GI_GROUP_SIZE};
-  auto spec = moduleSpecialization(m);
-  const uint32_t traversal = m.desc.scene.traversal;
-  auto make = [&](vk::ComputeProgram& p, std::span<const uint32_t> spirv, uint32_t push) -> vk::Status {
-    if (p.pipeline) return {};
-    return vk::createComputeProgram(m.gpu, spirv, layouts, push, tile, spec, p);
-  };
-  GI_TRY(make(m.composite, GI_SCENE_SPIRV(traversal, gi_composite_comp), sizeof(gpu::GiCompositePush)));
-  bool pathsFromGBuffer = !usesHashGrid(s.method) && !isAaf(s.method);
-  if (pathsFromGBuffer) GI_TRY(make(m.rawTrace, GI_SCENE_SPIRV(traversal, gi_raw_trace_comp), sizeof(gpu::GiRawPush)));
-  if (runsTemporalPass(m, s))
-    GI_TRY(make(m.temporal, GI_SCENE_SPIRV(traversal, gi_temporal_comp), sizeof(gpu::GiTemporalPush)));
-  if (usesHistoryClamp(m, s))
-    GI_TRY(make(m.temporalSpread, GI_SCENE_SPIRV(traversal, gi_temporal_spread_comp), sizeof(gpu::GiTemporalPush)));
-  if (usesTemporalGradients(m, s))
-    GI_TRY(make(m.temporalGradient, GI_SCENE_SPIRV(traversal, gi_temporal_gradient_comp), sizeof(gpu::GiRawPush)));
-  if (s.method == Method::Svgf) {
-    GI_TRY(make(m.svgfVariance, GI_SCENE_SPIRV(traversal, svgf_variance_comp), sizeof(gpu::GiSvgfPush)));
-    GI_TRY(make(m.svgfAtrous, GI_SCENE_SPIRV(traversal, svgf_atrous_comp), sizeof(gpu::GiSvgfPush)));
-  }
-  if (usesScreenFilters(s.method)) {
-    GI_TRY(make(m.guidancePass, GI_SCENE_SPIRV(traversal, gi_guidance_comp), 0));
-    if (!m.filterPrograms.layout) GI_TRY(createFilterPrograms(m.gpu, m.filterPrograms));
-  }
-  if (s.method == Method::Gif && s.gif.supersamples > 0)
-    GI_TRY(make(m.supersample, GI_SCENE_SPIRV(traversal, gi_supersample_comp), sizeof(gpu::GiSupersamplePush)));
-  if (isAaf(s.method)) {
-    GI_TRY(make(m.aafSample, GI_SCENE_SPIRV(traversal, aaf_sample_comp), sizeof(gpu::AafPush)));
-    GI_TRY(make(m.aafAdaptive, GI_SCENE_SPIRV(traversal, aaf_adaptive_comp), sizeof(gpu::AafPush)));
-  }
-  return {};
+  return createHashGrid(m.gpu, m.hashLayout, shape.capacity, shape.tables, width, height, m.desc.framesInFlight,
+                        shape.walks, out);
 }
 
 // Host-visible buffers: frame constants (one per slot, each at the device's
@@ -317,12 +226,12 @@ vk::Status createTimestamps(Module& m) {
 
 vk::Status createModuleResources(Module& m) {
   GI_TRY(vk::createDescriptorLayout(m.gpu, frameBindings(), m.frameLayout));
+  GI_TRY(createHashGridLayout(m.gpu, m.hashLayout));
   GI_TRY(createFrameBuffers(m));
   GI_TRY(ensurePrograms(m, m.settings));
   GI_TRY(createOutputImages(m.gpu, m.width, m.height, m.desc.outputFormat, m.outputs));
   GI_TRY(createSizedResources(m, m.settings, m.width, m.height, m.outputs, m.sized));
   if (usesHashGrid(m.settings.method)) GI_TRY(createHashGridFor(m, m.settings, m.desc.maxWidth, m.desc.maxHeight, m.hash));
-  GI_TRY(ensureHashGridProgramsFor(m, m.settings, m.hash));
   GI_TRY(createTimestamps(m));
   return {};
 }
@@ -333,11 +242,10 @@ void destroyModuleResources(Module& m) {
   vk::Device& g = m.gpu;
   if (m.timestamps) g.fn.vkDestroyQueryPool(g.device, m.timestamps, g.allocator);
   m.timestamps = VK_NULL_HANDLE;
-  for (vk::ComputeProgram* p : modulePrograms(m)) vk::destroyComputeProgram(g, *p);
   destroySizedResources(g, m.sized);
   destroyOutputImages(g, m.outputs);
-  destroyFilterPrograms(g, m.filterPrograms);
   destroyHashGrid(g, m.hash);
+  destroyPrograms(m);
   vk::destroyBuffer(g, m.frameConstants);
   vk::destroyBuffer(g, m.counters);
   if (m.frameLayout) g.fn.vkDestroyDescriptorSetLayout(g.device, m.frameLayout, g.allocator);
@@ -361,6 +269,20 @@ void replaceHashGrid(Module& m, HashGrid& next) {
 }
 
 }  // namespace
+
+// The SCENE_SPEC_* specialisation values for a scene.
+std::array<uint32_t, SCENE_SPEC_COUNT> sceneSpecialization(const SceneDesc& scene) {
+  return {scene.hasEmissiveTriangles ? 1u : 0u, scene.hasPunctualLights ? 1u : 0u, scene.hasAlphaMask ? 1u : 0u,
+          scene.hasSky ? 1u : 0u};
+}
+// The scene's values, then the G-buffer's encodings (GI_SPEC_*): what every module program is specialised on.
+std::array<uint32_t, GI_SPEC_COUNT> moduleSpecialization(const Module& m) {
+  static_assert(SCENE_SPEC_COUNT == GI_SPEC_NORMAL_ENCODING, "the G-buffer's constants follow the scene's");
+  const auto scene = sceneSpecialization(m.desc.scene);
+  const GBufferDesc& g = m.desc.gbuffer;
+  return {scene[0], scene[1], scene[2], scene[3], uint32_t(g.normalEncoding), uint32_t(g.depthEncoding),
+          uint32_t(g.motion), uint32_t(g.glossy)};
+}
 
 uint32_t hashMode(Method method) {
   return method == Method::Nhpsf ? gpu::HG_MODE_NHPSF : method == Method::Anhpsf ? gpu::HG_MODE_ANHPSF : gpu::HG_MODE_HPSF;
@@ -479,9 +401,11 @@ void destroy(Module* m) {
 
 Error setSettings(Module* m, const Settings& settings) {
   if (Error e = validate(settings)) return e;
+  // Programs another thread prepares (gi::preparePrograms) are created under this lock.
+  const std::lock_guard<std::mutex> lock(m->programsMutex);
   // Build what the new settings need beside what frames in flight still
   // read; only once all of it exists does the old part retire.
-  if (vk::Status s = ensurePrograms(*m, settings)) return vulkanError("gi::setSettings", s);
+  if (vk::Status s = createPrograms(*m, settings)) return vulkanError("gi::setSettings", s);
   SizedResources sized;
   bool newSized = sizedResourcesNeeded(*m, settings) != m->sized.needs;
   if (newSized)
@@ -490,7 +414,6 @@ Error setSettings(Module* m, const Settings& settings) {
   HashGrid hash;
   bool newHash = hashGridChanges(*m, settings);
   vk::Status s = newHash ? createHashGridFor(*m, settings, m->desc.maxWidth, m->desc.maxHeight, hash) : vk::Status{};
-  if (!s) s = ensureHashGridProgramsFor(*m, settings, newHash ? hash : m->hash);
   if (s) {
     destroyHashGrid(m->gpu, hash);
     destroySizedResources(m->gpu, sized);
@@ -505,6 +428,7 @@ Error setSettings(Module* m, const Settings& settings) {
 
 Error setScene(Module* m, const SceneDesc& scene) {
   if (Error e = checkScene(scene, "gi::setScene scene")) return e;
+  const std::lock_guard<std::mutex> lock(m->programsMutex);
   const ModuleDesc previousDesc = m->desc;
   m->desc.scene = scene;
   if (Error e = checkFeatures(*m)) {
@@ -517,8 +441,7 @@ Error setScene(Module* m, const SceneDesc& scene) {
   std::vector<vk::ComputeProgram> previous;
   if (rebuild)
     for (vk::ComputeProgram* p : scenePrograms(*m)) previous.push_back(std::exchange(*p, vk::ComputeProgram{}));
-  vk::Status s = ensurePrograms(*m, m->settings);
-  if (!s) s = ensureHashGridProgramsFor(*m, m->settings, m->hash);
+  vk::Status s = createPrograms(*m, m->settings);
   SizedResources sized;  // the glossy images follow the scene's materials
   const bool newSized = sizedResourcesNeeded(*m, m->settings) != m->sized.needs;
   if (!s && newSized) s = createSizedResources(*m, m->settings, m->width, m->height, m->outputs, sized);
@@ -548,6 +471,7 @@ Error setScene(Module* m, const SceneDesc& scene) {
 Error resize(Module* m, uint32_t width, uint32_t height) {
   if (Error e = checkSize("gi::resize width × height", width, height)) return e;
   if (width == m->width && height == m->height) return {};
+  const std::lock_guard<std::mutex> lock(m->programsMutex);  // the screen filters' sets read their layout
   OutputImages outputs;
   SizedResources sized;
   vk::Status built = createOutputImages(m->gpu, width, height, m->desc.outputFormat, outputs);
@@ -561,9 +485,7 @@ Error resize(Module* m, uint32_t width, uint32_t height) {
   const bool within = newMaxWidth == m->desc.maxWidth && newMaxHeight == m->desc.maxHeight;
   HashGrid hash;
   if (!within && usesHashGrid(m->settings.method)) {
-    vk::Status s = createHashGridFor(*m, m->settings, newMaxWidth, newMaxHeight, hash);
-    if (!s) s = ensureHashGridProgramsFor(*m, m->settings, hash);
-    if (s) {
+    if (vk::Status s = createHashGridFor(*m, m->settings, newMaxWidth, newMaxHeight, hash)) {
       destroyHashGrid(m->gpu, hash);
       destroySizedResources(m->gpu, sized);
       destroyOutputImages(m->gpu, outputs);

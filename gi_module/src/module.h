@@ -1,7 +1,9 @@
 // The module's internal state. Passes are free functions over it; the frame
 // (frame.cpp) calls them in order like a script.
 #pragma once
+#include <array>
 #include <functional>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -56,6 +58,17 @@ struct SizedResources {
   bool initialised = false;                       // images moved to GENERAL layout
 };
 
+// Placeholders that gi::recordProgramWarmup binds to its empty dispatches
+// (1×1 images, a minimal hash map), so that warming a method's programs
+// needs none of its real resources: held until gi::finishProgramWarmup.
+struct WarmupResources {
+  OutputImages outputs;
+  SizedResources sized;
+  HashGrid hash;
+  vk::Image gbuffer;  // every G-buffer binding's view
+  bool built = false;
+};
+
 // Something replaced while frames may still read it, and the number of
 // frames recorded when it was replaced: it is released once those have completed.
 struct Retired {
@@ -86,9 +99,15 @@ struct Module {
   vk::Buffer counters;                             // host-visible GiCounters[1 + slots]: live, then per-slot copies
   VkDescriptorSetLayout frameLayout = VK_NULL_HANDLE;  // set 1
 
+  // Programs (programs.h), each created when settings first need it and kept;
+  // created under programsMutex (gi::preparePrograms may run on another thread).
   vk::ComputeProgram rawTrace, composite, guidancePass, supersample, aafSample, aafAdaptive, temporal;
   vk::ComputeProgram svgfVariance, svgfAtrous, temporalGradient, temporalSpread;
-  FilterPrograms filterPrograms;                   // built when a screen-space filter is first chosen
+  vk::ComputeProgram hashInsert, hashPaths, hashValidate, hashResolve, hashLookup;  // hashPaths: nhpsf/anhpsf
+  FilterPrograms filterPrograms;                   // the screen-space filters' (their own set layout)
+  VkDescriptorSetLayout hashLayout = VK_NULL_HANDLE;  // set 2 of the hash methods' programs
+  std::mutex programsMutex;
+  WarmupResources warmup;                          // what gi::recordProgramWarmup binds
 
   VkQueryPool timestamps = VK_NULL_HANDLE;         // 2 per pass per slot (null when desc.timestamps is off)
   FrameSlot slots[kMaxFramesInFlight];
@@ -158,6 +177,9 @@ inline void dropHistory(Module& m) {
   m.temporalFrames = 0;
 }
 uint32_t hashMode(Method method);
+
+// The scene's values, then the G-buffer's encodings (GI_SPEC_*): what every module program is specialised on (module.cpp).
+std::array<uint32_t, GI_SPEC_COUNT> moduleSpecialization(const Module& m);
 
 // Frame stats (frame_stats.cpp).
 bool readFrameStats(Module& m, uint32_t slot, FrameStats& out);

@@ -32,7 +32,9 @@ void pass(const vk::Device& d, VkCommandBuffer cmd, const ScreenFilters& f, cons
   passOn(d, cmd, f.set[0], hooks, name, program, threads, push);
 }
 
-void ensureInitialised(const vk::Device& d, VkCommandBuffer cmd, ScreenFilters& f) {
+}  // namespace
+
+void recordScreenFiltersFirstUse(const vk::Device& d, VkCommandBuffer cmd, ScreenFilters& f) {
   if (f.initialised || !f.a[0].image) return;
   for (uint32_t i = 0; i < FILTER_STACK; ++i)
     for (vk::Image* img : {&f.a[i], &f.b[i]})
@@ -41,8 +43,6 @@ void ensureInitialised(const vk::Device& d, VkCommandBuffer cmd, ScreenFilters& 
                        VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
   f.initialised = true;
 }
-
-}  // namespace
 
 const vk::Binding kFilterBindings[] = {
     {gpu::FILTER_BINDING_GUIDANCE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
@@ -55,23 +55,38 @@ const vk::Binding kFilterBindings[] = {
     {gpu::FILTER_BINDING_PARAMS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
 };
 
+constexpr glm::uvec2 kTile{FILTER_GROUP_SIZE, FILTER_GROUP_SIZE}, kLine{FILTER_LINE_GROUP, 1};
+const FilterProgramInfo kFilterPrograms[] = {
+    {&FilterPrograms::moments, "gif_moments", spv_gif_moments_comp, sizeof(gpu::GuidedMomentsPush), kTile},
+    {&FilterPrograms::box, "gif_box", spv_gif_box_comp, sizeof(gpu::BoxPush), kLine},
+    {&FilterPrograms::coefficients, "gif_coefficients", spv_gif_coefficients_comp, sizeof(gpu::GuidedCoefficientsPush), kTile},
+    {&FilterPrograms::output, "gif_output", spv_gif_output_comp, sizeof(gpu::GuidedMomentsPush), kTile},
+    {&FilterPrograms::bilateral, "bilateral", spv_bilateral_comp, sizeof(gpu::BilateralPush), kTile},
+    {&FilterPrograms::atrous, "atrous", spv_atrous_comp, sizeof(gpu::AtrousPush), kTile},
+    {&FilterPrograms::aaf, "aaf_filter", spv_aaf_filter_comp, sizeof(gpu::AafFilterPush), kTile},
+    {&FilterPrograms::sspsf, "sspsf", spv_sspsf_comp, sizeof(gpu::SspsfPush), kTile},
+};
+static_assert(std::size(kFilterPrograms) == size_t(FilterProgram::Sspsf) + 1);
+
+std::span<const FilterProgramInfo> filterProgramCatalogue() { return kFilterPrograms; }
+
+vk::Status createFilterLayout(const vk::Device& d, FilterPrograms& f) {
+  if (!f.layout) GI_TRY(vk::createDescriptorLayout(d, kFilterBindings, f.layout));
+  return {};
+}
+
+vk::Status createFilterProgram(const vk::Device& d, FilterPrograms& f, const FilterProgramInfo& info) {
+  vk::ComputeProgram& p = f.*info.program;
+  if (p.pipeline) return {};
+  VkDescriptorSetLayout layouts[] = {f.layout};
+  return vk::createComputeProgram(d, info.spirv, layouts, info.pushSize, info.group, {}, p);
+}
+
 vk::Status createFilterPrograms(const vk::Device& d, FilterPrograms& out) {
   FilterPrograms f;
   auto build = [&]() -> vk::Status {
-    GI_TRY(vk::createDescriptorLayout(d, kFilterBindings, f.layout));
-    VkDescriptorSetLayout layouts[] = {f.layout};
-    const glm::uvec2 tile{FILTER_GROUP_SIZE, FILTER_GROUP_SIZE}, line{FILTER_LINE_GROUP, 1};
-    auto make = [&](vk::ComputeProgram& p, std::span<const uint32_t> spirv, uint32_t push, glm::uvec2 group) {
-      return vk::createComputeProgram(d, spirv, layouts, push, group, {}, p);
-    };
-    GI_TRY(make(f.moments, spv_gif_moments_comp, sizeof(gpu::GuidedMomentsPush), tile));
-    GI_TRY(make(f.box, spv_gif_box_comp, sizeof(gpu::BoxPush), line));
-    GI_TRY(make(f.coefficients, spv_gif_coefficients_comp, sizeof(gpu::GuidedCoefficientsPush), tile));
-    GI_TRY(make(f.output, spv_gif_output_comp, sizeof(gpu::GuidedMomentsPush), tile));
-    GI_TRY(make(f.bilateral, spv_bilateral_comp, sizeof(gpu::BilateralPush), tile));
-    GI_TRY(make(f.atrous, spv_atrous_comp, sizeof(gpu::AtrousPush), tile));
-    GI_TRY(make(f.aaf, spv_aaf_filter_comp, sizeof(gpu::AafFilterPush), tile));
-    GI_TRY(make(f.sspsf, spv_sspsf_comp, sizeof(gpu::SspsfPush), tile));
+    GI_TRY(createFilterLayout(d, f));
+    for (const FilterProgramInfo& info : kFilterPrograms) GI_TRY(createFilterProgram(d, f, info));
     return {};
   };
   if (vk::Status s = build()) {
@@ -83,8 +98,7 @@ vk::Status createFilterPrograms(const vk::Device& d, FilterPrograms& out) {
 }
 
 void destroyFilterPrograms(const vk::Device& d, FilterPrograms& f) {
-  for (vk::ComputeProgram* p : {&f.moments, &f.box, &f.coefficients, &f.output, &f.bilateral, &f.atrous, &f.aaf, &f.sspsf})
-    vk::destroyComputeProgram(d, *p);
+  for (const FilterProgramInfo& info : kFilterPrograms) vk::destroyComputeProgram(d, f.*info.program);
   if (f.layout) d.fn.vkDestroyDescriptorSetLayout(d.device, f.layout, d.allocator);
   f = FilterPrograms{};
 }
@@ -151,7 +165,7 @@ void destroyScreenFilters(vk::Device& d, ScreenFilters& f) {
 
 void recordGuidedFilter(const vk::Device& d, VkCommandBuffer cmd, ScreenFilters& f, const GuidedFilterParams& p,
                         const PassHooks& hooks) {
-  ensureInitialised(d, cmd, f);
+  recordScreenFiltersFirstUse(d, cmd, f);
   const glm::uvec2 size{f.width, f.height};
   const gpu::GuidedMomentsPush dims{p.guidanceDimensions, p.writeCoefficientView ? 1u : 0u, p.output};
   // Window statistics: per-pixel products, then their box means (rows, then columns).

@@ -31,6 +31,21 @@ struct FilterPrograms {
   VkDescriptorSetLayout layout = VK_NULL_HANDLE;
   vk::ComputeProgram moments, box, coefficients, output, bilateral, atrous, aaf, sspsf;
 };
+// One filter program: where FilterPrograms keeps it, its shader's name, SPIR-V, push size and group.
+struct FilterProgramInfo {
+  vk::ComputeProgram FilterPrograms::*program;
+  const char* name;
+  std::span<const uint32_t> spirv;
+  uint32_t pushSize;
+  glm::uvec2 group;
+};
+// gif's four, then bilateral, atrous, aaf_filter, sspsf.
+std::span<const FilterProgramInfo> filterProgramCatalogue();
+enum class FilterProgram : uint32_t { GifMoments, GifBox, GifCoefficients, GifOutput, Bilateral, Atrous, Aaf, Sspsf };
+// The layout alone (programs are then made one by one: createFilterProgram).
+vk::Status createFilterLayout(const vk::Device& device, FilterPrograms& programs);
+vk::Status createFilterProgram(const vk::Device& device, FilterPrograms& programs, const FilterProgramInfo& info);
+// The layout and every program.
 vk::Status createFilterPrograms(const vk::Device& device, FilterPrograms& out);
 void destroyFilterPrograms(const vk::Device& device, FilterPrograms& programs);
 
@@ -61,6 +76,8 @@ vk::Status createScreenFilters(vk::Device& device, const FilterPrograms& program
 // Allocates the guided filter's 16 statistics images (16 × width × height × 16 bytes) once.
 vk::Status ensureGuidedStack(vk::Device& device, ScreenFilters& f);
 void destroyScreenFilters(vk::Device& device, ScreenFilters& f);
+// Moves the guided filter's statistics images to GENERAL layout, once (the filters do it on first use).
+void recordScreenFiltersFirstUse(const vk::Device& device, VkCommandBuffer cmd, ScreenFilters& f);
 
 // Each reads the targets' input and writes their output (and temp as noted),
 // ending with a barrier that makes the output visible to compute shaders.

@@ -38,7 +38,8 @@
 // size and stays usable.
 //
 // Threads: a Module is not thread-safe; call every function for one module
-// from one thread at a time (any thread). Different modules may be used from
+// from one thread at a time (any thread), but for the program functions
+// (preparePrograms and the warm-up, below), which may run on a second thread. Different modules may be used from
 // different threads at once: each has its own function table and memory.
 // validate(), version(), resultName() and the catalogues (gi/catalogue.h) are
 // pure and may be called from anywhere.
@@ -47,6 +48,7 @@
 
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "gi/device.h"
@@ -54,7 +56,8 @@
 #include "shared/gpu_scene.h"
 
 #define GI_VERSION_MAJOR 0
-#define GI_VERSION_MINOR 4  // 0.4: the scene API (gi/scene.h), the G-buffer adapter, the camera as matrices
+#define GI_VERSION_MINOR 5  // 0.5: programs readied ahead of a switch (preparePrograms, recordProgramWarmup); set 0's arrays as texel buffers
+                            // 0.4: the scene API (gi/scene.h), the G-buffer adapter, the camera as matrices
                             // 0.3: half-float outputs with pre-exposure
                             // 0.2: own function table, frames in flight, returned Vulkan errors, catalogues
 
@@ -313,5 +316,30 @@ FrameStats stats(Module* module);
 // Numbers of frame `frameIndex` (FrameInputs::frameIndex) once it has
 // completed; false while it is in flight or once its slot has been reused.
 bool frameStats(Module* module, uint32_t frameIndex, FrameStats& out);
+
+// Programs. Every pass runs a compute program, created the first time
+// settings need it (create, setSettings) and kept, so a switch back creates
+// nothing. Most drivers compile a program when it is created; Mesa's
+// lavapipe compiles it at its first dispatch, on the queue, stalling the
+// frames queued behind it. To switch methods without either stall, an engine
+// readies the new settings' programs ahead of the switch:
+//  - programNames: the programs `settings` run on the module's scene (shader names, recording order);
+//  - preparePrograms: creates those not created yet (where the driver compiles at creation, the compile);
+//  - programsPrepared: whether setSettings(settings) would create none;
+//  - recordProgramWarmup: records into `cmd` a dispatch of no workgroups of each program (or of the
+//    one named), bound to 1×1 placeholders the module holds: nothing runs, but a driver that compiles
+//    at first dispatch compiles there. Submit it where it holds up no frame (a second queue; on a
+//    single-queue device, between frames, accepting that one stall), then call finishProgramWarmup
+//    once it has completed, before recording another.
+// These four may be called from a thread of the engine's while another
+// thread records frames and changes settings: they take a lock of their own,
+// which setSettings, setScene and resize take too (recordFrame never waits on
+// it). The pipelines go through ModuleDesc::pipelineCache (the engine keeps it
+// thread-safe: no VK_PIPELINE_CACHE_CREATE_EXTERNALLY_SYNCHRONIZED_BIT).
+std::vector<std::string> programNames(Module* module, const Settings& settings);
+Error preparePrograms(Module* module, const Settings& settings);
+bool programsPrepared(Module* module, const Settings& settings);
+Error recordProgramWarmup(Module* module, const Settings& settings, VkCommandBuffer cmd, std::string_view program = {});
+void finishProgramWarmup(Module* module);
 
 }  // namespace gi

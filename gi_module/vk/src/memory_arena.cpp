@@ -79,6 +79,7 @@ Status newBlock(Device& d, uint32_t type, VkDeviceSize size, bool shared, bool h
 
 Status allocate(Device& d, const VkMemoryRequirements& req, bool hostVisible, bool linear, Allocation& out) {
   MemoryArena& a = d.memory;
+  const std::lock_guard<std::mutex> guard(a.lock.mutex);
   const VkMemoryPropertyFlags flags = hostVisible ? VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT
                                                   : VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
   uint32_t type = 0;
@@ -118,6 +119,7 @@ Status allocate(Device& d, const VkMemoryRequirements& req, bool hostVisible, bo
 
 void release(Device& d, Allocation& al) {
   MemoryArena& a = d.memory;
+  const std::lock_guard<std::mutex> guard(a.lock.mutex);
   if (al.block >= a.blocks.size()) return;
   MemoryArena::Block& b = a.blocks[al.block];
   auto it = std::lower_bound(b.free.begin(), b.free.end(), al.offset,

@@ -6,6 +6,7 @@
 // VK_ERROR_OUT_OF_DEVICE_MEMORY like a full heap would.
 #pragma once
 #include <cstdint>
+#include <mutex>
 #include <vector>
 
 #include "gi/vk/status.h"
@@ -22,6 +23,14 @@ struct Allocation {
 };
 
 struct MemoryArena {
+  // allocate and release may run on two threads (a warm-up recorded on an
+  // engine's thread while its main thread records frames): one lock guards the blocks.
+  struct Lock {
+    std::mutex mutex;
+    Lock() = default;
+    Lock(const Lock&) {}
+    Lock& operator=(const Lock&) { return *this; }
+  };
   struct Range {
     VkDeviceSize offset, size;
   };
@@ -40,6 +49,7 @@ struct MemoryArena {
   VkDeviceSize held = 0;        // bytes allocated from the device
   VkDeviceSize used = 0;        // bytes handed to resources
   uint32_t allocations = 0;     // live vkAllocateMemory blocks
+  Lock lock;
 };
 
 // `linear`: a buffer (or linear image). `hostVisible`: host-visible and coherent, mapped.
