@@ -28,6 +28,13 @@ void dispatch(const Context& ctx, VkCommandBuffer cmd, const ComputeProgram& pro
               std::span<const VkDescriptorSet> sets, glm::uvec2 threads, const void* pushConstants,
               uint32_t pushConstantSize);
 
+// Binds the program and its sets and dispatches no workgroups: a driver that
+// compiles at first dispatch (lavapipe) compiles here (gi::vk::warmUp).
+inline void warmUp(const Context& ctx, VkCommandBuffer cmd, const ComputeProgram& program,
+                   std::span<const VkDescriptorSet> sets) {
+  gi::vk::warmUp(ctx.vk, cmd, program, sets);
+}
+
 template <typename T>
 void dispatch(const Context& ctx, VkCommandBuffer cmd, const ComputeProgram& program,
               std::span<const VkDescriptorSet> sets, glm::uvec2 threads, const T& pushConstants) {

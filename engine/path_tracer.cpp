@@ -76,6 +76,11 @@ void recordPathTrace(const Context& ctx, VkCommandBuffer cmd, PathTracer& pt, co
   pt.samples = firstSample + samples;
 }
 
+void warmPathTracer(const Context& ctx, VkCommandBuffer cmd, const PathTracer& pt, const SceneGpu& scene) {
+  VkDescriptorSet sets[] = {scene.set.set, pt.set.set};
+  warmUp(ctx, cmd, pt.program, sets);
+}
+
 uint64_t takeRayCount(PathTracer& pt) {
   uint32_t rays;
   std::memcpy(&rays, pt.rayCounter.mapped, sizeof(rays));
@@ -114,6 +119,9 @@ ReferenceRun renderReference(const Context& ctx, const SceneGpu& scene, const gp
   PathTracer pt = createPathTracer(ctx, scene, {uint32_t(camera.imageSize.x), uint32_t(camera.imageSize.y)});
   GpuTimer timer = createGpuTimer(ctx, 4);
   takeRayCount(pt);
+  const auto warmStart = std::chrono::steady_clock::now();
+  submitAndWait(ctx, [&](VkCommandBuffer cmd) { warmPathTracer(ctx, cmd, pt, scene); });
+  run.firstDispatchMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - warmStart).count();
   for (uint32_t done = 0; done < spp;) {
     uint32_t n = std::min(samplesPerSubmit, spp - done);
     resetGpuTimer(ctx, timer);

@@ -39,6 +39,8 @@ PathTracer createPathTracer(const Context& ctx, const SceneGpu& scene, VkExtent2
 void destroyPathTracer(const Context& ctx, PathTracer& pt);
 
 // Records `samples` more samples per pixel (restarting when firstSample == 0).
+// Records the path tracer's warm-up (gi::vk::warmUp): its compile, off the timed dispatches.
+void warmPathTracer(const Context& ctx, VkCommandBuffer cmd, const PathTracer& pt, const SceneGpu& scene);
 void recordPathTrace(const Context& ctx, VkCommandBuffer cmd, PathTracer& pt, const SceneGpu& scene,
                      const gpu::GpuCamera& camera, const ReferenceSettings& settings, uint32_t firstSample,
                      uint32_t samples, GpuTimer* timer);
@@ -50,8 +52,9 @@ ReferenceImages readReferenceImages(const Context& ctx, const PathTracer& pt);
 
 struct ReferenceRun {
   ReferenceImages images;
-  double gpuMs = 0.0;      // sum of path-trace pass times
+  double gpuMs = 0.0;      // sum of path-trace pass times (the program was warmed before: no compile in them)
   uint64_t rays = 0;
+  double firstDispatchMs = 0.0;  // wall time of the program's warm-up: its compile, where the driver compiles at first dispatch
   double wallSeconds = 0.0;
 };
 

@@ -3,6 +3,7 @@
 #include "camera.h"
 #include "readback.h"
 
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -50,6 +51,29 @@ void destroyModuleSession(const engine::Context& ctx, ModuleSession& s) {
   engine::destroyGBufferPass(ctx, s.gbufferPass);
   engine::destroyGBuffer(ctx, s.gbuffer);
   s = ModuleSession{};
+}
+
+std::vector<ProgramWarmup> warmModulePrograms(const engine::Context& ctx, ModuleSession& s, const gi::Settings& settings,
+                                              const engine::Scene& scene, const engine::SceneGpu& sceneGpu,
+                                              const gpu::GpuCamera& camera) {
+  std::vector<ProgramWarmup> out;
+  const auto rasterStart = std::chrono::steady_clock::now();  // every frame rasters its G-buffer anew
+  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+    engine::recordGBuffer(ctx, cmd, s.gbufferPass, scene, sceneGpu, s.gbuffer, camera, nullptr);
+  });
+  out.push_back({"gbuffer", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - rasterStart).count()});
+  for (const std::string& name : gi::programNames(s.module, settings)) {
+    const auto start = std::chrono::steady_clock::now();
+    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+      if (gi::Error e = gi::recordProgramWarmup(s.module, settings, cmd, name)) {
+        std::fprintf(stderr, "warmModulePrograms: %s\n", e.message.c_str());  // a bug: the names are the module's
+        std::abort();
+      }
+    });
+    gi::finishProgramWarmup(s.module);
+    out.push_back({name, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count()});
+  }
+  return out;
 }
 
 bool resizeModuleSession(const engine::Context& ctx, ModuleSession& s, VkExtent2D extent, std::string& error) {

@@ -3,6 +3,7 @@
 // Shared by gi-render and gi-bench.
 #pragma once
 #include <string>
+#include <vector>
 
 #include "gbuffer.h"
 #include "gi/gi.h"
@@ -44,6 +45,18 @@ bool createModuleSession(const engine::Context& ctx, const engine::SceneGpu& sce
 void destroyModuleSession(const engine::Context& ctx, ModuleSession& session);
 // A new render size: waits for the device, makes a G-buffer of that size and resizes the module.
 bool resizeModuleSession(const engine::Context& ctx, ModuleSession& session, VkExtent2D extent, std::string& error);
+
+// The first dispatch of each program `settings` run, one submission each
+// (gi::recordProgramWarmup), and one G-buffer raster from `camera` ("gbuffer",
+// its pipelines' first draw): where the driver compiles at first use, each
+// one's compile. After it, timed frames time no compiler.
+struct ProgramWarmup {
+  std::string name;
+  double ms = 0.0;  // wall time of its warm-up submission
+};
+std::vector<ProgramWarmup> warmModulePrograms(const engine::Context& ctx, ModuleSession& session,
+                                              const gi::Settings& settings, const engine::Scene& scene,
+                                              const engine::SceneGpu& sceneGpu, const gpu::GpuCamera& camera);
 
 // Records one frame (G-buffer raster, then the module) into `cmd`; submits
 // nothing. The frame recorded two before it must have completed.

@@ -223,19 +223,14 @@ Error recordProgramWarmup(Module* m, const Settings& settings, VkCommandBuffer c
   const vk::Device& g = m->gpu;
   WarmupResources& w = m->warmup;
   recordWarmupFirstUse(g, cmd, w);
-  const std::vector<uint8_t> zeros(256, 0);
   for (const ProgramUse& p : list) {
     if (!program.empty() && program != p.name) continue;
-    const VkDescriptorSet frameSets[] = {m->desc.scene.set, w.sized.frameSets[0], w.hash.set.sets.empty() ? VK_NULL_HANDLE : w.hash.set[0]};
-    std::span<const VkDescriptorSet> sets = p.sets == ProgramSets::Filter ? std::span(&w.sized.filters.set.sets[0], 1)
-                                            : std::span(frameSets, p.sets == ProgramSets::FrameAndHash ? 3 : 2);
-    g.fn.vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.program->pipeline);
-    g.fn.vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.program->layout, 0, uint32_t(sets.size()),
-                                 sets.data(), 0, nullptr);
-    if (p.pushSize > 0)
-      g.fn.vkCmdPushConstants(cmd, p.program->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, p.pushSize, zeros.data());
-    // No workgroups: nothing runs, but a driver that compiles at dispatch compiles here.
-    g.fn.vkCmdDispatch(cmd, 0, 0, 0);
+    const VkDescriptorSet frameSets[] = {m->desc.scene.set, w.sized.frameSets[0],
+                                         w.hash.set.sets.empty() ? VK_NULL_HANDLE : w.hash.set[0]};
+    const std::span<const VkDescriptorSet> sets =
+        p.sets == ProgramSets::Filter ? std::span<const VkDescriptorSet>(&w.sized.filters.set.sets[0], 1)
+                                      : std::span<const VkDescriptorSet>(frameSets, p.sets == ProgramSets::FrameAndHash ? 3 : 2);
+    vk::warmUp(g, cmd, *p.program, sets);
   }
   return {};
 }

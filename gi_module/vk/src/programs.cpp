@@ -62,6 +62,17 @@ void dispatch(const Device& d, VkCommandBuffer cmd, const ComputeProgram& progra
   if (groups.x > 0 && groups.y > 0) d.fn.vkCmdDispatch(cmd, groups.x, groups.y, 1);
 }
 
+void warmUp(const Device& d, VkCommandBuffer cmd, const ComputeProgram& program, std::span<const VkDescriptorSet> sets) {
+  static constexpr uint8_t kZeros[256] = {};  // every push struct is far smaller (maxPushConstantsSize >= 128)
+  d.fn.vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, program.pipeline);
+  if (!sets.empty())
+    d.fn.vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, program.layout, 0, uint32_t(sets.size()),
+                                 sets.data(), 0, nullptr);
+  if (program.pushConstantSize > 0)
+    d.fn.vkCmdPushConstants(cmd, program.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, program.pushConstantSize, kZeros);
+  d.fn.vkCmdDispatch(cmd, 0, 0, 0);
+}
+
 Status createDescriptorLayout(const Device& d, std::span<const Binding> bindings, VkDescriptorSetLayout& out) {
   std::vector<VkDescriptorSetLayoutBinding> layoutBindings;
   std::vector<VkDescriptorBindingFlags> flags;

@@ -37,6 +37,12 @@ void dispatch(const Device& device, VkCommandBuffer cmd, const ComputeProgram& p
   dispatch(device, cmd, program, sets, threads, &pushConstants, sizeof(T));
 }
 
+// Binds the program and its sets, pushes zeros and dispatches no workgroups:
+// nothing runs, but a driver that compiles at a program's first dispatch
+// (lavapipe) compiles it here, so a timed or latency-bound dispatch later does not.
+void warmUp(const Device& device, VkCommandBuffer cmd, const ComputeProgram& program,
+            std::span<const VkDescriptorSet> sets);
+
 // The SPIR-V of a scene-reading stage for a traversal backend (gpu::TRAVERSAL_*):
 // spv_<stage> traces with ray queries, spv_<stage>_compute walks our BVH.
 inline std::span<const uint32_t> traversalVariant(uint32_t traversal, std::span<const uint32_t> rayQuery,
