@@ -83,6 +83,43 @@ uint32_t Context::traversalId() const {
   return traversal == Traversal::RayQuery ? gpu::TRAVERSAL_RAY_QUERY : gpu::TRAVERSAL_COMPUTE;
 }
 
+VkResult createEngineDevice(const Context& ctx, bool swapchain, VkDevice& out) {
+  VkPhysicalDeviceFeatures2 supported{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+  vkGetPhysicalDeviceFeatures2(ctx.physicalDevice, &supported);
+  // Enable exactly what we use.
+  VkPhysicalDeviceRayQueryFeaturesKHR rayQueryOn{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR};
+  VkPhysicalDeviceAccelerationStructureFeaturesKHR accelOn{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
+  accelOn.pNext = &rayQueryOn;
+  VkPhysicalDeviceVulkan13Features f13On{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
+  f13On.dynamicRendering = VK_TRUE;
+  f13On.maintenance4 = VK_TRUE;
+  f13On.pNext = ctx.rayQuery ? &accelOn : nullptr;
+  VkPhysicalDeviceVulkan12Features f12On{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+  f12On.bufferDeviceAddress = VK_TRUE;
+  f12On.pNext = &f13On;
+  VkPhysicalDeviceFeatures2 f2On{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+  f2On.features.shaderStorageImageReadWithoutFormat = supported.features.shaderStorageImageReadWithoutFormat;
+  f2On.pNext = &f12On;
+  if (gi::enableRequiredFeatures(f2On, ctx.rayQuery)) return VK_ERROR_FEATURE_NOT_PRESENT;  // a struct the chain lacks: a bug
+
+  const char* deviceExts[std::size(gi::kRayQueryExtensions) + 1];
+  uint32_t extensionCount = 0;
+  for (const char* ext : gi::requiredExtensions(ctx.rayQuery)) deviceExts[extensionCount++] = ext;
+  if (swapchain) deviceExts[extensionCount++] = VK_KHR_SWAPCHAIN_EXTENSION_NAME;
+  float priority = 1.0f;
+  VkDeviceQueueCreateInfo queueInfo{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+  queueInfo.queueFamilyIndex = ctx.queueFamily;
+  queueInfo.queueCount = 1;
+  queueInfo.pQueuePriorities = &priority;
+  VkDeviceCreateInfo deviceInfo{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
+  deviceInfo.pNext = &f2On;
+  deviceInfo.queueCreateInfoCount = 1;
+  deviceInfo.pQueueCreateInfos = &queueInfo;
+  deviceInfo.enabledExtensionCount = extensionCount;
+  deviceInfo.ppEnabledExtensionNames = deviceExts;
+  return vkCreateDevice(ctx.physicalDevice, &deviceInfo, nullptr, &out);
+}
+
 bool createContext(const ContextDesc& desc, Context& ctx, std::string& error) {
   if (volkInitialize() != VK_SUCCESS) {
     error = "No Vulkan loader was found (libvulkan.so.1); install libvulkan1 and a Vulkan driver such as mesa-vulkan-drivers.";
@@ -237,25 +274,6 @@ bool createContext(const ContextDesc& desc, Context& ctx, std::string& error) {
             ", which the GI module or the engine needs.";
     return false;
   }
-  // Enable exactly what we use.
-  VkPhysicalDeviceRayQueryFeaturesKHR rayQueryOn{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR};
-  VkPhysicalDeviceAccelerationStructureFeaturesKHR accelOn{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
-  accelOn.pNext = &rayQueryOn;
-  VkPhysicalDeviceVulkan13Features f13On{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
-  f13On.dynamicRendering = VK_TRUE;
-  f13On.maintenance4 = VK_TRUE;
-  f13On.pNext = ctx.rayQuery ? &accelOn : nullptr;
-  VkPhysicalDeviceVulkan12Features f12On{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
-  f12On.bufferDeviceAddress = VK_TRUE;
-  f12On.pNext = &f13On;
-  VkPhysicalDeviceFeatures2 f2On{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
-  f2On.features.shaderStorageImageReadWithoutFormat = f2.features.shaderStorageImageReadWithoutFormat;
-  f2On.pNext = &f12On;
-  if (const char* lacking = gi::enableRequiredFeatures(f2On, ctx.rayQuery)) {
-    error = std::string("internal: the engine's feature chain has no struct for ") + lacking;
-    return false;
-  }
-
   uint32_t familyCount = 0;
   vkGetPhysicalDeviceQueueFamilyProperties(best, &familyCount, nullptr);
   std::vector<VkQueueFamilyProperties> families(familyCount);
@@ -274,23 +292,8 @@ bool createContext(const ContextDesc& desc, Context& ctx, std::string& error) {
     return false;
   }
 
-  std::vector<const char*> deviceExts;
-  for (const char* ext : gi::requiredExtensions(ctx.rayQuery)) deviceExts.push_back(ext);
-  if (desc.swapchain) deviceExts.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
-  float priority = 1.0f;
-  VkDeviceQueueCreateInfo queueInfo{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
-  queueInfo.queueFamilyIndex = ctx.queueFamily;
-  queueInfo.queueCount = 1;
-  queueInfo.pQueuePriorities = &priority;
-  VkDeviceCreateInfo deviceInfo{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
-  deviceInfo.pNext = &f2On;
-  deviceInfo.queueCreateInfoCount = 1;
-  deviceInfo.pQueueCreateInfos = &queueInfo;
-  deviceInfo.enabledExtensionCount = uint32_t(deviceExts.size());
-  deviceInfo.ppEnabledExtensionNames = deviceExts.data();
-  r = vkCreateDevice(best, &deviceInfo, nullptr, &ctx.device);
-  if (r != VK_SUCCESS) {
-    error = std::string("vkCreateDevice failed on '") + bestProps.deviceName + "' (" + vkResultName(r) + ").";
+  if (VkResult made = createEngineDevice(ctx, desc.swapchain, ctx.device); made != VK_SUCCESS) {
+    error = std::string("vkCreateDevice failed on '") + bestProps.deviceName + "' (" + vkResultName(made) + ").";
     return false;
   }
   volkLoadDevice(ctx.device);

@@ -61,6 +61,9 @@ struct Context {
 // it lacks) when no usable device exists.
 bool createContext(const ContextDesc& desc, Context& ctx, std::string& error);
 void destroyContext(Context& ctx);
+// A device on the context's GPU with the context's own features and extensions
+// (the swapchain's only with `swapchain`): the context's, or a second one (second_device.h).
+VkResult createEngineDevice(const Context& ctx, bool swapchain, VkDevice& out);
 
 // One-shot command buffer: begin, record with `record`, submit and wait.
 template <typename F>

@@ -1,6 +1,7 @@
 // Benchmark mode's CSV: one row per frame along the walkthrough with the
 // G-buffer's and every module pass's GPU ms (a pass that runs several times a
-// frame is summed), the module total, the CPU frame time, rays and spp.
+// frame is summed), the module total, the CPU frame time, rays and spp, the
+// method and whether another's programs were being readied.
 #pragma once
 #include <fstream>
 #include <string>
@@ -18,6 +19,8 @@ struct FrameLog {
 
 // False with a sentence naming the file when it cannot be written.
 bool openFrameLog(FrameLog& log, const std::string& path, std::string& error);
-void writeFrameRow(FrameLog& log, uint32_t frame, double seconds, double cpuMs, double gbufferMs, const gi::FrameStats& stats);
+// `method`: what the frame ran; `readying`: another method's programs were being readied meanwhile.
+void writeFrameRow(FrameLog& log, uint32_t frame, double seconds, double cpuMs, double gbufferMs, const gi::FrameStats& stats,
+                   const std::string& method, bool readying);
 
 }  // namespace demo

@@ -25,6 +25,7 @@
 #include "module_session.h"
 #include "overlay.h"
 #include "overlay_renderer.h"
+#include "program_readiness.h"
 #include "scene_gpu.h"
 #include "scene_loading.h"
 #include "settings_keys.h"
@@ -51,6 +52,8 @@ const cli::Option kOptions[] = {
     {"headless", nullptr, "no window even if a display is available"},
     {"no-animation", nullptr, "keep the light and the object still"},
     {"still", nullptr, "a static scene: no animation and no walkthrough (the camera stays at the scene's)"},
+    {"switch-at", "N:METHOD", "at frame N pick METHOD as the overlay would (its programs readied off the frame)"},
+    {"switch-in-frame", nullptr, "switch methods at once, their programs compiled in the frame (for comparison)"},
     {"validation", nullptr, "enable Vulkan validation (exit status 3 if it reports anything)"},
     cli::kTraversalOption,
     cli::kSkyOption,
@@ -68,6 +71,9 @@ struct Options {
   engine::Sky sky;  // --sky; black by default
   bool help = false;
   bool headless = false, animate = true, walkthrough = true, validation = false;
+  uint32_t switchAt = UINT32_MAX;  // --switch-at: the frame, and the method then
+  gi::Method switchTo = gi::Method::Svgf;
+  bool switchInFrame = false;
 };
 
 int usageError(const std::string& message) {
@@ -109,6 +115,18 @@ bool parseOptions(int argc, char** argv, Options& o, std::string& error) {
   o.animate = !args.has("no-animation") && !args.has("still");
   o.walkthrough = !args.has("still");
   o.validation = args.has("validation") || std::getenv("GI_VALIDATION") != nullptr;
+  o.switchInFrame = args.has("switch-in-frame");
+  if (args.has("switch-at")) {
+    const std::string& v = args.values["switch-at"];
+    const size_t colon = v.find(':');
+    char* end = nullptr;
+    const unsigned long at = std::strtoul(v.c_str(), &end, 10);
+    if (colon == std::string::npos || end != v.c_str() + colon || !gi::methodFromName(v.substr(colon + 1), o.switchTo)) {
+      error = "--switch-at '" + v + "' is not FRAME:METHOD (methods: " + tools::methodList() + ")";
+      return false;
+    }
+    o.switchAt = uint32_t(at);
+  }
   return cli::getTraversal(args, o.traversal, error) && cli::getSky(args, o.sky, error);
 }
 
@@ -230,6 +248,31 @@ int main(int argc, char** argv) {
   engine::SceneAnimation animation = engine::makeSceneAnimation(scene);
   gi::Settings settings = o.settings, applied = o.settings;  // what the panel edits, what the module runs
 
+  // Settings whose programs are not ready are readied off the frame first (program_readiness.h).
+  demo::ProgramReadiness readiness;
+  const gi::ModuleDesc moduleDesc = tools::moduleDesc(ctx, sceneGpu, {o.width, o.height});
+  auto apply = [&](const gi::Settings& wanted) {
+    if (gi::Error e = gi::validate(wanted)) {
+      ui.settingsError = e.message;  // the module keeps running what it had
+      settings = applied;
+      return;
+    }
+    ui.settingsError.clear();
+    if (!o.switchInFrame && !gi::programsPrepared(session.module, wanted)) {
+      if (!readiness.busy) demo::startReadying(readiness, ctx, session.module, moduleDesc, wanted);
+      ui.compiling = gi::methodName(wanted.method);  // the newest wish is applied when the worker is done
+      return;
+    }
+    if (gi::Error e = gi::setSettings(session.module, wanted)) {
+      ui.settingsError = e.message;
+      settings = applied;
+    } else {
+      applied = wanted;
+    }
+  };
+  std::string methodOfFrame[engine::kFramesInFlight];  // what each frame in flight ran, for its CSV row
+  bool readyingOfFrame[engine::kFramesInFlight] = {};
+
   demo::FrameLog log;
   bool logging = o.headless || o.benchmark > 0;
   if (logging && !demo::openFrameLog(log, (o.out / "benchmark.csv").string(), error)) {
@@ -254,7 +297,9 @@ int main(int argc, char** argv) {
     double gbufferMs = 0.0;
     for (const engine::PassTime& p : engine::readPassTimes(ctx, tools::gbufferTimer(session, completed))) gbufferMs += p.ms;
     demo::recordFrameNumbers(ui, stats, gbufferMs, cpuMs);
-    if (logging) demo::writeFrameRow(log, completed, lastSeconds, cpuMs, gbufferMs, stats);
+    if (logging)
+      demo::writeFrameRow(log, completed, lastSeconds, cpuMs, gbufferMs, stats,
+                          methodOfFrame[completed % engine::kFramesInFlight], readyingOfFrame[completed % engine::kFramesInFlight]);
     moduleMsSum += stats.totalMs;
     ++measured;
     return stats;
@@ -324,15 +369,18 @@ int main(int argc, char** argv) {
 
     ImGui::NewFrame();
     gi::FrameStats shown = gi::stats(session.module);
-    if (demo::buildOverlay(ui, settings, shown)) {
-      if (gi::Error e = gi::setSettings(session.module, settings)) {
-        ui.settingsError = e.message;  // the module keeps running what it had
-        settings = applied;
-      } else {
-        ui.settingsError.clear();
-        applied = settings;
-      }
+    if (demo::collectReady(readiness)) {
+      if (!readiness.error.empty()) std::printf("sample_game: readying %s: %s\n", gi::methodName(readiness.target.method), readiness.error.c_str());
+      ui.compiling.clear();
+      apply(settings);  // the newest wish: readied now, or readied next
     }
+    if (frame == o.switchAt) {
+      settings.method = o.switchTo;
+      apply(settings);
+    }
+    if (demo::buildOverlay(ui, settings, shown)) apply(settings);
+    methodOfFrame[frame % engine::kFramesInFlight] = gi::methodName(applied.method);
+    readyingOfFrame[frame % engine::kFramesInFlight] = readiness.busy;
     if (ui.screenshotRequested) {
       screenshotPending = true;
       ui.screenshotRequested = false;
@@ -371,6 +419,7 @@ int main(int argc, char** argv) {
     lastSeconds = seconds;
   }
 
+  joinReadying(readiness);
   vkDeviceWaitIdle(ctx.device);
   cpuMs = std::chrono::duration<double, std::milli>(Clock::now() - lastFrame).count();
   for (uint32_t c = frame >= framesInFlight ? frame - framesInFlight : 0; c < frame; ++c) {

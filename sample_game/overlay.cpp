@@ -110,6 +110,8 @@ bool buildOverlay(OverlayState& state, gi::Settings& settings, const gi::FrameSt
   ImGui::SliderFloat("exposure", &state.exposure, 0.05f, 20.0f, "%.3g", ImGuiSliderFlags_Logarithmic);
   if (ImGui::CollapsingHeader("tunables", ImGuiTreeNodeFlags_DefaultOpen)) changed |= tunables(settings);
   if (!state.settingsError.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.3f, 1), "%s", state.settingsError.c_str());
+  if (!state.compiling.empty())
+    ImGui::TextColored(ImVec4(1, 0.85f, 0.3f, 1), "compiling %s... (the current method renders meanwhile)", state.compiling.c_str());
 
   if (ImGui::CollapsingHeader("frame", ImGuiTreeNodeFlags_DefaultOpen)) {
     ImGui::Text("module %.2f ms GPU   gbuffer %.2f ms   frame %.1f ms CPU", stats.totalMs, state.gbufferMs, state.cpuFrameMs);

@@ -20,6 +20,7 @@ struct OverlayState {
   float exposure = 1.0f;
   gi::BudgetController budget;
   std::string settingsError;     // the module's answer to the last rejected change
+  std::string compiling;         // a method whose programs are being readied (the old one renders meanwhile)
   // Shown by the panel.
   std::deque<float> totalMsHistory;  // module GPU ms per frame, newest last
   double gbufferMs = 0.0;

@@ -31,12 +31,12 @@ float giEmissiveLightPdf(GiSurface s, uint geometry, vec3 from) {
   vec3 d = s.position - from;
   float dist2 = dot(d, d);
   float cosLight = abs(dot(s.geometricNormal, normalize(d)));
-  float areaPdf = giLuminance(sceneMaterialData(sceneGeometry(geometry).material).emission) / sceneConstants.emissiveTotalPower;
+  float areaPdf = giLuminance(sceneMaterialData(sceneGeometry(geometry).material).emission) / sceneConstants().emissiveTotalPower;
   return areaPdf * dist2 / max(cosLight, 1e-8);
 }
 
 uint giPickEmissiveTriangle(float u) {
-  uint lo = 0u, hi = sceneConstants.emissiveTriangleCount - 1u;
+  uint lo = 0u, hi = sceneConstants().emissiveTriangleCount - 1u;
   while (lo < hi) {
     uint mid = (lo + hi) / 2u;
     if (sceneEmissiveTriangle(mid).cdf <= u) lo = mid + 1u;
@@ -69,7 +69,7 @@ bool giPrepareEmissive(GiSurface s, GiBsdf b, vec3 V, bool withMis, float select
   GpuMaterial m = sceneMaterialData(sceneGeometry(e.geometry).material);
   vec3 Le = m.emission;
   if (m.emissiveTexture != NO_TEXTURE) Le *= sceneTexture(m.emissiveTexture, sceneUv(tri, w)).rgb;
-  float lightPdf = selection * (giLuminance(m.emission) / sceneConstants.emissiveTotalPower * dist2 / cosLight);
+  float lightPdf = selection * (giLuminance(m.emission) / sceneConstants().emissiveTotalPower * dist2 / cosLight);
   ray.origin = giOffsetRay(s.position, s.geometricNormal);
   vec3 seg = giOffsetRay(y, -L) - ray.origin;
   ray.tMax = length(seg);
@@ -122,8 +122,8 @@ bool giPreparePunctual(uint i, GiSurface s, GiBsdf b, vec3 V, out GiShadowRay ra
 // emissive triangles and a sampled sky share it, else all or nothing. With
 // MIS a constant sky is not sampled (BSDF sampling finds it), so it takes no share.
 float giSkySelection(bool withMis) {
-  bool emissive = GI_SCENE_HAS_EMISSIVE && sceneConstants.emissiveTriangleCount > 0u;
-  bool sky = GI_SCENE_HAS_SKY && (giSkyHasMap() || !withMis) && giMaxComponent(sceneConstants.skyRadiance) > 0.0;
+  bool emissive = GI_SCENE_HAS_EMISSIVE && sceneConstants().emissiveTriangleCount > 0u;
+  bool sky = GI_SCENE_HAS_SKY && (giSkyHasMap() || !withMis) && giMaxComponent(sceneConstants().skyRadiance) > 0.0;
   return sky ? (emissive ? 0.5 : 1.0) : 0.0;
 }
 
@@ -137,7 +137,7 @@ float giSkyNeePdf(vec3 dir) { return giSkySelection(true) * giSkyLightPdf(dir); 
 // The area lights' one shadow ray (giSkySelection shares it between the sky
 // and the emissive triangles); false when there is none or it cannot light s.
 bool giPrepareArea(GiSurface s, GiBsdf b, vec3 V, bool withMis, inout GiRng rng, out GiShadowRay ray) {
-  bool emissive = GI_SCENE_HAS_EMISSIVE && sceneConstants.emissiveTriangleCount > 0u;
+  bool emissive = GI_SCENE_HAS_EMISSIVE && sceneConstants().emissiveTriangleCount > 0u;
   float skyChance = giSkySelection(withMis);
   if (!emissive && !(skyChance > 0.0)) return false;
   // Scenes without a sky draw no extra random number: their paths are as before.
@@ -160,7 +160,7 @@ GiNee giNeeStart() { return GiNee(0u, vec3(0.0), vec3(0.0)); }
 
 // The next shadow ray; false when NEE at s is done. withMis as in giPrepareEmissive.
 bool giNeeNextRay(inout GiNee nee, GiSurface s, GiBsdf b, vec3 V, bool withMis, inout GiRng rng, out GiRay ray) {
-  const uint punctual = GI_SCENE_HAS_PUNCTUAL ? sceneConstants.punctualLightCount : 0u;
+  const uint punctual = GI_SCENE_HAS_PUNCTUAL ? sceneConstants().punctualLightCount : 0u;
   GiShadowRay shadow;
   bool ready = false;
   while (!ready && nee.next <= punctual) {

@@ -34,7 +34,7 @@ void main() {
         GiHit second = giTraceClosest(origin, bounce, 0.0, GI_FLT_MAX);
         sum += max(second.t, 0.0);
       } else {
-        vec3 target = mix(sceneConstants.boundsMin, sceneConstants.boundsMax, vec3(giRandom2(rng), giRandom(rng)));
+        vec3 target = mix(sceneConstants().boundsMin, sceneConstants().boundsMax, vec3(giRandom2(rng), giRandom(rng)));
         vec3 toTarget = target - origin;
         float distance = length(toTarget);
         if (distance > 0.0 && giTraceVisible(origin, toTarget / distance, 0.0, distance)) sum += 1.0;

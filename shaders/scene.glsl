@@ -39,8 +39,20 @@ layout(set = 0, binding = SCENE_BINDING_INSTANCES) uniform utextureBuffer sceneI
 layout(set = 0, binding = SCENE_BINDING_MATERIALS) uniform utextureBuffer sceneMaterialRows;
 layout(set = 0, binding = SCENE_BINDING_EMISSIVE_TRIANGLES) uniform utextureBuffer sceneEmissiveRows;
 layout(set = 0, binding = SCENE_BINDING_PUNCTUAL_LIGHTS) uniform utextureBuffer scenePunctualRows;
-layout(set = 0, binding = SCENE_BINDING_CONSTANTS, scalar) uniform SceneConstantsBlock { GpuSceneConstants sceneConstants; };
+layout(set = 0, binding = SCENE_BINDING_CONSTANTS) uniform utextureBuffer sceneConstantRows;
 layout(set = 0, binding = SCENE_BINDING_TEXTURES) uniform sampler2D sceneTextures[];
+
+// The scene's constants are a texel buffer too, not a uniform block: lavapipe
+// compiles a variant of a program for the values of the uniforms its
+// branches and loops test (the light counts here), which would give every
+// scene programs of its own, each compiled anew at its first dispatch.
+GpuSceneConstants sceneConstants() {
+  uvec4 a = texelFetch(sceneConstantRows, 0), b = texelFetch(sceneConstantRows, 1), c = texelFetch(sceneConstantRows, 2);
+  uvec4 d = texelFetch(sceneConstantRows, 3), e = texelFetch(sceneConstantRows, 4);
+  return GpuSceneConstants(a.x, a.y, uintBitsToFloat(a.z), uintBitsToFloat(a.w), uintBitsToFloat(b.xyz),
+                           uintBitsToFloat(b.w), uintBitsToFloat(c.xyz), uintBitsToFloat(c.w), uintBitsToFloat(d.xyz),
+                           d.w, e.xy, uintBitsToFloat(e.z), e.w);
+}
 
 // The arrays' elements. Unused fields cost nothing: the compiler drops their fetches.
 vec3 scenePosition(uint vertex) {

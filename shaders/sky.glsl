@@ -16,27 +16,27 @@
 layout(set = 0, binding = SCENE_BINDING_SKY_DISTRIBUTION) uniform textureBuffer sceneSkyCdfTexels;  // R32_SFLOAT
 float sceneSkyCdf(uint i) { return texelFetch(sceneSkyCdfTexels, int(i)).r; }
 
-bool giSkyHasMap() { return GI_SCENE_HAS_SKY && sceneConstants.skyTexture != NO_TEXTURE; }
+bool giSkyHasMap() { return GI_SCENE_HAS_SKY && sceneConstants().skyTexture != NO_TEXTURE; }
 
 // Texel of the map a direction falls in.
 ivec2 giSkyTexel(vec3 dir) {
   float u = 0.5 + atan(dir.x, -dir.z) * (0.5 * GI_INV_PI);
   float v = acos(clamp(dir.y, -1.0, 1.0)) * GI_INV_PI;
-  ivec2 size = ivec2(sceneConstants.skySize);
+  ivec2 size = ivec2(sceneConstants().skySize);
   return clamp(ivec2(vec2(u, v) * vec2(size)), ivec2(0), size - 1);
 }
 
 vec3 giSkyRadiance(vec3 dir) {
   if (!GI_SCENE_HAS_SKY) return vec3(0.0);
-  vec3 L = sceneConstants.skyRadiance;
-  if (sceneConstants.skyTexture != NO_TEXTURE)
-    L *= texelFetch(sceneTextures[nonuniformEXT(sceneConstants.skyTexture)], giSkyTexel(dir), 0).rgb;
+  vec3 L = sceneConstants().skyRadiance;
+  if (sceneConstants().skyTexture != NO_TEXTURE)
+    L *= texelFetch(sceneTextures[nonuniformEXT(sceneConstants().skyTexture)], giSkyTexel(dir), 0).rgb;
   return L;
 }
 
 // Probability of texel (column x, row y) under the tables.
 float giSkyTexelProbability(ivec2 t) {
-  uint w = sceneConstants.skySize.x, h = sceneConstants.skySize.y;
+  uint w = sceneConstants().skySize.x, h = sceneConstants().skySize.y;
   float row = sceneSkyCdf(uint(t.y)) - (t.y > 0 ? sceneSkyCdf(uint(t.y - 1)) : 0.0);
   uint base = h + uint(t.y) * w;
   float column = sceneSkyCdf(base + uint(t.x)) - (t.x > 0 ? sceneSkyCdf(base + uint(t.x) - 1u) : 0.0);
@@ -49,7 +49,7 @@ float giSkyLightPdf(vec3 dir) {
   if (!giSkyHasMap()) return 0.0;
   float sinTheta = sqrt(max(1.0 - dir.y * dir.y, 0.0));
   if (sinTheta <= 0.0) return 0.0;
-  float texels = float(sceneConstants.skySize.x * sceneConstants.skySize.y);
+  float texels = float(sceneConstants().skySize.x * sceneConstants().skySize.y);
   return giSkyTexelProbability(giSkyTexel(dir)) * texels / (2.0 * GI_PI * GI_PI * sinTheta);
 }
 
@@ -72,7 +72,7 @@ float giSkyRemap(uint first, uint i, float u) {
 
 // A direction drawn from the map's tables, and its solid-angle density.
 vec3 giSampleSkyMap(vec2 u, out float pdf) {
-  uint w = sceneConstants.skySize.x, h = sceneConstants.skySize.y;
+  uint w = sceneConstants().skySize.x, h = sceneConstants().skySize.y;
   uint y = giSkySearch(0u, h, u.x);
   uint x = giSkySearch(h + y * w, w, u.y);
   // Uniform within the texel (the density is constant over it), from what is left of u.

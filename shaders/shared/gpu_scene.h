@@ -19,7 +19,7 @@ GPU_CONST SCENE_BINDING_INSTANCES = 6;         // GpuInstance[]
 GPU_CONST SCENE_BINDING_MATERIALS = 7;         // GpuMaterial[]
 GPU_CONST SCENE_BINDING_EMISSIVE_TRIANGLES = 8;// GpuEmissiveTriangle[] (placeholder when none)
 GPU_CONST SCENE_BINDING_PUNCTUAL_LIGHTS = 9;   // GpuPunctualLight[] (placeholder when none)
-GPU_CONST SCENE_BINDING_CONSTANTS = 10;        // GpuSceneConstants (uniform)
+GPU_CONST SCENE_BINDING_CONSTANTS = 10;        // GpuSceneConstants, RGBA32UI rows (a texel buffer: see scene.glsl)
 // The compute traversal backend's two-level BVH (shared/gpu_bvh.h). Present
 // whatever the backend; binding 0 (the TLAS) only where the device has ray queries.
 // Each is an RGBA32UI uniform texel buffer holding the structs' 16-byte rows.

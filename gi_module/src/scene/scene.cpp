@@ -32,7 +32,7 @@ const vk::Binding kSceneBindings[] = {
     {gpu::SCENE_BINDING_MATERIALS, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
     {gpu::SCENE_BINDING_EMISSIVE_TRIANGLES, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
     {gpu::SCENE_BINDING_PUNCTUAL_LIGHTS, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
-    {gpu::SCENE_BINDING_CONSTANTS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER},
+    {gpu::SCENE_BINDING_CONSTANTS, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
     {gpu::SCENE_BINDING_BVH_NODES, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
     {gpu::SCENE_BINDING_BVH_TRIANGLES, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
     {gpu::SCENE_BINDING_BVH_TOP_NODES, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
@@ -226,7 +226,7 @@ vk::Status buildScene(Scene& s, VkCommandBuffer cmd, const SceneContents& conten
   c.boundsMax = empty ? glm::vec3(0.0f) : hi;
   const uint32_t textureCount = uint32_t(contents.textures.size());
   GI_TRY(uploadSky(s, cmd, contents.sky, textureCount));
-  GI_TRY(hostBuffer(s, std::vector<gpu::GpuSceneConstants>{c}, 1, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, s.constants));
+  GI_TRY(hostBuffer(s, std::vector<gpu::GpuSceneConstants>{c}, 1, kTexels, s.constants));
 
   // Everything copied so far is read by the builds below and by shaders.
   vk::memoryBarrier(s.gpu, cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
@@ -273,13 +273,16 @@ vk::Status buildScene(Scene& s, VkCommandBuffer cmd, const SceneContents& conten
       {gpu::SCENE_BINDING_MATERIALS, &s.materials, VK_FORMAT_R32G32B32A32_UINT, 16, "vkCreateBufferView (the material table exceeds maxTexelBufferElements)"},
       {gpu::SCENE_BINDING_EMISSIVE_TRIANGLES, &s.emissiveTriangles, VK_FORMAT_R32G32B32A32_UINT, 16, "vkCreateBufferView (the emission table exceeds maxTexelBufferElements)"},
       {gpu::SCENE_BINDING_PUNCTUAL_LIGHTS, &s.punctualLights, VK_FORMAT_R32G32B32A32_UINT, 16, "vkCreateBufferView (the light table exceeds maxTexelBufferElements)"},
-      {gpu::SCENE_BINDING_SKY_DISTRIBUTION, &s.skyDistribution, VK_FORMAT_R32_SFLOAT, 4, "vkCreateBufferView (the sky's tables exceed maxTexelBufferElements)"}};
+      {gpu::SCENE_BINDING_SKY_DISTRIBUTION, &s.skyDistribution, VK_FORMAT_R32_SFLOAT, 4, "vkCreateBufferView (the sky's tables exceed maxTexelBufferElements)"},
+      // A texel buffer, not a uniform buffer: lavapipe compiles a variant of every program for the values of
+      // the uniforms its branches and loops test (the light counts), so a uniform buffer would give each
+      // scene programs of its own, compiled anew at their first dispatch.
+      {gpu::SCENE_BINDING_CONSTANTS, &s.constants, VK_FORMAT_R32G32B32A32_UINT, 16, "vkCreateBufferView (the scene's constants)"}};
   static_assert(std::size(arrays) == std::size(Scene{}.arrayViews));
   for (size_t i = 0; i < std::size(arrays); ++i) {
     GI_TRY(texelView(s, *arrays[i].buffer, arrays[i].format, arrays[i].texelBytes, arrays[i].tooLarge, s.arrayViews[i]));
     w.uniformTexelBuffer(arrays[i].binding, s.arrayViews[i]);
   }
-  w.buffer(gpu::SCENE_BINDING_CONSTANTS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, s.constants.buffer);
   for (uint32_t t = 0; t < textureCount; ++t)
     w.sampledImage(gpu::SCENE_BINDING_TEXTURES, contents.textures[t].view, contents.textures[t].sampler, t);
   if (skyMap) w.sampledImage(gpu::SCENE_BINDING_TEXTURES, s.skyMap.view, s.skySampler, textureCount);

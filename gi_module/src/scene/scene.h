@@ -25,7 +25,7 @@ struct Scene {
 
   vk::Buffer positions, normals, uvs, indices, geometries, materials;  // device-local, uploaded once
   vk::Buffer instanceTable, emissiveTriangles, punctualLights, constants, skyDistribution;  // host-written
-  VkBufferView arrayViews[10]{};                // texel views of the arrays above (set 0's bindings 1–9 and 15)
+  VkBufferView arrayViews[11]{};                // texel views of the arrays above and the constants (bindings 1–10, 15)
   vk::Image skyMap;                             // rgba32f equirectangular map (none for a constant sky)
   VkSampler skySampler = VK_NULL_HANDLE;
   SceneBvh bvh;                                 // the compute traversal's two levels
