@@ -9,6 +9,10 @@
                                              raw at 1 spp; with DIR64, raw at 64 spp's run over the same walk
   tools/results_tables.py sweep DIR KEY      relMSE per method for each value of a swept setting KEY, and over
                                              its first value (plus flicker and the composite pass's ms)
+  tools/results_tables.py coldstart BEFORE AFTER  cold first-frame wall time per method, scene and backend
+                                             (scripts/bench coldstart's cold.csv, two builds)
+  tools/results_tables.py warm BEFORE AFTER  warm bare-ray rates (rays.csv) and frame times (results.csv) of
+                                             scripts/bench warm's directories, two builds
 
 "Tracing ms" is the time gi-bench divided the rays by (its tracing passes):
 rays / Mrays/s.
@@ -113,6 +117,53 @@ def sweep(directory, key):
               f"{pass_ms(a, 'composite'):.2f} → {pass_ms(b, 'composite'):.2f} |")
 
 
+def coldstart(before_csv, after_csv):
+    def table(path):
+        return {(r["traversal"], r["scene"], r["method"]): float(r["wall_s"]) for r in rows(path)}
+    before, after = table(before_csv), table(after_csv)
+    scenes = list(dict.fromkeys(k[1] for k in after))
+    methods = list(dict.fromkeys(k[2] for k in after))
+    for traversal in dict.fromkeys(k[0] for k in after):
+        print(f"\n{traversal} traversal: seconds, before → after\n")
+        print("| method | " + " | ".join(scenes) + " |")
+        print("|---|" + "---|" * len(scenes))
+        for m in methods:
+            cells = []
+            for sc in scenes:
+                b, a = before.get((traversal, sc, m)), after.get((traversal, sc, m))
+                cells.append(f"{b:.1f} → **{a:.1f}**" if b is not None and a is not None else "–")
+            print(f"| {m} | " + " | ".join(cells) + " |")
+        worst = max(v for k, v in after.items() if k[0] == traversal)
+        worst_before = max(v for k, v in before.items() if k[0] == traversal)
+        print(f"\nSlowest first frame: {worst_before:.1f} s before, {worst:.1f} s after.")
+
+
+def warm(before_dir, after_dir):
+    scenes = ("cornell", "sponza", "conference")
+    print("Bare rays, diffuse Mrays/s (fraction of Embree's), before → after:\n")
+    print("| scene | backend | before | after |")
+    print("|---|---|---|---|")
+    for sc in scenes:
+        b = {r["backend"]: r for r in rows(f"{before_dir}/warm_{sc}/rays.csv")}
+        a = {r["backend"]: r for r in rows(f"{after_dir}/warm_{sc}/rays.csv")}
+        for backend in a:
+            if backend == "embree_cpu":
+                continue
+            cell = lambda r: f"{float(r['diffuse_mrays']):.2f} ({float(r['diffuse_of_embree']):.2f})"
+            print(f"| {sc} | {backend} | {cell(b[backend]) if backend in b else '–'} | {cell(a[backend])} |")
+    print("\nFrame time at 320×180, 1 spp, ms (median of 4 frames after 2), before → after:\n")
+    labels = list(dict.fromkeys(r["label"] for r in rows(f"{after_dir}/warm_cornell/results.csv")))
+    print("| method | " + " | ".join(scenes) + " |")
+    print("|---|" + "---|" * len(scenes))
+    for label in labels:
+        cells = []
+        for sc in scenes:
+            b = {r["label"]: r for r in rows(f"{before_dir}/warm_{sc}/results.csv")}.get(label)
+            a = {r["label"]: r for r in rows(f"{after_dir}/warm_{sc}/results.csv")}.get(label)
+            cells.append(f"{float(b['total_ms']):.1f} → **{float(a['total_ms']):.1f}**" if a and b else "–")
+        print(f"| {label} | " + " | ".join(cells) + " |")
+
+
 if __name__ == "__main__":
     kind = sys.argv[1]
     if kind == "trade":
@@ -127,5 +178,9 @@ if __name__ == "__main__":
         walk(sys.argv[2], sys.argv[3] if len(sys.argv) > 3 else None)
     elif kind == "sweep":
         sweep(sys.argv[2], sys.argv[3])
+    elif kind == "coldstart":
+        coldstart(sys.argv[2], sys.argv[3])
+    elif kind == "warm":
+        warm(sys.argv[2], sys.argv[3])
     else:
         sys.exit(f"results_tables.py: unknown table '{kind}'")

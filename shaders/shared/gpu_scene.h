@@ -10,15 +10,18 @@ GPU_NAMESPACE_BEGIN
 
 // Set 0 bindings.
 GPU_CONST SCENE_BINDING_TLAS = 0;              // accelerationStructureEXT
-GPU_CONST SCENE_BINDING_POSITIONS = 1;         // vec3[], object space
-GPU_CONST SCENE_BINDING_NORMALS = 2;           // vec3[], object space, unit length
-GPU_CONST SCENE_BINDING_UVS = 3;               // vec2[]
-GPU_CONST SCENE_BINDING_INDICES = 4;           // uint[], relative to GpuGeometry.vertexOffset
-GPU_CONST SCENE_BINDING_GEOMETRIES = 5;        // GpuGeometry[]
-GPU_CONST SCENE_BINDING_INSTANCES = 6;         // GpuInstance[]
-GPU_CONST SCENE_BINDING_MATERIALS = 7;         // GpuMaterial[]
-GPU_CONST SCENE_BINDING_EMISSIVE_TRIANGLES = 8;// GpuEmissiveTriangle[] (placeholder when none)
-GPU_CONST SCENE_BINDING_PUNCTUAL_LIGHTS = 9;   // GpuPunctualLight[] (placeholder when none)
+// Bindings 1–10 and 15 are uniform texel buffers (scene.glsl reads them): on
+// lavapipe a texel fetch is one call for all lanes where a storage-buffer
+// load with a per-lane address unrolls lane by lane, to run and to compile.
+GPU_CONST SCENE_BINDING_POSITIONS = 1;         // R32_SFLOAT: xyz per vertex, object space
+GPU_CONST SCENE_BINDING_NORMALS = 2;           // R32_SFLOAT: xyz per vertex, object space, unit length
+GPU_CONST SCENE_BINDING_UVS = 3;               // R32G32_SFLOAT: uv per vertex
+GPU_CONST SCENE_BINDING_INDICES = 4;           // R32_UINT, relative to GpuGeometry.vertexOffset
+GPU_CONST SCENE_BINDING_GEOMETRIES = 5;        // GpuGeometry[] as RGBA32UI rows (16 bytes each)
+GPU_CONST SCENE_BINDING_INSTANCES = 6;         // GpuInstance[], RGBA32UI rows
+GPU_CONST SCENE_BINDING_MATERIALS = 7;         // GpuMaterial[], RGBA32UI rows
+GPU_CONST SCENE_BINDING_EMISSIVE_TRIANGLES = 8;// GpuEmissiveTriangle[], RGBA32UI rows (placeholder when none)
+GPU_CONST SCENE_BINDING_PUNCTUAL_LIGHTS = 9;   // GpuPunctualLight[], RGBA32UI rows (placeholder when none)
 GPU_CONST SCENE_BINDING_CONSTANTS = 10;        // GpuSceneConstants, RGBA32UI rows (a texel buffer: see scene.glsl)
 // The compute traversal backend's two-level BVH (shared/gpu_bvh.h). Present
 // whatever the backend; binding 0 (the TLAS) only where the device has ray queries.
@@ -27,7 +30,7 @@ GPU_CONST SCENE_BINDING_BVH_NODES = 11;        // GpuBvhNode[], every bottom lev
 GPU_CONST SCENE_BINDING_BVH_TRIANGLES = 12;    // GpuBvhTriangle[]
 GPU_CONST SCENE_BINDING_BVH_TOP_NODES = 13;    // GpuBvhNode[], the top level (node 0 = root), host-written
 GPU_CONST SCENE_BINDING_BVH_INSTANCES = 14;    // GpuBvhInstance[], host-written
-GPU_CONST SCENE_BINDING_SKY_DISTRIBUTION = 15;// float[]: the sky map's sampling tables (sky.glsl); a placeholder without a map
+GPU_CONST SCENE_BINDING_SKY_DISTRIBUTION = 15;// R32_SFLOAT: the sky map's sampling tables (sky.glsl); a placeholder without a map
 GPU_CONST SCENE_BINDING_TEXTURES = 16;         // sampler2D[], variable count (must stay the last binding)
 GPU_CONST SCENE_BINDING_COUNT = 17;
 
