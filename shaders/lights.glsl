@@ -173,6 +173,12 @@ bool giNeeNextRay(inout GiNee nee, GiSurface s, GiBsdf b, vec3 V, bool withMis, 
   return true;
 }
 
+// True once every light has been tried: no further ray would come.
+bool giNeeComplete(GiNee nee) {
+  const uint punctual = GI_SCENE_HAS_PUNCTUAL ? sceneConstants().punctualLightCount : 0u;
+  return nee.next > punctual;
+}
+
 void giNeeTakeHit(inout GiNee nee, GiHit hit) {
   if (hit.t < 0.0) nee.light += nee.pending;
 }

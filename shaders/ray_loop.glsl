@@ -18,37 +18,57 @@
 // compiled once too, provided it calls each of its parts at one place.
 #ifndef GI_RAY_LOOP_GLSL
 #define GI_RAY_LOOP_GLSL
+#extension GL_KHR_shader_subgroup_vote : require
 #include "lights.glsl"
 
 void giRunTask(inout GiTask task) {
   GiNeeRequest at;
   GiNee nee = giNeeStart();
-  bool neeActive = false;
+  bool neeActive = false;     // NEE's shadow rays are this lane's business now
+  bool finishPending = false; // NEE ended without a last ray: hand its light over next
+  bool done = false;
+  GiRay ray;
+  bool tracing = false, shadow = false;  // the ray this iteration traces, and whether it is NEE's
   for (;;) {
-    GiRay ray;
-    if (neeActive) {
-      neeActive = giNeeNextRay(nee, at.s, at.b, at.V, at.withMis, at.rng, ray);
-      if (!neeActive) {
-        giTaskTakeNee(task, nee.light, at.rng);
-        continue;
-      }
-    } else {
-      const uint step = giTaskNext(task, ray, at);
-      if (step == GI_STEP_DONE) break;
-      if (step == GI_STEP_NEE) {
-        nee = giNeeStart();
-        neeActive = true;
-        continue;
-      }
-    }
-    const GiHit hit = giTrace(ray);
-    if (neeActive) {
+    GiHit hit = giNoHit();
+    if (tracing) hit = giTrace(ray);
+    bool finishNee = finishPending;
+    finishPending = false;
+    if (tracing && shadow) {
       giNeeTakeHit(nee, hit);
-      continue;
+      finishNee = giNeeComplete(nee);  // its last ray: done now
     }
-    GiSurface s;
-    if (!ray.anyHit && hit.t >= 0.0) s = giSurfaceFromHit(hit, ray.direction);
-    giTaskTakeHit(task, hit, s);
+    if (tracing && !shadow) {
+      GiSurface s;
+      if (!ray.anyHit && hit.t >= 0.0) s = giSurfaceFromHit(hit, ray.direction);
+      giTaskTakeHit(task, hit, s);
+    }
+    if (finishNee) {
+      neeActive = false;
+      giTaskTakeNee(task, nee.light, at.rng);
+    }
+    tracing = false;
+    // The tasks take their next step only while no lane of the subgroup has NEE's rays out: lanes
+    // keep in step, so an iteration mostly shades NEE's rays or the tasks', not both under a mask.
+    if (!subgroupAny(neeActive)) {
+      if (!done) {
+        const uint step = giTaskNext(task, ray, at);
+        done = step == GI_STEP_DONE;
+        tracing = step == GI_STEP_TRACE;
+        shadow = false;
+        if (step == GI_STEP_NEE) {
+          nee = giNeeStart();
+          neeActive = true;
+        }
+      }
+      if (subgroupAll(done)) break;
+    }
+    // NEE's next shadow ray, at once for a lane that has just asked for NEE.
+    if (neeActive) {
+      tracing = giNeeNextRay(nee, at.s, at.b, at.V, at.withMis, at.rng, ray);
+      shadow = tracing;
+      finishPending = !tracing;
+    }
   }
 }
 
