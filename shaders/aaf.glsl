@@ -10,6 +10,7 @@
 // f0·(1 − s)·lobe + s·lobe (bsdf.glsl) so f0 is applied after filtering.
 #ifndef GI_AAF_GLSL
 #define GI_AAF_GLSL
+#extension GL_KHR_shader_subgroup_vote : require
 #include "path.glsl"
 #include "gi_frame.glsl"
 #include "shared/aaf.h"
@@ -160,6 +161,9 @@ uint giTaskNext(inout GiTask t, out GiRay ray, out GiNeeRequest nee) {
     t.phase = AAF_TASK_WAITING;
     return GI_STEP_NEE;
   }
+  // Samples start together: a lane whose sample has ended waits while another lane's goes on, so that
+  // the subgroup's NEE and paths keep in step (ray_loop.glsl).
+  const bool othersSampling = subgroupAny(t.sampling);
   while (t.phase == AAF_TASK_SAMPLES) {
     if (t.sampling) {
       const uint step = aafSamplerNext(t.hemisphere, t.s, t.b, t.V, t.rng, ray, nee);
@@ -173,11 +177,13 @@ uint giTaskNext(inout GiTask t, out GiRay ray, out GiNeeRequest nee) {
       }
       t.i++;
       t.sampling = false;
+      return GI_STEP_WAIT;
     }
     if (t.i == t.n) {
       t.phase = AAF_TASK_DONE;
       break;
     }
+    if (othersSampling) return GI_STEP_WAIT;
     const vec3 u = aafSampleU(t.i, t.n, t.offset, t.b, t.rng);
     t.hemisphere = aafSamplerStart(t.s, t.b, t.V, u);
     t.sampling = true;

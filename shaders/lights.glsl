@@ -146,10 +146,10 @@ bool giPrepareArea(GiSurface s, GiBsdf b, vec3 V, bool withMis, inout GiRng rng,
                  : giPrepareEmissive(s, b, V, withMis, 1.0 - skyChance, rng, ray);
 }
 
-// Next-event estimation at one surface as a ray machine: giNeeNextRay hands
-// out the shadow rays (each punctual light, then the area-light sample) one
-// at a time, giNeeTakeHit takes each one's answer. `light` is then the
-// reflected direct light towards V: f·cos·L / pdf summed over them.
+// Next-event estimation at one surface as a ray machine: giNeeNextRay tries
+// the lights one at a time (each punctual light, then the area-light sample),
+// giNeeTakeHit takes each shadow ray's answer. Once giNeeComplete, `light` is
+// the reflected direct light towards V: f·cos·L / pdf summed over them.
 struct GiNee {
   uint next;     // the next light to try: punctual 0..count-1, then the area lights; done past them
   vec3 light;    // what the unblocked shadow rays brought so far
@@ -158,15 +158,19 @@ struct GiNee {
 
 GiNee giNeeStart() { return GiNee(0u, vec3(0.0), vec3(0.0)); }
 
-// The next shadow ray; false when NEE at s is done. withMis as in giPrepareEmissive.
+// Tries the next light (each call one: lanes of a subgroup that run NEE
+// together stay at the same light, so each call prepares a punctual light or
+// the area lights, not both under a mask). True with its shadow ray; false
+// when that light cannot light s, or when every light has been tried
+// (giNeeComplete). withMis as in giPrepareEmissive.
 bool giNeeNextRay(inout GiNee nee, GiSurface s, GiBsdf b, vec3 V, bool withMis, inout GiRng rng, out GiRay ray) {
   const uint punctual = GI_SCENE_HAS_PUNCTUAL ? sceneConstants().punctualLightCount : 0u;
+  if (nee.next > punctual) return false;
+  const uint i = nee.next++;
   GiShadowRay shadow;
-  bool ready = false;
-  while (!ready && nee.next <= punctual) {
-    const uint i = nee.next++;
-    ready = i < punctual ? giPreparePunctual(i, s, b, V, shadow) : giPrepareArea(s, b, V, withMis, rng, shadow);
-  }
+  bool ready;
+  if (i < punctual) ready = giPreparePunctual(i, s, b, V, shadow);
+  else ready = giPrepareArea(s, b, V, withMis, rng, shadow);
   if (!ready) return false;
   nee.pending = shadow.contribution;
   ray = giShadowRay(shadow.origin, shadow.direction, shadow.tMax);
@@ -187,6 +191,7 @@ void giNeeTakeHit(inout GiNee nee, GiHit hit) {
 #define GI_STEP_DONE 0u   // the task is finished
 #define GI_STEP_TRACE 1u  // trace the ray it gave; the hit comes back through giTaskTakeHit
 #define GI_STEP_NEE 2u    // run NEE as it asked; the light comes back through giTaskTakeNee
+#define GI_STEP_WAIT 3u   // nothing this turn: the lane waits for the subgroup to come into step
 
 // NEE as a task asks for it: at s (BSDF b) towards V, with the task's random
 // state, which NEE advances and hands back with the light.

@@ -7,8 +7,8 @@
 // Include after defining the task: a struct GiTask (a state machine over the
 // program's work) and
 //   uint giTaskNext(inout GiTask task, out GiRay ray, out GiNeeRequest nee)
-//       returns GI_STEP_TRACE (trace `ray`), GI_STEP_NEE (NEE as `nee` says)
-//       or GI_STEP_DONE (lights.glsl);
+//       returns GI_STEP_TRACE (trace `ray`), GI_STEP_NEE (NEE as `nee` says),
+//       GI_STEP_WAIT (nothing this turn) or GI_STEP_DONE (lights.glsl);
 //   void giTaskTakeHit(inout GiTask task, GiHit hit, GiSurface s)
 //       the hit of the ray it gave; `s` is its shading point where the ray
 //       was a closest-hit ray and hit (undefined otherwise);
@@ -25,7 +25,7 @@ void giRunTask(inout GiTask task) {
   GiNeeRequest at;
   GiNee nee = giNeeStart();
   bool neeActive = false;     // NEE's shadow rays are this lane's business now
-  bool finishPending = false; // NEE ended without a last ray: hand its light over next
+  bool finishPending = false; // NEE's last light gave no ray: hand its light over next iteration
   bool done = false;
   GiRay ray;
   bool tracing = false, shadow = false;  // the ray this iteration traces, and whether it is NEE's
@@ -63,11 +63,12 @@ void giRunTask(inout GiTask task) {
       }
       if (subgroupAll(done)) break;
     }
-    // NEE's next shadow ray, at once for a lane that has just asked for NEE.
+    // NEE's next light, at once for a lane that has just asked for NEE (a light that gives no ray
+    // leaves the lane idle for this iteration).
     if (neeActive) {
       tracing = giNeeNextRay(nee, at.s, at.b, at.V, at.withMis, at.rng, ray);
       shadow = tracing;
-      finishPending = !tracing;
+      finishPending = !tracing && giNeeComplete(nee);
     }
   }
 }
