@@ -54,7 +54,7 @@ bool benchRays(const engine::Context& ctx, const engine::Scene& scene, const eng
     std::printf("  %-11s %8.3f (%4.2f) %8.3f (%4.2f) %8.3f (%4.2f)\n", r.backend.c_str(), r.primary, of(r.primary, e.primary),
                 r.diffuse, of(r.diffuse, e.diffuse), r.shadow, of(r.shadow, e.shadow));
     csv << name << ',' << uint32_t(camera.imageSize.x) << ',' << uint32_t(camera.imageSize.y) << ',' << scene.triangleCount()
-        << ',' << ctx.properties.deviceName << ',' << r.backend << ',' << r.primary << ',' << r.diffuse << ',' << r.shadow
+        << ",\"" << ctx.properties.deviceName << "\"," << r.backend << ',' << r.primary << ',' << r.diffuse << ',' << r.shadow
         << ',' << of(r.primary, e.primary) << ',' << of(r.diffuse, e.diffuse) << ',' << of(r.shadow, e.shadow) << ','
         << buildMs << '\n';
   }
