@@ -11,6 +11,9 @@
                                              its first value (plus flicker and the composite pass's ms)
   tools/results_tables.py coldstart BEFORE AFTER  cold first-frame wall time per method, scene and backend
                                              (scripts/bench coldstart's cold.csv, two builds)
+  tools/results_tables.py programs JSON...   each program's first dispatch (gi-render --stats), per method
+  tools/results_tables.py switch DIR         the demo's method switch (sample_game's benchmark.csv): readied
+                                             against in the frame
   tools/results_tables.py warm BEFORE AFTER  warm bare-ray rates (rays.csv) and frame times (results.csv) of
                                              scripts/bench warm's directories, two builds
 
@@ -164,6 +167,27 @@ def warm(before_dir, after_dir):
         print(f"| {label} | " + " | ".join(cells) + " |")
 
 
+def programs(paths):
+    import json
+    print("| method | program: first dispatch, ms | wall s |")
+    print("|---|---|---|")
+    for path in paths:
+        d = json.load(open(path))
+        cells = ", ".join(f"{k} {v:.0f}" for k, v in sorted(d["program_first_dispatch_ms"].items(), key=lambda kv: -kv[1]))
+        print(f"| {d['method']} | {cells} | {d['wall_seconds']:.1f} |")
+
+
+def switch(directory):
+    print("| switch | frames readying | switched at frame | longest frame after the request, ms | median frame, ms |")
+    print("|---|---|---|---|---|")
+    for mode, name in (("readied", "readied off the frame (default)"), ("in_frame", "in the frame (--switch-in-frame)")):
+        r = rows(f"{directory}/{mode}/benchmark.csv")
+        body = r[30:-2]  # from the request on; the last two are timed at exit
+        at = next((int(x["frame"]) for x in r if x["method"] != r[0]["method"]), None)
+        ms = sorted(float(x["cpu_ms"]) for x in body)
+        print(f"| {name} | {sum(1 for x in r if x['readying'] == '1')} | {at} | {ms[-1]:.0f} | {ms[len(ms) // 2]:.1f} |")
+
+
 if __name__ == "__main__":
     kind = sys.argv[1]
     if kind == "trade":
@@ -180,6 +204,10 @@ if __name__ == "__main__":
         sweep(sys.argv[2], sys.argv[3])
     elif kind == "coldstart":
         coldstart(sys.argv[2], sys.argv[3])
+    elif kind == "programs":
+        programs(sys.argv[2:])
+    elif kind == "switch":
+        switch(sys.argv[2])
     elif kind == "warm":
         warm(sys.argv[2], sys.argv[3])
     else:
