@@ -16,6 +16,16 @@
 //       NEE's reflected light towards nee.V and the random state after it.
 // Each of the three is called at one place below, so the task's own code is
 // compiled once too, provided it calls each of its parts at one place.
+//
+// Lanes in step: a subgroup runs its lanes as one SIMD vector, so an
+// iteration costs every part of the loop that any lane needs. The tasks take
+// their next step only while no lane of the subgroup has NEE's rays out, and
+// a lane that asks for NEE starts it in the same iteration: an iteration then
+// mostly traces and shades either NEE's shadow rays or the tasks' own rays,
+// not both under masks. (Left to drift apart, lanes made the loop much slower
+// than the nested loops it replaced; kept in step it runs as fast.) A task
+// whose work comes in parts (AAF's samples) can wait (GI_STEP_WAIT) for the
+// subgroup to start the next part together.
 #ifndef GI_RAY_LOOP_GLSL
 #define GI_RAY_LOOP_GLSL
 #extension GL_KHR_shader_subgroup_vote : require

@@ -5,6 +5,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "gi/device.h"
 #include "animation.h"
 #include "camera.h"
 #include "image_io.h"
@@ -142,4 +143,17 @@ TEST(GuidedFilterLookup, MostSimilarGuideUsesTheNormOfTheNormalDifference) {
   EXPECT_EQ(gpu::gifMostSimilarGuide(glm::vec4(0.5f, 0.1f, 1.0f, 1.0f), glm::vec4(0.2f, 0.55f, 1.0f, 1.0f)), 1);
   EXPECT_EQ(gpu::gifMostSimilarGuide(glm::vec4(1.0f, 1.0f, 1.0f, 0.1f), glm::vec4(1.0f, 1.0f, 1.0f, 0.2f)), 3);
   EXPECT_EQ(gpu::gifMostSimilarGuide(glm::vec4(0.0f), glm::vec4(0.0f)), 0);  // all alike: the first
+}
+
+TEST(DeviceNeeds, EachMissingSubgroupOperationIsNamed) {
+  const VkSubgroupFeatureFlags all =
+      VK_SUBGROUP_FEATURE_BASIC_BIT | VK_SUBGROUP_FEATURE_VOTE_BIT | VK_SUBGROUP_FEATURE_ARITHMETIC_BIT;
+  EXPECT_EQ(gi::firstMissingSubgroupSupport(VK_SHADER_STAGE_COMPUTE_BIT, all), nullptr);
+  EXPECT_STREQ(gi::firstMissingSubgroupSupport(VK_SHADER_STAGE_FRAGMENT_BIT, all), "subgroup operations in compute shaders");
+  EXPECT_STREQ(gi::firstMissingSubgroupSupport(VK_SHADER_STAGE_COMPUTE_BIT, all & ~VK_SUBGROUP_FEATURE_VOTE_BIT),
+               "subgroup vote operations");
+  EXPECT_STREQ(gi::firstMissingSubgroupSupport(VK_SHADER_STAGE_COMPUTE_BIT, all & ~VK_SUBGROUP_FEATURE_ARITHMETIC_BIT),
+               "subgroup arithmetic operations");
+  EXPECT_STREQ(gi::firstMissingSubgroupSupport(VK_SHADER_STAGE_COMPUTE_BIT, all & ~VK_SUBGROUP_FEATURE_BASIC_BIT),
+               "basic subgroup operations");
 }

@@ -172,6 +172,14 @@ Error checkFeatures(const Module& m) {
     missing = firstMissingFeature(f2, rayQuery);
     where = "the device";
   }
+  if (!missing) {
+    VkPhysicalDeviceVulkan11Properties p11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_PROPERTIES};
+    VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+    p2.pNext = &p11;
+    m.gpu.fn.vkGetPhysicalDeviceProperties2(d.physicalDevice, &p2);
+    missing = firstMissingSubgroupSupport(p11.subgroupSupportedStages, p11.subgroupSupportedOperations);
+    where = "the device";
+  }
   if (!missing) return {};
   return {ErrorCode::MissingFeature, std::string(where) + " lacks " + missing + ", which the GI module needs" +
                                          (rayQuery ? " (with ray-query traversal)" : "") + "; see gi/device.h"};

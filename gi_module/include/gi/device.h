@@ -64,6 +64,19 @@ inline constexpr const char* kRayQueryExtensions[] = {
     VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME,
 };
 
+// Subgroup operations the module's compute shaders use, as Vulkan 1.1's
+// VkPhysicalDeviceVulkan11Properties reports them: basic, arithmetic
+// (counters sum over a subgroup) and vote (the path programs keep a
+// subgroup's lanes in step), in compute shaders. The name of the first one
+// the device lacks, or null.
+inline const char* firstMissingSubgroupSupport(VkShaderStageFlags supportedStages, VkSubgroupFeatureFlags supportedOperations) {
+  if (!(supportedStages & VK_SHADER_STAGE_COMPUTE_BIT)) return "subgroup operations in compute shaders";
+  if (!(supportedOperations & VK_SUBGROUP_FEATURE_BASIC_BIT)) return "basic subgroup operations";
+  if (!(supportedOperations & VK_SUBGROUP_FEATURE_VOTE_BIT)) return "subgroup vote operations";
+  if (!(supportedOperations & VK_SUBGROUP_FEATURE_ARITHMETIC_BIT)) return "subgroup arithmetic operations";
+  return nullptr;
+}
+
 // The device extensions the module needs (none for the compute traversal).
 inline std::span<const char* const> requiredExtensions(bool rayQuery) {
   return rayQuery ? std::span<const char* const>(kRayQueryExtensions) : std::span<const char* const>();
