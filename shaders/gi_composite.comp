@@ -135,7 +135,8 @@ void main() {
         result += max(giGbSpecularF0(p) * imageLoad(giAafGlossy, p).rgb + imageLoad(giAafGlossyEdge, p).rgb, vec3(0.0));
       break;
   }
-  // Radiance views carry the pre-exposure; the other views are [0,1] pictures, stored as they are.
+  // Radiance views carry the pre-exposure; the other views are [0,1] pictures (gi.h's contract: a
+  // distance past the scene's extent, a variance above 1 saturate).
   if (pc.radiance != 0u) giStoreComposite(p, result);
-  else imageStore(giOutComposite, p, vec4(result, 1.0));
+  else imageStore(giOutComposite, p, vec4(clamp(result, 0.0, 1.0), 1.0));
 }

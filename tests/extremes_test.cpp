@@ -136,7 +136,8 @@ gi::Settings defaults(gi::Method m) {
 
 // A scene at normal settings gives each method its baseline error; the same
 // scene changed (scale, offset, intensity, albedo) must stay within `factor`
-// of it, and its mean radiance within `energy` × the reference's (noise).
+// of it, and its mean radiance within a factor `energy` of the reference's,
+// above and below (noise).
 #define GI_EXTREME_SCENE_VS(Name, factor, energy, normalRoom, extremeRoom)                                 \
   TEST_F(ExtremesTest, Name) {                                                                              \
     LoadedScene normal, extreme;                                                                            \
@@ -152,6 +153,7 @@ gi::Settings defaults(gi::Method m) {
       table[#Name][gi::methodName(m)] = std::to_string(ratio).substr(0, 4) + "×";                           \
       EXPECT_TRUE(b.finite) << gi::methodName(m);                                                           \
       EXPECT_LE(b.mean, b.referenceMean * (energy) + 1e-30) << gi::methodName(m) << ": energy created";     \
+      EXPECT_GE(b.mean, b.referenceMean / (energy)) << gi::methodName(m) << ": energy lost";                \
       EXPECT_LE(ratio, factor) << gi::methodName(m) << " error " << b.relMse << " vs " << a.relMse;         \
     }                                                                                                       \
     unload(normal);                                                                                         \
@@ -259,6 +261,7 @@ TEST_F(ExtremesTest, KnobsAtTheirLimits) {
     table[k.name][gi::methodName(k.method)] = std::to_string(ratio).substr(0, 4) + (fallback ? "× raw" : "×");
     EXPECT_TRUE(b.finite) << k.name;
     EXPECT_LE(b.mean, b.referenceMean * 1.10) << k.name << ": energy created";
+    EXPECT_GE(b.mean, b.referenceMean / 1.10) << k.name << ": energy lost";
     EXPECT_LE(ratio, fallback ? 1.2 : k.factor) << k.name << " error " << b.relMse << " vs " << a.relMse;
   }
   // 4096 samples per pixel (64 spp × 64 accumulated frames): raw converges onto the reference.
@@ -275,8 +278,10 @@ TEST_F(ExtremesTest, KnobsAtTheirLimits) {
 
 // The white furnace at albedo 1 (emission 1): the answer is B + 2 with B
 // bounces and infinite with every bounce. Every method stays finite; the
-// bounce-limited ones stay at or below B + 2; the map-based ones (nhpsf,
-// anhpsf) add at most about one bounce per frame.
+// bounce-limited ones give B + 2 within 5% (measured 3.96–4.06 for B = 2);
+// the map-based ones (nhpsf, anhpsf), which gather every bounce through the
+// map, give at least that, still rising from frame 4 to frame 8, and add at
+// most one bounce per frame (2 + frames).
 TEST_F(ExtremesTest, WhiteFurnaceStaysFinite) {
   testscene::Description d;
   glm::vec3 c[8] = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1}, {-1, -1, 1}, {1, -1, 1}, {1, 1, 1}, {-1, 1, 1}};
@@ -299,19 +304,26 @@ TEST_F(ExtremesTest, WhiteFurnaceStaysFinite) {
     settings.hpsf.clampSigma = 0.0f;
     tools::ModuleSession session;
     ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {16, 16}, settings, session));
-    double last = 0.0;
+    double last = 0.0, atFrame4 = 0.0;
     bool finite = true;
-    for (uint32_t f = 0; f < 8; ++f) {
+    const uint32_t frames = 8;
+    for (uint32_t f = 0; f < frames; ++f) {
       tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, f);
       engine::FloatImage out = tools::readModuleImages(ctx, session).final;
       for (float v : out.pixels) finite &= std::isfinite(v);
       last = meanOf(out);
+      if (f == 3) atFrame4 = last;
     }
-    bool mapBased = m == gi::Method::Nhpsf || m == gi::Method::Anhpsf;
-    double bound = mapBased ? 2.0 + 8.0 * 1.1 : (kBounces + 2) * 1.1;
+    const bool mapBased = m == gi::Method::Nhpsf || m == gi::Method::Anhpsf;
+    const double answer = kBounces + 2.0;
     EXPECT_TRUE(finite) << gi::methodName(m);
-    EXPECT_LE(last, bound) << gi::methodName(m);
-    EXPECT_GT(last, 1.0) << gi::methodName(m);
+    if (mapBased) {
+      EXPECT_GE(last, answer * 0.95) << gi::methodName(m) << ": every bounce, so at least the B-bounce answer";
+      EXPECT_GT(last, atFrame4) << gi::methodName(m) << ": the map's bounces still add up";
+      EXPECT_LE(last, 2.0 + frames) << gi::methodName(m) << ": at most a bounce a frame";
+    } else {
+      EXPECT_NEAR(last, answer, 0.05 * answer) << gi::methodName(m);
+    }
     table["WhiteFurnaceAlbedo1"][gi::methodName(m)] = std::to_string(last).substr(0, 4);
     tools::destroyModuleSession(ctx, session);
   }
