@@ -135,8 +135,8 @@ void main() {
         result += max(giGbSpecularF0(p) * imageLoad(giAafGlossy, p).rgb + imageLoad(giAafGlossyEdge, p).rgb, vec3(0.0));
       break;
   }
-  // Radiance views carry the pre-exposure; the other views are [0,1] pictures (gi.h's contract: a
-  // distance past the scene's extent, a variance above 1 saturate).
+  // Radiance views carry the pre-exposure; the other views are pictures scaled to [0,1] for display,
+  // stored as they are (a count past its scale reads above 1: tests count with them).
   if (pc.radiance != 0u) giStoreComposite(p, result);
-  else imageStore(giOutComposite, p, vec4(clamp(result, 0.0, 1.0), 1.0));
+  else imageStore(giOutComposite, p, vec4(result, 1.0));
 }

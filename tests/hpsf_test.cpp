@@ -72,18 +72,18 @@ TEST_F(HpsfTest, TelemetryAndErrorOverFramesForBothEvictionPolicies) {
     }
     gi::FrameStats st = gi::stats(session.module);
     EXPECT_EQ(st.hash.capacity, 1024u);  // the floor, 2^10: 32 × 32 / 4 is below it
-    EXPECT_GT(st.hash.occupied, 0u);
-    EXPECT_LE(st.hash.occupied, st.hash.capacity);
+    // Pixels share cells: 8-pixel cells hold the samples of many pixels (measured 145 cells for 992
+    // samples with strict eviction, 204 with aging, which keeps cells no sample reached this frame),
+    // and they cover the image: at least one per 8 × 8 pixels.
+    EXPECT_LT(st.hash.occupied, st.hash.inserts / 3);
+    EXPECT_GT(st.hash.occupied, W * H / (8 * 8));
     EXPECT_EQ(st.hash.failedInserts, 0u);
     EXPECT_GT(st.hash.inserts, W * H / 2);
     EXPECT_GE(st.hash.meanProbe, 1.0f);
     EXPECT_LE(st.hash.maxProbe, settings.hpsf.probeWindow);
-    bool strict = policy == gi::EvictionPolicy::Strict;
-    if (strict) {
-      EXPECT_LT(errors[1], errors[0]) << "two frames of history beat one";
-    } else {
-      EXPECT_LT(errors[1], 0.5 * errors[0]) << "history accumulates over frames";
-    }
+    // Both policies keep the cells' history over the 16 frames (measured 0.19× frame 0's error with
+    // strict eviction, 0.13× with aging; a history lost every frame would stay near 1×).
+    EXPECT_LT(errors[1], 0.3 * errors[0]) << "sixteen frames of history";
     tools::destroyModuleSession(ctx, session);
   }
   unload(s);

@@ -214,7 +214,8 @@ TEST_F(ModuleTest, EveryMethodAndDebugViewRunsAndStaysFinite) {
     check("gif supersampled, fewer guidance dimensions");
   }
   // Every debug view of the catalogue, on a method that fills it. Views of light must show some; the
-  // others are pictures in [0, 1] that may be black in places (finite is the point).
+  // others are pictures scaled for display (a count past its scale reads above 1) that may be black
+  // in places: finite and not negative.
   auto methodShowing = [](gi::DebugView v) {
     if (v >= gi::DebugView::AafZMin && v <= gi::DebugView::AafFilterWidth) return gi::Method::Aaf;
     if (v >= gi::DebugView::HashCells && v <= gi::DebugView::ContinuationDepth) return gi::Method::Anhpsf;
@@ -233,7 +234,7 @@ TEST_F(ModuleTest, EveryMethodAndDebugViewRunsAndStaysFinite) {
     }
     tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, frame++);
     for (float v : tools::readModuleImages(ctx, session).final.pixels)
-      ASSERT_TRUE(std::isfinite(v) && v >= 0.0f && v <= 1.0f) << view.name << ": " << v;
+      ASSERT_TRUE(std::isfinite(v) && v >= 0.0f) << view.name << ": " << v;
   }
   tools::destroyModuleSession(ctx, session);
   unload(s);

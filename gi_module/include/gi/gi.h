@@ -193,7 +193,8 @@ struct FrameInputs {
 //             would reflect), × preExposure; multiply by the diffuse albedo
 //   composite direct + diffuse albedo × indirect (+ AAF's glossy term) × preExposure,
 //             or the debug view the settings pick (views that are not light,
-//             gi::debugViewCatalogue()[v].radiance = false, hold [0,1] pictures, unscaled)
+//             gi::debugViewCatalogue()[v].radiance = false, hold pictures scaled to [0,1] for display,
+//             unscaled by pre-exposure; a count past its scale reads above 1)
 // aaf_ao: indirect holds occlusion and composite AO = 1 − occlusion, in [0,1], unscaled.
 struct Outputs {
   VkImage direct, indirect, composite;
