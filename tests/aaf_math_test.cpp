@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <tuple>
+
+#include <cmath>
 #include <set>
 
 #include <cmath>
@@ -19,18 +22,28 @@ TEST(AafMath, FilterWidthTakesTheSmallerBandLimit) {
   EXPECT_NEAR(gpu::aafBeta(0.9f, 2.8f, 0.05f, 0.3f, 0.1f), 2.0f / 2.7f, 1e-6f);
 }
 
+namespace {
+// Mehta et al. eq. 21 as the paper writes it, in double precision, unclamped:
+// γ(μΩ√A_p/z_min + α)²·Ω²·(1 + μ z_max/z_min)², with √A_p = d the pixel's footprint.
+double paperSamples(double mu, double omega, double gamma, double zMin, double zMax, double alpha, double d) {
+  return gamma * std::pow(mu * omega * d / zMin + alpha, 2) * omega * omega * std::pow(1.0 + mu * zMax / zMin, 2);
+}
+}  // namespace
+
 TEST(AafMath, SampleCountAndBothClamps) {
-  // γ(μΩ√A_p/z_min + α)²·Ω²·(1 + μ z_max/z_min)² with μ = 1, Ω = 2.8, γ = 0.4,
-  // z_min = 0.1, z_max = 1, α = 0.3, d = 0.01: (0.28 + 0.3)²·7.84·11²·0.4 = 127.65…
-  double expected = 0.4 * std::pow(1.0 * 2.8 * 0.01 / 0.1 + 0.3, 2) * 2.8 * 2.8 * std::pow(1.0 + 1.0 / 0.1, 2);
-  EXPECT_NEAR(expected, 127.65, 0.01);
-  // That exceeds 100·μ = 100: the upper clamp.
+  // Between the clamps the formula shows through, for several surroundings.
+  for (auto [mu, zMin, zMax] : {std::tuple{1.0f, 0.2f, 1.0f}, std::tuple{1.0f, 0.25f, 2.0f}, std::tuple{2.0f, 0.4f, 1.0f},
+                                std::tuple{1.0f, 0.3f, 1.5f}}) {
+    const double expected = paperSamples(mu, 2.8, 0.4, zMin, zMax, 0.3, 0.01);
+    ASSERT_GT(expected, 16.0);
+    ASSERT_LT(expected, 100.0 * mu);
+    EXPECT_NEAR(gpu::aafSamples(mu, 2.8f, 0.4f, zMin, zMax, 0.3f, 0.01f), expected, 1e-4 * expected) << mu << zMin << zMax;
+  }
+  // Near reflectors ask for more than 100·μ (the formula gives 127.65 here): the upper clamp.
+  ASSERT_GT(paperSamples(1.0, 2.8, 0.4, 0.1, 1.0, 0.3, 0.01), 100.0);
   EXPECT_FLOAT_EQ(gpu::aafSamples(1.0f, 2.8f, 0.4f, 0.1f, 1.0f, 0.3f, 0.01f), 100.0f);
-  // Between the clamps the formula shows through: z_min = 0.2, z_max = 1, μ = 1 gives
-  // 0.4·(0.14 + 0.3)²·7.84·6² = 21.86.
-  EXPECT_NEAR(gpu::aafSamples(1.0f, 2.8f, 0.4f, 0.2f, 1.0f, 0.3f, 0.01f), 0.4f * 0.44f * 0.44f * 7.84f * 36.0f, 1e-3f);
-  EXPECT_NEAR(0.4 * 0.44 * 0.44 * 7.84 * 36.0, 21.86, 0.01);
   // Far, flat surroundings ask for fewer than 16: the lower clamp.
+  ASSERT_LT(paperSamples(0.9, 2.8, 0.4, 5.0, 5.0, 0.3, 0.01), 16.0);
   EXPECT_FLOAT_EQ(gpu::aafSamples(0.9f, 2.8f, 0.4f, 5.0f, 5.0f, 0.3f, 0.01f), 16.0f);
   // μ small enough that 100·μ < 16 still allows the 16 initial samples.
   EXPECT_FLOAT_EQ(gpu::aafSamples(0.1f, 2.8f, 0.4f, 0.1f, 1.0f, 0.3f, 0.01f), 16.0f);

@@ -10,10 +10,17 @@
 
 using gpu::HgDescriptor;
 
-TEST(HashGridMath, HashesAreDeterministicAndDifferBetweenFunctions) {
+// Known answers, computed apart from this code (a few lines of Python from
+// the published definitions: PCG-RXS-M-XS as Jarzynski & Olano 2020 give it,
+// MurmurHash3's fmix32, and the chaining hash_grid.h documents).
+TEST(HashGridMath, HashesGiveTheirKnownAnswersAndDifferBetweenFunctions) {
+  EXPECT_EQ(gpu::hgHashPcg(0u), 129708002u);
+  EXPECT_EQ(gpu::hgHashPcg(1u), 2831084092u);
+  EXPECT_EQ(gpu::hgHashMurmur(0u), 0u);
+  EXPECT_EQ(gpu::hgHashMurmur(1u), 0x514e28b7u);
   HgDescriptor d{12, -7, 300, -3, 5};
-  EXPECT_EQ(gpu::hgIndexHash(d), gpu::hgIndexHash(d));
-  EXPECT_EQ(gpu::hgVerificationKey(d), gpu::hgVerificationKey(d));
+  EXPECT_EQ(gpu::hgIndexHash(d), 162668298u);
+  EXPECT_EQ(gpu::hgVerificationKey(d), 2712074955u);
   EXPECT_NE(gpu::hgIndexHash(d), gpu::hgVerificationKey(d));
   // Over many descriptors: keys are never empty, and the two hashes are unrelated
   // (descriptors sharing an index hash almost never share a verification key).

@@ -72,24 +72,34 @@ TEST(SampleGame, BudgetModeReportsTheAchievedTimeOnAStaticScene) {
   size_t at = output.find("budget mode: target 30.0 ms, last frame ");
   ASSERT_NE(at, std::string::npos) << output;
   std::printf("%s", output.substr(output.rfind("frames ")).c_str());
-  std::vector<std::string> lines = csvLines(out / "benchmark.csv");
-  ASSERT_EQ(lines.size(), 17u);
-  // The budget acts: the module traced fewer rays at the end than unconstrained in frame 0.
-  auto rays = [](const std::string& line) {
-    std::stringstream s(line);
-    std::string field;
-    for (int i = 0; i < 6; ++i) std::getline(s, field, ',');
-    return std::stod(field);
-  };
-  std::printf("rays: frame 0 %.0f, frame 15 %.0f\n", rays(lines[1]), rays(lines[16]));
-  EXPECT_LE(rays(lines[16]), rays(lines[1])) << "a 30 ms target never asks for more than the unconstrained frame";
+  const auto rows = csvRows(out / "benchmark.csv");
+  ASSERT_EQ(rows.size(), 16u);
+  auto rays = [&](size_t f) { return std::stod(rows[f].at("rays")); };
+  double lastMs = 0.0;
+  for (size_t f = 12; f < 16; ++f) lastMs += std::stod(rows[f].at("module_ms")) / 4.0;
+  std::printf("rays: frame 0 %.0f, frame 15 %.0f; module ms over frames 12-15 %.1f\n", rays(0), rays(15), lastMs);
+  // Unconstrained, frame 0 took several times the target (measured 253 ms for 30): the budget cuts the
+  // rays to well under half, and holds the module's time near the target (measured 29 ms).
+  EXPECT_LT(rays(15), 0.5 * rays(0)) << "the budget cut the rays";
+  EXPECT_GT(lastMs, 0.5 * 30.0);
+  EXPECT_LT(lastMs, 1.5 * 30.0);
 }
 
+// A bad scene file: exit status 1 (no crash), one line naming the file and what is wrong with it.
 TEST(SampleGame, AMalformedSceneIsNamedInTheError) {
-  std::string output;
-  int rc = runGame("--frames 1 --scene " GI_TEST_DATA "/malformed/not_json.gltf", output);
-  EXPECT_EQ(rc, 1) << output;
-  EXPECT_NE(output.find("not_json.gltf"), std::string::npos) << output;
+  const std::pair<const char*, const char*> cases[] = {
+      {"not_json.gltf", "parse error at line 1"},
+      {"index_out_of_range.gltf", "index 2 is 7, out of range for 3 vertices"},
+      {"missing_buffer.gltf", "File not found : does_not_exist.bin"},
+  };
+  for (auto [file, problem] : cases) {
+    std::string output;
+    int rc = runGame(std::string("--frames 1 --scene " GI_TEST_DATA "/malformed/") + file, output);
+    EXPECT_EQ(rc, 1) << file << ": " << output;
+    EXPECT_NE(output.find(std::string("sample_game: ") + GI_TEST_DATA + "/malformed/" + file + ": "), std::string::npos)
+        << output;
+    EXPECT_NE(output.find(problem), std::string::npos) << file << ": " << output;
+  }
 }
 
 TEST(SampleGame, HelpListsTheOptionsAndExitsZero) {
