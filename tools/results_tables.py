@@ -17,9 +17,26 @@
   tools/results_tables.py warm BEFORE AFTER  warm bare-ray rates (rays.csv) and frame times (results.csv) of
                                              scripts/bench warm's directories, two builds
 
+  tools/results_tables.py speedups METHOD DIR...  a method's equal-error speed-ups over raw per scene and spp
+  tools/results_tables.py demo DIR           the demo scene's figure of merit (relMSE × ms per frame)
+  tools/results_tables.py check FILE...      every generated block of the markdown FILEs against its data
+  tools/results_tables.py write FILE...      rewrites those blocks from their data
+
+A generated block in a markdown file is a table between
+
+  <!-- generated: results_tables.py KIND ARGS -->
+  <!-- end generated -->
+
+(paths relative to the repository root); `check` exits 1 naming each block
+that differs (the ctest DocsTablesMatchTheirData runs it).
+
 "Tracing ms" is the time gi-bench divided the rays by (its tracing passes):
 rays / Mrays/s.
 """
+import contextlib
+import io
+import os
+import re
 import csv
 import sys
 
@@ -188,27 +205,95 @@ def switch(directory):
         print(f"| {name} | {sum(1 for x in r if x['readying'] == '1')} | {at} | {ms[-1]:.0f} | {ms[len(ms) // 2]:.1f} |")
 
 
-if __name__ == "__main__":
-    kind = sys.argv[1]
+def speedups(method, directories):
+    print("| scene | spp | final | indirect |")
+    print("|---|---|---|---|")
+    for d in directories:
+        for r in rows(f"{d}/results.csv"):
+            if r["method"] != method:
+                continue
+            print(f"| {d.rstrip('/').split('/')[-1]} | {r['spp']} | {float(r['equal_error_speedup']):.1f}× | "
+                  f"{float(r['equal_error_speedup_indirect']):.1f}× |")
+
+
+def demo(directory):
+    print("| configuration | ms/frame | relMSE final | relMSE indirect | relMSE × ms |")
+    print("|---|---|---|---|---|")
+    for r in rows(f"{directory}/results.csv"):
+        print(f"| {r['label']} | {float(r['total_ms']):.1f} | {float(r['relmse']):.3e} | "
+              f"{float(r['relmse_indirect']):.3e} | {float(r['relmse']) * float(r['total_ms']):.4f} |")
+
+
+BLOCK = re.compile(r"(<!-- generated: results_tables\.py ([^>]*?) -->\n)(.*?)(<!-- end generated -->)", re.S)
+
+
+def render(args):
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        run(args)
+    return out.getvalue().strip() + "\n"
+
+
+def blocks(path, write):
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    text = open(path, encoding="utf-8").read()
+    stale = []
+    def fresh(m):
+        args = m.group(2).split()
+        here = os.getcwd()
+        os.chdir(root)
+        try:
+            table = render(args)
+        finally:
+            os.chdir(here)
+        if m.group(3) != table:
+            stale.append(m.group(2))
+        return m.group(1) + table + m.group(4)
+    new = BLOCK.sub(fresh, text)
+    if write and new != text:
+        open(path, "w", encoding="utf-8").write(new)
+    return stale, len(BLOCK.findall(text))
+
+
+def run(argv):
+    kind = argv[0]
     if kind == "trade":
-        trade(sys.argv[2])
+        trade(argv[1])
     elif kind == "frames":
-        frames(sys.argv[2], sys.argv[3])
+        frames(argv[1], argv[2])
     elif kind == "indirect":
-        indirect(sys.argv[2], sys.argv[3])
+        indirect(argv[1], argv[2])
     elif kind == "move":
-        move(sys.argv[2])
+        move(argv[1])
     elif kind == "walk":
-        walk(sys.argv[2], sys.argv[3] if len(sys.argv) > 3 else None)
+        walk(argv[1], argv[2] if len(argv) > 2 else None)
     elif kind == "sweep":
-        sweep(sys.argv[2], sys.argv[3])
+        sweep(argv[1], argv[2])
     elif kind == "coldstart":
-        coldstart(sys.argv[2], sys.argv[3])
+        coldstart(argv[1], argv[2])
     elif kind == "programs":
-        programs(sys.argv[2:])
+        programs(argv[1:])
     elif kind == "switch":
-        switch(sys.argv[2])
+        switch(argv[1])
     elif kind == "warm":
-        warm(sys.argv[2], sys.argv[3])
+        warm(argv[1], argv[2])
+    elif kind == "speedups":
+        speedups(argv[1], argv[2:])
+    elif kind == "demo":
+        demo(argv[1])
+    elif kind in ("check", "write"):
+        failed = False
+        for path in argv[1:]:
+            stale, count = blocks(path, kind == "write")
+            for args in stale:
+                print(f"{path}: the table of 'results_tables.py {args}' differs from its data"
+                      + (" (rewritten)" if kind == "write" else ""))
+            failed |= bool(stale) and kind == "check"
+            print(f"{path}: {count} generated tables, {len(stale)} differing")
+        sys.exit(1 if failed else 0)
     else:
         sys.exit(f"results_tables.py: unknown table '{kind}'")
+
+
+if __name__ == "__main__":
+    run(sys.argv[1:])
