@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "gi/catalogue.h"
 #include "metrics.h"
 #include "module_test_helpers.h"
 #include "procedural_scene.h"
@@ -75,9 +76,6 @@ double maskedMean(const engine::FloatImage& img, const engine::FloatImage& depth
   return n ? sum / double(n) : 0.0;
 }
 
-const gi::Method kAllMethods[] = {gi::Method::Raw,   gi::Method::Gif,   gi::Method::Bilateral, gi::Method::Atrous,
-                                  gi::Method::Aaf,   gi::Method::AafAo, gi::Method::Sspsf,     gi::Method::Hpsf,
-                                  gi::Method::Nhpsf, gi::Method::Anhpsf};
 
 }  // namespace
 
@@ -107,7 +105,8 @@ TEST_F(SkyTest, OpenPlaneUnderAConstantSkyIsAlbedoTimesSky) {
     EXPECT_EQ(wrong, 0u) << what << ": channels more than 1% from albedo × sky (or the sky)";
   };
   check(ref, "reference", false);
-  for (gi::Method m : kAllMethods) check(methodImage(ctx, s, m, 2), gi::methodName(m), m == gi::Method::AafAo);
+  for (const gi::MethodInfo& info : gi::methodCatalogue())
+    check(methodImage(ctx, s, info.method, 2), info.name, info.method == gi::Method::AafAo);
   unload(s);
 }
 
@@ -171,7 +170,8 @@ TEST_F(SkyTest, EveryMethodMatchesTheReferenceWithABounce) {
   const gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], kSize, kSize, nullptr);
   engine::ReferenceImages ref = pixelCentreReference(ctx, s, cam, 2, 512);
   const double refMean = meanOf(ref.final);
-  for (gi::Method m : kAllMethods) {
+  for (const gi::MethodInfo& info : gi::methodCatalogue()) {
+    const gi::Method m = info.method;
     if (m == gi::Method::AafAo) continue;
     engine::ReferenceImages img = methodImage(ctx, s, m, 8);
     const double mean = meanOf(img.final);

@@ -114,6 +114,41 @@ def walk(directory, raw64=None):
               f"{float(r['flicker_ratio']):.2f} |")
 
 
+def walk_best(pairs, budget=1.5):
+    """Per scene, the lowest final relMSE at 1 spp within `budget` x raw's 1-spp time, against raw at 64 spp."""
+    for directory, raw64 in zip(pairs[::2], pairs[1::2]):
+        rows_ = rows(f"{directory}/results.csv")
+        base = float(next(r for r in rows_ if r["label"].startswith("raw spp=1 raw.temporal=0"))["total_ms"])
+        within = [r for r in rows_ if not r["label"].startswith("raw ") and float(r["total_ms"]) <= budget * base]
+        best = min(within, key=lambda r: float(r["relmse"]))
+        reference = rows(f"{raw64}/results.csv")[0]
+        print(f"- {directory.rstrip('/').split('/')[-1]}: `{best['label']}` {float(best['relmse']):.3e} "
+              f"against raw at 64 spp {float(reference['relmse']):.3e}, at "
+              f"{float(best['total_ms']) / base:.2f}x raw's 1-spp time")
+
+
+def hashdirect(pairs):
+    """The hash methods' direct history: off, hpsf.temporal, + hpsf.temporal_indirect (args: NAME DIR ...)."""
+    print("| scene | method | off | `hpsf.temporal` (default) | + `hpsf.temporal_indirect` | ms off → default → + indirect |")
+    print("|---|---|---|---|---|---|")
+    for name, directory in zip(pairs[::2], pairs[1::2]):
+        name = name.replace("_", " ")  # names travel as one argument
+        rows_ = rows(f"{directory}/results.csv")
+        for method in dict.fromkeys(r["method"] for r in rows_):
+            mine = [r for r in rows_ if r["method"] == method]
+            if method == "svgf":
+                r = mine[0]
+                print(f"| {name} | svgf | {float(r['relmse']):.3e} | | | {float(r['total_ms']):.1f} |")
+                continue
+            by = {r["settings"]: r for r in mine}
+            cells = [by["hpsf.temporal=0 hpsf.temporal_indirect=0"], by["hpsf.temporal=1 hpsf.temporal_indirect=0"],
+                     by["hpsf.temporal=1 hpsf.temporal_indirect=1"]]
+            off = float(cells[0]["relmse"])
+            on = " | ".join(f"{float(c['relmse']):.3e} ({float(c['relmse']) / off:.2f}×)" for c in cells[1:])
+            ms = " → ".join(f"{float(c['total_ms']):.1f}" for c in cells)
+            print(f"| {name} | {method} | {off:.3e} | {on} | {ms} |")
+
+
 def pass_ms(row, name):
     return next(float(x.split(":")[1]) for x in row["pass_ms"].split(";") if x.startswith(name + ":"))
 
@@ -267,6 +302,10 @@ def run(argv):
         move(argv[1])
     elif kind == "walk":
         walk(argv[1], argv[2] if len(argv) > 2 else None)
+    elif kind == "walk_best":
+        walk_best(argv[1:])
+    elif kind == "hashdirect":
+        hashdirect(argv[1:])
     elif kind == "sweep":
         sweep(argv[1], argv[2])
     elif kind == "coldstart":
