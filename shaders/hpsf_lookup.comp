@@ -16,6 +16,17 @@ layout(local_size_x = GI_GROUP_SIZE, local_size_y = GI_GROUP_SIZE) in;
 // global slot + 1, 0 = none. Recomputing costs a few hashes and one probe
 // walk, where keeping it costs an r32ui image the size of the render
 // (8.3 MB at 1080p, a twentieth of hpsf's memory).
+//
+// When that cell holds fewer samples than the outlier clamp needs, its mean is
+// a few samples as they came, and one may be a firefly: with strict eviction a
+// cell that no pixel's jitter reached for one frame starts over, and a sliver
+// of a cell that one pixel alone reached holds that pixel's path and nothing
+// else (Cornell, 64×48: single pixels with 0.5 of squared error, frames at
+// 2.6× their neighbours' error). The pixel then reads, among HG_LOOKUP_RETRIES
+// more jitters of its surface (the next random numbers of the same stream),
+// the cell with the most samples: the jitter's stochastic blend of
+// neighbouring cells, drawn again. With aging such cells are rare once the map
+// has filled (a cell lives on through frames nobody touches it).
 uint hgPixelCell(ivec2 p) {
   if (!giGbCovered(p)) return 0u;
   vec3 V;
@@ -23,8 +34,17 @@ uint hgPixelCell(ivec2 p) {
   if (!giHasDiffuseLobe(s.material)) return 0u;
   GiRng rng = giRngCreate(uvec2(p), pc.frameIndex, pc.seed, GI_STREAM_HASH);
   const HgDescriptor d = hgPrimaryDescriptor(s.position, s.normal, rng);
-  const int slot = hgFind(pc.table, hgIndexHash(d), hgVerificationKey(d), pc.capacity, pc.probeWindow);
-  return slot >= 0 ? uint(slot) + 1u : 0u;
+  int best = hgFind(pc.table, hgIndexHash(d), hgVerificationKey(d), pc.capacity, pc.probeWindow);
+  uint bestSamples = best >= 0 ? hgCells[best].samples : 0u;
+  for (uint retry = 0u; retry < HG_LOOKUP_RETRIES && best >= 0 && bestSamples < HG_CLAMP_MIN_SAMPLES; ++retry) {
+    const HgDescriptor other = hgPrimaryDescriptor(s.position, s.normal, rng);
+    const int slot = hgFind(pc.table, hgIndexHash(other), hgVerificationKey(other), pc.capacity, pc.probeWindow);
+    if (slot >= 0 && hgCells[slot].samples > bestSamples && hgCells[slot].frames > 0.0) {
+      best = slot;
+      bestSamples = hgCells[slot].samples;
+    }
+  }
+  return best >= 0 ? uint(best) + 1u : 0u;
 }
 
 void main() {

@@ -97,7 +97,7 @@ int hgInsertSample(uint index, uint key, vec3 radiance, uint count, int lod, out
   vec3 sample_ = radiance;
   vec3 tail = vec3(0.0);
   float lum = giLuminance(sample_);
-  if (pc.clampSigma > 0.0 && history.samples >= 8u) {
+  if (pc.clampSigma > 0.0 && history.samples >= HG_CLAMP_MIN_SAMPLES) {
     // Never below twice the mean: where samples barely vary (σ ≈ 0), a cell
     // whose light is still building up over frames (nhpsf, anhpsf) must be
     // able to rise; fireflies are far above that.

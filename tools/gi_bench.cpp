@@ -382,7 +382,7 @@ int main(int argc, char** argv) {
   std::ofstream series;
   if (args.has("series") || cameraPath) {
     series.open(dir / "series.csv");
-    series << "label,frame,mse,relmse,mse_indirect,energy_indirect,hash_occupancy,hash_stale_resets,hash_read_misses\n";
+    series << "label,frame,mse,relmse,mse_indirect,energy_indirect,hash_occupancy,hash_stale_resets,hash_read_misses,hash_evicted\n";
   }
   std::vector<std::string> programsWarmed;  // per configuration: its programs' first dispatches, summed
   for (const tools::BenchConfig& config : configs) {
@@ -451,7 +451,8 @@ int main(int argc, char** argv) {
         series << '"' << config.label << "\"," << frame + 1 << ',' << finals.back().mse << ',' << finals.back().relMse << ','
                << (indirects.empty() ? 0.0 : indirects.back().mse) << ',' << (indirects.empty() ? 1.0 : indirects.back().energy)
                << ',' << frameStats.hash.occupancy() << ',' << frameStats.hash.staleResets << ','
-             << (frameStats.hash.reads ? double(frameStats.hash.readMisses) / frameStats.hash.reads : 0.0) << "\n";
+               << (frameStats.hash.reads ? double(frameStats.hash.readMisses) / frameStats.hash.reads : 0.0) << ','
+               << frameStats.hash.evicted << "\n";
     }
     for (const auto& [name, samples] : passSamples) {
       row.passMs[name] = median(samples);

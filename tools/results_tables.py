@@ -149,6 +149,22 @@ def hashdirect(pairs):
             print(f"| {name} | {method} | {off:.3e} | {on} | {ms} |")
 
 
+def spikes(before_root, after_root, scenes):
+    """Per scene and eviction policy, before and after: the worst frame against its two neighbours' mean."""
+    print("| scene | policy | build | worst frame / neighbours' mean | frames above 1.3× | indirect MSE frame 1 | mean of the last 16 |")
+    print("|---|---|---|---|---|---|---|")
+    for scene in scenes:
+        for build, root in (("before", before_root), ("after", after_root)):
+            series = rows(f"{root}/eviction_{scene}/series.csv")
+            for label in dict.fromkeys(r["label"] for r in series):
+                e = [float(r["mse_indirect"]) for r in series if r["label"] == label]
+                ratios = [(e[i] / (0.5 * (e[i - 1] + e[i + 1])), i + 1) for i in range(1, len(e) - 1)]
+                worst = max(ratios)
+                policy = "strict" if "hpsf.aging=0" in label else "aging"
+                print(f"| {scene} | {policy} | {build} | {worst[0]:.2f} (frame {worst[1]}) | "
+                      f"{sum(1 for r, _ in ratios if r > 1.3)} | {e[0]:.3e} | {sum(e[-16:]) / 16:.3e} |")
+
+
 def pass_ms(row, name):
     return next(float(x.split(":")[1]) for x in row["pass_ms"].split(";") if x.startswith(name + ":"))
 
@@ -306,6 +322,8 @@ def run(argv):
         walk_best(argv[1:])
     elif kind == "hashdirect":
         hashdirect(argv[1:])
+    elif kind == "spikes":
+        spikes(argv[1], argv[2], argv[3:])
     elif kind == "sweep":
         sweep(argv[1], argv[2])
     elif kind == "coldstart":

@@ -49,6 +49,12 @@ GPU_ASSERT_SIZE(HgAccum, 64);
 // many times the mean's history, so a firefly's energy arrives spread thinly
 // over many frames instead of as a blotch in one.
 #define HG_TAIL_HISTORY 16.0
+// The clamp needs this many samples behind a cell's mean and σ before it acts:
+// a younger cell holds its samples as they came, fireflies included.
+#define HG_CLAMP_MIN_SAMPLES 8u
+// A pixel whose own cell is younger than that reads, among this many more
+// jitters of its surface, the cell with the most samples (hpsf_lookup.comp).
+#define HG_LOOKUP_RETRIES 3u
 
 struct HgCell {
   vec3 mean;          // resolved mean demodulated radiance of the clamped samples
