@@ -8,26 +8,39 @@
 // to extremes.md in the working directory (docs/RESULTS.md shows them).
 #include <fstream>
 #include <map>
+#include <vector>
 
+#include "gi/catalogue.h"
 #include "gpu_test.h"
 #include "metrics.h"
 #include "module_test_helpers.h"
 #include "procedural_scene.h"
+
+// Every method of the catalogue whose output is light (aaf_ao's is ambient occlusion).
+const std::vector<gi::Method>& radianceMethods() {
+  static const std::vector<gi::Method> methods = [] {
+    std::vector<gi::Method> out;
+    for (const gi::MethodInfo& info : gi::methodCatalogue())
+      if (info.method != gi::Method::AafAo) out.push_back(info.method);
+    return out;
+  }();
+  return methods;
+}
 
 class ExtremesTest : public GpuTest {
  protected:
   static std::map<std::string, std::map<std::string, std::string>> table;  // case → method → cell
   static void TearDownTestSuite() {
     std::ofstream md("extremes.md");
-    const char* methods[] = {"raw", "gif", "bilateral", "atrous", "aaf", "sspsf", "hpsf", "nhpsf", "anhpsf"};
     md << "| case |";
-    for (const char* m : methods) md << ' ' << m << " |";
+    for (gi::Method m : radianceMethods()) md << ' ' << gi::methodName(m) << " |";
     md << "\n|---|";
-    for (size_t i = 0; i < std::size(methods); ++i) md << "---|";
+    for (size_t i = 0; i < radianceMethods().size(); ++i) md << "---|";
     md << "\n";
     for (const auto& [name, row] : table) {
       md << "| " << name << " |";
-      for (const char* m : methods) md << ' ' << (row.count(m) ? row.at(m) : "") << " |";
+      for (gi::Method m : radianceMethods())
+        md << ' ' << (row.count(gi::methodName(m)) ? row.at(gi::methodName(m)) : "") << " |";
       md << "\n";
     }
     GpuTest::TearDownTestSuite();
@@ -38,9 +51,6 @@ std::map<std::string, std::map<std::string, std::string>> ExtremesTest::table;
 namespace {
 
 constexpr uint32_t kSize = 24, kFrames = 4, kReferenceSpp = 512, kBounces = 2;
-const gi::Method kMethods[] = {gi::Method::Raw,   gi::Method::Gif,  gi::Method::Bilateral,
-                               gi::Method::Atrous, gi::Method::Aaf,  gi::Method::Sspsf,
-                               gi::Method::Hpsf,  gi::Method::Nhpsf, gi::Method::Anhpsf};
 
 // A room (floor, ceiling, three walls) lit by a point light, scaled by
 // `scale` metres and moved by `offset`; the light's intensity keeps the
@@ -147,7 +157,7 @@ gi::Settings defaults(gi::Method m) {
     load(testscene::write(room(n), "extremes_" #Name "_normal"), normal);                                  \
     load(testscene::write(room(r), "extremes_" #Name), extreme);                                           \
     ExtremesRun base(ctx, normal), changed(ctx, extreme);                                                   \
-    for (gi::Method m : kMethods) {                                                                         \
+    for (gi::Method m : radianceMethods()) {                                                                         \
       Outcome a = base.run(defaults(m)), b = changed.run(defaults(m));                                      \
       double ratio = b.relMse / std::max(a.relMse, 1e-12);                                                  \
       table[#Name][gi::methodName(m)] = std::to_string(ratio).substr(0, 4) + "×";                           \
@@ -187,7 +197,7 @@ TEST_F(ExtremesTest, BlackScenesStayBlack) {
     LoadedScene s;
     load(testscene::write(room(r), which == 0 ? "extremes_no_light" : "extremes_camera_inside"), s);
     ExtremesRun run(ctx, s);
-    for (gi::Method m : kMethods) {
+    for (gi::Method m : radianceMethods()) {
       Outcome o = run.run(defaults(m));
       EXPECT_TRUE(o.finite) << gi::methodName(m);
       EXPECT_EQ(o.mean, 0.0) << gi::methodName(m);
@@ -215,7 +225,7 @@ TEST_F(ExtremesTest, EmptySceneIsANamedError) {
   s.scene = std::move(scene);
   engine::createSceneGpu(ctx, s.scene, s.gpu);
   ExtremesRun run(ctx, s);
-  for (gi::Method m : kMethods) {
+  for (gi::Method m : radianceMethods()) {
     Outcome o = run.run(defaults(m));
     EXPECT_TRUE(o.finite) << gi::methodName(m);
     EXPECT_EQ(o.mean, 0.0) << gi::methodName(m);
@@ -299,7 +309,7 @@ TEST_F(ExtremesTest, WhiteFurnaceStaysFinite) {
   LoadedScene s;
   load(testscene::write(d, "extremes_white_furnace"), s);
   gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], 16, 16, nullptr);
-  for (gi::Method m : kMethods) {
+  for (gi::Method m : radianceMethods()) {
     gi::Settings settings = defaults(m);
     settings.hpsf.clampSigma = 0.0f;
     tools::ModuleSession session;

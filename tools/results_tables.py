@@ -165,6 +165,49 @@ def spikes(before_root, after_root, scenes):
                       f"{sum(1 for r, _ in ratios if r > 1.3)} | {e[0]:.3e} | {sum(e[-16:]) / 16:.3e} |")
 
 
+def memory(path):
+    """Device memory each method holds after one frame (scripts/bench memory), MB = 10^6 bytes."""
+    by = {}
+    for r in rows(path):
+        by.setdefault(r["method"], {})[f"{r['width']}x{r['height']}"] = r
+    sizes = ["1280x720", "1920x1080"]
+    print("| method | " + " | ".join(f"{s} held MB | used MB | blocks" for s in sizes) + " |")
+    print("|---|" + "---|---|---|" * len(sizes))
+    for method, at in by.items():
+        cells = " | ".join(f"{int(at[s]['held_bytes']) / 1e6:.1f} | {int(at[s]['used_bytes']) / 1e6:.1f} | {at[s]['blocks']}"
+                           for s in sizes)
+        print(f"| `{method}` | {cells} |")
+
+
+MOVING_RUNS = (  # (directory suffix, label prefix, the table's name for it)
+    ("strict", "hpsf spp=4 hpsf.aging=0", "hpsf strict"),
+    ("hpsf", "hpsf spp=4 hpsf.aging=1 hpsf.validation=0", "hpsf aging"),
+    ("hpsf", "hpsf spp=4 hpsf.aging=1 hpsf.validation=4", "hpsf aging + probes"),
+    ("anhpsf", "anhpsf spp=4 hpsf.validation=0", "anhpsf"),
+    ("anhpsf", "anhpsf spp=4 hpsf.validation=4", "anhpsf + probes"),
+    ("invalidate", "hpsf spp=4", "hpsf aging + probes + invalidate(LightsChanged)"),
+    ("invalidate", "anhpsf spp=4", "anhpsf + probes + invalidate(LightsChanged)"),
+)
+
+
+def moving(root, move_at, scenes):
+    """The moving-light experiment (scripts/bench move): indirect MSE before the jump and k frames after it."""
+    after = (1, 2, 4, 8, 16, 32, 48)
+    print("| scene | method | before | " + " | ".join(str(k) for k in after) +
+          " | steady | recovery (frames) | light after 1 / 4 / 48 | histories cut |")
+    print("|---|---|---|" + "---|" * len(after) + "---|---|---|---|")
+    for scene in scenes:
+        for suffix, label, name in MOVING_RUNS:
+            directory = f"{root}/move_{scene.lower()}_{suffix}"
+            result = next(r for r in rows(f"{directory}/results.csv") if r["label"] == label)
+            series = {int(r["frame"]): r for r in rows(f"{directory}/series.csv") if r["label"] == label}
+            errors = " | ".join(f"{float(series[move_at + k]['mse_indirect']):.2e}" for k in after)
+            light = " / ".join(f"{float(series[move_at + k]['energy_indirect']):.2f}" for k in (1, 4, 48))
+            print(f"| {scene} | {name} | {float(series[move_at]['mse_indirect']):.2e} | {errors} | "
+                  f"{float(result['move_steady_mse_indirect']):.2e} | {result['move_recovery_frames']} | {light} | "
+                  f"{result['hash_stale_resets']} |")
+
+
 def pass_ms(row, name):
     return next(float(x.split(":")[1]) for x in row["pass_ms"].split(";") if x.startswith(name + ":"))
 
@@ -324,6 +367,12 @@ def run(argv):
         hashdirect(argv[1:])
     elif kind == "spikes":
         spikes(argv[1], argv[2], argv[3:])
+    elif kind == "file":  # a table a test wrote, committed as it came (tests/extremes_test.cpp: extremes.md)
+        print(open(argv[1], encoding="utf-8").read().strip())
+    elif kind == "memory":
+        memory(argv[1])
+    elif kind == "moving":
+        moving(argv[1], int(argv[2]), argv[3:])
     elif kind == "sweep":
         sweep(argv[1], argv[2])
     elif kind == "coldstart":
