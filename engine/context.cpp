@@ -101,11 +101,29 @@ VkResult createEngineDevice(const Context& ctx, bool swapchain, VkDevice& out) {
   f2On.features.shaderStorageImageReadWithoutFormat = supported.features.shaderStorageImageReadWithoutFormat;
   f2On.pNext = &f12On;
   if (gi::enableRequiredFeatures(f2On, ctx.rayQuery)) return VK_ERROR_FEATURE_NOT_PRESENT;  // a struct the chain lacks: a bug
+  // Bounds-checked access (ContextDesc::robustAccess): robustness2 where the device has it.
+  VkPhysicalDeviceRobustness2FeaturesEXT robust2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ROBUSTNESS_2_FEATURES_EXT};
+  const std::vector<std::string> have = deviceExtensions(ctx.physicalDevice);
+  const bool robustness2 = ctx.robustAccess && std::find(have.begin(), have.end(), VK_EXT_ROBUSTNESS_2_EXTENSION_NAME) != have.end();
+  if (ctx.robustAccess) {
+    f2On.features.robustBufferAccess = supported.features.robustBufferAccess;
+    if (robustness2) {
+      VkPhysicalDeviceRobustness2FeaturesEXT can{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ROBUSTNESS_2_FEATURES_EXT};
+      VkPhysicalDeviceFeatures2 query{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+      query.pNext = &can;
+      vkGetPhysicalDeviceFeatures2(ctx.physicalDevice, &query);
+      robust2.robustBufferAccess2 = can.robustBufferAccess2;
+      robust2.robustImageAccess2 = can.robustImageAccess2;
+      robust2.pNext = f2On.pNext;
+      f2On.pNext = &robust2;
+    }
+  }
 
-  const char* deviceExts[std::size(gi::kRayQueryExtensions) + 1];
+  const char* deviceExts[std::size(gi::kRayQueryExtensions) + 2];
   uint32_t extensionCount = 0;
   for (const char* ext : gi::requiredExtensions(ctx.rayQuery)) deviceExts[extensionCount++] = ext;
   if (swapchain) deviceExts[extensionCount++] = VK_KHR_SWAPCHAIN_EXTENSION_NAME;
+  if (robustness2) deviceExts[extensionCount++] = VK_EXT_ROBUSTNESS_2_EXTENSION_NAME;
   float priority = 1.0f;
   VkDeviceQueueCreateInfo queueInfo{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
   queueInfo.queueFamilyIndex = ctx.queueFamily;
@@ -241,6 +259,8 @@ bool createContext(const ContextDesc& desc, Context& ctx, std::string& error) {
     traversal = deviceHasRayQuery && bestProps.deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU ? Traversal::RayQuery
                                                                                           : Traversal::Compute;
   ctx.traversal = traversal;
+  ctx.robustAccess = desc.robustAccess;
+  if (const char* env = std::getenv("GI_ROBUST")) ctx.robustAccess = std::string(env) == "1";
   ctx.physicalDevice = best;
   ctx.properties = bestProps;
   vkGetPhysicalDeviceMemoryProperties(best, &ctx.memoryProperties);

@@ -28,6 +28,11 @@ struct ContextDesc {
   std::vector<const char*> instanceExtensions;  // e.g. from glfwGetRequiredInstanceExtensions
   bool swapchain = false;                       // enable VK_KHR_swapchain on the device
   std::string deviceNameFilter;                 // substring match; empty = best device (env GI_DEVICE overrides)
+  // Bounds-checked shaders: robustBufferAccess, and VK_EXT_robustness2's robustBufferAccess2 and
+  // robustImageAccess2 where the device has them, so an index out of range reads zero and its
+  // write is dropped instead of reaching other memory (on lavapipe, the host's heap). Off by
+  // default, as engines ship; tests compare the two (env GI_ROBUST=1 turns it on).
+  bool robustAccess = false;
 };
 
 // Counts validation messages so tests can assert there were none.
@@ -51,6 +56,7 @@ struct Context {
   std::unique_ptr<ValidationCounter> validation;  // null when validation is off
   bool debugUtils = false;                         // debug labels available
   bool rayQuery = false;                           // ray-query and acceleration-structure extensions enabled
+  bool robustAccess = false;                       // ContextDesc::robustAccess, as the device was made
   Traversal traversal = Traversal::Compute;        // the backend chosen: RayQuery or Compute, never Auto
   uint32_t traversalId() const;                    // gpu::TRAVERSAL_* of `traversal`
 
