@@ -208,6 +208,19 @@ def moving(root, move_at, scenes):
                   f"{result['hash_stale_resets']} |")
 
 
+def rays(path):
+    """Bare-ray rates per scene and backend (gi-bench --rays), Mrays/s, and diffuse against Embree's."""
+    names = {"rayquery": "ray queries", "compute": "compute", "embree_cpu": "Embree"}
+    print("| scene | backend | primary | diffuse | shadow | diffuse, of Embree |")
+    print("|---|---|---|---|---|---|")
+    last = None
+    for r in rows(path):
+        scene = f"{r['scene']} ({int(r['triangles']):,} triangles)" if r["scene"] != last else ""
+        last = r["scene"]
+        print(f"| {scene} | {names[r['backend']]} | {float(r['primary_mrays']):.3g} | {float(r['diffuse_mrays']):.3g} | "
+              f"{float(r['shadow_mrays']):.3g} | {float(r['diffuse_of_embree']):.2f} |")
+
+
 def pass_ms(row, name):
     return next(float(x.split(":")[1]) for x in row["pass_ms"].split(";") if x.startswith(name + ":"))
 
@@ -373,6 +386,8 @@ def run(argv):
         memory(argv[1])
     elif kind == "moving":
         moving(argv[1], int(argv[2]), argv[3:])
+    elif kind == "rays":
+        rays(argv[1])
     elif kind == "sweep":
         sweep(argv[1], argv[2])
     elif kind == "coldstart":
