@@ -221,6 +221,33 @@ def rays(path):
               f"{float(r['shadow_mrays']):.3g} | {float(r['diffuse_of_embree']):.2f} |")
 
 
+def error_at_frames(pairs, ks=(1, 4, 8, 32, 64)):
+    """Final / indirect MSE after frame k of each run's series, its light at 32 and 64, its ms (args: NAME DIR ...)."""
+    print("| scene | method | " + " | ".join(f"k = {k}" for k in ks) + " | light at k = 32 / 64 | frame ms |")
+    print("|---|---|" + "---|" * len(ks) + "---|---|")
+    for name, directory in zip(pairs[::2], pairs[1::2]):
+        series = rows(f"{directory}/series.csv")
+        for result in rows(f"{directory}/results.csv"):
+            mine = {int(r["frame"]): r for r in series if r["label"] == result["label"]}
+            errors = " | ".join(f"{float(mine[k]['mse']):.2e} / {float(mine[k]['mse_indirect']):.2e}" for k in ks)
+            print(f"| {name} | {result['method']} | {errors} | {float(mine[32]['energy_indirect']):.3f} / "
+                  f"{float(mine[64]['energy_indirect']):.3f} | {float(result['total_ms']):.0f} |")
+
+
+def hpsf_frames(pairs, ks=(1, 4, 8, 32)):
+    """Final-image MSE after frame k per eviction policy and sspsf beside it (args: NAME DIR ...)."""
+    policy = {"hpsf spp=1 hpsf.aging=0": "hpsf, strict", "hpsf spp=1 hpsf.aging=1": "hpsf, aging", "sspsf spp=1": "sspsf"}
+    print("| scene | method | " + " | ".join(f"k = {k}" for k in ks) + " | hash occupancy |")
+    print("|---|---|" + "---|" * len(ks) + "---|")
+    for name, directory in zip(pairs[::2], pairs[1::2]):
+        series = rows(f"{directory}/series.csv")
+        for result in rows(f"{directory}/results.csv"):
+            mine = {int(r["frame"]): r for r in series if r["label"] == result["label"]}
+            occupancy = float(result["hash_occupancy"])
+            print(f"| {name} | {policy[result['label']]} | " + " | ".join(f"{float(mine[k]['mse']):.2e}" for k in ks) +
+                  f" | {f'{100 * occupancy:.1f}%' if result['method'] != 'sspsf' else '–'} |")
+
+
 def pass_ms(row, name):
     return next(float(x.split(":")[1]) for x in row["pass_ms"].split(";") if x.startswith(name + ":"))
 
@@ -388,6 +415,10 @@ def run(argv):
         moving(argv[1], int(argv[2]), argv[3:])
     elif kind == "rays":
         rays(argv[1])
+    elif kind == "error_at_frames":
+        error_at_frames(argv[1:])
+    elif kind == "hpsf_frames":
+        hpsf_frames(argv[1:])
     elif kind == "sweep":
         sweep(argv[1], argv[2])
     elif kind == "coldstart":
