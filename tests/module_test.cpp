@@ -312,8 +312,8 @@ TEST_F(ModuleTest, NonFiniteGBufferValuesDoNotSpread) {
   const uint32_t W = 24, H = 24;
   gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], W, H, nullptr);
   // Every method; raw with history and the hash methods with their caches are where a NaN could persist.
-  for (gi::Method method : {gi::Method::Raw, gi::Method::Gif, gi::Method::Bilateral, gi::Method::Atrous, gi::Method::Aaf,
-                            gi::Method::AafAo, gi::Method::Sspsf, gi::Method::Hpsf, gi::Method::Nhpsf, gi::Method::Anhpsf}) {
+  for (const gi::MethodInfo& info : gi::methodCatalogue()) {
+    const gi::Method method = info.method;
     gi::Settings settings;
     settings.method = method;
     settings.raw.temporalAccumulation = true;
