@@ -10,7 +10,6 @@ layout(set = 0, binding = FILTER_BINDING_POSITION, rgba32f) uniform image2D filt
 layout(set = 0, binding = FILTER_BINDING_INPUT, rgba32f) uniform image2D filterInput;
 layout(set = 0, binding = FILTER_BINDING_OUTPUT) uniform image2D filterOutput;  // formatless (FilterOutputEncoding)
 layout(set = 0, binding = FILTER_BINDING_A, rgba32f) uniform image2D filterA[FILTER_STACK];
-layout(set = 0, binding = FILTER_BINDING_B, rgba32f) uniform image2D filterB[FILTER_STACK];
 layout(set = 0, binding = FILTER_BINDING_TEMP, rgba32f) uniform image2D filterTemp;
 layout(set = 0, binding = FILTER_BINDING_PARAMS, rgba32f) uniform image2D filterParams;
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "shared/gi_filters.h"
 #include "shared/hash_grid.h"
 
 namespace gi {
@@ -56,7 +57,8 @@ const SettingInfo kSettings[] = {
                1, 1 << 20, false, kRaw),
 
     GI_SETTING("gif.spp", gif.samplesPerPixel, "paths per pixel", "indirect paths per guide ray", Uint, 1, 64, false, kGif),
-    GI_SETTING("gif.radius", gif.radius, "pixels", "window radius (cost does not depend on it)", Uint, 1, 128, false, kGif),
+    GI_SETTING("gif.radius", gif.radius, "pixels", "window radius (cost does not depend on it)", Uint, 1, GIF_MAX_RADIUS,
+               false, kGif),
     GI_SETTING("gif.eps_normal", gif.epsilonNormal, "", "ridge term of the normal channels (guidance in [0, 1])", Float, 0,
                1e6, false, kGif),
     GI_SETTING("gif.eps_depth", gif.epsilonDepth, "", "ridge term of the depth channel", Float, 0, 1e6, false, kGif),

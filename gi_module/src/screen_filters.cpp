@@ -37,10 +37,9 @@ void pass(const vk::Device& d, VkCommandBuffer cmd, const ScreenFilters& f, cons
 void recordScreenFiltersFirstUse(const vk::Device& d, VkCommandBuffer cmd, ScreenFilters& f) {
   if (f.initialised || !f.a[0].image) return;
   for (uint32_t i = 0; i < FILTER_STACK; ++i)
-    for (vk::Image* img : {&f.a[i], &f.b[i]})
-      vk::imageBarrier(d, cmd, img->image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, 0,
-                       VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                       VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+    vk::imageBarrier(d, cmd, f.a[i].image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, 0,
+                     VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                     VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
   f.initialised = true;
 }
 
@@ -50,7 +49,6 @@ const vk::Binding kFilterBindings[] = {
     {gpu::FILTER_BINDING_INPUT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
     {gpu::FILTER_BINDING_OUTPUT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
     {gpu::FILTER_BINDING_A, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, FILTER_STACK},
-    {gpu::FILTER_BINDING_B, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, FILTER_STACK},
     {gpu::FILTER_BINDING_TEMP, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
     {gpu::FILTER_BINDING_PARAMS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
 };
@@ -133,21 +131,15 @@ vk::Status createScreenFilters(vk::Device& d, const FilterPrograms& programs, ui
 
 vk::Status ensureGuidedStack(vk::Device& d, ScreenFilters& f) {
   if (f.a[0].image) return {};
-  for (uint32_t i = 0; i < FILTER_STACK; ++i)
-    for (vk::Image* img : {&f.a[i], &f.b[i]}) {
-      if (vk::Status s = vk::createImage(d, {f.width, f.height}, VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_USAGE_STORAGE_BIT, *img)) {
-        for (uint32_t j = 0; j < FILTER_STACK; ++j) {
-          vk::destroyImage(d, f.a[j]);
-          vk::destroyImage(d, f.b[j]);
-        }
-        return s;
-      }
+  for (vk::Image& img : f.a)
+    if (vk::Status s = vk::createImage(d, {f.width, f.height}, VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_USAGE_STORAGE_BIT, img)) {
+      for (vk::Image& made : f.a) vk::destroyImage(d, made);
+      return s;
     }
   vk::DescriptorWriter w(f.set[0]);
   for (uint32_t i = 0; i < FILTER_STACK; ++i) {
-    f.memoryBytes += f.a[i].memory.size + f.b[i].memory.size;
+    f.memoryBytes += f.a[i].memory.size;
     w.storageImage(gpu::FILTER_BINDING_A, f.a[i].view, i);
-    w.storageImage(gpu::FILTER_BINDING_B, f.b[i].view, i);
   }
   w.write(d);
   return {};
@@ -156,10 +148,7 @@ vk::Status ensureGuidedStack(vk::Device& d, ScreenFilters& f) {
 void destroyScreenFilters(vk::Device& d, ScreenFilters& f) {
   vk::destroyDescriptorSets(d, f.set);
   vk::destroyDescriptorSets(d, f.aafGlossySets);
-  for (uint32_t i = 0; i < FILTER_STACK; ++i) {
-    vk::destroyImage(d, f.a[i]);
-    vk::destroyImage(d, f.b[i]);
-  }
+  for (vk::Image& img : f.a) vk::destroyImage(d, img);
   f = ScreenFilters{};
 }
 

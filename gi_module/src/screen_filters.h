@@ -51,9 +51,9 @@ void destroyFilterPrograms(const vk::Device& device, FilterPrograms& programs);
 
 struct ScreenFilters {
   const FilterPrograms* programs = nullptr;
-  vk::Image a[FILTER_STACK], b[FILTER_STACK];  // the guided filter's window statistics (created on its first use)
-  vk::DescriptorSets set;                      // one set over the module's targets
-  vk::DescriptorSets aafGlossySets;            // two: AAF's specular terms filtered in place (glossy scenes)
+  vk::Image a[FILTER_STACK];        // the guided filter's window statistics (created on its first use)
+  vk::DescriptorSets set;           // one set over the module's targets
+  vk::DescriptorSets aafGlossySets;  // two: AAF's specular terms filtered in place (glossy scenes)
   uint32_t width = 0, height = 0;
   uint64_t memoryBytes = 0;
   bool initialised = false;  // images moved to GENERAL layout

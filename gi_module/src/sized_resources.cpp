@@ -107,8 +107,12 @@ uint32_t sizedResourcesNeeded(const Module& m, const Settings& s) {
     if (!usesHashGrid(s.method) || clampsHashIndirect(s))
       need |= bit(&SizedResources::historyIndirect) | bit(&SizedResources::historyIndirectB);
   }
-  if (usesScreenFilters(s.method))
-    need |= bit(&SizedResources::guidance) | bit(&SizedResources::position) | bit(&SizedResources::debug);
+  if (usesScreenFilters(s.method)) need |= bit(&SizedResources::guidance) | bit(&SizedResources::position);
+  // The filters' temp image (set 1's debug image): à-trous ping-pongs through it and AAF's row pass writes
+  // it; gif writes it only for its coefficient view, bilateral and sspsf never.
+  if (s.method == Method::Atrous || isAaf(s.method)) need |= bit(&SizedResources::debug);
+  // The hash lookup leaves its data for any debug view (the hash views read it).
+  if (usesHashGrid(s.method) && s.debugView != DebugView::None) need |= bit(&SizedResources::debug);
   if (s.method == Method::Svgf)
     need |= bit(&SizedResources::svgfMomentsA) | bit(&SizedResources::svgfMomentsB) |
             bit(&SizedResources::svgfDirectPing) | bit(&SizedResources::svgfIndirectPing) |

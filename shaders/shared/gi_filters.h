@@ -12,11 +12,11 @@ GPU_CONST FILTER_BINDING_POSITION = 1;  // xyz: world position, metres; w: view 
 GPU_CONST FILTER_BINDING_INPUT = 2;     // rgb: the noisy image
 GPU_CONST FILTER_BINDING_OUTPUT = 3;    // rgb: the filtered image; formatless: the module's indirect output
                                         // (half or single floats, FilterOutputEncoding) or an rgba32f image
-GPU_CONST FILTER_BINDING_A = 4;         // FILTER_STACK images: window statistics, then coefficients
-GPU_CONST FILTER_BINDING_B = 5;         // FILTER_STACK images: the box filter's intermediate
-GPU_CONST FILTER_BINDING_TEMP = 6;      // ping-pong image for à-trous and AAF; the guided filter's coefficient view
-GPU_CONST FILTER_BINDING_PARAMS = 7;    // AAF: z_min, z_max (metres), samples, β (metres)
+GPU_CONST FILTER_BINDING_A = 4;         // FILTER_STACK images: window statistics, then coefficients, box-filtered in place
+GPU_CONST FILTER_BINDING_TEMP = 5;      // ping-pong image for à-trous and AAF; the guided filter's coefficient view
+GPU_CONST FILTER_BINDING_PARAMS = 6;    // AAF: z_min, z_max (metres), samples, β (metres)
 #define FILTER_STACK 8u                 // 32 channels: the 29 window moments of 4-D guidance and RGB input
+#define GIF_MAX_RADIUS 128u             // the box filter holds the r most recent originals of its line (gif.radius's range)
 #define FILTER_GROUP_SIZE 8u            // 8×8 threads for per-pixel passes
 #define FILTER_LINE_GROUP 64u           // 64 rows or columns per group for the box filter
 
@@ -74,7 +74,7 @@ GPU_ASSERT_SIZE(GuidedMomentsPush, 16);
 
 struct BoxPush {
   uint radius;      // window half-size in pixels; windows are clipped at the borders
-  uint vertical;    // 0: rows, A → B; 1: columns, B → A
+  uint vertical;    // 0: rows, 1: columns (both in place over the A images)
   uint imageCount;  // how many of the FILTER_STACK images hold data
   uint pad0;
 };
