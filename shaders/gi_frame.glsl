@@ -24,8 +24,9 @@ layout(constant_id = GI_SPEC_GLOSSY_FLAG) const uint GI_GLOSSY_FLAG = GI_GLOSSY_
 layout(set = 1, binding = GI_BINDING_OUT_DIRECT) uniform image2D giOutDirect;
 layout(set = 1, binding = GI_BINDING_OUT_INDIRECT) uniform image2D giOutIndirect;
 layout(set = 1, binding = GI_BINDING_OUT_COMPOSITE) uniform image2D giOutComposite;
-layout(set = 1, binding = GI_BINDING_HISTORY_DIRECT, rgba32f) uniform image2D giHistoryDirect;
-layout(set = 1, binding = GI_BINDING_HISTORY_INDIRECT, rgba32f) uniform image2D giHistoryIndirect;
+// The radiance histories are half or single floats (GiFrameConstants::historyScale): no format qualifier.
+layout(set = 1, binding = GI_BINDING_HISTORY_DIRECT) uniform image2D giHistoryDirect;
+layout(set = 1, binding = GI_BINDING_HISTORY_INDIRECT) uniform image2D giHistoryIndirect;
 layout(set = 1, binding = GI_BINDING_COUNTERS, scalar) buffer GiCountersBlock { GiCounters giCounters; };
 layout(set = 1, binding = GI_BINDING_NOISY_INDIRECT) uniform image2D giNoisyIndirect;  // formatless: may alias an output
 layout(set = 1, binding = GI_BINDING_GUIDANCE, rgba32f) uniform image2D giGuidance;
@@ -35,8 +36,8 @@ layout(set = 1, binding = GI_BINDING_AAF_PARAMS, rgba32f) uniform image2D giAafP
 layout(set = 1, binding = GI_BINDING_AAF_SUM, rgba32f) uniform image2D giAafSum;
 layout(set = 1, binding = GI_BINDING_AAF_GLOSSY, rgba32f) uniform image2D giAafGlossy;
 layout(set = 1, binding = GI_BINDING_AAF_GLOSSY_EDGE, rgba32f) uniform image2D giAafGlossyEdge;
-layout(set = 1, binding = GI_BINDING_HISTORY_DIRECT_B, rgba32f) uniform image2D giHistoryDirectB;
-layout(set = 1, binding = GI_BINDING_HISTORY_INDIRECT_B, rgba32f) uniform image2D giHistoryIndirectB;
+layout(set = 1, binding = GI_BINDING_HISTORY_DIRECT_B) uniform image2D giHistoryDirectB;
+layout(set = 1, binding = GI_BINDING_HISTORY_INDIRECT_B) uniform image2D giHistoryIndirectB;
 layout(set = 1, binding = GI_BINDING_HISTORY_GUIDE_A, rgba16f) uniform image2D giHistoryGuideA;
 layout(set = 1, binding = GI_BINDING_HISTORY_GUIDE_B, rgba16f) uniform image2D giHistoryGuideB;
 layout(set = 1, binding = GI_BINDING_SVGF_MOMENTS_A, rgba32f) uniform image2D giSvgfMomentsA;
@@ -71,6 +72,21 @@ void giStoreNoisy(ivec2 p, vec3 radiance, float alpha) {
   imageStore(giNoisyIndirect, p, vec4(giOutputEncode(radiance, giFrame.noisyScale, giFrame.noisyMax), alpha));
 }
 vec3 giLoadNoisy(ivec2 p) { return imageLoad(giNoisyIndirect, p).rgb / giFrame.noisyScale; }
+
+// The radiance histories hold radiance × historyScale, clamped to their format's range; their alpha
+// (the direct history's frames) as is. Loads give radiance back.
+#define GI_HISTORY_ACCESS(Name, image)                                                                   \
+  void giStore##Name(ivec2 p, vec3 radiance, float alpha) {                                              \
+    imageStore(image, p, vec4(giOutputEncode(radiance, giFrame.historyScale, giFrame.historyMax), alpha)); \
+  }                                                                                                      \
+  vec4 giLoad##Name(ivec2 p) {                                                                           \
+    const vec4 v = imageLoad(image, p);                                                                  \
+    return vec4(v.rgb / giFrame.historyScale, v.a);                                                      \
+  }
+GI_HISTORY_ACCESS(HistoryDirect, giHistoryDirect)
+GI_HISTORY_ACCESS(HistoryIndirect, giHistoryIndirect)
+GI_HISTORY_ACCESS(HistoryDirectB, giHistoryDirectB)
+GI_HISTORY_ACCESS(HistoryIndirectB, giHistoryIndirectB)
 
 // --- The G-buffer decode: the only place that knows the engine's encodings.
 

@@ -55,11 +55,11 @@ void main() {
       float n = float(min(pc.historyLength, pc.maxHistory - 1u));
       float w = 1.0 / (n + 1.0);
       if (pc.historyLength > 0u) {
-        direct = mix(imageLoad(giHistoryDirect, p).rgb, direct, w);
-        indirect = mix(imageLoad(giHistoryIndirect, p).rgb, indirect, w);
+        direct = mix(giLoadHistoryDirect(p).rgb, direct, w);
+        indirect = mix(giLoadHistoryIndirect(p).rgb, indirect, w);
       }
-      imageStore(giHistoryDirect, p, vec4(direct, 1.0));
-      imageStore(giHistoryIndirect, p, vec4(indirect, 1.0));
+      giStoreHistoryDirect(p, direct, 1.0);
+      giStoreHistoryIndirect(p, indirect, 1.0);
     }
     giStoreDirect(p, direct);
     giStoreIndirect(p, indirect);   // filters overwrite this one

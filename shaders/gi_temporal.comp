@@ -37,10 +37,9 @@ HistoryTexel readTexel(ivec2 q) {
     const GiPackedHistory h = giUnpackHistory(imageLoad(giHistoryPacked, q).xy);
     return HistoryTexel(h.guide, vec4(h.direct / pc.historyScale, h.frames));
   }
-  return HistoryTexel(giPreviousGuide(q, pc.parity),
-                      pc.parity == 0u ? imageLoad(giHistoryDirect, q) : imageLoad(giHistoryDirectB, q));
+  return HistoryTexel(giPreviousGuide(q, pc.parity), pc.parity == 0u ? giLoadHistoryDirect(q) : giLoadHistoryDirectB(q));
 }
-vec4 readIndirect(ivec2 q) { return pc.parity == 0u ? imageLoad(giHistoryIndirect, q) : imageLoad(giHistoryIndirectB, q); }
+vec4 readIndirect(ivec2 q) { return pc.parity == 0u ? giLoadHistoryIndirect(q) : giLoadHistoryIndirectB(q); }
 vec4 readMoments(ivec2 q) { return pc.parity == 0u ? imageLoad(giSvgfMomentsA, q) : imageLoad(giSvgfMomentsB, q); }
 // svgf: the luminance moments, and the guide its passes read (unit normal, view depth).
 void writeMoments(ivec2 p, vec4 moments, vec4 guide) {
@@ -57,12 +56,12 @@ void writeMoments(ivec2 p, vec4 moments, vec4 guide) {
 void write(ivec2 p, vec3 direct, vec3 indirect, float frames, vec3 n, float depth) {
   if (pc.directOnly != 0u) return;
   if (pc.parity == 0u) {
-    imageStore(giHistoryDirectB, p, vec4(direct, frames));
-    imageStore(giHistoryIndirectB, p, vec4(indirect, 1.0));
+    giStoreHistoryDirectB(p, direct, frames);
+    giStoreHistoryIndirectB(p, indirect, 1.0);
     imageStore(giHistoryGuideB, p, vec4(n, depth / giFrame.depthScale));
   } else {
-    imageStore(giHistoryDirect, p, vec4(direct, frames));
-    imageStore(giHistoryIndirect, p, vec4(indirect, 1.0));
+    giStoreHistoryDirect(p, direct, frames);
+    giStoreHistoryIndirect(p, indirect, 1.0);
     imageStore(giHistoryGuideA, p, vec4(n, depth / giFrame.depthScale));
   }
 }

@@ -79,12 +79,13 @@ void main() {
   if (pc.direct == 0u) outDirect = centreDirect;  // exact (punctual lights only): not filtered
   store(p, outDirect, outIndirect);
   if (pc.iteration == 0u && z > 0.0) {  // feedback: the next frame reprojects this
+    // Unfiltered direct light is already in the history as the temporal pass stored it.
     if (pc.parity == 0u) {
-      imageStore(giHistoryDirect, p, vec4(outDirect.rgb, imageLoad(giHistoryDirect, p).a));
-      imageStore(giHistoryIndirect, p, vec4(outIndirect.rgb, 1.0));
+      if (pc.direct != 0u) giStoreHistoryDirect(p, outDirect.rgb, imageLoad(giHistoryDirect, p).a);
+      giStoreHistoryIndirect(p, outIndirect.rgb, 1.0);
     } else {
-      imageStore(giHistoryDirectB, p, vec4(outDirect.rgb, imageLoad(giHistoryDirectB, p).a));
-      imageStore(giHistoryIndirectB, p, vec4(outIndirect.rgb, 1.0));
+      if (pc.direct != 0u) giStoreHistoryDirectB(p, outDirect.rgb, imageLoad(giHistoryDirectB, p).a);
+      giStoreHistoryIndirectB(p, outIndirect.rgb, 1.0);
     }
   }
   if (pc.last != 0u && z > 0.0) {

@@ -18,8 +18,8 @@ vec4 moments(ivec2 q) { return pc.parity == 0u ? imageLoad(giSvgfMomentsA, q) : 
 void main() {
   const ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(gl_GlobalInvocationID.xy, giFrame.size))) return;
-  const vec4 direct = pc.parity == 0u ? imageLoad(giHistoryDirect, p) : imageLoad(giHistoryDirectB, p);
-  const vec3 indirect = (pc.parity == 0u ? imageLoad(giHistoryIndirect, p) : imageLoad(giHistoryIndirectB, p)).rgb;
+  const vec4 direct = pc.parity == 0u ? giLoadHistoryDirect(p) : giLoadHistoryDirectB(p);
+  const vec3 indirect = (pc.parity == 0u ? giLoadHistoryIndirect(p) : giLoadHistoryIndirectB(p)).rgb;
   const float frames = direct.a;
   const vec4 guide = svgfGuide(p);
   vec2 variance = vec2(0.0);

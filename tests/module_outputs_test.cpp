@@ -20,17 +20,19 @@ struct Stored {
   engine::FloatImage direct, indirect, composite;
 };
 
-// `frames` frames of `settings` on a new module whose outputs are `format`,
-// pre-exposed by `preExposure`. Use as ASSERT_NO_FATAL_FAILURE(renderOutputs(...)).
+// `frames` frames of `settings` on a new module whose outputs are `format` (its radiance histories
+// `history`), pre-exposed by `preExposure`. Use as ASSERT_NO_FATAL_FAILURE(renderOutputs(...)).
 void renderOutputs(const engine::Context& ctx, LoadedScene& s, const gi::Settings& settings, VkFormat format,
-            float preExposure, Stored& out) {
+                   float preExposure, Stored& out, VkFormat history = VK_FORMAT_R16G16B16A16_SFLOAT,
+                   uint32_t frames = kFrames) {
   gi::ModuleDesc desc = tools::moduleDesc(ctx, s.gpu, {kSize, kSize});
   desc.outputFormat = format;
+  desc.historyFormat = history;
   tools::ModuleSession session;
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {kSize, kSize}, settings, session, &desc));
   session.preExposure = preExposure;
   const gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], kSize, kSize, nullptr);
-  for (uint32_t f = 0; f < kFrames; ++f) tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, f);
+  for (uint32_t f = 0; f < frames; ++f) tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, f);
   const gi::Outputs o = gi::outputs(session.module);
   EXPECT_EQ(o.format, format);
   out.direct = engine::readbackRgb(ctx, o.direct, o.format, {kSize, kSize});
@@ -70,6 +72,33 @@ TEST_F(ModuleOutputsTest, HalfFloatOutputsMatchSingleFloatOnes) {
                  composite = relativeL1(half.composite, single.composite);
     std::printf("%-9s half vs single, relative L1: direct %.2e, indirect %.2e, composite %.2e\n", name, direct, indirect,
                 composite);
+    EXPECT_LT(direct, 2e-3) << name << " direct";
+    EXPECT_LT(indirect, 2e-3) << name << " indirect";
+    EXPECT_LT(composite, 2e-3) << name << " composite";
+  }
+  unload(s);
+}
+
+// The radiance histories in half floats (ModuleDesc::historyFormat's
+// default, radiance over the scene's typical radiance) give every method the
+// image it gives with single-float histories, to half-float rounding carried
+// through the frames' blend: 12 frames, single-float outputs.
+TEST_F(ModuleOutputsTest, HalfFloatHistoriesMatchSingleFloatOnes) {
+  LoadedScene s;
+  load(sharedScene("cornell-simple/cornell_simple.gltf"), s);
+  const float preExposure = 1.0f / s.gpu.desc.typicalRadiance;
+  constexpr VkFormat kSingle = VK_FORMAT_R32G32B32A32_SFLOAT, kHalf = VK_FORMAT_R16G16B16A16_SFLOAT;
+  for (uint32_t i = 0; i < gi::kMethodCount; ++i) {
+    gi::Settings settings;
+    settings.method = gi::Method(i);
+    Stored half, single;
+    ASSERT_NO_FATAL_FAILURE(renderOutputs(ctx, s, settings, kSingle, preExposure, half, kHalf, 12));
+    ASSERT_NO_FATAL_FAILURE(renderOutputs(ctx, s, settings, kSingle, preExposure, single, kSingle, 12));
+    const char* name = gi::methodName(settings.method);
+    const double direct = relativeL1(half.direct, single.direct), indirect = relativeL1(half.indirect, single.indirect),
+                 composite = relativeL1(half.composite, single.composite);
+    std::printf("%-9s half vs single histories, relative L1: direct %.2e, indirect %.2e, composite %.2e\n", name, direct,
+                indirect, composite);
     EXPECT_LT(direct, 2e-3) << name << " direct";
     EXPECT_LT(indirect, 2e-3) << name << " indirect";
     EXPECT_LT(composite, 2e-3) << name << " composite";

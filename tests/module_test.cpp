@@ -53,6 +53,8 @@ TEST_F(ModuleTest, CreateRejectsImpossibleValuesWithNamedErrors) {
       "desc.maxWidth");
   add("8-bit outputs", [](gi::ModuleDesc& d) { d.outputFormat = VK_FORMAT_R8G8B8A8_UNORM; }, same,
       gi::ErrorCode::UnsupportedFormat, "desc.outputFormat");
+  add("8-bit histories", [](gi::ModuleDesc& d) { d.historyFormat = VK_FORMAT_R8G8B8A8_UNORM; }, same,
+      gi::ErrorCode::UnsupportedFormat, "desc.historyFormat");
   // The engine says what it enabled: a chain filled by gi/device.h, less one feature.
   VkPhysicalDeviceVulkan13Features f13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
   VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};

@@ -70,7 +70,8 @@ TEST_F(SvgfTest, VarianceEstimateMatchesTheCpu) {
   settings.svgf.iterations = 0;
   settings.debugView = gi::DebugView::SvgfVariance;
   gi::ModuleDesc desc = tools::moduleDesc(ctx, s.gpu, {kSize, kSize});
-  desc.outputFormat = VK_FORMAT_R32G32B32A32_SFLOAT;  // the sample is recovered from the outputs: no half floats
+  desc.outputFormat = VK_FORMAT_R32G32B32A32_SFLOAT;  // the sample is recovered from the outputs and
+  desc.historyFormat = VK_FORMAT_R32G32B32A32_SFLOAT;  // the history they blended: no half floats
   tools::ModuleSession session;
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {kSize, kSize}, settings, session, &desc));
   const gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], kSize, kSize, nullptr);

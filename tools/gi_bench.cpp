@@ -56,6 +56,7 @@ const cli::Option kOptions[] = {
                                    "(lights)"},
     {"rays", nullptr, "only the bare-ray microbenchmark: primary, diffuse and shadow Mrays/s for each traversal backend "
                       "and for Embree on the CPU; appends to DIR/rays.csv (no --methods needed)"},
+    {"history-format", "half|single", "the temporal passes' radiance histories (ModuleDesc::historyFormat; default half)"},
     cli::kTraversalOption,
     cli::kSkyOption,
     {"out", "DIR", "output folder (default bench_out)"},
@@ -232,6 +233,10 @@ int main(int argc, char** argv) {
   if (primary != "traced" && primary != "gbuffer")
     return usageError("--reference-primary: '" + primary + "' is not traced or gbuffer");
   const bool gbufferPrimary = primary == "gbuffer";
+  const std::string history = args.has("history-format") ? args.values["history-format"] : "half";
+  if (history != "half" && history != "single")
+    return usageError("--history-format: '" + history + "' is not half or single");
+  const VkFormat historyFormat = history == "half" ? VK_FORMAT_R16G16B16A16_SFLOAT : VK_FORMAT_R32G32B32A32_SFLOAT;
   std::optional<gi::Invalidate> invalidateAtMove;
   if (args.has("invalidate-at-move")) {
     const std::string& what = args.values["invalidate-at-move"];
@@ -389,7 +394,9 @@ int main(int argc, char** argv) {
     Row row;
     row.config = config;
     tools::ModuleSession session;
-    if (!tools::createModuleSession(ctx, sceneGpu, {width, height}, config.settings, session, error)) {
+    gi::ModuleDesc moduleDesc = tools::moduleDesc(ctx, sceneGpu, {width, height});
+    moduleDesc.historyFormat = historyFormat;
+    if (!tools::createModuleSession(ctx, sceneGpu, {width, height}, config.settings, session, error, &moduleDesc)) {
       std::fprintf(stderr, "gi-bench: %s: %s\n", config.label.c_str(), error.c_str());
       ok = false;
       break;
@@ -539,7 +546,8 @@ int main(int argc, char** argv) {
   meta << "scene " << scene.sourcePath << "\ndevice " << ctx.properties.deviceName << "\nsize " << width << "x" << height
        << "\nmax_bounces " << bounces << "\nreference " << (args.has("reference") ? args.values["reference"] : key)
        << "\nreference_spp " << refSpp << "\nframes " << frames << "\nwarmup " << warmup
-       << "\ntraversal " << engine::traversalName(ctx.traversal) << "\nbare_mrays_per_s " << bare.mraysPerSecond() << "\n";
+       << "\ntraversal " << engine::traversalName(ctx.traversal) << "\nbare_mrays_per_s " << bare.mraysPerSecond()
+       << "\nhistory_format " << history << "\n";
   // Each configuration's programs were dispatched once, empty, before its first frame (tools::warmModulePrograms):
   // no frame's timing includes a compile. The sums are those first dispatches' wall time.
   for (const std::string& w : programsWarmed) meta << "programs_warmed_before_frames " << w << "\n";

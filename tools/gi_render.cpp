@@ -144,6 +144,7 @@ int main(int argc, char** argv) {
   uint32_t tracedSpp = spp;              // module methods: what the last frame traced (AAF: its adaptive mean)
   uint64_t memoryBytes = 0;              // module methods: device memory the module held after the last frame
   uint64_t memoryUsedBytes = 0;          // of that, what its buffers and images occupy
+  uint64_t memoryTransientBytes = 0;     // of that, images whose contents live within one frame
   uint32_t deviceAllocations = 0;
   // Each program's first dispatch, before any timed frame (the compile, on lavapipe).
   std::map<std::string, double> firstDispatchMs;
@@ -201,6 +202,7 @@ int main(int argc, char** argv) {
     lastHash = last.hash;
     memoryBytes = last.memoryBytes;
     memoryUsedBytes = last.memoryUsedBytes;
+    memoryTransientBytes = last.memoryTransientBytes;
     deviceAllocations = last.deviceAllocations;
     tools::destroyModuleSession(ctx, session);
   }
@@ -247,6 +249,7 @@ int main(int argc, char** argv) {
     if (method != "reference") {
       j["module_memory_bytes"] = memoryBytes;  // device memory the module holds (FrameStats::memoryBytes)
       j["module_memory_used_bytes"] = memoryUsedBytes;
+      j["module_memory_transient_bytes"] = memoryTransientBytes;  // FrameStats::memoryTransientBytes
       j["module_device_allocations"] = deviceAllocations;
     }
     if (lastHash.capacity)

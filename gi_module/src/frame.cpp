@@ -249,6 +249,7 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
   const float outputScale = outputScales(s, in.preExposure).indirect;
   const float outputMax = m.desc.outputFormat == VK_FORMAT_R16G16B16A16_SFLOAT ? 65504.0f : FLT_MAX;
   const bool noisyIsOutput = noisyAliasesIndirect(m.sized);
+  const bool halfHistories = halfFloatHistories(m.sized);
   gpu::GiFrameConstants frame{camera,
                               gpuCamera(in.previousCamera, in.previousCamera, m.width, m.height),
                               {m.width, m.height},
@@ -258,6 +259,10 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
                               outputMax,
                               noisyIsOutput ? outputScale : 1.0f,
                               noisyIsOutput ? outputMax : FLT_MAX,
+                              halfHistories ? radianceScale(m) : 1.0f,
+                              halfHistories ? 65504.0f : FLT_MAX,
+                              0.0f,
+                              0.0f,
                               glm::inverse(clipFromView(in.camera))};
   std::memcpy(static_cast<std::byte*>(m.frameConstants.memory.mapped) + slot * m.frameConstantsStride, &frame, sizeof(frame));
   beginFrame(m, cmd, slot, in);

@@ -146,6 +146,9 @@ Error checkDesc(const ModuleDesc& d) {
   if (d.outputFormat != VK_FORMAT_R16G16B16A16_SFLOAT && d.outputFormat != VK_FORMAT_R32G32B32A32_SFLOAT)
     return {ErrorCode::UnsupportedFormat, "desc.outputFormat = VkFormat " + std::to_string(int(d.outputFormat)) +
                                               " is not VK_FORMAT_R16G16B16A16_SFLOAT or VK_FORMAT_R32G32B32A32_SFLOAT"};
+  if (d.historyFormat != VK_FORMAT_R16G16B16A16_SFLOAT && d.historyFormat != VK_FORMAT_R32G32B32A32_SFLOAT)
+    return {ErrorCode::UnsupportedFormat, "desc.historyFormat = VkFormat " + std::to_string(int(d.historyFormat)) +
+                                              " is not VK_FORMAT_R16G16B16A16_SFLOAT or VK_FORMAT_R32G32B32A32_SFLOAT"};
   return {};
 }
 

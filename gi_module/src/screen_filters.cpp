@@ -132,7 +132,8 @@ vk::Status createScreenFilters(vk::Device& d, const FilterPrograms& programs, ui
 vk::Status ensureGuidedStack(vk::Device& d, ScreenFilters& f) {
   if (f.a[0].image) return {};
   for (vk::Image& img : f.a)
-    if (vk::Status s = vk::createImage(d, {f.width, f.height}, VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_USAGE_STORAGE_BIT, img)) {
+    if (vk::Status s = vk::createImage(d, {f.width, f.height}, VK_FORMAT_R32G32B32A32_SFLOAT,
+                                           VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT, img)) {
       for (vk::Image& made : f.a) vk::destroyImage(d, made);
       return s;
     }

@@ -13,45 +13,59 @@ namespace {
 // pre-exposure (the outputs are in ModuleDesc::outputFormat).
 constexpr VkFormat kImageFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
 
+// How long an image's contents live. Frame: written and read within one
+// frame, so its memory could be shared with anything else transient (NRD's
+// "transient pool"); History: read by the next frame.
+enum class Lifetime { Frame, History };
+
 // Every module image but the outputs: its member, its binding in set 1, its
-// format, and its bit in SizedResources::needs (its index here).
+// lifetime, its format, and its bit in SizedResources::needs (its index here).
 struct SizedImage {
   vk::Image SizedResources::*image;
   uint32_t binding;
+  Lifetime lifetime;
   VkFormat format = kImageFormat;
   uint32_t tile = 1;  // pixels per texel along each axis
 };
+// Normal and view depth compared to a tolerance of several per cent: half floats hold them.
+constexpr VkFormat kGuideFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
+// The radiance histories: ModuleDesc::historyFormat (half floats by default, holding radiance over
+// the scene's typical radiance: GiFrameConstants::historyScale), except raw's running mean, which
+// after n frames adds 1/n of a frame and keeps single floats (kFullPrecisionHistory). Resolved by
+// imageFormat().
+constexpr VkFormat kRadianceHistory = VK_FORMAT_UNDEFINED;
+constexpr Lifetime kFrame = Lifetime::Frame, kHistory = Lifetime::History;
 constexpr SizedImage kSizedImages[] = {
-    {&SizedResources::historyDirect, gpu::GI_BINDING_HISTORY_DIRECT},
-    {&SizedResources::historyIndirect, gpu::GI_BINDING_HISTORY_INDIRECT},
-    {&SizedResources::noisyIndirect, gpu::GI_BINDING_NOISY_INDIRECT},
-    {&SizedResources::guidance, gpu::GI_BINDING_GUIDANCE},
-    {&SizedResources::position, gpu::GI_BINDING_POSITION},
-    {&SizedResources::debug, gpu::GI_BINDING_DEBUG},
-    {&SizedResources::aafParams, gpu::GI_BINDING_AAF_PARAMS},
-    {&SizedResources::aafSum, gpu::GI_BINDING_AAF_SUM},
-    {&SizedResources::aafGlossy, gpu::GI_BINDING_AAF_GLOSSY},
-    {&SizedResources::aafGlossyEdge, gpu::GI_BINDING_AAF_GLOSSY_EDGE},
-    {&SizedResources::historyDirectB, gpu::GI_BINDING_HISTORY_DIRECT_B},
-    {&SizedResources::historyIndirectB, gpu::GI_BINDING_HISTORY_INDIRECT_B},
-    // Normal and view depth compared to a tolerance of several per cent: half floats hold them.
-    {&SizedResources::historyGuideA, gpu::GI_BINDING_HISTORY_GUIDE_A, VK_FORMAT_R16G16B16A16_SFLOAT},
-    {&SizedResources::historyGuideB, gpu::GI_BINDING_HISTORY_GUIDE_B, VK_FORMAT_R16G16B16A16_SFLOAT},
-    {&SizedResources::svgfMomentsA, gpu::GI_BINDING_SVGF_MOMENTS_A},
-    {&SizedResources::svgfMomentsB, gpu::GI_BINDING_SVGF_MOMENTS_B},
-    {&SizedResources::svgfDirectPing, gpu::GI_BINDING_SVGF_DIRECT_PING},
-    {&SizedResources::svgfIndirectPing, gpu::GI_BINDING_SVGF_INDIRECT_PING},
-    {&SizedResources::svgfDirectPong, gpu::GI_BINDING_SVGF_DIRECT_PONG},
-    {&SizedResources::svgfIndirectPong, gpu::GI_BINDING_SVGF_INDIRECT_PONG},
-    {&SizedResources::svgfGuide, gpu::GI_BINDING_SVGF_GUIDE},
-    {&SizedResources::gradientSamplesA, gpu::GI_BINDING_GRADIENT_SAMPLES_A, VK_FORMAT_R32G32B32A32_UINT},
-    {&SizedResources::gradientSamplesB, gpu::GI_BINDING_GRADIENT_SAMPLES_B, VK_FORMAT_R32G32B32A32_UINT},
-    {&SizedResources::temporalGradient, gpu::GI_BINDING_TEMPORAL_GRADIENT, kImageFormat, GI_GRADIENT_TILE},
-    {&SizedResources::temporalSpread, gpu::GI_BINDING_TEMPORAL_SPREAD},
-    {&SizedResources::historyPacked, gpu::GI_BINDING_HISTORY_PACKED, VK_FORMAT_R32G32_UINT},
+    {&SizedResources::historyDirect, gpu::GI_BINDING_HISTORY_DIRECT, kHistory, kRadianceHistory},
+    {&SizedResources::historyIndirect, gpu::GI_BINDING_HISTORY_INDIRECT, kHistory, kRadianceHistory},
+    {&SizedResources::noisyIndirect, gpu::GI_BINDING_NOISY_INDIRECT, kFrame},
+    {&SizedResources::guidance, gpu::GI_BINDING_GUIDANCE, kFrame},
+    {&SizedResources::position, gpu::GI_BINDING_POSITION, kFrame},
+    {&SizedResources::debug, gpu::GI_BINDING_DEBUG, kFrame},
+    {&SizedResources::aafParams, gpu::GI_BINDING_AAF_PARAMS, kFrame},
+    {&SizedResources::aafSum, gpu::GI_BINDING_AAF_SUM, kFrame},
+    {&SizedResources::aafGlossy, gpu::GI_BINDING_AAF_GLOSSY, kFrame},
+    {&SizedResources::aafGlossyEdge, gpu::GI_BINDING_AAF_GLOSSY_EDGE, kFrame},
+    {&SizedResources::historyDirectB, gpu::GI_BINDING_HISTORY_DIRECT_B, kHistory, kRadianceHistory},
+    {&SizedResources::historyIndirectB, gpu::GI_BINDING_HISTORY_INDIRECT_B, kHistory, kRadianceHistory},
+    {&SizedResources::historyGuideA, gpu::GI_BINDING_HISTORY_GUIDE_A, kHistory, kGuideFormat},
+    {&SizedResources::historyGuideB, gpu::GI_BINDING_HISTORY_GUIDE_B, kHistory, kGuideFormat},
+    {&SizedResources::svgfMomentsA, gpu::GI_BINDING_SVGF_MOMENTS_A, kHistory},
+    {&SizedResources::svgfMomentsB, gpu::GI_BINDING_SVGF_MOMENTS_B, kHistory},
+    {&SizedResources::svgfDirectPing, gpu::GI_BINDING_SVGF_DIRECT_PING, kFrame},
+    {&SizedResources::svgfIndirectPing, gpu::GI_BINDING_SVGF_INDIRECT_PING, kFrame},
+    {&SizedResources::svgfDirectPong, gpu::GI_BINDING_SVGF_DIRECT_PONG, kFrame},
+    {&SizedResources::svgfIndirectPong, gpu::GI_BINDING_SVGF_INDIRECT_PONG, kFrame},
+    {&SizedResources::svgfGuide, gpu::GI_BINDING_SVGF_GUIDE, kFrame},
+    {&SizedResources::gradientSamplesA, gpu::GI_BINDING_GRADIENT_SAMPLES_A, kHistory, VK_FORMAT_R32G32B32A32_UINT},
+    {&SizedResources::gradientSamplesB, gpu::GI_BINDING_GRADIENT_SAMPLES_B, kHistory, VK_FORMAT_R32G32B32A32_UINT},
+    {&SizedResources::temporalGradient, gpu::GI_BINDING_TEMPORAL_GRADIENT, kFrame, kImageFormat, GI_GRADIENT_TILE},
+    {&SizedResources::temporalSpread, gpu::GI_BINDING_TEMPORAL_SPREAD, kFrame},
+    {&SizedResources::historyPacked, gpu::GI_BINDING_HISTORY_PACKED, kHistory, VK_FORMAT_R32G32_UINT},
 };
 // Beyond the image bits: which screen filters exist.
-static_assert(std::size(kSizedImages) <= 28, "the image bits stay below the flags");
+static_assert(std::size(kSizedImages) <= 27, "the image bits stay below the flags");
+constexpr uint32_t kFullPrecisionHistory = 1u << 27;
 constexpr uint32_t kNeedsFilters = 1u << 28, kNeedsGuidedStack = 1u << 29, kNeedsGlossySets = 1u << 30;
 // The hash methods' per-pixel sample goes straight into the indirect output,
 // which the lookup then overwrites pixel by pixel: set 1's noisy-indirect
@@ -97,7 +111,7 @@ uint32_t sizedResourcesNeeded(const Module& m, const Settings& s) {
   if (usesHashGrid(s.method) && s.debugView != DebugView::FilterInOut && !clampsHashIndirect(s)) need |= kNoisyIsIndirect;
   else need |= bit(&SizedResources::noisyIndirect);
   if (s.method == Method::Raw && s.raw.temporalAccumulation)
-    need |= bit(&SizedResources::historyDirect) | bit(&SizedResources::historyIndirect);
+    need |= bit(&SizedResources::historyDirect) | bit(&SizedResources::historyIndirect) | kFullPrecisionHistory;
   if (usesPackedHistory(m, s)) {
     need |= bit(&SizedResources::historyPacked);
   } else if (runsTemporalPass(m, s)) {
@@ -153,6 +167,11 @@ uint32_t sizedResourcesNeeded(const Module& m, const Settings& s) {
 
 namespace {
 
+VkFormat imageFormat(const Module& m, const SizedImage& image, uint32_t needs) {
+  if (image.format != kRadianceHistory) return image.format;
+  return needs & kFullPrecisionHistory ? VK_FORMAT_R32G32B32A32_SFLOAT : m.desc.historyFormat;
+}
+
 // The screen filters over the images of `r`, with the parts `r.needs` asks for.
 vk::Status createFilters(Module& m, const OutputImages& outputs, SizedResources& r) {
   if (!(r.needs & kNeedsFilters)) return {};
@@ -174,6 +193,23 @@ vk::Status createFilters(Module& m, const OutputImages& outputs, SizedResources&
 }  // namespace
 
 bool noisyAliasesIndirect(const SizedResources& r) { return (r.needs & kNoisyIsIndirect) != 0; }
+
+bool halfFloatHistories(const SizedResources& r) { return r.historyDirect.format == VK_FORMAT_R16G16B16A16_SFLOAT; }
+
+std::vector<const vk::Image*> frameImages(const SizedResources& r) {
+  std::vector<const vk::Image*> images;
+  for (const SizedImage& image : kSizedImages)
+    if (image.lifetime == Lifetime::Frame) images.push_back(&(r.*image.image));
+  for (const vk::Image& stack : r.filters.a)
+    if (stack.image) images.push_back(&stack);
+  return images;
+}
+
+uint64_t frameImageBytes(const SizedResources& r) {
+  uint64_t bytes = 0;
+  for (const vk::Image* image : frameImages(r)) bytes += image->memory.size;
+  return bytes;
+}
 
 vk::Status createOutputImages(vk::Device& gpu, uint32_t width, uint32_t height, VkFormat format, OutputImages& out) {
   OutputImages o;
@@ -203,8 +239,9 @@ vk::Status createSizedResources(Module& m, const Settings& settings, uint32_t wi
       const uint32_t tile = kSizedImages[i].tile;
       VkExtent2D extent = (r.needs >> i) & 1u ? VkExtent2D{(width + tile - 1) / tile, (height + tile - 1) / tile}
                                                : VkExtent2D{1, 1};
-      GI_TRY(vk::createImage(m.gpu, extent, kSizedImages[i].format,
-                             VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+      GI_TRY(vk::createImage(m.gpu, extent, imageFormat(m, kSizedImages[i], r.needs),
+                             VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT |
+                                 VK_IMAGE_USAGE_SAMPLED_BIT,
                              r.*kSizedImages[i].image));
     }
     GI_TRY(vk::createDescriptorSets(m.gpu, kFrameBindings, m.desc.framesInFlight, r.frameSets, m.frameLayout));

@@ -98,9 +98,14 @@ struct GiFrameConstants {
   float outputMax;   // largest finite value of the output format (65504 for half floats): stores clamp to it
   float noisyScale;  // outputScale when the noisy indirect aliases the indirect output, else 1
   float noisyMax;    // outputMax when it aliases the indirect output, else the largest float
+  float historyScale;// radiance → the radiance histories' units: 1 / the scene's typical radiance where they are
+                     // half floats (temporal reprojection), 1 where they are single floats (raw's running mean)
+  float historyMax;  // their format's largest finite value (65504 or the largest float): stores clamp to it
+  float pad0;
+  float pad1;
   mat4 viewFromClip; // inverse of the camera's projection: hardware depth → view depth
 };
-GPU_ASSERT_SIZE(GiFrameConstants, 704);
+GPU_ASSERT_SIZE(GiFrameConstants, 720);
 
 struct GiCounters {
   uint raysTraced;        // added to by every tracing pass

@@ -152,6 +152,12 @@ struct ModuleDesc {
   // the memory; set FrameInputs::preExposure so the light stays within
   // ±65504) or VK_FORMAT_R32G32B32A32_SFLOAT. Anything else: UnsupportedFormat.
   VkFormat outputFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
+  // Format of the temporal passes' radiance histories (gif, bilateral,
+  // à-trous, sspsf, svgf; the hash methods' filter clamp):
+  // VK_FORMAT_R16G16B16A16_SFLOAT (radiance over SceneDesc::typicalRadiance,
+  // up to 65504 times it; half the memory) or VK_FORMAT_R32G32B32A32_SFLOAT.
+  // raw's running mean keeps single floats whatever this says.
+  VkFormat historyFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
 };
 
 // G-buffer views in the formats and encodings of ModuleDesc::gbuffer, GENERAL
@@ -218,6 +224,8 @@ struct FrameStats {
   uint32_t sanitized = 0;           // non-finite G-buffer pixels and path samples dropped (treated as background)
   uint64_t memoryBytes = 0;         // device memory the module holds (its blocks), bytes
   uint64_t memoryUsedBytes = 0;     // of that, bytes its buffers and images occupy
+  uint64_t memoryTransientBytes = 0;  // of those, images whose contents live within one frame (NRD's transient
+                                      // pool); the rest carries history, the hash map, or is an output
   uint32_t deviceAllocations = 0;   // vkAllocateMemory blocks behind memoryBytes
   struct Hash {                     // HPSF hash map telemetry (zero for other methods)
     uint32_t capacity = 0;          // cells
