@@ -67,16 +67,18 @@ def series_by_label(directory):
     return out
 
 
-def frames(directory, ks, column="mse"):
+def frames(ks, pairs, column="mse"):
+    """Final-image MSE after frame k of every run of each series (args: K1,K2,... NAME DIR ...)."""
     ks = [int(k) for k in ks.split(",")]
-    print("| configuration | " + " | ".join(f"k = {k}" for k in ks) + " |")
-    print("|---|" + "---|" * len(ks))
-    for label, series in series_by_label(directory).items():
-        cells = []
-        for k in ks:
-            r = series.get(k)  # series.csv numbers frames from 1
-            cells.append(f"{float(r[column]):.2e}" if r else "–")
-        print(f"| {label} | " + " | ".join(cells) + " |")
+    print("| scene | configuration | " + " | ".join(f"k = {k}" for k in ks) + " |")
+    print("|---|---|" + "---|" * len(ks))
+    for name, directory in zip(pairs[::2], pairs[1::2]):
+        for label, series in series_by_label(directory).items():
+            cells = []
+            for k in ks:
+                r = series.get(k)  # series.csv numbers frames from 1
+                cells.append(f"{float(r[column]):.2e}" if r else "–")
+            print(f"| {name.replace('_', ' ')} | {label} | " + " | ".join(cells) + " |")
 
 
 def indirect(directory, ks):
@@ -171,22 +173,27 @@ MEMORY_GOAL_MB = {"hpsf": 150, "svgf": 150}
 MEMORY_GOAL_DEFAULT_MB = 200
 
 
-def memory(path):
+def memory(path, before_path):
     """Device memory each method holds after one frame (scripts/bench memory), MB = 10^6 bytes: held at
-    720p and 1080p, and at 1080p what is used, of that what lives within a frame (transient) and what
-    carries over (histories, the hash map, the outputs), the blocks, and the goal."""
-    by = {}
-    for r in rows(path):
-        by.setdefault(r["method"], {})[f"{r['width']}x{r['height']}"] = r
-    print("| method | 1280x720 held MB | 1920x1080 held MB | used MB | transient MB | persistent MB | blocks "
-          "| goal MB | held / goal |")
-    print("|---|---|---|---|---|---|---|---|---|")
-    for method, at in by.items():
+    720p and 1080p (and at 1080p in an earlier run), and at 1080p what is used, of that what lives within
+    a frame (transient) and what carries over (histories, the hash map, the outputs), the blocks, and
+    the goal."""
+    def by_method(p):
+        by = {}
+        for r in rows(p):
+            by.setdefault(r["method"], {})[f"{r['width']}x{r['height']}"] = r
+        return by
+    before = by_method(before_path)
+    print("| method | 1280x720 held MB | 1920x1080 held MB | before | used MB | transient MB | persistent MB "
+          "| blocks | goal MB | held / goal |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for method, at in by_method(path).items():
         small, full = at["1280x720"], at["1920x1080"]
         held, used, transient = (int(full[k]) / 1e6 for k in ("held_bytes", "used_bytes", "transient_bytes"))
         goal = MEMORY_GOAL_MB.get(method, MEMORY_GOAL_DEFAULT_MB)
         verdict = f"{held / goal:.2f}" + ("" if held <= goal else " (over)")
-        print(f"| `{method}` | {int(small['held_bytes']) / 1e6:.1f} | {held:.1f} | {used:.1f} | {transient:.1f} | "
+        print(f"| `{method}` | {int(small['held_bytes']) / 1e6:.1f} | {held:.1f} | "
+              f"{int(before[method]['1920x1080']['held_bytes']) / 1e6:.1f} | {used:.1f} | {transient:.1f} | "
               f"{used - transient:.1f} | {full['blocks']} | {goal} | {verdict} |")
 
 
@@ -280,23 +287,29 @@ def pass_ms(row, name):
     return next(float(x.split(":")[1]) for x in row["pass_ms"].split(";") if x.startswith(name + ":"))
 
 
-def sweep(directory, key):
-    by_method = {}
-    for r in rows(f"{directory}/results.csv"):
-        value = r["label"].split(f"{key}=")[1].split()[0]
-        by_method.setdefault(r["method"], {})[value] = r
-    values = list(next(iter(by_method.values())).keys())
-    print(f"| method | " + " | ".join(f"{key} = {v}" for v in values) + f" | flicker {values[0]} → {values[1]} "
-          f"| composite ms {values[0]} → {values[1]} |")
-    print("|---|" + "---|" * (len(values) + 2))
-    for method, runs in by_method.items():
-        first = float(runs[values[0]]["relmse"])
-        cells = [f"{first:.3e}"] + [f"{float(runs[v]['relmse']):.3e} ({float(runs[v]['relmse']) / first:.2f}×)"
-                                    for v in values[1:]]
-        a, b = runs[values[0]], runs[values[1]]
-        flicker = f"{float(a['flicker_ratio']):.2f} → {float(b['flicker_ratio']):.2f}" if a["flicker_ratio"] else "–"
-        print(f"| {method} | " + " | ".join(cells) + f" | {flicker} | "
-              f"{pass_ms(a, 'composite'):.2f} → {pass_ms(b, 'composite'):.2f} |")
+def sweep(key, pairs):
+    """A setting swept per method (args: KEY NAME DIR ...): final relMSE per value and against the first,
+    the flicker and the composite pass's ms from the first value to the second, one scene after another."""
+    header = None
+    for name, directory in zip(pairs[::2], pairs[1::2]):
+        by_method = {}
+        for r in rows(f"{directory}/results.csv"):
+            value = r["label"].split(f"{key}=")[1].split()[0]
+            by_method.setdefault(r["method"], {})[value] = r
+        values = list(next(iter(by_method.values())).keys())
+        if header is None:
+            header = values
+            print(f"| scene | method | " + " | ".join(f"{key} = {v}" for v in values) +
+                  f" | flicker {values[0]} → {values[1]} | composite ms {values[0]} → {values[1]} |")
+            print("|---|---|" + "---|" * (len(values) + 2))
+        for method, runs in by_method.items():
+            first = float(runs[values[0]]["relmse"])
+            cells = [f"{first:.3e}"] + [f"{float(runs[v]['relmse']):.3e} ({float(runs[v]['relmse']) / first:.2f}×)"
+                                        for v in values[1:]]
+            a, b = runs[values[0]], runs[values[1]]
+            flicker = f"{float(a['flicker_ratio']):.2f} → {float(b['flicker_ratio']):.2f}" if a["flicker_ratio"] else "–"
+            print(f"| {name.replace('_', ' ')} | {method} | " + " | ".join(cells) + f" | {flicker} | "
+                  f"{pass_ms(a, 'composite'):.2f} → {pass_ms(b, 'composite'):.2f} |")
 
 
 def coldstart(before_csv, after_csv):
@@ -422,7 +435,7 @@ def run(argv):
     if kind == "trade":
         trade(argv[1])
     elif kind == "frames":
-        frames(argv[1], argv[2])
+        frames(argv[1], argv[2:])
     elif kind == "indirect":
         indirect(argv[1], argv[2])
     elif kind == "move":
@@ -438,7 +451,7 @@ def run(argv):
     elif kind == "file":  # a table a test wrote, committed as it came (tests/extremes_test.cpp: extremes.md)
         print(open(argv[1], encoding="utf-8").read().strip())
     elif kind == "memory":
-        memory(argv[1])
+        memory(argv[1], argv[2])
     elif kind == "histories":
         histories(argv[1], argv[2:])
     elif kind == "moving":
@@ -450,7 +463,7 @@ def run(argv):
     elif kind == "hpsf_frames":
         hpsf_frames(argv[1:])
     elif kind == "sweep":
-        sweep(argv[1], argv[2])
+        sweep(argv[1], argv[2:])
     elif kind == "coldstart":
         coldstart(argv[1], argv[2])
     elif kind == "programs":
