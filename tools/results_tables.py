@@ -214,6 +214,61 @@ def histories(root, scenes):
             print(f"| {scene} | {method} | " + " | ".join(cells) + " |")
 
 
+def gif_order(pairs):
+    """Bauszat et al.'s Fig. 8 ordering from the trade-off runs (args: NAME DIR ...): indirect MSE of gif,
+    bilateral, à-trous and raw at 1 and 4 spp, and their order."""
+    names = {"gif": "gif", "bilateral": "bilateral", "atrous": "à-trous", "raw": "raw"}
+    paper = ["gif", "bilateral", "atrous", "raw"]
+    print("| scene, spp | gif | bilateral | à-trous | raw | order |")
+    print("|---|---|---|---|---|---|")
+    for name, directory in zip(pairs[::2], pairs[1::2]):
+        by = {r["label"]: float(r["mse_indirect"]) for r in rows(f"{directory}/results.csv")}
+        for spp in (1, 4):
+            mse = {m: by[f"raw spp={spp}" if m == "raw" else f"{m} {m}.spp={spp}"] for m in paper}
+            ranked = sorted(paper, key=lambda m: mse[m])
+            order = " < ".join(names[m] for m in ranked)
+            if ranked == paper:
+                order = f"**{order}** (the paper's order)"
+            print(f"| {name}, {spp} | " + " | ".join(f"{mse[m]:.2e}" for m in paper) + f" | {order} |")
+
+
+def filter_cost(directory):
+    """The filters' cost against reach (scripts/bench cost): per configuration, the filter passes' ms (the frame
+    less the G-buffer, the tracing pass, guidance and composite), the frame's ms and the indirect MSE."""
+    outside = {"gbuffer", "raw_trace", "guidance", "composite"}
+    print("| configuration | filter passes ms | frame ms | MSE (indirect) |")
+    print("|---|---|---|---|")
+    for r in rows(f"{directory}/results.csv"):
+        passes = dict(p.split(":") for p in r["pass_ms"].split(";"))
+        filters = sum(float(ms) for name, ms in passes.items() if name not in outside)
+        print(f"| {r['label']} | {filters:.1f} | {float(r['total_ms']):.1f} | {float(r['mse_indirect']):.3e} |")
+
+
+def aaf_cost(pairs):
+    """AAF's frame from the trade-off runs (args: NAME DIR ...): frame ms, its two tracing passes, the filter
+    (guidance and the two Gaussian passes), the filter's share and the equal-error speed-ups over raw."""
+    print("| scene | frame ms | pass 1 + pass 2 (tracing) ms | filter ms (guidance + 2 Gaussian passes) | filter share "
+          "| speed-up final / indirect |")
+    print("|---|---|---|---|---|---|")
+    for name, directory in zip(pairs[::2], pairs[1::2]):
+        r = next(r for r in rows(f"{directory}/results.csv") if r["label"] == "aaf")
+        total = float(r["total_ms"])
+        tracing = pass_ms(r, "aaf_sample") + pass_ms(r, "aaf_adaptive")
+        filtering = sum(pass_ms(r, p) for p in ("guidance", "aaf_filter_diffuse_rows", "aaf_filter_diffuse_columns"))
+        print(f"| {name} | {total:.0f} | {tracing:.0f} | {filtering:.1f} | {100 * filtering / total:.1f}% | "
+              f"{float(r['equal_error_speedup']):.2f} / {float(r['equal_error_speedup_indirect']):.2f} |")
+
+
+def aaf_fig10(pairs):
+    """Filtered adaptive against filtered uniform sampling (scripts/bench fig10; args: NAME DIR ...)."""
+    print("| scene | μ | mean spp, adaptive / uniform | indirect MSE, adaptive | indirect MSE, uniform | uniform / adaptive |")
+    print("|---|---|---|---|---|---|")
+    for name, directory in zip(pairs[::2], pairs[1::2]):
+        for r in rows(f"{directory}/fig10.csv"):
+            a, u = float(r["mse_indirect_adaptive"]), float(r["mse_indirect_uniform"])
+            print(f"| {name} | {r['mu']} | {r['spp_adaptive']} / {r['spp_uniform']} | {a:.2e} | {u:.2e} | {u / a:.2f} |")
+
+
 MOVING_RUNS = (  # (directory suffix, label prefix, the table's name for it)
     ("strict", "hpsf spp=4 hpsf.aging=0", "hpsf strict"),
     ("hpsf", "hpsf spp=4 hpsf.aging=1 hpsf.validation=0", "hpsf aging"),
@@ -452,6 +507,14 @@ def run(argv):
         print(open(argv[1], encoding="utf-8").read().strip())
     elif kind == "memory":
         memory(argv[1], argv[2])
+    elif kind == "gif_order":
+        gif_order(argv[1:])
+    elif kind == "filter_cost":
+        filter_cost(argv[1])
+    elif kind == "aaf_cost":
+        aaf_cost(argv[1:])
+    elif kind == "aaf_fig10":
+        aaf_fig10(argv[1:])
     elif kind == "histories":
         histories(argv[1], argv[2:])
     elif kind == "moving":
