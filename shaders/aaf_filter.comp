@@ -20,15 +20,16 @@ void main() {
   vec4 centre = imageLoad(filterPosition, p);
   vec4 source = pc.vertical == 0u ? imageLoad(filterInput, p) : imageLoad(filterTemp, p);
   vec3 result = source.rgb;
-  float beta = pc.vertical == 0u ? imageLoad(filterParams, p).w : source.w;
+  float beta = pc.vertical == 0u ? imageLoad(filterParams, p).w : source.w;  // metres
   if (centre.w > 0.0 && beta > 0.0) {
+    const float width = beta / pc.positionScale;  // β in the position image's units, as the distances below
     vec3 n = imageLoad(filterGuidance, p).xyz * 2.0 - 1.0;
     float pixel = centre.w * pc.pixelScale;
     // 3σ in pixels of frontal size: along a foreshortened surface a pixel spans more, so this reaches at least 3σ.
     float limit = float(pc.maxRadius > 0u ? pc.maxRadius : uint(max(size.x, size.y)));
-    int radius = int(min(ceil(3.0 * beta / max(pixel, 1e-30)), limit));
+    int radius = int(min(ceil(3.0 * width / max(pixel, 1e-30)), limit));
     ivec2 axis = pc.vertical == 0u ? ivec2(1, 0) : ivec2(0, 1);
-    float inv = 0.5 / (beta * beta);
+    float inv = 0.5 / (width * width);
     vec3 sum = vec3(0.0);
     float weightSum = 0.0;
     for (int k = -radius; k <= radius; ++k) {

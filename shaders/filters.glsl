@@ -5,9 +5,11 @@
 #extension GL_EXT_scalar_block_layout : require
 #include "shared/gi_filters.h"
 
-layout(set = 0, binding = FILTER_BINDING_GUIDANCE, rgba32f) uniform image2D filterGuidance;
-layout(set = 0, binding = FILTER_BINDING_POSITION, rgba32f) uniform image2D filterPosition;
-layout(set = 0, binding = FILTER_BINDING_INPUT, rgba32f) uniform image2D filterInput;
+// Guidance, positions and input are formatless: the module's are half floats, AAF's glossy terms and
+// the tests' synthetic images single floats.
+layout(set = 0, binding = FILTER_BINDING_GUIDANCE) uniform image2D filterGuidance;
+layout(set = 0, binding = FILTER_BINDING_POSITION) uniform image2D filterPosition;
+layout(set = 0, binding = FILTER_BINDING_INPUT) uniform image2D filterInput;
 layout(set = 0, binding = FILTER_BINDING_OUTPUT) uniform image2D filterOutput;  // formatless (FilterOutputEncoding)
 layout(set = 0, binding = FILTER_BINDING_A, rgba32f) uniform image2D filterA[FILTER_STACK];
 layout(set = 0, binding = FILTER_BINDING_TEMP, rgba32f) uniform image2D filterTemp;

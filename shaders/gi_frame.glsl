@@ -29,8 +29,8 @@ layout(set = 1, binding = GI_BINDING_HISTORY_DIRECT) uniform image2D giHistoryDi
 layout(set = 1, binding = GI_BINDING_HISTORY_INDIRECT) uniform image2D giHistoryIndirect;
 layout(set = 1, binding = GI_BINDING_COUNTERS, scalar) buffer GiCountersBlock { GiCounters giCounters; };
 layout(set = 1, binding = GI_BINDING_NOISY_INDIRECT) uniform image2D giNoisyIndirect;  // formatless: may alias an output
-layout(set = 1, binding = GI_BINDING_GUIDANCE, rgba32f) uniform image2D giGuidance;
-layout(set = 1, binding = GI_BINDING_POSITION, rgba32f) uniform image2D giPosition;
+layout(set = 1, binding = GI_BINDING_GUIDANCE, rgba16f) uniform image2D giGuidance;
+layout(set = 1, binding = GI_BINDING_POSITION, rgba16f) uniform image2D giPosition;
 layout(set = 1, binding = GI_BINDING_DEBUG, rgba32f) uniform image2D giDebug;
 layout(set = 1, binding = GI_BINDING_AAF_PARAMS, rgba32f) uniform image2D giAafParams;
 layout(set = 1, binding = GI_BINDING_AAF_SUM, rgba32f) uniform image2D giAafSum;

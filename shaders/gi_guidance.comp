@@ -1,7 +1,10 @@
 #version 460
 // The filters' guidance from the G-buffer: normal scaled to [0,1] and view
 // depth divided by a fixed scene-derived constant (guidance, shared/gi_filters.h),
-// and world position with view depth (position).
+// and position relative to the camera with view depth, over the same constant
+// (position). Both images are half floats: over the scene extent the values
+// stay within about ±1 at any scene scale, and the filters use positions only
+// through differences and their ratio to the view depth.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #include "gi_frame.glsl"
@@ -21,5 +24,5 @@ void main() {
   vec3 dir;
   vec3 position = giGbPosition(p, dir);
   imageStore(giGuidance, p, vec4(n * 0.5 + 0.5, viewZ / giFrame.depthScale));
-  imageStore(giPosition, p, vec4(position, viewZ));
+  imageStore(giPosition, p, vec4(position - giFrame.camera.position, viewZ) / giFrame.depthScale);
 }

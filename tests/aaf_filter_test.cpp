@@ -44,7 +44,7 @@ class AafFilterTest : public GpuTest {
   std::vector<float> filter(float cosLimit, uint32_t maxRadius = 0) {
     engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
       gi::recordAafFilter(dev, cmd, filters, filters.set[0], gi::kPlainOutput, gi::Pass::AafFilterDiffuseRows,
-                          gi::Pass::AafFilterDiffuseColumns, cosLimit, kPixel, maxRadius, {});
+                          gi::Pass::AafFilterDiffuseColumns, cosLimit, kPixel, maxRadius, 1.0f, {});
     });
     std::vector<std::byte> raw = engine::readbackImage(ctx, images[3], VK_IMAGE_LAYOUT_GENERAL, 16);
     std::vector<float> out(size_t(W) * H);

@@ -79,8 +79,9 @@ TEST_F(ModuleOutputsTest, HalfFloatOutputsMatchSingleFloatOnes) {
   unload(s);
 }
 
-// The radiance histories in half floats (ModuleDesc::historyFormat's
-// default, radiance over the scene's typical radiance) give every method the
+// The blended light in half floats (ModuleDesc::historyFormat's default:
+// the radiance histories and the noisy indirect, radiance over the scene's
+// typical radiance) gives every method the
 // image it gives with single-float histories, to half-float rounding carried
 // through the frames' blend: 12 frames, single-float outputs.
 TEST_F(ModuleOutputsTest, HalfFloatHistoriesMatchSingleFloatOnes) {
@@ -99,8 +100,10 @@ TEST_F(ModuleOutputsTest, HalfFloatHistoriesMatchSingleFloatOnes) {
                  composite = relativeL1(half.composite, single.composite);
     std::printf("%-9s half vs single histories, relative L1: direct %.2e, indirect %.2e, composite %.2e\n", name, direct,
                 indirect, composite);
+    // Measured: at most 6.4e-4 direct, 2.3e-3 indirect (the noisy image and the history
+    // each round every frame), 8.7e-4 composite.
     EXPECT_LT(direct, 2e-3) << name << " direct";
-    EXPECT_LT(indirect, 2e-3) << name << " indirect";
+    EXPECT_LT(indirect, 3e-3) << name << " indirect";
     EXPECT_LT(composite, 2e-3) << name << " composite";
   }
   unload(s);

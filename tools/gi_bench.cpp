@@ -56,7 +56,8 @@ const cli::Option kOptions[] = {
                                    "(lights)"},
     {"rays", nullptr, "only the bare-ray microbenchmark: primary, diffuse and shadow Mrays/s for each traversal backend "
                       "and for Embree on the CPU; appends to DIR/rays.csv (no --methods needed)"},
-    {"history-format", "half|single", "the temporal passes' radiance histories (ModuleDesc::historyFormat; default half)"},
+    {"history-format", "half|single", "the light the temporal passes blend: radiance histories and noisy indirect "
+                                      "(ModuleDesc::historyFormat; default half)"},
     cli::kTraversalOption,
     cli::kSkyOption,
     {"out", "DIR", "output folder (default bench_out)"},

@@ -197,14 +197,15 @@ def memory(path, before_path):
               f"{used - transient:.1f} | {full['blocks']} | {goal} | {verdict} |")
 
 
-def histories(root, scenes):
-    """Single- against half-float radiance histories (scripts/bench histories): each method's final and
-    indirect MSE, the means over 24 still frames from the first, and the change."""
-    print("| scene | method | final MSE, single | half | change | indirect MSE, single | half | change |")
+def ab(prefix, a_name, b_name, scenes):
+    """Two runs of the same configurations against the same reference (args: PREFIX A B SCENE ...; the runs
+    are PREFIX_<scene>_A and PREFIX_<scene>_B): each method's final and indirect MSE, the means over the
+    runs' frames, and the change from A to B."""
+    print(f"| scene | method | final MSE, {a_name} | {b_name} | change | indirect MSE, {a_name} | {b_name} | change |")
     print("|---|---|---|---|---|---|---|---|")
     for scene in scenes:
-        single = {r["method"]: r for r in rows(f"{root}/histories_{scene.lower()}_single/results.csv")}
-        half = {r["method"]: r for r in rows(f"{root}/histories_{scene.lower()}_half/results.csv")}
+        single = {r["method"]: r for r in rows(f"{prefix}_{scene.lower()}_{a_name}/results.csv")}
+        half = {r["method"]: r for r in rows(f"{prefix}_{scene.lower()}_{b_name}/results.csv")}
         for method, s in single.items():
             h = half[method]
             cells = []
@@ -515,8 +516,8 @@ def run(argv):
         aaf_cost(argv[1:])
     elif kind == "aaf_fig10":
         aaf_fig10(argv[1:])
-    elif kind == "histories":
-        histories(argv[1], argv[2:])
+    elif kind == "ab":
+        ab(argv[1], argv[2], argv[3], argv[4:])
     elif kind == "moving":
         moving(argv[1], int(argv[2]), argv[3:])
     elif kind == "rays":

@@ -158,8 +158,10 @@ void recordFilterPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const gpu
   // Passes: the chosen filter, noisy indirect → indirect.
   PassHooks hooks = passHooks(m, slot);
   const vk::Device& g = m.gpu;
-  // The filtered indirect lands in the indirect output: pre-exposed, within its format.
-  const gpu::FilterOutputEncoding toIndirect{frame.outputScale, frame.outputMax};
+  // The filters work in the noisy image's units (radiance × noisyScale) and land in the indirect
+  // output: pre-exposed, within its format. Their positions are metres over the scene extent.
+  const gpu::FilterOutputEncoding toIndirect{frame.outputScale / frame.noisyScale, frame.outputMax};
+  const float positionScale = frame.depthScale;
   if (s.method == Method::Sspsf) {
     const SspsfSettings& ss = s.sspsf;
     recordSspsf(g, cmd, f, {ss.window, ss.filterWidth, pixelScale(frame.camera), cosDegrees(ss.normalLimitDegrees), toIndirect},
@@ -167,10 +169,13 @@ void recordFilterPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const gpu
   } else if (isAaf(s.method)) {
     float cosLimit = cosDegrees(s.aaf.normalLimitDegrees);
     const uint32_t maxRadius = s.aaf.maxRadius;
-    recordAafFilter(g, cmd, f, f.set[0], toIndirect, Pass::AafFilterDiffuseRows, Pass::AafFilterDiffuseColumns, cosLimit, pixelScale(frame.camera), maxRadius, hooks);
+    recordAafFilter(g, cmd, f, f.set[0], toIndirect, Pass::AafFilterDiffuseRows, Pass::AafFilterDiffuseColumns, cosLimit, pixelScale(frame.camera), maxRadius,
+                    positionScale, hooks);
     if (aafSpecular(m, s)) {  // glossy receivers: their specular terms, with the glossy β
-      recordAafFilter(g, cmd, f, f.aafGlossySets[0], kPlainOutput, Pass::AafFilterGlossyRows, Pass::AafFilterGlossyColumns, cosLimit, pixelScale(frame.camera), maxRadius, hooks);
-      recordAafFilter(g, cmd, f, f.aafGlossySets[1], kPlainOutput, Pass::AafFilterGlossyEdgeRows, Pass::AafFilterGlossyEdgeColumns, cosLimit, pixelScale(frame.camera), maxRadius, hooks);
+      recordAafFilter(g, cmd, f, f.aafGlossySets[0], kPlainOutput, Pass::AafFilterGlossyRows, Pass::AafFilterGlossyColumns, cosLimit, pixelScale(frame.camera), maxRadius,
+                    positionScale, hooks);
+      recordAafFilter(g, cmd, f, f.aafGlossySets[1], kPlainOutput, Pass::AafFilterGlossyEdgeRows, Pass::AafFilterGlossyEdgeColumns, cosLimit, pixelScale(frame.camera), maxRadius,
+                    positionScale, hooks);
     }
   } else if (s.method == Method::Gif) {
     GuidedFilterParams gif{s.gif.radius, s.gif.epsilonNormal, s.gif.epsilonDepth, s.gif.guidanceDimensions,
@@ -181,7 +186,9 @@ void recordFilterPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const gpu
     recordBilateral(g, cmd, f, {b.radius, b.sigmaSpatial, b.sigmaNormal, b.sigmaDepth, toIndirect}, hooks);
   } else {
     const AtrousSettings& a = s.atrous;
-    recordAtrous(g, cmd, f, toIndirect, a.iterations, a.sigmaColor, a.sigmaNormal, a.sigmaPosition, hooks);
+    // Its colour edge stop compares the noisy image's values: σ in the same units.
+    recordAtrous(g, cmd, f, toIndirect, a.iterations, a.sigmaColor * frame.noisyScale, a.sigmaNormal, a.sigmaPosition,
+                 hooks);
   }
 }
 
@@ -249,7 +256,7 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
   const float outputScale = outputScales(s, in.preExposure).indirect;
   const float outputMax = m.desc.outputFormat == VK_FORMAT_R16G16B16A16_SFLOAT ? 65504.0f : FLT_MAX;
   const bool noisyIsOutput = noisyAliasesIndirect(m.sized);
-  const bool halfHistories = halfFloatHistories(m.sized);
+  const bool halfHistories = halfFloatHistories(m.sized), halfNoisy = halfFloatNoisy(m.sized);
   gpu::GiFrameConstants frame{camera,
                               gpuCamera(in.previousCamera, in.previousCamera, m.width, m.height),
                               {m.width, m.height},
@@ -257,8 +264,8 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
                               std::max(m.desc.scene.extent, 1e-6f),
                               outputScale,
                               outputMax,
-                              noisyIsOutput ? outputScale : 1.0f,
-                              noisyIsOutput ? outputMax : FLT_MAX,
+                              noisyIsOutput ? outputScale : halfNoisy ? radianceScale(m) : 1.0f,
+                              noisyIsOutput ? outputMax : halfNoisy ? 65504.0f : FLT_MAX,
                               halfHistories ? radianceScale(m) : 1.0f,
                               halfHistories ? 65504.0f : FLT_MAX,
                               0.0f,

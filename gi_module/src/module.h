@@ -136,6 +136,8 @@ bool noisyAliasesIndirect(const SizedResources& r);
 // The radiance histories are half floats (ModuleDesc::historyFormat; never raw's running mean):
 // GiFrameConstants::historyScale.
 bool halfFloatHistories(const SizedResources& r);
+// The noisy indirect's own image is half floats (the same rule): GiFrameConstants::noisyScale.
+bool halfFloatNoisy(const SizedResources& r);
 // The images whose contents live within one frame (written before they are
 // read, every frame), and the bytes they occupy: FrameStats::memoryTransientBytes.
 std::vector<const vk::Image*> frameImages(const SizedResources& r);

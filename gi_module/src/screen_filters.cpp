@@ -171,11 +171,11 @@ void recordGuidedFilter(const vk::Device& d, VkCommandBuffer cmd, ScreenFilters&
 
 void recordAafFilter(const vk::Device& d, VkCommandBuffer cmd, const ScreenFilters& f, VkDescriptorSet targets,
                      const gpu::FilterOutputEncoding& output, Pass rows, Pass columns, float cosNormalLimit,
-                     float pixelScale, uint32_t maxRadius, const PassHooks& hooks) {
+                     float pixelScale, uint32_t maxRadius, float positionScale, const PassHooks& hooks) {
   passOn(d, cmd, targets, hooks, rows, f.programs->aaf, {f.width, f.height},
-         gpu::AafFilterPush{0, cosNormalLimit, pixelScale, maxRadius, output});
+         gpu::AafFilterPush{0, cosNormalLimit, pixelScale, maxRadius, output, positionScale});
   passOn(d, cmd, targets, hooks, columns, f.programs->aaf, {f.width, f.height},
-         gpu::AafFilterPush{1, cosNormalLimit, pixelScale, maxRadius, output});
+         gpu::AafFilterPush{1, cosNormalLimit, pixelScale, maxRadius, output, positionScale});
 }
 
 void recordSspsf(const vk::Device& d, VkCommandBuffer cmd, ScreenFilters& f, const gpu::SspsfPush& params,

@@ -95,9 +95,10 @@ void recordSspsf(const vk::Device& device, VkCommandBuffer cmd, ScreenFilters& f
 // image's alpha; pixels with β = 0 neither filter nor contribute); uses temp.
 // `targets` is f.set or a set from createFilterSet.
 // `rows` and `columns` name its two passes. `maxRadius` cuts the Gaussian
-// before 3σ (pixels; 0 = never).
+// before 3σ (pixels; 0 = never). `positionScale`: metres per unit of the
+// position image (β is in metres).
 void recordAafFilter(const vk::Device& device, VkCommandBuffer cmd, const ScreenFilters& f, VkDescriptorSet targets,
-                     const gpu::FilterOutputEncoding& output, Pass rows, Pass columns,
-                     float cosNormalLimit, float pixelScale, uint32_t maxRadius, const PassHooks& hooks);
+                     const gpu::FilterOutputEncoding& output, Pass rows, Pass columns, float cosNormalLimit,
+                     float pixelScale, uint32_t maxRadius, float positionScale, const PassHooks& hooks);
 
 }  // namespace gi

@@ -29,18 +29,22 @@ struct SizedImage {
 };
 // Normal and view depth compared to a tolerance of several per cent: half floats hold them.
 constexpr VkFormat kGuideFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
-// The radiance histories: ModuleDesc::historyFormat (half floats by default, holding radiance over
-// the scene's typical radiance: GiFrameConstants::historyScale), except raw's running mean, which
-// after n frames adds 1/n of a frame and keeps single floats (kFullPrecisionHistory). Resolved by
-// imageFormat().
+// Half floats for the screen filters' guidance: its normal in [0,1] and depth over the scene extent,
+// positions relative to the camera over the scene extent (gi_guidance.comp).
+constexpr VkFormat kHalf = VK_FORMAT_R16G16B16A16_SFLOAT;
+// The light the temporal passes blend and keep (their radiance histories, and the noisy indirect they
+// read and hand the filters): ModuleDesc::historyFormat (half floats by default, holding radiance over
+// the scene's typical radiance: GiFrameConstants::historyScale and noisyScale), except with raw's
+// running mean, which after n frames adds 1/n of a frame and keeps single floats
+// (kFullPrecisionHistory). Resolved by imageFormat().
 constexpr VkFormat kRadianceHistory = VK_FORMAT_UNDEFINED;
 constexpr Lifetime kFrame = Lifetime::Frame, kHistory = Lifetime::History;
 constexpr SizedImage kSizedImages[] = {
     {&SizedResources::historyDirect, gpu::GI_BINDING_HISTORY_DIRECT, kHistory, kRadianceHistory},
     {&SizedResources::historyIndirect, gpu::GI_BINDING_HISTORY_INDIRECT, kHistory, kRadianceHistory},
-    {&SizedResources::noisyIndirect, gpu::GI_BINDING_NOISY_INDIRECT, kFrame},
-    {&SizedResources::guidance, gpu::GI_BINDING_GUIDANCE, kFrame},
-    {&SizedResources::position, gpu::GI_BINDING_POSITION, kFrame},
+    {&SizedResources::noisyIndirect, gpu::GI_BINDING_NOISY_INDIRECT, kFrame, kRadianceHistory},
+    {&SizedResources::guidance, gpu::GI_BINDING_GUIDANCE, kFrame, kHalf},
+    {&SizedResources::position, gpu::GI_BINDING_POSITION, kFrame, kHalf},
     {&SizedResources::debug, gpu::GI_BINDING_DEBUG, kFrame},
     {&SizedResources::aafParams, gpu::GI_BINDING_AAF_PARAMS, kFrame},
     {&SizedResources::aafSum, gpu::GI_BINDING_AAF_SUM, kFrame},
@@ -195,6 +199,7 @@ vk::Status createFilters(Module& m, const OutputImages& outputs, SizedResources&
 bool noisyAliasesIndirect(const SizedResources& r) { return (r.needs & kNoisyIsIndirect) != 0; }
 
 bool halfFloatHistories(const SizedResources& r) { return r.historyDirect.format == VK_FORMAT_R16G16B16A16_SFLOAT; }
+bool halfFloatNoisy(const SizedResources& r) { return r.noisyIndirect.format == VK_FORMAT_R16G16B16A16_SFLOAT; }
 
 std::vector<const vk::Image*> frameImages(const SizedResources& r) {
   std::vector<const vk::Image*> images;

@@ -87,8 +87,9 @@ struct AafFilterPush {
   float pixelScale;     // world size of a pixel per metre of view depth: 2·tan(fovY/2) / height
   uint maxRadius;       // pixels; the Gaussian is cut at 3σ or here (0: at 3σ, within the image)
   FilterOutputEncoding encoding;  // of the output image
+  float positionScale;  // metres per unit of the position image (the module's: the scene extent; β is in metres)
 };
-GPU_ASSERT_SIZE(AafFilterPush, 24);
+GPU_ASSERT_SIZE(AafFilterPush, 28);
 
 GPU_NAMESPACE_END
 #endif

@@ -96,8 +96,8 @@ struct GiFrameConstants {
   float depthScale;  // metres: view depth is divided by it for the filters' guidance (the scene extent, fixed)
   float outputScale; // radiance → output units: FrameInputs::preExposure (1 for aaf_ao, whose outputs are ratios)
   float outputMax;   // largest finite value of the output format (65504 for half floats): stores clamp to it
-  float noisyScale;  // outputScale when the noisy indirect aliases the indirect output, else 1
-  float noisyMax;    // outputMax when it aliases the indirect output, else the largest float
+  float noisyScale;  // outputScale when the noisy indirect aliases the indirect output; else as historyScale
+  float noisyMax;    // outputMax when it aliases the indirect output; else as historyMax
   float historyScale;// radiance → the radiance histories' units: 1 / the scene's typical radiance where they are
                      // half floats (temporal reprojection), 1 where they are single floats (raw's running mean)
   float historyMax;  // their format's largest finite value (65504 or the largest float): stores clamp to it

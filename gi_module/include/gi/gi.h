@@ -152,8 +152,9 @@ struct ModuleDesc {
   // the memory; set FrameInputs::preExposure so the light stays within
   // ±65504) or VK_FORMAT_R32G32B32A32_SFLOAT. Anything else: UnsupportedFormat.
   VkFormat outputFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
-  // Format of the temporal passes' radiance histories (gif, bilateral,
-  // à-trous, sspsf, svgf; the hash methods' filter clamp):
+  // Format of the light the temporal passes blend and keep: their radiance
+  // histories (gif, bilateral, à-trous, sspsf, svgf; the hash methods'
+  // filter clamp) and the noisy indirect the filters read:
   // VK_FORMAT_R16G16B16A16_SFLOAT (radiance over SceneDesc::typicalRadiance,
   // up to 65504 times it; half the memory) or VK_FORMAT_R32G32B32A32_SFLOAT.
   // raw's running mean keeps single floats whatever this says.
