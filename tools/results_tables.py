@@ -270,6 +270,77 @@ def aaf_fig10(pairs):
             print(f"| {name} | {r['mu']} | {r['spp_adaptive']} / {r['spp_uniform']} | {a:.2e} | {u:.2e} | {u / a:.2f} |")
 
 
+def settings_at_frame(k, pairs):
+    """Settings swept one at a time (args: K KEY DIR [KEY DIR ...]): per value, the final and indirect MSE
+    after frame K of the run's series and the map's occupancy then."""
+    print(f"| setting | final MSE, frame {k} | indirect | occupancy |")
+    print("|---|---|---|---|")
+    for key, directory in zip(pairs[::2], pairs[1::2]):
+        for label, series in series_by_label(directory).items():
+            r = series[int(k)]
+            value = label.split(f"{key}=")[1].split()[0]
+            print(f"| {key} = {value} | {float(r['mse']):.2e} | {float(r['mse_indirect']):.2e} | "
+                  f"{100 * float(r['hash_occupancy']):.1f}% |")
+
+
+def deviations(pairs):
+    """nhpsf and anhpsf with the thesis's secondary level of detail and ours, with and without the history
+    samples (args: NAME DIR ...): indirect MSE and indirect light against the reference at frames 32 and 64."""
+    lods = {"0": "segment (thesis)", "1": "path", "2": "camera"}
+    print("| scene | secondary LOD | history samples | nhpsf indirect MSE k = 32 / 64 | nhpsf light k = 32 / 64 "
+          "| anhpsf indirect MSE k = 32 / 64 | anhpsf light k = 32 / 64 |")
+    print("|---|---|---|---|---|---|---|")
+    for name, directory in zip(pairs[::2], pairs[1::2]):
+        series = series_by_label(directory)
+        for history in ("0", "8"):
+            for lod in ("0", "1", "2"):
+                cells = []
+                for method in ("nhpsf", "anhpsf"):
+                    s = series[f"{method} spp=1 hpsf.secondary_lod={lod} hpsf.history_samples={history}"]
+                    cells.append(f"{float(s[32]['mse_indirect']):.2e} / {float(s[64]['mse_indirect']):.2e}")
+                    cells.append(f"{float(s[32]['energy_indirect']):.3f} / {float(s[64]['energy_indirect']):.3f}")
+                lod_cell, history_cell = lods[lod], "off" if history == "0" else history
+                if (lod, history) == ("2", "8"):  # the defaults (HpsfSettings::secondaryLod, historySamples)
+                    lod_cell, history_cell = f"**{lod_cell}**", f"**{history_cell}**"
+                print(f"| {name} | {lod_cell} | {history_cell} | " + " | ".join(cells) + " |")
+
+
+def light_at_frame(k, key, directories):
+    """A setting's values against methods (args: K KEY DIR ...): indirect light against the reference and
+    indirect MSE after frame K of each run's series; – where a method did not run a value."""
+    cells, methods, values = {}, [], []
+    for directory in directories:
+        for label, series in series_by_label(directory).items():
+            method, value = label.split()[0], label.split(f"{key}=")[1].split()[0]
+            methods += [method] if method not in methods else []
+            values += [value] if value not in values else []
+            r = series[int(k)]
+            cells[method, value] = f"{float(r['energy_indirect']):.3f} / {float(r['mse_indirect']):.2e}"
+    print(f"| {key} | " + " | ".join(methods) + " |")
+    print("|---|" + "---|" * len(methods))
+    for value in values:
+        print(f"| {value} | " + " | ".join(cells.get((m, value), "–") for m in methods) + " |")
+
+
+def hash_passes(pairs):
+    """The hash methods' passes per scene (args: NAME DIR ...): the tracing pass, resolve and lookup against
+    the frame, ms, and the hash passes' share (resolve + lookup)."""
+    tracing = {"hpsf": "hpsf_insert", "nhpsf": "nhpsf_paths", "anhpsf": "anhpsf_paths"}
+    print("| scene | hpsf: insert / resolve / lookup of frame | nhpsf: paths / resolve / lookup "
+          "| anhpsf: paths / resolve / lookup |")
+    print("|---|---|---|---|")
+    for name, directory in zip(pairs[::2], pairs[1::2]):
+        by = {r["method"]: r for r in rows(f"{directory}/results.csv")}
+        cells = []
+        for method, trace in tracing.items():
+            r = by[method]
+            resolve, lookup, total = pass_ms(r, "hpsf_resolve"), pass_ms(r, "hpsf_lookup"), float(r["total_ms"])
+            share = f"{100 * (resolve + lookup) / total:.0f}%"
+            cells.append(f"{pass_ms(r, trace):.1f} / {resolve:.1f} / {lookup:.1f} of {total:.1f} "
+                         f"({'hash ' if method == 'hpsf' else ''}{share})")
+        print(f"| {name} | " + " | ".join(cells) + " |")
+
+
 MOVING_RUNS = (  # (directory suffix, label prefix, the table's name for it)
     ("strict", "hpsf spp=4 hpsf.aging=0", "hpsf strict"),
     ("hpsf", "hpsf spp=4 hpsf.aging=1 hpsf.validation=0", "hpsf aging"),
@@ -516,6 +587,14 @@ def run(argv):
         aaf_cost(argv[1:])
     elif kind == "aaf_fig10":
         aaf_fig10(argv[1:])
+    elif kind == "settings_at_frame":
+        settings_at_frame(argv[1], argv[2:])
+    elif kind == "deviations":
+        deviations(argv[1:])
+    elif kind == "light_at_frame":
+        light_at_frame(argv[1], argv[2], argv[3:])
+    elif kind == "hash_passes":
+        hash_passes(argv[1:])
     elif kind == "ab":
         ab(argv[1], argv[2], argv[3], argv[4:])
     elif kind == "moving":
