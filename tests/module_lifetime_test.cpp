@@ -4,9 +4,7 @@
 // filling each of them with NaN after every frame: every method, frames of a
 // moving scene, renders the same bits as without the filling.
 #include <cmath>
-#include <cstring>
 
-#include "animation.h"
 #include "gi/catalogue.h"
 #include "gi/settings.h"
 #include "module.h"
@@ -32,32 +30,6 @@ void fillFrameImagesWithNan(const engine::Context& ctx, const gi::Module& m) {
   });
 }
 
-// kFrames frames of `settings` (the light circling and a block turning, for the methods whose
-// frames reproduce under motion), with or without the filling; the last frame's outputs.
-engine::ReferenceImages frames(const engine::Context& ctx, LoadedScene& s, const engine::SceneAnimation& animation,
-                               const gi::Settings& settings, bool fill) {
-  const gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], kSize, kSize, nullptr);
-  tools::ModuleSession session;
-  EXPECT_NO_FATAL_FAILURE(openSession(ctx, s, {kSize, kSize}, settings, session));
-  if (!session.module) return {};
-  // The hash methods' frames reproduce only on a still scene (robust_access_test.cpp says why).
-  const bool moving = !gi::usesHashGrid(settings.method);
-  for (uint32_t f = 0; f < kFrames; ++f) {
-    if (f == 0) engine::jumpScene(ctx, animation, 0.0f, s.scene, s.gpu);
-    else if (moving) engine::poseScene(ctx, animation, float(f) / 30.0f, s.scene, s.gpu);
-    tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, f);
-    if (fill) fillFrameImagesWithNan(ctx, *session.module);
-  }
-  engine::ReferenceImages out = tools::readModuleImages(ctx, session);
-  tools::destroyModuleSession(ctx, session);
-  return out;
-}
-
-bool sameBits(const engine::FloatImage& a, const engine::FloatImage& b) {
-  return a.pixels.size() == b.pixels.size() &&
-         std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(float)) == 0;
-}
-
 }  // namespace
 
 class ModuleLifetimeTest : public GpuTest {};
@@ -69,8 +41,12 @@ TEST_F(ModuleLifetimeTest, FrameImagesCanBeOverwrittenBetweenFramesInEveryMethod
   for (const gi::MethodInfo& info : gi::methodCatalogue()) {
     gi::Settings settings;
     settings.method = info.method;
-    const engine::ReferenceImages kept = frames(ctx, s, animation, settings, false);
-    const engine::ReferenceImages filled = frames(ctx, s, animation, settings, true);
+    // The hash methods' frames reproduce only on a still scene (robust_access_test.cpp says why).
+    const bool moving = !gi::usesHashGrid(info.method);
+    const engine::ReferenceImages kept = renderAnimatedFrames(ctx, s, animation, settings, kSize, kFrames, moving);
+    const engine::ReferenceImages filled =
+        renderAnimatedFrames(ctx, s, animation, settings, kSize, kFrames, moving,
+                             [&](tools::ModuleSession& session) { fillFrameImagesWithNan(ctx, *session.module); });
     ASSERT_FALSE(kept.final.pixels.empty()) << info.name;
     EXPECT_TRUE(sameBits(kept.direct, filled.direct)) << info.name << ": direct read a frame image's last contents";
     EXPECT_TRUE(sameBits(kept.indirect, filled.indirect)) << info.name << ": indirect read a frame image's last contents";

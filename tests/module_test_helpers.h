@@ -2,6 +2,10 @@
 // (what the raster G-buffer sees) and a module session that fails the test
 // when it cannot be created.
 #pragma once
+#include <cstring>
+#include <functional>
+
+#include "animation.h"
 #include "gpu_test.h"
 #include "module_session.h"
 
@@ -44,4 +48,34 @@ inline engine::ReferenceImages renderPan(const engine::Context& ctx, const Loade
   engine::ReferenceImages out = tools::readModuleImages(ctx, session);
   tools::destroyModuleSession(ctx, session);
   return out;
+}
+
+// `frames` frames of `settings` at size × size from the scene's camera, the
+// last frame's outputs. With `moving`, the light circles and a block turns
+// (30 frames a second from the animation's start: the animation is made once,
+// from the scene as loaded); without, the scene stays at that start.
+// `afterFrame` runs after each frame has completed.
+inline engine::ReferenceImages renderAnimatedFrames(const engine::Context& ctx, LoadedScene& s,
+                                                    const engine::SceneAnimation& animation, const gi::Settings& settings,
+                                                    uint32_t size, uint32_t frames, bool moving,
+                                                    const std::function<void(tools::ModuleSession&)>& afterFrame = {}) {
+  const gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], size, size, nullptr);
+  tools::ModuleSession session;
+  EXPECT_NO_FATAL_FAILURE(openSession(ctx, s, {size, size}, settings, session));
+  if (!session.module) return {};
+  for (uint32_t f = 0; f < frames; ++f) {
+    // Frame 0 jumps to the start: no motion from whatever pose the last run left.
+    if (f == 0) engine::jumpScene(ctx, animation, 0.0f, s.scene, s.gpu);
+    else if (moving) engine::poseScene(ctx, animation, float(f) / 30.0f, s.scene, s.gpu);
+    tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, f);
+    if (afterFrame) afterFrame(session);
+  }
+  engine::ReferenceImages out = tools::readModuleImages(ctx, session);
+  tools::destroyModuleSession(ctx, session);
+  return out;
+}
+
+inline bool sameBits(const engine::FloatImage& a, const engine::FloatImage& b) {
+  return a.pixels.size() == b.pixels.size() &&
+         std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(float)) == 0;
 }

@@ -11,9 +11,6 @@
 // the checked device working; on a device that does not check, it finds
 // reads out of range. The 10,000-frame soaks ran once on the checked device
 // too (docs/RESULTS.md, "Extremes").
-#include <cstring>
-
-#include "animation.h"
 #include "gi/catalogue.h"
 #include "gi/settings.h"
 #include "module_test_helpers.h"
@@ -27,31 +24,6 @@ void loadOn(const engine::Context& ctx, const std::string& path, LoadedScene& ou
   std::string error;
   ASSERT_TRUE(engine::loadSceneForRendering(path, out.scene, error)) << error;
   engine::createSceneGpu(ctx, out.scene, out.gpu);
-}
-
-// kFrames frames of `settings`, the last frame's outputs. With `moving`, the light circles and a
-// block turns (30 frames a second, from the animation's start: the animation is made once, from
-// the scene as loaded); without, the scene stays at that start.
-engine::ReferenceImages frames(const engine::Context& ctx, LoadedScene& s, const engine::SceneAnimation& animation,
-                               const gi::Settings& settings, bool moving) {
-  const gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], kSize, kSize, nullptr);
-  tools::ModuleSession session;
-  EXPECT_NO_FATAL_FAILURE(openSession(ctx, s, {kSize, kSize}, settings, session));
-  if (!session.module) return {};
-  for (uint32_t f = 0; f < kFrames; ++f) {
-    // Frame 0 jumps to the start: no motion from whatever pose the last run left.
-    if (f == 0) engine::jumpScene(ctx, animation, 0.0f, s.scene, s.gpu);
-    else if (moving) engine::poseScene(ctx, animation, float(f) / 30.0f, s.scene, s.gpu);
-    tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, f);
-  }
-  engine::ReferenceImages out = tools::readModuleImages(ctx, session);
-  tools::destroyModuleSession(ctx, session);
-  return out;
-}
-
-bool sameBits(const engine::FloatImage& a, const engine::FloatImage& b) {
-  return a.pixels.size() == b.pixels.size() &&
-         std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(float)) == 0;
 }
 
 }  // namespace
@@ -80,8 +52,8 @@ TEST_F(RobustAccessTest, EveryMethodRendersTheSameBitsOnABoundsCheckedDevice) {
     // even on one device (the invocation that makes a cell traces its probe, and which one that is
     // depends on the order the invocations run in; the probes then cut different histories).
     const bool moving = !gi::usesHashGrid(info.method);
-    const engine::ReferenceImages a = frames(ctx, plain, animation, settings, moving);
-    const engine::ReferenceImages b = frames(robust, checked, animation, settings, moving);
+    const engine::ReferenceImages a = renderAnimatedFrames(ctx, plain, animation, settings, kSize, kFrames, moving);
+    const engine::ReferenceImages b = renderAnimatedFrames(robust, checked, animation, settings, kSize, kFrames, moving);
     ASSERT_FALSE(a.final.pixels.empty()) << info.name;
     EXPECT_TRUE(sameBits(a.direct, b.direct)) << info.name << ": direct differs with bounds checks";
     EXPECT_TRUE(sameBits(a.indirect, b.indirect)) << info.name << ": indirect differs with bounds checks";
