@@ -1,5 +1,7 @@
 #include "cli.h"
 
+#include "light_grid.h"
+
 #include <algorithm>
 #include <cerrno>
 #include <cstdlib>
@@ -133,6 +135,17 @@ std::string skyKey(const engine::Sky& sky) {
     key.append("_").append(std::filesystem::path(sky.mapPath).stem().string()).append(text);
   }
   return key;
+}
+
+bool applyPointLights(const Args& args, engine::Scene& scene, std::string& error) {
+  if (!args.has("point-lights")) return true;
+  uint32_t count = 0;
+  if (!getUint(args, "point-lights", 0, 1, 65536, count, error)) return false;
+  return engine::spreadPointLights(scene, count, error);
+}
+
+std::string pointLightsKey(const Args& args) {
+  return args.has("point-lights") ? "_pl" + args.values.at("point-lights") : "";
 }
 
 bool getTraversal(const Args& args, engine::Traversal& traversal, std::string& error) {

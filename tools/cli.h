@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "context.h"
+#include "scene.h"
 #include "sky.h"
 
 namespace cli {
@@ -52,5 +53,15 @@ inline constexpr Option kSkyOption{
 bool getSky(const Args& args, engine::Sky& sky, std::string& error);
 // A short name of the sky for file names and cache keys: "" when black.
 std::string skyKey(const engine::Sky& sky);
+
+// --point-lights, shared by gi-render and gi-bench: the many-light scenes of issue 31.
+inline constexpr Option kPointLightsOption{
+    "point-lights", "N",
+    "replace the scene's point lights by N of the same total intensity on a grid at their mean height "
+    "(engine/light_grid.h; 1 to 65536)"};
+// Applies --point-lights to `scene` (nothing when absent); false with `error` when it cannot.
+bool applyPointLights(const Args& args, engine::Scene& scene, std::string& error);
+// A short name of --point-lights for file names and cache keys: "" when absent.
+std::string pointLightsKey(const Args& args);
 
 }  // namespace cli

@@ -60,6 +60,7 @@ const cli::Option kOptions[] = {
                                       "(ModuleDesc::historyFormat; default half)"},
     cli::kTraversalOption,
     cli::kSkyOption,
+    cli::kPointLightsOption,
     {"out", "DIR", "output folder (default bench_out)"},
     {"no-plots", nullptr, "skip plot_bench.py (plots and report)"},
     {"validation", nullptr, "enable Vulkan validation"},
@@ -279,6 +280,10 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "gi-bench: %s\n", error.c_str());
     return 1;
   }
+  if (!cli::applyPointLights(args, scene, error)) {
+    std::fprintf(stderr, "gi-bench: %s\n", error.c_str());
+    return 1;
+  }
   if (cameraIndex >= scene.cameras.size()) {
     std::fprintf(stderr, "gi-bench: %s: camera %u does not exist\n", scene.sourcePath.c_str(), cameraIndex);
     return 1;
@@ -303,7 +308,7 @@ int main(int argc, char** argv) {
   std::string sceneName = fs::path(scene.sourcePath).stem().string();
   std::string key = sanitise(sceneName) + "_cam" + std::to_string(cameraIndex) + "_" + std::to_string(width) + "x" +
                     std::to_string(height) + "_b" + std::to_string(bounces) + "_s" + std::to_string(refSpp) +
-                    cli::skyKey(scene.sky);
+                    cli::skyKey(scene.sky) + cli::pointLightsKey(args);
   // Moving scenes: the pose at a time, uploaded (TLAS rebuilt) before the next frame.
   engine::SceneAnimation animation = engine::makeSceneAnimation(scene);
   auto pose = [&](float seconds) { engine::poseScene(ctx, animation, seconds, scene, sceneGpu); };

@@ -38,6 +38,7 @@ const cli::Option kOptions[] = {
     {"validation", nullptr, "enable Vulkan validation; any message makes the run fail"},
     cli::kTraversalOption,
     cli::kSkyOption,
+    cli::kPointLightsOption,
     {"window", nullptr, "show the frames in a GLFW window (module methods; needs a display)"},
     {"animate", nullptr, "the light and an object move, 30 frames a second (engine/animation.h); the reference "
                          "renders the last frame's pose"},
@@ -100,6 +101,10 @@ int main(int argc, char** argv) {
 
   engine::Scene scene;
   if (!engine::loadSceneForRendering(args.values["scene"], scene, error)) {
+    std::fprintf(stderr, "gi-render: %s\n", error.c_str());
+    return 1;
+  }
+  if (!cli::applyPointLights(args, scene, error)) {
     std::fprintf(stderr, "gi-render: %s\n", error.c_str());
     return 1;
   }

@@ -341,6 +341,23 @@ def hash_passes(pairs):
         print(f"| {name} | " + " | ".join(cells) + " |")
 
 
+def lights(path):
+    """A frame's cost against the light count (scripts/bench lights): GPU ms per frame per method, the rays
+    of raw's frame, and each method's time against its own at 4 lights (issue 31's goal: at most 1.5× at 1024)."""
+    by = {}
+    for r in rows(path):
+        by.setdefault(r["lights"], {})[r["method"]] = r
+    methods = list(next(iter(by.values())).keys())
+    print("| point lights | " + " | ".join(f"{m} ms" for m in methods) + " | rays per frame (raw) | "
+          + " | ".join(f"{m} against 4 lights" for m in methods) + " |")
+    print("|---|" + "---|" * (2 * len(methods) + 1))
+    for n, at in by.items():
+        ms = " | ".join(f"{float(at[m]['gpu_ms_per_frame']):.1f}" for m in methods)
+        ratio = " | ".join(f"{float(at[m]['gpu_ms_per_frame']) / float(by['4'][m]['gpu_ms_per_frame']):.2f}×"
+                           for m in methods)
+        print(f"| {n} | {ms} | {int(at[methods[0]]['rays_per_frame']):,} | {ratio} |")
+
+
 MOVING_RUNS = (  # (directory suffix, label prefix, the table's name for it)
     ("strict", "hpsf spp=4 hpsf.aging=0", "hpsf strict"),
     ("hpsf", "hpsf spp=4 hpsf.aging=1 hpsf.validation=0", "hpsf aging"),
@@ -595,6 +612,8 @@ def run(argv):
         light_at_frame(argv[1], argv[2], argv[3:])
     elif kind == "hash_passes":
         hash_passes(argv[1:])
+    elif kind == "lights":
+        lights(argv[1])
     elif kind == "ab":
         ab(argv[1], argv[2], argv[3], argv[4:])
     elif kind == "moving":
