@@ -358,6 +358,19 @@ def lights(path):
         print(f"| {n} | {ms} | {int(at[methods[0]]['rays_per_frame']):,} | {ratio} |")
 
 
+def per_frame(path, key):
+    """GPU ms per frame against one column of a per-run CSV (scripts/bench sky: KEY = sky): rows the
+    column's values, columns the methods."""
+    by, methods = {}, []
+    for r in rows(path):
+        by.setdefault(r[key], {})[r["method"]] = r
+        methods += [r["method"]] if r["method"] not in methods else []
+    print(f"| {key} | " + " | ".join(f"`{m}` ms" for m in methods) + " |")
+    print("|---|" + "---|" * len(methods))
+    for value, at in by.items():
+        print(f"| {value} | " + " | ".join(f"{float(at[m]['gpu_ms_per_frame']):.1f}" for m in methods) + " |")
+
+
 MOVING_RUNS = (  # (directory suffix, label prefix, the table's name for it)
     ("strict", "hpsf spp=4 hpsf.aging=0", "hpsf strict"),
     ("hpsf", "hpsf spp=4 hpsf.aging=1 hpsf.validation=0", "hpsf aging"),
@@ -612,6 +625,8 @@ def run(argv):
         light_at_frame(argv[1], argv[2], argv[3:])
     elif kind == "hash_passes":
         hash_passes(argv[1:])
+    elif kind == "per_frame":
+        per_frame(argv[1], argv[2])
     elif kind == "lights":
         lights(argv[1])
     elif kind == "ab":
