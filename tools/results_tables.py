@@ -371,6 +371,20 @@ def per_frame(path, key):
         print(f"| {value} | " + " | ".join(f"{float(at[m]['gpu_ms_per_frame']):.1f}" for m in methods) + " |")
 
 
+def pathtracer(path):
+    """The reference path tracer per backend (scripts/bench pathtracer): rays, GPU ms and Mrays/s."""
+    names = {"rayquery": "ray queries", "compute": "compute"}
+    print("| scene | triangles | rays | backend | GPU ms | Mrays/s |")
+    print("|---|---|---|---|---|---|")
+    previous = None
+    for r in rows(path):
+        first = r["scene"] != previous
+        previous = r["scene"]
+        rays, ms = int(r["rays"]), float(r["gpu_ms"])
+        lead = f"| `{r['scene']}` | {int(r['triangles']):,} | {rays:,} |" if first else "| | | |"
+        print(f"{lead} {names[r['traversal']]} | {ms:,.0f} | {rays / ms / 1e3:.2f} |")
+
+
 MOVING_RUNS = (  # (directory suffix, label prefix, the table's name for it)
     ("strict", "hpsf spp=4 hpsf.aging=0", "hpsf strict"),
     ("hpsf", "hpsf spp=4 hpsf.aging=1 hpsf.validation=0", "hpsf aging"),
@@ -627,6 +641,8 @@ def run(argv):
         hash_passes(argv[1:])
     elif kind == "per_frame":
         per_frame(argv[1], argv[2])
+    elif kind == "pathtracer":
+        pathtracer(argv[1])
     elif kind == "lights":
         lights(argv[1])
     elif kind == "ab":
