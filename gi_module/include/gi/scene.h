@@ -49,6 +49,11 @@ struct DeviceStream {
 //              R16G16B16A16_SNORM, R8G8B8A8_SNORM
 //   uvs        R32G32_SFLOAT, R16G16_SFLOAT, R16G16_UNORM
 //   indices    VK_INDEX_TYPE_UINT32, VK_INDEX_TYPE_UINT16
+// Every stream is read in aligned 32-bit words: 16-bit indices in pairs, so
+// with an odd index count the word holding the last index is read whole, and
+// the buffer must extend to its end (its size rounded up to 4 bytes, as
+// Vulkan's allocations are anyway); reading 16-bit words alone would need the
+// device's storageBuffer16BitAccess, which the module does not ask for.
 struct DeviceMeshDesc {
   DeviceStream positions, normals, uvs;
   VkDeviceAddress indices = 0;  // of index 0
