@@ -1,6 +1,6 @@
-// engine::spreadPointLights: the many-light scenes of issue 31's measurements
-// keep the scene's light as a whole (total intensity per channel, height) and
-// only spread it.
+// Many-light scenes (issue 31): engine::spreadPointLights keeps the scene's
+// light as a whole (total intensity per channel, height) and only spreads it;
+// the hall we ship (assets/make_light_hall.py) loads with its 256 lamps.
 #include <gtest/gtest.h>
 
 #include "gltf_loader.h"
@@ -64,4 +64,21 @@ TEST(LightGrid, NoPointLightOrZeroCountIsANamedError) {
   EXPECT_FALSE(engine::spreadPointLights(scene, 16, error));
   EXPECT_NE(error.find("no point light"), std::string::npos) << error;
   EXPECT_NE(error.find("conference-ward.gltf"), std::string::npos) << error;
+}
+
+TEST(LightGrid, TheShippedHallLoadsWithItsLamps) {
+  engine::Scene scene;
+  std::string error;
+  ASSERT_TRUE(engine::loadGltf(std::string(GI_ASSETS) + "/light_hall/light_hall.gltf", scene, error)) << error;
+  ASSERT_EQ(scene.lights.size(), 256u);
+  glm::vec3 total{0.0f};
+  for (const engine::PunctualLight& l : scene.lights) {
+    EXPECT_EQ(l.type, engine::LightType::Point);
+    EXPECT_NEAR(l.position.y, 4.6f, 1e-5f) << l.name;
+    total += l.intensity;
+  }
+  EXPECT_NEAR(total.x, 256 * 0.75f, 1e-3f) << "0.75 cd per lamp, colour (1, 0.85, 0.7)";
+  ASSERT_EQ(scene.cameras.size(), 1u);
+  EXPECT_EQ(scene.cameras[0].name, "entrance");
+  EXPECT_FALSE(scene.hasEmissiveGeometry()) << "lit by its lamps alone";
 }

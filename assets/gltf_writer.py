@@ -1,0 +1,116 @@
+"""A minimal glTF 2.0 writer for the scenes we generate (assets/make_*.py): quads and blocks of
+outward-facing triangles, meshes with one primitive each, materials, nodes, a camera, punctual
+lights. Only the Python standard library; the outputs are committed, so users need nothing but
+the repository."""
+import json
+import math
+import os
+import struct
+
+
+def sub(a, b):
+    return tuple(x - y for x, y in zip(a, b))
+
+
+def dot(a, b):
+    return sum(x * y for x, y in zip(a, b))
+
+
+def cross(a, b):
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+def quad(a, b, c, d):
+    """Two CCW triangles a-b-c, a-c-d; the normal follows the right-hand rule."""
+    n = cross(sub(b, a), sub(c, a))
+    length = math.sqrt(dot(n, n))
+    n = tuple(x / length for x in n)
+    return [a, b, c, d], [n] * 4, [0, 1, 2, 0, 2, 3]
+
+
+def merge(parts):
+    pos, nrm, idx = [], [], []
+    for p, n, i in parts:
+        base = len(pos)
+        pos += p
+        nrm += n
+        idx += [base + k for k in i]
+    return pos, nrm, idx
+
+
+def block(cx, cz, w, h, d, angle, y0=0):
+    """A block standing on y = y0, rotated about Y, as 5 outward-facing quads (no bottom)."""
+    c, s = math.cos(angle), math.sin(angle)
+
+    def p(x, y, z):
+        return (cx + c * x + s * z, y0 + y, cz - s * x + c * z)
+
+    hw, hd = w / 2, d / 2
+    faces = [
+        quad(p(-hw, h, -hd), p(-hw, h, hd), p(hw, h, hd), p(hw, h, -hd)),    # top (+Y)
+        quad(p(-hw, 0, hd), p(hw, 0, hd), p(hw, h, hd), p(-hw, h, hd)),      # +Z
+        quad(p(hw, 0, -hd), p(-hw, 0, -hd), p(-hw, h, -hd), p(hw, h, -hd)),  # -Z
+        quad(p(hw, 0, hd), p(hw, 0, -hd), p(hw, h, -hd), p(hw, h, hd)),      # +X
+        quad(p(-hw, 0, -hd), p(-hw, 0, hd), p(-hw, h, hd), p(-hw, h, -hd)),  # -X
+    ]
+    return merge(faces)
+
+
+class Gltf:
+    def __init__(self, generator, extensions=()):
+        self.blob = bytearray()
+        self.doc = {"asset": {"version": "2.0", "generator": generator}}
+        if extensions:
+            self.doc["extensionsUsed"] = list(extensions)
+        self.doc.update({"scene": 0, "scenes": [{"nodes": []}], "nodes": [], "meshes": [], "accessors": [],
+                         "bufferViews": [], "materials": []})
+        self.material_index = {}
+
+    def materials(self, materials):
+        for name, m in materials.items():
+            self.material_index[name] = len(self.doc["materials"])
+            self.doc["materials"].append(dict(name=name, **m))
+
+    def _view(self, data, target):
+        while len(self.blob) % 4:
+            self.blob.append(0)
+        self.doc["bufferViews"].append({"buffer": 0, "byteOffset": len(self.blob), "byteLength": len(data),
+                                        "target": target})
+        self.blob.extend(data)
+        return len(self.doc["bufferViews"]) - 1
+
+    def _accessor(self, values, fmt, comp, kind, target, minmax=False):
+        flat = [x for v in values for x in (v if isinstance(v, tuple) else (v,))]
+        view = self._view(struct.pack("<%d%s" % (len(flat), fmt), *flat), target)
+        acc = {"bufferView": view, "componentType": comp, "count": len(values), "type": kind}
+        if minmax:
+            acc["min"] = [min(v[i] for v in values) for i in range(3)]
+            acc["max"] = [max(v[i] for v in values) for i in range(3)]
+        self.doc["accessors"].append(acc)
+        return len(self.doc["accessors"]) - 1
+
+    def mesh(self, name, geometry, material):
+        """A mesh of one primitive and the node that places it (at the origin)."""
+        pos, nrm, idx = geometry
+        p = self._accessor(pos, "f", 5126, "VEC3", 34962, minmax=True)
+        n = self._accessor(nrm, "f", 5126, "VEC3", 34962)
+        wide = len(pos) > 65535
+        i = self._accessor(idx, "I" if wide else "H", 5125 if wide else 5123, "SCALAR", 34963)
+        self.doc["meshes"].append({"name": name, "primitives": [
+            {"attributes": {"POSITION": p, "NORMAL": n}, "indices": i, "material": self.material_index[material]}]})
+        self.doc["nodes"].append({"name": name, "mesh": len(self.doc["meshes"]) - 1})
+
+    def node(self, node):
+        self.doc["nodes"].append(node)
+
+    def write(self, directory, stem):
+        """Writes DIRECTORY/STEM.gltf and STEM.bin, every node in the scene."""
+        self.doc["scenes"][0]["nodes"] = list(range(len(self.doc["nodes"])))
+        self.doc["buffers"] = [{"byteLength": len(self.blob), "uri": stem + ".bin"}]
+        os.makedirs(directory, exist_ok=True)
+        with open(os.path.join(directory, stem + ".bin"), "wb") as f:
+            f.write(self.blob)
+        with open(os.path.join(directory, stem + ".gltf"), "w") as f:
+            json.dump(self.doc, f, indent=1)
+            f.write("\n")
+        print("wrote", os.path.join(directory, stem + ".gltf"), len(self.blob), "bytes of geometry")

@@ -1,0 +1,59 @@
+#!/usr/bin/env python3
+"""Writes assets/light_hall/light_hall.gltf: a hall lit by 256 small point lights (issue 31's many-light scene).
+
+A closed 12 x 5 x 24 m hall (floor at y = 0, x in [-6, 6], z in [-24, 0]; every surface faces inwards),
+a red-brown left wall and a blue right wall to bleed colour, two rows of six pillars, and 256 warm point
+lights (KHR_lights_punctual) on a 16 x 16 grid 0.4 m under the ceiling, 0.75 cd each (192 cd in all).
+The camera stands at the near end, 1.7 m up, looking down the hall (-Z). Metres, Y up.
+Only the Python standard library is used; the output is committed.
+"""
+import os
+
+from gltf_writer import Gltf, block, quad
+
+here = os.path.dirname(os.path.abspath(__file__))
+WIDTH, HEIGHT, LENGTH = 12.0, 5.0, 24.0
+X0, X1, Z0, Z1 = -WIDTH / 2, WIDTH / 2, -LENGTH, 0.0
+LIGHTS_X, LIGHTS_Z = 16, 16
+CANDELA = 0.75
+COLOUR = [1.0, 0.85, 0.7]
+
+meshes = {
+    "floor": (quad((X0, 0, Z1), (X1, 0, Z1), (X1, 0, Z0), (X0, 0, Z0)), "floor"),
+    "ceiling": (quad((X0, HEIGHT, Z0), (X1, HEIGHT, Z0), (X1, HEIGHT, Z1), (X0, HEIGHT, Z1)), "white"),
+    "far_wall": (quad((X0, 0, Z0), (X1, 0, Z0), (X1, HEIGHT, Z0), (X0, HEIGHT, Z0)), "white"),
+    "near_wall": (quad((X1, 0, Z1), (X0, 0, Z1), (X0, HEIGHT, Z1), (X1, HEIGHT, Z1)), "white"),
+    "left_wall": (quad((X0, 0, Z1), (X0, 0, Z0), (X0, HEIGHT, Z0), (X0, HEIGHT, Z1)), "red"),
+    "right_wall": (quad((X1, 0, Z0), (X1, 0, Z1), (X1, HEIGHT, Z1), (X1, HEIGHT, Z0)), "blue"),
+}
+for row, x in (("left", -3.0), ("right", 3.0)):
+    for k in range(6):
+        meshes[f"pillar_{row}_{k}"] = (block(x, -3.5 - 3.4 * k, 0.6, HEIGHT, 0.6, 0.0), "stone")
+
+materials = {
+    "floor": {"pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1], "metallicFactor": 0, "roughnessFactor": 1}},
+    "white": {"pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.8, 0.8, 1], "metallicFactor": 0, "roughnessFactor": 1}},
+    "red": {"pbrMetallicRoughness": {"baseColorFactor": [0.6, 0.2, 0.12, 1], "metallicFactor": 0, "roughnessFactor": 1}},
+    "blue": {"pbrMetallicRoughness": {"baseColorFactor": [0.12, 0.25, 0.6, 1], "metallicFactor": 0, "roughnessFactor": 1}},
+    "stone": {"pbrMetallicRoughness": {"baseColorFactor": [0.7, 0.65, 0.55, 1], "metallicFactor": 0, "roughnessFactor": 1}},
+}
+
+gltf = Gltf("assets/make_light_hall.py", ["KHR_lights_punctual"])
+gltf.materials(materials)
+for name, (geometry, material) in meshes.items():
+    gltf.mesh(name, geometry, material)
+
+lights = []
+for j in range(LIGHTS_Z):
+    for i in range(LIGHTS_X):
+        x = X0 + (i + 0.5) * WIDTH / LIGHTS_X
+        z = Z0 + (j + 0.5) * LENGTH / LIGHTS_Z
+        gltf.node({"name": f"lamp_{j}_{i}", "translation": [round(x, 4), HEIGHT - 0.4, round(z, 4)],
+                   "extensions": {"KHR_lights_punctual": {"light": len(lights)}}})
+        lights.append({"name": f"lamp_{j}_{i}", "type": "point", "color": COLOUR, "intensity": CANDELA})
+gltf.doc["extensions"] = {"KHR_lights_punctual": {"lights": lights}}
+
+gltf.doc["cameras"] = [{"type": "perspective", "name": "entrance",
+                        "perspective": {"yfov": 1.0, "aspectRatio": 16 / 9, "znear": 0.05, "zfar": 100.0}}]
+gltf.node({"name": "entrance", "camera": 0, "translation": [0.0, 1.7, -0.5]})
+gltf.write(os.path.join(here, "light_hall"), "light_hall")
