@@ -353,8 +353,9 @@ def lights(path):
     print("|---|" + "---|" * (2 * len(methods) + 1))
     for n, at in by.items():
         ms = " | ".join(f"{float(at[m]['gpu_ms_per_frame']):.1f}" for m in methods)
+        # Another scene (the hall) is not compared with Conference's 4 lights.
         ratio = " | ".join(f"{float(at[m]['gpu_ms_per_frame']) / float(by['4'][m]['gpu_ms_per_frame']):.2f}×"
-                           for m in methods)
+                           if n.isdigit() else "–" for m in methods)
         print(f"| {n} | {ms} | {int(at[methods[0]]['rays_per_frame']):,} | {ratio} |")
 
 
