@@ -20,9 +20,10 @@ void main() {
   vec4 centre = imageLoad(filterPosition, p);
   vec4 source = pc.vertical == 0u ? imageLoad(filterInput, p) : imageLoad(filterTemp, p);
   vec3 result = source.rgb;
-  float beta = pc.vertical == 0u ? imageLoad(filterParams, p).w : source.w;  // metres
-  if (centre.w > 0.0 && beta > 0.0) {
-    const float width = beta / pc.positionScale;  // β in the position image's units, as the distances below
+  // β in the position image's units, as the distances below: the params hold metres, and the row pass
+  // hands the converted value on in the temporary image's alpha (which may be half floats).
+  const float width = pc.vertical == 0u ? imageLoad(filterParams, p).w / pc.positionScale : source.w;
+  if (centre.w > 0.0 && width > 0.0) {
     vec3 n = imageLoad(filterGuidance, p).xyz * 2.0 - 1.0;
     float pixel = centre.w * pc.pixelScale;
     // 3σ in pixels of frontal size: along a foreshortened surface a pixel spans more, so this reaches at least 3σ.
@@ -48,6 +49,6 @@ void main() {
     }
     result = weightSum > 0.0 ? sum / weightSum : source.rgb;
   }
-  if (pc.vertical == 0u) imageStore(filterTemp, p, vec4(result, beta));
+  if (pc.vertical == 0u) imageStore(filterTemp, p, vec4(result, width));
   else filterStoreOutput(p, result, pc.encoding);
 }

@@ -12,7 +12,7 @@ layout(set = 0, binding = FILTER_BINDING_POSITION) uniform image2D filterPositio
 layout(set = 0, binding = FILTER_BINDING_INPUT) uniform image2D filterInput;
 layout(set = 0, binding = FILTER_BINDING_OUTPUT) uniform image2D filterOutput;  // formatless (FilterOutputEncoding)
 layout(set = 0, binding = FILTER_BINDING_A, rgba32f) uniform image2D filterA[FILTER_STACK];
-layout(set = 0, binding = FILTER_BINDING_TEMP, rgba32f) uniform image2D filterTemp;
+layout(set = 0, binding = FILTER_BINDING_TEMP) uniform image2D filterTemp;  // formatless: half or single floats
 layout(set = 0, binding = FILTER_BINDING_PARAMS, rgba32f) uniform image2D filterParams;
 
 ivec2 filterSize() { return imageSize(filterInput); }

@@ -31,15 +31,15 @@ layout(set = 1, binding = GI_BINDING_COUNTERS, scalar) buffer GiCountersBlock { 
 layout(set = 1, binding = GI_BINDING_NOISY_INDIRECT) uniform image2D giNoisyIndirect;  // formatless: may alias an output
 layout(set = 1, binding = GI_BINDING_GUIDANCE, rgba16f) uniform image2D giGuidance;
 layout(set = 1, binding = GI_BINDING_POSITION, rgba16f) uniform image2D giPosition;
-layout(set = 1, binding = GI_BINDING_DEBUG, rgba32f) uniform image2D giDebug;
+layout(set = 1, binding = GI_BINDING_DEBUG) uniform image2D giDebug;  // formatless: half floats as à-trous's and AAF's temporary
 layout(set = 1, binding = GI_BINDING_AAF_PARAMS, rgba32f) uniform image2D giAafParams;
 layout(set = 1, binding = GI_BINDING_AAF_SUM, rgba32f) uniform image2D giAafSum;
 layout(set = 1, binding = GI_BINDING_AAF_GLOSSY, rgba32f) uniform image2D giAafGlossy;
 layout(set = 1, binding = GI_BINDING_AAF_GLOSSY_EDGE, rgba32f) uniform image2D giAafGlossyEdge;
 layout(set = 1, binding = GI_BINDING_HISTORY_DIRECT_B) uniform image2D giHistoryDirectB;
 layout(set = 1, binding = GI_BINDING_HISTORY_INDIRECT_B) uniform image2D giHistoryIndirectB;
-layout(set = 1, binding = GI_BINDING_HISTORY_GUIDE_A, rgba16f) uniform image2D giHistoryGuideA;
-layout(set = 1, binding = GI_BINDING_HISTORY_GUIDE_B, rgba16f) uniform image2D giHistoryGuideB;
+layout(set = 1, binding = GI_BINDING_HISTORY_GUIDE_A, r32ui) uniform uimage2D giHistoryGuideA;  // temporal.glsl's giPackGuide
+layout(set = 1, binding = GI_BINDING_HISTORY_GUIDE_B, r32ui) uniform uimage2D giHistoryGuideB;
 layout(set = 1, binding = GI_BINDING_SVGF_MOMENTS_A, rgba32f) uniform image2D giSvgfMomentsA;
 layout(set = 1, binding = GI_BINDING_SVGF_MOMENTS_B, rgba32f) uniform image2D giSvgfMomentsB;
 layout(set = 1, binding = GI_BINDING_SVGF_DIRECT_PING, rgba32f) uniform image2D giSvgfDirectPing;

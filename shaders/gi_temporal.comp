@@ -58,11 +58,11 @@ void write(ivec2 p, vec3 direct, vec3 indirect, float frames, vec3 n, float dept
   if (pc.parity == 0u) {
     giStoreHistoryDirectB(p, direct, frames);
     giStoreHistoryIndirectB(p, indirect, 1.0);
-    imageStore(giHistoryGuideB, p, vec4(n, depth / giFrame.depthScale));
+    imageStore(giHistoryGuideB, p, uvec4(giPackGuide(n, depth / giFrame.depthScale)));
   } else {
     giStoreHistoryDirect(p, direct, frames);
     giStoreHistoryIndirect(p, indirect, 1.0);
-    imageStore(giHistoryGuideA, p, vec4(n, depth / giFrame.depthScale));
+    imageStore(giHistoryGuideA, p, uvec4(giPackGuide(n, depth / giFrame.depthScale)));
   }
 }
 

@@ -33,8 +33,21 @@ bool giDepthAgrees(float stored, float expected, float tolerance) {
 }
 
 // Last frame's guide (unit normal, view depth / depthScale) in the set the temporal pass reads (`parity`).
+// A history guide texel (r32ui): the unit normal octahedral in 2 × 8 bits
+// (about half a degree) and view depth / depthScale as a half float, what a
+// comparison to a tolerance of several per cent needs. Background: 0.
+uint giPackGuide(vec3 n, float scaledDepth) {
+  if (!(scaledDepth > 0.0)) return 0u;
+  const uvec2 e = uvec2(round((giOctahedralEncode(n) * 0.5 + 0.5) * 255.0));
+  return (packHalf2x16(vec2(scaledDepth, 0.0)) & 0xffffu) | (e.x << 16u) | (e.y << 24u);
+}
+vec4 giUnpackGuide(uint v) {
+  if (v == 0u) return vec4(0.0);
+  const vec2 e = vec2(uvec2(v >> 16u, v >> 24u) & 255u) / 255.0 * 2.0 - 1.0;
+  return vec4(normalize(giOctahedralDecode(e)), unpackHalf2x16(v).x);
+}
 vec4 giPreviousGuide(ivec2 q, uint parity) {
-  return parity == 0u ? imageLoad(giHistoryGuideA, q) : imageLoad(giHistoryGuideB, q);
+  return giUnpackGuide(parity == 0u ? imageLoad(giHistoryGuideA, q).x : imageLoad(giHistoryGuideB, q).x);
 }
 
 // Whether last frame's texel q saw this pixel's surface: its normal within

@@ -27,8 +27,13 @@ struct SizedImage {
   VkFormat format = kImageFormat;
   uint32_t tile = 1;  // pixels per texel along each axis
 };
-// Normal and view depth compared to a tolerance of several per cent: half floats hold them.
-constexpr VkFormat kGuideFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
+// Normal and view depth compared to a tolerance of several per cent: packed in 32 bits (temporal.glsl's
+// giPackGuide: octahedral normal 2 × 8 bits, depth a half float).
+constexpr VkFormat kGuideFormat = VK_FORMAT_R32_UINT;
+// The debug views' data, or the filters' temporary image where a method writes it: half floats for
+// à-trous (light in the noisy image's units) and AAF (light, and β in the position image's units),
+// single floats for the views (hash keys, counts). Resolved by imageFormat(); a marker, not a format.
+constexpr VkFormat kFilterTempFormat = VK_FORMAT_MAX_ENUM;
 // Half floats for the screen filters' guidance: its normal in [0,1] and depth over the scene extent,
 // positions relative to the camera over the scene extent (gi_guidance.comp).
 constexpr VkFormat kHalf = VK_FORMAT_R16G16B16A16_SFLOAT;
@@ -45,7 +50,7 @@ constexpr SizedImage kSizedImages[] = {
     {&SizedResources::noisyIndirect, gpu::GI_BINDING_NOISY_INDIRECT, kFrame, kRadianceHistory},
     {&SizedResources::guidance, gpu::GI_BINDING_GUIDANCE, kFrame, kHalf},
     {&SizedResources::position, gpu::GI_BINDING_POSITION, kFrame, kHalf},
-    {&SizedResources::debug, gpu::GI_BINDING_DEBUG, kFrame},
+    {&SizedResources::debug, gpu::GI_BINDING_DEBUG, kFrame, kFilterTempFormat},
     {&SizedResources::aafParams, gpu::GI_BINDING_AAF_PARAMS, kFrame},
     {&SizedResources::aafSum, gpu::GI_BINDING_AAF_SUM, kFrame},
     {&SizedResources::aafGlossy, gpu::GI_BINDING_AAF_GLOSSY, kFrame},
@@ -68,8 +73,8 @@ constexpr SizedImage kSizedImages[] = {
     {&SizedResources::historyPacked, gpu::GI_BINDING_HISTORY_PACKED, kHistory, VK_FORMAT_R32G32_UINT},
 };
 // Beyond the image bits: which screen filters exist.
-static_assert(std::size(kSizedImages) <= 27, "the image bits stay below the flags");
-constexpr uint32_t kFullPrecisionHistory = 1u << 27;
+static_assert(std::size(kSizedImages) <= 26, "the image bits stay below the flags");
+constexpr uint32_t kHalfFilterTemp = 1u << 26, kFullPrecisionHistory = 1u << 27;
 constexpr uint32_t kNeedsFilters = 1u << 28, kNeedsGuidedStack = 1u << 29, kNeedsGlossySets = 1u << 30;
 // The hash methods' per-pixel sample goes straight into the indirect output,
 // which the lookup then overwrites pixel by pixel: set 1's noisy-indirect
@@ -128,7 +133,7 @@ uint32_t sizedResourcesNeeded(const Module& m, const Settings& s) {
   if (usesScreenFilters(s.method)) need |= bit(&SizedResources::guidance) | bit(&SizedResources::position);
   // The filters' temp image (set 1's debug image): à-trous ping-pongs through it and AAF's row pass writes
   // it; gif writes it only for its coefficient view, bilateral and sspsf never.
-  if (s.method == Method::Atrous || isAaf(s.method)) need |= bit(&SizedResources::debug);
+  if (s.method == Method::Atrous || isAaf(s.method)) need |= bit(&SizedResources::debug) | kHalfFilterTemp;
   // The hash lookup leaves its data for any debug view (the hash views read it).
   if (usesHashGrid(s.method) && s.debugView != DebugView::None) need |= bit(&SizedResources::debug);
   if (s.method == Method::Svgf)
@@ -172,6 +177,8 @@ uint32_t sizedResourcesNeeded(const Module& m, const Settings& s) {
 namespace {
 
 VkFormat imageFormat(const Module& m, const SizedImage& image, uint32_t needs) {
+  if (image.format == kFilterTempFormat)
+    return needs & kHalfFilterTemp ? VK_FORMAT_R16G16B16A16_SFLOAT : VK_FORMAT_R32G32B32A32_SFLOAT;
   if (image.format != kRadianceHistory) return image.format;
   return needs & kFullPrecisionHistory ? VK_FORMAT_R32G32B32A32_SFLOAT : m.desc.historyFormat;
 }
