@@ -45,6 +45,11 @@ def rows(path):
         return list(csv.DictReader(f))
 
 
+def named(pairs):
+    """NAME DIR NAME DIR ... as (name, directory) pairs."""
+    return zip(pairs[::2], pairs[1::2])
+
+
 def tracing_ms(row):
     mrays = float(row["mrays_per_s"])
     return float(row["rays"]) / (mrays * 1e3) if mrays > 0 else 0.0
@@ -72,7 +77,7 @@ def frames(ks, pairs, column="mse"):
     ks = [int(k) for k in ks.split(",")]
     print("| scene | configuration | " + " | ".join(f"k = {k}" for k in ks) + " |")
     print("|---|---|" + "---|" * len(ks))
-    for name, directory in zip(pairs[::2], pairs[1::2]):
+    for name, directory in named(pairs):
         for label, series in series_by_label(directory).items():
             cells = []
             for k in ks:
@@ -118,7 +123,7 @@ def walk(directory, raw64=None):
 
 def walk_best(pairs, budget=1.5):
     """Per scene, the lowest final relMSE at 1 spp within `budget` x raw's 1-spp time, against raw at 64 spp."""
-    for directory, raw64 in zip(pairs[::2], pairs[1::2]):
+    for directory, raw64 in named(pairs):
         rows_ = rows(f"{directory}/results.csv")
         base = float(next(r for r in rows_ if r["label"].startswith("raw spp=1 raw.temporal=0"))["total_ms"])
         within = [r for r in rows_ if not r["label"].startswith("raw ") and float(r["total_ms"]) <= budget * base]
@@ -133,7 +138,7 @@ def hashdirect(pairs):
     """The hash methods' direct history: off, hpsf.temporal, + hpsf.temporal_indirect (args: NAME DIR ...)."""
     print("| scene | method | off | `hpsf.temporal` (default) | + `hpsf.temporal_indirect` | ms off → default → + indirect |")
     print("|---|---|---|---|---|---|")
-    for name, directory in zip(pairs[::2], pairs[1::2]):
+    for name, directory in named(pairs):
         name = name.replace("_", " ")  # names travel as one argument
         rows_ = rows(f"{directory}/results.csv")
         for method in dict.fromkeys(r["method"] for r in rows_):
@@ -222,7 +227,7 @@ def gif_order(pairs):
     paper = ["gif", "bilateral", "atrous", "raw"]
     print("| scene, spp | gif | bilateral | à-trous | raw | order |")
     print("|---|---|---|---|---|---|")
-    for name, directory in zip(pairs[::2], pairs[1::2]):
+    for name, directory in named(pairs):
         by = {r["label"]: float(r["mse_indirect"]) for r in rows(f"{directory}/results.csv")}
         for spp in (1, 4):
             mse = {m: by[f"raw spp={spp}" if m == "raw" else f"{m} {m}.spp={spp}"] for m in paper}
@@ -251,7 +256,7 @@ def aaf_cost(pairs):
     print("| scene | frame ms | pass 1 + pass 2 (tracing) ms | filter ms (guidance + 2 Gaussian passes) | filter share "
           "| speed-up final / indirect |")
     print("|---|---|---|---|---|---|")
-    for name, directory in zip(pairs[::2], pairs[1::2]):
+    for name, directory in named(pairs):
         r = next(r for r in rows(f"{directory}/results.csv") if r["label"] == "aaf")
         total = float(r["total_ms"])
         tracing = pass_ms(r, "aaf_sample") + pass_ms(r, "aaf_adaptive")
@@ -264,7 +269,7 @@ def aaf_fig10(pairs):
     """Filtered adaptive against filtered uniform sampling (scripts/bench fig10; args: NAME DIR ...)."""
     print("| scene | μ | mean spp, adaptive / uniform | indirect MSE, adaptive | indirect MSE, uniform | uniform / adaptive |")
     print("|---|---|---|---|---|---|")
-    for name, directory in zip(pairs[::2], pairs[1::2]):
+    for name, directory in named(pairs):
         for r in rows(f"{directory}/fig10.csv"):
             a, u = float(r["mse_indirect_adaptive"]), float(r["mse_indirect_uniform"])
             print(f"| {name} | {r['mu']} | {r['spp_adaptive']} / {r['spp_uniform']} | {a:.2e} | {u:.2e} | {u / a:.2f} |")
@@ -275,7 +280,7 @@ def settings_at_frame(k, pairs):
     after frame K of the run's series and the map's occupancy then."""
     print(f"| setting | final MSE, frame {k} | indirect | occupancy |")
     print("|---|---|---|---|")
-    for key, directory in zip(pairs[::2], pairs[1::2]):
+    for key, directory in named(pairs):
         for label, series in series_by_label(directory).items():
             r = series[int(k)]
             value = label.split(f"{key}=")[1].split()[0]
@@ -290,7 +295,7 @@ def deviations(pairs):
     print("| scene | secondary LOD | history samples | nhpsf indirect MSE k = 32 / 64 | nhpsf light k = 32 / 64 "
           "| anhpsf indirect MSE k = 32 / 64 | anhpsf light k = 32 / 64 |")
     print("|---|---|---|---|---|---|---|")
-    for name, directory in zip(pairs[::2], pairs[1::2]):
+    for name, directory in named(pairs):
         series = series_by_label(directory)
         for history in ("0", "8"):
             for lod in ("0", "1", "2"):
@@ -329,7 +334,7 @@ def hash_passes(pairs):
     print("| scene | hpsf: insert / resolve / lookup of frame | nhpsf: paths / resolve / lookup "
           "| anhpsf: paths / resolve / lookup |")
     print("|---|---|---|---|")
-    for name, directory in zip(pairs[::2], pairs[1::2]):
+    for name, directory in named(pairs):
         by = {r["method"]: r for r in rows(f"{directory}/results.csv")}
         cells = []
         for method, trace in tracing.items():
@@ -432,7 +437,7 @@ def error_at_frames(pairs, ks=(1, 4, 8, 32, 64)):
     """Final / indirect MSE after frame k of each run's series, its light at 32 and 64, its ms (args: NAME DIR ...)."""
     print("| scene | method | " + " | ".join(f"k = {k}" for k in ks) + " | light at k = 32 / 64 | frame ms |")
     print("|---|---|" + "---|" * len(ks) + "---|---|")
-    for name, directory in zip(pairs[::2], pairs[1::2]):
+    for name, directory in named(pairs):
         series = rows(f"{directory}/series.csv")
         for result in rows(f"{directory}/results.csv"):
             mine = {int(r["frame"]): r for r in series if r["label"] == result["label"]}
@@ -446,7 +451,7 @@ def hpsf_frames(pairs, ks=(1, 4, 8, 32)):
     policy = {"hpsf spp=1 hpsf.aging=0": "hpsf, strict", "hpsf spp=1 hpsf.aging=1": "hpsf, aging", "sspsf spp=1": "sspsf"}
     print("| scene | method | " + " | ".join(f"k = {k}" for k in ks) + " | hash occupancy |")
     print("|---|---|" + "---|" * len(ks) + "---|")
-    for name, directory in zip(pairs[::2], pairs[1::2]):
+    for name, directory in named(pairs):
         series = rows(f"{directory}/series.csv")
         for result in rows(f"{directory}/results.csv"):
             mine = {int(r["frame"]): r for r in series if r["label"] == result["label"]}
@@ -463,7 +468,7 @@ def sweep(key, pairs):
     """A setting swept per method (args: KEY NAME DIR ...): final relMSE per value and against the first,
     the flicker and the composite pass's ms from the first value to the second, one scene after another."""
     header = None
-    for name, directory in zip(pairs[::2], pairs[1::2]):
+    for name, directory in named(pairs):
         by_method = {}
         for r in rows(f"{directory}/results.csv"):
             value = r["label"].split(f"{key}=")[1].split()[0]
@@ -602,74 +607,49 @@ def blocks(path, write):
     return stale, len(BLOCK.findall(text))
 
 
+# Each table kind and how it takes its arguments (the words after the kind in a generated block's marker).
+KINDS = {
+    "trade": lambda a: trade(a[0]),
+    "frames": lambda a: frames(a[0], a[1:]),
+    "indirect": lambda a: indirect(a[0], a[1]),
+    "move": lambda a: move(a[0]),
+    "walk": lambda a: walk(a[0], a[1] if len(a) > 1 else None),
+    "walk_best": walk_best,
+    "hashdirect": hashdirect,
+    "spikes": lambda a: spikes(a[0], a[1], a[2:]),
+    # A table a test wrote, committed as it came (tests/extremes_test.cpp: extremes.md).
+    "file": lambda a: print(open(a[0], encoding="utf-8").read().strip()),
+    "memory": lambda a: memory(a[0], a[1]),
+    "gif_order": gif_order,
+    "filter_cost": lambda a: filter_cost(a[0]),
+    "aaf_cost": aaf_cost,
+    "aaf_fig10": aaf_fig10,
+    "settings_at_frame": lambda a: settings_at_frame(a[0], a[1:]),
+    "deviations": deviations,
+    "light_at_frame": lambda a: light_at_frame(a[0], a[1], a[2:]),
+    "hash_passes": hash_passes,
+    "per_frame": lambda a: per_frame(a[0], a[1]),
+    "pathtracer": lambda a: pathtracer(a[0]),
+    "lights": lambda a: lights(a[0]),
+    "ab": lambda a: ab(a[0], a[1], a[2], a[3:]),
+    "moving": lambda a: moving(a[0], int(a[1]), a[2:]),
+    "rays": lambda a: rays(a[0]),
+    "error_at_frames": error_at_frames,
+    "hpsf_frames": hpsf_frames,
+    "sweep": lambda a: sweep(a[0], a[1:]),
+    "coldstart": lambda a: coldstart(a[0], a[1]),
+    "programs": programs,
+    "switch": lambda a: switch(a[0]),
+    "warm": lambda a: warm(a[0], a[1]),
+    "speedups": lambda a: speedups(a[0], a[1:]),
+    "demo": lambda a: demo(a[0]),
+}
+
+
 def run(argv):
     kind = argv[0]
-    if kind == "trade":
-        trade(argv[1])
-    elif kind == "frames":
-        frames(argv[1], argv[2:])
-    elif kind == "indirect":
-        indirect(argv[1], argv[2])
-    elif kind == "move":
-        move(argv[1])
-    elif kind == "walk":
-        walk(argv[1], argv[2] if len(argv) > 2 else None)
-    elif kind == "walk_best":
-        walk_best(argv[1:])
-    elif kind == "hashdirect":
-        hashdirect(argv[1:])
-    elif kind == "spikes":
-        spikes(argv[1], argv[2], argv[3:])
-    elif kind == "file":  # a table a test wrote, committed as it came (tests/extremes_test.cpp: extremes.md)
-        print(open(argv[1], encoding="utf-8").read().strip())
-    elif kind == "memory":
-        memory(argv[1], argv[2])
-    elif kind == "gif_order":
-        gif_order(argv[1:])
-    elif kind == "filter_cost":
-        filter_cost(argv[1])
-    elif kind == "aaf_cost":
-        aaf_cost(argv[1:])
-    elif kind == "aaf_fig10":
-        aaf_fig10(argv[1:])
-    elif kind == "settings_at_frame":
-        settings_at_frame(argv[1], argv[2:])
-    elif kind == "deviations":
-        deviations(argv[1:])
-    elif kind == "light_at_frame":
-        light_at_frame(argv[1], argv[2], argv[3:])
-    elif kind == "hash_passes":
-        hash_passes(argv[1:])
-    elif kind == "per_frame":
-        per_frame(argv[1], argv[2])
-    elif kind == "pathtracer":
-        pathtracer(argv[1])
-    elif kind == "lights":
-        lights(argv[1])
-    elif kind == "ab":
-        ab(argv[1], argv[2], argv[3], argv[4:])
-    elif kind == "moving":
-        moving(argv[1], int(argv[2]), argv[3:])
-    elif kind == "rays":
-        rays(argv[1])
-    elif kind == "error_at_frames":
-        error_at_frames(argv[1:])
-    elif kind == "hpsf_frames":
-        hpsf_frames(argv[1:])
-    elif kind == "sweep":
-        sweep(argv[1], argv[2:])
-    elif kind == "coldstart":
-        coldstart(argv[1], argv[2])
-    elif kind == "programs":
-        programs(argv[1:])
-    elif kind == "switch":
-        switch(argv[1])
-    elif kind == "warm":
-        warm(argv[1], argv[2])
-    elif kind == "speedups":
-        speedups(argv[1], argv[2:])
-    elif kind == "demo":
-        demo(argv[1])
+    if kind in KINDS:
+        KINDS[kind](argv[1:])
     elif kind in ("check", "write"):
         failed = False
         for path in argv[1:]:
