@@ -56,7 +56,7 @@ TEST_F(ModuleMemoryTest, EveryMethodAt1080pHoldsWhatTheMemoryTableSays) {
     settings.method = info.method;
     gi::Module* m = nullptr;
     ASSERT_FALSE(gi::create(tools::moduleDesc(ctx, s.gpu, {1920, 1080}), settings, m));
-    const uint64_t held = m->gpu.memory.held, used = m->gpu.memory.used, transient = gi::frameImageBytes(m->sized);
+    const uint64_t held = m->gpu.memory.held, used = m->gpu.memory.used, transient = m->sized.frameBytes;
     std::printf("%-9s held %.1f MB (table %.1f), used %.1f (%.1f), transient %.1f (%.1f)\n", info.name, held * 1e-6,
                 row.held * 1e-6, used * 1e-6, row.used * 1e-6, transient * 1e-6, row.transient * 1e-6);
     EXPECT_NEAR(double(held), double(row.held), double(kSlack));

@@ -49,6 +49,14 @@ uint32_t aafSampleBudget(const Module& m, uint32_t slot) {
 // positive and finite).
 float radianceScale(const Module& m) { return 1.0f / m.desc.scene.typicalRadiance; }
 
+// The largest finite value an image of `format` holds: stores clamp to it (a half float overflows to Inf).
+float largestFinite(VkFormat format) { return format == VK_FORMAT_R16G16B16A16_SFLOAT ? 65504.0f : FLT_MAX; }
+// What the module's own light images hold per unit of radiance: half floats radiance over the scene's
+// typical radiance (in range at any scene brightness), single floats radiance as it is.
+float lightScale(const Module& m, VkFormat format) {
+  return format == VK_FORMAT_R16G16B16A16_SFLOAT ? radianceScale(m) : 1.0f;
+}
+
 // One pass of the frame script: label and timestamps around a dispatch and
 // the barrier that publishes its writes to the next compute pass.
 void runPass(Module& m, VkCommandBuffer cmd, uint32_t slot, Pass name, const vk::ComputeProgram& program,
@@ -254,9 +262,9 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
 
   // Outputs hold radiance × pre-exposure (aaf_ao's hold ratios in [0,1]), clamped into their format.
   const float outputScale = outputScales(s, in.preExposure).indirect;
-  const float outputMax = m.desc.outputFormat == VK_FORMAT_R16G16B16A16_SFLOAT ? 65504.0f : FLT_MAX;
+  const float outputMax = largestFinite(m.desc.outputFormat);
   const bool noisyIsOutput = noisyAliasesIndirect(m.sized);
-  const bool halfHistories = halfFloatHistories(m.sized), halfNoisy = halfFloatNoisy(m.sized);
+  const VkFormat noisyFormat = m.sized.noisyIndirect.format, historyFormat = m.sized.historyDirect.format;
   gpu::GiFrameConstants frame{camera,
                               gpuCamera(in.previousCamera, in.previousCamera, m.width, m.height),
                               {m.width, m.height},
@@ -264,10 +272,10 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
                               std::max(m.desc.scene.extent, 1e-6f),
                               outputScale,
                               outputMax,
-                              noisyIsOutput ? outputScale : halfNoisy ? radianceScale(m) : 1.0f,
-                              noisyIsOutput ? outputMax : halfNoisy ? 65504.0f : FLT_MAX,
-                              halfHistories ? radianceScale(m) : 1.0f,
-                              halfHistories ? 65504.0f : FLT_MAX,
+                              noisyIsOutput ? outputScale : lightScale(m, noisyFormat),
+                              noisyIsOutput ? outputMax : largestFinite(noisyFormat),
+                              lightScale(m, historyFormat),
+                              largestFinite(historyFormat),
                               0.0f,
                               0.0f,
                               glm::inverse(clipFromView(in.camera))};

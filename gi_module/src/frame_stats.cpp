@@ -37,7 +37,7 @@ bool readFrameStats(Module& m, uint32_t slot, FrameStats& st) {
   if (c.tracedSamples > 0 && pixels > 0) st.samplesPerPixel = (c.tracedSamples + pixels / 2) / pixels;  // AAF: mean
   st.memoryBytes = m.gpu.memory.held;
   st.memoryUsedBytes = m.gpu.memory.used;
-  st.memoryTransientBytes = frameImageBytes(m.sized);
+  st.memoryTransientBytes = m.sized.frameBytes;
   st.deviceAllocations = m.gpu.memory.allocations;
   if (usesHashGrid(fs.method) && m.hash.capacity) {
     gpu::HgTelemetry t = readHashGridTelemetry(m.hash, slot);

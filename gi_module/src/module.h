@@ -38,6 +38,7 @@ struct OutputImages {
 struct SizedResources {
   uint32_t width = 0, height = 0;
   uint32_t needs = 0;                             // sizedResourcesNeeded() it was built for
+  uint64_t frameBytes = 0;                        // the bytes of frameImages(), counted once they exist
   vk::Image historyDirect, historyIndirect;       // raw's still-camera mean; temporal reprojection's set A
   vk::Image historyDirectB, historyIndirectB;     // temporal reprojection's set B
   vk::Image historyGuideA, historyGuideB;         // temporal reprojection: each frame's normal and view depth
@@ -133,15 +134,10 @@ void recordFirstUse(const vk::Device& gpu, VkCommandBuffer cmd, OutputImages& ou
 vk::Status createOutputImages(vk::Device& gpu, uint32_t width, uint32_t height, VkFormat format, OutputImages& out);
 // The hash methods trace their noisy indirect straight into the indirect output (no image of its own).
 bool noisyAliasesIndirect(const SizedResources& r);
-// The radiance histories are half floats (ModuleDesc::historyFormat; never raw's running mean):
-// GiFrameConstants::historyScale.
-bool halfFloatHistories(const SizedResources& r);
-// The noisy indirect's own image is half floats (the same rule): GiFrameConstants::noisyScale.
-bool halfFloatNoisy(const SizedResources& r);
 // The images whose contents live within one frame (written before they are
-// read, every frame), and the bytes they occupy: FrameStats::memoryTransientBytes.
+// read, every frame); the bytes they occupy are SizedResources::frameBytes
+// (FrameStats::memoryTransientBytes).
 std::vector<const vk::Image*> frameImages(const SizedResources& r);
-uint64_t frameImageBytes(const SizedResources& r);
 void destroyOutputImages(vk::Device& gpu, OutputImages& images);
 // Hands `release` to the retire list: it runs once the frames recorded so far have completed.
 void retire(Module& m, std::function<void(vk::Device&)> release);

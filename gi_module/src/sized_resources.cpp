@@ -205,8 +205,6 @@ vk::Status createFilters(Module& m, const OutputImages& outputs, SizedResources&
 
 bool noisyAliasesIndirect(const SizedResources& r) { return (r.needs & kNoisyIsIndirect) != 0; }
 
-bool halfFloatHistories(const SizedResources& r) { return r.historyDirect.format == VK_FORMAT_R16G16B16A16_SFLOAT; }
-bool halfFloatNoisy(const SizedResources& r) { return r.noisyIndirect.format == VK_FORMAT_R16G16B16A16_SFLOAT; }
 
 std::vector<const vk::Image*> frameImages(const SizedResources& r) {
   std::vector<const vk::Image*> images;
@@ -215,12 +213,6 @@ std::vector<const vk::Image*> frameImages(const SizedResources& r) {
   for (const vk::Image& stack : r.filters.a)
     if (stack.image) images.push_back(&stack);
   return images;
-}
-
-uint64_t frameImageBytes(const SizedResources& r) {
-  uint64_t bytes = 0;
-  for (const vk::Image* image : frameImages(r)) bytes += image->memory.size;
-  return bytes;
 }
 
 vk::Status createOutputImages(vk::Device& gpu, uint32_t width, uint32_t height, VkFormat format, OutputImages& out) {
@@ -272,7 +264,9 @@ vk::Status createSizedResources(Module& m, const Settings& settings, uint32_t wi
       }
       w.write(m.gpu);
     }
-    return createFilters(m, outputs, r);
+    GI_TRY(createFilters(m, outputs, r));
+    for (const vk::Image* image : frameImages(r)) r.frameBytes += image->memory.size;
+    return vk::Status{};
   };
   if (vk::Status s = build()) {
     destroySizedResources(m.gpu, r);
