@@ -23,7 +23,7 @@ void accumulatedSpread(ivec2 p, out GiLuminanceSpread indirect, out GiLuminanceS
       if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, ivec2(giFrame.size))) || !giGbCoveredRaw(q)) continue;
       vec2 l;  // indirect, direct
       if ((pc.clampLight & GI_CLAMP_FROM_MOMENTS) != 0u)
-        l = (pc.temporalWritten == 0u ? imageLoad(giSvgfMomentsA, q) : imageLoad(giSvgfMomentsB, q)).zx;
+        l = giLoadMoments(pc.temporalWritten, q).mean.yx;
       else
         l = vec2(giLuminance(giLoadNoisy(q)), 0.0);
       sum += l;

@@ -40,13 +40,9 @@ layout(set = 1, binding = GI_BINDING_HISTORY_DIRECT_B) uniform image2D giHistory
 layout(set = 1, binding = GI_BINDING_HISTORY_INDIRECT_B) uniform image2D giHistoryIndirectB;
 layout(set = 1, binding = GI_BINDING_HISTORY_GUIDE_A, r32ui) uniform uimage2D giHistoryGuideA;  // temporal.glsl's giPackGuide
 layout(set = 1, binding = GI_BINDING_HISTORY_GUIDE_B, r32ui) uniform uimage2D giHistoryGuideB;
-layout(set = 1, binding = GI_BINDING_SVGF_MOMENTS_A, rgba32f) uniform image2D giSvgfMomentsA;
-layout(set = 1, binding = GI_BINDING_SVGF_MOMENTS_B, rgba32f) uniform image2D giSvgfMomentsB;
-layout(set = 1, binding = GI_BINDING_SVGF_DIRECT_PING, rgba32f) uniform image2D giSvgfDirectPing;
-layout(set = 1, binding = GI_BINDING_SVGF_INDIRECT_PING, rgba32f) uniform image2D giSvgfIndirectPing;
-layout(set = 1, binding = GI_BINDING_SVGF_DIRECT_PONG, rgba32f) uniform image2D giSvgfDirectPong;
-layout(set = 1, binding = GI_BINDING_SVGF_INDIRECT_PONG, rgba32f) uniform image2D giSvgfIndirectPong;
-layout(set = 1, binding = GI_BINDING_SVGF_GUIDE, rgba32f) uniform image2D giSvgfGuide;
+// svgf's moments are in the radiance histories' format: no format qualifier.
+layout(set = 1, binding = GI_BINDING_SVGF_MOMENTS_A) uniform image2D giSvgfMomentsA;
+layout(set = 1, binding = GI_BINDING_SVGF_MOMENTS_B) uniform image2D giSvgfMomentsB;
 layout(set = 1, binding = GI_BINDING_GRADIENT_SAMPLES_A, rgba32ui) uniform uimage2D giGradientSamplesA;
 layout(set = 1, binding = GI_BINDING_GRADIENT_SAMPLES_B, rgba32ui) uniform uimage2D giGradientSamplesB;
 layout(set = 1, binding = GI_BINDING_TEMPORAL_GRADIENT, rgba32f) uniform image2D giTemporalGradient;
@@ -87,6 +83,26 @@ GI_HISTORY_ACCESS(HistoryDirect, giHistoryDirect)
 GI_HISTORY_ACCESS(HistoryIndirect, giHistoryIndirect)
 GI_HISTORY_ACCESS(HistoryDirectB, giHistoryDirectB)
 GI_HISTORY_ACCESS(HistoryIndirectB, giHistoryIndirectB)
+
+// svgf's luminance moments of direct (x) and indirect (y) light: their mean and their variance about
+// it, not the mean square, in the histories' units (× historyScale, variance × historyScale²). A half
+// float keeps a variance of 1% of the squared mean to three digits; a mean square minus a squared mean
+// that close would cancel to nothing. Set 0 = A, 1 = B.
+struct GiMoments {
+  vec2 mean, variance;
+};
+GiMoments giLoadMoments(uint set, ivec2 q) {
+  const vec4 v = set == 0u ? imageLoad(giSvgfMomentsA, q) : imageLoad(giSvgfMomentsB, q);
+  const float s = giFrame.historyScale;
+  return GiMoments(v.xz / s, v.yw / (s * s));
+}
+void giStoreMoments(uint set, ivec2 p, GiMoments m) {
+  const float s = giFrame.historyScale, limit = giFrame.historyMax;
+  const vec2 mean = clamp(m.mean * s, vec2(-limit), vec2(limit)), variance = min(m.variance * s * s, vec2(limit));
+  const vec4 v = vec4(mean.x, variance.x, mean.y, variance.y);
+  if (set == 0u) imageStore(giSvgfMomentsA, p, v);
+  else imageStore(giSvgfMomentsB, p, v);
+}
 
 // --- The G-buffer decode: the only place that knows the engine's encodings.
 

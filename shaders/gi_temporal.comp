@@ -22,7 +22,7 @@ layout(push_constant, scalar) uniform Push { GiTemporalPush pc; };
 
 struct History {
   vec3 direct, indirect;
-  vec4 moments;  // svgf: luminance mean and mean square of direct (xy) and indirect (zw)
+  vec2 mean, square;  // svgf: luminance mean and mean square of direct (x) and indirect (y)
   float frames;  // 0: none
 };
 
@@ -40,13 +40,9 @@ HistoryTexel readTexel(ivec2 q) {
   return HistoryTexel(giPreviousGuide(q, pc.parity), pc.parity == 0u ? giLoadHistoryDirect(q) : giLoadHistoryDirectB(q));
 }
 vec4 readIndirect(ivec2 q) { return pc.parity == 0u ? giLoadHistoryIndirect(q) : giLoadHistoryIndirectB(q); }
-vec4 readMoments(ivec2 q) { return pc.parity == 0u ? imageLoad(giSvgfMomentsA, q) : imageLoad(giSvgfMomentsB, q); }
-// svgf: the luminance moments, and the guide its passes read (unit normal, view depth).
-void writeMoments(ivec2 p, vec4 moments, vec4 guide) {
-  if (pc.moments == 0u) return;
-  if (pc.parity == 0u) imageStore(giSvgfMomentsB, p, moments);
-  else imageStore(giSvgfMomentsA, p, moments);
-  imageStore(giSvgfGuide, p, guide);
+// svgf: the luminance moments, into the set this pass writes.
+void writeMoments(ivec2 p, GiMoments moments) {
+  if (pc.moments != 0u) giStoreMoments(1u - pc.parity, p, moments);
 }
 // The guide keeps view depth over the scene extent: half floats then hold it
 // at any scene scale (metres would overflow past 65504).
@@ -67,7 +63,7 @@ void write(ivec2 p, vec3 direct, vec3 indirect, float frames, vec3 n, float dept
 }
 
 History reproject(ivec2 p, vec3 n, float depth, vec3 world) {
-  History h = History(vec3(0.0), vec3(0.0), vec4(0.0), 0.0);
+  History h = History(vec3(0.0), vec3(0.0), vec2(0.0), vec2(0.0), 0.0);
   if (pc.reset != 0u) return h;
   // Continuous pixel coordinates in the previous frame, then its four nearest texel centres.
   const vec2 previous = vec2(p) + 0.5 + giGbMotionPixels(p) - 0.5;
@@ -86,15 +82,20 @@ History reproject(ivec2 p, vec3 n, float depth, vec3 world) {
       const vec4 direct = texel.direct;
       h.direct += w * direct.rgb;
       if (pc.directOnly == 0u) h.indirect += w * readIndirect(q).rgb;
-      if (pc.moments != 0u) h.moments += w * readMoments(q);
+      if (pc.moments != 0u) {
+        const GiMoments m = giLoadMoments(pc.parity, q);
+        h.mean += w * m.mean;
+        h.square += w * (m.variance + m.mean * m.mean);
+      }
       h.frames += w * direct.a;
       weights += w;
     }
   // Too little of the footprint survives: start over rather than trust one corner.
-  if (weights < 0.01) return History(vec3(0.0), vec3(0.0), vec4(0.0), 0.0);
+  if (weights < 0.01) return History(vec3(0.0), vec3(0.0), vec2(0.0), vec2(0.0), 0.0);
   h.direct /= weights;
   h.indirect /= weights;
-  h.moments /= weights;
+  h.mean /= weights;
+  h.square /= weights;
   h.frames /= weights;
   return h;
 }
@@ -104,7 +105,7 @@ void main() {
   if (any(greaterThanEqual(gl_GlobalInvocationID.xy, giFrame.size))) return;
   if (!giGbCovered(p)) {
     write(p, vec3(0.0), vec3(0.0), 0.0, vec3(0.0), 0.0);
-    writeMoments(p, vec4(0.0), vec4(0.0));
+    writeMoments(p, GiMoments(vec2(0.0), vec2(0.0)));
     return;
   }
   vec3 dir;
@@ -133,10 +134,10 @@ void main() {
       h.indirect = giClampLuminance(h.indirect, GiLuminanceSpread(spread.z, spread.w), pc.historyClamp);
   }
   const float lumDirect = giLuminance(direct), lumIndirect = giLuminance(indirect);
-  const vec4 moments = vec4(lumDirect, lumDirect * lumDirect, lumIndirect, lumIndirect * lumIndirect);
+  const vec2 luminance = vec2(lumDirect, lumIndirect);
   if (h.frames == 0.0) {  // no history: this frame's light stands as the trace wrote it
     write(p, direct, indirect, 1.0, n, depth);
-    writeMoments(p, moments, vec4(n, depth));
+    writeMoments(p, GiMoments(luminance, vec2(0.0)));
     return;
   }
   float frames = h.frames + 1.0;
@@ -149,8 +150,11 @@ void main() {
   const vec3 outIndirect = pc.directOnly != 0u ? indirect : mix(h.indirect, indirect, blends.y);
   write(p, outDirect, outIndirect, min(frames, 65536.0), n, depth);
   const vec2 momentsBlends = mix(vec2(momentsBlend), vec2(1.0), lambda);
-  writeMoments(p, vec4(mix(h.moments.xy, moments.xy, momentsBlends.x), mix(h.moments.zw, moments.zw, momentsBlends.y)),
-               vec4(n, depth));
+  // The moments' running mean and mean square, kept as the mean and the variance about it:
+  // σ²' = (1 − a)·(σ² + a·(l − μ)²), exactly what E[l²]' − E[l]'² gives.
+  const vec2 variance = max(vec2(0.0), h.square - h.mean * h.mean), deviation = luminance - h.mean;
+  writeMoments(p, GiMoments(mix(h.mean, luminance, momentsBlends),
+                            (1.0 - momentsBlends) * (variance + momentsBlends * deviation * deviation)));
   if (pc.directOnly != 0u) giStoreDirectAndFrames(p, emission + albedo * outDirect, min(frames, 63.0));
   else if (pc.direct != 0u) giStoreDirect(p, emission + albedo * outDirect);
   if (pc.directOnly != 0u) return;

@@ -3,9 +3,9 @@
 // luminance variance of the accumulated direct and indirect light from their
 // temporally integrated moments, σ² = E[l²] − E[l]²; while a pixel has fewer
 // than GI_TRUSTED_HISTORY (4) frames of history, from the moments of its 7×7 neighbourhood
-// instead, weighted by depth and normal. Writes the ping images (light, σ²)
-// the à-trous iterations start from, and for the svgf variance view the
-// debug image (σ² direct, σ² indirect, frames).
+// instead, weighted by depth and normal. Writes the pair of images (light,
+// σ²) the first à-trous iteration reads (svgf.glsl), and for the svgf
+// variance view the debug image (σ² direct, σ² indirect, frames).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #include "svgf.glsl"
@@ -13,7 +13,6 @@
 layout(local_size_x = GI_GROUP_SIZE, local_size_y = GI_GROUP_SIZE) in;
 layout(push_constant, scalar) uniform Push { GiSvgfPush pc; };
 
-vec4 moments(ivec2 q) { return pc.parity == 0u ? imageLoad(giSvgfMomentsA, q) : imageLoad(giSvgfMomentsB, q); }
 
 void main() {
   const ivec2 p = ivec2(gl_GlobalInvocationID.xy);
@@ -21,28 +20,30 @@ void main() {
   const vec4 direct = pc.parity == 0u ? giLoadHistoryDirect(p) : giLoadHistoryDirectB(p);
   const vec3 indirect = (pc.parity == 0u ? giLoadHistoryIndirect(p) : giLoadHistoryIndirectB(p)).rgb;
   const float frames = direct.a;
-  const vec4 guide = svgfGuide(p);
+  const vec4 guide = svgfGuide(p, pc.parity);
   vec2 variance = vec2(0.0);
   if (guide.w > 0.0 && frames < GI_TRUSTED_HISTORY) {
-    const vec2 gradient = svgfDepthGradient(p, guide.w);
-    vec4 sum = vec4(0.0);
+    const vec2 gradient = svgfDepthGradient(p, guide.w, pc.parity);
+    vec2 mean = vec2(0.0), square = vec2(0.0);
     float weights = 0.0;
     for (int j = -3; j <= 3; ++j)
       for (int i = -3; i <= 3; ++i) {
         const ivec2 q = p + ivec2(i, j);
-        const vec4 tap = svgfGuide(q);
+        const vec4 tap = svgfGuide(q, pc.parity);
         if (tap.w <= 0.0) continue;
         const float w = i == 0 && j == 0 ? 1.0 : svgfGeometryWeight(guide, gradient, tap, vec2(i, j), pc.sigmaDepth, pc.sigmaNormal);
-        sum += w * moments(q);
+        const GiMoments m = giLoadMoments(pc.parity, q);
+        mean += w * m.mean;
+        square += w * (m.variance + m.mean * m.mean);
         weights += w;
       }
-    sum /= weights;
-    variance = max(vec2(0.0), sum.yw - sum.xz * sum.xz);
+    mean /= weights;
+    variance = max(vec2(0.0), square / weights - mean * mean);
   } else if (guide.w > 0.0) {
-    const vec4 m = moments(p);
-    variance = max(vec2(0.0), m.yw - m.xz * m.xz);
+    variance = giLoadMoments(pc.parity, p).variance;
   }
-  imageStore(giSvgfDirectPing, p, vec4(direct.rgb, variance.x));
-  imageStore(giSvgfIndirectPing, p, vec4(indirect, variance.y));
   if (pc.debug != 0u) imageStore(giDebug, p, vec4(variance, frames, 0.0));
+  if (guide.w > 0.0)
+    svgfStore(svgfReadPair(0u, pc.iterations), pc.parity, p,
+              SvgfTexel(vec4(direct.rgb, variance.x), vec4(indirect, variance.y)), pc.direct);
 }

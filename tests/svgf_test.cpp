@@ -3,8 +3,11 @@
 // light, and the filter's effect under a camera pan.
 #include <cmath>
 
+#include <glm/gtc/packing.hpp>
+
 #include "metrics.h"
 #include "module_test_helpers.h"
+#include "procedural_scene.h"
 
 class SvgfTest : public GpuTest {};
 
@@ -16,17 +19,37 @@ float luminance(const engine::FloatImage& img, size_t p) {
   return 0.2126f * img.pixels[3 * p] + 0.7152f * img.pixels[3 * p + 1] + 0.0722f * img.pixels[3 * p + 2];
 }
 
+// A normal as the history guide holds it (temporal.glsl's giPackGuide): octahedral, 8 bits an axis.
+glm::vec3 asTheGuideHoldsIt(glm::vec3 n) {
+  n /= std::abs(n.x) + std::abs(n.y) + std::abs(n.z);
+  glm::vec2 e(n.x, n.y);
+  if (n.z < 0.0f)
+    e = (1.0f - glm::abs(glm::vec2(n.y, n.x))) * glm::vec2(n.x >= 0.0f ? 1.0f : -1.0f, n.y >= 0.0f ? 1.0f : -1.0f);
+  e = glm::round((e * 0.5f + 0.5f) * 255.0f) / 255.0f * 2.0f - 1.0f;
+  glm::vec3 d(e, 1.0f - std::abs(e.x) - std::abs(e.y));
+  const float t = std::max(-d.z, 0.0f);
+  d.x += d.x >= 0.0f ? -t : t;
+  d.y += d.y >= 0.0f ? -t : t;
+  return glm::normalize(d);
+}
+// A view depth as the history guide holds it: a half float of depth / depthScale.
+double asTheGuideHoldsIt(float depth, float depthScale) {
+  return glm::unpackHalf1x16(glm::packHalf1x16(depth / depthScale));
+}
+
 // The 7×7 estimate of svgf_variance.comp for pixel (x, y): moments of the
-// neighbourhood weighted by max(0, n·n')^σn · exp(−|Δz| / (σz |∇z·offset| + 1e-3 z)).
-double spatialVariance(const engine::ReferenceImages& g, const std::vector<glm::dvec2>& moments, int x, int y,
-                       const gi::SvgfSettings& v) {
+// neighbourhood weighted by max(0, n·n')^σn · exp(−|Δz| / (σz |∇z·offset| + 1e-3 z)), with the
+// normals and depths of the history guide the pass reads.
+double spatialVariance(const engine::ReferenceImages& g, float depthScale, const std::vector<glm::dvec2>& moments, int x,
+                       int y, const gi::SvgfSettings& v) {
   auto depth = [&](int i, int j) -> double {
     if (i < 0 || j < 0 || i >= int(kSize) || j >= int(kSize)) return 0.0;
-    return g.depth.pixels[size_t(j) * kSize + size_t(i)];
+    return asTheGuideHoldsIt(g.depth.pixels[size_t(j) * kSize + size_t(i)], depthScale);
   };
   auto normal = [&](int i, int j) {
     const size_t p = size_t(j) * kSize + size_t(i);
-    return glm::normalize(glm::vec3(g.normal.pixels[3 * p], g.normal.pixels[3 * p + 1], g.normal.pixels[3 * p + 2]));
+    return asTheGuideHoldsIt(
+        glm::normalize(glm::vec3(g.normal.pixels[3 * p], g.normal.pixels[3 * p + 1], g.normal.pixels[3 * p + 2])));
   };
   const double z = depth(x, y);
   double gradient[2];
@@ -98,7 +121,7 @@ TEST_F(SvgfTest, VarianceEstimateMatchesTheCpu) {
         const size_t p = size_t(y) * kSize + x;
         if (img.depth.pixels[p] <= 0.0f) continue;
         ++covered;
-        expected[p] = frame < 4 ? spatialVariance(img, moments, int(x), int(y), settings.svgf)
+        expected[p] = frame < 4 ? spatialVariance(img, desc.scene.extent, moments, int(x), int(y), settings.svgf)
                                 : std::max(0.0, moments[p].y - moments[p].x * moments[p].x);
         meanVariance += expected[p];
       }
@@ -172,4 +195,70 @@ TEST_F(SvgfTest, FilteringLowersDirectAndIndirectErrorUnderAPan) {
   EXPECT_EQ(plain.direct.pixels, accumulated.direct.pixels);
   EXPECT_EQ(plain.indirect.pixels, filtered.indirect.pixels);
   unload(s);
+}
+
+namespace {
+
+// svgf's outputs after `frames` still frames with `iterations` à-trous iterations.
+engine::ReferenceImages svgfOutputs(const engine::Context& ctx, LoadedScene& s, uint32_t iterations, uint32_t frames) {
+  gi::Settings settings;
+  settings.method = gi::Method::Svgf;
+  settings.svgf.iterations = iterations;
+  tools::ModuleSession session;
+  std::string error;
+  EXPECT_TRUE(tools::createModuleSession(ctx, s.gpu, {kSize, kSize}, settings, session, error)) << error;
+  if (!session.module) return {};
+  const gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], kSize, kSize, nullptr);
+  for (uint32_t f = 0; f < frames; ++f) tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, f);
+  engine::ReferenceImages out = tools::readModuleImages(ctx, session);
+  tools::destroyModuleSession(ctx, session);
+  return out;
+}
+
+}  // namespace
+
+// The à-trous iterations ping-pong through the outputs (svgf.glsl) but leave
+// alone what they do not filter: with punctual lights only, the direct output
+// is the trace's exact light, and under a sky the background keeps the sky's
+// radiance, bit for bit as without iterations, for an even and an odd count
+// (the two count parities start in different images).
+TEST_F(SvgfTest, IterationsLeaveWhatTheyDoNotFilterUntouched) {
+  testscene::Description lit;
+  lit.quads.push_back({{{-3, 0, 3}, {3, 0, 3}, {3, 0, -3}, {-3, 0, -3}}, glm::vec3(0.6f)});
+  lit.quads.push_back({{{-3, 0, -1}, {3, 0, -1}, {3, 2, -1}, {-3, 2, -1}}, glm::vec3(0.7f)});
+  lit.lights.push_back({{0.5f, 1.5f, 0.5f}, glm::vec3(3.0f)});
+  lit.eye = {0, 1.5f, 3};
+  lit.target = {0, 0.5f, -1};
+  LoadedScene punctual;
+  ASSERT_NO_FATAL_FAILURE(load(testscene::write(lit, "svgf_punctual_only"), punctual));
+  const engine::ReferenceImages exact = svgfOutputs(ctx, punctual, 0, 3);
+  for (uint32_t iterations : {4u, 5u}) {
+    const engine::ReferenceImages filtered = svgfOutputs(ctx, punctual, iterations, 3);
+    EXPECT_EQ(filtered.direct.pixels, exact.direct.pixels) << iterations << " iterations";
+    EXPECT_NE(filtered.indirect.pixels, exact.indirect.pixels) << iterations << " iterations filter the indirect";
+  }
+  unload(punctual);
+
+  testscene::Description open;
+  open.quads.push_back({{{-100, 0, 100}, {100, 0, 100}, {100, 0, -100}, {-100, 0, -100}}, glm::vec3(0.5f)});
+  open.eye = {0, 1, 3};
+  engine::Sky sky;
+  sky.radiance = {0.8f, 1.0f, 1.2f};
+  LoadedScene skyScene;
+  ASSERT_NO_FATAL_FAILURE(load(testscene::write(open, "svgf_open_plane_sky"), skyScene, sky));
+  const engine::ReferenceImages unfiltered = svgfOutputs(ctx, skyScene, 0, 3);
+  for (uint32_t iterations : {4u, 5u}) {
+    const engine::ReferenceImages filtered = svgfOutputs(ctx, skyScene, iterations, 3);
+    size_t background = 0;
+    for (size_t p = 0; p < size_t(kSize) * kSize; ++p) {
+      if (unfiltered.depth.pixels[p] > 0.0f) continue;
+      ++background;
+      for (int c = 0; c < 3; ++c) {
+        EXPECT_EQ(filtered.direct.pixels[3 * p + c], unfiltered.direct.pixels[3 * p + c]) << "background pixel " << p;
+        EXPECT_NEAR(filtered.direct.pixels[3 * p + c], sky.radiance[c], 1e-3f * sky.radiance[c]) << "pixel " << p;
+      }
+    }
+    EXPECT_GE(background, size_t(kSize) * kSize / 8) << "the view's top is sky";
+  }
+  unload(skyScene);
 }

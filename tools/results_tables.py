@@ -205,12 +205,14 @@ def memory(path, before_path):
 def ab(prefix, a_name, b_name, scenes):
     """Two runs of the same configurations against the same reference (args: PREFIX A B SCENE ...; the runs
     are PREFIX_<scene>_A and PREFIX_<scene>_B): each method's final and indirect MSE, the means over the
-    runs' frames, and the change from A to B."""
+    runs' frames, and the change from A to B. A method run with several settings has a row for each."""
     print(f"| scene | method | final MSE, {a_name} | {b_name} | change | indirect MSE, {a_name} | {b_name} | change |")
     print("|---|---|---|---|---|---|---|---|")
     for scene in scenes:
-        single = {r["method"]: r for r in rows(f"{prefix}_{scene.lower()}_{a_name}/results.csv")}
-        half = {r["method"]: r for r in rows(f"{prefix}_{scene.lower()}_{b_name}/results.csv")}
+        def configuration(r):
+            return f'{r["method"]} ({r["settings"]})' if r["settings"] else r["method"]
+        single = {configuration(r): r for r in rows(f"{prefix}_{scene.lower()}_{a_name}/results.csv")}
+        half = {configuration(r): r for r in rows(f"{prefix}_{scene.lower()}_{b_name}/results.csv")}
         for method, s in single.items():
             h = half[method]
             cells = []

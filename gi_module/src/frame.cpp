@@ -145,14 +145,13 @@ void recordSvgfPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, bool filter
   const SvgfSettings& v = m.settings.svgf;
   VkDescriptorSet sets[] = {m.desc.scene.set, m.sized.frameSets[slot]};
   const glm::uvec2 size{m.width, m.height};
-  gpu::GiSvgfPush push{m.temporalFrames & 1u, 0, v.sigmaLuminance, v.sigmaNormal, v.sigmaDepth, 0,
+  gpu::GiSvgfPush push{m.temporalFrames & 1u, 0, v.sigmaLuminance, v.sigmaNormal, v.sigmaDepth, v.iterations,
                        filterDirect ? 1u : 0u, m.settings.debugView == DebugView::SvgfVariance ? 1u : 0u};
   // Pass: the luminance variance of direct and indirect light, from their moments.
   runPass(m, cmd, slot, Pass::SvgfVariance, m.svgfVariance, sets, size, push);
   // Passes: the à-trous iterations (the first feeds the history back).
   for (uint32_t i = 0; i < v.iterations; ++i) {
     push.iteration = i;
-    push.last = i + 1 == v.iterations ? 1u : 0u;
     runPass(m, cmd, slot, Pass::SvgfAtrous, m.svgfAtrous, sets, size, push);
   }
 }

@@ -43,8 +43,6 @@ struct SizedResources {
   vk::Image historyDirectB, historyIndirectB;     // temporal reprojection's set B
   vk::Image historyGuideA, historyGuideB;         // temporal reprojection: each frame's normal and view depth
   vk::Image svgfMomentsA, svgfMomentsB;           // svgf: luminance moments' history (sets A and B)
-  vk::Image svgfDirectPing, svgfIndirectPing, svgfDirectPong, svgfIndirectPong;  // svgf: à-trous ping-pong
-  vk::Image svgfGuide;                            // svgf: normal and view depth, one load per tap
   vk::Image gradientSamplesA, gradientSamplesB;   // temporal gradients: each pixel's first sample (sets A and B)
   vk::Image temporalGradient;                     // temporal gradients: one texel per tile
   vk::Image temporalSpread;                       // history clamp: this frame's 3×3 luminance mean and σ

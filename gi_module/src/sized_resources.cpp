@@ -59,13 +59,8 @@ constexpr SizedImage kSizedImages[] = {
     {&SizedResources::historyIndirectB, gpu::GI_BINDING_HISTORY_INDIRECT_B, kHistory, kRadianceHistory},
     {&SizedResources::historyGuideA, gpu::GI_BINDING_HISTORY_GUIDE_A, kHistory, kGuideFormat},
     {&SizedResources::historyGuideB, gpu::GI_BINDING_HISTORY_GUIDE_B, kHistory, kGuideFormat},
-    {&SizedResources::svgfMomentsA, gpu::GI_BINDING_SVGF_MOMENTS_A, kHistory},
-    {&SizedResources::svgfMomentsB, gpu::GI_BINDING_SVGF_MOMENTS_B, kHistory},
-    {&SizedResources::svgfDirectPing, gpu::GI_BINDING_SVGF_DIRECT_PING, kFrame},
-    {&SizedResources::svgfIndirectPing, gpu::GI_BINDING_SVGF_INDIRECT_PING, kFrame},
-    {&SizedResources::svgfDirectPong, gpu::GI_BINDING_SVGF_DIRECT_PONG, kFrame},
-    {&SizedResources::svgfIndirectPong, gpu::GI_BINDING_SVGF_INDIRECT_PONG, kFrame},
-    {&SizedResources::svgfGuide, gpu::GI_BINDING_SVGF_GUIDE, kFrame},
+    {&SizedResources::svgfMomentsA, gpu::GI_BINDING_SVGF_MOMENTS_A, kHistory, kRadianceHistory},
+    {&SizedResources::svgfMomentsB, gpu::GI_BINDING_SVGF_MOMENTS_B, kHistory, kRadianceHistory},
     {&SizedResources::gradientSamplesA, gpu::GI_BINDING_GRADIENT_SAMPLES_A, kHistory, VK_FORMAT_R32G32B32A32_UINT},
     {&SizedResources::gradientSamplesB, gpu::GI_BINDING_GRADIENT_SAMPLES_B, kHistory, VK_FORMAT_R32G32B32A32_UINT},
     {&SizedResources::temporalGradient, gpu::GI_BINDING_TEMPORAL_GRADIENT, kFrame, kImageFormat, GI_GRADIENT_TILE},
@@ -76,9 +71,11 @@ constexpr SizedImage kSizedImages[] = {
 static_assert(std::size(kSizedImages) <= 26, "the image bits stay below the flags");
 constexpr uint32_t kHalfFilterTemp = 1u << 26, kFullPrecisionHistory = 1u << 27;
 constexpr uint32_t kNeedsFilters = 1u << 28, kNeedsGuidedStack = 1u << 29, kNeedsGlossySets = 1u << 30;
-// The hash methods' per-pixel sample goes straight into the indirect output,
-// which the lookup then overwrites pixel by pixel: set 1's noisy-indirect
-// binding names the indirect image, and no separate image is held.
+// The noisy indirect goes straight into the indirect output where no pass reads it once the output is
+// written: the hash methods' lookup overwrites it pixel by pixel, and svgf's temporal pass reads it
+// pixel by pixel before its à-trous iterations use the output as scratch. Set 1's noisy-indirect
+// binding then names the indirect image, and no separate image is held (except for the filter
+// in | out view, which shows both).
 constexpr uint32_t kNoisyIsIndirect = 1u << 31;
 
 constexpr uint32_t bit(vk::Image SizedResources::*image) {
@@ -117,7 +114,9 @@ std::span<const vk::Binding> frameBindings() { return kFrameBindings; }
 
 uint32_t sizedResourcesNeeded(const Module& m, const Settings& s) {
   uint32_t need = 0;
-  if (usesHashGrid(s.method) && s.debugView != DebugView::FilterInOut && !clampsHashIndirect(s)) need |= kNoisyIsIndirect;
+  const bool noisyReadAfterOutput = s.debugView == DebugView::FilterInOut;
+  if (!noisyReadAfterOutput && ((usesHashGrid(s.method) && !clampsHashIndirect(s)) || s.method == Method::Svgf))
+    need |= kNoisyIsIndirect;
   else need |= bit(&SizedResources::noisyIndirect);
   if (s.method == Method::Raw && s.raw.temporalAccumulation)
     need |= bit(&SizedResources::historyDirect) | bit(&SizedResources::historyIndirect) | kFullPrecisionHistory;
@@ -137,9 +136,7 @@ uint32_t sizedResourcesNeeded(const Module& m, const Settings& s) {
   // The hash lookup leaves its data for any debug view (the hash views read it).
   if (usesHashGrid(s.method) && s.debugView != DebugView::None) need |= bit(&SizedResources::debug);
   if (s.method == Method::Svgf)
-    need |= bit(&SizedResources::svgfMomentsA) | bit(&SizedResources::svgfMomentsB) |
-            bit(&SizedResources::svgfDirectPing) | bit(&SizedResources::svgfIndirectPing) |
-            bit(&SizedResources::svgfDirectPong) | bit(&SizedResources::svgfIndirectPong) | bit(&SizedResources::svgfGuide);
+    need |= bit(&SizedResources::svgfMomentsA) | bit(&SizedResources::svgfMomentsB);
   if (usesTemporalGradients(m, s))
     need |= bit(&SizedResources::gradientSamplesA) | bit(&SizedResources::gradientSamplesB) |
             bit(&SizedResources::temporalGradient);

@@ -42,28 +42,25 @@ GPU_CONST GI_BINDING_HISTORY_INDIRECT_B = 22; // rgba32f: accumulated demodulate
 GPU_CONST GI_BINDING_HISTORY_GUIDE_A = 23;    // rgba16f: the frame's world normal (xyz), view depth / depthScale (w; 0 = background)
 GPU_CONST GI_BINDING_HISTORY_GUIDE_B = 24;
 // SVGF (svgf_variance.comp, svgf_atrous.comp): the luminance moments' history, read and written with the
-// colour's (sets A and B by parity), and the à-trous iterations' ping-pong images.
-GPU_CONST GI_BINDING_SVGF_MOMENTS_A = 25;     // rgba32f: direct luminance mean, mean square; indirect's (zw)
+// colour's (sets A and B by parity). Its à-trous iterations hold no images of their own: they ping-pong
+// between the outputs and the history set last frame wrote (svgf.glsl), and read the normal from this
+// frame's history guide and the depth from the G-buffer.
+GPU_CONST GI_BINDING_SVGF_MOMENTS_A = 25;     // the histories' format: direct luminance mean, variance; indirect's (zw)
 GPU_CONST GI_BINDING_SVGF_MOMENTS_B = 26;
-GPU_CONST GI_BINDING_SVGF_DIRECT_PING = 27;   // rgba32f: demodulated direct light (rgb), its luminance variance (a)
-GPU_CONST GI_BINDING_SVGF_INDIRECT_PING = 28; // rgba32f: demodulated indirect light (rgb), its luminance variance (a)
-GPU_CONST GI_BINDING_SVGF_DIRECT_PONG = 29;
-GPU_CONST GI_BINDING_SVGF_INDIRECT_PONG = 30;
-GPU_CONST GI_BINDING_SVGF_GUIDE = 31;         // rgba32f: the G-buffer's unit normal (xyz) and view depth (w; 0 = no surface)
 // Temporal gradients (TemporalSettings::gradients, A-SVGF, Schied et al. 2018): one pixel per
 // GI_GRADIENT_TILE² tile traces with the random numbers its reprojected pixel used last frame.
-GPU_CONST GI_BINDING_GRADIENT_SAMPLES_A = 32; // rgba32ui: the pixel's first sample, luminance of direct over base colour
-GPU_CONST GI_BINDING_GRADIENT_SAMPLES_B = 33; //   (x) and of demodulated indirect (y) as float bits, its random state (z)
-GPU_CONST GI_BINDING_TEMPORAL_GRADIENT = 34;  // rgba32f, one texel per tile: direct's change and max(then, now) (xy), indirect's (zw)
-GPU_CONST GI_BINDING_TEMPORAL_SPREAD = 35;    // rgba32f: this frame's samples around the pixel (3×3): luminance mean
+GPU_CONST GI_BINDING_GRADIENT_SAMPLES_A = 27; // rgba32ui: the pixel's first sample, luminance of direct over base colour
+GPU_CONST GI_BINDING_GRADIENT_SAMPLES_B = 28; //   (x) and of demodulated indirect (y) as float bits, its random state (z)
+GPU_CONST GI_BINDING_TEMPORAL_GRADIENT = 29;  // rgba32f, one texel per tile: direct's change and max(then, now) (xy), indirect's (zw)
+GPU_CONST GI_BINDING_TEMPORAL_SPREAD = 30;    // rgba32f: this frame's samples around the pixel (3×3): luminance mean
                                               //   and σ of direct over base colour (xy) and of demodulated indirect (zw)
 // The hash methods' direct light history (hpsf.temporal), one texel per pixel in 8 bytes
 // (temporal.glsl, giPackHistory): the reflected direct light over the base colour, relative to the
 // scene's typical radiance, as RGB9E5 (x); view depth / depthScale as a half float, the octahedral
 // normal in 2 × 5 bits and the frames of history (to 63) (y). Written by the composite pass, once the
 // temporal pass has read every neighbour's texel: one image, not two.
-GPU_CONST GI_BINDING_HISTORY_PACKED = 36;
-GPU_CONST GI_BINDING_COUNT = 37;
+GPU_CONST GI_BINDING_HISTORY_PACKED = 31;
+GPU_CONST GI_BINDING_COUNT = 32;
 #define GI_GRADIENT_TILE 3u              // pixels per side of a gradient tile (A-SVGF's strata)
 #define GI_TRUSTED_HISTORY 4.0           // frames of history from which a pixel's accumulated light speaks for
                                          // itself: SVGF's temporal variance (spatial before), the filter clamp
@@ -163,11 +160,11 @@ GPU_ASSERT_SIZE(GiTemporalPush, 52);
 // svgf_variance.comp and svgf_atrous.comp.
 struct GiSvgfPush {
   uint parity;          // the history set the temporal pass wrote this frame: 0 = A, 1 = B
-  uint iteration;       // à-trous: taps 2^iteration pixels apart; reads ping when even, pong when odd
+  uint iteration;       // à-trous: taps 2^iteration pixels apart
   float sigmaLuminance; // σ_l: luminance stop in standard deviations
   float sigmaNormal;    // σ_n: exponent on max(0, n·n')
   float sigmaDepth;     // σ_z: depth stop in local depth gradients
-  uint last;            // 1: this iteration writes the outputs
+  uint iterations;      // à-trous iterations this frame (svgf.glsl's ping-pong follows from it)
   uint direct;          // 1: the direct light is filtered too (area lights); 0: left as the trace wrote it
   uint debug;           // 1: the variance estimate also goes to the debug image (the svgf variance view)
 };
