@@ -57,6 +57,7 @@ const cli::Option kOptions[] = {
     {"validation", nullptr, "enable Vulkan validation (exit status 3 if it reports anything)"},
     cli::kTraversalOption,
     cli::kSkyOption,
+    cli::kLightSamplerOption,
     {"help", nullptr, "show this message"},
 };
 
@@ -69,6 +70,7 @@ struct Options {
   fs::path out = "sample_game_out";
   engine::Traversal traversal = engine::Traversal::Auto;
   engine::Sky sky;  // --sky; black by default
+  uint32_t lightSampler = 0;  // --light-sampler (gpu::LIGHT_SAMPLER_ALL)
   bool help = false;
   bool headless = false, animate = true, walkthrough = true, validation = false;
   uint32_t switchAt = UINT32_MAX;  // --switch-at: the frame, and the method then
@@ -127,7 +129,8 @@ bool parseOptions(int argc, char** argv, Options& o, std::string& error) {
     }
     o.switchAt = uint32_t(at);
   }
-  return cli::getTraversal(args, o.traversal, error) && cli::getSky(args, o.sky, error);
+  return cli::getTraversal(args, o.traversal, error) && cli::getSky(args, o.sky, error) &&
+         cli::getLightSampler(args, o.lightSampler, error);
 }
 
 // Keyboard and mouse for the free camera and the demo's keys, unless ImGui wants them.
@@ -212,6 +215,7 @@ int main(int argc, char** argv) {
   }
   engine::SceneGpu sceneGpu;
   scene.sky = o.sky;
+  scene.lightSampler = o.lightSampler;
   engine::createSceneGpu(ctx, scene, sceneGpu);
   tools::ModuleSession session;
   if (!tools::createModuleSession(ctx, sceneGpu, {o.width, o.height}, o.settings, session, error)) {

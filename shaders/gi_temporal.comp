@@ -9,8 +9,9 @@
 // pixels start over. The results replace the noisy direct and indirect, so
 // the method's filter works on them. Emission is not accumulated: it is
 // exact in every frame; the direct light is accumulated over the base colour,
-// and only where the scene has area lights (emissive triangles or a sky):
-// punctual lights' direct light has no noise to average, only detail to blur.
+// and only where the scene has area lights (emissive triangles or a sky) or
+// NEE picks one of several punctual lights (gi::SceneDesc::picksPunctualLights):
+// every punctual light's exact direct light has no noise to average, only detail to blur.
 // With temporal gradients (temporal.glsl) the new frame weighs more where the
 // light changed: (1 − λ)·weight + λ, and the history count drops to match.
 #extension GL_GOOGLE_include_directive : require

@@ -1,5 +1,7 @@
-// Next-event estimation: every punctual light (delta lights, no MIS), and one
-// shadow ray towards the area lights: an emissive triangle picked by power or
+// Next-event estimation: every punctual light (delta lights, no MIS), or
+// with LIGHT_SAMPLER_POWER one of them picked by its power, or with
+// LIGHT_SAMPLER_TREE every directional light and one point or spot light
+// picked down the light tree; and one shadow ray towards the area lights: an emissive triangle picked by power or
 // the sky (sky.glsl), each with MIS against BSDF sampling. Where a scene has
 // both, either is picked with probability 1/2 (one-sample MIS between them),
 // so NEE traces one traversal for them, not two.
@@ -146,12 +148,84 @@ bool giPrepareArea(GiSurface s, GiBsdf b, vec3 V, bool withMis, inout GiRng rng,
                  : giPrepareEmissive(s, b, V, withMis, 1.0 - skyChance, rng, ray);
 }
 
+// LIGHT_SAMPLER_POWER: the punctual light whose share of the power holds u, and that share (> 0).
+uint giPickPunctual(float u, out float chance) {
+  uint lo = 0u, hi = sceneConstants().punctualLightCount - 1u;
+  while (lo < hi) {
+    const uint mid = (lo + hi) / 2u;
+    if (scenePunctualLightCdf(mid) <= u) lo = mid + 1u;
+    else hi = mid;
+  }
+  chance = scenePunctualLightCdf(lo) - (lo > 0u ? scenePunctualLightCdf(lo - 1u) : 0.0);
+  return lo;
+}
+
+// LIGHT_SAMPLER_TREE: how much a node's lights may bring to a surface at x with geometric normal ng:
+// their power over the squared distance to the node's bounding sphere's centre (at least its radius),
+// times the cosine of the smallest angle between ng and a direction into that sphere (0 when the whole
+// sphere is behind the surface: none of its lights can light it, as giPreparePunctual decides).
+float giLightNodeImportance(GpuLightNode n, vec3 x, vec3 ng) {
+  const vec3 centre = 0.5 * (n.boundsMin + n.boundsMax);
+  const float radius = 0.5 * length(n.boundsMax - n.boundsMin);
+  const vec3 d = centre - x;
+  const float dist2 = dot(d, d);
+  float cosBound = 1.0;  // x inside the sphere: any direction
+  if (dist2 > radius * radius) {
+    const float dist = sqrt(dist2);
+    const float cosTheta = dot(ng, d) / dist, sinTheta = sqrt(max(0.0, 1.0 - cosTheta * cosTheta));
+    const float sinU = radius / dist, cosU = sqrt(max(0.0, 1.0 - sinU * sinU));
+    cosBound = cosTheta >= cosU ? 1.0 : cosTheta * cosU + sinTheta * sinU;  // cos(θ − θ_u)
+    if (cosBound <= 0.0) return 0.0;
+  }
+  return n.power * cosBound / max(max(dist2, radius * radius), 1e-30);
+}
+
+// LIGHT_SAMPLER_TREE: a point or spot light picked from the root down, each child with its share of the
+// two children's importance, and the chance of that pick (0: no light can light the surface).
+uint giPickFromTree(vec3 x, vec3 ng, float u, out float chance) {
+  chance = 1.0;
+  uint index = 0u;
+  for (uint depth = 0u; depth < 64u; ++depth) {
+    const GpuLightNode n = sceneLightNode(index);
+    if ((n.child & LIGHT_NODE_LEAF) != 0u) return n.child & ~LIGHT_NODE_LEAF;
+    const float a = giLightNodeImportance(sceneLightNode(n.child), x, ng);
+    const float b = giLightNodeImportance(sceneLightNode(n.child + 1u), x, ng);
+    if (!(a + b > 0.0)) break;
+    const float p = a / (a + b);
+    // One random number serves every level: the part of [0, 1) the choice leaves is stretched back to it.
+    if (u < p) {
+      u /= p;
+      chance *= p;
+      index = n.child;
+    } else {
+      u = (u - p) / (1.0 - p);
+      chance *= 1.0 - p;
+      index = n.child + 1u;
+    }
+    u = min(u, 0.99999994);
+  }
+  chance = 0.0;
+  return 0u;
+}
+
+// The turns NEE takes for the punctual lights: one a light (all); one in all when a light picked by power
+// stands for them (power); one a directional light and one for the tree's pick (tree). A picked light
+// brings its light over its chance of being picked.
+uint giNeePunctualTurns() {
+  const uint punctual = GI_SCENE_HAS_PUNCTUAL ? sceneConstants().punctualLightCount : 0u;
+  const uint lightSampler = sceneConstants().lightSampler, directional = sceneConstants().directionalLightCount;
+  if (lightSampler == LIGHT_SAMPLER_POWER) return min(punctual, 1u);
+  if (lightSampler == LIGHT_SAMPLER_TREE) return directional + min(punctual - directional, 1u);
+  return punctual;
+}
+
 // Next-event estimation at one surface as a ray machine: giNeeNextRay tries
-// the lights one at a time (each punctual light, then the area-light sample),
-// giNeeTakeHit takes each shadow ray's answer. Once giNeeComplete, `light` is
-// the reflected direct light towards V: f·cos·L / pdf summed over them.
+// the lights one at a time (each punctual light or the one picked, then the
+// area-light sample), giNeeTakeHit takes each shadow ray's answer. Once
+// giNeeComplete, `light` is the reflected direct light towards V: f·cos·L / pdf
+// summed over them.
 struct GiNee {
-  uint next;     // the next light to try: punctual 0..count-1, then the area lights; done past them
+  uint next;     // the next turn: punctual lights (giNeePunctualTurns), then the area lights; done past them
   vec3 light;    // what the unblocked shadow rays brought so far
   vec3 pending;  // what the ray handed out last brings if unblocked
 };
@@ -159,18 +233,31 @@ struct GiNee {
 GiNee giNeeStart() { return GiNee(0u, vec3(0.0), vec3(0.0)); }
 
 // Tries the next light (each call one: lanes of a subgroup that run NEE
-// together stay at the same light, so each call prepares a punctual light or
+// together stay at the same turn, so each call prepares a punctual light or
 // the area lights, not both under a mask). True with its shadow ray; false
 // when that light cannot light s, or when every light has been tried
 // (giNeeComplete). withMis as in giPrepareEmissive.
 bool giNeeNextRay(inout GiNee nee, GiSurface s, GiBsdf b, vec3 V, bool withMis, inout GiRng rng, out GiRay ray) {
-  const uint punctual = GI_SCENE_HAS_PUNCTUAL ? sceneConstants().punctualLightCount : 0u;
-  if (nee.next > punctual) return false;
+  const uint turns = giNeePunctualTurns();
+  if (nee.next > turns) return false;
   const uint i = nee.next++;
   GiShadowRay shadow;
   bool ready;
-  if (i < punctual) ready = giPreparePunctual(i, s, b, V, shadow);
-  else ready = giPrepareArea(s, b, V, withMis, rng, shadow);
+  const uint lightSampler = sceneConstants().lightSampler;
+  if (i < turns && lightSampler == LIGHT_SAMPLER_POWER) {
+    float chance;
+    ready = giPreparePunctual(giPickPunctual(giRandom(rng), chance), s, b, V, shadow);
+    shadow.contribution /= chance;
+  } else if (i < turns && lightSampler == LIGHT_SAMPLER_TREE && i >= sceneConstants().directionalLightCount) {
+    float chance;
+    const uint light = giPickFromTree(s.position, s.geometricNormal, giRandom(rng), chance);
+    ready = chance > 0.0 && giPreparePunctual(light, s, b, V, shadow);
+    shadow.contribution /= max(chance, 1e-30);
+  } else if (i < turns) {
+    ready = giPreparePunctual(i, s, b, V, shadow);
+  } else {
+    ready = giPrepareArea(s, b, V, withMis, rng, shadow);
+  }
   if (!ready) return false;
   nee.pending = shadow.contribution;
   ray = giShadowRay(shadow.origin, shadow.direction, shadow.tMax);
@@ -178,10 +265,7 @@ bool giNeeNextRay(inout GiNee nee, GiSurface s, GiBsdf b, vec3 V, bool withMis, 
 }
 
 // True once every light has been tried: no further ray would come.
-bool giNeeComplete(GiNee nee) {
-  const uint punctual = GI_SCENE_HAS_PUNCTUAL ? sceneConstants().punctualLightCount : 0u;
-  return nee.next > punctual;
-}
+bool giNeeComplete(GiNee nee) { return nee.next > giNeePunctualTurns(); }
 
 void giNeeTakeHit(inout GiNee nee, GiHit hit) {
   if (hit.t < 0.0) nee.light += nee.pending;

@@ -50,7 +50,7 @@ GpuSceneConstants sceneConstants() {
   uvec4 a = texelFetch(sceneConstantRows, 0), b = texelFetch(sceneConstantRows, 1), c = texelFetch(sceneConstantRows, 2);
   uvec4 d = texelFetch(sceneConstantRows, 3), e = texelFetch(sceneConstantRows, 4);
   return GpuSceneConstants(a.x, a.y, uintBitsToFloat(a.z), uintBitsToFloat(a.w), uintBitsToFloat(b.xyz),
-                           uintBitsToFloat(b.w), uintBitsToFloat(c.xyz), uintBitsToFloat(c.w), uintBitsToFloat(d.xyz),
+                           b.w, uintBitsToFloat(c.xyz), uintBitsToFloat(c.w), uintBitsToFloat(d.xyz),
                            d.w, e.xy, uintBitsToFloat(e.z), e.w);
 }
 
@@ -102,6 +102,15 @@ GpuPunctualLight scenePunctualLight(uint index) {
   return GpuPunctualLight(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), uintBitsToFloat(b.w),
                           uintBitsToFloat(c.xyz), uintBitsToFloat(c.w), uintBitsToFloat(d.x), uintBitsToFloat(d.y),
                           uintBitsToFloat(d.z), uintBitsToFloat(d.w));
+}
+// The chance of picking a punctual light up to `index` (LIGHT_SAMPLER_POWER), one texel read.
+float scenePunctualLightCdf(uint index) { return uintBitsToFloat(texelFetch(scenePunctualRows, int(index) * 4 + 3).y); }
+
+// LIGHT_SAMPLER_TREE's node i (GpuLightNode), after the light table.
+GpuLightNode sceneLightNode(uint index) {
+  const int row = int(sceneConstants().punctualLightCount) * 4 + int(index) * 2;
+  const uvec4 a = texelFetch(scenePunctualRows, row), b = texelFetch(scenePunctualRows, row + 1);
+  return GpuLightNode(uintBitsToFloat(a.xyz), uintBitsToFloat(a.w), uintBitsToFloat(b.xyz), b.w);
 }
 
 // Absolute vertex indices of one triangle.

@@ -1,5 +1,7 @@
 #include "cli.h"
 
+#include "shared/gpu_scene.h"
+
 #include "light_grid.h"
 
 #include <algorithm>
@@ -146,6 +148,24 @@ bool applyPointLights(const Args& args, engine::Scene& scene, std::string& error
 
 std::string pointLightsKey(const Args& args) {
   return args.has("point-lights") ? "_pl" + args.values.at("point-lights") : "";
+}
+
+static_assert(std::size(kLightSamplerNames) == gpu::LIGHT_SAMPLER_TREE + 1, "a name for every sampler");
+
+bool getLightSampler(const Args& args, uint32_t& sampler, std::string& error) {
+  auto it = args.values.find("light-sampler");
+  if (it == args.values.end()) return true;
+  for (uint32_t i = 0; i < std::size(kLightSamplerNames); ++i)
+    if (it->second == kLightSamplerNames[i]) {
+      sampler = i;
+      return true;
+    }
+  error = "--light-sampler must be all, power or tree, not '" + it->second + "'";
+  return false;
+}
+
+std::string lightSamplerKey(const engine::Scene& scene) {
+  return scene.lightSampler == gpu::LIGHT_SAMPLER_ALL ? "" : std::string("_") + kLightSamplerNames[scene.lightSampler];
 }
 
 bool getTraversal(const Args& args, engine::Traversal& traversal, std::string& error) {

@@ -64,4 +64,18 @@ bool applyPointLights(const Args& args, engine::Scene& scene, std::string& error
 // A short name of --point-lights for file names and cache keys: "" when absent.
 std::string pointLightsKey(const Args& args);
 
+// --light-sampler, shared likewise (gi::SceneCreateDesc::lightSampler).
+inline constexpr Option kLightSamplerOption{
+    "light-sampler", "NAME",
+    "all (default): a shadow ray to every punctual light at every path vertex; power: one light a vertex, "
+    "picked by its power; tree: every directional light and one point or spot light a vertex, picked down a "
+    "tree by power, distance and angle (power and tree cost the same at any light count)"};
+// The names, indexed by gpu::LIGHT_SAMPLER_*.
+inline constexpr const char* kLightSamplerNames[] = {"all", "power", "tree"};
+// Sets `sampler` (gpu::LIGHT_SAMPLER_*) from --light-sampler (left as is when absent); false with `error`
+// when unknown.
+bool getLightSampler(const Args& args, uint32_t& sampler, std::string& error);
+// A short name of the light sampler for file names and cache keys: "" for all.
+std::string lightSamplerKey(const engine::Scene& scene);
+
 }  // namespace cli

@@ -61,6 +61,7 @@ const cli::Option kOptions[] = {
     cli::kTraversalOption,
     cli::kSkyOption,
     cli::kPointLightsOption,
+    cli::kLightSamplerOption,
     {"out", "DIR", "output folder (default bench_out)"},
     {"no-plots", nullptr, "skip plot_bench.py (plots and report)"},
     {"validation", nullptr, "enable Vulkan validation"},
@@ -265,6 +266,8 @@ int main(int argc, char** argv) {
   engine::ContextDesc desc;
   desc.validation = args.has("validation");
   if (!cli::getTraversal(args, desc.traversal, error)) return usageError(error);
+  uint32_t lightSampler = 0;  // gpu::LIGHT_SAMPLER_ALL
+  if (!cli::getLightSampler(args, lightSampler, error)) return usageError(error);
   engine::Sky sky;
   if (!cli::getSky(args, sky, error)) return usageError(error);
 
@@ -284,6 +287,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "gi-bench: %s\n", error.c_str());
     return 1;
   }
+  scene.lightSampler = lightSampler;
   if (cameraIndex >= scene.cameras.size()) {
     std::fprintf(stderr, "gi-bench: %s: camera %u does not exist\n", scene.sourcePath.c_str(), cameraIndex);
     return 1;
@@ -308,7 +312,7 @@ int main(int argc, char** argv) {
   std::string sceneName = fs::path(scene.sourcePath).stem().string();
   std::string key = sanitise(sceneName) + "_cam" + std::to_string(cameraIndex) + "_" + std::to_string(width) + "x" +
                     std::to_string(height) + "_b" + std::to_string(bounces) + "_s" + std::to_string(refSpp) +
-                    cli::skyKey(scene.sky) + cli::pointLightsKey(args);
+                    cli::skyKey(scene.sky) + cli::pointLightsKey(args) + cli::lightSamplerKey(scene);
   // Moving scenes: the pose at a time, uploaded (TLAS rebuilt) before the next frame.
   engine::SceneAnimation animation = engine::makeSceneAnimation(scene);
   auto pose = [&](float seconds) { engine::poseScene(ctx, animation, seconds, scene, sceneGpu); };

@@ -39,6 +39,7 @@ const cli::Option kOptions[] = {
     cli::kTraversalOption,
     cli::kSkyOption,
     cli::kPointLightsOption,
+    cli::kLightSamplerOption,
     {"window", nullptr, "show the frames in a GLFW window (module methods; needs a display)"},
     {"animate", nullptr, "the light and an object move, 30 frames a second (engine/animation.h); the reference "
                          "renders the last frame's pose"},
@@ -83,6 +84,8 @@ int main(int argc, char** argv) {
   if (uint64_t(spp) * frames > (1u << 24)) return usageError("spp × frames must not exceed 16777216");
   engine::Traversal traversal = engine::Traversal::Auto;
   if (!cli::getTraversal(args, traversal, error)) return usageError(error);
+  uint32_t lightSampler = 0;  // gpu::LIGHT_SAMPLER_ALL
+  if (!cli::getLightSampler(args, lightSampler, error)) return usageError(error);
   engine::Sky sky;
   if (!cli::getSky(args, sky, error)) return usageError(error);
   gi::Settings moduleSettings;
@@ -108,6 +111,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "gi-render: %s\n", error.c_str());
     return 1;
   }
+  scene.lightSampler = lightSampler;
   if (cameraIndex >= scene.cameras.size()) {
     std::fprintf(stderr, "gi-render: %s: camera %u does not exist (the scene has %zu)\n", scene.sourcePath.c_str(),
                  cameraIndex, scene.cameras.size());

@@ -366,6 +366,30 @@ def lights(path):
         print(f"| {n} | {ms} | {int(at[methods[0]]['rays_per_frame']):,} | {ratio} |")
 
 
+def samplers(prefix):
+    """The light samplers against the light count (scripts/bench samplers; runs PREFIX_<N>_<sampler>): per
+    method GPU ms per frame, final MSE against the N's one reference, and both over the same method's with
+    every light sampled at 4 lights (issue 31's goal: at most 1.5× each at 1024)."""
+    methods = ["raw", "svgf", "hpsf"]
+    runs = {}
+    for n in ("1", "4", "64", "256", "1024", "4096"):
+        for sampler in ("all", "power", "tree"):
+            path = f"{prefix}_{n}_{sampler}/results.csv"
+            if os.path.exists(path):
+                runs[(n, sampler)] = {r["method"]: r for r in rows(path)}
+    base = runs[("4", "all")]
+    print("| point lights | sampler | " + " | ".join(f"{m} ms | {m} MSE | {m} against all at 4 lights" for m in methods)
+          + " |")
+    print("|---|---|" + "---|" * (3 * len(methods)))
+    for (n, sampler), at in runs.items():
+        cells = []
+        for m in methods:
+            ms, mse = float(at[m]["total_ms"]), float(at[m]["mse"])
+            cells.append(f"{ms:.1f} | {mse:.3e} | {ms / float(base[m]['total_ms']):.2f}×, "
+                         f"{mse / float(base[m]['mse']):.2f}×")
+        print(f"| {n} | {sampler} | " + " | ".join(cells) + " |")
+
+
 def per_frame(path, key):
     """GPU ms per frame against one column of a per-run CSV (scripts/bench sky: KEY = sky): rows the
     column's values, columns the methods."""
@@ -633,6 +657,7 @@ KINDS = {
     "per_frame": lambda a: per_frame(a[0], a[1]),
     "pathtracer": lambda a: pathtracer(a[0]),
     "lights": lambda a: lights(a[0]),
+    "samplers": lambda a: samplers(a[0]),
     "ab": lambda a: ab(a[0], a[1], a[2], a[3:]),
     "moving": lambda a: moving(a[0], int(a[1]), a[2:]),
     "rays": lambda a: rays(a[0]),

@@ -318,7 +318,7 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
               {(m.width + GI_GRADIENT_TILE - 1) / GI_GRADIENT_TILE, (m.height + GI_GRADIENT_TILE - 1) / GI_GRADIENT_TILE},
               raw);
   }
-  // Direct light has noise to average only from area lights (emissive triangles, a sky).
+  // Direct light has noise to average only from area lights (emissive triangles, a sky) and picked lights.
   const bool noisyDirect = hasNoisyDirect(m.desc.scene);
   const bool runTemporal = runsTemporalPass(m, s);
   if (runTemporal) {

@@ -300,7 +300,9 @@ uint32_t hashMode(Method method) {
 }
 
 bool aafSpecular(const Module& m, const Settings& s) { return s.method == Method::Aaf && m.desc.scene.hasGlossyMaterials; }
-bool hasNoisyDirect(const SceneDesc& scene) { return scene.hasEmissiveTriangles || scene.hasSky; }
+bool hasNoisyDirect(const SceneDesc& scene) {
+  return scene.hasEmissiveTriangles || scene.hasSky || scene.picksPunctualLights;
+}
 bool validatesHashCells(const Settings& s) {
   return usesHashGrid(s.method) && s.hpsf.eviction == EvictionPolicy::Aging && s.hpsf.validationInterval > 0;
 }

@@ -144,7 +144,8 @@ void releaseRetired(Module& m, bool all);
 
 // Scene facts the passes specialise on (module.cpp).
 bool aafSpecular(const Module& m, const Settings& settings);
-// Direct light has noise to average only from area lights (emissive triangles, a sky).
+// Direct light has noise to average only from area lights (emissive triangles, a sky) and from punctual
+// lights NEE picks one of.
 bool hasNoisyDirect(const SceneDesc& scene);
 // The temporal pass runs (and its images and program exist) when the method
 // reprojects and there is something to reproject: the hash methods reproject

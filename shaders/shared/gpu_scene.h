@@ -109,11 +109,30 @@ struct GpuPunctualLight {
   vec3 intensity;  // colour × intensity: W/sr, or W/m² for directional
   float cosInner;  // spot: cos(innerConeAngle)
   float cosOuter;  // spot: cos(outerConeAngle)
-  float pad0;
+  float cdf;       // LIGHT_SAMPLER_POWER: the chance of picking a light up to this one (the last: 1); of the
+                   // directional ones (first in the table) under LIGHT_SAMPLER_TREE
   float pad1;
   float pad2;
 };
 GPU_ASSERT_SIZE(GpuPunctualLight, 64);
+
+// How next-event estimation treats the punctual lights (gi::SceneCreateDesc::lightSampler).
+GPU_CONST LIGHT_SAMPLER_ALL = 0u;    // a shadow ray to every light at every vertex: exact, cost ∝ lights
+GPU_CONST LIGHT_SAMPLER_POWER = 1u;  // one light a vertex, picked by its power: cost independent of the count
+GPU_CONST LIGHT_SAMPLER_TREE = 2u;   // one light a vertex, picked down a tree of the point and spot lights by
+                                     // power over distance² and the angle to the surface (GpuLightNode)
+
+// LIGHT_SAMPLER_TREE: a node of the binary tree over the point and spot lights, stored after the light
+// table in the same buffer (node i at byte 64·punctualLightCount + 32·i; the root is node 0). A pick
+// walks from the root, choosing a child by its importance to the shading point.
+struct GpuLightNode {
+  vec3 boundsMin;  // world, metres: the lights' positions below this node
+  float power;     // Σ of their sampling powers (scene_tables.cpp's samplingPower)
+  vec3 boundsMax;
+  uint child;      // LIGHT_NODE_LEAF | the light's index; otherwise the first of two adjacent children
+};
+GPU_ASSERT_SIZE(GpuLightNode, 32);
+GPU_CONST LIGHT_NODE_LEAF = 0x80000000u;
 
 struct GpuSceneConstants {
   uint emissiveTriangleCount;
@@ -121,7 +140,8 @@ struct GpuSceneConstants {
   float emissiveTotalPower;    // Σ area × luminance(emission), used for light pdfs
   float sceneExtent;           // largest dimension of the scene bounds, metres
   vec3 boundsMin;
-  float pad1;                  // (secondary rays offset by ULPs, giOffsetRay: no scene-scaled epsilon)
+  uint directionalLightCount;  // the light table's first ones (secondary rays offset by ULPs, giOffsetRay: no
+                               // scene-scaled epsilon here)
   vec3 boundsMax;
   float pad0;
   // The sky: radiance of rays that leave the scene. Equirectangular map
@@ -132,7 +152,7 @@ struct GpuSceneConstants {
   uint skyTexture;       // index into SCENE_BINDING_TEXTURES, or NO_TEXTURE
   uvec2 skySize;         // map texels (the sampling tables' resolution); 0 without a map
   float skyDistributionSum; // Σ luminance × sin θ over the map's texels (before normalising)
-  uint pad2;
+  uint lightSampler;     // LIGHT_SAMPLER_*
 };
 GPU_ASSERT_SIZE(GpuSceneConstants, 80);
 

@@ -79,6 +79,9 @@ struct SceneDesc {
                                                   // fields): every pass compiles the sky's NEE and misses in
   uint32_t traversal = gpu::TRAVERSAL_RAY_QUERY;  // how set 0 is traced: TRAVERSAL_RAY_QUERY (binding 0 is the TLAS)
                                                   // or TRAVERSAL_COMPUTE (the BVH bindings; the device needs no ray queries)
+  bool picksPunctualLights = false;               // NEE picks one of several punctual lights (gi::SceneCreateDesc::
+                                                  // lightSampler power or tree): their direct light is noisy, and the
+                                                  // temporal passes and svgf accumulate and filter it as area lights'
 };
 
 // How the engine's G-buffer stores what the module reads. The module reads

@@ -153,6 +153,14 @@ struct SceneCreateDesc {
   // device). gpu::TRAVERSAL_RAY_QUERY: BLAS/TLAS as well (the device has
   // VK_KHR_acceleration_structure and VK_KHR_ray_query enabled).
   uint32_t traversal = gpu::TRAVERSAL_COMPUTE;
+  // Next-event estimation over the punctual lights, for the module and the engine's reference alike.
+  // gpu::LIGHT_SAMPLER_ALL: a shadow ray to every light at every path vertex (exact; cost grows with
+  // the count). gpu::LIGHT_SAMPLER_POWER: one light a vertex, picked by its power (the same
+  // expectation; cost independent of the count, noise growing with it). gpu::LIGHT_SAMPLER_TREE:
+  // every directional light, and one point or spot light a vertex picked down a tree by power over
+  // distance² and the angle to the surface (the same expectation and cost as power, far less noise
+  // where lights are many and each lights its surroundings); the tree is rebuilt by gi::updateLights.
+  uint32_t lightSampler = gpu::LIGHT_SAMPLER_ALL;
   const VkAllocationCallbacks* allocationCallbacks = nullptr;
   uint64_t memoryBudgetBytes = 0;    // 0 = no limit
 };

@@ -210,20 +210,21 @@ vk::Status buildScene(Scene& s, VkCommandBuffer cmd, const SceneContents& conten
   std::vector<gpu::GpuEmissiveTriangle> emissive = emissiveTable(p, s.instances, totalPower);
   s.emissiveCapacity = uint32_t(emissive.size());
   GI_TRY(hostBuffer(s, emissive, emissive.size(), kTexels, s.emissiveTriangles));
-  std::vector<gpu::GpuPunctualLight> lights = punctualLights(contents.lights);
-  GI_TRY(hostBuffer(s, lights, lights.size(), kTexels, s.punctualLights));
-
   gpu::GpuSceneConstants& c = s.sceneConstants;
   glm::vec3 lo, hi;
   worldBounds(p, s.instances, lo, hi);
   const bool empty = lo.x > hi.x;
   c.emissiveTriangleCount = uint32_t(emissive.size());
-  c.punctualLightCount = uint32_t(lights.size());
   c.emissiveTotalPower = totalPower;
   // An empty scene (nothing streamed in yet) still needs a scale for depth guidance: 1 m.
   c.sceneExtent = empty ? 1.0f : std::max(std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z}), 1e-6f);
   c.boundsMin = empty ? glm::vec3(0.0f) : lo;
   c.boundsMax = empty ? glm::vec3(0.0f) : hi;
+  const LightTable lights = lightTable(contents.lights, c.sceneExtent);
+  GI_TRY(hostBuffer(s, lightTableWords(lights), lightTableCapacityWords(lights.lights.size()), kTexels, s.punctualLights));
+  c.punctualLightCount = uint32_t(lights.lights.size());
+  c.directionalLightCount = lights.directionalCount;
+  c.lightSampler = uint32_t(s.desc.lightSampler);
   const uint32_t textureCount = uint32_t(contents.textures.size());
   GI_TRY(uploadSky(s, cmd, contents.sky, textureCount));
   GI_TRY(hostBuffer(s, std::vector<gpu::GpuSceneConstants>{c}, 1, kTexels, s.constants));
@@ -292,6 +293,7 @@ vk::Status buildScene(Scene& s, VkCommandBuffer cmd, const SceneContents& conten
   s.facts.set = s.set[0];
   s.facts.hasEmissiveTriangles = c.emissiveTriangleCount > 0;
   s.facts.hasPunctualLights = c.punctualLightCount > 0;
+  s.facts.picksPunctualLights = c.lightSampler != gpu::LIGHT_SAMPLER_ALL && c.punctualLightCount > 1;
   s.facts.hasAlphaMask = p.hasAlphaMask;
   s.facts.hasGlossyMaterials = p.hasGlossyMaterials;
   s.facts.extent = c.sceneExtent;
@@ -351,6 +353,9 @@ Error createScene(const SceneCreateDesc& desc, const SceneContents& contents, Vk
   if (desc.traversal != gpu::TRAVERSAL_RAY_QUERY && desc.traversal != gpu::TRAVERSAL_COMPUTE)
     return sceneError("gi::createScene: desc.traversal = " + std::to_string(desc.traversal) +
                       " is not TRAVERSAL_RAY_QUERY or TRAVERSAL_COMPUTE");
+  if (desc.lightSampler > gpu::LIGHT_SAMPLER_TREE)
+    return sceneError("gi::createScene: desc.lightSampler = " + std::to_string(desc.lightSampler) +
+                      " is not gpu::LIGHT_SAMPLER_ALL, LIGHT_SAMPLER_POWER or LIGHT_SAMPLER_TREE");
   auto s = std::make_unique<Scene>();
   s->desc = desc;
   bool deviceMeshes = false;
@@ -485,7 +490,13 @@ Error updateLights(Scene* s, std::span<const LightDesc> lights) {
     return sceneError("gi::updateLights: " + std::to_string(lights.size()) + " lights given, the scene has " +
                       std::to_string(s->lightCount));
   if (std::string e = checkLights(lights, "lights"); !e.empty()) return sceneError("gi::updateLights: " + e);
-  writeMapped(s->punctualLights, punctualLights(lights));
+  // Updates may turn lights into directional ones and back: the count and the tree follow.
+  const LightTable table = lightTable(lights, s->sceneConstants.sceneExtent);
+  writeMapped(s->punctualLights, lightTableWords(table));
+  if (table.directionalCount != s->sceneConstants.directionalLightCount) {
+    s->sceneConstants.directionalLightCount = table.directionalCount;
+    writeMapped(s->constants, std::vector<gpu::GpuSceneConstants>{s->sceneConstants});
+  }
   return {};
 }
 

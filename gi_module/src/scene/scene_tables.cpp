@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "gi/morton.h"
@@ -234,20 +235,108 @@ std::vector<gpu::GpuEmissiveTriangle> emissiveTable(const PackedScene& packed, s
   return table;
 }
 
-std::vector<gpu::GpuPunctualLight> punctualLights(std::span<const LightDesc> lights) {
-  std::vector<gpu::GpuPunctualLight> out;
-  for (const LightDesc& l : lights) {
-    gpu::GpuPunctualLight g{};
-    g.position = glm::vec3(l.position[0], l.position[1], l.position[2]);
-    g.type = uint32_t(l.type);
-    g.direction = glm::vec3(l.direction[0], l.direction[1], l.direction[2]);
-    g.range = l.range;
-    g.intensity = glm::vec3(l.intensity[0], l.intensity[1], l.intensity[2]);
-    g.cosInner = std::cos(l.innerConeAngle);
-    g.cosOuter = std::cos(l.outerConeAngle);
-    out.push_back(g);
+// A light's power by the measure LIGHT_SAMPLER_POWER picks it by (any positive weight gives the same
+// expectation; power gives the bright ones their share of the rays): intensity over the sphere (point)
+// or the cone (spot), irradiance over the disc of the scene's radius (directional).
+double samplingPower(const LightDesc& l, float sceneExtent) {
+  constexpr double kPi = 3.14159265358979323846;
+  const double brightness = double(luminance(glm::vec3(l.intensity[0], l.intensity[1], l.intensity[2])));
+  switch (l.type) {
+    case LightType::Spot: return 2.0 * kPi * (1.0 - std::cos(std::min(double(l.outerConeAngle), kPi))) * brightness;
+    case LightType::Directional: return kPi * 0.25 * double(sceneExtent) * double(sceneExtent) * brightness;
+    default: return 4.0 * kPi * brightness;
   }
-  return out;
+}
+
+namespace {
+
+gpu::GpuPunctualLight gpuLight(const LightDesc& l) {
+  gpu::GpuPunctualLight g{};
+  g.position = glm::vec3(l.position[0], l.position[1], l.position[2]);
+  g.type = uint32_t(l.type);
+  g.direction = glm::vec3(l.direction[0], l.direction[1], l.direction[2]);
+  g.range = l.range;
+  g.intensity = glm::vec3(l.intensity[0], l.intensity[1], l.intensity[2]);
+  g.cosInner = std::cos(l.innerConeAngle);
+  g.cosOuter = std::cos(l.outerConeAngle);
+  return g;
+}
+
+// Each light's cdf over [first, last): its share of their power up to it (alike when all are black).
+void fillCdf(std::vector<gpu::GpuPunctualLight>& table, const std::vector<double>& power, size_t first, size_t last) {
+  double total = 0.0;
+  for (size_t i = first; i < last; ++i) total += power[i];
+  double sum = 0.0;
+  for (size_t i = first; i < last; ++i) {
+    sum += total > 0.0 ? power[i] : 1.0;
+    table[i].cdf = float(sum / (total > 0.0 ? total : double(last - first)));
+  }
+  if (last > first) table[last - 1].cdf = 1.0f;  // rounding never leaves u ∈ [0, 1) without a light
+}
+
+// The tree over lights [first, last) of `table` (positional), each leaf one light: split at the median
+// of the longest axis of their positions, children adjacent. Returns nothing; appends to `nodes`, whose
+// element `at` it fills.
+void buildLightTree(const std::vector<gpu::GpuPunctualLight>& table, const std::vector<double>& power,
+                    std::vector<uint32_t>& order, size_t first, size_t last, size_t at,
+                    std::vector<gpu::GpuLightNode>& nodes) {
+  gpu::GpuLightNode node{};
+  node.boundsMin = glm::vec3(std::numeric_limits<float>::max());
+  node.boundsMax = glm::vec3(-std::numeric_limits<float>::max());
+  double sum = 0.0;
+  for (size_t i = first; i < last; ++i) {
+    node.boundsMin = glm::min(node.boundsMin, table[order[i]].position);
+    node.boundsMax = glm::max(node.boundsMax, table[order[i]].position);
+    sum += power[order[i]];
+  }
+  node.power = float(sum);
+  if (last - first == 1) {
+    node.child = gpu::LIGHT_NODE_LEAF | order[first];
+    nodes[at] = node;
+    return;
+  }
+  const glm::vec3 extent = node.boundsMax - node.boundsMin;
+  const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
+  const size_t middle = first + (last - first) / 2;
+  std::nth_element(order.begin() + ptrdiff_t(first), order.begin() + ptrdiff_t(middle), order.begin() + ptrdiff_t(last),
+                   [&](uint32_t a, uint32_t b) { return table[a].position[axis] < table[b].position[axis]; });
+  node.child = uint32_t(nodes.size());
+  nodes[at] = node;
+  nodes.resize(nodes.size() + 2);
+  buildLightTree(table, power, order, first, middle, node.child, nodes);
+  buildLightTree(table, power, order, middle, last, node.child + 1, nodes);
+}
+
+}  // namespace
+
+LightTable lightTable(std::span<const LightDesc> lights, float sceneExtent) {
+  LightTable t;
+  // Directional lights first: under LIGHT_SAMPLER_TREE they are picked apart from the tree.
+  std::vector<double> power;
+  for (int directional = 1; directional >= 0; --directional)
+    for (const LightDesc& l : lights)
+      if ((l.type == LightType::Directional) == bool(directional)) {
+        t.lights.push_back(gpuLight(l));
+        power.push_back(samplingPower(l, sceneExtent));
+        t.directionalCount += uint32_t(directional);
+      }
+  fillCdf(t.lights, power, 0, t.lights.size());
+  if (t.lights.size() > t.directionalCount) {
+    std::vector<uint32_t> order;
+    for (uint32_t i = t.directionalCount; i < t.lights.size(); ++i) order.push_back(i);
+    t.nodes.resize(1);
+    buildLightTree(t.lights, power, order, 0, order.size(), 0, t.nodes);
+  }
+  return t;
+}
+
+std::vector<uint32_t> lightTableWords(const LightTable& t) {
+  std::vector<uint32_t> words((t.lights.size() * sizeof(gpu::GpuPunctualLight) + t.nodes.size() * sizeof(gpu::GpuLightNode)) / 4);
+  if (!t.lights.empty()) std::memcpy(words.data(), t.lights.data(), t.lights.size() * sizeof(gpu::GpuPunctualLight));
+  if (!t.nodes.empty())
+    std::memcpy(words.data() + t.lights.size() * sizeof(gpu::GpuPunctualLight) / 4, t.nodes.data(),
+                t.nodes.size() * sizeof(gpu::GpuLightNode));
+  return words;
 }
 
 std::vector<gpu::GpuInstance> gpuInstances(const PackedScene& packed, std::span<const InstanceDesc> instances,

@@ -1,0 +1,110 @@
+// gi::SceneCreateDesc::lightSampler (lights.glsl): LIGHT_SAMPLER_POWER picks
+// one punctual light a vertex by its power and divides by its chance, so the
+// image has the expectation of the exact sum over every light, and a vertex
+// traces one shadow ray for them however many there are.
+#include <cmath>
+#include <cstdio>
+
+#include "gpu_test.h"
+#include "procedural_scene.h"
+
+class LightSamplerTest : public GpuTest {
+ protected:
+  static void loadWith(const std::string& path, uint32_t sampler, LoadedScene& out) {
+    std::string error;
+    ASSERT_TRUE(engine::loadSceneForRendering(path, out.scene, error)) << error;
+    out.scene.lightSampler = sampler;
+    engine::createSceneGpu(ctx, out.scene, out.gpu);
+  }
+};
+
+namespace {
+
+constexpr uint32_t kSize = 32;
+
+// A floor and a wall under `count` point lights whose intensities span 1:40, spread over a 4 m square.
+std::string lightField(uint32_t count, const std::string& name) {
+  testscene::Description d;
+  d.quads.push_back({{{-4, 0, 4}, {4, 0, 4}, {4, 0, -4}, {-4, 0, -4}}, glm::vec3(0.6f)});
+  d.quads.push_back({{{-4, 0, -2}, {4, 0, -2}, {4, 3, -2}, {-4, 3, -2}}, glm::vec3(0.5f, 0.6f, 0.7f)});
+  for (uint32_t i = 0; i < count; ++i) {
+    const float x = -2.0f + 4.0f * float(i % 8) / 7.0f, z = -1.5f + 3.0f * float(i / 8) / 3.0f;
+    const float brightness = 0.05f + 2.0f * float((i * 7) % count) / float(count);
+    d.lights.push_back({{x, 1.2f + 0.3f * float(i % 3), z}, glm::vec3(brightness) * 4.0f / float(count)});
+  }
+  d.eye = {0, 2.5f, 4.5f};
+  d.target = {0, 0.5f, -1};
+  return testscene::write(d, name);
+}
+
+}  // namespace
+
+// 32 lights, direct light only: each sampler's image at 2048 spp against the exact sum's at 64, in
+// means over 8×8 blocks (each block's mean within 3%; the whole image's within 1%), and the rays a
+// sample traces: one shadow ray with a picked light, one a light with the exact sum. The tree's pick
+// follows distance and angle, so at equal samples its pixels are closer to the exact sum than power's.
+TEST_F(LightSamplerTest, PickedLightsHaveTheExactSumsExpectationAndOneShadowRayAVertex) {
+  const std::string path = lightField(32, "light_sampler_field");
+  LoadedScene exact;
+  ASSERT_NO_FATAL_FAILURE(loadWith(path, gpu::LIGHT_SAMPLER_ALL, exact));
+  engine::ReferenceSettings settings;
+  settings.maxBounces = 0;
+  const gpu::GpuCamera cam = engine::makeGpuCamera(exact.scene.cameras[0], kSize, kSize, nullptr);
+  const engine::ReferenceRun all = engine::renderReference(ctx, exact.gpu, cam, settings, 64, 16);
+  double equalSamplesMse[2] = {0.0, 0.0};
+  for (uint32_t sampler : {gpu::LIGHT_SAMPLER_POWER, gpu::LIGHT_SAMPLER_TREE}) {
+    const char* name = sampler == gpu::LIGHT_SAMPLER_POWER ? "power" : "tree";
+    LoadedScene picked;
+    ASSERT_NO_FATAL_FAILURE(loadWith(path, sampler, picked));
+    const engine::ReferenceRun many = engine::renderReference(ctx, picked.gpu, cam, settings, 2048, 64);
+    const engine::ReferenceRun few = engine::renderReference(ctx, picked.gpu, cam, settings, 64, 16);
+    double worst = 0.0;
+    for (uint32_t by = 0; by < kSize; by += 8)
+      for (uint32_t bx = 0; bx < kSize; bx += 8) {
+        double a = 0.0, b = 0.0;
+        for (uint32_t y = by; y < by + 8; ++y)
+          for (uint32_t x = bx; x < bx + 8; ++x)
+            for (uint32_t c = 0; c < 3; ++c) {
+              a += all.images.final.at(x, y, c);
+              b += many.images.final.at(x, y, c);
+            }
+        ASSERT_GT(a, 0.0) << "block " << bx << "," << by << " is lit";
+        worst = std::max(worst, std::abs(b - a) / a);
+      }
+    double mse = 0.0;
+    for (size_t i = 0; i < few.images.final.pixels.size(); ++i) {
+      const double d = double(few.images.final.pixels[i]) - double(all.images.final.pixels[i]);
+      mse += d * d / double(few.images.final.pixels.size());
+    }
+    equalSamplesMse[sampler == gpu::LIGHT_SAMPLER_TREE] = mse;
+    const double meanAll = meanOf(all.images.final), meanPicked = meanOf(many.images.final);
+    const double perSampleAll = double(all.rays) / (64.0 * kSize * kSize);
+    const double perSamplePicked = double(many.rays) / (2048.0 * kSize * kSize);
+    std::printf("%s: image mean %.5f against every light's %.5f (%+.2f%%), worst 8x8 block %.2f%%; MSE at 64 spp "
+                "%.3e; rays a sample %.2f against %.2f\n",
+                name, meanPicked, meanAll, 100.0 * (meanPicked - meanAll) / meanAll, 100.0 * worst, mse, perSamplePicked,
+                perSampleAll);
+    EXPECT_NEAR(meanPicked, meanAll, 0.01 * meanAll) << name;
+    EXPECT_LT(worst, 0.03) << name;
+    // The primary ray, the BSDF's ray and one shadow ray a light (every light, all of which see every
+    // pixel here), or one shadow ray for a picked light: 31 fewer.
+    EXPECT_NEAR(perSampleAll - perSamplePicked, 31.0, 0.01) << name;
+    unload(picked);
+  }
+  EXPECT_LT(equalSamplesMse[1], 0.5 * equalSamplesMse[0]) << "the tree's picks are better than power's";
+  unload(exact);
+}
+
+// A bad value is a named error.
+TEST_F(LightSamplerTest, AnUnknownSamplerIsANamedError) {
+  LoadedScene s;
+  std::string error;
+  ASSERT_TRUE(engine::loadSceneForRendering(lightField(4, "light_sampler_bad"), s.scene, error)) << error;
+  s.scene.lightSampler = 7;
+  try {
+    engine::createSceneGpu(ctx, s.scene, s.gpu);
+    ADD_FAILURE() << "lightSampler 7 was accepted";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("desc.lightSampler = 7"), std::string::npos) << e.what();
+  }
+}
