@@ -108,7 +108,8 @@ struct Scene {
   std::vector<PunctualLight> lights;
   std::vector<Camera> cameras;  // never empty after loading: a default camera is added if needed
   Sky sky;                      // not in glTF: set by the caller (--sky); black by default
-  uint32_t lightSampler = 0;    // not in glTF: --light-sampler, gi::SceneCreateDesc's (gpu::LIGHT_SAMPLER_ALL)
+  uint32_t lightSampler = 2;    // not in glTF: --light-sampler, gi::SceneCreateDesc's (gpu::LIGHT_SAMPLER_TREE)
+  uint32_t lightTreeCut = 4;    // not in glTF: --light-tree-cut, gi::SceneCreateDesc's
 
   Bounds worldBounds() const;
   size_t triangleCount() const;  // instanced triangles

@@ -128,6 +128,7 @@ void createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu) {
   // With ray queries enabled both structures are built, so either backend can trace it.
   desc.traversal = ctx.rayQuery ? gpu::TRAVERSAL_RAY_QUERY : gpu::TRAVERSAL_COMPUTE;
   desc.lightSampler = scene.lightSampler;
+  desc.lightTreeCut = scene.lightTreeCut;
   gi::Error error;
   submitAndWait(ctx, [&](VkCommandBuffer cmd) { error = gi::createScene(desc, contents, cmd, gpu.scene); });
   if (error) {

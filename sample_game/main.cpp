@@ -58,6 +58,7 @@ const cli::Option kOptions[] = {
     cli::kTraversalOption,
     cli::kSkyOption,
     cli::kLightSamplerOption,
+    cli::kLightTreeCutOption,
     {"help", nullptr, "show this message"},
 };
 
@@ -70,7 +71,7 @@ struct Options {
   fs::path out = "sample_game_out";
   engine::Traversal traversal = engine::Traversal::Auto;
   engine::Sky sky;  // --sky; black by default
-  uint32_t lightSampler = 0;  // --light-sampler (gpu::LIGHT_SAMPLER_ALL)
+  uint32_t lightSampler = 2, lightTreeCut = 4;  // --light-sampler (gpu::LIGHT_SAMPLER_TREE), --light-tree-cut
   bool help = false;
   bool headless = false, animate = true, walkthrough = true, validation = false;
   uint32_t switchAt = UINT32_MAX;  // --switch-at: the frame, and the method then
@@ -130,7 +131,7 @@ bool parseOptions(int argc, char** argv, Options& o, std::string& error) {
     o.switchAt = uint32_t(at);
   }
   return cli::getTraversal(args, o.traversal, error) && cli::getSky(args, o.sky, error) &&
-         cli::getLightSampler(args, o.lightSampler, error);
+         cli::getLightSampler(args, o.lightSampler, o.lightTreeCut, error);
 }
 
 // Keyboard and mouse for the free camera and the demo's keys, unless ImGui wants them.
@@ -216,6 +217,7 @@ int main(int argc, char** argv) {
   engine::SceneGpu sceneGpu;
   scene.sky = o.sky;
   scene.lightSampler = o.lightSampler;
+  scene.lightTreeCut = o.lightTreeCut;
   engine::createSceneGpu(ctx, scene, sceneGpu);
   tools::ModuleSession session;
   if (!tools::createModuleSession(ctx, sceneGpu, {o.width, o.height}, o.settings, session, error)) {

@@ -1,7 +1,7 @@
 // Next-event estimation: every punctual light (delta lights, no MIS), or
 // with LIGHT_SAMPLER_POWER one of them picked by its power, or with
 // LIGHT_SAMPLER_TREE every directional light and one point or spot light
-// picked down the light tree; and one shadow ray towards the area lights: an emissive triangle picked by power or
+// from each subtree of the light tree's cut; and one shadow ray towards the area lights: an emissive triangle picked by power or
 // the sky (sky.glsl), each with MIS against BSDF sampling. Where a scene has
 // both, either is picked with probability 1/2 (one-sample MIS between them),
 // so NEE traces one traversal for them, not two.
@@ -180,11 +180,11 @@ float giLightNodeImportance(GpuLightNode n, vec3 x, vec3 ng) {
   return n.power * cosBound / max(max(dist2, radius * radius), 1e-30);
 }
 
-// LIGHT_SAMPLER_TREE: a point or spot light picked from the root down, each child with its share of the
-// two children's importance, and the chance of that pick (0: no light can light the surface).
-uint giPickFromTree(vec3 x, vec3 ng, float u, out float chance) {
+// LIGHT_SAMPLER_TREE: a point or spot light picked from node `index` down, each child with its share of
+// the two children's importance, and the chance of that pick within the node (0: none of its lights can
+// light the surface).
+uint giPickFromTree(uint index, vec3 x, vec3 ng, float u, out float chance) {
   chance = 1.0;
-  uint index = 0u;
   for (uint depth = 0u; depth < 64u; ++depth) {
     const GpuLightNode n = sceneLightNode(index);
     if ((n.child & LIGHT_NODE_LEAF) != 0u) return n.child & ~LIGHT_NODE_LEAF;
@@ -209,14 +209,14 @@ uint giPickFromTree(vec3 x, vec3 ng, float u, out float chance) {
 }
 
 // The turns NEE takes for the punctual lights: one a light (all); one in all when a light picked by power
-// stands for them (power); one a directional light and one for the tree's pick (tree). A picked light
+// stands for them (power); one a directional light and one a subtree of the cut (tree). A picked light
 // brings its light over its chance of being picked.
 uint giNeePunctualTurns() {
-  const uint punctual = GI_SCENE_HAS_PUNCTUAL ? sceneConstants().punctualLightCount : 0u;
-  const uint lightSampler = sceneConstants().lightSampler, directional = sceneConstants().directionalLightCount;
-  if (lightSampler == LIGHT_SAMPLER_POWER) return min(punctual, 1u);
-  if (lightSampler == LIGHT_SAMPLER_TREE) return directional + min(punctual - directional, 1u);
-  return punctual;
+  if (!GI_SCENE_HAS_PUNCTUAL) return 0u;
+  const GpuSceneConstants c = sceneConstants();
+  if (c.lightSampler == LIGHT_SAMPLER_POWER) return min(c.punctualLightCount, 1u);
+  if (c.lightSampler == LIGHT_SAMPLER_TREE) return c.directionalLightCount + c.lightCutSize;
+  return c.punctualLightCount;
 }
 
 // Next-event estimation at one surface as a ray machine: giNeeNextRay tries
@@ -249,8 +249,13 @@ bool giNeeNextRay(inout GiNee nee, GiSurface s, GiBsdf b, vec3 V, bool withMis, 
     ready = giPreparePunctual(giPickPunctual(giRandom(rng), chance), s, b, V, shadow);
     shadow.contribution /= chance;
   } else if (i < turns && lightSampler == LIGHT_SAMPLER_TREE && i >= sceneConstants().directionalLightCount) {
-    float chance;
-    const uint light = giPickFromTree(s.position, s.geometricNormal, giRandom(rng), chance);
+    // A subtree of one light is that light (no random number: with no more lights than the cut has
+    // subtrees, the tree traces what `all` does).
+    const uint node = sceneLightCutNode(i - sceneConstants().directionalLightCount);
+    const uint leaf = sceneLightNode(node).child;
+    float chance = 1.0;
+    const uint light = (leaf & LIGHT_NODE_LEAF) != 0u ? leaf & ~LIGHT_NODE_LEAF
+                                                      : giPickFromTree(node, s.position, s.geometricNormal, giRandom(rng), chance);
     ready = chance > 0.0 && giPreparePunctual(light, s, b, V, shadow);
     shadow.contribution /= max(chance, 1e-30);
   } else if (i < turns) {

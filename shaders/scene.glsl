@@ -50,7 +50,7 @@ GpuSceneConstants sceneConstants() {
   uvec4 a = texelFetch(sceneConstantRows, 0), b = texelFetch(sceneConstantRows, 1), c = texelFetch(sceneConstantRows, 2);
   uvec4 d = texelFetch(sceneConstantRows, 3), e = texelFetch(sceneConstantRows, 4);
   return GpuSceneConstants(a.x, a.y, uintBitsToFloat(a.z), uintBitsToFloat(a.w), uintBitsToFloat(b.xyz),
-                           b.w, uintBitsToFloat(c.xyz), uintBitsToFloat(c.w), uintBitsToFloat(d.xyz),
+                           b.w, uintBitsToFloat(c.xyz), c.w, uintBitsToFloat(d.xyz),
                            d.w, e.xy, uintBitsToFloat(e.z), e.w);
 }
 
@@ -111,6 +111,14 @@ GpuLightNode sceneLightNode(uint index) {
   const int row = int(sceneConstants().punctualLightCount) * 4 + int(index) * 2;
   const uvec4 a = texelFetch(scenePunctualRows, row), b = texelFetch(scenePunctualRows, row + 1);
   return GpuLightNode(uintBitsToFloat(a.xyz), uintBitsToFloat(a.w), uintBitsToFloat(b.xyz), b.w);
+}
+
+// LIGHT_SAMPLER_TREE's cut entry k: a node whose subtree one light is taken from (after the 2n − 1 nodes).
+uint sceneLightCutNode(uint k) {
+  const GpuSceneConstants c = sceneConstants();
+  const uint nodes = 2u * (c.punctualLightCount - c.directionalLightCount) - 1u;
+  const uint word = c.punctualLightCount * 16u + nodes * 8u + k;
+  return texelFetch(scenePunctualRows, int(word / 4u))[word % 4u];
 }
 
 // Absolute vertex indices of one triangle.

@@ -33,6 +33,8 @@ TEST(GiRenderTool, BadInputExitsWithASentence) {
   EXPECT_NE(out.find("such_sky.exr"), std::string::npos) << out;
   EXPECT_EQ(runTool("--scene x.gltf --light-sampler some", out), 2) << out;
   EXPECT_NE(out.find("--light-sampler must be all, power or tree, not 'some'"), std::string::npos) << out;
+  EXPECT_EQ(runTool("--scene x.gltf --light-tree-cut 0", out), 2) << out;
+  EXPECT_NE(out.find("--light-tree-cut"), std::string::npos) << out;
 }
 
 // --sky end to end, for the reference and a module method, with validation

@@ -10,10 +10,11 @@
 
 class LightSamplerTest : public GpuTest {
  protected:
-  static void loadWith(const std::string& path, uint32_t sampler, LoadedScene& out) {
+  static void loadWith(const std::string& path, uint32_t sampler, LoadedScene& out, uint32_t treeCut = 1) {
     std::string error;
     ASSERT_TRUE(engine::loadSceneForRendering(path, out.scene, error)) << error;
     out.scene.lightSampler = sampler;
+    out.scene.lightTreeCut = treeCut;
     engine::createSceneGpu(ctx, out.scene, out.gpu);
   }
 };
@@ -41,8 +42,9 @@ std::string lightField(uint32_t count, const std::string& name) {
 
 // 32 lights, direct light only: each sampler's image at 2048 spp against the exact sum's at 64, in
 // means over 8×8 blocks (each block's mean within 3%; the whole image's within 1%), and the rays a
-// sample traces: one shadow ray with a picked light, one a light with the exact sum. The tree's pick
-// follows distance and angle, so at equal samples its pixels are closer to the exact sum than power's.
+// sample traces: one shadow ray with a picked light (the tree with a cut of one subtree), one a light
+// with the exact sum. The tree's pick follows distance and angle, so at equal samples its pixels are
+// closer to the exact sum than power's.
 TEST_F(LightSamplerTest, PickedLightsHaveTheExactSumsExpectationAndOneShadowRayAVertex) {
   const std::string path = lightField(32, "light_sampler_field");
   LoadedScene exact;
@@ -95,7 +97,55 @@ TEST_F(LightSamplerTest, PickedLightsHaveTheExactSumsExpectationAndOneShadowRayA
   unload(exact);
 }
 
-// A bad value is a named error.
+// The tree with a cut of n subtrees: n shadow rays a vertex for the point lights, however many; with no
+// more lights than that, every light on its own, the exact sum's image (up to the order of the sum);
+// with more, the same expectation and, at equal samples, less noise the more subtrees.
+TEST_F(LightSamplerTest, TheTreesCutIsExactUpToItsSizeAndItsRaysStayFixed) {
+  engine::ReferenceSettings settings;
+  settings.maxBounces = 1;
+  const std::string few = lightField(4, "light_sampler_four");
+  LoadedScene exact, tree;
+  ASSERT_NO_FATAL_FAILURE(loadWith(few, gpu::LIGHT_SAMPLER_ALL, exact));
+  ASSERT_NO_FATAL_FAILURE(loadWith(few, gpu::LIGHT_SAMPLER_TREE, tree, 4));
+  const gpu::GpuCamera cam = engine::makeGpuCamera(exact.scene.cameras[0], kSize, kSize, nullptr);
+  const engine::ReferenceRun a = engine::renderReference(ctx, exact.gpu, cam, settings, 16, 16);
+  const engine::ReferenceRun b = engine::renderReference(ctx, tree.gpu, cam, settings, 16, 16);
+  EXPECT_EQ(a.rays, b.rays);
+  double worst = 0.0;
+  for (size_t i = 0; i < a.images.final.pixels.size(); ++i)
+    worst = std::max(worst, std::abs(double(a.images.final.pixels[i]) - double(b.images.final.pixels[i])) /
+                                (std::abs(double(a.images.final.pixels[i])) + 1e-6));
+  std::printf("4 lights, a cut of 4: worst relative difference to every light %.2e\n", worst);
+  EXPECT_LT(worst, 1e-4);
+  unload(exact);
+  unload(tree);
+
+  settings.maxBounces = 0;
+  const std::string many = lightField(32, "light_sampler_field");
+  LoadedScene all;
+  ASSERT_NO_FATAL_FAILURE(loadWith(many, gpu::LIGHT_SAMPLER_ALL, all));
+  const engine::ReferenceRun truth = engine::renderReference(ctx, all.gpu, cam, settings, 64, 16);
+  double previous = 1e30;
+  for (uint32_t cut : {1u, 4u, 16u}) {
+    LoadedScene s;
+    ASSERT_NO_FATAL_FAILURE(loadWith(many, gpu::LIGHT_SAMPLER_TREE, s, cut));
+    const engine::ReferenceRun r = engine::renderReference(ctx, s.gpu, cam, settings, 64, 16);
+    double mse = 0.0;
+    for (size_t i = 0; i < r.images.final.pixels.size(); ++i) {
+      const double d = double(r.images.final.pixels[i]) - double(truth.images.final.pixels[i]);
+      mse += d * d / double(r.images.final.pixels.size());
+    }
+    const double perSample = double(r.rays) / (64.0 * kSize * kSize);
+    std::printf("32 lights, a cut of %u: MSE at 64 spp %.3e, rays a sample %.2f\n", cut, mse, perSample);
+    EXPECT_NEAR(perSample, 2.0 + cut, 0.01) << "the primary ray, the BSDF's and one a subtree";
+    EXPECT_LT(mse, previous) << "a cut of " << cut;
+    previous = mse;
+    unload(s);
+  }
+  unload(all);
+}
+
+// Bad values are named errors.
 TEST_F(LightSamplerTest, AnUnknownSamplerIsANamedError) {
   LoadedScene s;
   std::string error;
@@ -106,5 +156,13 @@ TEST_F(LightSamplerTest, AnUnknownSamplerIsANamedError) {
     ADD_FAILURE() << "lightSampler 7 was accepted";
   } catch (const std::exception& e) {
     EXPECT_NE(std::string(e.what()).find("desc.lightSampler = 7"), std::string::npos) << e.what();
+  }
+  s.scene.lightSampler = gpu::LIGHT_SAMPLER_TREE;
+  s.scene.lightTreeCut = 65;
+  try {
+    engine::createSceneGpu(ctx, s.scene, s.gpu);
+    ADD_FAILURE() << "lightTreeCut 65 was accepted";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("desc.lightTreeCut = 65 is outside [1, 64]"), std::string::npos) << e.what();
   }
 }

@@ -30,7 +30,7 @@ std::vector<gi::LightDesc> randomLights(uint32_t count, uint32_t blackEvery) {
 
 TEST(LightTable, DirectionalLightsComeFirstAndTheCdfFollowsThePower) {
   const std::vector<gi::LightDesc> lights = randomLights(300, 11);
-  const gi::LightTable t = gi::lightTable(lights, 20.0f);
+  const gi::LightTable t = gi::lightTable(lights, 20.0f, 4);
   ASSERT_EQ(t.lights.size(), lights.size());
   uint32_t directional = 0;
   for (const gi::LightDesc& l : lights) directional += l.type == gi::LightType::Directional;
@@ -50,13 +50,13 @@ TEST(LightTable, DirectionalLightsComeFirstAndTheCdfFollowsThePower) {
   // Two point lights, one twice as bright: chances 1/3 and 2/3.
   std::vector<gi::LightDesc> two(2);
   two[1].intensity[0] = two[1].intensity[1] = two[1].intensity[2] = 2.0f;
-  const gi::LightTable pair = gi::lightTable(two, 1.0f);
+  const gi::LightTable pair = gi::lightTable(two, 1.0f, 4);
   EXPECT_NEAR(pair.lights[0].cdf, 1.0f / 3.0f, 1e-6f);
 }
 
 TEST(LightTable, TheTreeHoldsEveryPointAndSpotLightOnceWithBoundsAndPowerOfItsChildren) {
   const std::vector<gi::LightDesc> lights = randomLights(1000, 13);
-  const gi::LightTable t = gi::lightTable(lights, 20.0f);
+  const gi::LightTable t = gi::lightTable(lights, 20.0f, 4);
   const size_t positional = t.lights.size() - t.directionalCount;
   ASSERT_EQ(t.nodes.size(), 2 * positional - 1);
   std::vector<int> seen(t.lights.size(), 0);
@@ -82,19 +82,48 @@ TEST(LightTable, TheTreeHoldsEveryPointAndSpotLightOnceWithBoundsAndPowerOfItsCh
   }
   EXPECT_EQ(leaves, positional);
   for (size_t i = t.directionalCount; i < t.lights.size(); ++i) EXPECT_EQ(seen[i], 1) << "light " << i;
-  // The words the shaders read: the lights, then the nodes, within the buffer's capacity.
+  // The words the shaders read: the lights, the nodes, the cut, within the buffer's capacity.
   const std::vector<uint32_t> words = gi::lightTableWords(t);
-  EXPECT_EQ(words.size() * 4, t.lights.size() * sizeof(gpu::GpuPunctualLight) + t.nodes.size() * sizeof(gpu::GpuLightNode));
+  EXPECT_EQ(words.size() * 4, t.lights.size() * sizeof(gpu::GpuPunctualLight) +
+                                  t.nodes.size() * sizeof(gpu::GpuLightNode) + t.cut.size() * 4);
+  EXPECT_EQ(words.back(), t.cut.back());
   EXPECT_LE(words.size(), gi::lightTableCapacityWords(lights.size()));
+}
+
+// Every light in exactly one subtree of the cut, for cuts from 1 to more subtrees than lights; a cut at
+// least as large as the lights is every light on its own.
+TEST(LightTable, TheCutsSubtreesHoldEveryLightOnce) {
+  const std::vector<gi::LightDesc> lights = randomLights(37, 5);
+  for (uint32_t size : {1u, 2u, 4u, 7u, 16u, 64u}) {
+    const gi::LightTable t = gi::lightTable(lights, 20.0f, size);
+    const size_t positional = t.lights.size() - t.directionalCount;
+    EXPECT_EQ(t.cut.size(), std::min<size_t>(size, positional)) << size;
+    std::vector<int> seen(t.lights.size(), 0);
+    std::vector<uint32_t> stack(t.cut.begin(), t.cut.end());
+    while (!stack.empty()) {
+      const gpu::GpuLightNode n = t.nodes[stack.back()];
+      stack.pop_back();
+      if (n.child & gpu::LIGHT_NODE_LEAF) {
+        ++seen[n.child & ~gpu::LIGHT_NODE_LEAF];
+      } else {
+        stack.push_back(n.child);
+        stack.push_back(n.child + 1);
+      }
+    }
+    for (size_t i = t.directionalCount; i < t.lights.size(); ++i) EXPECT_EQ(seen[i], 1) << "cut " << size << ", light " << i;
+    if (size >= positional) {
+      for (uint32_t node : t.cut) EXPECT_TRUE(t.nodes[node].child & gpu::LIGHT_NODE_LEAF) << "cut " << size;
+    }
+  }
 }
 
 TEST(LightTable, OneLightIsALeafRootAndDirectionalOnlyHasNoTree) {
   std::vector<gi::LightDesc> one(1);
-  const gi::LightTable t = gi::lightTable(one, 1.0f);
+  const gi::LightTable t = gi::lightTable(one, 1.0f, 4);
   ASSERT_EQ(t.nodes.size(), 1u);
   EXPECT_EQ(t.nodes[0].child, gpu::LIGHT_NODE_LEAF | 0u);
   std::vector<gi::LightDesc> sun(2);
   for (gi::LightDesc& l : sun) l.type = gi::LightType::Directional;
-  EXPECT_TRUE(gi::lightTable(sun, 1.0f).nodes.empty());
-  EXPECT_TRUE(gi::lightTable({}, 1.0f).lights.empty());
+  EXPECT_TRUE(gi::lightTable(sun, 1.0f, 4).nodes.empty());
+  EXPECT_TRUE(gi::lightTable({}, 1.0f, 4).lights.empty());
 }

@@ -152,7 +152,8 @@ std::string pointLightsKey(const Args& args) {
 
 static_assert(std::size(kLightSamplerNames) == gpu::LIGHT_SAMPLER_TREE + 1, "a name for every sampler");
 
-bool getLightSampler(const Args& args, uint32_t& sampler, std::string& error) {
+bool getLightSampler(const Args& args, uint32_t& sampler, uint32_t& treeCut, std::string& error) {
+  if (args.has("light-tree-cut") && !getUint(args, "light-tree-cut", treeCut, 1, 64, treeCut, error)) return false;
   auto it = args.values.find("light-sampler");
   if (it == args.values.end()) return true;
   for (uint32_t i = 0; i < std::size(kLightSamplerNames); ++i)
@@ -165,7 +166,14 @@ bool getLightSampler(const Args& args, uint32_t& sampler, std::string& error) {
 }
 
 std::string lightSamplerKey(const engine::Scene& scene) {
-  return scene.lightSampler == gpu::LIGHT_SAMPLER_ALL ? "" : std::string("_") + kLightSamplerNames[scene.lightSampler];
+  const size_t positional = size_t(std::count_if(scene.lights.begin(), scene.lights.end(), [](const engine::PunctualLight& l) {
+    return l.type != engine::LightType::Directional;
+  }));
+  if (scene.lightSampler == gpu::LIGHT_SAMPLER_ALL ||
+      (scene.lightSampler == gpu::LIGHT_SAMPLER_TREE && positional <= scene.lightTreeCut))
+    return "";
+  const std::string name = std::string("_") + kLightSamplerNames[scene.lightSampler];
+  return scene.lightSampler == gpu::LIGHT_SAMPLER_TREE ? name + std::to_string(scene.lightTreeCut) : name;
 }
 
 bool getTraversal(const Args& args, engine::Traversal& traversal, std::string& error) {

@@ -67,15 +67,23 @@ std::string pointLightsKey(const Args& args);
 // --light-sampler, shared likewise (gi::SceneCreateDesc::lightSampler).
 inline constexpr Option kLightSamplerOption{
     "light-sampler", "NAME",
-    "all (default): a shadow ray to every punctual light at every path vertex; power: one light a vertex, "
-    "picked by its power; tree: every directional light and one point or spot light a vertex, picked down a "
-    "tree by power, distance and angle (power and tree cost the same at any light count)"};
+    "all: a shadow ray to every punctual light at every path vertex; power: one light a vertex, picked by its "
+    "power; tree (default): every directional light and one point or spot light from each subtree of a cut "
+    "of a tree over them (--light-tree-cut), picked by power, distance and angle: exact with no more lights "
+    "than the cut has subtrees (power and tree cost the same at any light count)"};
+// --light-tree-cut, shared likewise (gi::SceneCreateDesc::lightTreeCut).
+inline constexpr Option kLightTreeCutOption{
+    "light-tree-cut", "N",
+    "with --light-sampler tree: shadow rays a vertex for the point and spot lights, one from each of N subtrees "
+    "(exact with no more lights than N; 1 to 64, default 4)"};
 // The names, indexed by gpu::LIGHT_SAMPLER_*.
 inline constexpr const char* kLightSamplerNames[] = {"all", "power", "tree"};
-// Sets `sampler` (gpu::LIGHT_SAMPLER_*) from --light-sampler (left as is when absent); false with `error`
-// when unknown.
-bool getLightSampler(const Args& args, uint32_t& sampler, std::string& error);
-// A short name of the light sampler for file names and cache keys: "" for all.
+// Sets `sampler` (gpu::LIGHT_SAMPLER_*) from --light-sampler and `treeCut` from --light-tree-cut (each
+// left as is when absent); false with `error` when either is not one they take.
+bool getLightSampler(const Args& args, uint32_t& sampler, uint32_t& treeCut, std::string& error);
+// A short name of the light sampler for file names and cache keys: "" where it traces every light exactly
+// (all; the tree with no more point and spot lights than its cut), else its name and cut. The references
+// of every sampler converge to the same image: the key keeps a noisier one apart.
 std::string lightSamplerKey(const engine::Scene& scene);
 
 }  // namespace cli

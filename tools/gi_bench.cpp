@@ -62,6 +62,7 @@ const cli::Option kOptions[] = {
     cli::kSkyOption,
     cli::kPointLightsOption,
     cli::kLightSamplerOption,
+    cli::kLightTreeCutOption,
     {"out", "DIR", "output folder (default bench_out)"},
     {"no-plots", nullptr, "skip plot_bench.py (plots and report)"},
     {"validation", nullptr, "enable Vulkan validation"},
@@ -266,8 +267,8 @@ int main(int argc, char** argv) {
   engine::ContextDesc desc;
   desc.validation = args.has("validation");
   if (!cli::getTraversal(args, desc.traversal, error)) return usageError(error);
-  uint32_t lightSampler = 0;  // gpu::LIGHT_SAMPLER_ALL
-  if (!cli::getLightSampler(args, lightSampler, error)) return usageError(error);
+  uint32_t lightSampler = 2, lightTreeCut = 4;  // SceneCreateDesc's defaults (gpu::LIGHT_SAMPLER_TREE)
+  if (!cli::getLightSampler(args, lightSampler, lightTreeCut, error)) return usageError(error);
   engine::Sky sky;
   if (!cli::getSky(args, sky, error)) return usageError(error);
 
@@ -288,6 +289,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   scene.lightSampler = lightSampler;
+  scene.lightTreeCut = lightTreeCut;
   if (cameraIndex >= scene.cameras.size()) {
     std::fprintf(stderr, "gi-bench: %s: camera %u does not exist\n", scene.sourcePath.c_str(), cameraIndex);
     return 1;

@@ -40,6 +40,7 @@ const cli::Option kOptions[] = {
     cli::kSkyOption,
     cli::kPointLightsOption,
     cli::kLightSamplerOption,
+    cli::kLightTreeCutOption,
     {"window", nullptr, "show the frames in a GLFW window (module methods; needs a display)"},
     {"animate", nullptr, "the light and an object move, 30 frames a second (engine/animation.h); the reference "
                          "renders the last frame's pose"},
@@ -84,8 +85,8 @@ int main(int argc, char** argv) {
   if (uint64_t(spp) * frames > (1u << 24)) return usageError("spp × frames must not exceed 16777216");
   engine::Traversal traversal = engine::Traversal::Auto;
   if (!cli::getTraversal(args, traversal, error)) return usageError(error);
-  uint32_t lightSampler = 0;  // gpu::LIGHT_SAMPLER_ALL
-  if (!cli::getLightSampler(args, lightSampler, error)) return usageError(error);
+  uint32_t lightSampler = 2, lightTreeCut = 4;  // SceneCreateDesc's defaults (gpu::LIGHT_SAMPLER_TREE)
+  if (!cli::getLightSampler(args, lightSampler, lightTreeCut, error)) return usageError(error);
   engine::Sky sky;
   if (!cli::getSky(args, sky, error)) return usageError(error);
   gi::Settings moduleSettings;
@@ -112,6 +113,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   scene.lightSampler = lightSampler;
+  scene.lightTreeCut = lightTreeCut;
   if (cameraIndex >= scene.cameras.size()) {
     std::fprintf(stderr, "gi-render: %s: camera %u does not exist (the scene has %zu)\n", scene.sourcePath.c_str(),
                  cameraIndex, scene.cameras.size());

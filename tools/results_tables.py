@@ -373,7 +373,7 @@ def samplers(prefix):
     methods = ["raw", "svgf", "hpsf"]
     runs = {}
     for n in ("1", "4", "64", "256", "1024", "4096"):
-        for sampler in ("all", "power", "tree"):
+        for sampler in ("all", "power", "tree1", "tree4"):
             path = f"{prefix}_{n}_{sampler}/results.csv"
             if os.path.exists(path):
                 runs[(n, sampler)] = {r["method"]: r for r in rows(path)}

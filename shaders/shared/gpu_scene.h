@@ -119,12 +119,15 @@ GPU_ASSERT_SIZE(GpuPunctualLight, 64);
 // How next-event estimation treats the punctual lights (gi::SceneCreateDesc::lightSampler).
 GPU_CONST LIGHT_SAMPLER_ALL = 0u;    // a shadow ray to every light at every vertex: exact, cost ∝ lights
 GPU_CONST LIGHT_SAMPLER_POWER = 1u;  // one light a vertex, picked by its power: cost independent of the count
-GPU_CONST LIGHT_SAMPLER_TREE = 2u;   // one light a vertex, picked down a tree of the point and spot lights by
-                                     // power over distance² and the angle to the surface (GpuLightNode)
+GPU_CONST LIGHT_SAMPLER_TREE = 2u;   // one light from each subtree of a cut of the tree of the point and spot
+                                     // lights (GpuLightNode), picked down it by power over distance² and the
+                                     // angle to the surface: exact with no more lights than the cut has subtrees
 
 // LIGHT_SAMPLER_TREE: a node of the binary tree over the point and spot lights, stored after the light
-// table in the same buffer (node i at byte 64·punctualLightCount + 32·i; the root is node 0). A pick
-// walks from the root, choosing a child by its importance to the shading point.
+// table in the same buffer (node i at byte 64·punctualLightCount + 32·i; the root is node 0, and there
+// are 2n − 1 nodes for n lights). After the nodes, the cut: lightCutSize node indices (uint) whose
+// subtrees hold every light once. A vertex takes one light from each, walking down from the cut's node
+// and choosing a child by its importance to the shading point.
 struct GpuLightNode {
   vec3 boundsMin;  // world, metres: the lights' positions below this node
   float power;     // Σ of their sampling powers (scene_tables.cpp's samplingPower)
@@ -143,7 +146,8 @@ struct GpuSceneConstants {
   uint directionalLightCount;  // the light table's first ones (secondary rays offset by ULPs, giOffsetRay: no
                                // scene-scaled epsilon here)
   vec3 boundsMax;
-  float pad0;
+  uint lightCutSize;           // LIGHT_SAMPLER_TREE: the subtrees a vertex takes one light from (the cut after the
+                               // tree in the light buffer; min(SceneCreateDesc::lightTreeCut, point and spot lights))
   // The sky: radiance of rays that leave the scene. Equirectangular map
   // (skyTexture; +Y up, u = 0.5 + atan(x, −z)/2π, v = acos(y)/π, texels read
   // nearest) times skyRadiance, or skyRadiance alone (NO_TEXTURE). Black sky:

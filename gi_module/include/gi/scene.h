@@ -157,10 +157,14 @@ struct SceneCreateDesc {
   // gpu::LIGHT_SAMPLER_ALL: a shadow ray to every light at every path vertex (exact; cost grows with
   // the count). gpu::LIGHT_SAMPLER_POWER: one light a vertex, picked by its power (the same
   // expectation; cost independent of the count, noise growing with it). gpu::LIGHT_SAMPLER_TREE:
-  // every directional light, and one point or spot light a vertex picked down a tree by power over
-  // distance² and the angle to the surface (the same expectation and cost as power, far less noise
-  // where lights are many and each lights its surroundings); the tree is rebuilt by gi::updateLights.
-  uint32_t lightSampler = gpu::LIGHT_SAMPLER_ALL;
+  // every directional light, and for the point and spot lights lightTreeCut shadow rays a vertex, one
+  // light from each subtree of a cut of a tree over them, picked down it by power over distance² and
+  // the angle to the surface (the same expectation; cost independent of the count; exact, as all,
+  // with no more lights than lightTreeCut: the default, which leaves scenes of a few lights as they
+  // were and keeps a frame's cost flat however many lights a scene has). The tree is rebuilt by
+  // gi::updateLights.
+  uint32_t lightSampler = gpu::LIGHT_SAMPLER_TREE;
+  uint32_t lightTreeCut = 4;  // [1, 64]: LIGHT_SAMPLER_TREE's subtrees (shadow rays a vertex for its lights)
   const VkAllocationCallbacks* allocationCallbacks = nullptr;
   uint64_t memoryBudgetBytes = 0;    // 0 = no limit
 };

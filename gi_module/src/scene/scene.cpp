@@ -220,10 +220,11 @@ vk::Status buildScene(Scene& s, VkCommandBuffer cmd, const SceneContents& conten
   c.sceneExtent = empty ? 1.0f : std::max(std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z}), 1e-6f);
   c.boundsMin = empty ? glm::vec3(0.0f) : lo;
   c.boundsMax = empty ? glm::vec3(0.0f) : hi;
-  const LightTable lights = lightTable(contents.lights, c.sceneExtent);
+  const LightTable lights = lightTable(contents.lights, c.sceneExtent, s.desc.lightTreeCut);
   GI_TRY(hostBuffer(s, lightTableWords(lights), lightTableCapacityWords(lights.lights.size()), kTexels, s.punctualLights));
   c.punctualLightCount = uint32_t(lights.lights.size());
   c.directionalLightCount = lights.directionalCount;
+  c.lightCutSize = uint32_t(lights.cut.size());
   c.lightSampler = uint32_t(s.desc.lightSampler);
   const uint32_t textureCount = uint32_t(contents.textures.size());
   GI_TRY(uploadSky(s, cmd, contents.sky, textureCount));
@@ -293,7 +294,10 @@ vk::Status buildScene(Scene& s, VkCommandBuffer cmd, const SceneContents& conten
   s.facts.set = s.set[0];
   s.facts.hasEmissiveTriangles = c.emissiveTriangleCount > 0;
   s.facts.hasPunctualLights = c.punctualLightCount > 0;
-  s.facts.picksPunctualLights = c.lightSampler != gpu::LIGHT_SAMPLER_ALL && c.punctualLightCount > 1;
+  // The tree is exact while every subtree of its cut is one light.
+  const uint32_t positional = c.punctualLightCount - c.directionalLightCount;
+  s.facts.picksPunctualLights = (c.lightSampler == gpu::LIGHT_SAMPLER_POWER && c.punctualLightCount > 1) ||
+                                (c.lightSampler == gpu::LIGHT_SAMPLER_TREE && positional > c.lightCutSize);
   s.facts.hasAlphaMask = p.hasAlphaMask;
   s.facts.hasGlossyMaterials = p.hasGlossyMaterials;
   s.facts.extent = c.sceneExtent;
@@ -353,6 +357,9 @@ Error createScene(const SceneCreateDesc& desc, const SceneContents& contents, Vk
   if (desc.traversal != gpu::TRAVERSAL_RAY_QUERY && desc.traversal != gpu::TRAVERSAL_COMPUTE)
     return sceneError("gi::createScene: desc.traversal = " + std::to_string(desc.traversal) +
                       " is not TRAVERSAL_RAY_QUERY or TRAVERSAL_COMPUTE");
+  if (desc.lightTreeCut < 1 || desc.lightTreeCut > 64)
+    return sceneError("gi::createScene: desc.lightTreeCut = " + std::to_string(desc.lightTreeCut) +
+                      " is outside [1, 64]");
   if (desc.lightSampler > gpu::LIGHT_SAMPLER_TREE)
     return sceneError("gi::createScene: desc.lightSampler = " + std::to_string(desc.lightSampler) +
                       " is not gpu::LIGHT_SAMPLER_ALL, LIGHT_SAMPLER_POWER or LIGHT_SAMPLER_TREE");
@@ -491,10 +498,12 @@ Error updateLights(Scene* s, std::span<const LightDesc> lights) {
                       std::to_string(s->lightCount));
   if (std::string e = checkLights(lights, "lights"); !e.empty()) return sceneError("gi::updateLights: " + e);
   // Updates may turn lights into directional ones and back: the count and the tree follow.
-  const LightTable table = lightTable(lights, s->sceneConstants.sceneExtent);
+  const LightTable table = lightTable(lights, s->sceneConstants.sceneExtent, s->desc.lightTreeCut);
   writeMapped(s->punctualLights, lightTableWords(table));
-  if (table.directionalCount != s->sceneConstants.directionalLightCount) {
+  if (table.directionalCount != s->sceneConstants.directionalLightCount ||
+      table.cut.size() != s->sceneConstants.lightCutSize) {
     s->sceneConstants.directionalLightCount = table.directionalCount;
+    s->sceneConstants.lightCutSize = uint32_t(table.cut.size());
     writeMapped(s->constants, std::vector<gpu::GpuSceneConstants>{s->sceneConstants});
   }
   return {};

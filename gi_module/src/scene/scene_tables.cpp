@@ -309,7 +309,29 @@ void buildLightTree(const std::vector<gpu::GpuPunctualLight>& table, const std::
 
 }  // namespace
 
-LightTable lightTable(std::span<const LightDesc> lights, float sceneExtent) {
+namespace {
+
+// The cut of at most `size` nodes whose subtrees hold every light of the tree once: from the root, the
+// node with the most power is split into its children until there are `size` (or only leaves).
+std::vector<uint32_t> treeCut(const std::vector<gpu::GpuLightNode>& nodes, uint32_t size) {
+  std::vector<uint32_t> cut{0u};
+  while (cut.size() < size) {
+    size_t widest = cut.size();
+    for (size_t i = 0; i < cut.size(); ++i)
+      if (!(nodes[cut[i]].child & gpu::LIGHT_NODE_LEAF) &&
+          (widest == cut.size() || nodes[cut[i]].power > nodes[cut[widest]].power))
+        widest = i;
+    if (widest == cut.size()) break;  // every subtree a light
+    const uint32_t child = nodes[cut[widest]].child;
+    cut[widest] = child;
+    cut.insert(cut.begin() + ptrdiff_t(widest) + 1, child + 1);
+  }
+  return cut;
+}
+
+}  // namespace
+
+LightTable lightTable(std::span<const LightDesc> lights, float sceneExtent, uint32_t cutSize) {
   LightTable t;
   // Directional lights first: under LIGHT_SAMPLER_TREE they are picked apart from the tree.
   std::vector<double> power;
@@ -326,16 +348,18 @@ LightTable lightTable(std::span<const LightDesc> lights, float sceneExtent) {
     for (uint32_t i = t.directionalCount; i < t.lights.size(); ++i) order.push_back(i);
     t.nodes.resize(1);
     buildLightTree(t.lights, power, order, 0, order.size(), 0, t.nodes);
+    t.cut = treeCut(t.nodes, std::max(cutSize, 1u));
   }
   return t;
 }
 
 std::vector<uint32_t> lightTableWords(const LightTable& t) {
-  std::vector<uint32_t> words((t.lights.size() * sizeof(gpu::GpuPunctualLight) + t.nodes.size() * sizeof(gpu::GpuLightNode)) / 4);
-  if (!t.lights.empty()) std::memcpy(words.data(), t.lights.data(), t.lights.size() * sizeof(gpu::GpuPunctualLight));
-  if (!t.nodes.empty())
-    std::memcpy(words.data() + t.lights.size() * sizeof(gpu::GpuPunctualLight) / 4, t.nodes.data(),
-                t.nodes.size() * sizeof(gpu::GpuLightNode));
+  const size_t lightWords = t.lights.size() * sizeof(gpu::GpuPunctualLight) / 4;
+  const size_t nodeWords = t.nodes.size() * sizeof(gpu::GpuLightNode) / 4;
+  std::vector<uint32_t> words(lightWords + nodeWords + t.cut.size());
+  if (!t.lights.empty()) std::memcpy(words.data(), t.lights.data(), lightWords * 4);
+  if (!t.nodes.empty()) std::memcpy(words.data() + lightWords, t.nodes.data(), nodeWords * 4);
+  std::copy(t.cut.begin(), t.cut.end(), words.begin() + ptrdiff_t(lightWords + nodeWords));
   return words;
 }
 

@@ -40,18 +40,21 @@ std::vector<gpu::GpuEmissiveTriangle> emissiveTable(const PackedScene& packed, s
                                                     float& totalPower);
 // The punctual lights as the shaders read them: the directional ones first, each light's chance of being
 // picked by LIGHT_SAMPLER_POWER (its power; directional lights' over the scene's disc of diameter
-// sceneExtent), and the tree LIGHT_SAMPLER_TREE walks over the others (2n − 1 nodes for n lights).
+// sceneExtent), the tree LIGHT_SAMPLER_TREE walks over the others (2n − 1 nodes for n lights) and its cut
+// of min(cutSize, n) subtrees (split by power from the root), one light a vertex from each.
 struct LightTable {
   std::vector<gpu::GpuPunctualLight> lights;
   std::vector<gpu::GpuLightNode> nodes;
+  std::vector<uint32_t> cut;
   uint32_t directionalCount = 0;
 };
-LightTable lightTable(std::span<const LightDesc> lights, float sceneExtent);
+LightTable lightTable(std::span<const LightDesc> lights, float sceneExtent, uint32_t cutSize);
 // The lights, then the nodes: the scene's punctual-light buffer.
 std::vector<uint32_t> lightTableWords(const LightTable& table);
-// The words that buffer needs for `lights` lights of any types (their tree is largest when none is directional).
+// The words that buffer needs for `lights` lights of any types (their tree and cut are largest when none
+// is directional).
 inline size_t lightTableCapacityWords(size_t lights) {
-  return (lights * sizeof(gpu::GpuPunctualLight) + (lights ? 2 * lights - 1 : 0) * sizeof(gpu::GpuLightNode)) / 4;
+  return (lights * sizeof(gpu::GpuPunctualLight) + (lights ? 2 * lights - 1 : 0) * sizeof(gpu::GpuLightNode)) / 4 + lights;
 }
 std::vector<gpu::GpuInstance> gpuInstances(const PackedScene& packed, std::span<const InstanceDesc> instances,
                                            std::span<const glm::mat4> previous);
