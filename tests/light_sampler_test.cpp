@@ -146,23 +146,21 @@ TEST_F(LightSamplerTest, TheTreesCutIsExactUpToItsSizeAndItsRaysStayFixed) {
 }
 
 // Bad values are named errors.
-TEST_F(LightSamplerTest, AnUnknownSamplerIsANamedError) {
+TEST_F(LightSamplerTest, BadSamplersAreNamedErrors) {
   LoadedScene s;
   std::string error;
   ASSERT_TRUE(engine::loadSceneForRendering(lightField(4, "light_sampler_bad"), s.scene, error)) << error;
-  s.scene.lightSampler = 7;
-  try {
-    engine::createSceneGpu(ctx, s.scene, s.gpu);
-    ADD_FAILURE() << "lightSampler 7 was accepted";
-  } catch (const std::exception& e) {
-    EXPECT_NE(std::string(e.what()).find("desc.lightSampler = 7"), std::string::npos) << e.what();
-  }
-  s.scene.lightSampler = gpu::LIGHT_SAMPLER_TREE;
-  s.scene.lightTreeCut = 65;
-  try {
-    engine::createSceneGpu(ctx, s.scene, s.gpu);
-    ADD_FAILURE() << "lightTreeCut 65 was accepted";
-  } catch (const std::exception& e) {
-    EXPECT_NE(std::string(e.what()).find("desc.lightTreeCut = 65 is outside [1, 64]"), std::string::npos) << e.what();
-  }
+  auto expectRefused = [&](uint32_t sampler, uint32_t cut, const std::string& message) {
+    s.scene.lightSampler = sampler;
+    s.scene.lightTreeCut = cut;
+    try {
+      engine::createSceneGpu(ctx, s.scene, s.gpu);
+      ADD_FAILURE() << "accepted: " << message;
+    } catch (const std::exception& e) {
+      EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+    }
+  };
+  expectRefused(7, 4, "desc.lightSampler = 7");
+  expectRefused(gpu::LIGHT_SAMPLER_TREE, 65, "desc.lightTreeCut = 65 is outside [1, 64]");
+  expectRefused(gpu::LIGHT_SAMPLER_TREE, 0, "desc.lightTreeCut = 0 is outside [1, 64]");
 }
