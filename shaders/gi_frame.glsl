@@ -4,6 +4,7 @@
 #define GI_FRAME_GLSL
 #extension GL_EXT_samplerless_texture_functions : require
 #extension GL_EXT_shader_image_load_formatted : require
+#include "bounds.glsl"
 #include "common.glsl"
 #include "surface.glsl"
 #include "camera.glsl"
@@ -48,6 +49,18 @@ layout(set = 1, binding = GI_BINDING_GRADIENT_SAMPLES_B, rgba32ui) uniform uimag
 layout(set = 1, binding = GI_BINDING_TEMPORAL_GRADIENT, rgba32f) uniform image2D giTemporalGradient;
 layout(set = 1, binding = GI_BINDING_TEMPORAL_SPREAD, rgba32f) uniform image2D giTemporalSpread;
 layout(set = 1, binding = GI_BINDING_HISTORY_PACKED, rg32ui) uniform uimage2D giHistoryPacked;
+
+// With ModuleDesc::checkBounds every access to an image of set 1 below this point goes through
+// giCheckedPixel: a coordinate outside the image is counted and (0, 0) taken instead (bounds.glsl).
+ivec2 giCheckedPixel(ivec2 p, ivec2 size) {
+  if (GI_CHECK_BOUNDS && (any(lessThan(p, ivec2(0))) || any(greaterThanEqual(p, size)))) {
+    atomicAdd(giCounters.boundsViolations, 1u);
+    return ivec2(0);
+  }
+  return p;
+}
+#define imageLoad(image, p) imageLoad(image, giCheckedPixel(p, imageSize(image)))
+#define imageStore(image, p, v) imageStore(image, giCheckedPixel(p, imageSize(image)), v)
 
 // Output images hold radiance × outputScale, clamped into the format's range
 // (a half float overflows to Inf past 65504). Loads give radiance back.

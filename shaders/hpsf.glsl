@@ -2,6 +2,7 @@
 // and its insert-or-find with bounded linear probing (Meijer Alg. 4).
 #ifndef GI_HPSF_GLSL
 #define GI_HPSF_GLSL
+#include "bounds.glsl"
 #include "common.glsl"
 #include "shared/hash_grid.h"
 
@@ -10,6 +11,17 @@ layout(set = 2, binding = HG_BINDING_ACCUM, scalar) buffer HgAccums { HgAccum hg
 layout(set = 2, binding = HG_BINDING_CELLS, scalar) buffer HgCells { HgCell hgCells[]; };
 layout(set = 2, binding = HG_BINDING_TELEMETRY, scalar) buffer HgTelemetryBlock { HgTelemetry hgTelemetry; };
 layout(set = 2, binding = HG_BINDING_CONTINUATION, scalar) buffer HgWalks { HgWalk hgWalks[]; };
+
+// Element i of one of the arrays above; with ModuleDesc::checkBounds, an i outside it is counted and
+// element 0 taken instead (bounds.glsl).
+uint hgChecked(uint i, int length) {
+  if (GI_CHECK_BOUNDS && i >= uint(length)) {
+    atomicAdd(hgTelemetry.outOfBounds, 1u);
+    return 0u;
+  }
+  return i;
+}
+#define HG_AT(array, i) array[hgChecked(uint(i), array.length())]
 
 // A walk's state word: vertices reached, whether the next segment continues
 // a counted sample, and the fed cell's level of detail.
@@ -35,7 +47,7 @@ int hgInsertOrFind(uint table, uint index, uint key, uint capacity, uint window,
   probes = window;
   uint firstFree = window;
   for (uint i = 0u; i < window; ++i) {
-    uint k = hgKeys[table + ((index + i) & (capacity - 1u))];
+    uint k = HG_AT(hgKeys, table + ((index + i) & (capacity - 1u)));
     if (k == key) {
       probes = i + 1u;
       return int(table + ((index + i) & (capacity - 1u)));
@@ -49,9 +61,9 @@ int hgInsertOrFind(uint table, uint index, uint key, uint capacity, uint window,
   if (!create) return -1;
   for (uint i = firstFree; i < window; ++i) {
     uint slot = table + ((index + i) & (capacity - 1u));
-    uint seen = hgKeys[slot];
+    uint seen = HG_AT(hgKeys, slot);
     if (seen == HG_EMPTY_KEY || seen == HG_TOMBSTONE_KEY) {
-      uint previous = atomicCompSwap(hgKeys[slot], seen, key);
+      uint previous = atomicCompSwap(HG_AT(hgKeys, slot), seen, key);
       if (previous == seen) {
         probes = i + 1u;
         created = true;
@@ -71,7 +83,7 @@ int hgInsertOrFind(uint table, uint index, uint key, uint capacity, uint window,
 int hgFind(uint table, uint index, uint key, uint capacity, uint window) {
   for (uint i = 0u; i < window; ++i) {
     uint slot = table + ((index + i) & (capacity - 1u));
-    uint k = hgKeys[slot];
+    uint k = HG_AT(hgKeys, slot);
     if (k == key) return int(slot);
     if (k == HG_EMPTY_KEY) return -1;
   }
@@ -84,7 +96,7 @@ void hgClearAccum(uint slot) {
   zero.r = zero.g = zero.b = zero.tr = zero.tg = zero.tb = zero.lum2 = 0ul;
   zero.count = 0u;
   zero.pad0 = 0u;
-  hgAccum[slot] = zero;
+  HG_AT(hgAccum, slot) = zero;
 }
 
 // Removes the cell in `slot` (global) of the table starting at `table`. Its
@@ -98,7 +110,7 @@ void hgClearAccum(uint slot) {
 // frame's resolve turns empty.
 void hgEvict(uint table, uint slot, uint capacity) {
   uint next = table + ((slot - table + 1u) & (capacity - 1u));
-  hgKeys[slot] = hgKeys[next] == HG_EMPTY_KEY ? HG_EMPTY_KEY : HG_TOMBSTONE_KEY;
+  HG_AT(hgKeys, slot) = HG_AT(hgKeys, next) == HG_EMPTY_KEY ? HG_EMPTY_KEY : HG_TOMBSTONE_KEY;
   hgClearAccum(slot);
   HgCell empty;
   empty.mean = vec3(0.0);
@@ -113,13 +125,13 @@ void hgEvict(uint table, uint slot, uint capacity) {
   empty.probeDirection = 0u;
   empty.samples = 0u;
   empty.previousLod = 0u;
-  hgCells[slot] = empty;
+  HG_AT(hgCells, slot) = empty;
 }
 
 // A tombstone whose next slot is empty ends no chain any more: it becomes empty too.
 void hgTidyTombstone(uint table, uint slot, uint capacity) {
   uint next = table + ((slot - table + 1u) & (capacity - 1u));
-  if (hgKeys[slot] == HG_TOMBSTONE_KEY && hgKeys[next] == HG_EMPTY_KEY) hgKeys[slot] = HG_EMPTY_KEY;
+  if (HG_AT(hgKeys, slot) == HG_TOMBSTONE_KEY && HG_AT(hgKeys, next) == HG_EMPTY_KEY) HG_AT(hgKeys, slot) = HG_EMPTY_KEY;
 }
 
 // Adds one sample (count 1: r, g, b, luminance², count), or more light for a
@@ -130,17 +142,17 @@ void hgTidyTombstone(uint table, uint slot, uint capacity) {
 // passes unclamped (hgInsertSample says why).
 void hgAccumulate(int slot, vec3 radiance, vec3 tail, float momentLuminance, uint count, inout bool overflowed) {
   if (any(greaterThan(radiance + tail, vec3(float(HG_MAX_SAMPLE))))) overflowed = true;
-  atomicAdd(hgAccum[slot].r, hgToFixed(radiance.r));
-  atomicAdd(hgAccum[slot].g, hgToFixed(radiance.g));
-  atomicAdd(hgAccum[slot].b, hgToFixed(radiance.b));
+  atomicAdd(HG_AT(hgAccum, slot).r, hgToFixed(radiance.r));
+  atomicAdd(HG_AT(hgAccum, slot).g, hgToFixed(radiance.g));
+  atomicAdd(HG_AT(hgAccum, slot).b, hgToFixed(radiance.b));
   if (any(greaterThan(tail, vec3(0.0)))) {
-    atomicAdd(hgAccum[slot].tr, hgToFixed(tail.r));
-    atomicAdd(hgAccum[slot].tg, hgToFixed(tail.g));
-    atomicAdd(hgAccum[slot].tb, hgToFixed(tail.b));
+    atomicAdd(HG_AT(hgAccum, slot).tr, hgToFixed(tail.r));
+    atomicAdd(HG_AT(hgAccum, slot).tg, hgToFixed(tail.g));
+    atomicAdd(HG_AT(hgAccum, slot).tb, hgToFixed(tail.b));
   }
   if (count == 0u) return;
-  atomicAdd(hgAccum[slot].lum2, hgToFixed(min(momentLuminance * momentLuminance, float(HG_MAX_SAMPLE))));
-  atomicAdd(hgAccum[slot].count, count);
+  atomicAdd(HG_AT(hgAccum, slot).lum2, hgToFixed(min(momentLuminance * momentLuminance, float(HG_MAX_SAMPLE))));
+  atomicAdd(HG_AT(hgAccum, slot).count, count);
 }
 
 // Walk directions are stored octahedral in 2 × 16 bits (HgWalk::direction, HgCell::probeDirection).

@@ -35,13 +35,13 @@ uint hgPixelCell(ivec2 p) {
   GiRng rng = giRngCreate(uvec2(p), pc.frameIndex, pc.seed, GI_STREAM_HASH);
   const HgDescriptor d = hgPrimaryDescriptor(s.position, s.normal, rng);
   int best = hgFind(pc.table, hgIndexHash(d), hgVerificationKey(d), pc.capacity, pc.probeWindow);
-  uint bestSamples = best >= 0 ? hgCells[best].samples : 0u;
+  uint bestSamples = best >= 0 ? HG_AT(hgCells, best).samples : 0u;
   for (uint retry = 0u; retry < HG_LOOKUP_RETRIES && best >= 0 && bestSamples < HG_CLAMP_MIN_SAMPLES; ++retry) {
     const HgDescriptor other = hgPrimaryDescriptor(s.position, s.normal, rng);
     const int slot = hgFind(pc.table, hgIndexHash(other), hgVerificationKey(other), pc.capacity, pc.probeWindow);
-    if (slot >= 0 && hgCells[slot].samples > bestSamples && hgCells[slot].frames > 0.0) {
+    if (slot >= 0 && HG_AT(hgCells, slot).samples > bestSamples && HG_AT(hgCells, slot).frames > 0.0) {
       best = slot;
-      bestSamples = hgCells[slot].samples;
+      bestSamples = HG_AT(hgCells, slot).samples;
     }
   }
   return best >= 0 ? uint(best) + 1u : 0u;
@@ -54,9 +54,9 @@ void main() {
   uint cell = hgPixelCell(p);
   vec4 debug = vec4(0.0);
   if (cell > 0u) {
-    HgCell c = hgCells[cell - 1u];
+    HgCell c = HG_AT(hgCells, cell - 1u);
     if (c.samples >= pc.minSamples && c.frames > 0.0) result = hgCellRadiance(c);
-    uint key = hgKeys[cell - 1u];
+    uint key = HG_AT(hgKeys, cell - 1u);
     // Debug: cell colour from its key, LOD, samples, and whether the cell was used.
     debug = vec4(float(key & 0xffffffu), float(hgCellLod(c.previousLod)), float(c.samples), c.samples >= pc.minSamples ? 1.0 : 0.5);
   }
@@ -68,12 +68,12 @@ void main() {
       uint table = (cell - 1u) - (cell - 1u) % pc.capacity;
       used = 0.0;
       for (uint i = 0u; i < pc.probeWindow; ++i)
-        used += hgKeys[table + ((cell - 1u + i) & (pc.capacity - 1u))] != HG_EMPTY_KEY ? 1.0 : 0.0;
+        used += HG_AT(hgKeys, table + ((cell - 1u + i) & (pc.capacity - 1u))) != HG_EMPTY_KEY ? 1.0 : 0.0;
     }
     debug.w = used / float(pc.probeWindow);
   }
   if (pc.debugView == GI_DEBUG_CONTINUATION_DEPTH && pc.mode == HG_MODE_ANHPSF) {
-    debug.x = float(hgWalkSegments(hgWalks[uint(p.y) * giFrame.size.x + uint(p.x)])) / float(pc.depth);
+    debug.x = float(hgWalkSegments(HG_AT(hgWalks, uint(p.y) * giFrame.size.x + uint(p.x)))) / float(pc.depth);
   }
   giStoreIndirect(p, result);
   // The debug image exists at full size only while a debug view is on (the module allocates it then).

@@ -20,13 +20,13 @@ layout(push_constant, scalar) uniform Push { HgPush pc; };
 #define HG_STRICT_MAX_COUNT 1073741824u  // 2^30 samples: halve the sums (same mean) before the count could wrap
 void resolveStrict(uint i, inout uint live, inout uint evicted) {
   uint slot = pc.table + i;
-  if (hgKeys[slot] != HG_EMPTY_KEY) {
-    HgAccum a = hgAccum[slot];
-    HgCell c = hgCells[slot];
+  if (HG_AT(hgKeys, slot) != HG_EMPTY_KEY) {
+    HgAccum a = HG_AT(hgAccum, slot);
+    HgCell c = HG_AT(hgCells, slot);
     c.frames = 1.0;
     const uint previous = hgCellPrevious(c.previousLod);
     if (previous > 0u && pc.forgetLight == 0u) {
-      HgAccum b = hgAccum[previous - 1u];
+      HgAccum b = HG_AT(hgAccum, previous - 1u);
       a.r += b.r;
       a.g += b.g;
       a.b += b.b;
@@ -35,7 +35,7 @@ void resolveStrict(uint i, inout uint live, inout uint evicted) {
       a.tb += b.tb;
       a.lum2 += b.lum2;
       a.count += b.count;
-      c.frames = hgCells[previous - 1u].frames + 1.0;
+      c.frames = HG_AT(hgCells, previous - 1u).frames + 1.0;
     }
     if (a.count >= HG_STRICT_MAX_COUNT) {
       a.r /= 2ul;
@@ -47,17 +47,17 @@ void resolveStrict(uint i, inout uint live, inout uint evicted) {
       a.lum2 /= 2ul;
       a.count /= 2u;
     }
-    hgAccum[slot] = a;
+    HG_AT(hgAccum, slot) = a;
     c.mean = vec3(hgFromFixed(a.r, a.count), hgFromFixed(a.g, a.count), hgFromFixed(a.b, a.count)) / pc.radianceScale;
     c.tail = vec3(hgFromFixed(a.tr, a.count), hgFromFixed(a.tg, a.count), hgFromFixed(a.tb, a.count)) / pc.radianceScale;
     c.lumMoment2 = hgFromFixed(a.lum2, a.count) / (pc.radianceScale * pc.radianceScale);
     c.samples = a.count;
     c.lastSeen = pc.frameIndex;
-    hgCells[slot] = c;
+    HG_AT(hgCells, slot) = c;
     live = 1u;
   }
   uint previous = pc.previousTable + i;
-  if (hgKeys[previous] != HG_EMPTY_KEY && hgCells[previous].lastSeen != pc.frameIndex) evicted = 1u;
+  if (HG_AT(hgKeys, previous) != HG_EMPTY_KEY && HG_AT(hgCells, previous).lastSeen != pc.frameIndex) evicted = 1u;
 }
 
 // This frame's mean of the clamped samples.
@@ -76,14 +76,14 @@ vec3 frameMean(HgAccum a) {
 // the long one. The transported light is a little noisier, and it is
 // averaged again in the receiving cell.
 void resolveAging(uint slot, inout uint live, inout uint evicted) {
-  uint key = hgKeys[slot];
+  uint key = HG_AT(hgKeys, slot);
   if (key == HG_EMPTY_KEY) return;
   if (key == HG_TOMBSTONE_KEY) {
     hgTidyTombstone(pc.table, slot, pc.capacity);
     return;
   }
-  HgAccum a = hgAccum[slot];
-  HgCell c = hgCells[slot];
+  HgAccum a = HG_AT(hgAccum, slot);
+  HgCell c = HG_AT(hgCells, slot);
   // The windows in frames (c.frames counts on, for the tail's longer one).
   // They depend on the sample count only, never on the radiance: a window
   // that followed the cell's own σ/μ would stretch after every bright sample
@@ -98,7 +98,7 @@ void resolveAging(uint slot, inout uint live, inout uint evicted) {
     // until this frame's samples (if any) restart its mean, it is not read.
     c.frames = 0.0;
     c.samples = 0u;
-    hgCells[slot] = c;
+    HG_AT(hgCells, slot) = c;
   }
   if (a.count > 0u) {
     vec3 frameMean = frameMean(a);
@@ -118,7 +118,7 @@ void resolveAging(uint slot, inout uint live, inout uint evicted) {
     float kept = c.frames <= cap ? 1.0 : 1.0 - w;
     c.samples = a.count + uint(float(c.samples) * kept + 0.5);
     c.lastSeen = pc.frameIndex;
-    hgCells[slot] = c;
+    HG_AT(hgCells, slot) = c;
     hgClearAccum(slot);
     live = 1u;
   } else if (pc.frameIndex - c.lastSeen >= pc.staleFrames) {

@@ -41,9 +41,9 @@ void hgRetraceProbe(HgCell c, uint key, out float distance_, out float light) {
 
 // Returns 1 when the cell's history was cut.
 uint validate(uint slot) {
-  uint key = hgKeys[slot];
+  uint key = HG_AT(hgKeys, slot);
   if (key == HG_EMPTY_KEY || key == HG_TOMBSTONE_KEY) return 0u;
-  HgCell c = hgCells[slot];
+  HgCell c = HG_AT(hgCells, slot);
   bool hasProbe = c.probeDistance != 0.0 || c.probeLight != 0.0;
   bool due = hasProbe && c.frames > 0.0 && (slot + pc.frameIndex) % pc.validationInterval == 0u;
   if (!(pc.forgetLight != 0u ? hasProbe : due)) return 0u;
@@ -52,8 +52,8 @@ uint validate(uint slot) {
   if (pc.forgetLight != 0u) {
     // The engine says the lights changed (resolve drops the history): every
     // probe learns the new light now, so that its next check does not cut again.
-    hgCells[slot].probeDistance = distance_;
-    hgCells[slot].probeLight = light;
+    HG_AT(hgCells, slot).probeDistance = distance_;
+    HG_AT(hgCells, slot).probeLight = light;
     return 0u;
   }
   float mean = giLuminance(c.mean);
@@ -65,12 +65,12 @@ uint validate(uint slot) {
   float frameVariance = max(c.lumMoment2 - mean * mean, 0.0) / samplesPerFrame;
   float kept = floor(min(window, frameVariance / (change * change)));
   if (kept < window) {
-    hgCells[slot].samples = uint(float(c.samples) * kept / window);
-    hgCells[slot].frames = kept;
+    HG_AT(hgCells, slot).samples = uint(float(c.samples) * kept / window);
+    HG_AT(hgCells, slot).frames = kept;
     reset = 1u;
   }
-  hgCells[slot].probeDistance = distance_;
-  hgCells[slot].probeLight = light;
+  HG_AT(hgCells, slot).probeDistance = distance_;
+  HG_AT(hgCells, slot).probeLight = light;
   return reset;
 }
 

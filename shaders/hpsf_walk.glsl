@@ -76,14 +76,14 @@ int hgInsertSample(uint index, uint key, vec3 radiance, uint count, int lod, out
   hgProbeMax = max(hgProbeMax, probes);
   // With strict eviction the history is the same key's cell in the previous
   // frame's table, which this cell links to and keeps alive.
-  HgCell history = hgCells[slot];
+  HgCell history = HG_AT(hgCells, slot);
   uint linked = 0u;
   if (pc.strict != 0u) {
     int previous = hgFind(pc.previousTable, index, key, pc.capacity, pc.probeWindow);
     if (previous >= 0) {
-      history = hgCells[previous];
+      history = HG_AT(hgCells, previous);
       linked = uint(previous) + 1u;
-      hgCells[previous].lastSeen = pc.frameIndex;
+      HG_AT(hgCells, previous).lastSeen = pc.frameIndex;
     }
   }
   // The clamp's σ comes from the second moment of the samples as they
@@ -112,7 +112,7 @@ int hgInsertSample(uint index, uint key, vec3 radiance, uint count, int lod, out
   bool overflowed = false;
   hgAccumulate(slot, sample_ * pc.radianceScale, tail * pc.radianceScale, lum * pc.radianceScale, count, overflowed);
   if (overflowed) hgOverflowCount++;
-  hgCells[slot].previousLod = hgPackPreviousLod(linked, lod);  // every writer of this key writes the same value
+  HG_AT(hgCells, slot).previousLod = hgPackPreviousLod(linked, lod);  // every writer of this key writes the same value
   hgInsertedCount++;
   return slot;
 }
@@ -124,10 +124,10 @@ HgProbe hgNewCellProbe(vec3 origin, vec3 direction, uint key) {
 }
 // Stores the traced probe in the cell that made it.
 void hgStoreProbe(int slot, HgProbe probe) {
-  hgCells[slot].probeOrigin = probe.origin;
-  hgCells[slot].probeDirection = hgPackDirection(probe.direction);
-  hgCells[slot].probeDistance = probe.distance_;
-  hgCells[slot].probeLight = probe.light;
+  HG_AT(hgCells, slot).probeOrigin = probe.origin;
+  HG_AT(hgCells, slot).probeDirection = hgPackDirection(probe.direction);
+  HG_AT(hgCells, slot).probeDistance = probe.distance_;
+  HG_AT(hgCells, slot).probeLight = probe.light;
 }
 
 // Last frame's radiance at (index, key) as the map passes it on (the cell's
@@ -136,7 +136,7 @@ bool hgReadCell(uint index, uint key, out vec3 mean) {
   mean = vec3(0.0);
   int slot = hgFind(hgReadTable(), index, key, pc.capacity, pc.probeWindow);
   if (slot < 0) return false;
-  HgCell c = hgCells[slot];
+  HgCell c = HG_AT(hgCells, slot);
   if (c.samples < pc.minSamples || c.frames == 0.0) return false;
   mean = c.recent + c.tail;
   return true;

@@ -1,7 +1,8 @@
 // 10,000 frames of the cached methods on a 64² image: host memory and the
 // module's device memory stay flat, the hash map's occupancy never grows past
-// its steady state, every frame stays finite, and validation stays silent
-// (the fixture fails the test on any validation message).
+// its steady state, every frame stays finite, no pass reaches outside a
+// buffer or image (gi::ModuleDesc::checkBounds on), and validation stays
+// silent (the fixture fails the test on any validation message).
 #include <fstream>
 
 #include "gpu_test.h"
@@ -28,7 +29,9 @@ TEST_P(SoakTest, TenThousandFramesStayFlat) {
   settings.method = GetParam();
   settings.maxBounces = 1;
   tools::ModuleSession session;
-  ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {64, 64}, settings, session));
+  gi::ModuleDesc desc = tools::moduleDesc(ctx, s.gpu, {64, 64});
+  desc.checkBounds = true;
+  ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {64, 64}, settings, session, &desc));
   gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], 64, 64, nullptr);
   const uint32_t kFrames = 10000, kSteadyFrom = 1000, kSteadyTo = 2000;
   uint64_t hostAtSteady = 0, deviceAtSteady = 0;
@@ -37,6 +40,7 @@ TEST_P(SoakTest, TenThousandFramesStayFlat) {
     tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, f);
     gi::FrameStats st = gi::stats(session.module);
     ASSERT_EQ(st.hash.failedInserts, 0u) << "frame " << f;
+    ASSERT_EQ(st.boundsViolations, 0u) << "frame " << f;
     if (f == kSteadyFrom) {
       hostAtSteady = residentBytes();
       deviceAtSteady = st.memoryBytes;

@@ -36,6 +36,8 @@ const cli::Option kOptions[] = {
     {"out", "FILE", "output image: .exr or .pfm (linear) or .png (sRGB)"},
     {"stats", "FILE.json", "write device, timings (each program's first dispatch apart), rays and wall time as JSON"},
     {"validation", nullptr, "enable Vulkan validation; any message makes the run fail"},
+    {"check-bounds", nullptr, "module methods: check every hash-map index and image coordinate the module's "
+                              "passes use (gi::ModuleDesc::checkBounds); any outside makes the run fail"},
     cli::kTraversalOption,
     cli::kSkyOption,
     cli::kPointLightsOption,
@@ -157,6 +159,7 @@ int main(int argc, char** argv) {
   uint64_t memoryUsedBytes = 0;          // of that, what its buffers and images occupy
   uint64_t memoryTransientBytes = 0;     // of that, images whose contents live within one frame
   uint32_t deviceAllocations = 0;
+  uint64_t boundsViolations = 0;         // module methods with --check-bounds: summed over the frames
   // Each program's first dispatch, before any timed frame (the compile, on lavapipe).
   std::map<std::string, double> firstDispatchMs;
   if (method == "reference") {
@@ -169,7 +172,9 @@ int main(int argc, char** argv) {
     firstDispatchMs["path_trace"] = run.firstDispatchMs;
   } else {
     tools::ModuleSession session;
-    if (!tools::createModuleSession(ctx, sceneGpu, {width, height}, moduleSettings, session, error)) {
+    gi::ModuleDesc moduleDesc = tools::moduleDesc(ctx, sceneGpu, {width, height});
+    moduleDesc.checkBounds = args.has("check-bounds");
+    if (!tools::createModuleSession(ctx, sceneGpu, {width, height}, moduleSettings, session, error, &moduleDesc)) {
       std::fprintf(stderr, "gi-render: %s\n", error.c_str());
       engine::destroySceneGpu(ctx, sceneGpu);
       engine::destroyContext(ctx);
@@ -202,6 +207,7 @@ int main(int argc, char** argv) {
       }
       poseFor(f);
       tools::FrameTiming t = tools::renderModuleFrame(ctx, session, scene, sceneGpu, camera, camera, f);
+      boundsViolations += gi::stats(session.module).boundsViolations;
       for (const gi::PassTiming& p : t.passes) passMs[p.name] += p.ms;
       run.gpuMs += t.totalMs;
       run.rays += t.rays;
@@ -219,6 +225,11 @@ int main(int argc, char** argv) {
   }
 
   int status = 0;
+  if (boundsViolations > 0) {
+    std::fprintf(stderr, "gi-render: %llu accesses outside a buffer or image (--check-bounds)\n",
+                 static_cast<unsigned long long>(boundsViolations));
+    status = 1;
+  }
   if (args.has("out")) {
     const engine::ReferenceImages& im = run.images;
     const engine::FloatImage& img = aov == "direct" ? im.direct
@@ -262,6 +273,7 @@ int main(int argc, char** argv) {
       j["module_memory_used_bytes"] = memoryUsedBytes;
       j["module_memory_transient_bytes"] = memoryTransientBytes;  // FrameStats::memoryTransientBytes
       j["module_device_allocations"] = deviceAllocations;
+      if (args.has("check-bounds")) j["bounds_violations"] = boundsViolations;
     }
     if (lastHash.capacity)
       j["hash_last_frame"] = {{"capacity", lastHash.capacity},        {"occupied", lastHash.occupied},

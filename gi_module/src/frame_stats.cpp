@@ -31,6 +31,7 @@ bool readFrameStats(Module& m, uint32_t slot, FrameStats& st) {
   const gpu::GiCounters c = slotCounters(m, slot);
   st.raysTraced = c.raysTraced;
   st.sanitized = c.sanitized;
+  st.boundsViolations = c.boundsViolations;
   st.accumulatedFrames = fs.history;
   st.samplesPerPixel = fs.spp;
   const uint32_t pixels = m.width * m.height;
@@ -41,6 +42,7 @@ bool readFrameStats(Module& m, uint32_t slot, FrameStats& st) {
   st.deviceAllocations = m.gpu.memory.allocations;
   if (usesHashGrid(fs.method) && m.hash.capacity) {
     gpu::HgTelemetry t = readHashGridTelemetry(m.hash, slot);
+    st.boundsViolations += t.outOfBounds;
     st.hash.capacity = m.hash.capacity;
     st.hash.occupied = t.occupied;
     st.hash.inserts = t.inserts;

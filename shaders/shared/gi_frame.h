@@ -72,7 +72,8 @@ GPU_CONST GI_BINDING_COUNT = 32;
 #define GI_SPEC_DEPTH_ENCODING 5
 #define GI_SPEC_MOTION_UNITS 6
 #define GI_SPEC_GLOSSY_FLAG 7
-#define GI_SPEC_COUNT 8
+#define GI_SPEC_CHECK_BOUNDS 8  // gi::ModuleDesc::checkBounds (bounds.glsl)
+#define GI_SPEC_COUNT 9
 GPU_CONST GI_NORMAL_XYZ = 0u;              // rgb = n in [-1,1]
 GPU_CONST GI_NORMAL_XYZ_UNORM = 1u;        // rgb = n·0.5 + 0.5
 GPU_CONST GI_NORMAL_OCTAHEDRAL = 2u;       // rg = octahedral n in [0,1]
@@ -110,7 +111,7 @@ struct GiCounters {
   uint tracedSamples;     // AAF pass 2: Σ samples actually traced
   uint sanitized;         // non-finite G-buffer pixels and path samples dropped at the module boundary
   uint coveredPixels;     // AAF pass 1: pixels with geometry (each takes the 16 initial samples)
-  uint pad0;
+  uint boundsViolations;  // ModuleDesc::checkBounds: image coordinates outside their image (bounds.glsl)
   uint pad1;
   uint pad2;
 };

@@ -100,8 +100,10 @@ struct HgTelemetry {
   uint depthSum;      // anhpsf: Σ of their depths (segments)
   uint reads;         // nhpsf/anhpsf: last frame's map read at a path's scatter vertex
   uint readMisses;    // of those, reads that found no cell (or one without samples): that light is missing
+  uint outOfBounds;   // ModuleDesc::checkBounds: indices outside the map's arrays (bounds.glsl)
+  uint pad0;
 };
-GPU_ASSERT_SIZE(HgTelemetry, 56);
+GPU_ASSERT_SIZE(HgTelemetry, 64);
 
 // A path walked segment by segment (nhpsf within a frame, anhpsf one segment
 // per frame): where it goes next, and the cell its radiance feeds. The

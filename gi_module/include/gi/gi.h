@@ -56,7 +56,8 @@
 #include "shared/gpu_scene.h"
 
 #define GI_VERSION_MAJOR 0
-#define GI_VERSION_MINOR 5  // 0.5: programs readied ahead of a switch (preparePrograms, recordProgramWarmup); set 0's arrays as texel buffers
+#define GI_VERSION_MINOR 6  // 0.6: light samplers (SceneCreateDesc::lightSampler, lightTreeCut), ModuleDesc::checkBounds
+                            // 0.5: programs readied ahead of a switch (preparePrograms, recordProgramWarmup); set 0's arrays as texel buffers
                             // 0.4: the scene API (gi/scene.h), the G-buffer adapter, the camera as matrices
                             // 0.3: half-float outputs with pre-exposure
                             // 0.2: own function table, frames in flight, returned Vulkan errors, catalogues
@@ -142,6 +143,9 @@ struct ModuleDesc {
   SceneDesc scene;
   bool debugLabels = false;          // VK_EXT_debug_utils is enabled on the instance: label every pass
   bool timestamps = true;            // time every pass (FrameStats::passes); off: no query pool, no timing barriers
+  bool checkBounds = false;          // every hash-map index and set-1 image coordinate checked against its size, one
+                                     // outside counted (FrameStats::boundsViolations) and kept inside: for tests and
+                                     // bug hunts (shaders/bounds.glsl); off, the checks are compiled away
   uint64_t memoryBudgetBytes = 0;    // device memory the module may hold; 0 = no limit. Beyond it calls fail
                                      // with VK_ERROR_OUT_OF_DEVICE_MEMORY, as a full heap would
   const VkAllocationCallbacks* allocationCallbacks = nullptr;  // passed to every vkCreate*/vkAllocateMemory
@@ -226,6 +230,7 @@ struct FrameStats {
   uint32_t accumulatedFrames = 0;   // temporal history length behind the output
   uint32_t samplesPerPixel = 0;     // paths per pixel actually traced (after the ray budget; AAF: the mean)
   uint32_t sanitized = 0;           // non-finite G-buffer pixels and path samples dropped (treated as background)
+  uint32_t boundsViolations = 0;    // ModuleDesc::checkBounds: accesses outside a buffer or image (0 unless a bug)
   uint64_t memoryBytes = 0;         // device memory the module holds (its blocks), bytes
   uint64_t memoryUsedBytes = 0;     // of that, bytes its buffers and images occupy
   uint64_t memoryTransientBytes = 0;  // of those, images whose contents live within one frame (NRD's transient

@@ -1,0 +1,99 @@
+// gi::ModuleDesc::checkBounds (shaders/bounds.glsl): every hash-map index and
+// every image coordinate of set 1 checked against its size, a violation
+// counted in FrameStats::boundsViolations. Every method under what strains
+// indices most (a full map, a moving scene, a panning camera, an image whose
+// sides are not multiples of the 8×8 groups) touches nothing outside; and
+// the check itself counts what lies outside.
+#include <cstring>
+
+#include "gi/catalogue.h"
+#include "gpu_test.h"
+#include "hash_grid.h"
+#include "hash_stress.comp.h"
+#include "module_device.h"
+#include "module_test_helpers.h"
+#include "shared/gi_frame.h"
+
+class ModuleBoundsTest : public GpuTest {};
+
+// Every method with its defaults, 8 frames of the Cornell box's light circling
+// and a block turning while the camera pans, at 98×66; the hash methods' map at its smallest (1,024
+// cells) under cells of half a pixel: full from the first frame, a probe window that finds no slot on
+// every frame.
+TEST_F(ModuleBoundsTest, EveryMethodOnAFullMapAndAMovingSceneStaysInBounds) {
+  LoadedScene s;
+  ASSERT_NO_FATAL_FAILURE(load(sharedScene("cornell-box-mcguire/CornellBox-Original.gltf"), s));
+  const engine::SceneAnimation animation = engine::makeSceneAnimation(s.scene);
+  const VkExtent2D size{98, 66};
+  gi::ModuleDesc desc = tools::moduleDesc(ctx, s.gpu, size);
+  desc.checkBounds = true;
+  for (const gi::MethodInfo& info : gi::methodCatalogue()) {
+    gi::Settings settings;
+    settings.method = info.method;
+    settings.hpsf.capacity = 1024;
+    settings.hpsf.filterWidth = 0.5f;  // cells of half a pixel: far more than the map holds
+    settings.hpsf.normalBits = 6;
+    tools::ModuleSession session;
+    ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, size, settings, session, &desc));
+    gpu::GpuCamera previous{};
+    uint32_t failedInserts = 0;
+    for (uint32_t f = 0; f < 8; ++f) {
+      if (f == 0) engine::jumpScene(ctx, animation, 0.0f, s.scene, s.gpu);
+      else engine::poseScene(ctx, animation, float(f) / 30.0f, s.scene, s.gpu);
+      const engine::Camera c = panned(s.scene.cameras[0], 0.02f * float(7 - f));
+      const gpu::GpuCamera cam = engine::makeGpuCamera(c, size.width, size.height, f > 0 ? &previous : nullptr);
+      tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, f > 0 ? previous : cam, f);
+      previous = cam;
+      gi::FrameStats stats;
+      ASSERT_TRUE(gi::frameStats(session.module, f, stats)) << info.name << " frame " << f;
+      EXPECT_EQ(stats.boundsViolations, 0u) << info.name << " frame " << f;
+      failedInserts += stats.hash.failedInserts;
+    }
+    if (gi::usesHashGrid(info.method)) {
+      EXPECT_GT(failedInserts, 0u) << info.name << ": the map was meant to be full";
+    }
+    tools::destroyModuleSession(ctx, session);
+  }
+  engine::jumpScene(ctx, animation, 0.0f, s.scene, s.gpu);
+  unload(s);
+}
+
+namespace {
+
+// hash_stress.comp's push constants (tests/hash_grid_test.cpp).
+struct StressPush {
+  uint32_t capacity, window, keyCount, repeats, mode, keyBase, sameIndex, count;
+};
+
+}  // namespace
+
+// The check bites: the hash map's own insert, told the map is four times larger than it is, reaches
+// past its arrays; checked, every such index is counted and kept inside (unchecked, it would write
+// past the buffer into whatever lies beside it: not run).
+TEST_F(ModuleBoundsTest, AnIndexPastTheMapIsCounted) {
+  gi::vk::Device dev = openModuleDevice(ctx);
+  engine::DescriptorSet empty = engine::createDescriptorSet(ctx, {});
+  VkDescriptorSetLayout gridLayout = VK_NULL_HANDLE;
+  ASSERT_FALSE(gi::createHashGridLayout(dev, gridLayout));
+  gi::HashGrid grid;
+  ASSERT_FALSE(gi::createHashGrid(dev, gridLayout, 1024, 1, 8, 8, 1, false, grid));
+  VkDescriptorSetLayout all[] = {empty.layout, empty.layout, gridLayout};
+  uint32_t spec[GI_SPEC_COUNT] = {};
+  spec[GI_SPEC_CHECK_BOUNDS] = 1;
+  engine::ComputeProgram stress = engine::createComputeProgram(ctx, spv_hash_stress_comp, all, sizeof(StressPush), {64, 1}, spec);
+  const StressPush told4096{4096, 8, 4096, 1, 0, 1, 0, 1};  // insert 4,096 keys, one sample each
+  VkDescriptorSet sets[] = {empty.set, empty.set, grid.set[0]};
+  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+    gi::recordHashGridFrameStart(dev, cmd, grid, 0);
+    engine::dispatch(ctx, cmd, stress, sets, {4096, 1}, told4096);
+    gi::recordHashGridTelemetryCopy(dev, cmd, grid, 0);
+  });
+  const uint32_t outOfBounds = gi::readHashGridTelemetry(grid, 0).outOfBounds;
+  std::printf("indices past a 1,024-cell map told it has 4,096 cells: %u counted\n", outOfBounds);
+  EXPECT_GT(outOfBounds, 1000u);
+  engine::destroyComputeProgram(ctx, stress);
+  gi::destroyHashGrid(dev, grid);
+  dev.fn.vkDestroyDescriptorSetLayout(dev.device, gridLayout, dev.allocator);
+  engine::destroyDescriptorSet(ctx, empty);
+  gi::vk::closeDevice(dev);
+}
