@@ -3,6 +3,7 @@
 #define GI_FILTERS_GLSL
 #extension GL_EXT_shader_image_load_formatted : require
 #extension GL_EXT_scalar_block_layout : require
+#include "bounds.glsl"
 #include "shared/gi_filters.h"
 
 // Guidance, positions and input are formatless: the module's are half floats, AAF's glossy terms and
@@ -14,6 +15,10 @@ layout(set = 0, binding = FILTER_BINDING_OUTPUT) uniform image2D filterOutput;  
 layout(set = 0, binding = FILTER_BINDING_A, rgba32f) uniform image2D filterA[FILTER_STACK];
 layout(set = 0, binding = FILTER_BINDING_TEMP) uniform image2D filterTemp;  // formatless: half or single floats
 layout(set = 0, binding = FILTER_BINDING_PARAMS, rgba32f) uniform image2D filterParams;
+layout(set = 0, binding = FILTER_BINDING_COUNTERS, scalar) buffer FilterCountersBlock { GiCounters filterCounters; };
+
+// With ModuleDesc::checkBounds a coordinate outside its image is counted here (bounds.glsl).
+GI_COUNT_PIXELS_OUTSIDE_INTO(filterCounters.boundsViolations)
 
 ivec2 filterSize() { return imageSize(filterInput); }
 

@@ -50,17 +50,8 @@ layout(set = 1, binding = GI_BINDING_TEMPORAL_GRADIENT, rgba32f) uniform image2D
 layout(set = 1, binding = GI_BINDING_TEMPORAL_SPREAD, rgba32f) uniform image2D giTemporalSpread;
 layout(set = 1, binding = GI_BINDING_HISTORY_PACKED, rg32ui) uniform uimage2D giHistoryPacked;
 
-// With ModuleDesc::checkBounds every access to an image of set 1 below this point goes through
-// giCheckedPixel: a coordinate outside the image is counted and (0, 0) taken instead (bounds.glsl).
-ivec2 giCheckedPixel(ivec2 p, ivec2 size) {
-  if (GI_CHECK_BOUNDS && (any(lessThan(p, ivec2(0))) || any(greaterThanEqual(p, size)))) {
-    atomicAdd(giCounters.boundsViolations, 1u);
-    return ivec2(0);
-  }
-  return p;
-}
-#define imageLoad(image, p) imageLoad(image, giCheckedPixel(p, imageSize(image)))
-#define imageStore(image, p, v) imageStore(image, giCheckedPixel(p, imageSize(image)), v)
+// With ModuleDesc::checkBounds a coordinate outside its image is counted here (bounds.glsl).
+GI_COUNT_PIXELS_OUTSIDE_INTO(giCounters.boundsViolations)
 
 // Output images hold radiance × outputScale, clamped into the format's range
 // (a half float overflows to Inf past 65504). Loads give radiance back.

@@ -66,7 +66,7 @@ vk::Status createMissing(Module& m, std::span<const ProgramUse> list) {
     if (p.program->pipeline) continue;
     if (p.sets == ProgramSets::Filter) {
       GI_TRY(createFilterLayout(m.gpu, m.filterPrograms));
-      GI_TRY(vk::createComputeProgram(m.gpu, p.spirv, std::span(&m.filterPrograms.layout, 1), p.pushSize, p.group, {},
+      GI_TRY(vk::createComputeProgram(m.gpu, p.spirv, std::span(&m.filterPrograms.layout, 1), p.pushSize, p.group, spec,
                                       *p.program));
       continue;
     }

@@ -1,6 +1,7 @@
 #include "screen_filters.h"
 
 #include <cstdint>
+#include <cstring>
 #include <string>
 
 #include "aaf_filter.comp.h"
@@ -10,6 +11,7 @@
 #include "gif_coefficients.comp.h"
 #include "gif_moments.comp.h"
 #include "gif_output.comp.h"
+#include "shared/gi_frame.h"
 #include "sspsf.comp.h"
 #include "shared/aaf.h"
 
@@ -51,6 +53,7 @@ const vk::Binding kFilterBindings[] = {
     {gpu::FILTER_BINDING_A, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, FILTER_STACK},
     {gpu::FILTER_BINDING_TEMP, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
     {gpu::FILTER_BINDING_PARAMS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::FILTER_BINDING_COUNTERS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
 };
 
 constexpr glm::uvec2 kTile{FILTER_GROUP_SIZE, FILTER_GROUP_SIZE}, kLine{FILTER_LINE_GROUP, 1};
@@ -113,6 +116,7 @@ vk::Status createFilterSets(const vk::Device& d, const FilterPrograms& programs,
         .storageImage(gpu::FILTER_BINDING_OUTPUT, t.output)
         .storageImage(gpu::FILTER_BINDING_TEMP, t.temp)
         .storageImage(gpu::FILTER_BINDING_PARAMS, t.params)
+        .buffer(gpu::FILTER_BINDING_COUNTERS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, t.counters, 0, sizeof(gpu::GiCounters))
         .write(d);
   }
   return {};
@@ -124,7 +128,19 @@ vk::Status createScreenFilters(vk::Device& d, const FilterPrograms& programs, ui
   f.programs = &programs;
   f.width = width;
   f.height = height;
-  GI_TRY(createFilterSets(d, programs, std::span(&t, 1), f.set));
+  FilterTargets targets = t;
+  if (!targets.counters) {
+    if (vk::Status s = vk::createBuffer(d, sizeof(gpu::GiCounters), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, f.ownCounters)) {
+      destroyScreenFilters(d, f);
+      return s;
+    }
+    std::memset(f.ownCounters.memory.mapped, 0, sizeof(gpu::GiCounters));
+    targets.counters = f.ownCounters.buffer;
+  }
+  if (vk::Status s = createFilterSets(d, programs, std::span(&targets, 1), f.set)) {
+    destroyScreenFilters(d, f);
+    return s;
+  }
   out = std::move(f);
   return {};
 }
@@ -150,6 +166,7 @@ void destroyScreenFilters(vk::Device& d, ScreenFilters& f) {
   vk::destroyDescriptorSets(d, f.set);
   vk::destroyDescriptorSets(d, f.aafGlossySets);
   for (vk::Image& img : f.a) vk::destroyImage(d, img);
+  vk::destroyBuffer(d, f.ownCounters);
   f = ScreenFilters{};
 }
 

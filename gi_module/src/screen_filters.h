@@ -14,6 +14,8 @@ namespace gi {
 struct FilterTargets {
   VkImageView guidance, position, input, output, temp, params;  // GENERAL layout; rgba32f but `output`
                                                                 // (contract in shared/gi_filters.h)
+  VkBuffer counters = VK_NULL_HANDLE;  // GiCounters the bounds-checked variant counts into (the module's);
+                                       // none: createScreenFilters makes one of its own
 };
 
 // A working rgba32f image: light as it is.
@@ -54,6 +56,7 @@ struct ScreenFilters {
   vk::Image a[FILTER_STACK];        // the guided filter's window statistics (created on its first use)
   vk::DescriptorSets set;           // one set over the module's targets
   vk::DescriptorSets aafGlossySets;  // two: AAF's specular terms filtered in place (glossy scenes)
+  vk::Buffer ownCounters;           // where the targets named no counters (the filters on their own, in tests)
   uint32_t width = 0, height = 0;
   uint64_t memoryBytes = 0;
   bool initialised = false;  // images moved to GENERAL layout

@@ -185,13 +185,15 @@ vk::Status createFilters(Module& m, const OutputImages& outputs, SizedResources&
   if (!(r.needs & kNeedsFilters)) return {};
   GI_TRY(createScreenFilters(m.gpu, m.filterPrograms, r.width, r.height,
                              {r.guidance.view, r.position.view, r.noisyIndirect.view, outputs.indirect.view, r.debug.view,
-                              r.aafParams.view},
+                              r.aafParams.view, m.counters.buffer},
                              r.filters));
   if (r.needs & kNeedsGlossySets) {
     // The glossy terms are filtered in place: β in their alpha, the filter's temp image shared.
     const FilterTargets glossy[] = {
-        {r.guidance.view, r.position.view, r.aafGlossy.view, r.aafGlossy.view, r.debug.view, r.aafGlossy.view},
-        {r.guidance.view, r.position.view, r.aafGlossyEdge.view, r.aafGlossyEdge.view, r.debug.view, r.aafGlossyEdge.view}};
+        {r.guidance.view, r.position.view, r.aafGlossy.view, r.aafGlossy.view, r.debug.view, r.aafGlossy.view,
+         m.counters.buffer},
+        {r.guidance.view, r.position.view, r.aafGlossyEdge.view, r.aafGlossyEdge.view, r.debug.view, r.aafGlossyEdge.view,
+         m.counters.buffer}};
     GI_TRY(createFilterSets(m.gpu, m.filterPrograms, glossy, r.filters.aafGlossySets));
   }
   if (r.needs & kNeedsGuidedStack) GI_TRY(ensureGuidedStack(m.gpu, r.filters));
