@@ -5,6 +5,8 @@
 #define SCENE_NO_TLAS
 #include "scene.glsl"
 #include "shared/gbuffer.h"
+// The engine's program: its reads are never checked (bounds.glsl).
+GI_BOUNDS_UNCHECKED
 
 layout(set = 1, binding = GBUFFER_BINDING_CAMERA, scalar) uniform CameraBlock { GpuCamera camera; };
 layout(push_constant, scalar) uniform Push { GBufferPush pc; };

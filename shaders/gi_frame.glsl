@@ -50,8 +50,10 @@ layout(set = 1, binding = GI_BINDING_TEMPORAL_GRADIENT, rgba32f) uniform image2D
 layout(set = 1, binding = GI_BINDING_TEMPORAL_SPREAD, rgba32f) uniform image2D giTemporalSpread;
 layout(set = 1, binding = GI_BINDING_HISTORY_PACKED, rg32ui) uniform uimage2D giHistoryPacked;
 
-// With ModuleDesc::checkBounds a coordinate outside its image is counted here (bounds.glsl).
+// With ModuleDesc::checkBounds a coordinate outside its image, or an index outside one of the scene's
+// texel buffers, is counted here (bounds.glsl).
 GI_COUNT_PIXELS_OUTSIDE_INTO(giCounters.boundsViolations)
+GI_COUNT_TEXELS_OUTSIDE_INTO(giCounters.boundsViolations)
 
 // Output images hold radiance × outputScale, clamped into the format's range
 // (a half float overflows to Inf past 65504). Loads give radiance back.

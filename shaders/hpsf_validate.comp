@@ -16,6 +16,7 @@
 #extension GL_EXT_scalar_block_layout : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_shader_atomic_int64 : require
+#include "gi_frame.glsl"  // set 1: where the bounds-checked variant counts (bounds.glsl)
 #include "hpsf.glsl"
 #include "hpsf_probe.glsl"
 

@@ -8,6 +8,8 @@
 #include "random.glsl"
 #include "camera.glsl"
 #include "shared/ray_bench.h"
+// The engine's program: its reads are never checked (bounds.glsl).
+GI_BOUNDS_UNCHECKED
 
 layout(local_size_x = RB_GROUP_SIZE, local_size_y = RB_GROUP_SIZE) in;
 layout(set = 1, binding = RB_BINDING_CAMERA, scalar) uniform CameraBlock { GpuCamera camera; };

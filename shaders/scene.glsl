@@ -2,6 +2,7 @@
 // Define SCENE_NO_TLAS before including in raster stages.
 #ifndef GI_SCENE_GLSL
 #define GI_SCENE_GLSL
+#include "bounds.glsl"
 #include "common.glsl"
 #include "shared/gpu_scene.h"
 
@@ -47,8 +48,8 @@ layout(set = 0, binding = SCENE_BINDING_TEXTURES) uniform sampler2D sceneTexture
 // branches and loops test (the light counts here), which would give every
 // scene programs of its own, each compiled anew at its first dispatch.
 GpuSceneConstants sceneConstants() {
-  uvec4 a = texelFetch(sceneConstantRows, 0), b = texelFetch(sceneConstantRows, 1), c = texelFetch(sceneConstantRows, 2);
-  uvec4 d = texelFetch(sceneConstantRows, 3), e = texelFetch(sceneConstantRows, 4);
+  uvec4 a = GI_FETCH(sceneConstantRows, 0), b = GI_FETCH(sceneConstantRows, 1), c = GI_FETCH(sceneConstantRows, 2);
+  uvec4 d = GI_FETCH(sceneConstantRows, 3), e = GI_FETCH(sceneConstantRows, 4);
   return GpuSceneConstants(a.x, a.y, uintBitsToFloat(a.z), uintBitsToFloat(a.w), uintBitsToFloat(b.xyz),
                            b.w, uintBitsToFloat(c.xyz), c.w, uintBitsToFloat(d.xyz),
                            d.w, e.xy, uintBitsToFloat(e.z), e.w);
@@ -57,59 +58,59 @@ GpuSceneConstants sceneConstants() {
 // The arrays' elements. Unused fields cost nothing: the compiler drops their fetches.
 vec3 scenePosition(uint vertex) {
   int i = int(3u * vertex);
-  return vec3(texelFetch(scenePositionTexels, i).r, texelFetch(scenePositionTexels, i + 1).r,
-              texelFetch(scenePositionTexels, i + 2).r);
+  return vec3(GI_FETCH(scenePositionTexels, i).r, GI_FETCH(scenePositionTexels, i + 1).r,
+              GI_FETCH(scenePositionTexels, i + 2).r);
 }
 vec3 sceneNormal(uint vertex) {
   int i = int(3u * vertex);
-  return vec3(texelFetch(sceneNormalTexels, i).r, texelFetch(sceneNormalTexels, i + 1).r,
-              texelFetch(sceneNormalTexels, i + 2).r);
+  return vec3(GI_FETCH(sceneNormalTexels, i).r, GI_FETCH(sceneNormalTexels, i + 1).r,
+              GI_FETCH(sceneNormalTexels, i + 2).r);
 }
-vec2 sceneUvAt(uint vertex) { return texelFetch(sceneUvTexels, int(vertex)).rg; }
-uint sceneIndex(uint i) { return texelFetch(sceneIndexTexels, int(i)).r; }
+vec2 sceneUvAt(uint vertex) { return GI_FETCH(sceneUvTexels, int(vertex)).rg; }
+uint sceneIndex(uint i) { return GI_FETCH(sceneIndexTexels, int(i)).r; }
 
 GpuGeometry sceneGeometry(uint index) {
-  uvec4 r = texelFetch(sceneGeometryRows, int(index));
+  uvec4 r = GI_FETCH(sceneGeometryRows, int(index));
   return GpuGeometry(r.x, r.y, r.z, r.w);
 }
 // The rows of a mat4 (column-major, a column per row of the buffer) starting at `row`.
 mat4 sceneRowsMat4(utextureBuffer rows, int row) {
-  return mat4(uintBitsToFloat(texelFetch(rows, row)), uintBitsToFloat(texelFetch(rows, row + 1)),
-              uintBitsToFloat(texelFetch(rows, row + 2)), uintBitsToFloat(texelFetch(rows, row + 3)));
+  return mat4(uintBitsToFloat(GI_FETCH(rows, row)), uintBitsToFloat(GI_FETCH(rows, row + 1)),
+              uintBitsToFloat(GI_FETCH(rows, row + 2)), uintBitsToFloat(GI_FETCH(rows, row + 3)));
 }
 GpuInstance sceneInstance(uint index) {
   int row = int(index) * 13;  // 208 bytes
-  uvec4 ids = texelFetch(sceneInstanceRows, row + 12);
+  uvec4 ids = GI_FETCH(sceneInstanceRows, row + 12);
   return GpuInstance(sceneRowsMat4(sceneInstanceRows, row), sceneRowsMat4(sceneInstanceRows, row + 4),
                      sceneRowsMat4(sceneInstanceRows, row + 8), ids.x, ids.y, ids.z, ids.w);
 }
 GpuMaterial sceneMaterialData(uint index) {
   int row = int(index) * 4;  // 64 bytes
-  vec4 a = uintBitsToFloat(texelFetch(sceneMaterialRows, row));
-  vec4 b = uintBitsToFloat(texelFetch(sceneMaterialRows, row + 1));
-  uvec4 c = texelFetch(sceneMaterialRows, row + 2);
-  uvec4 d = texelFetch(sceneMaterialRows, row + 3);
+  vec4 a = uintBitsToFloat(GI_FETCH(sceneMaterialRows, row));
+  vec4 b = uintBitsToFloat(GI_FETCH(sceneMaterialRows, row + 1));
+  uvec4 c = GI_FETCH(sceneMaterialRows, row + 2);
+  uvec4 d = GI_FETCH(sceneMaterialRows, row + 3);
   return GpuMaterial(a, b.xyz, b.w, uintBitsToFloat(c.x), uintBitsToFloat(c.y), c.z, c.w, d.x, d.y, d.z, d.w);
 }
 GpuEmissiveTriangle sceneEmissiveTriangle(uint index) {
-  uvec4 r = texelFetch(sceneEmissiveRows, int(index));
+  uvec4 r = GI_FETCH(sceneEmissiveRows, int(index));
   return GpuEmissiveTriangle(r.x, r.y, r.z, uintBitsToFloat(r.w));
 }
 GpuPunctualLight scenePunctualLight(uint index) {
   int row = int(index) * 4;  // 64 bytes
-  uvec4 a = texelFetch(scenePunctualRows, row), b = texelFetch(scenePunctualRows, row + 1);
-  uvec4 c = texelFetch(scenePunctualRows, row + 2), d = texelFetch(scenePunctualRows, row + 3);
+  uvec4 a = GI_FETCH(scenePunctualRows, row), b = GI_FETCH(scenePunctualRows, row + 1);
+  uvec4 c = GI_FETCH(scenePunctualRows, row + 2), d = GI_FETCH(scenePunctualRows, row + 3);
   return GpuPunctualLight(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), uintBitsToFloat(b.w),
                           uintBitsToFloat(c.xyz), uintBitsToFloat(c.w), uintBitsToFloat(d.x), uintBitsToFloat(d.y),
                           uintBitsToFloat(d.z), uintBitsToFloat(d.w));
 }
 // The chance of picking a punctual light up to `index` (LIGHT_SAMPLER_POWER), one texel read.
-float scenePunctualLightCdf(uint index) { return uintBitsToFloat(texelFetch(scenePunctualRows, int(index) * 4 + 3).y); }
+float scenePunctualLightCdf(uint index) { return uintBitsToFloat(GI_FETCH(scenePunctualRows, int(index) * 4 + 3).y); }
 
 // LIGHT_SAMPLER_TREE's node i (GpuLightNode), after the light table.
 GpuLightNode sceneLightNode(uint index) {
   const int row = int(sceneConstants().punctualLightCount) * 4 + int(index) * 2;
-  const uvec4 a = texelFetch(scenePunctualRows, row), b = texelFetch(scenePunctualRows, row + 1);
+  const uvec4 a = GI_FETCH(scenePunctualRows, row), b = GI_FETCH(scenePunctualRows, row + 1);
   return GpuLightNode(uintBitsToFloat(a.xyz), uintBitsToFloat(a.w), uintBitsToFloat(b.xyz), b.w);
 }
 
@@ -118,7 +119,7 @@ uint sceneLightCutNode(uint k) {
   const GpuSceneConstants c = sceneConstants();
   const uint nodes = 2u * (c.punctualLightCount - c.directionalLightCount) - 1u;
   const uint word = c.punctualLightCount * 16u + nodes * 8u + k;
-  return texelFetch(scenePunctualRows, int(word / 4u))[word % 4u];
+  return GI_FETCH(scenePunctualRows, int(word / 4u))[word % 4u];
 }
 
 // Absolute vertex indices of one triangle.

@@ -14,7 +14,7 @@
 #include "surface.glsl"
 
 layout(set = 0, binding = SCENE_BINDING_SKY_DISTRIBUTION) uniform textureBuffer sceneSkyCdfTexels;  // R32_SFLOAT
-float sceneSkyCdf(uint i) { return texelFetch(sceneSkyCdfTexels, int(i)).r; }
+float sceneSkyCdf(uint i) { return GI_FETCH(sceneSkyCdfTexels, int(i)).r; }
 
 bool giSkyHasMap() { return GI_SCENE_HAS_SKY && sceneConstants().skyTexture != NO_TEXTURE; }
 

@@ -4,6 +4,8 @@
 #extension GL_GOOGLE_include_directive : require
 #include "trace.glsl"
 #include "shared/trace_batch.h"
+// The engine's program: its reads are never checked (bounds.glsl).
+GI_BOUNDS_UNCHECKED
 
 layout(local_size_x = TB_GROUP_SIZE) in;
 layout(set = 1, binding = TB_BINDING_RAYS, scalar) readonly buffer Rays { TraceBatchRay rays[]; };

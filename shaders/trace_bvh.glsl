@@ -11,13 +11,13 @@
 GpuBvhNode giBvhNodeFrom(utextureBuffer nodes, uint index) {
   int base = int(index * 7u);
   GpuBvhNode n;
-  n.minX = uintBitsToFloat(texelFetch(nodes, base));
-  n.minY = uintBitsToFloat(texelFetch(nodes, base + 1));
-  n.minZ = uintBitsToFloat(texelFetch(nodes, base + 2));
-  n.maxX = uintBitsToFloat(texelFetch(nodes, base + 3));
-  n.maxY = uintBitsToFloat(texelFetch(nodes, base + 4));
-  n.maxZ = uintBitsToFloat(texelFetch(nodes, base + 5));
-  n.child = texelFetch(nodes, base + 6);
+  n.minX = uintBitsToFloat(GI_FETCH(nodes, base));
+  n.minY = uintBitsToFloat(GI_FETCH(nodes, base + 1));
+  n.minZ = uintBitsToFloat(GI_FETCH(nodes, base + 2));
+  n.maxX = uintBitsToFloat(GI_FETCH(nodes, base + 3));
+  n.maxY = uintBitsToFloat(GI_FETCH(nodes, base + 4));
+  n.maxZ = uintBitsToFloat(GI_FETCH(nodes, base + 5));
+  n.child = GI_FETCH(nodes, base + 6);
   return n;
 }
 
@@ -27,8 +27,8 @@ GpuBvhNode giBvhNode(bool bottom, uint index) {
 
 GpuBvhTriangle giBvhTriangle(uint index) {
   int base = int(index * 3u);
-  uvec4 a = texelFetch(sceneBvhTriangles, base), b = texelFetch(sceneBvhTriangles, base + 1),
-        c = texelFetch(sceneBvhTriangles, base + 2);
+  uvec4 a = GI_FETCH(sceneBvhTriangles, base), b = GI_FETCH(sceneBvhTriangles, base + 1),
+        c = GI_FETCH(sceneBvhTriangles, base + 2);
   GpuBvhTriangle t;
   t.v0 = uintBitsToFloat(a.xyz);
   t.geometry = a.w;
@@ -42,10 +42,10 @@ GpuBvhTriangle giBvhTriangle(uint index) {
 GpuBvhInstance giBvhInstance(uint index) {
   int base = int(index * 4u);
   GpuBvhInstance i;
-  i.objectFromWorld0 = uintBitsToFloat(texelFetch(sceneBvhInstances, base));
-  i.objectFromWorld1 = uintBitsToFloat(texelFetch(sceneBvhInstances, base + 1));
-  i.objectFromWorld2 = uintBitsToFloat(texelFetch(sceneBvhInstances, base + 2));
-  uvec4 ids = texelFetch(sceneBvhInstances, base + 3);
+  i.objectFromWorld0 = uintBitsToFloat(GI_FETCH(sceneBvhInstances, base));
+  i.objectFromWorld1 = uintBitsToFloat(GI_FETCH(sceneBvhInstances, base + 1));
+  i.objectFromWorld2 = uintBitsToFloat(GI_FETCH(sceneBvhInstances, base + 2));
+  uvec4 ids = GI_FETCH(sceneBvhInstances, base + 3);
   i.root = ids.x;
   i.instance = ids.y;
   i.pad0 = 0u;
