@@ -102,7 +102,9 @@ struct Outcome {
 
 }  // namespace
 
-// One method on one scene: kFrames frames, then the last frame's image against the reference.
+// One method on one scene: kFrames frames, then the last frame's image against the reference. The
+// module runs its bounds-checked programs (gi::ModuleDesc::checkBounds): no frame of an extreme scene
+// may read or write outside a buffer or image.
 class ExtremesRun {
  public:
   ExtremesRun(const engine::Context& ctx, LoadedScene& s) : ctx_(ctx), s_(s) {
@@ -113,9 +115,14 @@ class ExtremesRun {
     Outcome o;
     tools::ModuleSession session;
     std::string error;
-    EXPECT_TRUE(tools::createModuleSession(ctx_, s_.gpu, {kSize, kSize}, settings, session, error)) << error;
+    gi::ModuleDesc desc = tools::moduleDesc(ctx_, s_.gpu, {kSize, kSize});
+    desc.checkBounds = true;
+    EXPECT_TRUE(tools::createModuleSession(ctx_, s_.gpu, {kSize, kSize}, settings, session, error, &desc)) << error;
     if (!session.module) return o;
-    for (uint32_t f = 0; f < frames; ++f) tools::renderModuleFrame(ctx_, session, s_.scene, s_.gpu, cam_, cam_, f);
+    for (uint32_t f = 0; f < frames; ++f) {
+      tools::renderModuleFrame(ctx_, session, s_.scene, s_.gpu, cam_, cam_, f);
+      EXPECT_EQ(gi::stats(session.module).boundsViolations, 0u) << gi::methodName(settings.method) << " frame " << f;
+    }
     engine::ReferenceImages out = tools::readModuleImages(ctx_, session);
     for (const engine::FloatImage* img : {&out.final, &out.direct, &out.indirect})
       for (float v : img->pixels) o.finite &= std::isfinite(v);

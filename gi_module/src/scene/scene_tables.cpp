@@ -356,7 +356,7 @@ LightTable lightTable(std::span<const LightDesc> lights, float sceneExtent, uint
 std::vector<uint32_t> lightTableWords(const LightTable& t) {
   const size_t lightWords = t.lights.size() * sizeof(gpu::GpuPunctualLight) / 4;
   const size_t nodeWords = t.nodes.size() * sizeof(gpu::GpuLightNode) / 4;
-  std::vector<uint32_t> words(lightWords + nodeWords + t.cut.size());
+  std::vector<uint32_t> words((lightWords + nodeWords + t.cut.size() + 3) / 4 * 4);  // whole texels
   if (!t.lights.empty()) std::memcpy(words.data(), t.lights.data(), lightWords * 4);
   if (!t.nodes.empty()) std::memcpy(words.data() + lightWords, t.nodes.data(), nodeWords * 4);
   std::copy(t.cut.begin(), t.cut.end(), words.begin() + ptrdiff_t(lightWords + nodeWords));

@@ -52,9 +52,10 @@ LightTable lightTable(std::span<const LightDesc> lights, float sceneExtent, uint
 // The lights, then the nodes: the scene's punctual-light buffer.
 std::vector<uint32_t> lightTableWords(const LightTable& table);
 // The words that buffer needs for `lights` lights of any types (their tree and cut are largest when none
-// is directional).
+// is directional), in whole 16-byte texels: the shaders read the cut's words four at a time.
 inline size_t lightTableCapacityWords(size_t lights) {
-  return (lights * sizeof(gpu::GpuPunctualLight) + (lights ? 2 * lights - 1 : 0) * sizeof(gpu::GpuLightNode)) / 4 + lights;
+  const size_t words = (lights * sizeof(gpu::GpuPunctualLight) + (lights ? 2 * lights - 1 : 0) * sizeof(gpu::GpuLightNode)) / 4 + lights;
+  return (words + 3) / 4 * 4;
 }
 std::vector<gpu::GpuInstance> gpuInstances(const PackedScene& packed, std::span<const InstanceDesc> instances,
                                            std::span<const glm::mat4> previous);
