@@ -66,7 +66,7 @@ struct SvgfTexel {
 
 vec4 svgfDecode(vec4 v, float scale) { return vec4(v.rgb / scale, v.a / (scale * scale)); }
 vec4 svgfEncode(vec4 v, float scale, float limit) {
-  return vec4(clamp(v.rgb * scale, vec3(-limit), vec3(limit)), min(v.a * scale * scale, limit));
+  return vec4(giOutputEncode(v.rgb, scale, limit), min(v.a * scale * scale, limit));
 }
 
 SvgfTexel svgfLoad(uint pair, uint parity, ivec2 q) {

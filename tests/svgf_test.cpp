@@ -204,15 +204,7 @@ engine::ReferenceImages svgfOutputs(const engine::Context& ctx, LoadedScene& s, 
   gi::Settings settings;
   settings.method = gi::Method::Svgf;
   settings.svgf.iterations = iterations;
-  tools::ModuleSession session;
-  std::string error;
-  EXPECT_TRUE(tools::createModuleSession(ctx, s.gpu, {kSize, kSize}, settings, session, error)) << error;
-  if (!session.module) return {};
-  const gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], kSize, kSize, nullptr);
-  for (uint32_t f = 0; f < frames; ++f) tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, f);
-  engine::ReferenceImages out = tools::readModuleImages(ctx, session);
-  tools::destroyModuleSession(ctx, session);
-  return out;
+  return renderAnimatedFrames(ctx, s, engine::makeSceneAnimation(s.scene), settings, kSize, frames, false);
 }
 
 }  // namespace

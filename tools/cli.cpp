@@ -1,5 +1,7 @@
 #include "cli.h"
 
+#include "gi/gi.h"
+#include "gi/scene.h"
 #include "shared/gpu_scene.h"
 
 #include "light_grid.h"
@@ -150,14 +152,12 @@ std::string pointLightsKey(const Args& args) {
   return args.has("point-lights") ? "_pl" + args.values.at("point-lights") : "";
 }
 
-static_assert(std::size(kLightSamplerNames) == gpu::LIGHT_SAMPLER_TREE + 1, "a name for every sampler");
-
 bool getLightSampler(const Args& args, uint32_t& sampler, uint32_t& treeCut, std::string& error) {
   if (args.has("light-tree-cut") && !getUint(args, "light-tree-cut", treeCut, 1, 64, treeCut, error)) return false;
   auto it = args.values.find("light-sampler");
   if (it == args.values.end()) return true;
-  for (uint32_t i = 0; i < std::size(kLightSamplerNames); ++i)
-    if (it->second == kLightSamplerNames[i]) {
+  for (uint32_t i = 0; i < std::size(gi::kLightSamplerNames); ++i)
+    if (it->second == gi::kLightSamplerNames[i]) {
       sampler = i;
       return true;
     }
@@ -165,14 +165,9 @@ bool getLightSampler(const Args& args, uint32_t& sampler, uint32_t& treeCut, std
   return false;
 }
 
-std::string lightSamplerKey(const engine::Scene& scene) {
-  const size_t positional = size_t(std::count_if(scene.lights.begin(), scene.lights.end(), [](const engine::PunctualLight& l) {
-    return l.type != engine::LightType::Directional;
-  }));
-  if (scene.lightSampler == gpu::LIGHT_SAMPLER_ALL ||
-      (scene.lightSampler == gpu::LIGHT_SAMPLER_TREE && positional <= scene.lightTreeCut))
-    return "";
-  const std::string name = std::string("_") + kLightSamplerNames[scene.lightSampler];
+std::string lightSamplerKey(const engine::Scene& scene, const gi::SceneDesc& facts) {
+  if (!facts.picksPunctualLights) return "";
+  const std::string name = std::string("_") + gi::kLightSamplerNames[scene.lightSampler];
   return scene.lightSampler == gpu::LIGHT_SAMPLER_TREE ? name + std::to_string(scene.lightTreeCut) : name;
 }
 

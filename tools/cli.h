@@ -12,6 +12,10 @@
 #include "scene.h"
 #include "sky.h"
 
+namespace gi {
+struct SceneDesc;
+}
+
 namespace cli {
 
 struct Option {
@@ -76,14 +80,12 @@ inline constexpr Option kLightTreeCutOption{
     "light-tree-cut", "N",
     "with --light-sampler tree: shadow rays a vertex for the point and spot lights, one from each of N subtrees "
     "(exact with no more lights than N; 1 to 64, default 4)"};
-// The names, indexed by gpu::LIGHT_SAMPLER_*.
-inline constexpr const char* kLightSamplerNames[] = {"all", "power", "tree"};
 // Sets `sampler` (gpu::LIGHT_SAMPLER_*) from --light-sampler and `treeCut` from --light-tree-cut (each
 // left as is when absent); false with `error` when either is not one they take.
 bool getLightSampler(const Args& args, uint32_t& sampler, uint32_t& treeCut, std::string& error);
 // A short name of the light sampler for file names and cache keys: "" where it traces every light exactly
-// (all; the tree with no more point and spot lights than its cut), else its name and cut. The references
-// of every sampler converge to the same image: the key keeps a noisier one apart.
-std::string lightSamplerKey(const engine::Scene& scene);
+// (`facts`, the scene's gi::SceneDesc: picksPunctualLights is false), else its name, and the tree's cut. The
+// references of every sampler converge to the same image: the key keeps a noisier one apart.
+std::string lightSamplerKey(const engine::Scene& scene, const gi::SceneDesc& facts);
 
 }  // namespace cli

@@ -314,7 +314,7 @@ int main(int argc, char** argv) {
   std::string sceneName = fs::path(scene.sourcePath).stem().string();
   std::string key = sanitise(sceneName) + "_cam" + std::to_string(cameraIndex) + "_" + std::to_string(width) + "x" +
                     std::to_string(height) + "_b" + std::to_string(bounces) + "_s" + std::to_string(refSpp) +
-                    cli::skyKey(scene.sky) + cli::pointLightsKey(args) + cli::lightSamplerKey(scene);
+                    cli::skyKey(scene.sky) + cli::pointLightsKey(args) + cli::lightSamplerKey(scene, sceneGpu.desc);
   // Moving scenes: the pose at a time, uploaded (TLAS rebuilt) before the next frame.
   engine::SceneAnimation animation = engine::makeSceneAnimation(scene);
   auto pose = [&](float seconds) { engine::poseScene(ctx, animation, seconds, scene, sceneGpu); };

@@ -15,6 +15,7 @@
 #include <vulkan/vulkan_core.h>
 
 #include <cstdint>
+#include <iterator>
 #include <span>
 
 #include "gi/gi.h"
@@ -143,6 +144,10 @@ struct SceneContents {
   SkyDesc sky;
 };
 
+// gpu::LIGHT_SAMPLER_*'s names (command lines, file names, overlays), indexed by the constant.
+inline constexpr const char* kLightSamplerNames[] = {"all", "power", "tree"};
+static_assert(std::size(kLightSamplerNames) == gpu::LIGHT_SAMPLER_TREE + 1, "a name for every light sampler");
+
 struct SceneCreateDesc {
   uint32_t structSize = sizeof(SceneCreateDesc);  // leave as is
   PFN_vkGetInstanceProcAddr getInstanceProcAddr = nullptr;
@@ -163,7 +168,7 @@ struct SceneCreateDesc {
   // with no more lights than lightTreeCut: the default, which leaves scenes of a few lights as they
   // were and keeps a frame's cost flat however many lights a scene has). The tree is rebuilt by
   // gi::updateLights.
-  uint32_t lightSampler = gpu::LIGHT_SAMPLER_TREE;
+  uint32_t lightSampler = gpu::LIGHT_SAMPLER_TREE;  // kLightSamplerNames names them
   uint32_t lightTreeCut = 4;  // [1, 64]: LIGHT_SAMPLER_TREE's subtrees (shadow rays a vertex for its lights)
   const VkAllocationCallbacks* allocationCallbacks = nullptr;
   uint64_t memoryBudgetBytes = 0;    // 0 = no limit

@@ -294,10 +294,7 @@ vk::Status buildScene(Scene& s, VkCommandBuffer cmd, const SceneContents& conten
   s.facts.set = s.set[0];
   s.facts.hasEmissiveTriangles = c.emissiveTriangleCount > 0;
   s.facts.hasPunctualLights = c.punctualLightCount > 0;
-  // The tree is exact while every subtree of its cut is one light.
-  const uint32_t positional = c.punctualLightCount - c.directionalLightCount;
-  s.facts.picksPunctualLights = (c.lightSampler == gpu::LIGHT_SAMPLER_POWER && c.punctualLightCount > 1) ||
-                                (c.lightSampler == gpu::LIGHT_SAMPLER_TREE && positional > c.lightCutSize);
+  s.facts.picksPunctualLights = picksPunctualLights(c);
   s.facts.hasAlphaMask = p.hasAlphaMask;
   s.facts.hasGlossyMaterials = p.hasGlossyMaterials;
   s.facts.extent = c.sceneExtent;
@@ -505,6 +502,7 @@ Error updateLights(Scene* s, std::span<const LightDesc> lights) {
     s->sceneConstants.directionalLightCount = table.directionalCount;
     s->sceneConstants.lightCutSize = uint32_t(table.cut.size());
     writeMapped(s->constants, std::vector<gpu::GpuSceneConstants>{s->sceneConstants});
+    s->facts.picksPunctualLights = picksPunctualLights(s->sceneConstants);  // gi::sceneDesc's from now on
   }
   return {};
 }

@@ -235,6 +235,8 @@ std::vector<gpu::GpuEmissiveTriangle> emissiveTable(const PackedScene& packed, s
   return table;
 }
 
+namespace {
+
 // A light's power by the measure LIGHT_SAMPLER_POWER picks it by (any positive weight gives the same
 // expectation; power gives the bright ones their share of the rays): intensity over the sphere (point)
 // or the cone (spot), irradiance over the disc of the scene's radius (directional).
@@ -248,8 +250,6 @@ double samplingPower(const LightDesc& l, float sceneExtent) {
   }
 }
 
-namespace {
-
 gpu::GpuPunctualLight gpuLight(const LightDesc& l) {
   gpu::GpuPunctualLight g{};
   g.position = glm::vec3(l.position[0], l.position[1], l.position[2]);
@@ -262,21 +262,21 @@ gpu::GpuPunctualLight gpuLight(const LightDesc& l) {
   return g;
 }
 
-// Each light's cdf over [first, last): its share of their power up to it (alike when all are black).
-void fillCdf(std::vector<gpu::GpuPunctualLight>& table, const std::vector<double>& power, size_t first, size_t last) {
+// Each light's cdf: its share of the power up to it (alike when all are black).
+void fillCdf(std::vector<gpu::GpuPunctualLight>& table, const std::vector<double>& power) {
   double total = 0.0;
-  for (size_t i = first; i < last; ++i) total += power[i];
+  for (double p : power) total += p;
   double sum = 0.0;
-  for (size_t i = first; i < last; ++i) {
+  for (size_t i = 0; i < table.size(); ++i) {
     sum += total > 0.0 ? power[i] : 1.0;
-    table[i].cdf = float(sum / (total > 0.0 ? total : double(last - first)));
+    table[i].cdf = float(sum / (total > 0.0 ? total : double(table.size())));
   }
-  if (last > first) table[last - 1].cdf = 1.0f;  // rounding never leaves u ∈ [0, 1) without a light
+  if (!table.empty()) table.back().cdf = 1.0f;  // rounding never leaves u ∈ [0, 1) without a light
 }
 
 // The tree over lights [first, last) of `table` (positional), each leaf one light: split at the median
-// of the longest axis of their positions, children adjacent. Returns nothing; appends to `nodes`, whose
-// element `at` it fills.
+// of the longest axis of their positions, children adjacent: fills element `at` of `nodes` and appends
+// the children.
 void buildLightTree(const std::vector<gpu::GpuPunctualLight>& table, const std::vector<double>& power,
                     std::vector<uint32_t>& order, size_t first, size_t last, size_t at,
                     std::vector<gpu::GpuLightNode>& nodes) {
@@ -306,10 +306,6 @@ void buildLightTree(const std::vector<gpu::GpuPunctualLight>& table, const std::
   buildLightTree(table, power, order, first, middle, node.child, nodes);
   buildLightTree(table, power, order, middle, last, node.child + 1, nodes);
 }
-
-}  // namespace
-
-namespace {
 
 // The cut of at most `size` nodes whose subtrees hold every light of the tree once: from the root, the
 // node with the most power is split into its children until there are `size` (or only leaves).
@@ -342,7 +338,7 @@ LightTable lightTable(std::span<const LightDesc> lights, float sceneExtent, uint
         power.push_back(samplingPower(l, sceneExtent));
         t.directionalCount += uint32_t(directional);
       }
-  fillCdf(t.lights, power, 0, t.lights.size());
+  fillCdf(t.lights, power);
   if (t.lights.size() > t.directionalCount) {
     std::vector<uint32_t> order;
     for (uint32_t i = t.directionalCount; i < t.lights.size(); ++i) order.push_back(i);
@@ -351,6 +347,12 @@ LightTable lightTable(std::span<const LightDesc> lights, float sceneExtent, uint
     t.cut = treeCut(t.nodes, std::max(cutSize, 1u));
   }
   return t;
+}
+
+bool picksPunctualLights(const gpu::GpuSceneConstants& c) {
+  const uint32_t positional = c.punctualLightCount - c.directionalLightCount;
+  return (c.lightSampler == gpu::LIGHT_SAMPLER_POWER && c.punctualLightCount > 1) ||
+         (c.lightSampler == gpu::LIGHT_SAMPLER_TREE && positional > c.lightCutSize);
 }
 
 std::vector<uint32_t> lightTableWords(const LightTable& t) {
