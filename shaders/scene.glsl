@@ -49,10 +49,10 @@ layout(set = 0, binding = SCENE_BINDING_TEXTURES) uniform sampler2D sceneTexture
 // scene programs of its own, each compiled anew at its first dispatch.
 GpuSceneConstants sceneConstants() {
   uvec4 a = GI_FETCH(sceneConstantRows, 0), b = GI_FETCH(sceneConstantRows, 1), c = GI_FETCH(sceneConstantRows, 2);
-  uvec4 d = GI_FETCH(sceneConstantRows, 3), e = GI_FETCH(sceneConstantRows, 4);
+  uvec4 d = GI_FETCH(sceneConstantRows, 3), e = GI_FETCH(sceneConstantRows, 4), f = GI_FETCH(sceneConstantRows, 5);
   return GpuSceneConstants(a.x, a.y, uintBitsToFloat(a.z), uintBitsToFloat(a.w), uintBitsToFloat(b.xyz),
                            b.w, uintBitsToFloat(c.xyz), c.w, uintBitsToFloat(d.xyz),
-                           d.w, e.xy, uintBitsToFloat(e.z), e.w);
+                           d.w, e.xy, uintBitsToFloat(e.z), e.w, f.x, f.y, f.z, f.w);
 }
 
 // The arrays' elements. Unused fields cost nothing: the compiler drops their fetches.
@@ -135,11 +135,14 @@ vec2 sceneUv(uvec3 tri, vec3 w) { return sceneUvAt(tri.x) * w.x + sceneUvAt(tri.
 
 // Texture reads: fragment stages use implicit derivatives (mips), ray-traced
 // stages read the top level, since a ray hit has no screen footprint.
+// GI_TEXTURE: the element of the texture array, its index checked against the written count where
+// ModuleDesc::checkBounds asks (an index past them reads an unwritten descriptor).
+#define GI_TEXTURE(index) sceneTextures[nonuniformEXT(giCheckedTexel(int(index), int(sceneConstants().textureCount)))]
 vec4 sceneTexture(uint index, vec2 uv) {
 #ifdef SCENE_IMPLICIT_LOD
-  return texture(sceneTextures[nonuniformEXT(index)], uv);
+  return texture(GI_TEXTURE(index), uv);
 #else
-  return textureLod(sceneTextures[nonuniformEXT(index)], uv, 0.0);
+  return textureLod(GI_TEXTURE(index), uv, 0.0);
 #endif
 }
 

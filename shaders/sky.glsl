@@ -30,7 +30,7 @@ vec3 giSkyRadiance(vec3 dir) {
   if (!GI_SCENE_HAS_SKY) return vec3(0.0);
   vec3 L = sceneConstants().skyRadiance;
   if (sceneConstants().skyTexture != NO_TEXTURE)
-    L *= texelFetch(sceneTextures[nonuniformEXT(sceneConstants().skyTexture)], giSkyTexel(dir), 0).rgb;
+    L *= texelFetch(GI_TEXTURE(sceneConstants().skyTexture), giSkyTexel(dir), 0).rgb;
   return L;
 }
 

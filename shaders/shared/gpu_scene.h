@@ -157,8 +157,11 @@ struct GpuSceneConstants {
   uvec2 skySize;         // map texels (the sampling tables' resolution); 0 without a map
   float skyDistributionSum; // Σ luminance × sin θ over the map's texels (before normalising)
   uint lightSampler;     // LIGHT_SAMPLER_*
+  uint textureCount;     // SCENE_BINDING_TEXTURES's written elements (the sky's map included): what a material's
+                         // or the sky's texture index is checked against (ModuleDesc::checkBounds)
+  uint pad0, pad1, pad2;
 };
-GPU_ASSERT_SIZE(GpuSceneConstants, 80);
+GPU_ASSERT_SIZE(GpuSceneConstants, 96);
 
 // Camera shared by every pass. View space is right-handed, looking down -Z.
 struct GpuCamera {

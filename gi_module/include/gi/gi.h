@@ -143,8 +143,8 @@ struct ModuleDesc {
   SceneDesc scene;
   bool debugLabels = false;          // VK_EXT_debug_utils is enabled on the instance: label every pass
   bool timestamps = true;            // time every pass (FrameStats::passes); off: no query pool, no timing barriers
-  bool checkBounds = false;          // every hash-map index and set-1 image coordinate checked against its size, one
-                                     // outside counted (FrameStats::boundsViolations) and kept inside: for tests and
+  bool checkBounds = false;          // every hash-map index, image coordinate, scene-array index and texture index
+                                     // checked against its size, one outside counted (FrameStats::boundsViolations) and kept inside: for tests and
                                      // bug hunts (shaders/bounds.glsl); off, the checks are compiled away
   uint64_t memoryBudgetBytes = 0;    // device memory the module may hold; 0 = no limit. Beyond it calls fail
                                      // with VK_ERROR_OUT_OF_DEVICE_MEMORY, as a full heap would

@@ -228,6 +228,7 @@ vk::Status buildScene(Scene& s, VkCommandBuffer cmd, const SceneContents& conten
   c.lightSampler = uint32_t(s.desc.lightSampler);
   const uint32_t textureCount = uint32_t(contents.textures.size());
   GI_TRY(uploadSky(s, cmd, contents.sky, textureCount));
+  c.textureCount = textureCount + (s.skyMap.image != VK_NULL_HANDLE ? 1u : 0u);
   GI_TRY(hostBuffer(s, std::vector<gpu::GpuSceneConstants>{c}, 1, kTexels, s.constants));
 
   // Everything copied so far is read by the builds below and by shaders.
