@@ -449,14 +449,16 @@ def moving(root, move_at, scenes):
 def rays(path):
     """Bare-ray rates per scene and backend (gi-bench --rays), Mrays/s, and diffuse against Embree's."""
     names = {"rayquery": "ray queries", "compute": "compute", "embree_cpu": "Embree"}
-    print("| scene | backend | primary | diffuse | shadow | diffuse, of Embree |")
-    print("|---|---|---|---|---|---|")
+    print("| scene | backend | primary | diffuse | shadow | diffuse, of Embree | build ms |")
+    print("|---|---|---|---|---|---|---|")
     last = None
     for r in rows(path):
         scene = f"{r['scene']} ({int(r['triangles']):,} triangles)" if r["scene"] != last else ""
         last = r["scene"]
+        build = float(r["bvh_build_ms"])  # 0: not measured (the ray queries' builds run on the device)
         print(f"| {scene} | {names[r['backend']]} | {float(r['primary_mrays']):.3g} | {float(r['diffuse_mrays']):.3g} | "
-              f"{float(r['shadow_mrays']):.3g} | {float(r['diffuse_of_embree']):.2f} |")
+              f"{float(r['shadow_mrays']):.3g} | {float(r['diffuse_of_embree']):.2f} | "
+              f"{f'{build:.1f}' if build > 0 else '–'} |")
 
 
 def error_at_frames(pairs, ks=(1, 4, 8, 32, 64)):
