@@ -136,6 +136,7 @@ struct GiTask {
   vec3 direct;        // NEE's light
   vec3 diffuse, specular, specularEdge;  // sums
   float zMin, zMax;   // of the reflectors seen (metres)
+  uvec2 reservoir;    // the primary hit's, for its direct light (reservoirs.glsl), or GI_NO_RESERVOIR
 };
 
 GiTask aafTaskStart(GiSurface s, vec3 V, GiRng rng, bool direct, uint n, uint offset) {
@@ -152,12 +153,13 @@ GiTask aafTaskStart(GiSurface s, vec3 V, GiRng rng, bool direct, uint n, uint of
   t.direct = t.diffuse = t.specular = t.specularEdge = vec3(0.0);
   t.zMin = GI_FLT_MAX;
   t.zMax = 0.0;
+  t.reservoir = GI_NO_RESERVOIR;
   return t;
 }
 
 uint giTaskNext(inout GiTask t, out GiRay ray, out GiNeeRequest nee) {
   if (t.phase == AAF_TASK_NEE) {
-    nee = GiNeeRequest(t.s, t.b, t.V, false, t.rng);
+    nee = GiNeeRequest(t.s, t.b, t.V, false, t.rng, t.reservoir);
     t.phase = AAF_TASK_WAITING;
     return GI_STEP_NEE;
   }

@@ -29,6 +29,7 @@ void main() {
       GiSurface s = giGbSurface(p, V);
       GiRng rng = giRngCreate(uvec2(p), giFrame.frameIndex, pc.seed, GI_STREAM_AAF);
       GiTask t = aafTaskStart(s, V, rng, pc.ambientOcclusion == 0u, AAF_INITIAL_SAMPLES, 0u);
+      t.reservoir = giPrimaryReservoir(p);
       giRunTask(t);
       GiBsdf b = t.b;
       direct = s.material.emission + t.direct;

@@ -49,11 +49,16 @@ layout(set = 1, binding = GI_BINDING_GRADIENT_SAMPLES_B, rgba32ui) uniform uimag
 layout(set = 1, binding = GI_BINDING_TEMPORAL_GRADIENT, rgba32f) uniform image2D giTemporalGradient;
 layout(set = 1, binding = GI_BINDING_TEMPORAL_SPREAD, rgba32f) uniform image2D giTemporalSpread;
 layout(set = 1, binding = GI_BINDING_HISTORY_PACKED, rg32ui) uniform uimage2D giHistoryPacked;
+layout(set = 1, binding = GI_BINDING_RESERVOIRS_A, rgba32ui) uniform uimage2D giReservoirsA;
+layout(set = 1, binding = GI_BINDING_RESERVOIRS_B, rgba32ui) uniform uimage2D giReservoirsB;
 
 // With ModuleDesc::checkBounds a coordinate outside its image, or an index outside one of the scene's
 // texel buffers, is counted here (bounds.glsl).
 GI_COUNT_PIXELS_OUTSIDE_INTO(giCounters.boundsViolations)
 GI_COUNT_TEXELS_OUTSIDE_INTO(giCounters.boundsViolations)
+
+// The pixel's reservoir for its primary hit's NEE (reservoirs.glsl), or GI_NO_RESERVOIR when the frame has none.
+uvec2 giPrimaryReservoir(ivec2 p) { return giFrame.reservoirs != 0u ? imageLoad(giReservoirsA, p).xy : GI_NO_RESERVOIR; }
 
 // Output images hold radiance × outputScale, clamped into the format's range
 // (a half float overflows to Inf past 65504). Loads give radiance back.

@@ -37,7 +37,7 @@ void main() {
       for (uint i = 0u; i < pc.samplesPerPixel; ++i) {
         GiRng rng = giRngCreate(uvec2(p), giFrame.frameIndex * pc.samplesPerPixel + i, pc.seed, GI_STREAM_MODULE);
         if (i == 0u) firstState = rng.state;
-        GiPathSample path = giTracePathFromSurface(s, V, pc.maxBounces, pc.russianRouletteStart, rng);
+        GiPathSample path = giTracePathFromSurface(s, V, pc.maxBounces, pc.russianRouletteStart, giPrimaryReservoir(p), rng);
         const bool keep = giKeepSample(path.direct, path.indirectDemod);
         if (i == 0u && keep) first = giGradientLuminance(path.direct, path.indirectDemod, p);  // temporal.glsl
         if (!keep) continue;

@@ -43,7 +43,7 @@ uint giTaskNext(inout GiTask t, out GiRay ray, out GiNeeRequest nee) {
     return GI_STEP_TRACE;
   }
   if (t.phase == SS_NEE) {
-    nee = GiNeeRequest(t.s, t.b, -t.dir, false, t.rng);
+    nee = GiNeeRequest(t.s, t.b, -t.dir, false, t.rng, GI_NO_RESERVOIR);
     t.phase = SS_WAITING;
     return GI_STEP_NEE;
   }

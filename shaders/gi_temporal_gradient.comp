@@ -26,7 +26,7 @@ void main() {
       const GiSurface s = giGbSurface(p, V);
       GiRng rng;
       rng.state = source.z;
-      const GiPathSample path = giTracePathFromSurface(s, V, pc.maxBounces, pc.russianRouletteStart, rng);
+      const GiPathSample path = giTracePathFromSurface(s, V, pc.maxBounces, pc.russianRouletteStart, GI_NO_RESERVOIR, rng);
       const vec2 now = giKeepSample(path.direct, path.indirectDemod)
                            ? giGradientLuminance(path.direct, path.indirectDemod, p)
                            : vec2(0.0);

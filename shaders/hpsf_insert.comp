@@ -69,6 +69,7 @@ uint giTaskNext(inout GiTask t, out GiRay ray, out GiNeeRequest nee) {
       if (++t.sampleIndex == pc.samplesPerPixel) break;
       t.rng = hgSampleRng(t.p, t.sampleIndex);
       t.path = giPathStart(t.s, t.V, pc.maxBounces, pc.russianRouletteStart);
+      t.path.reservoir = giPrimaryReservoir(t.p);
     }
     hgInsertPixel(t);
   }
@@ -109,6 +110,7 @@ void main() {
       t.sampleIndex = 0u;
       t.rng = hgSampleRng(p, 0u);
       t.path = giPathStart(t.s, t.V, pc.maxBounces, pc.russianRouletteStart);
+      t.path.reservoir = giPrimaryReservoir(p);
       t.kept = 0.0;
       t.direct = t.indirect = vec3(0.0);
       t.probing = false;

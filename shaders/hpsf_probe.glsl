@@ -60,7 +60,8 @@ void hgProbeTakeHit(inout HgProbe p, GiHit hit, GiSurface w) {
   p.distance_ = hit.t;
   GiBsdf b = giMakeBsdf(w.material.baseColor, w.material.metallic, w.material.roughness, w.material.flags);
   // Random numbers seeded by the cell's key: a re-trace draws the same ones.
-  p.nee = GiNeeRequest(w, b, -p.direction, false, giRngCreate(uvec2(p.key, 0x9e3779b9u), 0u, 0u, GI_STREAM_HASH));
+  p.nee = GiNeeRequest(w, b, -p.direction, false, giRngCreate(uvec2(p.key, 0x9e3779b9u), 0u, 0u, GI_STREAM_HASH),
+                         GI_NO_RESERVOIR);
   p.phase = HG_PROBE_NEE;
 }
 

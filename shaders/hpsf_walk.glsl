@@ -266,7 +266,7 @@ uint hgStepNext(inout HgStep st, inout HgWalk walk, inout GiRng rng, out GiRay r
     return GI_STEP_TRACE;
   }
   if (st.phase == HG_STEP_NEE) {
-    nee = GiNeeRequest(st.w, st.b, -st.direction, false, rng);  // NEE alone: no emitter is hit after w
+    nee = GiNeeRequest(st.w, st.b, -st.direction, false, rng, GI_NO_RESERVOIR);  // NEE alone: no emitter is hit after w
     st.phase = HG_STEP_WAITING;
     return GI_STEP_NEE;
   }

@@ -209,11 +209,13 @@ uint giPickFromTree(uint index, vec3 x, vec3 ng, float u, out float chance) {
 }
 
 // The turns NEE takes for the punctual lights: one a light (all); one in all when a light picked by power
-// stands for them (power); one a directional light and one a subtree of the cut (tree). A picked light
-// brings its light over its chance of being picked.
-uint giNeePunctualTurns() {
+// stands for them (power); one a directional light and one a subtree of the cut (tree); with a reservoir,
+// one a directional light and one for the reservoir's light. A picked light brings its light over its
+// chance of being picked.
+uint giNeePunctualTurns(uvec2 reservoir) {
   if (!GI_SCENE_HAS_PUNCTUAL) return 0u;
   const GpuSceneConstants c = sceneConstants();
+  if (giUsesReservoir(reservoir)) return c.directionalLightCount + 1u;
   if (c.lightSampler == LIGHT_SAMPLER_POWER) return min(c.punctualLightCount, 1u);
   if (c.lightSampler == LIGHT_SAMPLER_TREE) return c.directionalLightCount + c.lightCutSize;
   return c.punctualLightCount;
@@ -228,9 +230,10 @@ struct GiNee {
   uint next;     // the next turn: punctual lights (giNeePunctualTurns), then the area lights; done past them
   vec3 light;    // what the unblocked shadow rays brought so far
   vec3 pending;  // what the ray handed out last brings if unblocked
+  uvec2 reservoir;  // the request's (GiNeeRequest::reservoir)
 };
 
-GiNee giNeeStart() { return GiNee(0u, vec3(0.0), vec3(0.0)); }
+GiNee giNeeStart(uvec2 reservoir) { return GiNee(0u, vec3(0.0), vec3(0.0), reservoir); }
 
 // Tries the next light (each call one: lanes of a subgroup that run NEE
 // together stay at the same turn, so each call prepares a punctual light or
@@ -238,13 +241,20 @@ GiNee giNeeStart() { return GiNee(0u, vec3(0.0), vec3(0.0)); }
 // when that light cannot light s, or when every light has been tried
 // (giNeeComplete). withMis as in giPrepareEmissive.
 bool giNeeNextRay(inout GiNee nee, GiSurface s, GiBsdf b, vec3 V, bool withMis, inout GiRng rng, out GiRay ray) {
-  const uint turns = giNeePunctualTurns();
+  const uint turns = giNeePunctualTurns(nee.reservoir);
   if (nee.next > turns) return false;
   const uint i = nee.next++;
   GiShadowRay shadow;
   bool ready;
   const uint lightSampler = sceneConstants().lightSampler;
-  if (i < turns && lightSampler == LIGHT_SAMPLER_POWER) {
+  if (i + 1u == turns && giUsesReservoir(nee.reservoir)) {
+    // The reservoir's light, weighed by its W: its shadow ray was traced by the reservoir pass (W = 0
+    // where it is occluded), so it brings its light without one.
+    const float W = uintBitsToFloat(nee.reservoir.y);
+    if (nee.reservoir.x != GI_RESERVOIR_EMPTY && W > 0.0 && giPreparePunctual(nee.reservoir.x, s, b, V, shadow))
+      nee.light += shadow.contribution * W;
+    return false;
+  } else if (i < turns && lightSampler == LIGHT_SAMPLER_POWER) {
     float chance;
     ready = giPreparePunctual(giPickPunctual(giRandom(rng), chance), s, b, V, shadow);
     shadow.contribution /= chance;
@@ -270,7 +280,7 @@ bool giNeeNextRay(inout GiNee nee, GiSurface s, GiBsdf b, vec3 V, bool withMis, 
 }
 
 // True once every light has been tried: no further ray would come.
-bool giNeeComplete(GiNee nee) { return nee.next > giNeePunctualTurns(); }
+bool giNeeComplete(GiNee nee) { return nee.next > giNeePunctualTurns(nee.reservoir); }
 
 void giNeeTakeHit(inout GiNee nee, GiHit hit) {
   if (hit.t < 0.0) nee.light += nee.pending;
@@ -290,6 +300,7 @@ struct GiNeeRequest {
   vec3 V;
   bool withMis;
   GiRng rng;
+  uvec2 reservoir;  // a primary hit's reservoir, or GI_NO_RESERVOIR
 };
 
 #endif

@@ -43,13 +43,14 @@ struct GiTask {
   bool continuing;    // the walk is the pixel's continued one (anhpsf)
   HgWalk walk, restart, stored;
   HgStep step;
+  uvec2 reservoir;    // the primary vertex's (reservoirs.glsl)
   vec3 direct, indirect;
 };
 
 uint giTaskNext(inout GiTask t, out GiRay ray, out GiNeeRequest nee) {
   for (;;) {
     if (t.phase == NH_PRIMARY_NEE) {
-      nee = GiNeeRequest(t.s, t.b, t.V, false, t.rng);
+      nee = GiNeeRequest(t.s, t.b, t.V, false, t.rng, t.reservoir);
       t.phase = NH_WAITING;
       return GI_STEP_NEE;
     }
@@ -123,6 +124,7 @@ void main() {
       t.rng = giRngCreate(uvec2(p), pc.frameIndex, pc.seed, GI_STREAM_MODULE);
       t.b = giMakeBsdf(t.s.material.baseColor, t.s.material.metallic, t.s.material.roughness, t.s.material.flags);
       t.phase = NH_PRIMARY_NEE;
+      t.reservoir = giPrimaryReservoir(p);
       t.sampleIndex = 0u;
       t.continuing = false;
       t.restart.state = 0u;

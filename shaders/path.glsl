@@ -40,6 +40,7 @@ struct GiPath {
   uint maxBounces;
   uint russianRouletteStart;
   uint phase;      // GI_PATH_*
+  uvec2 reservoir; // vertex 0's reservoir (a primary hit's, set by the module's passes), or GI_NO_RESERVOIR
 };
 
 GiPath giPathStart(GiSurface vertex0, vec3 V, uint maxBounces, uint russianRouletteStart) {
@@ -56,12 +57,13 @@ GiPath giPathStart(GiSurface vertex0, vec3 V, uint maxBounces, uint russianRoule
   p.maxBounces = maxBounces;
   p.russianRouletteStart = russianRouletteStart;
   p.phase = GI_PATH_NEE;
+  p.reservoir = GI_NO_RESERVOIR;
   return p;
 }
 
 uint giPathNext(inout GiPath p, GiRng rng, out GiRay ray, out GiNeeRequest nee) {
   if (p.phase == GI_PATH_NEE) {
-    nee = GiNeeRequest(p.s, p.b, p.V, true, rng);
+    nee = GiNeeRequest(p.s, p.b, p.V, true, rng, p.depth == 0u ? p.reservoir : GI_NO_RESERVOIR);
     p.phase = GI_PATH_WAITING;
     return GI_STEP_NEE;
   }

@@ -17,9 +17,12 @@ void giTaskTakeNee(inout GiTask task, vec3 light, GiRng rng) {
 }
 #include "ray_loop.glsl"
 
-// Call it at one place in a program: each call inlines the ray loop.
-GiPathSample giTracePathFromSurface(GiSurface vertex0, vec3 V, uint maxBounces, uint russianRouletteStart, inout GiRng rng) {
+// Call it at one place in a program: each call inlines the ray loop. `reservoir`: vertex 0's (a primary
+// hit's), or GI_NO_RESERVOIR.
+GiPathSample giTracePathFromSurface(GiSurface vertex0, vec3 V, uint maxBounces, uint russianRouletteStart, uvec2 reservoir,
+                                    inout GiRng rng) {
   GiTask task = GiTask(giPathStart(vertex0, V, maxBounces, russianRouletteStart), rng);
+  task.path.reservoir = reservoir;
   giRunTask(task);
   rng = task.rng;
   return task.path.result;

@@ -20,6 +20,7 @@ struct GiRng {
 #define GI_STREAM_SUPERSAMPLE 2u
 #define GI_STREAM_AAF 3u
 #define GI_STREAM_HASH 4u
+#define GI_STREAM_RESERVOIRS 5u
 
 GiRng giRngCreate(uvec2 pixel, uint sampleIndex, uint seed, uint stream) {
   GiRng rng;

@@ -33,7 +33,7 @@
 
 void giRunTask(inout GiTask task) {
   GiNeeRequest at;
-  GiNee nee = giNeeStart();
+  GiNee nee = giNeeStart(GI_NO_RESERVOIR);
   bool neeActive = false;     // NEE's shadow rays are this lane's business now
   bool finishPending = false; // NEE's last light gave no ray: hand its light over next iteration
   bool done = false;
@@ -67,7 +67,7 @@ void giRunTask(inout GiTask task) {
         tracing = step == GI_STEP_TRACE;
         shadow = false;
         if (step == GI_STEP_NEE) {
-          nee = giNeeStart();
+          nee = giNeeStart(at.reservoir);
           neeActive = true;
         }
       }

@@ -129,9 +129,11 @@ bool giGradientSource(ivec2 p, uint parity, float tolerance, float cosNormalLimi
                               tolerance, cosNormalLimit);
 }
 
-// What a gradient compares: luminance of the direct light over the base colour, and of the demodulated indirect.
+// What a gradient compares: luminance of the direct light over the base colour, and of the demodulated
+// indirect. With reservoirs the direct light's sample is the reservoir's, which no random state repeats:
+// its gradient is left at 0 (the reservoirs reset where reprojection fails).
 vec2 giGradientLuminance(vec3 direct, vec3 indirectDemod, ivec2 p) {
-  return vec2(giLuminance(direct / giDirectAlbedo(p)), giLuminance(indirectDemod));
+  return vec2(giFrame.reservoirs != 0u ? 0.0 : giLuminance(direct / giDirectAlbedo(p)), giLuminance(indirectDemod));
 }
 
 // λ for direct (x) and indirect (y): the share of the history that pixel p drops.

@@ -369,11 +369,12 @@ def lights(path):
 def samplers(prefix):
     """The light samplers against the light count (scripts/bench samplers; runs PREFIX_<N>_<sampler>): per
     method GPU ms per frame, final MSE against the N's one reference, and both over the same method's with
-    every light sampled at 4 lights (issue 31's goal: at most 1.5× each at 1024)."""
+    every light sampled at 4 lights (issue 31's goal: at most 1.5× each at 1024). tree4r: tree4 with the
+    primary hits' reservoirs (ReservoirSettings, temporal reuse)."""
     methods = ["raw", "svgf", "hpsf"]
     runs = {}
     for n in ("1", "4", "64", "256", "1024", "4096"):
-        for sampler in ("all", "power", "tree1", "tree4"):
+        for sampler in ("all", "power", "tree1", "tree4", "tree4r"):
             path = f"{prefix}_{n}_{sampler}/results.csv"
             if os.path.exists(path):
                 runs[(n, sampler)] = {r["method"]: r for r in rows(path)}

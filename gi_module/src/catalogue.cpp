@@ -16,7 +16,7 @@ constexpr uint32_t kRaw = bit(Method::Raw), kGif = bit(Method::Gif), kBilateral 
                    kAtrous = bit(Method::Atrous), kAaf = bit(Method::Aaf) | bit(Method::AafAo),
                    kSspsf = bit(Method::Sspsf), kNhpsf = bit(Method::Nhpsf), kAnhpsf = bit(Method::Anhpsf),
                    kHash = bit(Method::Hpsf) | kNhpsf | kAnhpsf, kTemporal = kRaw | kGif | kBilateral | kAtrous | kSspsf | kHash,
-                   kSvgf = bit(Method::Svgf);
+                   kSvgf = bit(Method::Svgf), kEvery = kTemporal | kAaf | kSvgf;
 
 // One row per field: the key, the field's path (for errors), unit, meaning, range and the methods reading it.
 #define GI_SETTING(key, member, unit, meaning, kind, lo, hi, openMin, methods)                                     \
@@ -126,6 +126,20 @@ const SettingInfo kSettings[] = {
     GI_BOOL("temporal.gradients", temporal.gradients,
             "A-SVGF temporal gradients: drop history where a re-traced sample says the light changed",
             (kTemporal & ~kHash) | kSvgf),
+
+    GI_BOOL("reservoirs.enabled", reservoirs.enabled,
+            "resample the primary hits' picked point and spot lights through reservoirs (ReSTIR DI)", kEvery),
+    GI_SETTING("reservoirs.candidates", reservoirs.candidates, "lights", "lights drawn per pixel and frame", Uint, 1, 64,
+               false, kEvery),
+    GI_BOOL("reservoirs.temporal", reservoirs.temporal, "merge last frame's reservoir through the motion vectors", kEvery),
+    GI_SETTING("reservoirs.neighbours", reservoirs.neighbours, "reservoirs", "neighbours merged (0 = no spatial reuse)",
+               Uint, 0, 8, false, kEvery),
+    GI_SETTING("reservoirs.radius", reservoirs.radius, "pixels", "the disc the neighbours come from", Float, 1, 64, false,
+               kEvery),
+    GI_SETTING("reservoirs.max_history", reservoirs.maxHistory, "x candidates",
+               "last frame's reservoir counts at most this many times the candidates", Float, 1, 1000, false, kEvery),
+    GI_BOOL("reservoirs.unbiased", reservoirs.unbiased,
+            "spatial weights by the balance heuristic over the neighbours' surfaces (else the biased 1/M)", kEvery),
 
     GI_SETTING("svgf.spp", svgf.samplesPerPixel, "paths per pixel", "paths traced per pixel per frame", Uint, 1, 64, false,
                kSvgf),
@@ -243,6 +257,8 @@ constexpr bool viewsInOrder() {
 static_assert(viewsInOrder(), "kViews follows gi::DebugView's order");
 
 constexpr PassInfo kPasses[] = {
+    {Pass::ReservoirTemporal, "reservoir_temporal", false},
+    {Pass::ReservoirSpatial, "reservoir_spatial", true},  // the survivor's shadow ray
     {Pass::RawTrace, "raw_trace", true},
     {Pass::AafSample, "aaf_sample", true},
     {Pass::AafAdaptive, "aaf_adaptive", true},

@@ -140,6 +140,31 @@ void recordHashPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const gpu::
   recordHashGridTelemetryCopy(m.gpu, cmd, m.hash, slot);
 }
 
+// The primary hits' reservoirs (ReservoirSettings), before any pass that traces from the G-buffer.
+void recordReservoirPasses(Module& m, VkCommandBuffer cmd, uint32_t slot) {
+  const Settings& s = m.settings;
+  const ReservoirSettings& r = s.reservoirs;
+  VkDescriptorSet sets[] = {m.desc.scene.set, m.sized.frameSets[slot]};
+  gpu::GiReservoirPush push{gpu::GI_RESERVOIR_TEMPORAL,
+                            s.seed,
+                            r.candidates,
+                            r.temporal && m.reservoirFrames > 0 ? 1u : 0u,
+                            r.neighbours,
+                            r.radius,
+                            r.maxHistory,
+                            r.unbiased ? 1u : 0u,
+                            s.temporal.depthTolerance,
+                            cosDegrees(s.temporal.normalLimitDegrees),
+                            0,
+                            0};
+  // Pass: candidates from the light sampler, last frame's reservoir, the survivor's shadow ray.
+  runPass(m, cmd, slot, Pass::ReservoirTemporal, m.reservoirs, sets, {m.width, m.height}, push);
+  // Pass: neighbours' reservoirs merged; the result the tracing passes read.
+  push.mode = gpu::GI_RESERVOIR_SPATIAL;
+  runPass(m, cmd, slot, Pass::ReservoirSpatial, m.reservoirs, sets, {m.width, m.height}, push);
+  m.reservoirFrames++;
+}
+
 // SVGF after its temporal accumulation (which wrote set B on odd counts).
 void recordSvgfPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, bool filterDirect) {
   const SvgfSettings& v = m.settings.svgf;
@@ -275,7 +300,7 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
                               noisyIsOutput ? outputMax : largestFinite(noisyFormat),
                               lightScale(m, historyFormat),
                               largestFinite(historyFormat),
-                              0.0f,
+                              usesReservoirs(m, s) ? 1u : 0u,
                               0.0f,
                               glm::inverse(clipFromView(in.camera))};
   std::memcpy(static_cast<std::byte*>(m.frameConstants.memory.mapped) + slot * m.frameConstantsStride, &frame, sizeof(frame));
@@ -287,6 +312,7 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
 
   VkDescriptorSet sets[] = {m.desc.scene.set, m.sized.frameSets[slot]};
   const glm::uvec2 size{m.width, m.height};
+  if (usesReservoirs(m, s)) recordReservoirPasses(m, cmd, slot);
   // Temporal gradients need last frame's samples, kept in the set the temporal pass reads.
   const bool gradientsTraced = usesTemporalGradients(m, s) && m.temporalFrames > 0;
   if (isAaf(s.method)) {

@@ -323,6 +323,10 @@ bool usesHistoryClamp(const Module& m, const Settings& s) {
   return s.temporal.historyClamp > 0.0f && runsTemporalPass(m, s);
 }
 
+bool usesReservoirs(const Module& m, const Settings& s) {
+  return s.reservoirs.enabled && m.desc.scene.picksPunctualLights;
+}
+
 bool usesTemporalGradients(const Module& m, const Settings& s) {
   return s.temporal.gradients && runsTemporalPass(m, s) && !usesHashGrid(s.method) && !isAaf(s.method);
 }

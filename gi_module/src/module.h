@@ -20,7 +20,7 @@
 namespace gi {
 
 inline constexpr uint32_t kMaxFramesInFlight = 4;
-inline constexpr uint32_t kMaxPasses = 16;  // timestamped passes per frame
+inline constexpr uint32_t kMaxPasses = 24;  // timestamped passes per frame (gif with every option: 18)
 
 // The three outputs (gi::outputs): replaced only by resize, so an engine
 // binds them once per size whatever method it switches to.
@@ -47,6 +47,7 @@ struct SizedResources {
   vk::Image temporalGradient;                     // temporal gradients: one texel per tile
   vk::Image temporalSpread;                       // history clamp: this frame's 3×3 luminance mean and σ
   vk::Image historyPacked;                        // the hash methods' direct history, 8 bytes a pixel
+  vk::Image reservoirsA, reservoirsB;             // ReservoirSettings: the frame's reservoirs, the temporal pass's
   vk::Image noisyIndirect;                        // demodulated indirect before filtering
   vk::Image guidance, position, debug;            // filter guidance, world position, filter debug/temp
   vk::Image aafParams, aafSum;                    // AAF per-pixel z_min, z_max, samples, β; sample sums
@@ -101,7 +102,7 @@ struct Module {
   // Programs (programs.h), each created when settings first need it and kept;
   // created under programsMutex (gi::preparePrograms may run on another thread).
   vk::ComputeProgram rawTrace, composite, guidancePass, supersample, aafSample, aafAdaptive, temporal;
-  vk::ComputeProgram svgfVariance, svgfAtrous, temporalGradient, temporalSpread;
+  vk::ComputeProgram svgfVariance, svgfAtrous, temporalGradient, temporalSpread, reservoirs;
   vk::ComputeProgram hashInsert, hashPaths, hashValidate, hashResolve, hashLookup;  // hashPaths: nhpsf/anhpsf
   FilterPrograms filterPrograms;                   // the screen-space filters' (their own set layout)
   VkDescriptorSetLayout hashLayout = VK_NULL_HANDLE;  // set 2 of the hash methods' programs
@@ -114,6 +115,7 @@ struct Module {
   std::vector<Retired> retired;
 
   uint32_t historyLength = 0;                      // frames in the history images (raw.accumulate)
+  uint32_t reservoirFrames = 0;                   // frames the reservoirs have been resampled since they started
   uint32_t temporalFrames = 0;                     // frames the temporal reprojection has run since its history started
   gpu::GpuCamera historyCamera{};                  // camera the history was gathered with
   FrameStats lastStats;
@@ -163,6 +165,8 @@ bool usesPackedHistory(const Module& m, const Settings& settings);
 bool usesTemporalGradients(const Module& m, const Settings& settings);
 // The temporal pass clamps the reprojected history to this frame's samples (TemporalSettings::historyClamp).
 bool usesHistoryClamp(const Module& m, const Settings& settings);
+// The reservoir passes run: asked for, and NEE picks among the scene's point and spot lights.
+bool usesReservoirs(const Module& m, const Settings& settings);
 
 // Pass helpers (frame.cpp).
 PassHooks passHooks(Module& m, uint32_t slot);
@@ -179,6 +183,7 @@ bool validatesHashCells(const Settings& settings);
 inline void dropHistory(Module& m) {
   m.historyLength = 0;
   m.temporalFrames = 0;
+  m.reservoirFrames = 0;
 }
 uint32_t hashMode(Method method);
 

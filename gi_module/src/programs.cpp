@@ -14,6 +14,8 @@
 #include "gi_guidance.comp.h"
 #include "gi_raw_trace.comp.compute.h"
 #include "gi_raw_trace.comp.h"
+#include "gi_reservoirs.comp.compute.h"
+#include "gi_reservoirs.comp.h"
 #include "gi_supersample.comp.compute.h"
 #include "gi_supersample.comp.h"
 #include "gi_temporal.comp.compute.h"
@@ -120,6 +122,8 @@ std::vector<ProgramUse> programsFor(Module& m, const Settings& s) {
                  ProgramSets sets = ProgramSets::Frame, glm::uvec2 group = kTile) {
     list.push_back({name, &program, spirv, push, group, sets});
   };
+  if (usesReservoirs(m, s))
+    add("gi_reservoirs", m.reservoirs, GI_SCENE_SPIRV(t, gi_reservoirs_comp), sizeof(gpu::GiReservoirPush));
   if (isAaf(s.method)) {
     add("aaf_sample", m.aafSample, GI_SCENE_SPIRV(t, aaf_sample_comp), sizeof(gpu::AafPush));
     add("aaf_adaptive", m.aafAdaptive, GI_SCENE_SPIRV(t, aaf_adaptive_comp), sizeof(gpu::AafPush));
@@ -170,7 +174,7 @@ std::vector<vk::ComputeProgram*> scenePrograms(Module& m) {
   return {&m.rawTrace,         &m.composite,      &m.guidancePass, &m.supersample,   &m.aafSample,
           &m.aafAdaptive,      &m.temporal,       &m.svgfVariance, &m.svgfAtrous,    &m.temporalGradient,
           &m.temporalSpread,   &m.hashInsert,     &m.hashPaths,    &m.hashValidate,  &m.hashResolve,
-          &m.hashLookup};
+          &m.hashLookup,       &m.reservoirs};
 }
 
 void destroyPrograms(Module& m) {

@@ -66,6 +66,8 @@ constexpr SizedImage kSizedImages[] = {
     {&SizedResources::temporalGradient, gpu::GI_BINDING_TEMPORAL_GRADIENT, kFrame, kImageFormat, GI_GRADIENT_TILE},
     {&SizedResources::temporalSpread, gpu::GI_BINDING_TEMPORAL_SPREAD, kFrame},
     {&SizedResources::historyPacked, gpu::GI_BINDING_HISTORY_PACKED, kHistory, VK_FORMAT_R32G32_UINT},
+    {&SizedResources::reservoirsA, gpu::GI_BINDING_RESERVOIRS_A, kHistory, VK_FORMAT_R32G32B32A32_UINT},
+    {&SizedResources::reservoirsB, gpu::GI_BINDING_RESERVOIRS_B, kFrame, VK_FORMAT_R32G32B32A32_UINT},
 };
 // Beyond the image bits: which screen filters exist.
 static_assert(std::size(kSizedImages) <= 26, "the image bits stay below the flags");
@@ -142,6 +144,7 @@ uint32_t sizedResourcesNeeded(const Module& m, const Settings& s) {
             bit(&SizedResources::temporalGradient);
   if (usesHistoryClamp(m, s)) need |= bit(&SizedResources::temporalSpread);
   if (isAaf(s.method)) need |= bit(&SizedResources::aafParams) | bit(&SizedResources::aafSum);
+  if (usesReservoirs(m, s)) need |= bit(&SizedResources::reservoirsA) | bit(&SizedResources::reservoirsB);
   if (aafSpecular(m, s)) need |= bit(&SizedResources::aafGlossy) | bit(&SizedResources::aafGlossyEdge);
   // Debug views read their source at full size whatever the method (zero where it does not write).
   switch (s.debugView) {

@@ -60,7 +60,13 @@ GPU_CONST GI_BINDING_TEMPORAL_SPREAD = 30;    // rgba32f: this frame's samples a
 // normal in 2 × 5 bits and the frames of history (to 63) (y). Written by the composite pass, once the
 // temporal pass has read every neighbour's texel: one image, not two.
 GPU_CONST GI_BINDING_HISTORY_PACKED = 31;
-GPU_CONST GI_BINDING_COUNT = 32;
+// Reservoir resampling of the primary hits' point and spot lights (ReservoirSettings, reservoirs.glsl):
+// rgba32ui, the chosen light (x; GI_RESERVOIR_EMPTY = none), its weight W (y, float bits), the samples
+// behind it M (z, float bits), the pixel's guide (w, giPackGuide). A is the frame's result, read by the
+// tracing passes and by the next frame's temporal reuse; B holds the temporal pass's for the spatial one.
+GPU_CONST GI_BINDING_RESERVOIRS_A = 32;
+GPU_CONST GI_BINDING_RESERVOIRS_B = 33;
+GPU_CONST GI_BINDING_COUNT = 34;
 #define GI_GRADIENT_TILE 3u              // pixels per side of a gradient tile (A-SVGF's strata)
 #define GI_TRUSTED_HISTORY 4.0           // frames of history from which a pixel's accumulated light speaks for
                                          // itself: SVGF's temporal variance (spatial before), the filter clamp
@@ -99,7 +105,7 @@ struct GiFrameConstants {
   float historyScale;// radiance → the radiance histories' units: 1 / the scene's typical radiance where they are
                      // half floats (temporal reprojection), 1 where they are single floats (raw's running mean)
   float historyMax;  // their format's largest finite value (65504 or the largest float): stores clamp to it
-  float pad0;
+  uint reservoirs;   // 1: the primary hits' point and spot lights come from GI_BINDING_RESERVOIRS_A (reservoirs.glsl)
   float pad1;
   mat4 viewFromClip; // inverse of the camera's projection: hardware depth → view depth
 };
@@ -116,6 +122,26 @@ struct GiCounters {
   uint pad2;
 };
 GPU_ASSERT_SIZE(GiCounters, 32);
+
+// The reservoir passes (gi_reservoirs.comp): GI_RESERVOIR_TEMPORAL draws the candidates, merges last
+// frame's reservoir through the motion vectors and tests the survivor's visibility (A → B);
+// GI_RESERVOIR_SPATIAL merges neighbours' (B → A).
+GPU_CONST GI_RESERVOIR_TEMPORAL = 0u;
+GPU_CONST GI_RESERVOIR_SPATIAL = 1u;
+struct GiReservoirPush {
+  uint mode;            // GI_RESERVOIR_*
+  uint seed;
+  uint candidates;      // lights drawn per pixel (ReservoirSettings::candidates)
+  uint temporal;        // 1: merge last frame's reservoir (0 on the first frame of a history)
+  uint neighbours;      // spatial: reservoirs merged from around the pixel
+  float radius;         // spatial: pixels
+  float maxHistory;     // a merged reservoir counts at most this many times `candidates` samples
+  uint unbiased;        // spatial: 1/Z weights (neighbours whose surface the light can reach), else 1/M
+  float depthTolerance; // the reprojection and neighbour tests (TemporalSettings)
+  float cosNormalLimit;
+  uint pad0, pad1;
+};
+GPU_ASSERT_SIZE(GiReservoirPush, 48);
 
 struct GiRawPush {
   uint seed;

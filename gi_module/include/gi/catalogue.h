@@ -57,7 +57,7 @@ std::span<const DebugViewInfo> debugViewCatalogue();  // in gi::DebugView's orde
 // Every pass the frame can record. FrameStats::passes name them; the frame
 // script records them by this enum.
 enum class Pass : uint32_t {
-  RawTrace, AafSample, AafAdaptive, HpsfInsert, NhpsfPaths, AnhpsfPaths, HpsfValidate, HpsfResolve, HpsfLookup,
+  ReservoirTemporal, ReservoirSpatial, RawTrace, AafSample, AafAdaptive, HpsfInsert, NhpsfPaths, AnhpsfPaths, HpsfValidate, HpsfResolve, HpsfLookup,
   TemporalGradient, TemporalSpread, Temporal, SvgfVariance, SvgfAtrous, Guidance, Sspsf, Bilateral, Atrous,
   GifMoments, GifBoxRows, GifBoxColumns, GifCoefficients, GifOutput,
   AafFilterDiffuseRows, AafFilterDiffuseColumns, AafFilterGlossyRows, AafFilterGlossyColumns,

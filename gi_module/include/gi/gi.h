@@ -56,7 +56,7 @@
 #include "shared/gpu_scene.h"
 
 #define GI_VERSION_MAJOR 0
-#define GI_VERSION_MINOR 6  // 0.6: light samplers (SceneCreateDesc::lightSampler, lightTreeCut), ModuleDesc::checkBounds
+#define GI_VERSION_MINOR 7  // 0.7: Settings::reservoirs (ReSTIR DI for the primary hits); 0.6: light samplers, checkBounds
                             // 0.5: programs readied ahead of a switch (preparePrograms, recordProgramWarmup); set 0's arrays as texel buffers
                             // 0.4: the scene API (gi/scene.h), the G-buffer adapter, the camera as matrices
                             // 0.3: half-float outputs with pre-exposure

@@ -206,6 +206,27 @@ struct HpsfSettings {
                                   // full-size fp32 history images more, past issue 17's 150 MB for hpsf at 1080p
 };
 
+// Reservoir resampling of the primary hits' point and spot lights (ReSTIR DI, Bitterli et al. 2020), for
+// every method (shaders/gi_reservoirs.comp): candidates from the scene's light sampler resampled by their
+// unshadowed light, last frame's reservoir merged through the motion vectors, the survivor's visibility
+// tested, neighbours merged; the pixel's primary hit then takes the reservoir's light with one shadow ray
+// instead of one a subtree of the light tree's cut. Runs only where NEE picks among the point and spot
+// lights (SceneDesc::picksPunctualLights); with no more than the cut has subtrees NEE's sum is exact.
+// Vertices after the primary hit keep the light sampler.
+struct ReservoirSettings {
+  bool enabled = false;
+  uint32_t candidates = 8;        // [1, 64]: lights drawn per pixel and frame
+  bool temporal = true;           // merge last frame's reservoir (TemporalSettings' depth and normal tests)
+  uint32_t neighbours = 0;        // [0, 8]: reservoirs merged from around the pixel (0 = no spatial reuse: measured,
+                                  // it added error to temporal reuse's and shifted the light of 8×8 blocks:
+                                  // docs/RESULTS.md, "Reservoirs")
+  float radius = 16.0f;           // pixels, [1, 64]: the disc the neighbours come from
+  float maxHistory = 20.0f;       // [1, 1000]: last frame's reservoir counts at most this many times `candidates`
+  bool unbiased = true;           // spatial weights: the balance heuristic over the reservoirs' surfaces' targets
+                                  // (no fireflies where a light is bright here and dim where it was drawn);
+                                  // off, the biased 1/M. Neither traces a shadow ray per neighbour
+};
+
 struct Settings {
   Method method = Method::Raw;
   RawSettings raw;
@@ -217,6 +238,7 @@ struct Settings {
   HpsfSettings hpsf;
   SvgfSettings svgf;
   TemporalSettings temporal;
+  ReservoirSettings reservoirs;        // every method's primary direct light from picked point and spot lights
   uint32_t maxBounces = 1;             // indirect bounces B, [1, 32] (B = 0 would be direct light only).
                                        // nhpsf and anhpsf gather every bounce through the map (each cell
                                        // reads the next vertex's, over frames) whatever B says

@@ -1,0 +1,174 @@
+#version 460
+// Reservoir resampling of the primary hits' point and spot lights (ReSTIR DI,
+// Bitterli et al. 2020), shared by every method (ReservoirSettings). A
+// reservoir holds one light y, the samples M behind it and its weight W, an
+// estimate of 1 / p(y) for the target p̂ = the luminance of the light's
+// unshadowed reflected light f·Le·G: the pixel's direct light from its point
+// and spot lights is then f·Le·G·V(y)·W, one shadow ray.
+//   GI_RESERVOIR_TEMPORAL: `candidates` lights drawn from the scene's light
+//     sampler (the tree's importance or power) are resampled by p̂ / pdf;
+//     last frame's final reservoir at the pixel's reprojection is merged in
+//     (its M capped at maxHistory × candidates), where its guide says it saw
+//     this surface. A → B.
+//   GI_RESERVOIR_SPATIAL: the pixel's reservoir and `neighbours` others from
+//     a disc of `radius` pixels, those whose surface agrees in depth and
+//     normal, are merged by p̂ at this pixel (giSpatialReservoir says with
+//     which weights). Then the survivor's shadow ray: the tracing passes add
+//     f·Le·G·W where it is visible, without a ray of their own
+//     (giPrimaryReservoir). B → A.
+// Directional lights are traced at every vertex as before: p̂ = 0 here.
+#extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#include "gi_frame.glsl"
+#include "lights.glsl"
+#include "temporal.glsl"
+
+layout(local_size_x = GI_GROUP_SIZE, local_size_y = GI_GROUP_SIZE) in;
+layout(push_constant, scalar) uniform Push { GiReservoirPush pc; };
+
+struct GiReservoir {
+  uint light;       // GI_RESERVOIR_EMPTY: none
+  float weightSum;  // Σ of the merged weights
+  float M;          // samples behind the light
+  float target;     // p̂(light) at this pixel
+};
+
+GiReservoir giEmptyReservoir() { return GiReservoir(GI_RESERVOIR_EMPTY, 0.0, 0.0, 0.0); }
+
+// p̂: the luminance of the light's unshadowed reflected light at s (0 for directional lights and none).
+float giReservoirTarget(uint light, GiSurface s, GiBsdf b, vec3 V) {
+  // Directional lights are NEE's at every vertex; an index past the table is last frame's after
+  // gi::updateLights shrank it.
+  const GpuSceneConstants c = sceneConstants();
+  if (light < c.directionalLightCount || light >= c.punctualLightCount) return 0.0;
+  GiShadowRay ray;
+  return giPreparePunctual(light, s, b, V, ray) ? giLuminance(ray.contribution) : 0.0;
+}
+
+// Streams in a sample of weight w (p̂/pdf for a candidate, p̂·W·M for a reservoir) standing for M samples.
+void giReservoirMerge(inout GiReservoir r, uint light, float target, float weight, float M, float u) {
+  r.M += M;
+  if (!(weight > 0.0)) return;
+  r.weightSum += weight;
+  if (u * r.weightSum < weight) {
+    r.light = light;
+    r.target = target;
+  }
+}
+
+// A light from the scene's sampler and its chance (0: none can light x).
+uint giReservoirCandidate(GiSurface s, float u, out float chance) {
+  if (sceneConstants().lightSampler == LIGHT_SAMPLER_TREE) return giPickFromTree(0u, s.position, s.geometricNormal, u, chance);
+  return giPickPunctual(u, chance);
+}
+
+uvec4 giStoredReservoir(GiReservoir r, float W, uint guide) {
+  return uvec4(r.light, floatBitsToUint(W), floatBitsToUint(r.M), guide);
+}
+
+// W as reuse reads it: the light's weight whether or not this pixel saw it (the sign says that).
+float giStoredW(uvec4 v) { return abs(uintBitsToFloat(v.y)); }
+float giStoredM(uvec4 v) { return uintBitsToFloat(v.z); }
+
+// GI_RESERVOIR_TEMPORAL at a covered pixel: candidates, last frame's reservoir, the survivor's visibility.
+uvec4 giTemporalReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float depth, uint guide, inout GiRng rng) {
+  GiReservoir r = giEmptyReservoir();
+  for (uint i = 0u; i < pc.candidates; ++i) {
+    float chance;
+    const uint light = giReservoirCandidate(s, giRandom(rng), chance);
+    const float target = chance > 0.0 ? giReservoirTarget(light, s, b, V) : 0.0;
+    giReservoirMerge(r, light, target, target / max(chance, 1e-30), 1.0, giRandom(rng));
+  }
+  const ivec2 q = ivec2(floor(vec2(p) + 0.5 + giGbMotionPixels(p)));
+  if (pc.temporal != 0u && all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, ivec2(giFrame.size)))) {
+    const uvec4 previous = imageLoad(giReservoirsA, q);
+    vec3 dir;
+    const vec3 world = giGbPosition(p, dir);
+    if (previous.x != GI_RESERVOIR_EMPTY &&
+        giHistoryTexelAgrees(giUnpackGuide(previous.w), n, giPreviousViewDepth(world), depth, pc.depthTolerance,
+                             pc.cosNormalLimit)) {
+      const float M = min(giStoredM(previous), pc.maxHistory * float(pc.candidates));
+      const float target = giReservoirTarget(previous.x, s, b, V);
+      giReservoirMerge(r, previous.x, target, target * giStoredW(previous) * M, M, giRandom(rng));
+    }
+  }
+  return giStoredReservoir(r, r.target > 0.0 ? r.weightSum / (r.M * r.target) : 0.0, guide);
+}
+
+// GI_RESERVOIR_SPATIAL at a covered pixel: its reservoir and its neighbours' merged, then the survivor's
+// shadow ray. Reservoir i (0 = the pixel's own) came from surface i, whose target p̂_i differs from this
+// pixel's p̂: with `unbiased` each is weighed by the balance heuristic over the surfaces,
+// m_i(y) = M_i·p̂_i(y) / Σ_j M_j·p̂_j(y) (generalised RIS, Lin et al. 2022; the ReSTIR paper's MIS form),
+// so a light that is bright here and dim where it was drawn cannot become a firefly; else by M_i / Σ M_j
+// (the paper's biased 1/M).
+#define GI_SPATIAL_MAX 9u
+uvec4 giSpatialReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float depth, uint guide, inout GiRng rng) {
+  uvec4 found[GI_SPATIAL_MAX];
+  ivec2 at[GI_SPATIAL_MAX];
+  found[0] = imageLoad(giReservoirsB, p);
+  at[0] = p;
+  uint count = 1u;
+  for (uint i = 0u; i < min(pc.neighbours, GI_SPATIAL_MAX - 1u); ++i) {
+    const vec2 u = giRandom2(rng);
+    const float angle = 6.28318530718 * u.y;
+    const ivec2 q = p + ivec2(round(pc.radius * sqrt(u.x) * vec2(cos(angle), sin(angle))));
+    if (q == p || any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, ivec2(giFrame.size)))) continue;
+    const uvec4 other = imageLoad(giReservoirsB, q);
+    const vec4 g = giUnpackGuide(other.w);
+    if (!giDepthAgrees(g.w * giFrame.depthScale, depth, pc.depthTolerance) || dot(g.xyz, n) < pc.cosNormalLimit) continue;
+    found[count] = other;
+    at[count] = q;
+    count++;
+  }
+  GiReservoir r = giEmptyReservoir();
+  for (uint i = 0u; i < count; ++i) {
+    const float M = giStoredM(found[i]);
+    const float target = giReservoirTarget(found[i].x, s, b, V);
+    float share = M;  // 1/M: normalised below by r.M
+    if (pc.unbiased != 0u && target > 0.0) {
+      float sum = 0.0;
+      for (uint j = 0u; j < count; ++j) {
+        vec3 Vj;
+        const GiSurface sj = giGbSurface(at[j], Vj);
+        const GiBsdf bj = giMakeBsdf(sj.material.baseColor, sj.material.metallic, sj.material.roughness, sj.material.flags);
+        const float Mj = giStoredM(found[j]);
+        const float pj = j == 0u ? target : giReservoirTarget(found[i].x, sj, bj, Vj);
+        sum += Mj * pj;
+        if (j == i) share = Mj * pj;
+      }
+      share /= max(sum, 1e-30);
+    }
+    giReservoirMerge(r, found[i].x, target, target * giStoredW(found[i]) * share, M, giRandom(rng));
+  }
+  float W = r.target > 0.0 ? r.weightSum / (r.target * (pc.unbiased != 0u ? 1.0 : r.M)) : 0.0;
+  // The survivor's shadow ray: an occluded light brings nothing to this frame (its W stored negative),
+  // and stays in the reservoir, with its weight, for the next frame and the neighbours to resample: its
+  // weight estimates the unshadowed light's, which the visibility of whoever picks it then multiplies.
+  GiShadowRay shadow;
+  if (W > 0.0 && giPreparePunctual(r.light, s, b, V, shadow) &&
+      !giTraceVisible(shadow.origin, shadow.direction, 0.0, shadow.tMax))
+    W = -W;
+  return giStoredReservoir(r, W, guide);
+}
+
+void main() {
+  const ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+  const bool inside = all(lessThan(gl_GlobalInvocationID.xy, giFrame.size));
+  if (inside) {
+    uvec4 stored = uvec4(GI_RESERVOIR_EMPTY, 0u, 0u, 0u);
+    if (giGbCovered(p)) {
+      vec3 V;
+      const GiSurface s = giGbSurface(p, V);
+      const GiBsdf b = giMakeBsdf(s.material.baseColor, s.material.metallic, s.material.roughness, s.material.flags);
+      const vec3 n = giGbNormal(p);
+      const float depth = giGbViewDepth(p);
+      const uint guide = giPackGuide(n, depth / giFrame.depthScale);
+      GiRng rng = giRngCreate(uvec2(p), giFrame.frameIndex * 2u + pc.mode, pc.seed, GI_STREAM_RESERVOIRS);
+      stored = pc.mode == GI_RESERVOIR_TEMPORAL ? giTemporalReservoir(p, s, b, V, n, depth, guide, rng)
+                                                : giSpatialReservoir(p, s, b, V, n, depth, guide, rng);
+    }
+    if (pc.mode == GI_RESERVOIR_TEMPORAL) imageStore(giReservoirsB, p, stored);
+    else imageStore(giReservoirsA, p, stored);
+  }
+  giCountRays(inside);
+}
