@@ -51,6 +51,7 @@ layout(set = 1, binding = GI_BINDING_TEMPORAL_SPREAD, rgba32f) uniform image2D g
 layout(set = 1, binding = GI_BINDING_HISTORY_PACKED, rg32ui) uniform uimage2D giHistoryPacked;
 layout(set = 1, binding = GI_BINDING_RESERVOIRS_A, rgba32ui) uniform uimage2D giReservoirsA;
 layout(set = 1, binding = GI_BINDING_RESERVOIRS_B, rgba32ui) uniform uimage2D giReservoirsB;
+layout(set = 1, binding = GI_BINDING_RESERVOIR_PICK, rg32ui) uniform uimage2D giReservoirPick;
 
 // With ModuleDesc::checkBounds a coordinate outside its image, or an index outside one of the scene's
 // texel buffers, is counted here (bounds.glsl).
@@ -58,7 +59,7 @@ GI_COUNT_PIXELS_OUTSIDE_INTO(giCounters.boundsViolations)
 GI_COUNT_TEXELS_OUTSIDE_INTO(giCounters.boundsViolations)
 
 // The pixel's reservoir for its primary hit's NEE (reservoirs.glsl), or GI_NO_RESERVOIR when the frame has none.
-uvec2 giPrimaryReservoir(ivec2 p) { return giFrame.reservoirs != 0u ? imageLoad(giReservoirsA, p).xy : GI_NO_RESERVOIR; }
+uvec2 giPrimaryReservoir(ivec2 p) { return giFrame.reservoirs != 0u ? imageLoad(giReservoirPick, p).xy : GI_NO_RESERVOIR; }
 
 // Output images hold radiance × outputScale, clamped into the format's range
 // (a half float overflows to Inf past 65504). Loads give radiance back.

@@ -7,15 +7,19 @@
 // and spot lights is then f·Le·G·V(y)·W, one shadow ray.
 //   GI_RESERVOIR_TEMPORAL: `candidates` lights drawn from the scene's light
 //     sampler (the tree's importance or power) are resampled by p̂ / pdf;
-//     last frame's final reservoir at the pixel's reprojection is merged in
-//     (its M capped at maxHistory × candidates), where its guide says it saw
-//     this surface. A → B.
-//   GI_RESERVOIR_SPATIAL: the pixel's reservoir and `neighbours` others from
-//     a disc of `radius` pixels, those whose surface agrees in depth and
-//     normal, are merged by p̂ at this pixel (giSpatialReservoir says with
-//     which weights). Then the survivor's shadow ray: the tracing passes add
-//     f·Le·G·W where it is visible, without a ray of their own
-//     (giPrimaryReservoir). B → A.
+//     last frame's temporal reservoir at the pixel's reprojection is merged
+//     in (its M capped at maxHistory × candidates), where its guide says it
+//     saw this surface. Last frame's set → this frame's (A and B by parity).
+//   GI_RESERVOIR_SPATIAL: the pixel's temporal reservoir and `neighbours`
+//     others from a disc of `radius` pixels, those whose surface agrees in
+//     depth and normal, are merged by p̂ at this pixel (giSpatialReservoir
+//     says with which weights), and the survivor's shadow ray traced: the
+//     pick, its light and W where the pixel sees it, which the tracing passes
+//     add without a ray of their own (giPrimaryReservoir). The spatial result
+//     is not fed back: the next frame reuses the pixel's temporal reservoir,
+//     not a mix of its neighbours' (measured: fed back, in a room of a
+//     thousand lamps whose best lights change from pixel to pixel, the
+//     neighbours' samples diluted each pixel's own history).
 // Directional lights are traced at every vertex as before: p̂ = 0 here.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
@@ -66,11 +70,15 @@ uvec4 giStoredReservoir(GiReservoir r, float W, uint guide) {
   return uvec4(r.light, floatBitsToUint(W), floatBitsToUint(r.M), guide);
 }
 
-// W as reuse reads it: the light's weight whether or not this pixel saw it (the sign says that).
-float giStoredW(uvec4 v) { return abs(uintBitsToFloat(v.y)); }
+float giStoredW(uvec4 v) { return uintBitsToFloat(v.y); }
 float giStoredM(uvec4 v) { return uintBitsToFloat(v.z); }
 
-// GI_RESERVOIR_TEMPORAL at a covered pixel: candidates, last frame's reservoir, the survivor's visibility.
+// The two sets of temporal reservoirs: this frame's and last frame's.
+uvec4 giLoadReservoir(ivec2 p, bool current) {
+  return (pc.parity == 0u) == current ? imageLoad(giReservoirsB, p) : imageLoad(giReservoirsA, p);
+}
+
+// GI_RESERVOIR_TEMPORAL at a covered pixel: candidates and last frame's reservoir.
 uvec4 giTemporalReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float depth, uint guide, inout GiRng rng) {
   GiReservoir r = giEmptyReservoir();
   for (uint i = 0u; i < pc.candidates; ++i) {
@@ -81,7 +89,7 @@ uvec4 giTemporalReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float 
   }
   const ivec2 q = ivec2(floor(vec2(p) + 0.5 + giGbMotionPixels(p)));
   if (pc.temporal != 0u && all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, ivec2(giFrame.size)))) {
-    const uvec4 previous = imageLoad(giReservoirsA, q);
+    const uvec4 previous = giLoadReservoir(q, false);
     vec3 dir;
     const vec3 world = giGbPosition(p, dir);
     if (previous.x != GI_RESERVOIR_EMPTY &&
@@ -105,7 +113,7 @@ uvec4 giTemporalReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float 
 uvec4 giSpatialReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float depth, uint guide, inout GiRng rng) {
   uvec4 found[GI_SPATIAL_MAX];
   ivec2 at[GI_SPATIAL_MAX];
-  found[0] = imageLoad(giReservoirsB, p);
+  found[0] = giLoadReservoir(p, true);
   at[0] = p;
   uint count = 1u;
   for (uint i = 0u; i < min(pc.neighbours, GI_SPATIAL_MAX - 1u); ++i) {
@@ -113,7 +121,7 @@ uvec4 giSpatialReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float d
     const float angle = 6.28318530718 * u.y;
     const ivec2 q = p + ivec2(round(pc.radius * sqrt(u.x) * vec2(cos(angle), sin(angle))));
     if (q == p || any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, ivec2(giFrame.size)))) continue;
-    const uvec4 other = imageLoad(giReservoirsB, q);
+    const uvec4 other = giLoadReservoir(q, true);
     const vec4 g = giUnpackGuide(other.w);
     if (!giDepthAgrees(g.w * giFrame.depthScale, depth, pc.depthTolerance) || dot(g.xyz, n) < pc.cosNormalLimit) continue;
     found[count] = other;
@@ -141,14 +149,13 @@ uvec4 giSpatialReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float d
     giReservoirMerge(r, found[i].x, target, target * giStoredW(found[i]) * share, M, giRandom(rng));
   }
   float W = r.target > 0.0 ? r.weightSum / (r.target * (pc.unbiased != 0u ? 1.0 : r.M)) : 0.0;
-  // The survivor's shadow ray: an occluded light brings nothing to this frame (its W stored negative),
-  // and stays in the reservoir, with its weight, for the next frame and the neighbours to resample: its
-  // weight estimates the unshadowed light's, which the visibility of whoever picks it then multiplies.
+  // The survivor's shadow ray: an occluded light brings nothing this frame (the reservoirs that are
+  // reused keep estimating the unshadowed light, whose visibility the pixel that picks it tests).
   GiShadowRay shadow;
   if (W > 0.0 && giPreparePunctual(r.light, s, b, V, shadow) &&
       !giTraceVisible(shadow.origin, shadow.direction, 0.0, shadow.tMax))
-    W = -W;
-  return giStoredReservoir(r, W, guide);
+    W = 0.0;
+  return uvec4(r.light, floatBitsToUint(W), 0u, 0u);
 }
 
 void main() {
@@ -167,7 +174,8 @@ void main() {
       stored = pc.mode == GI_RESERVOIR_TEMPORAL ? giTemporalReservoir(p, s, b, V, n, depth, guide, rng)
                                                 : giSpatialReservoir(p, s, b, V, n, depth, guide, rng);
     }
-    if (pc.mode == GI_RESERVOIR_TEMPORAL) imageStore(giReservoirsB, p, stored);
+    if (pc.mode == GI_RESERVOIR_SPATIAL) imageStore(giReservoirPick, p, stored);
+    else if (pc.parity == 0u) imageStore(giReservoirsB, p, stored);
     else imageStore(giReservoirsA, p, stored);
   }
   giCountRays(inside);

@@ -518,6 +518,20 @@ def sweep(key, pairs):
                   f"{pass_ms(a, 'composite'):.2f} → {pass_ms(b, 'composite'):.2f} |")
 
 
+def configurations(pairs):
+    """Runs of one scene in several configurations against the same references (args: NAME DIR ...): per
+    run and method, GPU ms per frame, final MSE, indirect MSE and flicker against the first run's."""
+    runs = [(name, {r["method"]: r for r in rows(f"{directory}/results.csv")}) for name, directory in named(pairs)]
+    first = runs[0][1]
+    print("| configuration | method | ms/frame | MSE (final) | against the first | MSE (indirect) | flicker |")
+    print("|---|---|---|---|---|---|---|")
+    for name, by_method in runs:
+        for method, r in by_method.items():
+            flicker = f"{float(r['flicker_ratio']):.2f}" if r["flicker_ratio"] else "–"
+            print(f"| {name.replace('_', ' ')} | {method} | {float(r['total_ms']):.1f} | {float(r['mse']):.3e} | "
+                  f"{float(r['mse']) / float(first[method]['mse']):.2f}× | {float(r['mse_indirect']):.3e} | {flicker} |")
+
+
 def coldstart(before_csv, after_csv):
     def table(path):
         return {(r["traversal"], r["scene"], r["method"]): float(r["wall_s"]) for r in rows(path)}
@@ -661,6 +675,7 @@ KINDS = {
     "pathtracer": lambda a: pathtracer(a[0]),
     "lights": lambda a: lights(a[0]),
     "samplers": lambda a: samplers(a[0]),
+    "configurations": lambda a: configurations(a),
     "ab": lambda a: ab(a[0], a[1], a[2], a[3:]),
     "moving": lambda a: moving(a[0], int(a[1]), a[2:]),
     "rays": lambda a: rays(a[0]),

@@ -155,11 +155,11 @@ void recordReservoirPasses(Module& m, VkCommandBuffer cmd, uint32_t slot) {
                             r.unbiased ? 1u : 0u,
                             s.temporal.depthTolerance,
                             cosDegrees(s.temporal.normalLimitDegrees),
-                            0,
+                            m.reservoirFrames & 1u,
                             0};
   // Pass: candidates from the light sampler, last frame's reservoir, the survivor's shadow ray.
   runPass(m, cmd, slot, Pass::ReservoirTemporal, m.reservoirs, sets, {m.width, m.height}, push);
-  // Pass: neighbours' reservoirs merged; the result the tracing passes read.
+  // Pass: neighbours' reservoirs merged and the survivor's shadow ray: the pick the tracing passes take.
   push.mode = gpu::GI_RESERVOIR_SPATIAL;
   runPass(m, cmd, slot, Pass::ReservoirSpatial, m.reservoirs, sets, {m.width, m.height}, push);
   m.reservoirFrames++;

@@ -47,7 +47,8 @@ struct SizedResources {
   vk::Image temporalGradient;                     // temporal gradients: one texel per tile
   vk::Image temporalSpread;                       // history clamp: this frame's 3×3 luminance mean and σ
   vk::Image historyPacked;                        // the hash methods' direct history, 8 bytes a pixel
-  vk::Image reservoirsA, reservoirsB;             // ReservoirSettings: the frame's reservoirs, the temporal pass's
+  vk::Image reservoirsA, reservoirsB;             // ReservoirSettings: the temporal pass's, one set a frame
+  vk::Image reservoirPick;                        // ReservoirSettings: the spatial pass's light and W a pixel
   vk::Image noisyIndirect;                        // demodulated indirect before filtering
   vk::Image guidance, position, debug;            // filter guidance, world position, filter debug/temp
   vk::Image aafParams, aafSum;                    // AAF per-pixel z_min, z_max, samples, β; sample sums

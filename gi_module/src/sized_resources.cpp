@@ -67,7 +67,8 @@ constexpr SizedImage kSizedImages[] = {
     {&SizedResources::temporalSpread, gpu::GI_BINDING_TEMPORAL_SPREAD, kFrame},
     {&SizedResources::historyPacked, gpu::GI_BINDING_HISTORY_PACKED, kHistory, VK_FORMAT_R32G32_UINT},
     {&SizedResources::reservoirsA, gpu::GI_BINDING_RESERVOIRS_A, kHistory, VK_FORMAT_R32G32B32A32_UINT},
-    {&SizedResources::reservoirsB, gpu::GI_BINDING_RESERVOIRS_B, kFrame, VK_FORMAT_R32G32B32A32_UINT},
+    {&SizedResources::reservoirsB, gpu::GI_BINDING_RESERVOIRS_B, kHistory, VK_FORMAT_R32G32B32A32_UINT},
+    {&SizedResources::reservoirPick, gpu::GI_BINDING_RESERVOIR_PICK, kFrame, VK_FORMAT_R32G32_UINT},
 };
 // Beyond the image bits: which screen filters exist.
 static_assert(std::size(kSizedImages) <= 26, "the image bits stay below the flags");
@@ -144,7 +145,8 @@ uint32_t sizedResourcesNeeded(const Module& m, const Settings& s) {
             bit(&SizedResources::temporalGradient);
   if (usesHistoryClamp(m, s)) need |= bit(&SizedResources::temporalSpread);
   if (isAaf(s.method)) need |= bit(&SizedResources::aafParams) | bit(&SizedResources::aafSum);
-  if (usesReservoirs(m, s)) need |= bit(&SizedResources::reservoirsA) | bit(&SizedResources::reservoirsB);
+  if (usesReservoirs(m, s))
+    need |= bit(&SizedResources::reservoirsA) | bit(&SizedResources::reservoirsB) | bit(&SizedResources::reservoirPick);
   if (aafSpecular(m, s)) need |= bit(&SizedResources::aafGlossy) | bit(&SizedResources::aafGlossyEdge);
   // Debug views read their source at full size whatever the method (zero where it does not write).
   switch (s.debugView) {

@@ -60,13 +60,16 @@ GPU_CONST GI_BINDING_TEMPORAL_SPREAD = 30;    // rgba32f: this frame's samples a
 // normal in 2 × 5 bits and the frames of history (to 63) (y). Written by the composite pass, once the
 // temporal pass has read every neighbour's texel: one image, not two.
 GPU_CONST GI_BINDING_HISTORY_PACKED = 31;
-// Reservoir resampling of the primary hits' point and spot lights (ReservoirSettings, reservoirs.glsl):
-// rgba32ui, the chosen light (x; GI_RESERVOIR_EMPTY = none), its weight W (y, float bits), the samples
-// behind it M (z, float bits), the pixel's guide (w, giPackGuide). A is the frame's result, read by the
-// tracing passes and by the next frame's temporal reuse; B holds the temporal pass's for the spatial one.
+// Reservoir resampling of the primary hits' point and spot lights (ReservoirSettings, gi_reservoirs.comp).
+// A and B, rgba32ui, the temporal pass's reservoirs, one set written a frame (GiReservoirPush::parity) and
+// read by the next: the chosen light (x; GI_RESERVOIR_EMPTY = none), its weight W (y, float bits), the
+// samples behind it M (z, float bits), the pixel's guide (w, giPackGuide). The pick, rg32ui, the spatial
+// pass's result the tracing passes take (giPrimaryReservoir): the light and its W (float bits), 0 where
+// the pixel does not see it.
 GPU_CONST GI_BINDING_RESERVOIRS_A = 32;
 GPU_CONST GI_BINDING_RESERVOIRS_B = 33;
-GPU_CONST GI_BINDING_COUNT = 34;
+GPU_CONST GI_BINDING_RESERVOIR_PICK = 34;
+GPU_CONST GI_BINDING_COUNT = 35;
 #define GI_GRADIENT_TILE 3u              // pixels per side of a gradient tile (A-SVGF's strata)
 #define GI_TRUSTED_HISTORY 4.0           // frames of history from which a pixel's accumulated light speaks for
                                          // itself: SVGF's temporal variance (spatial before), the filter clamp
@@ -123,9 +126,9 @@ struct GiCounters {
 };
 GPU_ASSERT_SIZE(GiCounters, 32);
 
-// The reservoir passes (gi_reservoirs.comp): GI_RESERVOIR_TEMPORAL draws the candidates, merges last
-// frame's reservoir through the motion vectors and tests the survivor's visibility (A → B);
-// GI_RESERVOIR_SPATIAL merges neighbours' (B → A).
+// The reservoir passes (gi_reservoirs.comp): GI_RESERVOIR_TEMPORAL draws the candidates and merges last
+// frame's reservoir through the motion vectors (last frame's set → this frame's); GI_RESERVOIR_SPATIAL
+// merges neighbours' and tests the survivor's visibility (this frame's set → the pick).
 GPU_CONST GI_RESERVOIR_TEMPORAL = 0u;
 GPU_CONST GI_RESERVOIR_SPATIAL = 1u;
 struct GiReservoirPush {
@@ -139,7 +142,8 @@ struct GiReservoirPush {
   uint unbiased;        // spatial: 1/Z weights (neighbours whose surface the light can reach), else 1/M
   float depthTolerance; // the reprojection and neighbour tests (TemporalSettings)
   float cosNormalLimit;
-  uint pad0, pad1;
+  uint parity;          // 0: this frame's temporal reservoirs go to B (last frame's are in A); 1: the reverse
+  uint pad0;
 };
 GPU_ASSERT_SIZE(GiReservoirPush, 48);
 

@@ -211,16 +211,15 @@ struct HpsfSettings {
 // unshadowed light, last frame's reservoir merged through the motion vectors, the survivor's visibility
 // tested, neighbours merged; the pixel's primary hit then takes the reservoir's light with one shadow ray
 // instead of one a subtree of the light tree's cut. Runs only where NEE picks among the point and spot
-// lights (SceneDesc::picksPunctualLights); with no more than the cut has subtrees NEE's sum is exact.
-// Vertices after the primary hit keep the light sampler.
+// lights (SceneDesc::picksPunctualLights); with no more than the cut has subtrees NEE's sum is exact and
+// nothing runs. Vertices after the primary hit keep the light sampler.
 struct ReservoirSettings {
-  bool enabled = false;
+  bool enabled = true;            // on: measured better for raw, svgf and hpsf from 64 lights on (RESULTS, "Reservoirs")
   uint32_t candidates = 8;        // [1, 64]: lights drawn per pixel and frame
   bool temporal = true;           // merge last frame's reservoir (TemporalSettings' depth and normal tests)
-  uint32_t neighbours = 0;        // [0, 8]: reservoirs merged from around the pixel (0 = no spatial reuse: measured,
-                                  // it added error to temporal reuse's and shifted the light of 8×8 blocks:
-                                  // docs/RESULTS.md, "Reservoirs")
-  float radius = 16.0f;           // pixels, [1, 64]: the disc the neighbours come from
+  uint32_t neighbours = 3;        // [0, 8]: reservoirs merged from around the pixel for its pick (0 = no spatial
+                                  // reuse); the next frame reuses the pixel's own (docs/RESULTS.md, "Reservoirs")
+  float radius = 4.0f;            // pixels, [1, 64]: the disc the neighbours come from
   float maxHistory = 20.0f;       // [1, 1000]: last frame's reservoir counts at most this many times `candidates`
   bool unbiased = true;           // spatial weights: the balance heuristic over the reservoirs' surfaces' targets
                                   // (no fireflies where a light is bright here and dim where it was drawn);
