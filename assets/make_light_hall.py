@@ -6,10 +6,17 @@ a red-brown left wall and a blue right wall to bleed colour, two rows of six pil
 lights (KHR_lights_punctual) on a 16 x 16 grid 0.4 m under the ceiling, 0.75 cd each (192 cd in all).
 The camera stands at the near end, 1.7 m up, looking down the hall (-Z). Metres, Y up.
 Only the Python standard library is used; the output is committed.
+
+With --panels N --out DIR (scripts/bench emissive; not shipped): the same hall lit instead by N square
+emissive panels 0.2 m wide just under the ceiling, on as square a grid as N allows, facing down, their
+total power the 256 lamps' (4 pi W per cd; a one-sided Lambertian panel of area A and radiance L emits
+pi L A): the many-emissive-triangle scene of issue 31, two triangles a panel.
 """
+import argparse
+import math
 import os
 
-from gltf_writer import Gltf, block, quad
+from gltf_writer import Gltf, block, merge, quad
 
 here = os.path.dirname(os.path.abspath(__file__))
 WIDTH, HEIGHT, LENGTH = 12.0, 5.0, 24.0
@@ -38,22 +45,46 @@ materials = {
     "stone": {"pbrMetallicRoughness": {"baseColorFactor": [0.7, 0.65, 0.55, 1], "metallicFactor": 0, "roughnessFactor": 1}},
 }
 
-gltf = Gltf("assets/make_light_hall.py", ["KHR_lights_punctual"])
+parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+parser.add_argument("--panels", type=int, default=0, help="emissive panels instead of the point lights")
+parser.add_argument("--out", default=os.path.join(here, "light_hall"), help="output directory")
+args = parser.parse_args()
+
+PANEL = 0.2
+if args.panels > 0:
+    columns = max(1, round(math.sqrt(args.panels * WIDTH / LENGTH)))
+    rows = math.ceil(args.panels / columns)
+    power = 4 * math.pi * CANDELA * LIGHTS_X * LIGHTS_Z
+    radiance = power / (args.panels * math.pi * PANEL * PANEL)
+    materials["panel"] = {"pbrMetallicRoughness": {"baseColorFactor": [0, 0, 0, 1], "metallicFactor": 0},
+                          "emissiveFactor": COLOUR,
+                          "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": round(radiance, 4)}}}
+    parts = []
+    for k in range(args.panels):
+        x = X0 + (k % columns + 0.5) * WIDTH / columns
+        z = Z0 + (k // columns + 0.5) * LENGTH / rows
+        y, h = HEIGHT - 0.01, PANEL / 2
+        parts.append(quad((x - h, y, z - h), (x + h, y, z - h), (x + h, y, z + h), (x - h, y, z + h)))
+    meshes["panels"] = (merge(parts), "panel")
+
+extensions = ["KHR_materials_emissive_strength"] if args.panels > 0 else ["KHR_lights_punctual"]
+gltf = Gltf("assets/make_light_hall.py", extensions)
 gltf.materials(materials)
 for name, (geometry, material) in meshes.items():
     gltf.mesh(name, geometry, material)
 
-lights = []
-for j in range(LIGHTS_Z):
-    for i in range(LIGHTS_X):
-        x = X0 + (i + 0.5) * WIDTH / LIGHTS_X
-        z = Z0 + (j + 0.5) * LENGTH / LIGHTS_Z
-        gltf.node({"name": f"lamp_{j}_{i}", "translation": [round(x, 4), HEIGHT - 0.4, round(z, 4)],
-                   "extensions": {"KHR_lights_punctual": {"light": len(lights)}}})
-        lights.append({"name": f"lamp_{j}_{i}", "type": "point", "color": COLOUR, "intensity": CANDELA})
-gltf.doc["extensions"] = {"KHR_lights_punctual": {"lights": lights}}
+if args.panels == 0:
+    lights = []
+    for j in range(LIGHTS_Z):
+        for i in range(LIGHTS_X):
+            x = X0 + (i + 0.5) * WIDTH / LIGHTS_X
+            z = Z0 + (j + 0.5) * LENGTH / LIGHTS_Z
+            gltf.node({"name": f"lamp_{j}_{i}", "translation": [round(x, 4), HEIGHT - 0.4, round(z, 4)],
+                       "extensions": {"KHR_lights_punctual": {"light": len(lights)}}})
+            lights.append({"name": f"lamp_{j}_{i}", "type": "point", "color": COLOUR, "intensity": CANDELA})
+    gltf.doc["extensions"] = {"KHR_lights_punctual": {"lights": lights}}
 
 gltf.doc["cameras"] = [{"type": "perspective", "name": "entrance",
                         "perspective": {"yfov": 1.0, "aspectRatio": 16 / 9, "znear": 0.05, "zfar": 100.0}}]
 gltf.node({"name": "entrance", "camera": 0, "translation": [0.0, 1.7, -0.5]})
-gltf.write(os.path.join(here, "light_hall"), "light_hall")
+gltf.write(args.out, "light_hall")
