@@ -4,12 +4,14 @@
 // indices most (a full map, a moving scene, a panning camera, an image whose
 // sides are not multiples of the 8×8 groups) touches nothing outside; and
 // the check itself counts what lies outside.
+#include <algorithm>
 #include <cstring>
 
 #include "gi/catalogue.h"
 #include "gpu_test.h"
 #include "hash_grid.h"
 #include "hash_stress.comp.h"
+#include "light_field.h"
 #include "module_device.h"
 #include "module_test_helpers.h"
 #include "scene/scene.h"
@@ -132,5 +134,43 @@ TEST_F(ModuleBoundsTest, ATextureIndexPastTheWrittenOnesIsCounted) {
   std::memcpy(scene.constants.memory.mapped, &kept, sizeof(kept));
   EXPECT_EQ(violations(2), 0u);
   tools::destroyModuleSession(ctx, session);
+  unload(s);
+}
+
+// The reservoirs (ReservoirSettings, on by default) under a panning camera: their temporal merge reads last
+// frame's reservoirs at reprojected pixels (some outside the image), their spatial merge neighbours within
+// the radius (some outside), and light indices from both; checked, nothing lands outside, for a method of
+// each kind of tracing pass that takes them (raw's trace, which svgf and the screen filters share; hpsf's insert;
+// the n-methods' paths; AAF's samples).
+TEST_F(ModuleBoundsTest, ReservoirsUnderAPanningCameraStayInBounds) {
+  LoadedScene s;
+  std::string error;
+  ASSERT_TRUE(engine::loadSceneForRendering(lightField(64, "bounds_reservoirs", true), s.scene, error)) << error;
+  engine::createSceneGpu(ctx, s.scene, s.gpu);
+  ASSERT_TRUE(s.gpu.desc.picksPunctualLights);
+  const VkExtent2D size{98, 66};
+  gi::ModuleDesc desc = tools::moduleDesc(ctx, s.gpu, size);
+  desc.checkBounds = true;
+  for (gi::Method method : {gi::Method::Raw, gi::Method::Hpsf, gi::Method::Anhpsf, gi::Method::Aaf}) {
+    gi::Settings settings;
+    settings.method = method;
+    settings.reservoirs.neighbours = 8;
+    settings.reservoirs.radius = 32.0f;
+    tools::ModuleSession session;
+    ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, size, settings, session, &desc));
+    const std::vector<std::string> programs = gi::programNames(session.module, settings);
+    EXPECT_NE(std::find(programs.begin(), programs.end(), "gi_reservoirs"), programs.end()) << gi::methodName(method);
+    gpu::GpuCamera previous{};
+    for (uint32_t f = 0; f < 6; ++f) {
+      const engine::Camera c = panned(s.scene.cameras[0], 0.3f * float(5 - f));
+      const gpu::GpuCamera cam = engine::makeGpuCamera(c, size.width, size.height, f > 0 ? &previous : nullptr);
+      tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, f > 0 ? previous : cam, f);
+      previous = cam;
+      gi::FrameStats stats;
+      ASSERT_TRUE(gi::frameStats(session.module, f, stats));
+      EXPECT_EQ(stats.boundsViolations, 0u) << gi::methodName(method) << " frame " << f;
+    }
+    tools::destroyModuleSession(ctx, session);
+  }
   unload(s);
 }
