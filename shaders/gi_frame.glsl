@@ -58,6 +58,8 @@ layout(set = 1, binding = GI_BINDING_RESERVOIR_PICK, rg32ui) uniform uimage2D gi
 GI_COUNT_PIXELS_OUTSIDE_INTO(giCounters.boundsViolations)
 GI_COUNT_TEXELS_OUTSIDE_INTO(giCounters.boundsViolations)
 
+uint giLightSampler() { return giFrame.lightSampler; }
+
 // The pixel's reservoir for its primary hit's NEE (reservoirs.glsl), or GI_NO_RESERVOIR when the frame has none.
 uvec2 giPrimaryReservoir(ivec2 p) { return giFrame.reservoirs != 0u ? imageLoad(giReservoirPick, p).xy : GI_NO_RESERVOIR; }
 

@@ -25,6 +25,10 @@ struct GiShadowRay {
 
 #include "sky.glsl"
 
+// NEE's light sampler (LIGHT_SAMPLER_*): every program that runs NEE defines it, the module's from its
+// frame constants (gi::LightSettings, gi_frame.glsl), the reference path tracer the scene's.
+uint giLightSampler();
+
 
 // Solid-angle density with which NEE would pick the emissive point `s` seen
 // from `from` (s.frontFace must hold).
@@ -216,8 +220,8 @@ uint giNeePunctualTurns(uvec2 reservoir) {
   if (!GI_SCENE_HAS_PUNCTUAL) return 0u;
   const GpuSceneConstants c = sceneConstants();
   if (giUsesReservoir(reservoir)) return c.directionalLightCount + 1u;
-  if (c.lightSampler == LIGHT_SAMPLER_POWER) return min(c.punctualLightCount, 1u);
-  if (c.lightSampler == LIGHT_SAMPLER_TREE) return c.directionalLightCount + c.lightCutSize;
+  if (giLightSampler() == LIGHT_SAMPLER_POWER) return min(c.punctualLightCount, 1u);
+  if (giLightSampler() == LIGHT_SAMPLER_TREE) return c.directionalLightCount + c.lightCutSize;
   return c.punctualLightCount;
 }
 
@@ -246,7 +250,7 @@ bool giNeeNextRay(inout GiNee nee, GiSurface s, GiBsdf b, vec3 V, bool withMis, 
   const uint i = nee.next++;
   GiShadowRay shadow;
   bool ready;
-  const uint lightSampler = sceneConstants().lightSampler;
+  const uint lightSampler = giLightSampler();
   if (i + 1u == turns && giUsesReservoir(nee.reservoir)) {
     // The reservoir's light, weighed by its W: its shadow ray was traced by the reservoir pass (W = 0
     // where it is occluded), so it brings its light without one.

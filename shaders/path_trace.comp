@@ -70,6 +70,7 @@ void giTaskTakeNee(inout GiTask task, vec3 light, GiRng rng) {
 #include "ray_loop.glsl"
 // The engine's program: its reads are never checked (bounds.glsl).
 GI_BOUNDS_UNCHECKED
+uint giLightSampler() { return sceneConstants().lightSampler; }  // the reference follows the scene
 
 PathResult tracePath(uvec2 pixel, uint sampleIndex) {
   GiTask task;

@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "light_field.h"
+#include "module_test_helpers.h"
 
 class LightSamplerTest : public LightFieldTest {};
 
@@ -128,4 +129,43 @@ TEST_F(LightSamplerTest, BadSamplersAreNamedErrors) {
   expectRefused(7, 4, "desc.lightSampler = 7");
   expectRefused(gpu::LIGHT_SAMPLER_TREE, 65, "desc.lightTreeCut = 65 is outside [1, 64]");
   expectRefused(gpu::LIGHT_SAMPLER_TREE, 0, "desc.lightTreeCut = 0 is outside [1, 64]");
+}
+
+// gi::LightSettings::sampler (catalogue lights.sampler) overrides the scene's sampler in the module's passes
+// over the same tables: a scene made with the tree and told `all` renders what the scene made with `all`
+// renders, bit for bit and ray for ray, and the reverse; the scene's own sampler (the reference's) stays.
+TEST_F(LightSamplerTest, TheModulesSamplerSettingActsAsTheScenesWould) {
+  const std::string path = lightField(32, "light_sampler_setting");
+  LoadedScene all, tree;
+  ASSERT_NO_FATAL_FAILURE(loadWith(path, gpu::LIGHT_SAMPLER_ALL, all, 4));  // the same cut: the same tables
+  ASSERT_NO_FATAL_FAILURE(loadWith(path, gpu::LIGHT_SAMPLER_TREE, tree, 4));
+  ASSERT_FALSE(all.gpu.desc.picksPunctualLights);
+  ASSERT_TRUE(all.gpu.desc.picksPunctualLightsWith[gpu::LIGHT_SAMPLER_TREE]);
+  const engine::SceneAnimation stillAll = engine::makeSceneAnimation(all.scene);
+  const engine::SceneAnimation stillTree = engine::makeSceneAnimation(tree.scene);
+  uint64_t rays[4] = {};
+  auto render = [&](LoadedScene& s, const engine::SceneAnimation& still, gi::LightSampling sampler, uint64_t& count) {
+    gi::Settings settings;
+    settings.lights.sampler = sampler;
+    uint32_t frame = 0;
+    return renderAnimatedFrames(ctx, s, still, settings, kSize, 3, false, [&](tools::ModuleSession& session) {
+      gi::FrameStats stats;
+      if (gi::frameStats(session.module, frame++, stats)) count = stats.raysTraced;
+    });
+  };
+  const engine::ReferenceImages allScene = render(all, stillAll, gi::LightSampling::Scene, rays[0]);
+  const engine::ReferenceImages treeToldAll = render(tree, stillTree, gi::LightSampling::All, rays[1]);
+  const engine::ReferenceImages treeScene = render(tree, stillTree, gi::LightSampling::Scene, rays[2]);
+  const engine::ReferenceImages allToldTree = render(all, stillAll, gi::LightSampling::Tree, rays[3]);
+  std::printf("rays a frame: all %llu, tree told all %llu, tree %llu, all told tree %llu\n",
+              (unsigned long long)rays[0], (unsigned long long)rays[1], (unsigned long long)rays[2],
+              (unsigned long long)rays[3]);
+  EXPECT_TRUE(sameBits(allScene.final, treeToldAll.final));
+  EXPECT_TRUE(sameBits(treeScene.final, allToldTree.final));
+  EXPECT_FALSE(sameBits(allScene.final, treeScene.final));
+  EXPECT_EQ(rays[0], rays[1]);
+  EXPECT_EQ(rays[2], rays[3]);
+  EXPECT_GT(rays[0], rays[2]) << "every light costs more rays than the tree's cut";
+  unload(tree);
+  unload(all);
 }

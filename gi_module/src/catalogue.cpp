@@ -127,6 +127,8 @@ const SettingInfo kSettings[] = {
             "A-SVGF temporal gradients: drop history where a re-traced sample says the light changed",
             (kTemporal & ~kHash) | kSvgf),
 
+    GI_CHOICE("lights.sampler", lights.sampler,
+              "NEE's light sampler: 0 the scene's, 1 every light, 2 one by power, 3 the tree's cut", 3, kEvery),
     GI_BOOL("reservoirs.enabled", reservoirs.enabled,
             "resample the primary hits' picked point and spot lights through reservoirs (ReSTIR DI)", kEvery),
     GI_SETTING("reservoirs.candidates", reservoirs.candidates, "lights", "lights drawn per pixel and frame", Uint, 1, 64,

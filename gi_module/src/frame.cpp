@@ -301,7 +301,7 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
                               lightScale(m, historyFormat),
                               largestFinite(historyFormat),
                               usesReservoirs(m, s) ? 1u : 0u,
-                              0.0f,
+                              lightSampler(m, s),
                               glm::inverse(clipFromView(in.camera))};
   std::memcpy(static_cast<std::byte*>(m.frameConstants.memory.mapped) + slot * m.frameConstantsStride, &frame, sizeof(frame));
   beginFrame(m, cmd, slot, in);
@@ -345,7 +345,7 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
               raw);
   }
   // Direct light has noise to average only from area lights (emissive triangles, a sky) and picked lights.
-  const bool noisyDirect = hasNoisyDirect(m.desc.scene);
+  const bool noisyDirect = hasNoisyDirect(m, s);
   const bool runTemporal = runsTemporalPass(m, s);
   if (runTemporal) {
     // Pass: last frame's light, reprojected through the motion vectors, blended into this frame's

@@ -300,15 +300,22 @@ uint32_t hashMode(Method method) {
 }
 
 bool aafSpecular(const Module& m, const Settings& s) { return s.method == Method::Aaf && m.desc.scene.hasGlossyMaterials; }
-bool hasNoisyDirect(const SceneDesc& scene) {
-  return scene.hasEmissiveTriangles || scene.hasSky || scene.picksPunctualLights;
+uint32_t lightSampler(const Module& m, const Settings& s) {
+  return s.lights.sampler == LightSampling::Scene ? m.desc.scene.lightSampler : uint32_t(s.lights.sampler) - 1;
+}
+bool picksPunctualLights(const Module& m, const Settings& s) {
+  return s.lights.sampler == LightSampling::Scene ? m.desc.scene.picksPunctualLights
+                                                  : m.desc.scene.picksPunctualLightsWith[lightSampler(m, s)];
+}
+bool hasNoisyDirect(const Module& m, const Settings& s) {
+  return m.desc.scene.hasEmissiveTriangles || m.desc.scene.hasSky || picksPunctualLights(m, s);
 }
 bool validatesHashCells(const Settings& s) {
   return usesHashGrid(s.method) && s.hpsf.eviction == EvictionPolicy::Aging && s.hpsf.validationInterval > 0;
 }
 
 bool runsTemporalPass(const Module& m, const Settings& s) {
-  return usesTemporalReprojection(s) && (hasNoisyDirect(m.desc.scene) || !usesHashGrid(s.method) || clampsHashIndirect(s));
+  return usesTemporalReprojection(s) && (hasNoisyDirect(m, s) || !usesHashGrid(s.method) || clampsHashIndirect(s));
 }
 
 bool clampsHashIndirect(const Settings& s) {
@@ -324,7 +331,7 @@ bool usesHistoryClamp(const Module& m, const Settings& s) {
 }
 
 bool usesReservoirs(const Module& m, const Settings& s) {
-  return s.reservoirs.enabled && m.desc.scene.picksPunctualLights;
+  return s.reservoirs.enabled && picksPunctualLights(m, s);
 }
 
 bool usesTemporalGradients(const Module& m, const Settings& s) {

@@ -147,9 +147,13 @@ void releaseRetired(Module& m, bool all);
 
 // Scene facts the passes specialise on (module.cpp).
 bool aafSpecular(const Module& m, const Settings& settings);
+// NEE's light sampler in the module's passes (gpu::LIGHT_SAMPLER_*: LightSettings::sampler, or the scene's),
+// and whether it picks among the punctual lights.
+uint32_t lightSampler(const Module& m, const Settings& settings);
+bool picksPunctualLights(const Module& m, const Settings& settings);
 // Direct light has noise to average only from area lights (emissive triangles, a sky) and from punctual
 // lights NEE picks one of.
-bool hasNoisyDirect(const SceneDesc& scene);
+bool hasNoisyDirect(const Module& m, const Settings& settings);
 // The temporal pass runs (and its images and program exist) when the method
 // reprojects and there is something to reproject: the hash methods reproject
 // their direct light, so not without area lights, unless they clamp.

@@ -108,8 +108,8 @@ struct GiFrameConstants {
   float historyScale;// radiance → the radiance histories' units: 1 / the scene's typical radiance where they are
                      // half floats (temporal reprojection), 1 where they are single floats (raw's running mean)
   float historyMax;  // their format's largest finite value (65504 or the largest float): stores clamp to it
-  uint reservoirs;   // 1: the primary hits' point and spot lights come from GI_BINDING_RESERVOIRS_A (reservoirs.glsl)
-  float pad1;
+  uint reservoirs;   // 1: the primary hits' point and spot lights come from the reservoirs' pick (gi_reservoirs.comp)
+  uint lightSampler; // LIGHT_SAMPLER_* of NEE in the module's passes (LightSettings::sampler, or the scene's)
   mat4 viewFromClip; // inverse of the camera's projection: hardware depth → view depth
 };
 GPU_ASSERT_SIZE(GiFrameConstants, 720);

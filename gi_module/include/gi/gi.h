@@ -56,7 +56,8 @@
 #include "shared/gpu_scene.h"
 
 #define GI_VERSION_MAJOR 0
-#define GI_VERSION_MINOR 7  // 0.7: Settings::reservoirs (ReSTIR DI for the primary hits); 0.6: light samplers, checkBounds
+#define GI_VERSION_MINOR 7  // 0.7: Settings::reservoirs (ReSTIR DI for the primary hits), Settings::lights (NEE's sampler
+                            // at run time); 0.6: light samplers, checkBounds
                             // 0.5: programs readied ahead of a switch (preparePrograms, recordProgramWarmup); set 0's arrays as texel buffers
                             // 0.4: the scene API (gi/scene.h), the G-buffer adapter, the camera as matrices
                             // 0.3: half-float outputs with pre-exposure
@@ -83,6 +84,8 @@ struct SceneDesc {
   bool picksPunctualLights = false;               // NEE picks one of several punctual lights (gi::SceneCreateDesc::
                                                   // lightSampler power or tree): their direct light is noisy, and the
                                                   // temporal passes and svgf accumulate and filter it as area lights'
+  bool picksPunctualLightsWith[3] = {};           // the same under each gpu::LIGHT_SAMPLER_* (LightSettings::sampler)
+  uint32_t lightSampler = gpu::LIGHT_SAMPLER_TREE;  // the scene's (gi::SceneCreateDesc::lightSampler)
 };
 
 // How the engine's G-buffer stores what the module reads. The module reads

@@ -226,6 +226,19 @@ struct ReservoirSettings {
                                   // off, the biased 1/M. Neither traces a shadow ray per neighbour
 };
 
+// The light sampler of next-event estimation in the module's passes (shaders/lights.glsl): the scene's
+// (gi::SceneCreateDesc::lightSampler, which the reference path tracer uses too) or one of the three, over
+// the same tables (the scene always builds the power table and the tree with its cut).
+enum class LightSampling : uint32_t {
+  Scene = 0,  // SceneCreateDesc::lightSampler
+  All,        // a shadow ray to every punctual light at every vertex (exact; cost grows with the count)
+  Power,      // one light a vertex, picked by its power
+  Tree,       // every directional light and one light from each subtree of the tree's cut
+};
+struct LightSettings {
+  LightSampling sampler = LightSampling::Scene;
+};
+
 struct Settings {
   Method method = Method::Raw;
   RawSettings raw;
@@ -237,6 +250,7 @@ struct Settings {
   HpsfSettings hpsf;
   SvgfSettings svgf;
   TemporalSettings temporal;
+  LightSettings lights;                // next-event estimation's light sampler
   ReservoirSettings reservoirs;        // every method's primary direct light from picked point and spot lights
   uint32_t maxBounces = 1;             // indirect bounces B, [1, 32] (B = 0 would be direct light only).
                                        // nhpsf and anhpsf gather every bounce through the map (each cell

@@ -296,6 +296,12 @@ vk::Status buildScene(Scene& s, VkCommandBuffer cmd, const SceneContents& conten
   s.facts.hasEmissiveTriangles = c.emissiveTriangleCount > 0;
   s.facts.hasPunctualLights = c.punctualLightCount > 0;
   s.facts.picksPunctualLights = picksPunctualLights(c);
+  s.facts.lightSampler = c.lightSampler;
+  for (uint32_t sampler = 0; sampler < 3; ++sampler) {
+    gpu::GpuSceneConstants with = c;
+    with.lightSampler = sampler;
+    s.facts.picksPunctualLightsWith[sampler] = picksPunctualLights(with);
+  }
   s.facts.hasAlphaMask = p.hasAlphaMask;
   s.facts.hasGlossyMaterials = p.hasGlossyMaterials;
   s.facts.extent = c.sceneExtent;
@@ -504,6 +510,11 @@ Error updateLights(Scene* s, std::span<const LightDesc> lights) {
     s->sceneConstants.lightCutSize = uint32_t(table.cut.size());
     writeMapped(s->constants, std::vector<gpu::GpuSceneConstants>{s->sceneConstants});
     s->facts.picksPunctualLights = picksPunctualLights(s->sceneConstants);  // gi::sceneDesc's from now on
+    for (uint32_t sampler = 0; sampler < 3; ++sampler) {
+      gpu::GpuSceneConstants with = s->sceneConstants;
+      with.lightSampler = sampler;
+      s->facts.picksPunctualLightsWith[sampler] = picksPunctualLights(with);
+    }
   }
   return {};
 }
