@@ -90,10 +90,8 @@ uvec4 giTemporalReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float 
   const ivec2 q = ivec2(floor(vec2(p) + 0.5 + giGbMotionPixels(p)));
   if (pc.temporal != 0u && all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, ivec2(giFrame.size)))) {
     const uvec4 previous = giLoadReservoir(q, false);
-    vec3 dir;
-    const vec3 world = giGbPosition(p, dir);
     if (previous.x != GI_RESERVOIR_EMPTY &&
-        giHistoryTexelAgrees(giUnpackGuide(previous.w), n, giPreviousViewDepth(world), depth, pc.depthTolerance,
+        giHistoryTexelAgrees(giUnpackGuide(previous.w), n, giPreviousViewDepth(s.position), depth, pc.depthTolerance,
                              pc.cosNormalLimit)) {
       const float M = min(giStoredM(previous), pc.maxHistory * float(pc.candidates));
       const float target = giReservoirTarget(previous.x, s, b, V);
@@ -110,7 +108,7 @@ uvec4 giTemporalReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float 
 // so a light that is bright here and dim where it was drawn cannot become a firefly; else by M_i / Σ M_j
 // (the paper's biased 1/M).
 #define GI_SPATIAL_MAX 9u
-uvec4 giSpatialReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float depth, uint guide, inout GiRng rng) {
+uvec4 giSpatialReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float depth, inout GiRng rng) {
   uvec4 found[GI_SPATIAL_MAX];
   ivec2 at[GI_SPATIAL_MAX];
   found[0] = giLoadReservoir(p, true);
@@ -128,26 +126,32 @@ uvec4 giSpatialReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float d
     at[count] = q;
     count++;
   }
-  GiReservoir r = giEmptyReservoir();
+  // Each light's target here, and its share: M_i, or with `unbiased` the balance heuristic, whose sums read
+  // each surface once.
+  float here[GI_SPATIAL_MAX], share[GI_SPATIAL_MAX], sum[GI_SPATIAL_MAX];
   for (uint i = 0u; i < count; ++i) {
-    const float M = giStoredM(found[i]);
-    const float target = giReservoirTarget(found[i].x, s, b, V);
-    float share = M;  // 1/M: normalised below by r.M
-    if (pc.unbiased != 0u && target > 0.0) {
-      float sum = 0.0;
-      for (uint j = 0u; j < count; ++j) {
-        vec3 Vj;
-        const GiSurface sj = giGbSurface(at[j], Vj);
-        const GiBsdf bj = giMakeBsdf(sj.material.baseColor, sj.material.metallic, sj.material.roughness, sj.material.flags);
-        const float Mj = giStoredM(found[j]);
-        const float pj = j == 0u ? target : giReservoirTarget(found[i].x, sj, bj, Vj);
-        sum += Mj * pj;
-        if (j == i) share = Mj * pj;
-      }
-      share /= max(sum, 1e-30);
-    }
-    giReservoirMerge(r, found[i].x, target, target * giStoredW(found[i]) * share, M, giRandom(rng));
+    here[i] = giReservoirTarget(found[i].x, s, b, V);
+    share[i] = giStoredM(found[i]);
+    sum[i] = 0.0;
   }
+  if (pc.unbiased != 0u) {
+    for (uint j = 0u; j < count; ++j) {
+      vec3 Vj = V;
+      GiSurface sj = s;
+      if (j > 0u) sj = giGbSurface(at[j], Vj);
+      const GiBsdf bj = giMakeBsdf(sj.material.baseColor, sj.material.metallic, sj.material.roughness, sj.material.flags);
+      const float Mj = giStoredM(found[j]);
+      for (uint i = 0u; i < count; ++i) {
+        const float pj = j == 0u || !(here[i] > 0.0) ? here[i] : giReservoirTarget(found[i].x, sj, bj, Vj);
+        sum[i] += Mj * pj;
+        if (i == j) share[i] = Mj * pj;
+      }
+    }
+    for (uint i = 0u; i < count; ++i) share[i] = sum[i] > 0.0 ? share[i] / sum[i] : 0.0;
+  }
+  GiReservoir r = giEmptyReservoir();
+  for (uint i = 0u; i < count; ++i)
+    giReservoirMerge(r, found[i].x, here[i], here[i] * giStoredW(found[i]) * share[i], giStoredM(found[i]), giRandom(rng));
   float W = r.target > 0.0 ? r.weightSum / (r.target * (pc.unbiased != 0u ? 1.0 : r.M)) : 0.0;
   // The survivor's shadow ray: an occluded light brings nothing this frame (the reservoirs that are
   // reused keep estimating the unshadowed light, whose visibility the pixel that picks it tests).
@@ -172,7 +176,7 @@ void main() {
       const uint guide = giPackGuide(n, depth / giFrame.depthScale);
       GiRng rng = giRngCreate(uvec2(p), giFrame.frameIndex * 2u + pc.mode, pc.seed, GI_STREAM_RESERVOIRS);
       stored = pc.mode == GI_RESERVOIR_TEMPORAL ? giTemporalReservoir(p, s, b, V, n, depth, guide, rng)
-                                                : giSpatialReservoir(p, s, b, V, n, depth, guide, rng);
+                                                : giSpatialReservoir(p, s, b, V, n, depth, rng);
     }
     if (pc.mode == GI_RESERVOIR_SPATIAL) imageStore(giReservoirPick, p, stored);
     else if (pc.parity == 0u) imageStore(giReservoirsB, p, stored);
