@@ -10,7 +10,7 @@
 // the method's filter works on them. Emission is not accumulated: it is
 // exact in every frame; the direct light is accumulated over the base colour,
 // and only where the scene has area lights (emissive triangles or a sky) or
-// NEE picks one of several punctual lights (gi::SceneDesc::picksPunctualLights):
+// NEE picks one of several punctual lights (gi::picksPunctualLights):
 // every punctual light's exact direct light has no noise to average, only detail to blur.
 // With temporal gradients (temporal.glsl) the new frame weighs more where the
 // light changed: (1 − λ)·weight + λ, and the history count drops to match.

@@ -139,7 +139,7 @@ TEST_F(LightSamplerTest, TheModulesSamplerSettingActsAsTheScenesWould) {
   LoadedScene all, tree;
   ASSERT_NO_FATAL_FAILURE(loadWith(path, gpu::LIGHT_SAMPLER_ALL, all, 4));  // the same cut: the same tables
   ASSERT_NO_FATAL_FAILURE(loadWith(path, gpu::LIGHT_SAMPLER_TREE, tree, 4));
-  ASSERT_FALSE(all.gpu.desc.picksPunctualLights);
+  ASSERT_FALSE(gi::picksPunctualLights(all.gpu.desc));
   ASSERT_TRUE(all.gpu.desc.picksPunctualLightsWith[gpu::LIGHT_SAMPLER_TREE]);
   const engine::SceneAnimation stillAll = engine::makeSceneAnimation(all.scene);
   const engine::SceneAnimation stillTree = engine::makeSceneAnimation(tree.scene);

@@ -147,7 +147,7 @@ TEST_F(ModuleBoundsTest, ReservoirsUnderAPanningCameraStayInBounds) {
   std::string error;
   ASSERT_TRUE(engine::loadSceneForRendering(lightField(64, "bounds_reservoirs", true), s.scene, error)) << error;
   engine::createSceneGpu(ctx, s.scene, s.gpu);
-  ASSERT_TRUE(s.gpu.desc.picksPunctualLights);
+  ASSERT_TRUE(gi::picksPunctualLights(s.gpu.desc));
   const VkExtent2D size{98, 66};
   gi::ModuleDesc desc = tools::moduleDesc(ctx, s.gpu, size);
   desc.checkBounds = true;

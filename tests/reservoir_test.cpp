@@ -47,7 +47,7 @@ TEST_F(ReservoirTest, ResampledDirectLightKeepsTheExactSumsExpectation) {
   LoadedScene exact, picked;
   ASSERT_NO_FATAL_FAILURE(loadWith(path, gpu::LIGHT_SAMPLER_ALL, exact));
   ASSERT_NO_FATAL_FAILURE(loadWith(path, gpu::LIGHT_SAMPLER_TREE, picked));
-  ASSERT_TRUE(picked.gpu.desc.picksPunctualLights);
+  ASSERT_TRUE(gi::picksPunctualLights(picked.gpu.desc));
   gi::Settings base;
   base.maxBounces = 1;
   base.reservoirs.enabled = false;  // the tree's own picks
@@ -87,7 +87,7 @@ TEST_F(ReservoirTest, AScenesExactSumRunsNoReservoirPass) {
   const std::string path = lightField(8, "reservoir_few", true);
   LoadedScene s;
   ASSERT_NO_FATAL_FAILURE(loadWith(path, gpu::LIGHT_SAMPLER_TREE, s, 8));
-  ASSERT_FALSE(s.gpu.desc.picksPunctualLights);
+  ASSERT_FALSE(gi::picksPunctualLights(s.gpu.desc));
   gi::Settings off, on;
   off.reservoirs.enabled = false;
   on.reservoirs.enabled = true;

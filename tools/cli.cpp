@@ -166,7 +166,7 @@ bool getLightSampler(const Args& args, uint32_t& sampler, uint32_t& treeCut, std
 }
 
 std::string lightSamplerKey(const engine::Scene& scene, const gi::SceneDesc& facts) {
-  if (!facts.picksPunctualLights) return "";
+  if (!gi::picksPunctualLights(facts)) return "";
   const std::string name = std::string("_") + gi::kLightSamplerNames[scene.lightSampler];
   return scene.lightSampler == gpu::LIGHT_SAMPLER_TREE ? name + std::to_string(scene.lightTreeCut) : name;
 }

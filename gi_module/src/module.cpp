@@ -304,8 +304,8 @@ uint32_t lightSampler(const Module& m, const Settings& s) {
   return s.lights.sampler == LightSampling::Scene ? m.desc.scene.lightSampler : uint32_t(s.lights.sampler) - 1;
 }
 bool picksPunctualLights(const Module& m, const Settings& s) {
-  return s.lights.sampler == LightSampling::Scene ? m.desc.scene.picksPunctualLights
-                                                  : m.desc.scene.picksPunctualLightsWith[lightSampler(m, s)];
+  const uint32_t sampler = lightSampler(m, s);
+  return sampler <= gpu::LIGHT_SAMPLER_TREE && m.desc.scene.picksPunctualLightsWith[sampler];
 }
 bool hasNoisyDirect(const Module& m, const Settings& s) {
   return m.desc.scene.hasEmissiveTriangles || m.desc.scene.hasSky || picksPunctualLights(m, s);

@@ -81,12 +81,17 @@ struct SceneDesc {
                                                   // fields): every pass compiles the sky's NEE and misses in
   uint32_t traversal = gpu::TRAVERSAL_RAY_QUERY;  // how set 0 is traced: TRAVERSAL_RAY_QUERY (binding 0 is the TLAS)
                                                   // or TRAVERSAL_COMPUTE (the BVH bindings; the device needs no ray queries)
-  bool picksPunctualLights = false;               // NEE picks one of several punctual lights (gi::SceneCreateDesc::
-                                                  // lightSampler power or tree): their direct light is noisy, and the
-                                                  // temporal passes and svgf accumulate and filter it as area lights'
-  bool picksPunctualLightsWith[3] = {};           // the same under each gpu::LIGHT_SAMPLER_* (LightSettings::sampler)
   uint32_t lightSampler = gpu::LIGHT_SAMPLER_TREE;  // the scene's (gi::SceneCreateDesc::lightSampler)
+  bool picksPunctualLightsWith[3] = {};           // under each gpu::LIGHT_SAMPLER_*, NEE picks one of several punctual
+                                                  // lights (power, or the tree beyond its cut): their direct light is
+                                                  // noisy, and the temporal passes and svgf accumulate and filter it as
+                                                  // area lights' (picksPunctualLights: under the scene's own sampler)
 };
+
+// Whether NEE picks among the scene's punctual lights under its own sampler.
+inline bool picksPunctualLights(const SceneDesc& scene) {
+  return scene.lightSampler <= gpu::LIGHT_SAMPLER_TREE && scene.picksPunctualLightsWith[scene.lightSampler];
+}
 
 // How the engine's G-buffer stores what the module reads. The module reads
 // each image as a sampled image (texelFetch; usage SAMPLED), so any format

@@ -211,7 +211,7 @@ struct HpsfSettings {
 // unshadowed light, last frame's reservoir merged through the motion vectors, the survivor's visibility
 // tested, neighbours merged; the pixel's primary hit then takes the reservoir's light with one shadow ray
 // instead of one a subtree of the light tree's cut. Runs only where NEE picks among the point and spot
-// lights (SceneDesc::picksPunctualLights); with no more than the cut has subtrees NEE's sum is exact and
+// lights (gi::picksPunctualLights, under the sampler in use); with no more than the cut has subtrees NEE's sum is exact and
 // nothing runs. Vertices after the primary hit keep the light sampler.
 struct ReservoirSettings {
   bool enabled = true;            // on: measured better for raw, svgf and hpsf from 64 lights on (RESULTS, "Reservoirs")

@@ -295,13 +295,7 @@ vk::Status buildScene(Scene& s, VkCommandBuffer cmd, const SceneContents& conten
   s.facts.set = s.set[0];
   s.facts.hasEmissiveTriangles = c.emissiveTriangleCount > 0;
   s.facts.hasPunctualLights = c.punctualLightCount > 0;
-  s.facts.picksPunctualLights = picksPunctualLights(c);
-  s.facts.lightSampler = c.lightSampler;
-  for (uint32_t sampler = 0; sampler < 3; ++sampler) {
-    gpu::GpuSceneConstants with = c;
-    with.lightSampler = sampler;
-    s.facts.picksPunctualLightsWith[sampler] = picksPunctualLights(with);
-  }
+  setLightFacts(c, s.facts);
   s.facts.hasAlphaMask = p.hasAlphaMask;
   s.facts.hasGlossyMaterials = p.hasGlossyMaterials;
   s.facts.extent = c.sceneExtent;
@@ -509,12 +503,7 @@ Error updateLights(Scene* s, std::span<const LightDesc> lights) {
     s->sceneConstants.directionalLightCount = table.directionalCount;
     s->sceneConstants.lightCutSize = uint32_t(table.cut.size());
     writeMapped(s->constants, std::vector<gpu::GpuSceneConstants>{s->sceneConstants});
-    s->facts.picksPunctualLights = picksPunctualLights(s->sceneConstants);  // gi::sceneDesc's from now on
-    for (uint32_t sampler = 0; sampler < 3; ++sampler) {
-      gpu::GpuSceneConstants with = s->sceneConstants;
-      with.lightSampler = sampler;
-      s->facts.picksPunctualLightsWith[sampler] = picksPunctualLights(with);
-    }
+    setLightFacts(s->sceneConstants, s->facts);  // gi::sceneDesc's from now on
   }
   return {};
 }

@@ -355,6 +355,15 @@ bool picksPunctualLights(const gpu::GpuSceneConstants& c) {
          (c.lightSampler == gpu::LIGHT_SAMPLER_TREE && positional > c.lightCutSize);
 }
 
+void setLightFacts(const gpu::GpuSceneConstants& c, SceneDesc& facts) {
+  facts.lightSampler = c.lightSampler;
+  for (uint32_t sampler = gpu::LIGHT_SAMPLER_ALL; sampler <= gpu::LIGHT_SAMPLER_TREE; ++sampler) {
+    gpu::GpuSceneConstants with = c;
+    with.lightSampler = sampler;
+    facts.picksPunctualLightsWith[sampler] = picksPunctualLights(with);
+  }
+}
+
 std::vector<uint32_t> lightTableWords(const LightTable& t) {
   const size_t lightWords = t.lights.size() * sizeof(gpu::GpuPunctualLight) / 4;
   const size_t nodeWords = t.nodes.size() * sizeof(gpu::GpuLightNode) / 4;

@@ -49,9 +49,11 @@ struct LightTable {
   uint32_t directionalCount = 0;
 };
 LightTable lightTable(std::span<const LightDesc> lights, float sceneExtent, uint32_t cutSize);
-// Whether NEE picks among punctual lights (gi::SceneDesc::picksPunctualLights): power with more than one,
+// Whether NEE picks among punctual lights (gi::picksPunctualLights): power with more than one,
 // the tree with more point and spot lights than its cut has subtrees (each subtree one light is exact).
 bool picksPunctualLights(const gpu::GpuSceneConstants& c);
+// The light facts of gi::SceneDesc from the scene's constants: its sampler, and whether NEE picks under each.
+void setLightFacts(const gpu::GpuSceneConstants& c, SceneDesc& facts);
 // The lights, then the nodes: the scene's punctual-light buffer.
 std::vector<uint32_t> lightTableWords(const LightTable& table);
 // The words that buffer needs for `lights` lights of any types (their tree and cut are largest when none
