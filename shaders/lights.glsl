@@ -164,36 +164,16 @@ uint giPickPunctual(float u, out float chance) {
   return lo;
 }
 
-// LIGHT_SAMPLER_TREE: how much a node's lights may bring to a surface at x with geometric normal ng:
-// their power over the squared distance to the node's bounding sphere's centre (at least its radius),
-// times the cosine of the smallest angle between ng and a direction into that sphere (0 when the whole
-// sphere is behind the surface: none of its lights can light it, as giPreparePunctual decides).
-float giLightNodeImportance(GpuLightNode n, vec3 x, vec3 ng) {
-  const vec3 centre = 0.5 * (n.boundsMin + n.boundsMax);
-  const float radius = 0.5 * length(n.boundsMax - n.boundsMin);
-  const vec3 d = centre - x;
-  const float dist2 = dot(d, d);
-  float cosBound = 1.0;  // x inside the sphere: any direction
-  if (dist2 > radius * radius) {
-    const float dist = sqrt(dist2);
-    const float cosTheta = dot(ng, d) / dist, sinTheta = sqrt(max(0.0, 1.0 - cosTheta * cosTheta));
-    const float sinU = radius / dist, cosU = sqrt(max(0.0, 1.0 - sinU * sinU));
-    cosBound = cosTheta >= cosU ? 1.0 : cosTheta * cosU + sinTheta * sinU;  // cos(θ − θ_u)
-    if (cosBound <= 0.0) return 0.0;
-  }
-  return n.power * cosBound / max(max(dist2, radius * radius), 1e-30);
-}
-
 // LIGHT_SAMPLER_TREE: a point or spot light picked from node `index` down, each child with its share of
-// the two children's importance, and the chance of that pick within the node (0: none of its lights can
-// light the surface).
+// the two children's importance (lightNodeImportance, shared/light_tree.h), and the chance of that pick
+// within the node (0: none of its lights can light the surface).
 uint giPickFromTree(uint index, vec3 x, vec3 ng, float u, out float chance) {
   chance = 1.0;
   for (uint depth = 0u; depth < 64u; ++depth) {
     const GpuLightNode n = sceneLightNode(index);
     if ((n.child & LIGHT_NODE_LEAF) != 0u) return n.child & ~LIGHT_NODE_LEAF;
-    const float a = giLightNodeImportance(sceneLightNode(n.child), x, ng);
-    const float b = giLightNodeImportance(sceneLightNode(n.child + 1u), x, ng);
+    const float a = lightNodeImportance(sceneLightNode(n.child), x, ng);
+    const float b = lightNodeImportance(sceneLightNode(n.child + 1u), x, ng);
     if (!(a + b > 0.0)) break;
     const float p = a / (a + b);
     // One random number serves every level: the part of [0, 1) the choice leaves is stretched back to it.

@@ -109,16 +109,18 @@ float scenePunctualLightCdf(uint index) { return uintBitsToFloat(GI_FETCH(sceneP
 
 // LIGHT_SAMPLER_TREE's node i (GpuLightNode), after the light table.
 GpuLightNode sceneLightNode(uint index) {
-  const int row = int(sceneConstants().punctualLightCount) * 4 + int(index) * 2;
-  const uvec4 a = GI_FETCH(scenePunctualRows, row), b = GI_FETCH(scenePunctualRows, row + 1);
-  return GpuLightNode(uintBitsToFloat(a.xyz), uintBitsToFloat(a.w), uintBitsToFloat(b.xyz), b.w);
+  const int row = int(sceneConstants().punctualLightCount) * 4 + int(index) * 3;
+  const uvec4 a = GI_FETCH(scenePunctualRows, row), b = GI_FETCH(scenePunctualRows, row + 1),
+              c = GI_FETCH(scenePunctualRows, row + 2);
+  return GpuLightNode(uintBitsToFloat(a.xyz), uintBitsToFloat(a.w), uintBitsToFloat(b.xyz), uintBitsToFloat(b.w),
+                      uintBitsToFloat(c.x), c.y, uintBitsToFloat(c.z), 0.0);
 }
 
 // LIGHT_SAMPLER_TREE's cut entry k: a node whose subtree one light is taken from (after the 2n − 1 nodes).
 uint sceneLightCutNode(uint k) {
   const GpuSceneConstants c = sceneConstants();
   const uint nodes = 2u * (c.punctualLightCount - c.directionalLightCount) - 1u;
-  const uint word = c.punctualLightCount * 16u + nodes * 8u + k;
+  const uint word = c.punctualLightCount * 16u + nodes * 12u + k;
   return GI_FETCH(scenePunctualRows, int(word / 4u))[word % 4u];
 }
 

@@ -41,8 +41,10 @@ inline double worstBlockDifference(const engine::FloatImage& image, const engine
 }
 
 // A floor and a wall under `count` point lights whose intensities span 1:40, in rows of 8 over a 4 m by
-// 3 m rectangle 1.2 to 1.8 m up; with `block`, a square slab 0.8 m up that shadows part of the floor.
-inline std::string lightField(uint32_t count, const std::string& name, bool block = false) {
+// 3 m rectangle 1.2 to 1.8 m up; with `block`, a square slab 0.8 m up that shadows part of the floor;
+// with `spots`, spot lights instead, with outer cones from 0.3 to 1.2 rad, aimed in turn down, at the wall
+// and up (where they light nothing).
+inline std::string lightField(uint32_t count, const std::string& name, bool block = false, bool spots = false) {
   testscene::Description d;
   d.quads.push_back({{{-4, 0, 4}, {4, 0, 4}, {4, 0, -4}, {-4, 0, -4}}, glm::vec3(0.6f)});
   d.quads.push_back({{{-4, 0, -2}, {4, 0, -2}, {4, 3, -2}, {-4, 3, -2}}, glm::vec3(0.5f, 0.6f, 0.7f)});
@@ -52,7 +54,13 @@ inline std::string lightField(uint32_t count, const std::string& name, bool bloc
   for (uint32_t i = 0; i < count; ++i) {
     const float x = -2.0f + 4.0f * float(i % 8) / 7.0f, z = -1.5f + 3.0f * float(i / 8) / rows;
     const float brightness = 0.05f + 2.0f * float((i * 7) % count) / float(count);
-    d.lights.push_back({{x, 1.2f + 0.3f * float(i % 3), z}, glm::vec3(brightness) * 4.0f / float(count)});
+    testscene::Light light{{x, 1.2f + 0.3f * float(i % 3), z}, glm::vec3(brightness) * 4.0f / float(count)};
+    if (spots) {
+      light.outerCone = 0.3f + 0.9f * float((i * 5) % count) / float(count);
+      const glm::vec3 aims[3] = {{0.0f, -1.0f, 0.1f}, {0.1f, -0.5f, -1.0f}, {0.1f, 1.0f, 0.0f}};
+      light.aim = glm::normalize(aims[(i / 2) % 3]);
+    }
+    d.lights.push_back(light);
   }
   d.eye = {0, 2.5f, 4.5f};
   d.target = {0, 0.5f, -1};

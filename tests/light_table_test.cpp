@@ -2,6 +2,7 @@
 // each light's power cdf, and LIGHT_SAMPLER_TREE's tree over the point and spot lights, on the CPU.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -22,8 +23,27 @@ std::vector<gi::LightDesc> randomLights(uint32_t count, uint32_t blackEvery) {
       l.position[k] = 20.0f * u(rng) - 10.0f;
       l.intensity[k] = i % blackEvery == 0 ? 0.0f : 5.0f * u(rng);
     }
+    // Spots aimed anywhere, from pencil beams to more than a hemisphere; most downwards, as lamps are.
+    const glm::vec3 aim = glm::normalize(glm::vec3(u(rng) - 0.5f, u(rng) < 0.8f ? -2.0f : 2.0f * u(rng) - 1.0f, u(rng) - 0.5f));
+    for (int k = 0; k < 3; ++k) l.direction[k] = aim[k];
+    l.outerConeAngle = 0.05f + 2.0f * u(rng);
+    l.innerConeAngle = 0.5f * l.outerConeAngle;
   }
   return lights;
+}
+
+// The node's sphere holds the point (metres of slack: float rounding).
+bool sphereHolds(const gpu::GpuLightNode& n, glm::vec3 p) { return glm::length(p - n.centre) <= n.radius * (1.0f + 1e-5f) + 1e-6f; }
+
+// The node's aim cone holds the direction (unit).
+bool coneHolds(const gpu::GpuLightNode& n, glm::vec3 direction) { return glm::dot(n.axis, direction) >= n.cosAim - 1e-6f; }
+
+// Whether the light brings anything to a surface at x facing ng, as giPreparePunctual decides: in front
+// of the surface and, for a spot, strictly inside its outer cone; not black.
+bool canLight(const gpu::GpuPunctualLight& l, glm::vec3 x, glm::vec3 ng) {
+  const glm::vec3 towards = l.position - x;
+  if (l.intensity == glm::vec3(0.0f) || !(glm::dot(ng, towards) > 0.0f)) return false;
+  return l.type != gpu::PUNCTUAL_SPOT || glm::dot(l.direction, -glm::normalize(towards)) > l.cosOuter;
 }
 
 }  // namespace
@@ -69,15 +89,19 @@ TEST(LightTable, TheTreeHoldsEveryPointAndSpotLightOnceWithBoundsAndPowerOfItsCh
       ASSERT_GE(light, t.directionalCount) << "a directional light in the tree";
       ++seen[light];
       ++leaves;
-      EXPECT_EQ(n.boundsMin, t.lights[light].position);
-      EXPECT_EQ(n.boundsMax, t.lights[light].position);
+      EXPECT_EQ(n.centre, t.lights[light].position);
+      EXPECT_EQ(n.radius, 0.0f);
       continue;
     }
     ASSERT_LT(n.child + 1, t.nodes.size());
     EXPECT_GT(n.child, i) << "children follow their parent";
     const gpu::GpuLightNode &a = t.nodes[n.child], &b = t.nodes[n.child + 1];
-    EXPECT_EQ(n.boundsMin, glm::min(a.boundsMin, b.boundsMin)) << "node " << i;
-    EXPECT_EQ(n.boundsMax, glm::max(a.boundsMax, b.boundsMax)) << "node " << i;
+    for (const gpu::GpuLightNode* c : {&a, &b}) {
+      // A child's cone inside its parent's (the spheres: the importance test below).
+      const float between = std::acos(std::clamp(glm::dot(n.axis, c->axis), -1.0f, 1.0f));
+      EXPECT_LE(std::min(between + std::acos(c->cosAim), 3.14159265f), std::acos(n.cosAim) + 1e-3f) << "node " << i;
+      EXPECT_LE(n.cosFalloff, c->cosFalloff) << "node " << i;
+    }
     EXPECT_NEAR(n.power, a.power + b.power, 1e-4f * n.power) << "node " << i;
   }
   EXPECT_EQ(leaves, positional);
@@ -128,4 +152,63 @@ TEST(LightTable, OneLightIsALeafRootAndDirectionalOnlyHasNoTree) {
   for (gi::LightDesc& l : sun) l.type = gi::LightType::Directional;
   EXPECT_TRUE(gi::lightTable(sun, 1.0f, 4).nodes.empty());
   EXPECT_TRUE(gi::lightTable({}, 1.0f, 4).lights.empty());
+}
+
+// The importance a vertex picks children by never rules out a light that can light it: for random
+// surfaces, every ancestor of every light that can light one (in front of it, inside a spot's cone) has
+// importance > 0. And it does rule out: spots aimed down give a ceiling above them none.
+TEST(LightTable, TheImportanceKeepsEveryLightThatCanLightASurfaceAndDropsSpotsAimedAway) {
+  const std::vector<gi::LightDesc> lights = randomLights(300, 1000);
+  const gi::LightTable t = gi::lightTable(lights, 20.0f, 1);
+  std::vector<uint32_t> parent(t.nodes.size(), 0), leafOf(t.lights.size(), 0);
+  for (uint32_t i = 0; i < t.nodes.size(); ++i) {
+    const gpu::GpuLightNode& n = t.nodes[i];
+    if (n.child & gpu::LIGHT_NODE_LEAF) {
+      leafOf[n.child & ~gpu::LIGHT_NODE_LEAF] = i;
+      EXPECT_TRUE(coneHolds(n, t.lights[n.child & ~gpu::LIGHT_NODE_LEAF].direction) ||
+                  t.lights[n.child & ~gpu::LIGHT_NODE_LEAF].type != gpu::PUNCTUAL_SPOT);
+    } else {
+      parent[n.child] = parent[n.child + 1] = i;
+    }
+  }
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  size_t lit = 0, ruledOut = 0;
+  for (int sample = 0; sample < 2000; ++sample) {
+    const glm::vec3 x(12.0f * u(rng), 12.0f * u(rng), 12.0f * u(rng));
+    const glm::vec3 ng = glm::normalize(glm::vec3(u(rng), u(rng), u(rng)) + glm::vec3(0.0f, 1e-3f, 0.0f));
+    for (uint32_t light = t.directionalCount; light < t.lights.size(); ++light) {
+      if (!canLight(t.lights[light], x, ng)) continue;
+      ++lit;
+      for (uint32_t node = leafOf[light];; node = parent[node]) {
+        ASSERT_TRUE(sphereHolds(t.nodes[node], t.lights[light].position));
+        ASSERT_GT(gpu::lightNodeImportance(t.nodes[node], x, ng), 0.0f)
+            << "light " << light << " lights x = (" << x.x << ", " << x.y << ", " << x.z << "), ng = (" << ng.x << ", "
+            << ng.y << ", " << ng.z << ") but node " << node << " has no importance: centre (" << t.nodes[node].centre.x
+            << ", " << t.nodes[node].centre.y << ", " << t.nodes[node].centre.z << "), radius " << t.nodes[node].radius
+            << ", axis (" << t.nodes[node].axis.x << ", " << t.nodes[node].axis.y << ", " << t.nodes[node].axis.z
+            << "), cosAim " << t.nodes[node].cosAim << "; the light at (" << t.lights[light].position.x << ", "
+            << t.lights[light].position.y << ", " << t.lights[light].position.z << ")";
+        if (node == 0) break;
+      }
+    }
+    for (const gpu::GpuLightNode& n : t.nodes) ruledOut += gpu::lightNodeImportance(n, x, ng) == 0.0f;
+  }
+  EXPECT_GT(lit, 10000u);
+  EXPECT_GT(ruledOut, 0u);
+  // A row of spots 3 m up aimed straight down with 30° cones (the root's sphere 7.5 m round): the floor
+  // below sees them, a ceiling 10 m above them (facing down) and a wall 10 m aside (facing them) do not.
+  std::vector<gi::LightDesc> spots(16);
+  for (size_t i = 0; i < spots.size(); ++i) {
+    spots[i].type = gi::LightType::Spot;
+    spots[i].position[0] = float(i);
+    spots[i].position[1] = 3.0f;
+    spots[i].direction[0] = spots[i].direction[2] = 0.0f;
+    spots[i].direction[1] = -1.0f;
+    spots[i].outerConeAngle = 0.5236f;
+  }
+  const gi::LightTable row = gi::lightTable(spots, 20.0f, 1);
+  EXPECT_GT(gpu::lightNodeImportance(row.nodes[0], glm::vec3(7.5f, 0.0f, 0.0f), glm::vec3(0.0f, 1.0f, 0.0f)), 0.0f);
+  EXPECT_EQ(gpu::lightNodeImportance(row.nodes[0], glm::vec3(7.5f, 13.0f, 0.0f), glm::vec3(0.0f, -1.0f, 0.0f)), 0.0f);
+  EXPECT_EQ(gpu::lightNodeImportance(row.nodes[0], glm::vec3(7.5f, 3.0f, 10.0f), glm::vec3(0.0f, 0.0f, -1.0f)), 0.0f);
 }

@@ -1,5 +1,5 @@
 // Small glTF scenes written by the tests themselves: quads with materials,
-// point lights and one camera. Each test builds only the scene it needs.
+// point and spot lights and one camera. Each test builds only the scene it needs.
 #pragma once
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -21,14 +21,16 @@ struct Quad {
   float metallic = 0.0f;
 };
 
-struct PointLight {
+struct Light {
   glm::vec3 position;
   glm::vec3 intensity;  // W/sr
+  float outerCone = 0.0f;  // radians: a spot with this outer and half of it as inner cone angle; 0: a point light
+  glm::vec3 aim{0, -1, 0};  // a spot's direction (unit)
 };
 
 struct Description {
   std::vector<Quad> quads;
-  std::vector<PointLight> lights;
+  std::vector<Light> lights;
   glm::vec3 eye{0, 1, 3}, target{0, 0, 0};
   float yfov = 0.8f;
   float znear = 0.01f;  // metres
@@ -94,10 +96,20 @@ inline std::string write(const Description& d, const std::string& name) {
     nodes.push_back({{"mesh", meshes.size() - 1}});
   }
   nlohmann::json lights = nlohmann::json::array();
-  for (const PointLight& l : d.lights) {
+  for (const Light& l : d.lights) {
     float i = std::max(l.intensity.x, std::max(l.intensity.y, l.intensity.z));
-    lights.push_back({{"type", "point"}, {"color", {l.intensity.x / i, l.intensity.y / i, l.intensity.z / i}}, {"intensity", i}});
+    nlohmann::json light = {{"color", {l.intensity.x / i, l.intensity.y / i, l.intensity.z / i}}, {"intensity", i}};
+    // A spot shines down its node's −Z: the rotation that turns −Z to `aim`.
+    const glm::quat turn(glm::vec3(0, 0, -1), glm::normalize(l.aim));
+    if (l.outerCone > 0.0f) {
+      light["type"] = "spot";
+      light["spot"] = {{"innerConeAngle", 0.5f * l.outerCone}, {"outerConeAngle", l.outerCone}};
+    } else {
+      light["type"] = "point";
+    }
+    lights.push_back(light);
     nodes.push_back({{"translation", {l.position.x, l.position.y, l.position.z}},
+                     {"rotation", {turn.x, turn.y, turn.z, turn.w}},
                      {"extensions", {{"KHR_lights_punctual", {{"light", lights.size() - 1}}}}}});
   }
   // Camera: look from eye to target (view −Z), Y up.

@@ -5,6 +5,7 @@
 #ifndef GI_GPU_SCENE_H
 #define GI_GPU_SCENE_H
 #include "gpu_common.h"
+#include "light_tree.h"
 
 GPU_NAMESPACE_BEGIN
 
@@ -123,19 +124,6 @@ GPU_CONST LIGHT_SAMPLER_TREE = 2u;   // one light from each subtree of a cut of 
                                      // lights (GpuLightNode), picked down it by power over distance² and the
                                      // angle to the surface: exact with no more lights than the cut has subtrees
 
-// LIGHT_SAMPLER_TREE: a node of the binary tree over the point and spot lights, stored after the light
-// table in the same buffer (node i at byte 64·punctualLightCount + 32·i; the root is node 0, and there
-// are 2n − 1 nodes for n lights). After the nodes, the cut: lightCutSize node indices (uint) whose
-// subtrees hold every light once. A vertex takes one light from each, walking down from the cut's node
-// and choosing a child by its importance to the shading point.
-struct GpuLightNode {
-  vec3 boundsMin;  // world, metres: the lights' positions below this node
-  float power;     // Σ of their sampling powers (scene_tables.cpp's samplingPower)
-  vec3 boundsMax;
-  uint child;      // LIGHT_NODE_LEAF | the light's index; otherwise the first of two adjacent children
-};
-GPU_ASSERT_SIZE(GpuLightNode, 32);
-GPU_CONST LIGHT_NODE_LEAF = 0x80000000u;
 
 struct GpuSceneConstants {
   uint emissiveTriangleCount;

@@ -274,37 +274,80 @@ void fillCdf(std::vector<gpu::GpuPunctualLight>& table, const std::vector<double
   if (!table.empty()) table.back().cdf = 1.0f;  // rounding never leaves u ∈ [0, 1) without a light
 }
 
+// A cone of directions (Conty Estevez & Kulla 2018): every direction within `angle` of `axis` (radians,
+// [0, π]); the node's cosAim.
+struct DirectionCone {
+  glm::dvec3 axis{0.0, 0.0, 1.0};
+  double angle = 0.0;
+};
+
+// How far a spot's cone is widened in the tree: the shaders' float arithmetic must never rule out a
+// light a surface is inside the cone of (radians).
+constexpr double kLightConeMargin = 1e-3;
+
+// The directions a light sends light in: a spot's outer cone (widened), every direction for a point light.
+DirectionCone lightCone(const gpu::GpuPunctualLight& l) {
+  constexpr double kPi = 3.14159265358979323846;
+  if (l.type != gpu::PUNCTUAL_SPOT) return {glm::dvec3(0.0, 0.0, 1.0), kPi};
+  const double outer = std::acos(std::clamp(double(l.cosOuter), -1.0, 1.0));
+  return {glm::normalize(glm::dvec3(l.direction)), std::min(outer + kLightConeMargin, kPi)};
+}
+
+// The smallest cone round both (PBRT-v4's DirectionCone Union).
+DirectionCone coneUnion(const DirectionCone& a, const DirectionCone& b) {
+  constexpr double kPi = 3.14159265358979323846;
+  const double between = std::acos(std::clamp(glm::dot(a.axis, b.axis), -1.0, 1.0));
+  if (std::min(between + b.angle, kPi) <= a.angle) return a;
+  if (std::min(between + a.angle, kPi) <= b.angle) return b;
+  const double angle = 0.5 * (a.angle + between + b.angle);
+  const glm::dvec3 normal = glm::cross(a.axis, b.axis);
+  if (angle >= kPi || glm::dot(normal, normal) < 1e-24) return {a.axis, kPi};
+  // Turn a's axis towards b's by the part of the new half-angle a does not cover.
+  const double turn = angle - a.angle;
+  const glm::dvec3 axis = a.axis * std::cos(turn) + glm::cross(glm::normalize(normal), a.axis) * std::sin(turn);
+  return {glm::normalize(axis), std::min(angle + 1e-6, kPi)};  // 1e-6: the rounding of the turn
+}
+
 // The tree over lights [first, last) of `table` (positional), each leaf one light: split at the median
 // of the longest axis of their positions, children adjacent: fills element `at` of `nodes` and appends
-// the children.
-void buildLightTree(const std::vector<gpu::GpuPunctualLight>& table, const std::vector<double>& power,
-                    std::vector<uint32_t>& order, size_t first, size_t last, size_t at,
-                    std::vector<gpu::GpuLightNode>& nodes) {
-  gpu::GpuLightNode node{};
-  node.boundsMin = glm::vec3(std::numeric_limits<float>::max());
-  node.boundsMax = glm::vec3(-std::numeric_limits<float>::max());
+// the children. Returns the node's direction cone.
+DirectionCone buildLightTree(const std::vector<gpu::GpuPunctualLight>& table, const std::vector<double>& power,
+                             std::vector<uint32_t>& order, size_t first, size_t last, size_t at,
+                             std::vector<gpu::GpuLightNode>& nodes) {
+  glm::vec3 low(std::numeric_limits<float>::max()), high(-std::numeric_limits<float>::max());
   double sum = 0.0;
   for (size_t i = first; i < last; ++i) {
-    node.boundsMin = glm::min(node.boundsMin, table[order[i]].position);
-    node.boundsMax = glm::max(node.boundsMax, table[order[i]].position);
+    low = glm::min(low, table[order[i]].position);
+    high = glm::max(high, table[order[i]].position);
     sum += power[order[i]];
   }
+  gpu::GpuLightNode node{};
+  node.centre = 0.5f * (low + high);
+  // The half diagonal, rounded up so that every position is inside in float arithmetic.
+  node.radius = std::nextafter(0.5f * glm::length(high - low), std::numeric_limits<float>::max());
   node.power = float(sum);
+  node.cosFalloff = 1.0f;  // point and spot lights send nothing past their cones
+  DirectionCone cone;
   if (last - first == 1) {
     node.child = gpu::LIGHT_NODE_LEAF | order[first];
-    nodes[at] = node;
-    return;
+    node.radius = 0.0f;
+    cone = lightCone(table[order[first]]);
+  } else {
+    const glm::vec3 extent = high - low;
+    const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
+    const size_t middle = first + (last - first) / 2;
+    std::nth_element(order.begin() + ptrdiff_t(first), order.begin() + ptrdiff_t(middle),
+                     order.begin() + ptrdiff_t(last),
+                     [&](uint32_t a, uint32_t b) { return table[a].position[axis] < table[b].position[axis]; });
+    node.child = uint32_t(nodes.size());
+    nodes.resize(nodes.size() + 2);
+    cone = coneUnion(buildLightTree(table, power, order, first, middle, node.child, nodes),
+                     buildLightTree(table, power, order, middle, last, node.child + 1, nodes));
   }
-  const glm::vec3 extent = node.boundsMax - node.boundsMin;
-  const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
-  const size_t middle = first + (last - first) / 2;
-  std::nth_element(order.begin() + ptrdiff_t(first), order.begin() + ptrdiff_t(middle), order.begin() + ptrdiff_t(last),
-                   [&](uint32_t a, uint32_t b) { return table[a].position[axis] < table[b].position[axis]; });
-  node.child = uint32_t(nodes.size());
+  node.axis = glm::vec3(cone.axis);
+  node.cosAim = float(std::cos(cone.angle));
   nodes[at] = node;
-  nodes.resize(nodes.size() + 2);
-  buildLightTree(table, power, order, first, middle, node.child, nodes);
-  buildLightTree(table, power, order, middle, last, node.child + 1, nodes);
+  return cone;
 }
 
 // The cut of at most `size` nodes whose subtrees hold every light of the tree once: from the root, the
