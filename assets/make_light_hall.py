@@ -11,6 +11,12 @@ With --panels N --out DIR (scripts/bench emissive; not shipped): the same hall l
 emissive panels 0.2 m wide just under the ceiling, on as square a grid as N allows, facing down, their
 total power the 256 lamps' (4 pi W per cd; a one-sided Lambertian panel of area A and radiance L emits
 pi L A): the many-emissive-triangle scene of issue 31, two triangles a panel.
+
+With --spots N --out DIR (scripts/bench spots; not shipped): N spot lights instead of the lamps, on as
+square a grid as N allows 0.4 m under the ceiling, 40 degree outer and 30 degree inner cones; every
+other row aimed straight down, the others 50 degrees towards the nearer side wall (wall washers); their
+total power the 256 lamps' (a spot of intensity I emits 2 pi (1 - cos outer) I): spot lights whose
+cones the light tree must bound.
 """
 import argparse
 import math
@@ -47,6 +53,7 @@ materials = {
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("--panels", type=int, default=0, help="emissive panels instead of the point lights")
+parser.add_argument("--spots", type=int, default=0, help="spot lights instead of the point lights")
 parser.add_argument("--out", default=os.path.join(here, "light_hall"), help="output directory")
 args = parser.parse_args()
 
@@ -73,7 +80,31 @@ gltf.materials(materials)
 for name, (geometry, material) in meshes.items():
     gltf.mesh(name, geometry, material)
 
-if args.panels == 0:
+if args.spots > 0:
+    OUTER, INNER, TILT = math.radians(40), math.radians(30), math.radians(50)
+    columns = max(1, round(math.sqrt(args.spots * WIDTH / LENGTH)))
+    rows = math.ceil(args.spots / columns)
+    candela = 4 * math.pi * CANDELA * LIGHTS_X * LIGHTS_Z / (args.spots * 2 * math.pi * (1 - math.cos(OUTER)))
+    lights = []
+    for k in range(args.spots):
+        x = X0 + (k % columns + 0.5) * WIDTH / columns
+        z = Z0 + (k // columns + 0.5) * LENGTH / rows
+        # A spot shines down its node's -Z: turn -Z to straight down (about +X by -90 degrees), then, on
+        # the tilted rows, about Z towards the nearer side wall.
+        down = [-math.sin(math.pi / 4), 0.0, 0.0, math.cos(math.pi / 4)]
+        tilt = TILT * (1 if x > 0 else -1) if (k // columns) % 2 else 0.0
+        about_z = [0.0, 0.0, math.sin(tilt / 2), math.cos(tilt / 2)]
+        ax, ay, az, aw = about_z
+        bx, by, bz, bw = down
+        rotation = [aw * bx + ax * bw + ay * bz - az * by, aw * by - ax * bz + ay * bw + az * bx,
+                    aw * bz + ax * by - ay * bx + az * bw, aw * bw - ax * bx - ay * by - az * bz]
+        gltf.node({"name": f"spot_{k}", "translation": [round(x, 4), HEIGHT - 0.4, round(z, 4)],
+                   "rotation": [round(c, 6) for c in rotation],
+                   "extensions": {"KHR_lights_punctual": {"light": len(lights)}}})
+        lights.append({"name": f"spot_{k}", "type": "spot", "color": COLOUR, "intensity": round(candela, 5),
+                       "spot": {"innerConeAngle": round(INNER, 5), "outerConeAngle": round(OUTER, 5)}})
+    gltf.doc["extensions"] = {"KHR_lights_punctual": {"lights": lights}}
+elif args.panels == 0:
     lights = []
     for j in range(LIGHTS_Z):
         for i in range(LIGHTS_X):
