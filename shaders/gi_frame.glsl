@@ -19,7 +19,6 @@ layout(set = 1, binding = GI_BINDING_GB_MOTION) uniform texture2D giGbMotionImag
 layout(set = 1, binding = GI_BINDING_GB_DEPTH) uniform texture2D giGbDepthImage;
 layout(constant_id = GI_SPEC_NORMAL_ENCODING) const uint GI_NORMAL_ENCODING = GI_NORMAL_XYZ;
 layout(constant_id = GI_SPEC_DEPTH_ENCODING) const uint GI_DEPTH_ENCODING = GI_DEPTH_LINEAR_VIEW_Z;
-layout(constant_id = GI_SPEC_MOTION_UNITS) const uint GI_MOTION_UNITS = GI_MOTION_PIXELS;
 layout(constant_id = GI_SPEC_GLOSSY_FLAG) const uint GI_GLOSSY_FLAG = GI_GLOSSY_ALBEDO_ALPHA;
 // Formatless: ModuleDesc::outputFormat picks half or single floats.
 layout(set = 1, binding = GI_BINDING_OUT_DIRECT) uniform image2D giOutDirect;
@@ -148,10 +147,9 @@ vec3 giGbEmission(ivec2 p) { return texelFetch(giGbEmissionImage, p, 0).rgb; }
 // as 1/64, so black texels keep their light.
 vec3 giDirectAlbedo(ivec2 p) { return max(giGbAlbedo(p).rgb, vec3(1.0 / 64.0)); }
 
-// Previous position − current, in pixels.
+// Previous position − current, in pixels, jitter included (gi::GBufferDesc's motion conventions).
 vec2 giGbMotionPixels(ivec2 p) {
-  vec2 m = texelFetch(giGbMotionImage, p, 0).rg;
-  return GI_MOTION_UNITS == GI_MOTION_UV ? m * vec2(giFrame.size) : m;
+  return texelFetch(giGbMotionImage, p, 0).rg * giFrame.motionScale + giFrame.motionOffset;
 }
 
 bool giGbGlossy(ivec2 p) {

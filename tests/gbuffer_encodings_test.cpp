@@ -102,7 +102,9 @@ UploadedGBuffer upload(const engine::Context& ctx, const Encoded (&encoded)[6]) 
 }
 
 // Our G-buffer in our formats, its motion vectors × `motionScale` (1/size: UV).
-void encodeOurs(const CpuGBuffer& g, float motionScale, Encoded (&e)[6]) {
+// Our G-buffer as it is, its motion (pixels) turned into motion·motionScale + motionOffset.
+void encodeOurs(const CpuGBuffer& g, Encoded (&e)[6], glm::vec2 motionScale = glm::vec2(1.0f),
+                glm::vec2 motionOffset = glm::vec2(0.0f)) {
   e[0].format = VK_FORMAT_R16G16B16A16_SFLOAT;
   e[1].format = VK_FORMAT_R8G8B8A8_UNORM;
   e[2].format = VK_FORMAT_R8G8_UNORM;
@@ -115,7 +117,7 @@ void encodeOurs(const CpuGBuffer& g, float motionScale, Encoded (&e)[6]) {
     for (int k = 0; k < 4; ++k) put(e[1].bytes, uint8_t(std::lround(g.albedo[p][k] * 255.0f)));
     for (int k = 0; k < 2; ++k) put(e[2].bytes, uint8_t(std::lround(g.material[p][k] * 255.0f)));
     put(e[3].bytes, g.emission[p]);
-    for (int k = 0; k < 2; ++k) put(e[4].bytes, glm::packHalf1x16(g.motion[p][k] * motionScale));
+    for (int k = 0; k < 2; ++k) put(e[4].bytes, glm::packHalf1x16(g.motion[p][k] * motionScale[k] + motionOffset[k]));
     put(e[5].bytes, g.viewZ[p]);
   }
 }
@@ -158,7 +160,7 @@ TEST_F(GBufferEncodingsTest, EveryAcceptedEncodingGivesTheSameImage) {
   const size_t n = size_t(kSize) * kSize;
 
   // Each encoding writes the images in their order: normal, albedo, material, emission, motion, depth.
-  auto ours = [&](Encoded (&e)[6]) { encodeOurs(g, 1.0f, e); };
+  auto ours = [&](Encoded (&e)[6]) { encodeOurs(g, e); };
   auto hardwareDepth = [&](Encoded& e, const glm::mat4& proj, bool reversedZ) {
     e.format = VK_FORMAT_D32_SFLOAT;
     e.bytes.clear();
@@ -170,7 +172,7 @@ TEST_F(GBufferEncodingsTest, EveryAcceptedEncodingGivesTheSameImage) {
   };
 
   std::vector<Variant> variants;
-  variants.push_back({"ours", {}, [&](const CpuGBuffer&, const glm::mat4&, Encoded (&e)[6]) { ours(e); }});
+  variants.push_back({"ours", tools::gbufferDesc(), [&](const CpuGBuffer&, const glm::mat4&, Encoded (&e)[6]) { ours(e); }});
   for (bool isSigned : {false, true}) {
     Variant v{isSigned ? "octahedral RG16 snorm normals" : "octahedral RG16 unorm normals", {}, nullptr};
     v.desc.normalFormat = isSigned ? VK_FORMAT_R16G16_SNORM : VK_FORMAT_R16G16_UNORM;
@@ -205,9 +207,10 @@ TEST_F(GBufferEncodingsTest, EveryAcceptedEncodingGivesTheSameImage) {
     variants.push_back(v);
   }
   {
-    Variant v{"sRGB albedo, glossy flag from the material", {}, nullptr};
+    // The default glossy rule reads the material image: a host that stores opacity in albedo alpha and
+    // sets nothing gets the image of our flag.
+    Variant v{"sRGB albedo with opacity in alpha, the default glossy rule", {}, nullptr};
     v.desc.albedoFormat = VK_FORMAT_R8G8B8A8_SRGB;
-    v.desc.glossy = gi::GlossyFlag::FromMaterial;
     v.encode = [&](const CpuGBuffer& c, const glm::mat4&, Encoded (&e)[6]) {
       ours(e);
       e[1] = {VK_FORMAT_R8G8B8A8_SRGB, {}};
@@ -352,19 +355,26 @@ TEST_F(GBufferEncodingsTest, MismatchedEncodingsAreNamedErrors) {
   struct Case {
     const char* what;
     std::function<void(gi::GBufferDesc&)> edit;
-    const char* field;
+    std::vector<const char*> mentions;  // the field, and the names a person needs to fix it
   };
   const Case cases[] = {
       {"octahedral in rgba16f", [](gi::GBufferDesc& d) { d.normalEncoding = gi::NormalEncoding::Octahedral; },
-       "desc.gbuffer.normalFormat"},
+       {"desc.gbuffer.normalFormat", "R16G16B16A16Sfloat (VkFormat 97)", "NormalEncoding::Octahedral",
+        "R16G16Unorm", "R8G8Unorm"}},
       {"hardware depth in r32f", [](gi::GBufferDesc& d) { d.depthEncoding = gi::DepthEncoding::Hardware; },
-       "desc.gbuffer.depthFormat"},
-      {"linear depth in d32", [](gi::GBufferDesc& d) { d.depthFormat = VK_FORMAT_D32_SFLOAT; }, "desc.gbuffer.depthFormat"},
-      {"rgb565 albedo", [](gi::GBufferDesc& d) { d.albedoFormat = VK_FORMAT_R5G6B5_UNORM_PACK16; }, "desc.gbuffer.albedoFormat"},
+       {"desc.gbuffer.depthFormat", "R32Sfloat", "DepthEncoding::Hardware", "D32Sfloat"}},
+      {"linear depth in d32", [](gi::GBufferDesc& d) { d.depthFormat = VK_FORMAT_D32_SFLOAT; },
+       {"desc.gbuffer.depthFormat", "D32Sfloat", "DepthEncoding::LinearViewZ", "R32Sfloat", "R16Sfloat"}},
+      {"rgb565 albedo", [](gi::GBufferDesc& d) { d.albedoFormat = VK_FORMAT_R5G6B5_UNORM_PACK16; },
+       {"desc.gbuffer.albedoFormat", "R5G6B5UnormPack16", "R8G8B8A8Srgb"}},
       {"unknown normal encoding", [](gi::GBufferDesc& d) { d.normalEncoding = gi::NormalEncoding(9); },
-       "desc.gbuffer.normalEncoding"},
+       {"desc.gbuffer.normalEncoding = 9"}},
       {"depth in an attachment layout",
-       [](gi::GBufferDesc& d) { d.depthLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL; }, "desc.gbuffer.depthLayout"},
+       [](gi::GBufferDesc& d) { d.depthLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL; },
+       {"desc.gbuffer.depthLayout", "DepthStencilAttachmentOptimal"}},
+      {"unknown motion units", [](gi::GBufferDesc& d) { d.motion = gi::MotionUnits(3); }, {"desc.gbuffer.motion = 3", "Ndc"}},
+      {"zero motion scale", [](gi::GBufferDesc& d) { d.motionScale[1] = 0.0f; }, {"desc.gbuffer.motionScale[1]"}},
+      {"NaN motion scale", [](gi::GBufferDesc& d) { d.motionScale[0] = std::nanf(""); }, {"desc.gbuffer.motionScale[0]"}},
   };
   for (const Case& c : cases) {
     gi::ModuleDesc desc = tools::moduleDesc(ctx, s.gpu, {16, 16});
@@ -372,24 +382,51 @@ TEST_F(GBufferEncodingsTest, MismatchedEncodingsAreNamedErrors) {
     gi::Module* m = nullptr;
     gi::Error e = gi::create(desc, gi::Settings{}, m);
     EXPECT_TRUE(e) << c.what;
-    EXPECT_NE(e.message.find(c.field), std::string::npos) << c.what << ": " << e.message;
+    for (const char* mention : c.mentions)
+      EXPECT_NE(e.message.find(mention), std::string::npos) << c.what << ": \"" << mention << "\" not in " << e.message;
     EXPECT_EQ(m, nullptr);
   }
+  // A frame without one of the six views names it.
+  gi::Module* m = nullptr;
+  ASSERT_FALSE(gi::create(tools::moduleDesc(ctx, s.gpu, {16, 16}), gi::Settings{}, m));
+  tools::ModuleSession native;
+  ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {16, 16}, gi::Settings{}, native));
+  const char* names[] = {"normal", "albedo", "material", "emission", "motion", "depth"};
+  for (int missing = 0; missing < 6; ++missing) {
+    gi::FrameInputs in;
+    in.gbuffer = tools::gbufferViews(native.gbuffer);
+    VkImageView* views[] = {&in.gbuffer.normal,   &in.gbuffer.albedo, &in.gbuffer.material,
+                            &in.gbuffer.emission, &in.gbuffer.motion, &in.gbuffer.depth};
+    *views[missing] = VK_NULL_HANDLE;
+    const gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], 16, 16, nullptr);
+    in.camera = in.previousCamera = engine::moduleCamera(cam);
+    gi::Error e;
+    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { e = gi::recordFrame(m, cmd, in); });
+    EXPECT_EQ(e.code, gi::ErrorCode::MissingHandle) << names[missing];
+    EXPECT_NE(e.message.find(std::string("inputs.gbuffer.") + names[missing] + " is VK_NULL_HANDLE"), std::string::npos)
+        << e.message;
+  }
+  tools::destroyModuleSession(ctx, native);
+  gi::destroy(m);
   unload(s);
 }
 
-// Motion vectors in UV reproject exactly as motion in pixels: temporal
-// reprojection over a camera pan of about a pixel gives the same frame from
-// our G-buffer with its motion in pixels and in UV (the UV's half floats round
-// the motion a little). Declared as UV but handed pixels, the history lands
-// 48 times too far: the frame differs, so the test sees the units.
-TEST_F(GBufferEncodingsTest, MotionInUvReprojectsAsMotionInPixels) {
+// Motion in every convention gi::GBufferDesc accepts reprojects exactly as ours (pixels, previous −
+// current, the jitter in): temporal reprojection over a camera pan of about a pixel, both frames rendered
+// with sub-pixel jitter, gives the same frame from our G-buffer's motion re-encoded in UV, in NDC, as
+// current − previous, with y up, and without the jitter (the module adds the cameras' difference). The
+// half floats round the motion a little. Declared as UV but handed pixels, or declared with the jitter
+// but handed it without, the history lands elsewhere: the frame differs, so the test sees each convention.
+TEST_F(GBufferEncodingsTest, MotionInEveryConventionReprojectsAsOurs) {
   LoadedScene s;
   ASSERT_NO_FATAL_FAILURE(load(sharedScene("cornell-simple/cornell_simple.gltf"), s));
   engine::Camera moved = s.scene.cameras[0];
   moved.worldFromView[3] += moved.worldFromView[0] * 0.05f;
-  const gpu::GpuCamera a = engine::makeGpuCamera(s.scene.cameras[0], kSize, kSize, nullptr);
-  const gpu::GpuCamera b = engine::makeGpuCamera(moved, kSize, kSize, &a);
+  // Jitter of (0.3, −0.2) and (−0.4, 0.35) pixels (TAA's); previous − current, in pixels.
+  const glm::vec2 jitterA(0.3f, -0.2f), jitterB(-0.4f, 0.35f), jitterMotion = jitterA - jitterB;
+  const float n = float(kSize);
+  const gpu::GpuCamera a = engine::makeGpuCamera(s.scene.cameras[0], kSize, kSize, nullptr, 2.0f * jitterA / n);
+  const gpu::GpuCamera b = engine::makeGpuCamera(moved, kSize, kSize, &a, 2.0f * jitterB / n);
   tools::ModuleSession native;
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {kSize, kSize}, gi::Settings{}, native));
   CpuGBuffer frames[2];
@@ -406,15 +443,28 @@ TEST_F(GBufferEncodingsTest, MotionInUvReprojectsAsMotionInPixels) {
   struct Run {
     const char* what;
     gi::MotionUnits units;
-    float scale;  // applied to our pixel motion before encoding
+    glm::vec2 declaredScale;  // GBufferDesc::motionScale
+    bool declaredJitter;      // GBufferDesc::motionHasJitter
+    glm::vec2 scale, offset;  // our pixel motion × scale + offset is what the module is handed
+    bool same;                // the frame should be ours
   };
-  const Run runs[] = {{"pixels", gi::MotionUnits::Pixels, 1.0f},
-                      {"uv", gi::MotionUnits::Uv, 1.0f / float(kSize)},
-                      {"uv declared, pixels given", gi::MotionUnits::Uv, 1.0f}};
+  const Run runs[] = {
+      {"pixels (ours)", gi::MotionUnits::Pixels, {1, 1}, true, {1, 1}, {0, 0}, true},
+      {"uv", gi::MotionUnits::Uv, {1, 1}, true, {1 / n, 1 / n}, {0, 0}, true},
+      {"ndc", gi::MotionUnits::Ndc, {1, 1}, true, {2 / n, 2 / n}, {0, 0}, true},
+      {"current - previous", gi::MotionUnits::Pixels, {-1, -1}, true, {-1, -1}, {0, 0}, true},
+      {"uv, y up", gi::MotionUnits::Uv, {1, -1}, true, {1 / n, -1 / n}, {0, 0}, true},
+      {"jitter left out", gi::MotionUnits::Pixels, {1, 1}, false, {1, 1}, -jitterMotion, true},
+      {"uv declared, pixels given", gi::MotionUnits::Uv, {1, 1}, true, {1, 1}, {0, 0}, false},
+      {"jitter declared in, left out", gi::MotionUnits::Pixels, {1, 1}, true, {1, 1}, -jitterMotion, false},
+  };
   std::vector<engine::ReferenceImages> images;
   for (const Run& run : runs) {
     gi::ModuleDesc desc = tools::moduleDesc(ctx, s.gpu, {kSize, kSize});
     desc.gbuffer.motion = run.units;
+    desc.gbuffer.motionScale[0] = run.declaredScale.x;
+    desc.gbuffer.motionScale[1] = run.declaredScale.y;
+    desc.gbuffer.motionHasJitter = run.declaredJitter;
     desc.outputFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
     gi::Settings settings;
     settings.raw.temporalReprojection = true;
@@ -422,7 +472,7 @@ TEST_F(GBufferEncodingsTest, MotionInUvReprojectsAsMotionInPixels) {
     ASSERT_FALSE(gi::create(desc, settings, module));
     for (uint32_t f = 0; f < 2; ++f) {
       Encoded encoded[6];
-      encodeOurs(frames[f], run.scale, encoded);
+      encodeOurs(frames[f], encoded, run.scale, f == 0 ? glm::vec2(0.0f) : run.scale * run.offset);
       UploadedGBuffer uploaded = upload(ctx, encoded);
       gi::FrameInputs in;
       in.gbuffer = uploaded.views();
@@ -448,13 +498,16 @@ TEST_F(GBufferEncodingsTest, MotionInUvReprojectsAsMotionInPixels) {
     }
     return diff / sum;
   };
-  const double uvIndirect = relativeL1(images[1].indirect, images[0].indirect);
-  const double uvDirect = relativeL1(images[1].direct, images[0].direct);
-  const double wrong = relativeL1(images[2].indirect, images[0].indirect);
-  std::printf("motion in UV against pixels: indirect relative L1 %.2e, direct %.2e; UV declared but pixels given: %.2e\n",
-              uvIndirect, uvDirect, wrong);
-  EXPECT_LT(uvIndirect, 1e-3);
-  EXPECT_LT(uvDirect, 1e-3);
-  EXPECT_GT(wrong, 1e-2);
+  for (size_t r = 1; r < std::size(runs); ++r) {
+    const double indirect = relativeL1(images[r].indirect, images[0].indirect);
+    const double direct = relativeL1(images[r].direct, images[0].direct);
+    std::printf("motion %s against ours: indirect relative L1 %.2e, direct %.2e\n", runs[r].what, indirect, direct);
+    if (runs[r].same) {
+      EXPECT_LT(indirect, 1e-3) << runs[r].what;
+      EXPECT_LT(direct, 1e-3) << runs[r].what;
+    } else {
+      EXPECT_GT(indirect, 1e-2) << runs[r].what;
+    }
+  }
   unload(s);
 }

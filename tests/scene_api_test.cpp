@@ -8,6 +8,7 @@
 
 #include "gi/scene.h"
 #include "gpu_test.h"
+#include "quad_contents.h"
 #include "scene/scene.h"
 
 class SceneApiTest : public GpuTest {
@@ -29,35 +30,7 @@ class SceneApiTest : public GpuTest {
   }
 };
 
-namespace {
-
-// One quad (two triangles) and its material.
-struct Quad {
-  float positions[12] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
-  float normals[12] = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
-  uint32_t indices[6] = {0, 1, 2, 0, 2, 3};
-  gi::PrimitiveDesc primitive{0, 6, 0, 4, 0};
-  gi::MeshDesc mesh;
-  gi::MaterialDesc material;
-  gi::InstanceDesc instance;
-  gi::LightDesc light;
-  gi::SceneContents contents() {
-    mesh.positions = positions;
-    mesh.normals = normals;
-    mesh.vertexCount = 4;
-    mesh.indices = indices;
-    mesh.indexCount = 6;
-    mesh.primitives = std::span(&primitive, 1);
-    gi::SceneContents c;
-    c.meshes = std::span(&mesh, 1);
-    c.materials = std::span(&material, 1);
-    c.instances = std::span(&instance, 1);
-    c.lights = std::span(&light, 1);
-    return c;
-  }
-};
-
-}  // namespace
+using Quad = QuadContents;
 
 TEST_F(SceneApiTest, GoodContentsBuildAndBadOnesAreNamedErrors) {
   {
@@ -68,7 +41,7 @@ TEST_F(SceneApiTest, GoodContentsBuildAndBadOnesAreNamedErrors) {
     const gi::SceneDesc d = gi::sceneDesc(scene);
     EXPECT_TRUE(d.hasPunctualLights);
     EXPECT_FALSE(d.hasEmissiveTriangles);
-    EXPECT_TRUE(d.hasGlossyMaterials);  // glTF's default material is a metal
+    EXPECT_FALSE(d.hasGlossyMaterials);  // a default MaterialDesc is a rough dielectric
     EXPECT_EQ(gi::sceneInfo(scene).triangles, 2u);
     EXPECT_FLOAT_EQ(d.extent, 1.0f);
     // Updates: counts and meshes must match what was created.

@@ -106,7 +106,9 @@ struct Loader {
     if (m >= 0) return uint32_t(m);
     if (defaultMaterial == UINT32_MAX) {  // glTF's default material
       defaultMaterial = uint32_t(out.materials.size());
-      out.materials.push_back(gi::MaterialDesc{});
+      gi::MaterialDesc metal;
+      metal.metallic = 1.0f;  // glTF's default material: its metallicFactor is 1
+      out.materials.push_back(metal);
     }
     return defaultMaterial;
   }

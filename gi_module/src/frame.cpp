@@ -224,6 +224,13 @@ void recordFilterPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const gpu
   }
 }
 
+// What turns the G-buffer's stored motion into pixels: GBufferDesc::motionScale times its units' pixels.
+glm::vec2 motionPixelsPerUnit(const GBufferDesc& g, uint32_t width, uint32_t height) {
+  const glm::vec2 size{float(width), float(height)};
+  const glm::vec2 units = g.motion == MotionUnits::Uv ? size : g.motion == MotionUnits::Ndc ? 0.5f * size : glm::vec2(1.0f);
+  return units * glm::vec2(g.motionScale[0], g.motionScale[1]);
+}
+
 }  // namespace
 
 gpu::GiCounters slotCounters(const Module& m, uint32_t slot) {
@@ -267,8 +274,14 @@ void endPass(Module& m, VkCommandBuffer cmd, uint32_t slot) {
 Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
   Module& m = *mp;
   const GBufferViews& gb = in.gbuffer;
-  if (!cmd || !gb.normal || !gb.albedo || !gb.material || !gb.emission || !gb.motion || !gb.depth)
-    return {ErrorCode::MissingHandle, "gi::recordFrame: the command buffer and all six G-buffer views must be set"};
+  if (!cmd) return {ErrorCode::MissingHandle, "gi::recordFrame: the command buffer is VK_NULL_HANDLE"};
+  const std::pair<VkImageView, const char*> views[] = {{gb.normal, "normal"},     {gb.albedo, "albedo"},
+                                                       {gb.material, "material"}, {gb.emission, "emission"},
+                                                       {gb.motion, "motion"},     {gb.depth, "depth"}};
+  for (const auto& [view, name] : views)
+    if (!view)
+      return {ErrorCode::MissingHandle, std::string("gi::recordFrame: inputs.gbuffer.") + name +
+                                            " is VK_NULL_HANDLE (all six G-buffer views must be set)"};
   if (!(in.preExposure > 0.0f) || !std::isfinite(in.preExposure))
     return {ErrorCode::OutOfRange, "gi::recordFrame: inputs.preExposure = " + std::to_string(in.preExposure) +
                                        " is not a positive finite factor"};
@@ -289,8 +302,10 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
   const float outputMax = largestFinite(m.desc.outputFormat);
   const bool noisyIsOutput = noisyAliasesIndirect(m.sized);
   const VkFormat noisyFormat = m.sized.noisyIndirect.format, historyFormat = m.sized.historyDirect.format;
+  const gpu::GpuCamera previousCamera = gpuCamera(in.previousCamera, in.previousCamera, m.width, m.height);
+  const glm::vec2 halfSize = 0.5f * glm::vec2(float(m.width), float(m.height));
   gpu::GiFrameConstants frame{camera,
-                              gpuCamera(in.previousCamera, in.previousCamera, m.width, m.height),
+                              previousCamera,
                               {m.width, m.height},
                               in.frameIndex,
                               std::max(m.desc.scene.extent, 1e-6f),
@@ -302,7 +317,11 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
                               largestFinite(historyFormat),
                               usesReservoirs(m, s) ? 1u : 0u,
                               lightSampler(m, s),
-                              glm::inverse(clipFromView(in.camera))};
+                              glm::inverse(clipFromView(in.camera)),
+                              motionPixelsPerUnit(m.desc.gbuffer, m.width, m.height),
+                              // Previous − current of the NDC shifts (jitter, off-axis), in pixels.
+                              m.desc.gbuffer.motionHasJitter ? glm::vec2(0.0f)
+                                                             : (previousCamera.ndcShift - camera.ndcShift) * halfSize};
   std::memcpy(static_cast<std::byte*>(m.frameConstants.memory.mapped) + slot * m.frameConstantsStride, &frame, sizeof(frame));
   beginFrame(m, cmd, slot, in);
   // History survives only while the view and the settings stay put.

@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "gi/vk/names.h"
 #include "shared/aaf.h"
 
 namespace gi {
@@ -75,36 +76,58 @@ bool contains(const T (&list)[N], T value) {
   return std::find(std::begin(list), std::end(list), value) != std::end(list);
 }
 
-// `encoding` valid and `format` one it accepts.
-Error checkEncoding(std::span<const AcceptedFormats> table, uint32_t encoding, VkFormat format, const char* encodingField,
-                    const char* formatField) {
+// The encodings' names, as gi.h spells them (in their enums' order).
+constexpr const char* kNormalEncodingNames[] = {"NormalEncoding::Xyz", "NormalEncoding::XyzUnorm",
+                                                "NormalEncoding::Octahedral", "NormalEncoding::OctahedralSigned"};
+constexpr const char* kDepthEncodingNames[] = {"DepthEncoding::LinearViewZ", "DepthEncoding::Hardware",
+                                               "DepthEncoding::HardwareReversed"};
+
+static_assert(std::size(kNormalEncodingNames) == std::size(kNormalFormats) &&
+              std::size(kDepthEncodingNames) == std::size(kDepthFormats), "a name for every encoding");
+
+std::string formatList(std::span<const VkFormat> formats) {
+  std::string list;
+  for (VkFormat f : formats) list += (list.empty() ? "" : ", ") + vk::formatName(f);
+  return list;
+}
+
+// `encoding` valid and `format` one it accepts; the errors name the format, the encoding and what it accepts.
+Error checkEncoding(std::span<const AcceptedFormats> table, std::span<const char* const> names, uint32_t encoding,
+                    VkFormat format, const char* encodingField, const char* formatField) {
   for (const AcceptedFormats& a : table)
     if (a.encoding == encoding) {
       if (std::find(a.formats.begin(), a.formats.end(), format) != a.formats.end()) return {};
-      return {ErrorCode::UnsupportedFormat, std::string(formatField) + " = VkFormat " + std::to_string(int(format)) +
-                                                " is not one " + encodingField + " " + std::to_string(encoding) +
-                                                " accepts (gi.h lists them)"};
+      return {ErrorCode::UnsupportedFormat, std::string(formatField) + " = " + vk::formatName(format) + " is not one " +
+                                                encodingField + " = " + names[encoding] + " accepts: " +
+                                                formatList(a.formats)};
     }
-  return {ErrorCode::OutOfRange, std::string(encodingField) + " = " + std::to_string(encoding) + " is not an encoding"};
+  return {ErrorCode::OutOfRange, std::string(encodingField) + " = " + std::to_string(encoding) + " is not one of " +
+                                     std::to_string(names.size()) + " encodings (" + names[0] + " …)"};
 }
 
 Error checkGBuffer(const GBufferDesc& g) {
-  if (Error e = checkEncoding(kNormalFormats, uint32_t(g.normalEncoding), g.normalFormat, "desc.gbuffer.normalEncoding",
-                              "desc.gbuffer.normalFormat"))
+  if (Error e = checkEncoding(kNormalFormats, kNormalEncodingNames, uint32_t(g.normalEncoding), g.normalFormat,
+                              "desc.gbuffer.normalEncoding", "desc.gbuffer.normalFormat"))
     return e;
-  if (Error e = checkEncoding(kDepthFormats, uint32_t(g.depthEncoding), g.depthFormat, "desc.gbuffer.depthEncoding",
-                              "desc.gbuffer.depthFormat"))
+  if (Error e = checkEncoding(kDepthFormats, kDepthEncodingNames, uint32_t(g.depthEncoding), g.depthFormat,
+                              "desc.gbuffer.depthEncoding", "desc.gbuffer.depthFormat"))
     return e;
   if (!contains(kAlbedoFormats, g.albedoFormat))
-    return {ErrorCode::UnsupportedFormat, "desc.gbuffer.albedoFormat = VkFormat " + std::to_string(int(g.albedoFormat)) +
-                                              " is not one the module reads (gi.h lists them)"};
+    return {ErrorCode::UnsupportedFormat, "desc.gbuffer.albedoFormat = " + vk::formatName(g.albedoFormat) +
+                                              " is not one the module reads: " + formatList(kAlbedoFormats)};
   if (!contains(kDepthLayouts, g.depthLayout))
-    return {ErrorCode::OutOfRange, "desc.gbuffer.depthLayout = VkImageLayout " + std::to_string(int(g.depthLayout)) +
+    return {ErrorCode::OutOfRange, "desc.gbuffer.depthLayout = " + vk::layoutName(g.depthLayout) +
                                        " is not GENERAL or a read-only depth or shader layout"};
-  if (uint32_t(g.motion) > uint32_t(MotionUnits::Uv))
-    return {ErrorCode::OutOfRange, "desc.gbuffer.motion = " + std::to_string(uint32_t(g.motion)) + " is not a MotionUnits"};
+  if (uint32_t(g.motion) > uint32_t(MotionUnits::Ndc))
+    return {ErrorCode::OutOfRange, "desc.gbuffer.motion = " + std::to_string(uint32_t(g.motion)) +
+                                       " is not a MotionUnits (Pixels, Uv, Ndc)"};
+  for (int k = 0; k < 2; ++k)
+    if (!std::isfinite(g.motionScale[k]) || g.motionScale[k] == 0.0f)
+      return {ErrorCode::OutOfRange, "desc.gbuffer.motionScale[" + std::to_string(k) + "] = " +
+                                         std::to_string(g.motionScale[k]) + " is not a finite, non-zero factor"};
   if (uint32_t(g.glossy) > uint32_t(GlossyFlag::FromMaterial))
-    return {ErrorCode::OutOfRange, "desc.gbuffer.glossy = " + std::to_string(uint32_t(g.glossy)) + " is not a GlossyFlag"};
+    return {ErrorCode::OutOfRange, "desc.gbuffer.glossy = " + std::to_string(uint32_t(g.glossy)) +
+                                       " is not a GlossyFlag (AlbedoAlpha, FromMaterial)"};
   return {};
 }
 
@@ -292,7 +315,7 @@ std::array<uint32_t, GI_SPEC_COUNT> moduleSpecialization(const Module& m) {
   const auto scene = sceneSpecialization(m.desc.scene);
   const GBufferDesc& g = m.desc.gbuffer;
   return {scene[0], scene[1], scene[2], scene[3], uint32_t(g.normalEncoding), uint32_t(g.depthEncoding),
-          uint32_t(g.motion), uint32_t(g.glossy), m.desc.checkBounds ? 1u : 0u};
+          uint32_t(g.glossy), m.desc.checkBounds ? 1u : 0u};
 }
 
 uint32_t hashMode(Method method) {

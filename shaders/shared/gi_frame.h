@@ -79,10 +79,9 @@ GPU_CONST GI_BINDING_COUNT = 35;
 // (SCENE_SPEC_*): how the G-buffer is encoded (gi::GBufferDesc's enums).
 #define GI_SPEC_NORMAL_ENCODING 4
 #define GI_SPEC_DEPTH_ENCODING 5
-#define GI_SPEC_MOTION_UNITS 6
-#define GI_SPEC_GLOSSY_FLAG 7
-#define GI_SPEC_CHECK_BOUNDS 8  // gi::ModuleDesc::checkBounds (bounds.glsl)
-#define GI_SPEC_COUNT 9
+#define GI_SPEC_GLOSSY_FLAG 6
+#define GI_SPEC_CHECK_BOUNDS 7  // gi::ModuleDesc::checkBounds (bounds.glsl)
+#define GI_SPEC_COUNT 8
 GPU_CONST GI_NORMAL_XYZ = 0u;              // rgb = n in [-1,1]
 GPU_CONST GI_NORMAL_XYZ_UNORM = 1u;        // rgb = n·0.5 + 0.5
 GPU_CONST GI_NORMAL_OCTAHEDRAL = 2u;       // rg = octahedral n in [0,1]
@@ -90,8 +89,6 @@ GPU_CONST GI_NORMAL_OCTAHEDRAL_SIGNED = 3u;// rg = octahedral n in [-1,1]
 GPU_CONST GI_DEPTH_LINEAR_VIEW_Z = 0u;     // view depth along −Z in metres, 0 = background
 GPU_CONST GI_DEPTH_HARDWARE = 1u;          // depth buffer value, far (background) = 1
 GPU_CONST GI_DEPTH_HARDWARE_REVERSED = 2u; // depth buffer value, far (background) = 0
-GPU_CONST GI_MOTION_PIXELS = 0u;           // previous position − current, pixels
-GPU_CONST GI_MOTION_UV = 1u;               // the same in [0,1] texture coordinates
 GPU_CONST GI_GLOSSY_ALBEDO_ALPHA = 0u;     // albedo.a ≥ 0.5: the pixel has a GGX lobe
 GPU_CONST GI_GLOSSY_FROM_MATERIAL = 1u;    // metallic > 0 or roughness < 0.9 (the scene's rule)
 
@@ -111,8 +108,10 @@ struct GiFrameConstants {
   uint reservoirs;   // 1: the primary hits' point and spot lights come from the reservoirs' pick (gi_reservoirs.comp)
   uint lightSampler; // LIGHT_SAMPLER_* of NEE in the module's passes (LightSettings::sampler, or the scene's)
   mat4 viewFromClip; // inverse of the camera's projection: hardware depth → view depth
+  vec2 motionScale;  // the G-buffer's stored motion → pixels: GBufferDesc::motionScale × its units' pixels
+  vec2 motionOffset; // pixels added after: the cameras' jitter difference where the engine's motion leaves it out
 };
-GPU_ASSERT_SIZE(GiFrameConstants, 720);
+GPU_ASSERT_SIZE(GiFrameConstants, 736);
 
 struct GiCounters {
   uint raysTraced;        // added to by every tracing pass

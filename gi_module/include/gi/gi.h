@@ -56,7 +56,9 @@
 #include "shared/gpu_scene.h"
 
 #define GI_VERSION_MAJOR 0
-#define GI_VERSION_MINOR 7  // 0.7: Settings::reservoirs (ReSTIR DI for the primary hits), Settings::lights (NEE's sampler
+#define GI_VERSION_MINOR 8  // 0.8: GBufferDesc::motionScale, motionHasJitter, MotionUnits::Ndc; defaults a host that
+                            // sets nothing expects (GlossyFlag::FromMaterial, MaterialDesc::metallic 0);
+                            // 0.7: Settings::reservoirs (ReSTIR DI for the primary hits), Settings::lights (NEE's sampler
                             // at run time); 0.6: light samplers, checkBounds
                             // 0.5: programs readied ahead of a switch (preparePrograms, recordProgramWarmup); set 0's arrays as texel buffers
                             // 0.4: the scene API (gi/scene.h), the G-buffer adapter, the camera as matrices
@@ -96,6 +98,12 @@ inline bool picksPunctualLights(const SceneDesc& scene) {
 // How the engine's G-buffer stores what the module reads. The module reads
 // each image as a sampled image (texelFetch; usage SAMPLED), so any format
 // below works as it is; create refuses any other (UnsupportedFormat, naming it).
+// Every encoding stores world-space shading normals of unit length turned to
+// face the camera (a surface seen from behind stores −n: the module lights the
+// side the camera sees). Octahedral normals: e = n.xy / (|n.x| + |n.y| + |n.z|),
+// folded where n.z < 0 to (1 − |e.y|, 1 − |e.x|) with the signs of e.x and e.y
+// (Cigolle et al. 2014), in [−1,1]² (OctahedralSigned) or as e·0.5 + 0.5
+// (Octahedral). Background pixels: LinearViewZ 0, or the far plane's depth.
 enum class NormalEncoding : uint32_t {
   Xyz = 0,           // world normal in rgb, [-1,1]: R16G16B16A16_SFLOAT (ours), R32G32B32A32_SFLOAT,
                      // R16G16B16A16_SNORM, R8G8B8A8_SNORM
@@ -110,25 +118,37 @@ enum class DepthEncoding : uint32_t {
                      // X8_D24_UNORM_PACK32, D16_UNORM (a depth-aspect view); view depth from the projection
   HardwareReversed,  // the same with reversed Z: far = 0 = background
 };
+// Motion vectors, after GBufferDesc::motionScale: where the surface in a pixel was last frame, less
+// where it is now (previous − current; x right, y down the image, as pixels are), in one of these units.
 enum class MotionUnits : uint32_t {
-  Pixels = 0,        // previous position − current, in pixels (ours)
-  Uv,                // the same in [0,1] texture coordinates
+  Pixels = 0,        // pixels (ours)
+  Uv,                // [0,1] texture coordinates: pixels / the render size
+  Ndc,               // Vulkan NDC, [−1,1] across the image: pixels / half the render size
 };
+// Which G-buffer pixels have a glossy (GGX) lobe, for AAF's glossy receivers.
 enum class GlossyFlag : uint32_t {
-  AlbedoAlpha = 0,   // albedo.a ≥ 0.5 where the pixel has a GGX lobe (ours)
-  FromMaterial,      // metallic > 0 or roughness < 0.9 (the rule our scenes use)
+  AlbedoAlpha = 0,   // albedo.a ≥ 0.5 (our engine's G-buffer writes the flag there)
+  FromMaterial,      // metallic > 0 or roughness < 0.9 in the material image (the default: the images a host
+                     // already writes; an alpha of opacity is never read as a flag)
 };
 struct GBufferDesc {
   VkFormat normalFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
   NormalEncoding normalEncoding = NormalEncoding::Xyz;
   VkFormat albedoFormat = VK_FORMAT_R8G8B8A8_UNORM;  // linear base colour: R8G8B8A8_UNORM/_SRGB, B8G8R8A8_UNORM/_SRGB
                                                      // (an sRGB view decodes), R16G16B16A16_SFLOAT
-  GlossyFlag glossy = GlossyFlag::AlbedoAlpha;
+  GlossyFlag glossy = GlossyFlag::FromMaterial;
   VkFormat depthFormat = VK_FORMAT_R32_SFLOAT;
   DepthEncoding depthEncoding = DepthEncoding::LinearViewZ;
   VkImageLayout depthLayout = VK_IMAGE_LAYOUT_GENERAL;  // or DEPTH_READ_ONLY_OPTIMAL, DEPTH_STENCIL_READ_ONLY_OPTIMAL,
                                                         // SHADER_READ_ONLY_OPTIMAL, as the engine leaves it
   MotionUnits motion = MotionUnits::Pixels;
+  // Multiplies the stored motion (x, y) before its units: finite, non-zero. {−1, −1} for current −
+  // previous; {1, −1} for motion whose y runs up the image; both for both.
+  float motionScale[2] = {1.0f, 1.0f};
+  // Whether the motion holds the difference of the two cameras' sub-pixel jitter (motion from the
+  // jittered matrices, as ours). False: the engine's motion leaves the jitter out (as DLSS and FSR take
+  // it), and the module adds the difference of the jitter in CameraDesc::clipFromView and last frame's.
+  bool motionHasJitter = true;
   // Material: roughness (r), metallic (g) in any unorm or float format with r
   // and g; emission: radiance towards the camera (rgb, W/(sr·m²)) in any
   // float format. Motion: rg in any float or snorm format.

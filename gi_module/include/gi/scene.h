@@ -87,8 +87,9 @@ enum class AlphaMode : uint32_t { Opaque = 0, Mask, Blend };  // Blend is lit as
 // glTF 2.0 metallic-roughness, with KHR_materials_emissive_strength.
 struct MaterialDesc {
   float baseColor[4] = {1.0f, 1.0f, 1.0f, 1.0f};  // linear factor × the texture
-  float metallic = 1.0f;                          // [0,1], glTF's defaults
-  float roughness = 1.0f;                         // [0,1], perceptual (GGX α = roughness²)
+  float metallic = 0.0f;                          // [0,1]: a dielectric unless set (glTF's factor defaults to 1:
+                                                  // a loader sets what the file says)
+  float roughness = 1.0f;                         // [0,1], perceptual (GGX α = roughness²), glTF's default
   float emissive[3] = {0.0f, 0.0f, 0.0f};         // emissiveFactor, [0,1]
   float emissiveStrength = 1.0f;                  // emission = emissive × this, W/(sr·m²)
   AlphaMode alphaMode = AlphaMode::Opaque;
