@@ -16,6 +16,7 @@
 // light changed: (1 − λ)·weight + λ, and the history count drops to match.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
+#extension GL_KHR_shader_subgroup_vote : require
 #include "temporal.glsl"
 
 layout(local_size_x = GI_GROUP_SIZE, local_size_y = GI_GROUP_SIZE) in;
@@ -101,6 +102,19 @@ History reproject(ivec2 p, vec3 n, float depth, vec3 world) {
   return h;
 }
 
+// FrameStats::accumulatedFrames: the pixel's history length (this frame included) in GiCounters' histogram,
+// for one row in GI_HISTORY_ROW_STEP; a subgroup whose lanes agree adds them with one atomic.
+void countHistory(ivec2 p, float frames) {
+  if (p.y % int(GI_HISTORY_ROW_STEP) != 0) return;
+  const uint bin = min(uint(frames + 0.5), GI_HISTORY_BINS - 1u);
+  if (subgroupAllEqual(bin)) {
+    const uint lanes = subgroupAdd(1u);
+    if (subgroupElect()) atomicAdd(giCounters.historyFrames[bin], lanes);
+  } else {
+    atomicAdd(giCounters.historyFrames[bin], 1u);
+  }
+}
+
 void main() {
   const ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(gl_GlobalInvocationID.xy, giFrame.size))) return;
@@ -137,6 +151,7 @@ void main() {
   const float lumDirect = giLuminance(direct), lumIndirect = giLuminance(indirect);
   const vec2 luminance = vec2(lumDirect, lumIndirect);
   if (h.frames == 0.0) {  // no history: this frame's light stands as the trace wrote it
+    countHistory(p, 1.0);
     write(p, direct, indirect, 1.0, n, depth);
     writeMoments(p, GiMoments(luminance, vec2(0.0)));
     return;
@@ -150,6 +165,7 @@ void main() {
   const vec3 outDirect = pc.direct != 0u ? mix(h.direct, direct, blends.x) : direct;
   const vec3 outIndirect = pc.directOnly != 0u ? indirect : mix(h.indirect, indirect, blends.y);
   write(p, outDirect, outIndirect, min(frames, 65536.0), n, depth);
+  countHistory(p, frames);
   const vec2 momentsBlends = mix(vec2(momentsBlend), vec2(1.0), lambda);
   // The moments' running mean and mean square, kept as the mean and the variance about it:
   // σ²' = (1 − a)·(σ² + a·(l − μ)²), exactly what E[l²]' − E[l]'² gives.

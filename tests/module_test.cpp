@@ -159,6 +159,53 @@ TEST_F(ModuleTest, RayBudgetCapsTheSampleCount) {
   unload(s);
 }
 
+// A settings change restarts the history only where the catalogue says it makes it wrong
+// (SettingInfo::restartsHistory) or the method changes; gi::invalidate(History) restarts it on request.
+// FrameStats::accumulatedFrames counts the frames behind the median pixel: svgf with a still camera
+// holds one more each frame.
+TEST_F(ModuleTest, SettingsChangesKeepTheHistoryUnlessTheyMakeItWrong) {
+  LoadedScene s;
+  load(sharedScene("cornell-box-mcguire/CornellBox-Original.gltf"), s);
+  const gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], 16, 16, nullptr);
+  gi::Settings settings;
+  settings.method = gi::Method::Svgf;
+  tools::ModuleSession session;
+  ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {16, 16}, settings, session));
+  uint32_t frame = 0;
+  auto historyAfter = [&](uint32_t frames) {
+    for (uint32_t f = 0; f < frames; ++f, ++frame) tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, frame);
+    return gi::stats(session.module).accumulatedFrames;
+  };
+  EXPECT_EQ(historyAfter(6), 6u);
+  struct Change {
+    const char* key;
+    double value;
+    bool restarts;
+  };
+  const Change changes[] = {{"ray_budget", 2000, false},       {"svgf.spp", 2, false},   {"svgf.sigma_luminance", 8, false},
+                            {"temporal.min_blend", 0.1, false}, {"view", 1, false},       {"view", 0, false},
+                            {"seed", 7, false},                 {"bounces", 2, true},     {"temporal.gradients", 1, true},
+                            {"temporal.gradients", 0, true}};
+  uint32_t expected = 6;
+  for (const Change& c : changes) {
+    const gi::SettingInfo* info = gi::findSetting(c.key);
+    ASSERT_NE(info, nullptr) << c.key;
+    EXPECT_EQ(info->restartsHistory, c.restarts) << c.key;
+    info->set(settings, c.value);
+    ASSERT_FALSE(gi::setSettings(session.module, settings)) << c.key;
+    expected = c.restarts ? 2 : expected + 2;
+    EXPECT_EQ(historyAfter(2), expected) << "after " << c.key << " = " << c.value;
+  }
+  gi::invalidate(session.module, gi::Invalidate::History);
+  EXPECT_EQ(historyAfter(1), 1u) << "after invalidate(History)";
+  settings.method = gi::Method::Sspsf;
+  settings.sspsf.temporalReprojection = true;
+  ASSERT_FALSE(gi::setSettings(session.module, settings));
+  EXPECT_EQ(historyAfter(3), 3u) << "a new method starts over";
+  tools::destroyModuleSession(ctx, session);
+  unload(s);
+}
+
 TEST_F(ModuleTest, StatsReportPassesRaysAndMemory) {
   LoadedScene s;
   load(sharedScene("cornell-simple/cornell_simple.gltf"), s);

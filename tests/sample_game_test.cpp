@@ -85,6 +85,30 @@ TEST(SampleGame, BudgetModeReportsTheAchievedTimeOnAStaticScene) {
   EXPECT_LT(lastMs, 1.5 * 30.0);
 }
 
+// Budget mode changes the ray budget every frame; the history it accumulates must survive it (issue 35):
+// svgf with a still camera, 40 frames, with and without a 5 ms budget: the frames of history behind the
+// median pixel at the last frame are the same, and at least 16.
+TEST(SampleGame, BudgetModeKeepsTheHistory) {
+  uint32_t history[2] = {0, 0};
+  for (int budget = 0; budget < 2; ++budget) {
+    fs::path out = fs::temp_directory_path() / ("gi_sample_game_history_" + std::to_string(budget));
+    fs::remove_all(out);
+    std::string output;
+    int rc = runGame(std::string("--still --method svgf --size 64x36 --window-size 320x180 --benchmark 40 ") +
+                         (budget ? "--budget-ms 5 " : "") + "--out " + out.string(), output);
+    ASSERT_EQ(rc, 0) << output;
+    const auto rows = csvRows(out / "benchmark.csv");
+    ASSERT_EQ(rows.size(), 40u);
+    history[budget] = uint32_t(std::stoul(rows.back().at("history_frames")));
+    if (budget) {
+      EXPECT_NE(rows.front().at("rays"), rows.back().at("rays")) << "the budget changed the rays";
+    }
+  }
+  std::printf("history frames at frame 40: %u without a budget, %u with 5 ms\n", history[0], history[1]);
+  EXPECT_EQ(history[1], history[0]);
+  EXPECT_GE(history[0], 16u);
+}
+
 // A bad scene file: exit status 1 (no crash), one line naming the file and what is wrong with it.
 TEST(SampleGame, AMalformedSceneIsNamedInTheError) {
   const std::pair<const char*, const char*> cases[] = {

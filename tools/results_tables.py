@@ -611,6 +611,19 @@ def speedups(method, directories):
                   f"{float(r['equal_error_speedup_indirect']):.1f}× |")
 
 
+def history(pairs):
+    """The demo's benchmark CSVs (scripts/bench budget_history: NAME CSV ...): rays and the frames of
+    history behind the median pixel at a few frames of each run."""
+    ks = (1, 10, 20, 40)
+    print("| run | " + " | ".join(f"rays, frame {k}" for k in (1, 40)) + " | "
+          + " | ".join(f"history frames at {k}" for k in ks) + " |")
+    print("|---|" + "---|" * (2 + len(ks)))
+    for name, path in named(pairs):
+        by = {int(r["frame"]) + 1: r for r in rows(path)}
+        print(f"| {name} | " + " | ".join(by[k]["rays"] for k in (1, 40)) + " | "
+              + " | ".join(by[k]["history_frames"] for k in ks) + " |")
+
+
 def demo(directory):
     print("| configuration | ms/frame | relMSE final | relMSE indirect | relMSE × ms |")
     print("|---|---|---|---|---|")
@@ -688,6 +701,7 @@ KINDS = {
     "warm": lambda a: warm(a[0], a[1]),
     "speedups": lambda a: speedups(a[0], a[1:]),
     "demo": lambda a: demo(a[0]),
+    "history": history,
 }
 
 

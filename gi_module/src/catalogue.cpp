@@ -37,11 +37,18 @@ constexpr uint32_t kRaw = bit(Method::Raw), kGif = bit(Method::Gif), kBilateral 
         [](Settings& s, double v) { s.member = decltype(s.member)(uint32_t(v)); }                                  \
   }
 
+// Marks a row whose change restarts the histories (SettingInfo::restartsHistory).
+SettingInfo restartsHistory(SettingInfo s) {
+  s.restartsHistory = true;
+  return s;
+}
+
 constexpr double kLastView = double(kDebugViewCount - 1);
 constexpr const char* kTemporalMeaning = "blend in last frame's light, reprojected through the motion vectors (temporal.*)";
 
 const SettingInfo kSettings[] = {
-    GI_SETTING("bounces", maxBounces, "", "indirect bounces B (0 would be direct light only)", Uint, 1, 32, false, 0),
+    restartsHistory(GI_SETTING("bounces", maxBounces, "", "indirect bounces B (0 would be direct light only)", Uint, 1,
+                               32, false, 0)),
     GI_SETTING("rr_start", russianRouletteStart, "", "bounce from which paths may stop early (Russian roulette)", Uint,
                1, 64, false, 0),
     GI_SETTING("ray_budget", rayBudget, "rays per frame", "the module lowers its sample count to stay within it; 0 = unlimited",
@@ -52,7 +59,7 @@ const SettingInfo kSettings[] = {
 
     GI_SETTING("raw.spp", raw.samplesPerPixel, "paths per pixel", "paths traced per pixel per frame", Uint, 1, 64, false, kRaw),
     GI_BOOL("raw.accumulate", raw.temporalAccumulation, "average frames while the camera and settings stay", kRaw),
-    GI_BOOL("raw.temporal", raw.temporalReprojection, kTemporalMeaning, kRaw),
+    restartsHistory(GI_BOOL("raw.temporal", raw.temporalReprojection, kTemporalMeaning, kRaw)),
     GI_SETTING("raw.history", raw.maxAccumulatedFrames, "frames", "accumulation cap; older frames fade out past it", Uint,
                1, 1 << 20, false, kRaw),
 
@@ -66,7 +73,7 @@ const SettingInfo kSettings[] = {
                false, kGif),
     GI_SETTING("gif.supersamples", gif.supersamples, "rays per pixel", "extra eye rays with geometry-aware lookup", Uint, 0,
                16, false, kGif),
-    GI_BOOL("gif.temporal", gif.temporalReprojection, kTemporalMeaning, kGif),
+    restartsHistory(GI_BOOL("gif.temporal", gif.temporalReprojection, kTemporalMeaning, kGif)),
 
     GI_SETTING("bilateral.spp", bilateral.samplesPerPixel, "paths per pixel", "paths traced per pixel per frame", Uint, 1,
                64, false, kBilateral),
@@ -78,7 +85,7 @@ const SettingInfo kSettings[] = {
                true, kBilateral),
     GI_SETTING("bilateral.sigma_depth", bilateral.sigmaDepth, "", "depth sigma, relative to the centre's depth", Float, 0,
                1e4, true, kBilateral),
-    GI_BOOL("bilateral.temporal", bilateral.temporalReprojection, kTemporalMeaning, kBilateral),
+    restartsHistory(GI_BOOL("bilateral.temporal", bilateral.temporalReprojection, kTemporalMeaning, kBilateral)),
 
     GI_SETTING("atrous.spp", atrous.samplesPerPixel, "paths per pixel", "paths traced per pixel per frame", Uint, 1, 64,
                false, kAtrous),
@@ -90,7 +97,7 @@ const SettingInfo kSettings[] = {
                kAtrous),
     GI_SETTING("atrous.sigma_position", atrous.sigmaPosition, "", "position stop, a fraction of the centre's view depth",
                Float, 0, 1e4, true, kAtrous),
-    GI_BOOL("atrous.temporal", atrous.temporalReprojection, kTemporalMeaning, kAtrous),
+    restartsHistory(GI_BOOL("atrous.temporal", atrous.temporalReprojection, kTemporalMeaning, kAtrous)),
 
     GI_SETTING("aaf.mu", aaf.mu, "", "filter scale mu (> 1 narrows filters and raises sample counts)", Float, 0, 16, true,
                kAaf),
@@ -109,7 +116,7 @@ const SettingInfo kSettings[] = {
                false, kSspsf),
     GI_SETTING("sspsf.normal_limit", sspsf.normalLimitDegrees, "degrees", "normal rejection angle", Float, 0, 180, false,
                kSspsf),
-    GI_BOOL("sspsf.temporal", sspsf.temporalReprojection, kTemporalMeaning, kSspsf),
+    restartsHistory(GI_BOOL("sspsf.temporal", sspsf.temporalReprojection, kTemporalMeaning, kSspsf)),
 
     GI_SETTING("temporal.min_blend", temporal.minBlend, "", "smallest weight of the new frame (history about 2/x - 1 frames)",
                Float, 0, 1, true, kTemporal),
@@ -123,14 +130,14 @@ const SettingInfo kSettings[] = {
     GI_SETTING("temporal.history_clamp", temporal.historyClamp, "standard deviations",
                "the reprojected history stays within this many local sigma of this frame's samples (0 = off)", Float,
                0, 10, false, kTemporal | kSvgf),
-    GI_BOOL("temporal.gradients", temporal.gradients,
+    restartsHistory(GI_BOOL("temporal.gradients", temporal.gradients,
             "A-SVGF temporal gradients: drop history where a re-traced sample says the light changed",
-            (kTemporal & ~kHash) | kSvgf),
+            (kTemporal & ~kHash) | kSvgf)),
 
     GI_CHOICE("lights.sampler", lights.sampler,
               "NEE's light sampler: 0 the scene's, 1 every light, 2 one by power, 3 the tree's cut", 3, kEvery),
-    GI_BOOL("reservoirs.enabled", reservoirs.enabled,
-            "resample the primary hits' picked point and spot lights through reservoirs (ReSTIR DI)", kEvery),
+    restartsHistory(GI_BOOL("reservoirs.enabled", reservoirs.enabled,
+            "resample the primary hits' picked point and spot lights through reservoirs (ReSTIR DI)", kEvery)),
     GI_SETTING("reservoirs.candidates", reservoirs.candidates, "lights", "lights drawn per pixel and frame", Uint, 1, 64,
                false, kEvery),
     GI_BOOL("reservoirs.temporal", reservoirs.temporal, "merge last frame's reservoir through the motion vectors", kEvery),
@@ -193,12 +200,12 @@ const SettingInfo kSettings[] = {
                Uint, 2, 16, false, kAnhpsf),
     GI_SETTING("hpsf.secondary_width", hpsf.secondaryWidthScale, "", "cells after the first vertex are this much wider",
                Float, 1, 16, false, kNhpsf | kAnhpsf),
-    GI_BOOL("hpsf.temporal", hpsf.temporalDirect, "blend in last frame's direct light, reprojected (the map holds the indirect)",
-            kHash),
-    GI_BOOL("hpsf.temporal_indirect", hpsf.temporalIndirect,
+    restartsHistory(GI_BOOL("hpsf.temporal", hpsf.temporalDirect, "blend in last frame's direct light, reprojected (the map holds the indirect)",
+            kHash)),
+    restartsHistory(GI_BOOL("hpsf.temporal_indirect", hpsf.temporalIndirect,
             "with hpsf.temporal: accumulate the pixels' own indirect samples and hold the map's light near them "
             "(temporal.filter_clamp)",
-            kHash),
+            kHash)),
 };
 
 #undef GI_SETTING

@@ -6,6 +6,21 @@
 #include "module.h"
 
 namespace gi {
+namespace {
+
+// The median pixel's history length from the temporal pass's histogram (0 where it did not run).
+uint32_t medianHistoryFrames(const gpu::GiCounters& c) {
+  uint64_t total = 0;
+  for (uint32_t count : c.historyFrames) total += count;
+  uint64_t below = 0;
+  for (uint32_t bin = 0; bin < gpu::GI_HISTORY_BINS; ++bin) {
+    below += c.historyFrames[bin];
+    if (total > 0 && 2 * below >= total) return bin;
+  }
+  return 0;
+}
+
+}  // namespace
 
 bool readFrameStats(Module& m, uint32_t slot, FrameStats& st) {
   const FrameSlot& fs = m.slots[slot];
@@ -32,7 +47,7 @@ bool readFrameStats(Module& m, uint32_t slot, FrameStats& st) {
   st.raysTraced = c.raysTraced;
   st.sanitized = c.sanitized;
   st.boundsViolations = c.boundsViolations;
-  st.accumulatedFrames = fs.history;
+  st.accumulatedFrames = std::max(fs.history, medianHistoryFrames(c));
   st.samplesPerPixel = fs.spp;
   const uint32_t pixels = m.width * m.height;
   if (c.tracedSamples > 0 && pixels > 0) st.samplesPerPixel = (c.tracedSamples + pixels / 2) / pixels;  // AAF: mean

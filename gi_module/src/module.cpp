@@ -468,8 +468,13 @@ Error setSettings(Module* m, const Settings& settings) {
   }
   if (newSized) replaceSized(*m, sized);
   if (newHash || (!usesHashGrid(settings.method) && m->hash.capacity)) replaceHashGrid(*m, hash);  // none: freed
+  // Only a change that makes the accumulated light wrong restarts it: another method, new images, or a
+  // setting the catalogue marks (SettingInfo::restartsHistory). The budget's sample counts keep it.
+  bool restart = newSized || settings.method != m->settings.method;
+  for (const SettingInfo& info : settingCatalogue())
+    restart = restart || (info.restartsHistory && info.get(settings) != info.get(m->settings));
   m->settings = settings;
-  dropHistory(*m);  // any change invalidates accumulated frames
+  if (restart) dropHistory(*m);
   return {};
 }
 
@@ -556,7 +561,7 @@ Error resize(Module* m, uint32_t width, uint32_t height) {
 void invalidate(Module* m, Invalidate what) {
   dropHistory(*m);
   if (what == Invalidate::All) m->hash.cleared = false;  // re-zeroed at the start of the next frame
-  else m->hash.forgetLight = true;  // geometry stands: cells, probes and continued paths stay, their light goes
+  else if (what == Invalidate::LightsChanged) m->hash.forgetLight = true;  // cells, probes and paths stay, their light goes
 }
 
 const Settings& settings(const Module* m) { return m->settings; }

@@ -113,6 +113,14 @@ struct GiFrameConstants {
 };
 GPU_ASSERT_SIZE(GiFrameConstants, 736);
 
+// The temporal pass's history lengths (frames behind a pixel, this one included) are counted in this
+// many bins, the last holding every length from GI_HISTORY_BINS − 1 up: FrameStats::accumulatedFrames is
+// the median's bin.
+GPU_CONST GI_HISTORY_BINS = 64u;
+// Only every GI_HISTORY_ROW_STEP-th row is counted: the median of a sample, at one atomic per subgroup
+// where its lanes agree (a still camera's), so the count costs well under a millisecond at 1080p.
+GPU_CONST GI_HISTORY_ROW_STEP = 8u;
+
 struct GiCounters {
   uint raysTraced;        // added to by every tracing pass
   uint requestedSamples;  // AAF pass 1: Σ n(μ) over pixels
@@ -122,8 +130,9 @@ struct GiCounters {
   uint boundsViolations;  // ModuleDesc::checkBounds: image coordinates outside their image (bounds.glsl)
   uint pad1;
   uint pad2;
+  uint historyFrames[GI_HISTORY_BINS];  // gi_temporal.comp: covered pixels of the counted rows by history length
 };
-GPU_ASSERT_SIZE(GiCounters, 32);
+GPU_ASSERT_SIZE(GiCounters, 32 + 4 * 64);
 
 // The reservoir passes (gi_reservoirs.comp): GI_RESERVOIR_TEMPORAL draws the candidates and merges last
 // frame's reservoir through the motion vectors (last frame's set → this frame's); GI_RESERVOIR_SPATIAL

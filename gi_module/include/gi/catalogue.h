@@ -32,6 +32,10 @@ struct SettingInfo {
   uint32_t methods;     // bit (1 << Method) per method that reads it; 0 = every method
   double (*get)(const Settings&);
   void (*set)(Settings&, double);  // stores the value as the field's type (no range check: validate does)
+  // A change makes the accumulated light wrong (its expectation changes, or it turns on a history that was
+  // not kept while off): setSettings restarts the histories. Any other change keeps them (the ray budget,
+  // sample counts, filter widths, the debug view, ...).
+  bool restartsHistory = false;
   bool usedBy(Method m) const { return methods == 0 || (methods >> uint32_t(m)) & 1u; }
 };
 std::span<const SettingInfo> settingCatalogue();

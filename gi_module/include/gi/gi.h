@@ -255,7 +255,9 @@ struct FrameStats {
   std::vector<PassTiming> passes;   // GPU time per pass, in recording order
   double totalMs = 0.0;
   uint64_t raysTraced = 0;
-  uint32_t accumulatedFrames = 0;   // temporal history length behind the output
+  uint32_t accumulatedFrames = 0;   // frames of history behind the median pixel, this one included: raw's running
+                                    // mean, or the temporal passes' per-pixel history (63 reads "63 or more"); 0
+                                    // where the method keeps none (aaf, a hash method's indirect light)
   uint32_t samplesPerPixel = 0;     // paths per pixel actually traced (after the ray budget; AAF: the mean)
   uint32_t sanitized = 0;           // non-finite G-buffer pixels and path samples dropped (treated as background)
   uint32_t boundsViolations = 0;    // ModuleDesc::checkBounds: accesses outside a buffer or image (0 unless a bug)
@@ -333,8 +335,12 @@ Error setScene(Module* module, const SceneDesc& scene);
 // the map keeps its cells, their probes and the continued paths, and every
 // cell's mean restarts from the next frame's samples (that frame's paths still
 // read the old light at their far ends; it washes out within a few frames).
+// History: the screen-space histories alone restart (temporal reprojection,
+// raw's running mean, svgf's, the reservoirs), the hash map keeps its light:
+// a cut in the engine's camera. setSettings restarts them only for the changes
+// that make them wrong (SettingInfo::restartsHistory, a new method).
 // Takes effect in the next recordFrame.
-enum class Invalidate : uint32_t { All, LightsChanged };
+enum class Invalidate : uint32_t { All, LightsChanged, History };
 void invalidate(Module* module, Invalidate what);
 // A new render size: the module's images and filters start over at that
 // size; within ModuleDesc::maxWidth × maxHeight the hash map keeps its cells
