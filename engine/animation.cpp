@@ -95,6 +95,11 @@ void animateScene(const SceneAnimation& a, float seconds, Scene& scene) {
   }
 }
 
+void markAnimatedInstancesMovable(const SceneAnimation& animation, Scene& scene) {
+  for (int instance : {animation.lightInstance, animation.objectInstance})
+    if (instance >= 0 && size_t(instance) < scene.instances.size()) scene.instances[size_t(instance)].movable = true;
+}
+
 void poseScene(const Context& ctx, const SceneAnimation& animation, float seconds, Scene& scene, SceneGpu& gpu) {
   animateScene(animation, seconds, scene);
   submitAndWait(ctx, [&](VkCommandBuffer cmd) { recordSceneTransformUpdate(ctx, cmd, scene, gpu); });

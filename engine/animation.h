@@ -27,10 +27,14 @@ struct SceneAnimation {
 
 // Picks what moves; an animation with nothing to move (no light, no object) is valid and does nothing.
 SceneAnimation makeSceneAnimation(const Scene& scene);
+// Declares the instances the animation moves `movable` (before createSceneGpu), as an engine declares its
+// dynamic objects: their moves are then recorded updates that frames in flight never wait for (an
+// instance that was not movable makes its first move rebuild the BVH's levels with the GPU idle).
+void markAnimatedInstancesMovable(const SceneAnimation& animation, Scene& scene);
 // Sets the moving light and object to their pose at `seconds` (periodic).
 // Upload with recordSceneTransformUpdate.
 void animateScene(const SceneAnimation& animation, float seconds, Scene& scene);
-// animateScene, then uploads the pose and rebuilds the TLAS; waits. The GPU must be idle.
+// animateScene, then uploads the pose and rebuilds the TLAS in a submission of its own; waits.
 void poseScene(const Context& ctx, const SceneAnimation& animation, float seconds, Scene& scene, SceneGpu& gpu);
 // poseScene for a jump: the pose is uploaded twice, so the instances' previous transforms (what
 // the motion vectors come from) are this pose too; a jump has no motion, and without this every

@@ -187,6 +187,17 @@ bool createContext(const ContextDesc& desc, Context& ctx, std::string& error) {
     messengerInfo.pUserData = ctx.validation.get();
     instanceInfo.pNext = &messengerInfo;  // also catches messages from vkCreateInstance itself
   }
+  const VkValidationFeatureEnableEXT syncChecks = VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT;
+  VkValidationFeaturesEXT features{VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT};
+  if (desc.validation && desc.synchronizationValidation) {
+    extensions.push_back(VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME);  // the validation layer's own
+    instanceInfo.enabledExtensionCount = uint32_t(extensions.size());
+    instanceInfo.ppEnabledExtensionNames = extensions.data();
+    features.enabledValidationFeatureCount = 1;
+    features.pEnabledValidationFeatures = &syncChecks;
+    features.pNext = instanceInfo.pNext;
+    instanceInfo.pNext = &features;
+  }
   VkResult r = vkCreateInstance(&instanceInfo, nullptr, &ctx.instance);
   if (r != VK_SUCCESS) {
     error = std::string("vkCreateInstance failed (") + vkResultName(r) + "); is a Vulkan 1.3 driver installed?";

@@ -25,6 +25,8 @@ bool parseTraversal(const std::string& name, Traversal& out);
 struct ContextDesc {
   Traversal traversal = Traversal::Auto;        // env GI_TRAVERSAL (auto|rayquery|compute) overrides
   bool validation = false;                      // Khronos validation layer + message counting
+  bool synchronizationValidation = false;       // with validation: its synchronization checks too (hazards between
+                                                // commands, frames in flight included; VK_EXT_validation_features)
   std::vector<const char*> instanceExtensions;  // e.g. from glfwGetRequiredInstanceExtensions
   bool swapchain = false;                       // enable VK_KHR_swapchain on the device
   std::string deviceNameFilter;                 // substring match; empty = best device (env GI_DEVICE overrides)

@@ -1,20 +1,22 @@
 // Frames in flight: a command buffer and a fence per slot, frame N in slot
-// N mod kFramesInFlight. Waiting on a slot waits for the frame recorded
-// kFramesInFlight frames earlier; the window, the headless demo and the
+// N mod count. Waiting on a slot waits for the frame recorded count frames
+// earlier; the window, the headless demo and the
 // embedding example all record this way.
 #pragma once
 #include "context.h"
 
 namespace engine {
 
-inline constexpr uint32_t kFramesInFlight = 2;
+inline constexpr uint32_t kFramesInFlight = 2;     // the window's and the demo's
+inline constexpr uint32_t kMaxFramesInFlight = 4;  // gi::ModuleDesc::framesInFlight's range
 
 struct FrameSlots {
-  VkCommandBuffer cmd[kFramesInFlight] = {};
-  VkFence done[kFramesInFlight] = {};
+  VkCommandBuffer cmd[kMaxFramesInFlight] = {};
+  VkFence done[kMaxFramesInFlight] = {};
+  uint32_t count = 0;  // slots, [1, kMaxFramesInFlight]
 };
 
-FrameSlots createFrameSlots(const Context& ctx);
+FrameSlots createFrameSlots(const Context& ctx, uint32_t count = kFramesInFlight);
 void destroyFrameSlots(const Context& ctx, FrameSlots& slots);
 // Waits for the frame that last used frame `frame`'s slot.
 void waitFrameSlot(const Context& ctx, const FrameSlots& slots, uint32_t frame);
@@ -24,7 +26,5 @@ VkCommandBuffer beginFrameSlot(const Context& ctx, FrameSlots& slots, uint32_t f
 // waiting on and signalling semaphores (a swapchain's).
 void submitFrameSlot(const Context& ctx, FrameSlots& slots, uint32_t frame, VkSemaphore wait = VK_NULL_HANDLE,
                      VkPipelineStageFlags waitStage = 0, VkSemaphore signal = VK_NULL_HANDLE);
-// Waits for every slot but `frame`'s (being recorded): before host writes that frames in flight read.
-void waitOtherFrameSlots(const Context& ctx, const FrameSlots& slots, uint32_t frame);
 
 }  // namespace engine

@@ -145,7 +145,7 @@ void createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu) {
 void recordSceneTransformUpdate(const Context& ctx, VkCommandBuffer cmd, const Scene& scene, SceneGpu& gpu) {
   (void)ctx;
   throwIf(gi::updateInstances(gpu.scene, cmd, instanceDescs(scene)));
-  throwIf(gi::updateLights(gpu.scene, lightDescs(scene)));
+  throwIf(gi::updateLights(gpu.scene, cmd, lightDescs(scene)));
 }
 
 void destroySceneGpu(const Context& ctx, SceneGpu& gpu) {

@@ -43,9 +43,8 @@ void createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu);
 void destroySceneGpu(const Context& ctx, SceneGpu& gpu);
 
 // For moving instances and lights: hands the module `scene`'s transforms and
-// punctual lights (gi::updateInstances, gi::updateLights), which records the
-// TLAS rebuild into `cmd`. The caller must ensure the previous frame's GPU
-// work has finished (the tables are host-written).
+// punctual lights (gi::updateInstances, gi::updateLights), which record the
+// tables' writes and the TLAS rebuild into `cmd`: frames in flight keep theirs.
 void recordSceneTransformUpdate(const Context& ctx, VkCommandBuffer cmd, const Scene& scene, SceneGpu& gpu);
 
 }  // namespace engine

@@ -166,6 +166,5 @@ void endWindowFrame(const Context& ctx, Window& w, uint32_t imageIndex, VkImage 
   }
 }
 
-void waitForSubmittedFrames(const Context& ctx, const Window& w) { waitOtherFrameSlots(ctx, w.slots, w.frames); }
 
 }  // namespace engine

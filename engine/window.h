@@ -39,8 +39,5 @@ bool beginWindowFrame(const Context& ctx, Window& window, uint32_t& imageIndex);
 // Blits `source` (GENERAL layout, any colour format) scaled to the swapchain
 // image, submits the frame's command buffer and presents.
 void endWindowFrame(const Context& ctx, Window& window, uint32_t imageIndex, VkImage source, VkExtent2D sourceExtent);
-// Waits until every submitted frame has completed (before host writes that
-// frames in flight read). Call between beginWindowFrame and endWindowFrame.
-void waitForSubmittedFrames(const Context& ctx, const Window& window);
 
 }  // namespace engine

@@ -15,7 +15,7 @@ bool openFrameLog(FrameLog& log, const std::string& path, std::string& error) {
 }
 
 void writeFrameRow(FrameLog& log, uint32_t frame, double seconds, double cpuMs, double gbufferMs, const gi::FrameStats& stats,
-                   const std::string& method, bool readying) {
+                   const FrameFacts& facts) {
   std::map<std::string, double> passMs;
   for (const gi::PassTiming& p : stats.passes) {
     if (!passMs.count(p.name) && log.rows == 0) log.passColumns.push_back(p.name);
@@ -24,7 +24,8 @@ void writeFrameRow(FrameLog& log, uint32_t frame, double seconds, double cpuMs, 
   if (log.rows == 0) {
     log.file << "frame,seconds,cpu_ms,gbuffer_ms,module_ms,rays,spp";
     for (const std::string& name : log.passColumns) log.file << ',' << name << "_ms";
-    log.file << ",other_ms,memory_bytes,hash_capacity,hash_occupied,hash_failed_inserts,history_frames,method,readying\n";
+    log.file << ",other_ms,memory_bytes,hash_capacity,hash_occupied,hash_failed_inserts,history_frames,method,readying"
+                ",fence_waits,idle_waits,creations,module_allocations\n";
   }
   // Passes that were not in the first frame (the method changed) go to other_ms.
   double other = 0.0;
@@ -34,7 +35,9 @@ void writeFrameRow(FrameLog& log, uint32_t frame, double seconds, double cpuMs, 
            << ',' << stats.samplesPerPixel;
   for (const std::string& name : log.passColumns) log.file << ',' << (passMs.count(name) ? passMs[name] : 0.0);
   log.file << ',' << other << ',' << stats.memoryBytes << ',' << stats.hash.capacity << ',' << stats.hash.occupied << ','
-           << stats.hash.failedInserts << ',' << stats.accumulatedFrames << ',' << method << ',' << (readying ? 1 : 0) << '\n';
+           << stats.hash.failedInserts << ',' << stats.accumulatedFrames << ',' << facts.method << ','
+           << (facts.readying ? 1 : 0) << ',' << facts.calls.fenceWaits << ',' << facts.calls.idleWaits << ','
+           << facts.calls.creations << ',' << stats.deviceAllocations << '\n';
   log.file.flush();
   ++log.rows;
 }

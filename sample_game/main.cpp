@@ -29,6 +29,7 @@
 #include "scene_gpu.h"
 #include "scene_loading.h"
 #include "settings_keys.h"
+#include "vulkan_call_counts.h"
 #include "window.h"
 
 namespace fs = std::filesystem;
@@ -55,6 +56,7 @@ const cli::Option kOptions[] = {
     {"switch-at", "N:METHOD", "at frame N pick METHOD as the overlay would (its programs readied off the frame)"},
     {"switch-in-frame", nullptr, "switch methods at once, their programs compiled in the frame (for comparison)"},
     {"validation", nullptr, "enable Vulkan validation (exit status 3 if it reports anything)"},
+    {"sync-validation", nullptr, "validation with its synchronization checks (hazards between commands and frames)"},
     cli::kTraversalOption,
     cli::kSkyOption,
     cli::kLightSamplerOption,
@@ -73,7 +75,7 @@ struct Options {
   engine::Sky sky;  // --sky; black by default
   uint32_t lightSampler = 2, lightTreeCut = 4;  // --light-sampler (gpu::LIGHT_SAMPLER_TREE), --light-tree-cut
   bool help = false;
-  bool headless = false, animate = true, walkthrough = true, validation = false;
+  bool headless = false, animate = true, walkthrough = true, validation = false, syncValidation = false;
   uint32_t switchAt = UINT32_MAX;  // --switch-at: the frame, and the method then
   gi::Method switchTo = gi::Method::Svgf;
   bool switchInFrame = false;
@@ -117,7 +119,8 @@ bool parseOptions(int argc, char** argv, Options& o, std::string& error) {
   o.headless = args.has("headless") || std::getenv("DISPLAY") == nullptr || *std::getenv("DISPLAY") == '\0';
   o.animate = !args.has("no-animation") && !args.has("still");
   o.walkthrough = !args.has("still");
-  o.validation = args.has("validation") || std::getenv("GI_VALIDATION") != nullptr;
+  o.syncValidation = args.has("sync-validation");
+  o.validation = args.has("validation") || o.syncValidation || std::getenv("GI_VALIDATION") != nullptr;
   o.switchInFrame = args.has("switch-in-frame");
   if (args.has("switch-at")) {
     const std::string& v = args.values["switch-at"];
@@ -197,6 +200,7 @@ int main(int argc, char** argv) {
   }
   engine::ContextDesc contextDesc;
   contextDesc.validation = o.validation;
+  contextDesc.synchronizationValidation = o.syncValidation;
   contextDesc.traversal = o.traversal;
   if (!o.headless) {
     if (engine::windowInstanceExtensions(contextDesc.instanceExtensions, error)) contextDesc.swapchain = true;
@@ -218,6 +222,8 @@ int main(int argc, char** argv) {
   scene.sky = o.sky;
   scene.lightSampler = o.lightSampler;
   scene.lightTreeCut = o.lightTreeCut;
+  const engine::SceneAnimation animation = engine::makeSceneAnimation(scene);
+  engine::markAnimatedInstancesMovable(animation, scene);  // the overlay may start the animation at any time
   engine::createSceneGpu(ctx, scene, sceneGpu);
   tools::ModuleSession session;
   if (!tools::createModuleSession(ctx, sceneGpu, {o.width, o.height}, o.settings, session, error)) {
@@ -251,7 +257,6 @@ int main(int argc, char** argv) {
   const float extent = scene.worldBounds().extent();
   demo::Walkthrough path{demo::freeCameraFrom(scene.cameras[0]), extent};
   demo::FreeCamera freeCamera = path.start;
-  engine::SceneAnimation animation = engine::makeSceneAnimation(scene);
   gi::Settings settings = o.settings, applied = o.settings;  // what the panel edits, what the module runs
 
   // Settings whose programs are not ready are readied off the frame first (program_readiness.h).
@@ -276,8 +281,7 @@ int main(int argc, char** argv) {
       applied = wanted;
     }
   };
-  std::string methodOfFrame[engine::kFramesInFlight];  // what each frame in flight ran, for its CSV row
-  bool readyingOfFrame[engine::kFramesInFlight] = {};
+  demo::FrameFacts factsOfFrame[engine::kFramesInFlight];  // what each frame in flight ran, for its CSV row
 
   demo::FrameLog log;
   bool logging = o.headless || o.benchmark > 0;
@@ -304,8 +308,7 @@ int main(int argc, char** argv) {
     for (const engine::PassTime& p : engine::readPassTimes(ctx, tools::gbufferTimer(session, completed))) gbufferMs += p.ms;
     demo::recordFrameNumbers(ui, stats, gbufferMs, cpuMs);
     if (logging)
-      demo::writeFrameRow(log, completed, lastSeconds, cpuMs, gbufferMs, stats,
-                          methodOfFrame[completed % engine::kFramesInFlight], readyingOfFrame[completed % engine::kFramesInFlight]);
+      demo::writeFrameRow(log, completed, lastSeconds, cpuMs, gbufferMs, stats, factsOfFrame[completed % engine::kFramesInFlight]);
     moduleMsSum += stats.totalMs;
     ++measured;
     return stats;
@@ -319,7 +322,9 @@ int main(int argc, char** argv) {
     return saveDisplay(ctx, displays[completed % framesInFlight], o.out / name, false);
   };
 
+  engine::startCountingVulkanCalls();
   for (; o.frames == 0 || frame < o.frames; ++frame) {
+    const engine::VulkanCallCounts callsBefore = engine::vulkanCallCounts();
     uint32_t image = 0;
     VkCommandBuffer frameCmd = VK_NULL_HANDLE;
     if (!o.headless) {
@@ -385,8 +390,8 @@ int main(int argc, char** argv) {
       apply(settings);
     }
     if (demo::buildOverlay(ui, settings, shown)) apply(settings);
-    methodOfFrame[frame % engine::kFramesInFlight] = gi::methodName(applied.method);
-    readyingOfFrame[frame % engine::kFramesInFlight] = readiness.busy;
+    factsOfFrame[frame % engine::kFramesInFlight].method = gi::methodName(applied.method);
+    factsOfFrame[frame % engine::kFramesInFlight].readying = readiness.busy;
     if (ui.screenshotRequested) {
       screenshotPending = true;
       ui.screenshotRequested = false;
@@ -395,9 +400,7 @@ int main(int argc, char** argv) {
 
     auto record = [&](VkCommandBuffer cmd) {
       if (ui.animate) {
-        // Scene updates are host writes into buffers the frame in flight reads: let it finish first.
-        if (o.headless) engine::waitOtherFrameSlots(ctx, headless, frame);
-        else engine::waitForSubmittedFrames(ctx, window);
+        // The scene's tables are written in this frame's command buffer: the frame in flight keeps its own.
         engine::animateScene(animation, seconds, scene);
         engine::recordSceneTransformUpdate(ctx, cmd, scene, sceneGpu);
         if (ui.tellModuleLightsMoved) gi::invalidate(session.module, gi::Invalidate::LightsChanged);
@@ -423,6 +426,7 @@ int main(int argc, char** argv) {
     }
     previousCamera = camera;
     lastSeconds = seconds;
+    factsOfFrame[frame % engine::kFramesInFlight].calls = engine::vulkanCallCounts() - callsBefore;
   }
 
   joinReadying(readiness);

@@ -109,6 +109,26 @@ TEST(SampleGame, BudgetModeKeepsTheHistory) {
   EXPECT_GE(history[0], 16u);
 }
 
+// The demo's animated frames (the light and block move every frame, gi::updateInstances and
+// gi::updateLights recorded into each frame's command buffer) under synchronization validation: from the
+// third frame on each waits on one fence (its slot's), waits for no idle queue or device, creates and
+// allocates nothing, and the module's device allocations stay as they are.
+TEST(SampleGame, AnimatedFramesWaitOnOneFenceAndCreateNothing) {
+  fs::path out = fs::temp_directory_path() / "gi_sample_game_in_flight";
+  fs::remove_all(out);
+  std::string output;
+  int rc = runGame("--size 64x36 --window-size 320x180 --benchmark 100 --sync-validation --out " + out.string(), output);
+  ASSERT_EQ(rc, 0) << output;  // 3: validation reported something
+  const auto rows = csvRows(out / "benchmark.csv");
+  ASSERT_EQ(rows.size(), 100u);
+  for (size_t f = 2; f < rows.size(); ++f) {
+    EXPECT_LE(std::stoi(rows[f].at("fence_waits")), 1) << "frame " << f;
+    EXPECT_EQ(rows[f].at("idle_waits"), "0") << "frame " << f;
+    EXPECT_EQ(rows[f].at("creations"), "0") << "frame " << f;
+    EXPECT_EQ(rows[f].at("module_allocations"), rows[2].at("module_allocations")) << "frame " << f;
+  }
+}
+
 // A bad scene file: exit status 1 (no crash), one line naming the file and what is wrong with it.
 TEST(SampleGame, AMalformedSceneIsNamedInTheError) {
   const std::pair<const char*, const char*> cases[] = {

@@ -54,11 +54,11 @@ TEST_F(SceneApiTest, GoodContentsBuildAndBadOnesAreNamedErrors) {
     otherMesh.mesh = 1;
     engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { e = gi::updateInstances(scene, cmd, std::span(&otherMesh, 1)); });
     EXPECT_NE(e.message.find("instances[0].mesh"), std::string::npos) << e.message;
-    e = gi::updateLights(scene, {});
+    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { e = gi::updateLights(scene, cmd, {}); });
     EXPECT_NE(e.message.find("0 lights given, the scene has 1"), std::string::npos) << e.message;
     gi::LightDesc bad = q.light;
     bad.intensity[1] = NAN;
-    e = gi::updateLights(scene, std::span(&bad, 1));
+    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { e = gi::updateLights(scene, cmd, std::span(&bad, 1)); });
     EXPECT_NE(e.message.find("lights[0]: intensity"), std::string::npos) << e.message;
     gi::destroyScene(scene);
   }

@@ -141,11 +141,12 @@ int main(int argc, char** argv) {
   }
   engine::SceneGpu sceneGpu;
   scene.sky = std::move(sky);
-  engine::createSceneGpu(ctx, scene, sceneGpu);
-  gpu::GpuCamera camera = engine::makeGpuCamera(scene.cameras[cameraIndex], width, height, nullptr);
   // --animate: the scene's pose for frame f, uploaded before the frame is recorded.
   const bool animate = args.has("animate");
-  engine::SceneAnimation animation = engine::makeSceneAnimation(scene);
+  const engine::SceneAnimation animation = engine::makeSceneAnimation(scene);
+  if (animate) engine::markAnimatedInstancesMovable(animation, scene);
+  engine::createSceneGpu(ctx, scene, sceneGpu);
+  gpu::GpuCamera camera = engine::makeGpuCamera(scene.cameras[cameraIndex], width, height, nullptr);
   auto poseFor = [&](uint32_t f) {
     if (!animate) return;
     engine::poseScene(ctx, animation, float(f) / 30.0f, scene, sceneGpu);
@@ -197,7 +198,6 @@ int main(int argc, char** argv) {
         if (engine::windowShouldClose(window)) break;
         if (!engine::beginWindowFrame(ctx, window, image)) continue;
         if (animate) {
-          engine::waitForSubmittedFrames(ctx, window);  // the scene's buffers are host-written
           engine::animateScene(animation, float(f) / 30.0f, scene);
           engine::recordSceneTransformUpdate(ctx, window.cmd, scene, sceneGpu);
         }

@@ -39,15 +39,17 @@ gi::ModuleDesc moduleDesc(const engine::Context& ctx, const engine::SceneGpu& sc
 
 bool createModuleSession(const engine::Context& ctx, const engine::SceneGpu& scene, VkExtent2D extent,
                          const gi::Settings& settings, ModuleSession& s, std::string& error, const gi::ModuleDesc* desc) {
-  if (gi::Error e = gi::create(desc ? *desc : moduleDesc(ctx, scene, extent), settings, s.module)) {
+  const gi::ModuleDesc created = desc ? *desc : moduleDesc(ctx, scene, extent);
+  if (gi::Error e = gi::create(created, settings, s.module)) {
     error = e.message;
     return false;
   }
+  s.framesInFlight = created.framesInFlight;
   s.extent = extent;
   s.preExposure = 1.0f / scene.desc.typicalRadiance;
   s.gbuffer = engine::createGBuffer(ctx, extent);
   s.gbufferPass = engine::createGBufferPass(ctx, scene);
-  for (engine::GpuTimer& t : s.timers) t = engine::createGpuTimer(ctx, 4);
+  for (uint32_t slot = 0; slot < s.framesInFlight; ++slot) s.timers[slot] = engine::createGpuTimer(ctx, 4);
   return true;
 }
 
@@ -98,7 +100,7 @@ bool resizeModuleSession(const engine::Context& ctx, ModuleSession& s, VkExtent2
 void recordModuleFrame(const engine::Context& ctx, VkCommandBuffer cmd, ModuleSession& s, const engine::Scene& scene,
                        const engine::SceneGpu& sceneGpu, const gpu::GpuCamera& camera, const gpu::GpuCamera& previousCamera,
                        uint32_t frameIndex) {
-  engine::GpuTimer& timer = s.timers[frameIndex % 2];
+  engine::GpuTimer& timer = s.timers[frameIndex % s.framesInFlight];
   engine::resetGpuTimer(ctx, timer);
   gi::FrameInputs in;
   in.gbuffer = gbufferViews(s.gbuffer);

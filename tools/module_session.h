@@ -16,8 +16,9 @@ struct ModuleSession {
   engine::GBuffer gbuffer;
   engine::GBufferPass gbufferPass;
   // The G-buffer pass's timestamps, one timer per frame in flight (frame
-  // index mod 2); the module times its own passes.
-  engine::GpuTimer timers[2];
+  // index mod framesInFlight, the module's); the module times its own passes.
+  engine::GpuTimer timers[4];
+  uint32_t framesInFlight = 2;
   gi::Module* module = nullptr;
   VkExtent2D extent{};
   // FrameInputs::preExposure: 1 / the scene's typical radiance, so lit
@@ -61,14 +62,16 @@ std::vector<ProgramWarmup> warmModulePrograms(const engine::Context& ctx, Module
                                               const engine::SceneGpu& sceneGpu, const gpu::GpuCamera& camera);
 
 // Records one frame (G-buffer raster, then the module) into `cmd`; submits
-// nothing. The frame recorded two before it must have completed.
+// nothing. The frame recorded framesInFlight before it must have completed.
 
 void recordModuleFrame(const engine::Context& ctx, VkCommandBuffer cmd, ModuleSession& session, const engine::Scene& scene,
                        const engine::SceneGpu& sceneGpu, const gpu::GpuCamera& camera, const gpu::GpuCamera& previousCamera,
                        uint32_t frameIndex);
 
 // The G-buffer timer of frame `frameIndex` (read once that frame has completed).
-inline const engine::GpuTimer& gbufferTimer(const ModuleSession& s, uint32_t frameIndex) { return s.timers[frameIndex % 2]; }
+inline const engine::GpuTimer& gbufferTimer(const ModuleSession& s, uint32_t frameIndex) {
+  return s.timers[frameIndex % s.framesInFlight];
+}
 
 // Records and runs one frame; waits for it and returns its GPU timings.
 FrameTiming renderModuleFrame(const engine::Context& ctx, ModuleSession& session, const engine::Scene& scene,

@@ -624,6 +624,19 @@ def history(pairs):
               + " | ".join(by[k]["history_frames"] for k in ks) + " |")
 
 
+def calls(path, first):
+    """The demo's benchmark CSV (scripts/bench frames_in_flight): per frame from FIRST on, the demo's own
+    fence and idle waits and Vulkan creations, and the module's device allocations."""
+    steady = [r for r in rows(path) if int(r["frame"]) >= int(first)]
+    def spread(key):
+        values = [int(r[key]) for r in steady]
+        return f"{min(values)} / {sum(values) / len(values):.2f} / {max(values)}"
+    print("| frames | fence waits a frame (min / mean / max) | idle waits | creations | module device allocations |")
+    print("|---|---|---|---|---|")
+    print(f"| {steady[0]['frame']}–{steady[-1]['frame']} | {spread('fence_waits')} | {spread('idle_waits')} | "
+          f"{spread('creations')} | {spread('module_allocations')} |")
+
+
 def demo(directory):
     print("| configuration | ms/frame | relMSE final | relMSE indirect | relMSE × ms |")
     print("|---|---|---|---|---|")
@@ -702,6 +715,7 @@ KINDS = {
     "speedups": lambda a: speedups(a[0], a[1:]),
     "demo": lambda a: demo(a[0]),
     "history": history,
+    "calls": lambda a: calls(a[0], a[1]),
 }
 
 

@@ -16,7 +16,9 @@
 // (call count mod N). Recording a frame promises that the frame recorded N
 // calls earlier has completed on the GPU (the engine waited on its fence),
 // as an engine with N frames in flight does anyway. All frames are submitted
-// to one queue in recording order.
+// to one queue in recording order. Scene updates (gi/scene.h's
+// updateInstances, updateLights) are recorded into the frame's command
+// buffer too: they never wait for the frames in flight.
 //
 // Barrier contract for gi::recordFrame:
 //  - before: G-buffer images are in VK_IMAGE_LAYOUT_GENERAL (a hardware depth

@@ -206,14 +206,21 @@ void destroyScene(Scene* scene);
 SceneDesc sceneDesc(const Scene* scene);
 
 // New transforms for moving instances, one per instance in createScene's
-// order (same meshes). Rewrites the instance table, the emission CDF, the
-// BVH's top level and records the TLAS rebuild into `cmd`; an instance that
-// was not `movable` costs one rebuild of the BVH's bottom levels. Host-written
-// tables: the caller ensures the frames that read the previous ones have
-// completed. Light cached by gi modules is the engine's to invalidate.
+// order (same meshes). Records into `cmd` the writes of the instance table,
+// the emission CDF and the BVH's top level (vkCmdUpdateBuffer: the data
+// travels in the command buffer) and the TLAS rebuild, with barriers after
+// every earlier command's reads and before every later command: frames in
+// flight keep the tables they were recorded with, and an engine updates every
+// frame without waiting on any fence but the one its frame slot needs (call
+// it once a frame, before the frame's G-buffer and gi::recordFrame in the same
+// or an earlier submission). An instance that was not `movable` costs, on its
+// first move, one rebuild of the BVH's bottom levels into new buffers and a
+// rewrite of set 0: the frames that read set 0 must have completed for that one.
+// Light cached by gi modules is the engine's to invalidate.
 Error updateInstances(Scene* scene, VkCommandBuffer cmd, std::span<const InstanceDesc> instances);
-// New punctual lights, as many as at createScene; same rules as above.
-Error updateLights(Scene* scene, std::span<const LightDesc> lights);
+// New punctual lights, as many as at createScene, written into `cmd` like the
+// tables above (the light tree rebuilt on the CPU).
+Error updateLights(Scene* scene, VkCommandBuffer cmd, std::span<const LightDesc> lights);
 
 struct SceneInfo {
   uint32_t triangles = 0;            // instanced

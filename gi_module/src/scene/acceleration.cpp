@@ -1,6 +1,7 @@
 #include "scene/acceleration.h"
 
 #include <algorithm>
+#include <cstring>
 
 namespace gi {
 namespace {
@@ -129,8 +130,9 @@ vk::Status buildSceneAcceleration(vk::Device& d, VkCommandBuffer cmd, const vk::
   // TLAS: sized once for the instance count; rebuilt in place on every update.
   accel.instanceCount = uint32_t(instances.size());
   GI_TRY(vk::createBuffer(d, std::max<size_t>(1, accel.instanceCount) * sizeof(VkAccelerationStructureInstanceKHR),
-                          VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR | kAddressable, true,
-                          accel.instanceBuffer));
+                          VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR | kAddressable |
+                              VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                          true, accel.instanceBuffer));
   VkAccelerationStructureGeometryKHR g = instancesGeometry(deviceAddress(d, accel.instanceBuffer));
   VkAccelerationStructureBuildGeometryInfoKHR build =
       buildInfo(VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR, std::span(&g, 1));
@@ -140,23 +142,34 @@ vk::Status buildSceneAcceleration(vk::Device& d, VkCommandBuffer cmd, const vk::
   GI_TRY(createAs(d, VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR, sizes.accelerationStructureSize, accel.tlas));
   GI_TRY(vk::createBuffer(d, sizes.buildScratchSize + accel.scratchAlignment,
                           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | kAddressable, false, accel.tlasScratch));
-  recordTlasRebuild(d, cmd, instances, accel);
+  const std::vector<VkAccelerationStructureInstanceKHR> placed = tlasInstances(instances, accel);
+  std::memcpy(accel.instanceBuffer.memory.mapped, placed.data(), placed.size() * sizeof(placed[0]));  // before any frame
+  recordTlasRebuild(d, cmd, accel);
   return {};
 }
 
-void recordTlasRebuild(const vk::Device& d, VkCommandBuffer cmd, std::span<const AccelerationInstance> instances,
-                       SceneAcceleration& accel) {
-  auto* out = static_cast<VkAccelerationStructureInstanceKHR*>(accel.instanceBuffer.memory.mapped);
+std::vector<VkAccelerationStructureInstanceKHR> tlasInstances(std::span<const AccelerationInstance> instances,
+                                                              const SceneAcceleration& accel) {
+  std::vector<VkAccelerationStructureInstanceKHR> out(accel.instanceCount);
   for (uint32_t i = 0; i < accel.instanceCount; ++i) {
-    VkAccelerationStructureInstanceKHR vi{};
+    VkAccelerationStructureInstanceKHR& vi = out[i];
     vi.transform = toVk(instances[i].worldFromObject);
     vi.instanceCustomIndex = instances[i].index;
     vi.mask = 0xff;
     // Surfaces are lit from both sides; only emission is one-sided (decided in the shader).
     vi.flags = VK_GEOMETRY_INSTANCE_TRIANGLE_FACING_CULL_DISABLE_BIT_KHR;
     vi.accelerationStructureReference = accel.blas[instances[i].mesh].address;
-    out[i] = vi;
   }
+  return out;
+}
+
+void writeTlasInstances(const vk::Device& d, VkCommandBuffer cmd, std::span<const AccelerationInstance> instances,
+                        const SceneAcceleration& accel) {
+  const std::vector<VkAccelerationStructureInstanceKHR> placed = tlasInstances(instances, accel);
+  vk::recordBufferWrite(d, cmd, accel.instanceBuffer, placed.data(), placed.size() * sizeof(placed[0]));
+}
+
+void recordTlasRebuild(const vk::Device& d, VkCommandBuffer cmd, SceneAcceleration& accel) {
   VkAccelerationStructureGeometryKHR g = instancesGeometry(deviceAddress(d, accel.instanceBuffer));
   VkAccelerationStructureBuildGeometryInfoKHR build =
       buildInfo(VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR, std::span(&g, 1));

@@ -54,10 +54,16 @@ vk::Status buildSceneAcceleration(vk::Device& device, VkCommandBuffer cmd, const
                                   const vk::Buffer& indices, std::span<const AccelerationMesh> meshes,
                                   std::span<const AccelerationInstance> instances, SceneAcceleration& accel,
                                   vk::Buffer& scratchOut);
-// Writes the instance transforms and records a TLAS rebuild, with barriers
-// before (earlier traces) and after (later ray queries in any shader stage).
-void recordTlasRebuild(const vk::Device& device, VkCommandBuffer cmd, std::span<const AccelerationInstance> instances,
-                       SceneAcceleration& accel);
+// The TLAS's instance records for `instances` (as many as the TLAS was built for).
+std::vector<VkAccelerationStructureInstanceKHR> tlasInstances(std::span<const AccelerationInstance> instances,
+                                                              const SceneAcceleration& accel);
+// Records the write of the instance records into `cmd` (vk::recordBufferWrite: between
+// vk::beginBufferWrites and vk::endBufferWrites), for the rebuild that follows.
+void writeTlasInstances(const vk::Device& device, VkCommandBuffer cmd, std::span<const AccelerationInstance> instances,
+                        const SceneAcceleration& accel);
+// Records a TLAS rebuild from the instance buffer, with barriers before
+// (earlier traces) and after (later ray queries in any shader stage).
+void recordTlasRebuild(const vk::Device& device, VkCommandBuffer cmd, SceneAcceleration& accel);
 void destroySceneAcceleration(vk::Device& device, SceneAcceleration& accel);
 
 }  // namespace gi

@@ -72,19 +72,22 @@ vk::Status upload(Scene& s, VkCommandBuffer cmd, const std::vector<T>& data, VkB
   return {};
 }
 
-// A host-visible buffer of `capacity` elements (at least 16 bytes), holding `data`.
+// A host-visible buffer of `capacity` elements (at least 16 bytes), holding `data`; later writes are
+// recorded into command buffers (writeInCommands).
 template <typename T>
 vk::Status hostBuffer(Scene& s, const std::vector<T>& data, size_t capacity, VkBufferUsageFlags usage, vk::Buffer& out) {
   const size_t size = std::max<size_t>(capacity * sizeof(T), 16);
-  GI_TRY(vk::createBuffer(s.gpu, size, usage, true, out));
+  GI_TRY(vk::createBuffer(s.gpu, size, usage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, true, out));
   std::memset(out.memory.mapped, 0, size);
   if (!data.empty()) std::memcpy(out.memory.mapped, data.data(), std::min(size, data.size() * sizeof(T)));
   return {};
 }
 
+// An update of a table frames in flight may read: recorded into `cmd` (between vk::beginBufferWrites and
+// vk::endBufferWrites), never written by the host.
 template <typename T>
-void writeMapped(vk::Buffer& buffer, const std::vector<T>& data) {
-  if (!data.empty()) std::memcpy(buffer.memory.mapped, data.data(), std::min<size_t>(buffer.size, data.size() * sizeof(T)));
+void writeInCommands(const Scene& s, VkCommandBuffer cmd, const vk::Buffer& buffer, const std::vector<T>& data) {
+  vk::recordBufferWrite(s.gpu, cmd, buffer, data.data(), data.size() * sizeof(T));
 }
 
 // Every array of set 0 is read as a uniform texel buffer (gpu_scene.h): on
@@ -447,7 +450,7 @@ Error updateInstances(Scene* s, VkCommandBuffer cmd, std::span<const InstanceDes
     if (instances[i].mesh != s->instances[i].mesh)
       return sceneError("gi::updateInstances: instances[" + std::to_string(i) + "].mesh changed from " +
                         std::to_string(s->instances[i].mesh) + " to " + std::to_string(instances[i].mesh));
-  if (rayQuery(*s) && !cmd) return {ErrorCode::MissingHandle, "gi::updateInstances: cmd is required (the TLAS is rebuilt)"};
+  if (!cmd) return {ErrorCode::MissingHandle, "gi::updateInstances: cmd is VK_NULL_HANDLE (the tables are written in it)"};
   // Last update's transforms become the previous ones (motion vectors).
   for (size_t i = 0; i < instances.size(); ++i) s->previousTransforms[i] = toMat4(s->instances[i].worldFromObject);
   std::vector<uint8_t> moved(instances.size(), 0);
@@ -461,16 +464,13 @@ Error updateInstances(Scene* s, VkCommandBuffer cmd, std::span<const InstanceDes
     s->instances[i] = instances[i];
     s->instances[i].movable = movable;
   }
-  writeMapped(s->instanceTable, gpuInstances(s->packed, s->instances, s->previousTransforms));
   float totalPower = 0.0f;
   std::vector<gpu::GpuEmissiveTriangle> emissive = emissiveTable(s->packed, s->instances, totalPower);
   // Moving instances keep their triangles; only degenerate scaling could drop entries.
   emissive.resize(std::min<size_t>(emissive.size(), s->emissiveCapacity));
-  writeMapped(s->emissiveTriangles, emissive);
   s->sceneConstants.emissiveTriangleCount = uint32_t(emissive.size());
   s->sceneConstants.emissiveTotalPower = totalPower;
-  std::memcpy(s->constants.memory.mapped, &s->sceneConstants, sizeof(s->sceneConstants));
-  if (mergedMoved) {  // merged as static: taken out once, its level rebuilt (host-visible, no copy)
+  if (mergedMoved) {  // merged as static: taken out once, its level rebuilt (new buffers, set 0 rewritten)
     if (vk::Status st = buildBvhBuffers(*s, VK_NULL_HANDLE, moved)) return vulkanError("gi::updateInstances", st);
     writeBvhDescriptors(*s);
   } else {
@@ -480,31 +480,41 @@ Error updateInstances(Scene* s, VkCommandBuffer cmd, std::span<const InstanceDes
       return {ErrorCode::VulkanCall, std::string("gi::updateInstances: the BVH's top level: ") + e.what(),
               VK_ERROR_INITIALIZATION_FAILED};
     }
-    writeMapped(s->bvhTopNodes, s->bvh.topNodes);
-    writeMapped(s->bvhInstances, s->bvh.topInstances);
   }
-  if (rayQuery(*s)) {
-    recordTlasRebuild(s->gpu, cmd, placedInstances(*s), s->accel);
+  // The tables travel in `cmd`: frames in flight keep reading the previous ones.
+  vk::beginBufferWrites(s->gpu, cmd);
+  writeInCommands(*s, cmd, s->instanceTable, gpuInstances(s->packed, s->instances, s->previousTransforms));
+  writeInCommands(*s, cmd, s->emissiveTriangles, emissive);
+  writeInCommands(*s, cmd, s->constants, std::vector<gpu::GpuSceneConstants>{s->sceneConstants});
+  if (!mergedMoved) {
+    writeInCommands(*s, cmd, s->bvhTopNodes, s->bvh.topNodes);
+    writeInCommands(*s, cmd, s->bvhInstances, s->bvh.topInstances);
   }
+  if (rayQuery(*s)) writeTlasInstances(s->gpu, cmd, placedInstances(*s), s->accel);
+  vk::endBufferWrites(s->gpu, cmd);
+  if (rayQuery(*s)) recordTlasRebuild(s->gpu, cmd, s->accel);
   return {};
 }
 
-Error updateLights(Scene* s, std::span<const LightDesc> lights) {
+Error updateLights(Scene* s, VkCommandBuffer cmd, std::span<const LightDesc> lights) {
   if (!sceneBuilt(s)) return {ErrorCode::MissingHandle, "gi::updateLights: the scene is not built (finishSceneUpload)"};
+  if (!cmd) return {ErrorCode::MissingHandle, "gi::updateLights: cmd is VK_NULL_HANDLE (the tables are written in it)"};
   if (lights.size() != s->lightCount)
     return sceneError("gi::updateLights: " + std::to_string(lights.size()) + " lights given, the scene has " +
                       std::to_string(s->lightCount));
   if (std::string e = checkLights(lights, "lights"); !e.empty()) return sceneError("gi::updateLights: " + e);
   // Updates may turn lights into directional ones and back: the count and the tree follow.
   const LightTable table = lightTable(lights, s->sceneConstants.sceneExtent, s->desc.lightTreeCut);
-  writeMapped(s->punctualLights, lightTableWords(table));
+  vk::beginBufferWrites(s->gpu, cmd);
+  writeInCommands(*s, cmd, s->punctualLights, lightTableWords(table));
   if (table.directionalCount != s->sceneConstants.directionalLightCount ||
       table.cut.size() != s->sceneConstants.lightCutSize) {
     s->sceneConstants.directionalLightCount = table.directionalCount;
     s->sceneConstants.lightCutSize = uint32_t(table.cut.size());
-    writeMapped(s->constants, std::vector<gpu::GpuSceneConstants>{s->sceneConstants});
+    writeInCommands(*s, cmd, s->constants, std::vector<gpu::GpuSceneConstants>{s->sceneConstants});
     setLightFacts(s->sceneConstants, s->facts);  // gi::sceneDesc's from now on
   }
+  vk::endBufferWrites(s->gpu, cmd);
   return {};
 }
 

@@ -1,5 +1,8 @@
 #include "gi/vk/resources.h"
 
+#include <algorithm>
+#include <cstddef>
+
 namespace gi::vk {
 
 Status createBuffer(Device& d, VkDeviceSize size, VkBufferUsageFlags usage, bool hostVisible, Buffer& out) {
@@ -121,6 +124,25 @@ void memoryBarrier(const Device& d, VkCommandBuffer cmd, VkPipelineStageFlags2 s
                    VkPipelineStageFlags2 dstStage, VkAccessFlags2 dstAccess) {
   VkMemoryBarrier2 b = memoryBarrierInfo(srcStage, srcAccess, dstStage, dstAccess);
   recordBarrier(d.fn.vkCmdPipelineBarrier2, cmd, &b, nullptr);
+}
+
+void beginBufferWrites(const Device& d, VkCommandBuffer cmd) {
+  // Earlier reads (shaders, acceleration-structure builds) before the writes: an execution dependency.
+  memoryBarrier(d, cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_TRANSFER_BIT,
+                VK_ACCESS_2_TRANSFER_WRITE_BIT);
+}
+
+void recordBufferWrite(const Device& d, VkCommandBuffer cmd, const Buffer& buffer, const void* data, size_t bytes) {
+  constexpr size_t kMaxUpdate = 65536;  // vkCmdUpdateBuffer's limit per call
+  for (size_t at = 0; at < bytes && at < buffer.size; at += kMaxUpdate) {
+    const size_t n = std::min({kMaxUpdate, bytes - at, size_t(buffer.size) - at});
+    d.fn.vkCmdUpdateBuffer(cmd, buffer.buffer, at, n, static_cast<const std::byte*>(data) + at);
+  }
+}
+
+void endBufferWrites(const Device& d, VkCommandBuffer cmd) {
+  memoryBarrier(d, cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT);
 }
 
 void computeToComputeBarrier(const Device& d, VkCommandBuffer cmd) {

@@ -31,6 +31,7 @@ namespace gi::vk {
   X(vkCmdFillBuffer)               \
   X(vkCmdPipelineBarrier2)         \
   X(vkCmdPushConstants)            \
+  X(vkCmdUpdateBuffer)             \
   X(vkCmdResetQueryPool)           \
   X(vkCmdWriteTimestamp2)          \
   X(vkCreateBuffer)                \

@@ -46,6 +46,14 @@ void imageBarrier(const Device& device, VkCommandBuffer cmd, VkImage image, VkIm
 // Global memory barrier, for buffers and images that keep their layout.
 void memoryBarrier(const Device& device, VkCommandBuffer cmd, VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess,
                    VkPipelineStageFlags2 dstStage, VkAccessFlags2 dstAccess);
+// Writes `bytes` (a multiple of 4) of `data` at the start of `buffer` (usage TRANSFER_DST) by commands in
+// `cmd` (vkCmdUpdateBuffer, 64 KiB at a time): the data travels in the command buffer, so a write never
+// touches memory that a frame in flight reads, and the frames recorded before see the old contents.
+// Between beginBufferWrites and endBufferWrites: the first waits for every earlier command's reads, the
+// second makes the writes visible to every later command.
+void beginBufferWrites(const Device& device, VkCommandBuffer cmd);
+void recordBufferWrite(const Device& device, VkCommandBuffer cmd, const Buffer& buffer, const void* data, size_t bytes);
+void endBufferWrites(const Device& device, VkCommandBuffer cmd);
 // What a compute pass wrote, visible to the next compute pass (read and write).
 void computeToComputeBarrier(const Device& device, VkCommandBuffer cmd);
 
