@@ -12,7 +12,7 @@ namespace engine {
 inline bool loadSceneForRendering(const std::string& path, Scene& scene, std::string& error) {
   if (!loadGltf(path, scene, error)) return false;
   for (const Primitive& prim : scene.primitives)
-    gi::mortonSortTriangles(std::span(scene.positions).subspan(prim.vertexOffset, prim.vertexCount),
+    gi::mortonSortTriangles(std::span(&scene.positions[prim.vertexOffset].x, size_t(prim.vertexCount) * 3),
                             std::span(scene.indices).subspan(prim.firstIndex, prim.indexCount));
   return true;
 }

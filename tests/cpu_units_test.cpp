@@ -9,7 +9,7 @@
 #include "animation.h"
 #include "camera.h"
 #include "image_io.h"
-#include "gi/morton.h"
+#include "scene/morton_order.h"
 #include "shared/gi_filters.h"
 
 TEST(Morton, CodesInterleaveAxesAndOrderPreservesLocality) {

@@ -3,6 +3,7 @@
 // (checked with GPU_ASSERT_SIZE) are the GPU sizes.
 #ifndef GI_GPU_COMMON_H
 #define GI_GPU_COMMON_H
+#include "gpu_macros.h"
 
 #ifdef __cplusplus
 #include <cstdint>
@@ -17,12 +18,6 @@ using uvec4 = glm::uvec4;
 using mat3 = glm::mat3;
 using mat4 = glm::mat4;
 }  // namespace gpu
-#define GPU_NAMESPACE_BEGIN namespace gpu {
-#define GPU_NAMESPACE_END }
-#define GPU_ASSERT_SIZE(T, bytes) static_assert(sizeof(T) == (bytes), #T " must match its GLSL scalar layout")
-#define GPU_CONST inline constexpr uint
-#define GPU_FN inline
-#define GPU_OUT(T) T&  // an out parameter: `out T` in GLSL
 #include <algorithm>
 #include <cmath>
 namespace gpu {
@@ -42,13 +37,6 @@ using glm::cross;
 using glm::dot;
 using glm::normalize;
 }  // namespace gpu
-#else
-#define GPU_NAMESPACE_BEGIN
-#define GPU_NAMESPACE_END
-#define GPU_ASSERT_SIZE(T, bytes)
-#define GPU_CONST const uint
-#define GPU_FN
-#define GPU_OUT(T) out T
 #endif
 
 #endif

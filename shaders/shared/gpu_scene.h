@@ -5,6 +5,7 @@
 #ifndef GI_GPU_SCENE_H
 #define GI_GPU_SCENE_H
 #include "gpu_common.h"
+#include "scene_modes.h"
 #include "light_tree.h"
 
 GPU_NAMESPACE_BEGIN
@@ -34,10 +35,6 @@ GPU_CONST SCENE_BINDING_BVH_INSTANCES = 14;    // GpuBvhInstance[], host-written
 GPU_CONST SCENE_BINDING_SKY_DISTRIBUTION = 15;// R32_SFLOAT: the sky map's sampling tables (sky.glsl); a placeholder without a map
 GPU_CONST SCENE_BINDING_TEXTURES = 16;         // sampler2D[], variable count (must stay the last binding)
 GPU_CONST SCENE_BINDING_COUNT = 17;
-
-// How rays are traced (trace.glsl): the SPIR-V variant a pipeline is built from.
-GPU_CONST TRAVERSAL_RAY_QUERY = 0u;  // VK_KHR_ray_query against the TLAS
-GPU_CONST TRAVERSAL_COMPUTE = 1u;    // our BVH, walked in the shader (GI_TRACE_COMPUTE)
 
 // Specialisation constant ids every scene-reading pipeline receives (0/1 values).
 #define SCENE_SPEC_HAS_EMISSIVE 0
@@ -116,14 +113,6 @@ struct GpuPunctualLight {
   float pad2;
 };
 GPU_ASSERT_SIZE(GpuPunctualLight, 64);
-
-// How next-event estimation treats the punctual lights (gi::SceneCreateDesc::lightSampler).
-GPU_CONST LIGHT_SAMPLER_ALL = 0u;    // a shadow ray to every light at every vertex: exact, cost ∝ lights
-GPU_CONST LIGHT_SAMPLER_POWER = 1u;  // one light a vertex, picked by its power: cost independent of the count
-GPU_CONST LIGHT_SAMPLER_TREE = 2u;   // one light from each subtree of a cut of the tree of the point and spot
-                                     // lights (GpuLightNode), picked down it by power over distance² and the
-                                     // angle to the surface: exact with no more lights than the cut has subtrees
-
 
 struct GpuSceneConstants {
   uint emissiveTriangleCount;

@@ -55,7 +55,7 @@
 
 #include "gi/device.h"
 #include "gi/settings.h"
-#include "shared/gpu_scene.h"
+#include "shared/scene_modes.h"
 
 #define GI_VERSION_MAJOR 0
 #define GI_VERSION_MINOR 8  // 0.8: GBufferDesc::motionScale, motionHasJitter, MotionUnits::Ndc; defaults a host that

@@ -1,6 +1,8 @@
 #include "gi/morton.h"
+#include "scene/morton_order.h"
 
 #include <algorithm>
+#include <limits>
 #include <numeric>
 
 namespace gi {
@@ -47,6 +49,11 @@ void mortonSortTriangles(std::span<const glm::vec3> positions, std::span<uint32_
   for (size_t t = 0; t < triangles; ++t)
     for (size_t k = 0; k < 3; ++k) sorted[3 * t + k] = indices[3 * order[t] + k];
   std::copy(sorted.begin(), sorted.end(), indices.begin());
+}
+
+void mortonSortTriangles(std::span<const float> positionsXyz, std::span<uint32_t> indices) {
+  static_assert(sizeof(glm::vec3) == 3 * sizeof(float), "glm::vec3 is three packed floats");
+  mortonSortTriangles(std::span(reinterpret_cast<const glm::vec3*>(positionsXyz.data()), positionsXyz.size() / 3), indices);
 }
 
 }  // namespace gi

@@ -10,7 +10,7 @@
 
 #include "gi/device.h"
 #include "scene/device_meshes.h"
-#include "gi/morton.h"
+#include "scene/morton_order.h"
 #include "scene/sky_tables.h"
 #include "vulkan_error.h"
 

@@ -5,7 +5,7 @@
 #include <cstring>
 #include <limits>
 
-#include "gi/morton.h"
+#include "scene/morton_order.h"
 #include "scene/sky_tables.h"
 
 namespace gi {
