@@ -28,8 +28,10 @@ vec3 giOctahedralDecode(vec2 e) {  // e in [-1,1]²; not normalised
 // A primary hit's reservoir (reservoirs.glsl) as NEE takes it: the light (x) and its weight W (y, float
 // bits). GI_NO_RESERVOIR: NEE picks the point and spot lights itself (every vertex but a primary hit the
 // reservoir passes resampled); GI_RESERVOIR_EMPTY: the reservoir found none that reaches the pixel.
+// GI_NO_NEE: no next-event estimation at all at this vertex (a primary hit the engine lights itself).
 const uvec2 GI_NO_RESERVOIR = uvec2(0xffffffffu, 0u);
 const uint GI_RESERVOIR_EMPTY = 0xfffffffeu;
-bool giUsesReservoir(uvec2 reservoir) { return reservoir.x != GI_NO_RESERVOIR.x; }
+const uvec2 GI_NO_NEE = uvec2(0xfffffffdu, 0u);
+bool giUsesReservoir(uvec2 reservoir) { return reservoir.x != GI_NO_RESERVOIR.x && reservoir.x != GI_NO_NEE.x; }
 
 #endif

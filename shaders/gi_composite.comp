@@ -1,7 +1,8 @@
 #version 460
 // The module's last pass: the filter clamp (temporal.glsl) on what the method
 // filtered, then direct + diffuse albedo × demodulated indirect, or the debug
-// view the settings pick. AAF adds its glossy receivers' specular term.
+// view the settings pick. AAF adds its glossy receivers' specular term. In the
+// indirect-only mode (gi::Settings::indirectOnly) the direct output is 0.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #include "lights.glsl"
@@ -55,6 +56,11 @@ void main() {
     imageStore(giHistoryPacked, p, uvec4(texel, 0u, 0u));
     giStoreDirect(p, direct);  // the alpha back to 1
   }
+  const bool indirectOnly = giFrame.primaryDirect == GI_PRIMARY_DIRECT_NONE;  // the engine lights the primary hits
+  if (indirectOnly) {
+    direct = vec3(0.0);
+    giStoreDirect(p, direct);
+  }
   const bool clamped = pc.filterClamp > 0.0 && pc.clampLight != 0u && historyFrames >= GI_TRUSTED_HISTORY &&
                        giGbCovered(p) &&
                        ((pc.clampLight & GI_CLAMP_FILTER_VERTICES) == 0u || imageLoad(giNoisyIndirect, p).a > 0.5);
@@ -65,13 +71,13 @@ void main() {
       indirect = giClampLuminance(indirect, indirectSpread, pc.filterClamp);
       giStoreIndirect(p, indirect);
     }
-    if ((pc.clampLight & GI_CLAMP_DIRECT) != 0u) {
+    if ((pc.clampLight & GI_CLAMP_DIRECT) != 0u && !indirectOnly) {
       const vec3 emission = giGbEmission(p), albedo = giDirectAlbedo(p);
       direct = emission + albedo * giClampLuminance((direct - emission) / albedo, directSpread, pc.filterClamp);
       giStoreDirect(p, direct);
     }
   }
-  if (GI_SCENE_HAS_SKY && pc.ambientOcclusion == 0u && !giGbCovered(p)) {
+  if (GI_SCENE_HAS_SKY && pc.ambientOcclusion == 0u && !indirectOnly && !giGbCovered(p)) {
     // The background is the sky seen through the pixel's centre: the direct output holds it too.
     direct = giSkyRadiance(giCameraRayDirection(giFrame.camera, vec2(p) + 0.5));
     giStoreDirect(p, direct);

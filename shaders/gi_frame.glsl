@@ -59,8 +59,12 @@ GI_COUNT_TEXELS_OUTSIDE_INTO(giCounters.boundsViolations)
 
 uint giLightSampler() { return giFrame.lightSampler; }
 
-// The pixel's reservoir for its primary hit's NEE (reservoirs.glsl), or GI_NO_RESERVOIR when the frame has none.
-uvec2 giPrimaryReservoir(ivec2 p) { return giFrame.reservoirs != 0u ? imageLoad(giReservoirPick, p).xy : GI_NO_RESERVOIR; }
+// The pixel's reservoir for its primary hit's NEE (reservoirs.glsl), GI_NO_RESERVOIR when the frame has none,
+// or GI_NO_NEE when the engine lights the primary hits.
+uvec2 giPrimaryReservoir(ivec2 p) {
+  if (giFrame.primaryDirect == GI_PRIMARY_DIRECT_NONE) return GI_NO_NEE;
+  return giFrame.primaryDirect == GI_PRIMARY_DIRECT_RESERVOIRS ? imageLoad(giReservoirPick, p).xy : GI_NO_RESERVOIR;
+}
 
 // Output images hold radiance × outputScale, clamped into the format's range
 // (a half float overflows to Inf past 65504). Loads give radiance back.

@@ -217,7 +217,10 @@ struct GiNee {
   uvec2 reservoir;  // the request's (GiNeeRequest::reservoir)
 };
 
-GiNee giNeeStart(uvec2 reservoir) { return GiNee(0u, vec3(0.0), vec3(0.0), reservoir); }
+// With GI_NO_NEE the estimate is complete before its first turn: no light, no ray.
+GiNee giNeeStart(uvec2 reservoir) {
+  return GiNee(reservoir == GI_NO_NEE ? 0xffffffffu : 0u, vec3(0.0), vec3(0.0), reservoir);
+}
 
 // Tries the next light (each call one: lanes of a subgroup that run NEE
 // together stay at the same turn, so each call prepares a punctual light or

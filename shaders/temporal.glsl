@@ -133,7 +133,7 @@ bool giGradientSource(ivec2 p, uint parity, float tolerance, float cosNormalLimi
 // indirect. With reservoirs the direct light's sample is the reservoir's, which no random state repeats:
 // its gradient is left at 0 (the reservoirs reset where reprojection fails).
 vec2 giGradientLuminance(vec3 direct, vec3 indirectDemod, ivec2 p) {
-  return vec2(giFrame.reservoirs != 0u ? 0.0 : giLuminance(direct / giDirectAlbedo(p)), giLuminance(indirectDemod));
+  return vec2(giFrame.primaryDirect != GI_PRIMARY_DIRECT_NEE ? 0.0 : giLuminance(direct / giDirectAlbedo(p)), giLuminance(indirectDemod));
 }
 
 // λ for direct (x) and indirect (y): the share of the history that pixel p drops.

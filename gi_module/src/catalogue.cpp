@@ -55,6 +55,8 @@ const SettingInfo kSettings[] = {
                Uint, 0, 1e12, false, 0),
     GI_SETTING("seed", seed, "", "random sequence: the same seed and inputs give the same frames", Uint, 0, 4294967295.0,
                false, 0),
+    restartsHistory(GI_BOOL("indirect_only", indirectOnly,
+                            "the engine lights the primary hits: no primary shadow rays, direct output 0", 0)),
     GI_CHOICE("view", debugView, "debug view (gi::debugViewCatalogue; 0 = the lit image)", kLastView, 0),
 
     GI_SETTING("raw.spp", raw.samplesPerPixel, "paths per pixel", "paths traced per pixel per frame", Uint, 1, 64, false, kRaw),

@@ -315,7 +315,9 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
                               noisyIsOutput ? outputMax : largestFinite(noisyFormat),
                               lightScale(m, historyFormat),
                               largestFinite(historyFormat),
-                              usesReservoirs(m, s) ? 1u : 0u,
+                              s.indirectOnly          ? gpu::GI_PRIMARY_DIRECT_NONE
+                              : usesReservoirs(m, s) ? gpu::GI_PRIMARY_DIRECT_RESERVOIRS
+                                                     : gpu::GI_PRIMARY_DIRECT_NEE,
                               lightSampler(m, s),
                               glm::inverse(clipFromView(in.camera)),
                               motionPixelsPerUnit(m.desc.gbuffer, m.width, m.height),

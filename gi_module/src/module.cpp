@@ -331,7 +331,7 @@ bool picksPunctualLights(const Module& m, const Settings& s) {
   return sampler <= gpu::LIGHT_SAMPLER_TREE && m.desc.scene.picksPunctualLightsWith[sampler];
 }
 bool hasNoisyDirect(const Module& m, const Settings& s) {
-  return m.desc.scene.hasEmissiveTriangles || m.desc.scene.hasSky || picksPunctualLights(m, s);
+  return !s.indirectOnly && (m.desc.scene.hasEmissiveTriangles || m.desc.scene.hasSky || picksPunctualLights(m, s));
 }
 bool validatesHashCells(const Settings& s) {
   return usesHashGrid(s.method) && s.hpsf.eviction == EvictionPolicy::Aging && s.hpsf.validationInterval > 0;
@@ -354,7 +354,7 @@ bool usesHistoryClamp(const Module& m, const Settings& s) {
 }
 
 bool usesReservoirs(const Module& m, const Settings& s) {
-  return s.reservoirs.enabled && picksPunctualLights(m, s);
+  return s.reservoirs.enabled && !s.indirectOnly && picksPunctualLights(m, s);
 }
 
 bool usesTemporalGradients(const Module& m, const Settings& s) {

@@ -92,6 +92,11 @@ GPU_CONST GI_DEPTH_HARDWARE_REVERSED = 2u; // depth buffer value, far (backgroun
 GPU_CONST GI_GLOSSY_ALBEDO_ALPHA = 0u;     // albedo.a ≥ 0.5: the pixel has a GGX lobe
 GPU_CONST GI_GLOSSY_FROM_MATERIAL = 1u;    // metallic > 0 or roughness < 0.9 (the scene's rule)
 
+// GiFrameConstants::primaryDirect: how the primary hits' direct light is found.
+GPU_CONST GI_PRIMARY_DIRECT_NEE = 0u;         // next-event estimation with the scene's light sampler
+GPU_CONST GI_PRIMARY_DIRECT_RESERVOIRS = 1u;  // the point and spot lights from the reservoirs' pick (gi_reservoirs.comp)
+GPU_CONST GI_PRIMARY_DIRECT_NONE = 2u;        // none: the engine lights them (Settings::indirectOnly)
+
 struct GiFrameConstants {
   GpuCamera camera;
   GpuCamera previousCamera;
@@ -105,7 +110,7 @@ struct GiFrameConstants {
   float historyScale;// radiance → the radiance histories' units: 1 / the scene's typical radiance where they are
                      // half floats (temporal reprojection), 1 where they are single floats (raw's running mean)
   float historyMax;  // their format's largest finite value (65504 or the largest float): stores clamp to it
-  uint reservoirs;   // 1: the primary hits' point and spot lights come from the reservoirs' pick (gi_reservoirs.comp)
+  uint primaryDirect;  // GI_PRIMARY_DIRECT_*: how the primary hits' direct light is found
   uint lightSampler; // LIGHT_SAMPLER_* of NEE in the module's passes (LightSettings::sampler, or the scene's)
   mat4 viewFromClip; // inverse of the camera's projection: hardware depth → view depth
   vec2 motionScale;  // the G-buffer's stored motion → pixels: GBufferDesc::motionScale × its units' pixels

@@ -260,6 +260,10 @@ struct Settings {
                                        // count (never below 1 spp) from the rays per path it last measured
   DebugView debugView = DebugView::None;
   uint32_t seed = 1;                   // random sequence; the same seed and inputs give the same frames
+  // The engine lights the primary hits itself (its own shadow maps): no next-event estimation and no
+  // reservoirs at the primary hits (FrameStats::raysTraced lower by their shadow rays), the direct output
+  // 0 and the composite diffuse albedo × indirect (emission, sky and direct light are the engine's).
+  bool indirectOnly = false;
 };
 
 // The knob --spp and the ray budget act on: the active method's paths per pixel.
