@@ -5,8 +5,9 @@
 
 namespace engine {
 
-// The rgb of an rgba16f or rgba32f image in GENERAL layout (the GI module's
-// outputs), divided by `scale`; waits.
-FloatImage readbackRgb(const Context& ctx, VkImage image, VkFormat format, VkExtent2D extent, float scale = 1.0f);
+// The rgb of an rgba16f or rgba32f image in `layout` (the GI module's outputs:
+// gi::ModuleDesc::outputLayout), divided by `scale`; waits, and leaves it in `layout`.
+FloatImage readbackRgb(const Context& ctx, VkImage image, VkFormat format, VkExtent2D extent, float scale = 1.0f,
+                       VkImageLayout layout = VK_IMAGE_LAYOUT_GENERAL);
 
 }  // namespace engine

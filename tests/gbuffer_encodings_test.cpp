@@ -8,6 +8,7 @@
 #include <functional>
 #include <glm/gtc/packing.hpp>
 
+#include "frame_slots.h"
 #include "metrics.h"
 #include "module_test_helpers.h"
 #include "readback.h"
@@ -91,17 +92,17 @@ struct UploadedGBuffer {
   }
 };
 
-UploadedGBuffer upload(const engine::Context& ctx, const Encoded (&encoded)[6]) {
+UploadedGBuffer upload(const engine::Context& ctx, const Encoded (&encoded)[6],
+                       VkImageLayout layout = VK_IMAGE_LAYOUT_GENERAL) {
   UploadedGBuffer u;
   for (int i = 0; i < 6; ++i) {
     u.images[i] = engine::createImage(ctx, {kSize, kSize}, encoded[i].format,
                                       VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT);
-    engine::uploadImage(ctx, u.images[i], encoded[i].bytes.data(), encoded[i].bytes.size(), VK_IMAGE_LAYOUT_GENERAL);
+    engine::uploadImage(ctx, u.images[i], encoded[i].bytes.data(), encoded[i].bytes.size(), layout);
   }
   return u;
 }
 
-// Our G-buffer in our formats, its motion vectors × `motionScale` (1/size: UV).
 // Our G-buffer as it is, its motion (pixels) turned into motion·motionScale + motionOffset.
 void encodeOurs(const CpuGBuffer& g, Encoded (&e)[6], glm::vec2 motionScale = glm::vec2(1.0f),
                 glm::vec2 motionOffset = glm::vec2(0.0f)) {
@@ -372,6 +373,9 @@ TEST_F(GBufferEncodingsTest, MismatchedEncodingsAreNamedErrors) {
       {"depth in an attachment layout",
        [](gi::GBufferDesc& d) { d.depthLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL; },
        {"desc.gbuffer.depthLayout", "DepthStencilAttachmentOptimal"}},
+      {"colour views in an attachment layout",
+       [](gi::GBufferDesc& d) { d.colorLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL; },
+       {"desc.gbuffer.colorLayout", "ColorAttachmentOptimal"}},
       {"unknown motion units", [](gi::GBufferDesc& d) { d.motion = gi::MotionUnits(3); }, {"desc.gbuffer.motion = 3", "Ndc"}},
       {"zero motion scale", [](gi::GBufferDesc& d) { d.motionScale[1] = 0.0f; }, {"desc.gbuffer.motionScale[1]"}},
       {"NaN motion scale", [](gi::GBufferDesc& d) { d.motionScale[0] = std::nanf(""); }, {"desc.gbuffer.motionScale[0]"}},
@@ -510,4 +514,72 @@ TEST_F(GBufferEncodingsTest, MotionInEveryConventionReprojectsAsOurs) {
     }
   }
   unload(s);
+}
+
+// The engine's layouts (issue 35 §5): a G-buffer read in SHADER_READ_ONLY_OPTIMAL (colour and depth) and
+// outputs kept between frames in SHADER_READ_ONLY_OPTIMAL or TRANSFER_SRC_OPTIMAL give bit for bit the
+// frames of GENERAL everywhere, 3 frames of svgf with 2 in flight, under synchronization validation.
+TEST(GBufferLayouts, ReadOnlyGBufferAndOutputsInTheEnginesLayoutGiveTheSameFrames) {
+  engine::Context ctx;
+  engine::ContextDesc contextDesc;
+  contextDesc.validation = true;
+  contextDesc.synchronizationValidation = true;
+  std::string error;
+  ASSERT_TRUE(engine::createContext(contextDesc, ctx, error)) << error;
+  LoadedScene s;
+  ASSERT_TRUE(engine::loadSceneForRendering(sharedScene("cornell-simple/cornell_simple.gltf"), s.scene, error)) << error;
+  engine::createSceneGpu(ctx, s.scene, s.gpu);
+  const gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], kSize, kSize, nullptr);
+  tools::ModuleSession native;
+  ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {kSize, kSize}, gi::Settings{}, native));
+  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+    engine::recordGBuffer(ctx, cmd, native.gbufferPass, s.scene, s.gpu, native.gbuffer, cam, nullptr);
+  });
+  Encoded encoded[6];
+  encodeOurs(readGBuffer(ctx, native.gbuffer), encoded);
+  tools::destroyModuleSession(ctx, native);
+
+  struct Layouts {
+    const char* what;
+    VkImageLayout gbuffer, outputs;
+  };
+  const Layouts runs[] = {{"GENERAL everywhere", VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL},
+                          {"read-only G-buffer, sampled outputs", VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                           VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL},
+                          {"read-only G-buffer, copied outputs", VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                           VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL}};
+  std::vector<engine::FloatImage> composites;
+  for (const Layouts& run : runs) {
+    gi::ModuleDesc desc = tools::moduleDesc(ctx, s.gpu, {kSize, kSize});
+    desc.gbuffer.glossy = gi::GlossyFlag::AlbedoAlpha;
+    desc.gbuffer.colorLayout = desc.gbuffer.depthLayout = run.gbuffer;
+    desc.outputLayout = run.outputs;
+    desc.outputFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
+    gi::Settings settings;
+    settings.method = gi::Method::Svgf;
+    gi::Module* module = nullptr;
+    ASSERT_FALSE(gi::create(desc, settings, module)) << run.what;
+    UploadedGBuffer uploaded = upload(ctx, encoded, run.gbuffer);
+    engine::FrameSlots slots = engine::createFrameSlots(ctx, 2);
+    for (uint32_t f = 0; f < 3; ++f) {
+      engine::waitFrameSlot(ctx, slots, f);
+      VkCommandBuffer cmd = engine::beginFrameSlot(ctx, slots, f);
+      gi::FrameInputs in;
+      in.gbuffer = uploaded.views();
+      in.camera = in.previousCamera = engine::moduleCamera(cam);
+      in.frameIndex = f;
+      ASSERT_FALSE(gi::recordFrame(module, cmd, in)) << run.what;
+      engine::submitFrameSlot(ctx, slots, f);
+    }
+    vkDeviceWaitIdle(ctx.device);
+    const gi::Outputs o = gi::outputs(module);
+    composites.push_back(engine::readbackRgb(ctx, o.composite, o.format, {kSize, kSize}, 1.0f, run.outputs));
+    engine::destroyFrameSlots(ctx, slots);
+    for (engine::Image& img : uploaded.images) engine::destroyImage(ctx, img);
+    gi::destroy(module);
+  }
+  for (size_t r = 1; r < std::size(runs); ++r) EXPECT_TRUE(sameBits(composites[r], composites[0])) << runs[r].what;
+  EXPECT_EQ(ctx.validationMessages(), 0u) << "validation (synchronization included) reported problems";
+  engine::destroySceneGpu(ctx, s.gpu);
+  engine::destroyContext(ctx);
 }

@@ -51,6 +51,9 @@ TEST_F(ModuleTest, CreateRejectsImpossibleValuesWithNamedErrors) {
       "desc.framesInFlight = 5");
   add("max below size", [](gi::ModuleDesc& d) { d.maxWidth = d.maxHeight = 8; }, same, gi::ErrorCode::OutOfRange,
       "desc.maxWidth");
+  add("outputs in an attachment layout",
+      [](gi::ModuleDesc& d) { d.outputLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL; }, same,
+      gi::ErrorCode::OutOfRange, "desc.outputLayout = ColorAttachmentOptimal");
   add("8-bit outputs", [](gi::ModuleDesc& d) { d.outputFormat = VK_FORMAT_R8G8B8A8_UNORM; }, same,
       gi::ErrorCode::UnsupportedFormat, "desc.outputFormat");
   add("8-bit histories", [](gi::ModuleDesc& d) { d.historyFormat = VK_FORMAT_R8G8B8A8_UNORM; }, same,

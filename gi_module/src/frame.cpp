@@ -82,12 +82,13 @@ void beginFrame(Module& m, VkCommandBuffer cmd, uint32_t slot, const FrameInputs
   const vk::Device& g = m.gpu;
   SizedResources& r = m.sized;
   if (!sameViews(in.gbuffer, r.bound[slot])) {
+    const VkImageLayout color = m.desc.gbuffer.colorLayout;
     vk::DescriptorWriter(r.frameSets[slot])
-        .texture(gpu::GI_BINDING_GB_NORMAL, in.gbuffer.normal)
-        .texture(gpu::GI_BINDING_GB_ALBEDO, in.gbuffer.albedo)
-        .texture(gpu::GI_BINDING_GB_MATERIAL, in.gbuffer.material)
-        .texture(gpu::GI_BINDING_GB_EMISSION, in.gbuffer.emission)
-        .texture(gpu::GI_BINDING_GB_MOTION, in.gbuffer.motion)
+        .texture(gpu::GI_BINDING_GB_NORMAL, in.gbuffer.normal, color)
+        .texture(gpu::GI_BINDING_GB_ALBEDO, in.gbuffer.albedo, color)
+        .texture(gpu::GI_BINDING_GB_MATERIAL, in.gbuffer.material, color)
+        .texture(gpu::GI_BINDING_GB_EMISSION, in.gbuffer.emission, color)
+        .texture(gpu::GI_BINDING_GB_MOTION, in.gbuffer.motion, color)
         .texture(gpu::GI_BINDING_GB_DEPTH, in.gbuffer.depth, m.desc.gbuffer.depthLayout)
         .write(g);
     r.bound[slot] = in.gbuffer;
@@ -97,6 +98,12 @@ void beginFrame(Module& m, VkCommandBuffer cmd, uint32_t slot, const FrameInputs
                     VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_TRANSFER_BIT,
                     VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT |
                         VK_ACCESS_2_TRANSFER_READ_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT);
+  // The outputs come back from the engine's layout (its reads of the last frame's done first).
+  if (m.outputs.initialised && m.desc.outputLayout != VK_IMAGE_LAYOUT_GENERAL)
+    for (const vk::Image* img : {&m.outputs.direct, &m.outputs.indirect, &m.outputs.composite})
+      vk::imageBarrier(g, cmd, img->image, m.desc.outputLayout, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                       VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                       VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
   recordFirstUse(g, cmd, m.outputs, r);
   if (m.timestamps) g.fn.vkCmdResetQueryPool(cmd, m.timestamps, slot * kMaxPasses * 2, kMaxPasses * 2);
   g.fn.vkCmdFillBuffer(cmd, m.counters.buffer, 0, sizeof(gpu::GiCounters), 0);
@@ -423,6 +430,12 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
   }
   vk::memoryBarrier(m.gpu, cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                     VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+  // The outputs to the engine's layout, visible to whatever reads them next.
+  if (m.desc.outputLayout != VK_IMAGE_LAYOUT_GENERAL)
+    for (const vk::Image* img : {&m.outputs.direct, &m.outputs.indirect, &m.outputs.composite})
+      vk::imageBarrier(m.gpu, cmd, img->image, VK_IMAGE_LAYOUT_GENERAL, m.desc.outputLayout,
+                       VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                       VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT);
   // Counters to this slot's readback copy.
   VkBufferCopy copy{0, sizeof(gpu::GiCounters) * (1 + slot), sizeof(gpu::GiCounters)};
   m.gpu.fn.vkCmdCopyBuffer(cmd, m.counters.buffer, m.counters.buffer, 1, &copy);

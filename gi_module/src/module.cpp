@@ -115,6 +115,9 @@ Error checkGBuffer(const GBufferDesc& g) {
   if (!contains(kAlbedoFormats, g.albedoFormat))
     return {ErrorCode::UnsupportedFormat, "desc.gbuffer.albedoFormat = " + vk::formatName(g.albedoFormat) +
                                               " is not one the module reads: " + formatList(kAlbedoFormats)};
+  if (g.colorLayout != VK_IMAGE_LAYOUT_GENERAL && g.colorLayout != VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL)
+    return {ErrorCode::OutOfRange, "desc.gbuffer.colorLayout = " + vk::layoutName(g.colorLayout) +
+                                       " is not GENERAL or SHADER_READ_ONLY_OPTIMAL"};
   if (!contains(kDepthLayouts, g.depthLayout))
     return {ErrorCode::OutOfRange, "desc.gbuffer.depthLayout = " + vk::layoutName(g.depthLayout) +
                                        " is not GENERAL or a read-only depth or shader layout"};
@@ -166,6 +169,10 @@ Error checkDesc(const ModuleDesc& d) {
     return {ErrorCode::OutOfRange, "desc.framesInFlight = " + std::to_string(d.framesInFlight) + " is outside [1, " +
                                        std::to_string(kMaxFramesInFlight) + "]"};
   if (Error e = checkGBuffer(d.gbuffer)) return e;
+  if (d.outputLayout != VK_IMAGE_LAYOUT_GENERAL && d.outputLayout != VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL &&
+      d.outputLayout != VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL)
+    return {ErrorCode::OutOfRange, "desc.outputLayout = " + vk::layoutName(d.outputLayout) +
+                                       " is not GENERAL, SHADER_READ_ONLY_OPTIMAL or TRANSFER_SRC_OPTIMAL"};
   if (d.outputFormat != VK_FORMAT_R16G16B16A16_SFLOAT && d.outputFormat != VK_FORMAT_R32G32B32A32_SFLOAT)
     return {ErrorCode::UnsupportedFormat, "desc.outputFormat = VkFormat " + std::to_string(int(d.outputFormat)) +
                                               " is not VK_FORMAT_R16G16B16A16_SFLOAT or VK_FORMAT_R32G32B32A32_SFLOAT"};

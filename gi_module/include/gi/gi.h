@@ -21,13 +21,18 @@
 // buffer too: they never wait for the frames in flight.
 //
 // Barrier contract for gi::recordFrame:
-//  - before: G-buffer images are in VK_IMAGE_LAYOUT_GENERAL (a hardware depth
-//    buffer: GBufferDesc::depthLayout) with their writes (colour attachment,
-//    depth attachment or shader) made available to
+//  - before: G-buffer images are in GBufferDesc::colorLayout (depth:
+//    GBufferDesc::depthLayout) with their writes (colour attachment, depth
+//    attachment or shader) made available to
 //    VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT sampled reads; the TLAS build (if
-//    any) is complete for compute ray queries.
-//  - after: the output images are in GENERAL layout, written by compute
-//    shaders; the caller barriers COMPUTE_SHADER/SHADER_STORAGE_WRITE to its reader.
+//    any) is complete for compute ray queries. The outputs are in
+//    ModuleDesc::outputLayout (as the last frame left them).
+//  - after: the output images are in ModuleDesc::outputLayout. GENERAL: written
+//    by compute shaders, the caller barriers COMPUTE_SHADER/SHADER_STORAGE_WRITE
+//    to its reader. Another layout: the module's own last barrier makes the
+//    writes visible to every later command (a fragment shader's sampling
+//    included), and the next recordFrame waits for every earlier command before
+//    writing them again: the engine owes no barrier of its own.
 //
 // Deferred destruction: setSettings, resize and invalidate never need an idle
 // GPU. What they replace is released once the frames that used it have
@@ -143,6 +148,8 @@ struct GBufferDesc {
   DepthEncoding depthEncoding = DepthEncoding::LinearViewZ;
   VkImageLayout depthLayout = VK_IMAGE_LAYOUT_GENERAL;  // or DEPTH_READ_ONLY_OPTIMAL, DEPTH_STENCIL_READ_ONLY_OPTIMAL,
                                                         // SHADER_READ_ONLY_OPTIMAL, as the engine leaves it
+  VkImageLayout colorLayout = VK_IMAGE_LAYOUT_GENERAL;  // the five colour views' (normal … motion): or
+                                                        // SHADER_READ_ONLY_OPTIMAL, as the engine leaves them
   MotionUnits motion = MotionUnits::Pixels;
   // Multiplies the stored motion (x, y) before its units: finite, non-zero. {−1, −1} for current −
   // previous; {1, −1} for motion whose y runs up the image; both for both.
@@ -189,6 +196,11 @@ struct ModuleDesc {
   // the memory; set FrameInputs::preExposure so the light stays within
   // ±65504) or VK_FORMAT_R32G32B32A32_SFLOAT. Anything else: UnsupportedFormat.
   VkFormat outputFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
+  // The layout the engine keeps the three outputs in between frames: GENERAL, SHADER_READ_ONLY_OPTIMAL
+  // (it samples them) or TRANSFER_SRC_OPTIMAL (it copies them). recordFrame moves them to GENERAL after
+  // every earlier command (the engine's reads of the last frame's outputs included) and back to this
+  // layout at its end, visible to every later command's reads (Barrier contract above).
+  VkImageLayout outputLayout = VK_IMAGE_LAYOUT_GENERAL;
   // Format of the light the temporal passes blend and keep: their radiance
   // histories (gif, bilateral, à-trous, sspsf, svgf; the hash methods'
   // filter clamp) and the noisy indirect the filters read:
