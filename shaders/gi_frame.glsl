@@ -20,6 +20,7 @@ layout(set = 1, binding = GI_BINDING_GB_DEPTH) uniform texture2D giGbDepthImage;
 layout(constant_id = GI_SPEC_NORMAL_ENCODING) const uint GI_NORMAL_ENCODING = GI_NORMAL_XYZ;
 layout(constant_id = GI_SPEC_DEPTH_ENCODING) const uint GI_DEPTH_ENCODING = GI_DEPTH_LINEAR_VIEW_Z;
 layout(constant_id = GI_SPEC_GLOSSY_FLAG) const uint GI_GLOSSY_FLAG = GI_GLOSSY_ALBEDO_ALPHA;
+layout(constant_id = GI_SPEC_HAS_EMISSION) const bool GI_GB_HAS_EMISSION = true;
 // Formatless: ModuleDesc::outputFormat picks half or single floats.
 layout(set = 1, binding = GI_BINDING_OUT_DIRECT) uniform image2D giOutDirect;
 layout(set = 1, binding = GI_BINDING_OUT_INDIRECT) uniform image2D giOutIndirect;
@@ -145,7 +146,8 @@ float giGbViewDepth(ivec2 p) {
 
 vec4 giGbAlbedo(ivec2 p) { return texelFetch(giGbAlbedoImage, p, 0); }  // linear (an sRGB view decodes)
 vec2 giGbRoughnessMetallic(ivec2 p) { return texelFetch(giGbMaterialImage, p, 0).rg; }
-vec3 giGbEmission(ivec2 p) { return texelFetch(giGbEmissionImage, p, 0).rgb; }
+// Without an emission view the engine adds emission itself: 0 here (the binding holds another view, unread).
+vec3 giGbEmission(ivec2 p) { return GI_GB_HAS_EMISSION ? texelFetch(giGbEmissionImage, p, 0).rgb : vec3(0.0); }
 // Direct light is accumulated and filtered over the base colour (SVGF's
 // demodulation; gi_temporal.comp, svgf_atrous.comp); darker base colours count
 // as 1/64, so black texels keep their light.

@@ -26,7 +26,6 @@ struct CpuGBuffer {
   std::vector<float> viewZ;
 };
 
-
 CpuGBuffer readGBuffer(const engine::Context& ctx, const engine::GBuffer& g) {
   const size_t n = size_t(kSize) * kSize;
   CpuGBuffer c;
@@ -582,4 +581,59 @@ TEST(GBufferLayouts, ReadOnlyGBufferAndOutputsInTheEnginesLayoutGiveTheSameFrame
   EXPECT_EQ(ctx.validationMessages(), 0u) << "validation (synchronization included) reported problems";
   engine::destroySceneGpu(ctx, s.gpu);
   engine::destroyContext(ctx);
+}
+
+// A G-buffer without an emission view (GBufferDesc::hasEmission = false, the view left null): the module
+// leaves emission to the engine. On the Cornell box (its ceiling lamp in view), one raw frame: the
+// indirect light is bit for bit the same, and the direct and composite outputs differ from the full
+// G-buffer's by the emission image alone.
+TEST_F(GBufferEncodingsTest, WithoutAnEmissionViewTheEngineAddsTheEmission) {
+  LoadedScene s;
+  ASSERT_NO_FATAL_FAILURE(load(sharedScene("cornell-box-mcguire/CornellBox-Original.gltf"), s));
+  const gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], kSize, kSize, nullptr);
+  tools::ModuleSession native;
+  ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {kSize, kSize}, gi::Settings{}, native));
+  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+    engine::recordGBuffer(ctx, cmd, native.gbufferPass, s.scene, s.gpu, native.gbuffer, cam, nullptr);
+  });
+  const CpuGBuffer g = readGBuffer(ctx, native.gbuffer);
+  tools::destroyModuleSession(ctx, native);
+  Encoded encoded[6];
+  encodeOurs(g, encoded);
+  UploadedGBuffer uploaded = upload(ctx, encoded);
+  engine::ReferenceImages out[2];
+  for (int withEmission = 1; withEmission >= 0; --withEmission) {
+    gi::ModuleDesc desc = tools::moduleDesc(ctx, s.gpu, {kSize, kSize});
+    desc.gbuffer.hasEmission = withEmission != 0;
+    desc.outputFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
+    gi::Module* module = nullptr;
+    ASSERT_FALSE(gi::create(desc, gi::Settings{}, module));
+    gi::FrameInputs in;
+    in.gbuffer = uploaded.views();
+    if (!withEmission) in.gbuffer.emission = VK_NULL_HANDLE;
+    in.camera = in.previousCamera = engine::moduleCamera(cam);
+    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { ASSERT_FALSE(gi::recordFrame(module, cmd, in)); });
+    const gi::Outputs o = gi::outputs(module);
+    out[withEmission].direct = engine::readbackRgb(ctx, o.direct, o.format, {kSize, kSize});
+    out[withEmission].indirect = engine::readbackRgb(ctx, o.indirect, o.format, {kSize, kSize});
+    out[withEmission].final = engine::readbackRgb(ctx, o.composite, o.format, {kSize, kSize});
+    gi::destroy(module);
+  }
+  for (engine::Image& img : uploaded.images) engine::destroyImage(ctx, img);
+  double emitted = 0.0, worstDirect = 0.0, worstComposite = 0.0;
+  for (size_t p = 0; p < g.emission.size(); ++p)
+    for (int c = 0; c < 3; ++c) {
+      const size_t k = 3 * p + size_t(c);
+      const double e = g.emission[p][c];
+      emitted += e;
+      worstDirect = std::max(worstDirect, std::fabs(out[1].direct.pixels[k] - out[0].direct.pixels[k] - e) / (e + 1.0));
+      worstComposite = std::max(worstComposite, std::fabs(out[1].final.pixels[k] - out[0].final.pixels[k] - e) / (e + 1.0));
+    }
+  std::printf("emission summed over the image %.1f; direct and composite differ from it by at most %.2e and %.2e\n",
+              emitted, worstDirect, worstComposite);
+  EXPECT_GT(emitted, 1.0) << "the lamp is in view";
+  EXPECT_TRUE(sameBits(out[0].indirect, out[1].indirect));
+  EXPECT_LT(worstDirect, 1e-5);
+  EXPECT_LT(worstComposite, 1e-5);
+  unload(s);
 }

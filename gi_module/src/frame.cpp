@@ -87,7 +87,8 @@ void beginFrame(Module& m, VkCommandBuffer cmd, uint32_t slot, const FrameInputs
         .texture(gpu::GI_BINDING_GB_NORMAL, in.gbuffer.normal, color)
         .texture(gpu::GI_BINDING_GB_ALBEDO, in.gbuffer.albedo, color)
         .texture(gpu::GI_BINDING_GB_MATERIAL, in.gbuffer.material, color)
-        .texture(gpu::GI_BINDING_GB_EMISSION, in.gbuffer.emission, color)
+        // Without an emission view another view fills the binding; the shaders never read it then.
+        .texture(gpu::GI_BINDING_GB_EMISSION, m.desc.gbuffer.hasEmission ? in.gbuffer.emission : in.gbuffer.albedo, color)
         .texture(gpu::GI_BINDING_GB_MOTION, in.gbuffer.motion, color)
         .texture(gpu::GI_BINDING_GB_DEPTH, in.gbuffer.depth, m.desc.gbuffer.depthLayout)
         .write(g);
@@ -282,13 +283,15 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
   Module& m = *mp;
   const GBufferViews& gb = in.gbuffer;
   if (!cmd) return {ErrorCode::MissingHandle, "gi::recordFrame: the command buffer is VK_NULL_HANDLE"};
+  const bool emissionView = m.desc.gbuffer.hasEmission;
   const std::pair<VkImageView, const char*> views[] = {{gb.normal, "normal"},     {gb.albedo, "albedo"},
-                                                       {gb.material, "material"}, {gb.emission, "emission"},
+                                                       {gb.material, "material"}, {emissionView ? gb.emission : gb.albedo, "emission"},
                                                        {gb.motion, "motion"},     {gb.depth, "depth"}};
   for (const auto& [view, name] : views)
     if (!view)
       return {ErrorCode::MissingHandle, std::string("gi::recordFrame: inputs.gbuffer.") + name +
-                                            " is VK_NULL_HANDLE (all six G-buffer views must be set)"};
+                                            " is VK_NULL_HANDLE (the six G-buffer views must be set; emission may be "
+                                            "left out with desc.gbuffer.hasEmission = false)"};
   if (!(in.preExposure > 0.0f) || !std::isfinite(in.preExposure))
     return {ErrorCode::OutOfRange, "gi::recordFrame: inputs.preExposure = " + std::to_string(in.preExposure) +
                                        " is not a positive finite factor"};

@@ -322,7 +322,7 @@ std::array<uint32_t, GI_SPEC_COUNT> moduleSpecialization(const Module& m) {
   const auto scene = sceneSpecialization(m.desc.scene);
   const GBufferDesc& g = m.desc.gbuffer;
   return {scene[0], scene[1], scene[2], scene[3], uint32_t(g.normalEncoding), uint32_t(g.depthEncoding),
-          uint32_t(g.glossy), m.desc.checkBounds ? 1u : 0u};
+          uint32_t(g.glossy), m.desc.checkBounds ? 1u : 0u, g.hasEmission ? 1u : 0u};
 }
 
 uint32_t hashMode(Method method) {

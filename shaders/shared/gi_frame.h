@@ -81,7 +81,8 @@ GPU_CONST GI_BINDING_COUNT = 35;
 #define GI_SPEC_DEPTH_ENCODING 5
 #define GI_SPEC_GLOSSY_FLAG 6
 #define GI_SPEC_CHECK_BOUNDS 7  // gi::ModuleDesc::checkBounds (bounds.glsl)
-#define GI_SPEC_COUNT 8
+#define GI_SPEC_HAS_EMISSION 8  // gi::GBufferDesc::hasEmission: 0, the G-buffer has no emission view (emission 0)
+#define GI_SPEC_COUNT 9
 GPU_CONST GI_NORMAL_XYZ = 0u;              // rgb = n in [-1,1]
 GPU_CONST GI_NORMAL_XYZ_UNORM = 1u;        // rgb = n·0.5 + 0.5
 GPU_CONST GI_NORMAL_OCTAHEDRAL = 2u;       // rg = octahedral n in [0,1]

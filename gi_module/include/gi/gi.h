@@ -150,6 +150,9 @@ struct GBufferDesc {
                                                         // SHADER_READ_ONLY_OPTIMAL, as the engine leaves it
   VkImageLayout colorLayout = VK_IMAGE_LAYOUT_GENERAL;  // the five colour views' (normal … motion): or
                                                         // SHADER_READ_ONLY_OPTIMAL, as the engine leaves them
+  // False: the G-buffer has no emission view (GBufferViews::emission may be VK_NULL_HANDLE); the direct
+  // output and the composite then hold no emission, which the engine adds itself.
+  bool hasEmission = true;
   MotionUnits motion = MotionUnits::Pixels;
   // Multiplies the stored motion (x, y) before its units: finite, non-zero. {−1, −1} for current −
   // previous; {1, −1} for motion whose y runs up the image; both for both.
