@@ -43,12 +43,19 @@ void createHost(bool validation, Host& h) {
   app.pApplicationName = "gi example host";
   app.apiVersion = VK_API_VERSION_1_3;
   const char* layers[] = {"VK_LAYER_KHRONOS_validation"};
-  const char* extensions[] = {VK_EXT_DEBUG_UTILS_EXTENSION_NAME};
+  const char* extensions[] = {VK_EXT_DEBUG_UTILS_EXTENSION_NAME, VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME};
+  // Validation includes its synchronization checks: hazards between the host's commands and the module's,
+  // across frames in flight.
+  const VkValidationFeatureEnableEXT syncChecks = VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT;
+  VkValidationFeaturesEXT features{VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT};
+  features.enabledValidationFeatureCount = 1;
+  features.pEnabledValidationFeatures = &syncChecks;
   VkInstanceCreateInfo info{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+  info.pNext = validation ? &features : nullptr;
   info.pApplicationInfo = &app;
   info.enabledLayerCount = validation ? 1 : 0;
   info.ppEnabledLayerNames = layers;
-  info.enabledExtensionCount = validation ? 1 : 0;
+  info.enabledExtensionCount = validation ? 2 : 0;
   info.ppEnabledExtensionNames = extensions;
   EXAMPLE_CHECK(vkCreateInstance(&info, nullptr, &h.instance));
   if (validation) {
@@ -217,13 +224,13 @@ void memoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags2 srcStage, VkAccess
   vkCmdPipelineBarrier2(cmd, &dep);
 }
 
-void recordReadback(VkCommandBuffer cmd, VkImage image, VkExtent2D extent, const Buffer& out) {
+void recordReadback(VkCommandBuffer cmd, VkImage image, VkExtent2D extent, const Buffer& out, VkImageLayout layout) {
   memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                 VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
   VkBufferImageCopy region{};
   region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
   region.imageExtent = {extent.width, extent.height, 1};
-  vkCmdCopyImageToBuffer(cmd, image, VK_IMAGE_LAYOUT_GENERAL, out.buffer, 1, &region);
+  vkCmdCopyImageToBuffer(cmd, image, layout, out.buffer, 1, &region);
   memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
                 VK_ACCESS_2_HOST_READ_BIT);
 }

@@ -63,9 +63,11 @@ void imageBarrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect,
 void memoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess,
                    VkPipelineStageFlags2 dstStage, VkAccessFlags2 dstAccess);
 
-// Copies a module output (GENERAL layout, written by compute shaders) into a
-// host-visible buffer, readable on the host once `cmd` completes.
-void recordReadback(VkCommandBuffer cmd, VkImage image, VkExtent2D extent, const Buffer& out);
+// Copies a module output (in `layout`: gi::ModuleDesc::outputLayout; GENERAL,
+// written by compute shaders) into a host-visible buffer, readable on the host
+// once `cmd` completes.
+void recordReadback(VkCommandBuffer cmd, VkImage image, VkExtent2D extent, const Buffer& out,
+                    VkImageLayout layout = VK_IMAGE_LAYOUT_GENERAL);
 
 // One command buffer, recorded by `record`, submitted and waited for.
 template <typename F>

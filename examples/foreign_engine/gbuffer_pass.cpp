@@ -30,19 +30,20 @@ void createPipeline(const example::Host& h, GBufferPass& p) {
   setInfo.bindingCount = 1;
   setInfo.pBindings = &binding;
   EXAMPLE_CHECK(vkCreateDescriptorSetLayout(h.device, &setInfo, nullptr, &p.setLayout));
-  VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 2};
+  VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, kFramesInFlight};
   VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-  poolInfo.maxSets = 2;
+  poolInfo.maxSets = kFramesInFlight;
   poolInfo.poolSizeCount = 1;
   poolInfo.pPoolSizes = &size;
   EXAMPLE_CHECK(vkCreateDescriptorPool(h.device, &poolInfo, nullptr, &p.descriptorPool));
-  VkDescriptorSetLayout layouts[2] = {p.setLayout, p.setLayout};
+  VkDescriptorSetLayout layouts[kFramesInFlight];
+  for (VkDescriptorSetLayout& l : layouts) l = p.setLayout;
   VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
   alloc.descriptorPool = p.descriptorPool;
-  alloc.descriptorSetCount = 2;
+  alloc.descriptorSetCount = kFramesInFlight;
   alloc.pSetLayouts = layouts;
   EXAMPLE_CHECK(vkAllocateDescriptorSets(h.device, &alloc, p.sets));
-  for (int i = 0; i < 2; ++i) {
+  for (uint32_t i = 0; i < kFramesInFlight; ++i) {
     VkDescriptorBufferInfo info{p.uniforms[i].buffer, 0, VK_WHOLE_SIZE};
     VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
     w.dstSet = p.sets[i];
@@ -130,6 +131,7 @@ gi::GBufferDesc gbufferDesc() {
   d.depthFormat = kDepthFormat;
   d.depthEncoding = gi::DepthEncoding::HardwareReversed;
   d.depthLayout = VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL;
+  d.colorLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;  // as an engine leaves targets it samples
   d.motion = gi::MotionUnits::Pixels;
   return d;
 }
@@ -195,7 +197,8 @@ void recordGBuffer(VkCommandBuffer cmd, GBufferPass& p, uint32_t slot, const Fra
   std::memcpy(p.uniforms[slot].mapped, &uniforms, sizeof(uniforms));  // the slot's fence was waited on
   const VkPipelineStageFlags2 reads = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;  // the module read them last frame
   for (example::Image& t : p.targets)
-    example::imageBarrier(cmd, t.image, VK_IMAGE_ASPECT_COLOR_BIT, p.initialised ? VK_IMAGE_LAYOUT_GENERAL : VK_IMAGE_LAYOUT_UNDEFINED,
+    example::imageBarrier(cmd, t.image, VK_IMAGE_ASPECT_COLOR_BIT,
+                          p.initialised ? VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL : VK_IMAGE_LAYOUT_UNDEFINED,
                  VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, reads, 0, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
                  VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
   example::imageBarrier(cmd, p.depth.image, VK_IMAGE_ASPECT_DEPTH_BIT,
@@ -245,7 +248,8 @@ void recordGBuffer(VkCommandBuffer cmd, GBufferPass& p, uint32_t slot, const Fra
   }
   vkCmdEndRendering(cmd);
   for (example::Image& t : p.targets)
-    example::imageBarrier(cmd, t.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
+    example::imageBarrier(cmd, t.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                          VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
                  VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
   example::imageBarrier(cmd, p.depth.image, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,

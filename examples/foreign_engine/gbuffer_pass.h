@@ -40,6 +40,11 @@ struct MeshRange {
   std::vector<gi::PrimitiveDesc> primitives;  // firstIndex counts from the range's first index
 };
 
+// Frames the example records ahead of the GPU (gi::ModuleDesc::framesInFlight): each has its own
+// command buffer, fence, uniforms and readback buffer, and waits only on the fence of the frame this
+// many back.
+inline constexpr uint32_t kFramesInFlight = 3;
+
 struct GBufferPass {
   VkExtent2D extent{};
   example::Image targets[kTargetCount];
@@ -48,10 +53,10 @@ struct GBufferPass {
   std::vector<MeshRange> meshes;              // per mesh of the scene file
   std::vector<Draw> draws;
   std::vector<gi::MaterialDesc> materials;
-  example::Buffer uniforms[2];                // per frame slot
+  example::Buffer uniforms[kFramesInFlight];  // per frame slot
   VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
   VkDescriptorPool descriptorPool = VK_NULL_HANDLE;
-  VkDescriptorSet sets[2]{};
+  VkDescriptorSet sets[kFramesInFlight]{};
   VkPipelineLayout layout = VK_NULL_HANDLE;
   VkPipeline pipeline = VK_NULL_HANDLE;
   bool initialised = false;          // targets left in their sampled layouts at least once

@@ -196,7 +196,7 @@ int main(int argc, char** argv) {
   gi::finishSceneUpload(scene);  // frees the build's staging
 
   // --- the module ----------------------------------------------------------------
-  constexpr uint32_t kFramesInFlight = 2;
+  using foreign::kFramesInFlight;
   gi::ModuleDesc desc;
   desc.getInstanceProcAddr = vkGetInstanceProcAddr;
   desc.instance = h.instance;
@@ -207,6 +207,7 @@ int main(int argc, char** argv) {
   desc.framesInFlight = kFramesInFlight;
   desc.scene = gi::sceneDesc(scene);
   desc.gbuffer = foreign::gbufferDesc();
+  desc.outputLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;  // the layout this engine copies them in
   gi::Settings settings;
   settings.method = options.method;
   settings.debugView = options.view;
@@ -279,7 +280,7 @@ int main(int argc, char** argv) {
     }
     const gi::Outputs outputs = gi::outputs(module);  // a debug view is shown in the composite
     example::recordReadback(cmd, options.view == gi::DebugView::None ? outputs.indirect : outputs.composite, extent,
-                            readback[slot]);
+                            readback[slot], desc.outputLayout);
     EXAMPLE_CHECK(vkEndCommandBuffer(cmd));
     VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
     submit.commandBufferCount = 1;
