@@ -29,8 +29,6 @@ struct Material {
   int32_t emissiveTexture = -1;
 
   bool isEmissive() const { return emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f; }
-  // A GGX lobe is added only where it changes the result noticeably.
-  bool needsGlossyLobe() const { return metallic > 0.0f || roughness < 0.9f || metallicRoughnessTexture >= 0; }
 };
 
 struct Texture {

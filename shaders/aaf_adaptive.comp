@@ -19,7 +19,7 @@ vec3 aafSampleU(uint i, uint n, uint offset, GiBsdf b, inout GiRng rng) {
 
 void main() {
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-  bool inside = all(lessThan(gl_GlobalInvocationID.xy, giFrame.size));
+  bool inside = giInFrame(gl_GlobalInvocationID.xy);
   uint traced = 0u;
   if (inside) {
     vec4 params = imageLoad(giAafParams, p);

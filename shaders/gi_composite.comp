@@ -37,7 +37,7 @@ void accumulatedSpread(ivec2 p, out GiLuminanceSpread indirect, out GiLuminanceS
 
 void main() {
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-  if (any(greaterThanEqual(gl_GlobalInvocationID.xy, giFrame.size))) return;
+  if (!giInFrame(gl_GlobalInvocationID.xy)) return;
   vec3 direct = giLoadDirect(p);
   vec3 indirect = giLoadIndirect(p);
   // Only where the history is long enough to speak for itself (a few samples' spread says little:

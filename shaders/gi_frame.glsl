@@ -160,11 +160,14 @@ vec2 giGbMotionPixels(ivec2 p) {
 
 bool giGbGlossy(ivec2 p) {
   if (GI_GLOSSY_FLAG == GI_GLOSSY_FROM_MATERIAL) {
-    vec2 rm = giGbRoughnessMetallic(p);
-    return rm.y > 0.0 || rm.x < 0.9;
+    const vec2 rm = giGbRoughnessMetallic(p);
+    return materialHasGlossyLobe(rm.y, rm.x);
   }
   return giGbAlbedo(p).a > 0.5;
 }
+
+// True for an invocation inside the frame (the dispatch covers whole groups beyond its edges).
+bool giInFrame(uvec2 invocation) { return all(lessThan(invocation, giFrame.size)); }
 
 // True where the G-buffer holds geometry.
 bool giGbCoveredRaw(ivec2 p) { return giGbViewDepth(p) != 0.0; }

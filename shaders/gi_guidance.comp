@@ -13,7 +13,7 @@ layout(local_size_x = GI_GROUP_SIZE, local_size_y = GI_GROUP_SIZE) in;
 
 void main() {
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-  if (any(greaterThanEqual(gl_GlobalInvocationID.xy, giFrame.size))) return;
+  if (!giInFrame(gl_GlobalInvocationID.xy)) return;
   if (!giGbCovered(p)) {
     imageStore(giGuidance, p, vec4(0.5, 0.5, 0.5, 0.0));
     imageStore(giPosition, p, vec4(0.0));

@@ -22,7 +22,7 @@ void giStoreGradientSample(ivec2 p, vec2 luminance, uint state) {
 
 void main() {
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-  bool inside = all(lessThan(gl_GlobalInvocationID.xy, giFrame.size));
+  bool inside = giInFrame(gl_GlobalInvocationID.xy);
   if (inside) {
     vec3 direct = vec3(0.0), indirect = vec3(0.0);
     bool filterVertex = false;  // for path space filtering (sspsf): the primary vertex has a diffuse lobe

@@ -164,7 +164,7 @@ uvec4 giSpatialReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float d
 
 void main() {
   const ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-  const bool inside = all(lessThan(gl_GlobalInvocationID.xy, giFrame.size));
+  const bool inside = giInFrame(gl_GlobalInvocationID.xy);
   if (inside) {
     uvec4 stored = uvec4(GI_RESERVOIR_EMPTY, 0u, 0u, 0u);
     if (giGbCovered(p)) {

@@ -91,7 +91,7 @@ void giTaskTakeNee(inout GiTask t, vec3 light, GiRng rng) {
 
 void main() {
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-  bool inside = all(lessThan(gl_GlobalInvocationID.xy, giFrame.size));
+  bool inside = giInFrame(gl_GlobalInvocationID.xy);
   if (inside) {
     GiTask t;
     t.phase = SS_RAY;

@@ -117,7 +117,7 @@ void countHistory(ivec2 p, float frames) {
 
 void main() {
   const ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-  if (any(greaterThanEqual(gl_GlobalInvocationID.xy, giFrame.size))) return;
+  if (!giInFrame(gl_GlobalInvocationID.xy)) return;
   if (!giGbCovered(p)) {
     write(p, vec3(0.0), vec3(0.0), 0.0, vec3(0.0), 0.0);
     writeMoments(p, GiMoments(vec2(0.0), vec2(0.0)));

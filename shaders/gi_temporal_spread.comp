@@ -13,7 +13,7 @@ layout(local_size_x = GI_GROUP_SIZE, local_size_y = GI_GROUP_SIZE) in;
 
 void main() {
   const ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-  if (any(greaterThanEqual(gl_GlobalInvocationID.xy, giFrame.size))) return;
+  if (!giInFrame(gl_GlobalInvocationID.xy)) return;
   vec2 sum = vec2(0.0), squares = vec2(0.0);  // direct, indirect
   float count = 0.0;
   for (int j = -1; j <= 1; ++j)

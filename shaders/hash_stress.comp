@@ -13,22 +13,10 @@
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_shader_atomic_int64 : require
 #include "hpsf.glsl"
-
-#define HG_STRESS_INSERT 0u
-#define HG_STRESS_EVICT 1u
-#define HG_STRESS_TIDY 2u
+#include "shared/hash_stress.h"
 
 layout(local_size_x = 64) in;
-layout(push_constant, scalar) uniform Push {
-  uint capacity;
-  uint window;
-  uint keyCount;
-  uint repeats;
-  uint mode;
-  uint keyBase;
-  uint sameIndex;
-  uint count;
-} pc;
+layout(push_constant, scalar) uniform Push { HgStressPush pc; };
 
 HgDescriptor stressKey(uint k) {
   HgDescriptor d;

@@ -49,7 +49,7 @@ uint hgPixelCell(ivec2 p) {
 
 void main() {
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-  if (any(greaterThanEqual(gl_GlobalInvocationID.xy, giFrame.size))) return;
+  if (!giInFrame(gl_GlobalInvocationID.xy)) return;
   vec3 result = giLoadNoisy(p);
   uint cell = hgPixelCell(p);
   vec4 debug = vec4(0.0);

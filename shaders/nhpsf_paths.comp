@@ -106,7 +106,7 @@ void giTaskTakeHit(inout GiTask t, GiHit hit, GiSurface s) { hgStepTakeHit(t.ste
 
 void main() {
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-  bool inside = all(lessThan(gl_GlobalInvocationID.xy, giFrame.size));
+  bool inside = giInFrame(gl_GlobalInvocationID.xy);
   uint continued = 0u, depthSum = 0u;
   if (inside) {
     vec3 direct = vec3(0.0), indirect = vec3(0.0);

@@ -36,7 +36,7 @@ vec2 blurredVariance(ivec2 p) {
 
 void main() {
   const ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-  if (any(greaterThanEqual(gl_GlobalInvocationID.xy, giFrame.size))) return;
+  if (!giInFrame(gl_GlobalInvocationID.xy)) return;
   const vec4 guide = svgfGuide(p, pc.parity);
   const float z = guide.w;
   if (z <= 0.0) return;  // no surface: the outputs keep what the trace wrote, and no tap reads it

@@ -16,7 +16,7 @@ layout(push_constant, scalar) uniform Push { GiSvgfPush pc; };
 
 void main() {
   const ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-  if (any(greaterThanEqual(gl_GlobalInvocationID.xy, giFrame.size))) return;
+  if (!giInFrame(gl_GlobalInvocationID.xy)) return;
   const vec4 direct = pc.parity == 0u ? giLoadHistoryDirect(p) : giLoadHistoryDirectB(p);
   const vec3 indirect = (pc.parity == 0u ? giLoadHistoryIndirect(p) : giLoadHistoryIndirectB(p)).rgb;
   const float frames = direct.a;

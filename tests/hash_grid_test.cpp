@@ -8,14 +8,12 @@
 #include "module_device.h"
 #include "hash_grid.h"
 #include "hash_stress.comp.h"
+#include "shared/hash_stress.h"
 
 namespace {
 
-// hash_stress.comp's push constants and modes.
-struct StressPush {
-  uint32_t capacity, window, keyCount, repeats, mode, keyBase, sameIndex, count;
-};
-constexpr uint32_t kInsert = 0, kEvict = 1, kTidy = 2;
+using StressPush = gpu::HgStressPush;
+constexpr uint32_t kInsert = gpu::HG_STRESS_INSERT, kEvict = gpu::HG_STRESS_EVICT, kTidy = gpu::HG_STRESS_TIDY;
 
 }  // namespace
 

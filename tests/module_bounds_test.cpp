@@ -11,6 +11,7 @@
 #include "gpu_test.h"
 #include "hash_grid.h"
 #include "hash_stress.comp.h"
+#include "shared/hash_stress.h"
 #include "light_field.h"
 #include "module_device.h"
 #include "module_test_helpers.h"
@@ -61,14 +62,7 @@ TEST_F(ModuleBoundsTest, EveryMethodOnAFullMapAndAMovingSceneStaysInBounds) {
   unload(s);
 }
 
-namespace {
-
-// hash_stress.comp's push constants (tests/hash_grid_test.cpp).
-struct StressPush {
-  uint32_t capacity, window, keyCount, repeats, mode, keyBase, sameIndex, count;
-};
-
-}  // namespace
+using StressPush = gpu::HgStressPush;  // hash_stress.comp's push constants
 
 // The check bites: the hash map's own insert, told the map is four times larger than it is, reaches
 // past its arrays; checked, every such index is counted and kept inside (unchecked, it would write

@@ -4,6 +4,7 @@
 #ifndef GI_FRAME_H
 #define GI_FRAME_H
 #include "gpu_common.h"
+#include "debug_views.h"
 #include "gpu_scene.h"
 
 GPU_NAMESPACE_BEGIN
@@ -91,7 +92,7 @@ GPU_CONST GI_DEPTH_LINEAR_VIEW_Z = 0u;     // view depth along −Z in metres, 0
 GPU_CONST GI_DEPTH_HARDWARE = 1u;          // depth buffer value, far (background) = 1
 GPU_CONST GI_DEPTH_HARDWARE_REVERSED = 2u; // depth buffer value, far (background) = 0
 GPU_CONST GI_GLOSSY_ALBEDO_ALPHA = 0u;     // albedo.a ≥ 0.5: the pixel has a GGX lobe
-GPU_CONST GI_GLOSSY_FROM_MATERIAL = 1u;    // metallic > 0 or roughness < 0.9 (the scene's rule)
+GPU_CONST GI_GLOSSY_FROM_MATERIAL = 1u;    // the material image by the scene's rule (materialHasGlossyLobe)
 
 // GiFrameConstants::primaryDirect: how the primary hits' direct light is found.
 GPU_CONST GI_PRIMARY_DIRECT_NEE = 0u;         // next-event estimation with the scene's light sampler
@@ -214,30 +215,6 @@ struct GiSvgfPush {
   uint debug;           // 1: the variance estimate also goes to the debug image (the svgf variance view)
 };
 GPU_ASSERT_SIZE(GiSvgfPush, 32);
-
-GPU_CONST GI_DEBUG_NONE = 0;
-GPU_CONST GI_DEBUG_DIRECT = 1;
-GPU_CONST GI_DEBUG_INDIRECT = 2;
-GPU_CONST GI_DEBUG_ALBEDO = 3;
-GPU_CONST GI_DEBUG_NORMAL = 4;
-
-GPU_CONST GI_DEBUG_GUIDANCE = 5;
-GPU_CONST GI_DEBUG_GUIDANCE_DEPTH = 6;
-GPU_CONST GI_DEBUG_FILTER_IN_OUT = 7;
-GPU_CONST GI_DEBUG_GIF_COEFFICIENTS = 8;
-GPU_CONST GI_DEBUG_AAF_ZMIN = 9;
-GPU_CONST GI_DEBUG_AAF_ZMAX = 10;
-GPU_CONST GI_DEBUG_AAF_SAMPLES = 11;
-GPU_CONST GI_DEBUG_AAF_FILTER_WIDTH = 12;
-GPU_CONST GI_DEBUG_HASH_CELLS = 13;
-GPU_CONST GI_DEBUG_HASH_LOD = 14;
-GPU_CONST GI_DEBUG_HASH_SAMPLES = 15;
-GPU_CONST GI_DEBUG_HASH_FOUND = 16;
-GPU_CONST GI_DEBUG_HASH_OCCUPANCY = 17;
-GPU_CONST GI_DEBUG_CONTINUATION_DEPTH = 18;
-GPU_CONST GI_DEBUG_TEMPORAL_HISTORY = 19;
-GPU_CONST GI_DEBUG_SVGF_VARIANCE = 20;
-GPU_CONST GI_DEBUG_TEMPORAL_GRADIENT = 21;
 
 GPU_CONST GI_CLAMP_INDIRECT = 1;      // the filter clamp holds the indirect output
 GPU_CONST GI_CLAMP_DIRECT = 2;        // and the direct output (svgf with filterDirect)

@@ -43,10 +43,15 @@ GPU_CONST SCENE_BINDING_COUNT = 17;
 #define SCENE_SPEC_HAS_SKY 3
 #define SCENE_SPEC_COUNT 4
 
-GPU_CONST MATERIAL_FLAG_GLOSSY = 1u;       // has a GGX lobe (metallic > 0 or roughness < 0.9 or a roughness texture)
+GPU_CONST MATERIAL_FLAG_GLOSSY = 1u;       // has a GGX lobe (materialHasGlossyLobe, or a roughness texture)
 GPU_CONST MATERIAL_FLAG_ALPHA_MASK = 2u;   // alphaMode MASK: texels below alphaCutoff are holes
 GPU_CONST MATERIAL_FLAG_EMISSIVE = 4u;     // emissive (factor × strength) is non-zero
 GPU_CONST NO_TEXTURE = 0xffffffffu;
+
+// The glossy-material rule, once for the scene's materials (scene_tables.cpp) and the G-buffer's pixels
+// (GlossyFlag::FromMaterial, gi_frame.glsl): a GGX lobe only where it changes the result noticeably:
+// metallic, or smoother than a perceptual roughness of 0.9.
+GPU_FN bool materialHasGlossyLobe(float metallic, float roughness) { return metallic > 0.0f || roughness < 0.9f; }
 
 struct GpuMaterial {
   vec4 baseColor;        // linear RGBA factor, multiplied by the sRGB-decoded texture

@@ -4,6 +4,8 @@
 #include <cstdint>
 #include <string>
 
+#include "shared/debug_views.h"
+
 namespace gi {
 
 enum class Method : uint32_t {
@@ -26,28 +28,28 @@ const char* methodName(Method method);
 bool methodFromName(const std::string& name, Method& out);  // false for unknown names
 
 enum class DebugView : uint32_t {
-  None = 0,        // composite = direct + diffuse albedo × indirect
-  Direct,          // direct light only (emission + first reflection)
-  Indirect,        // demodulated indirect light
-  Albedo,          // G-buffer base colour
-  Normal,          // G-buffer normal, mapped to [0,1]
-  Guidance,        // filter guidance: normal (rgb) as the guided filter sees it
-  GuidanceDepth,   // filter guidance: depth channel
-  FilterInOut,     // left half: noisy indirect; right half: filtered
-  GifCoefficients, // guided filter: |a| (r), |b| (g) per pixel
-  AafZMin,         // AAF: nearest reflector distance / scene extent
-  AafZMax,         // AAF: farthest reflector distance / scene extent
-  AafSamples,      // AAF: samples per pixel / 100
-  AafFilterWidth,  // AAF: filter σ in pixels / 32
-  HashCells,       // HPSF: each pixel's cell, coloured by its key
-  HashLod,         // HPSF: the cell's level of detail
-  HashSamples,     // HPSF: samples behind the cell's mean / 100
-  HashFound,       // HPSF: green = cell used, yellow = too few samples, red = no cell (fallback)
-  HashOccupancy,   // HPSF: how full the probe window around the pixel's cell is, green (empty) → red (full; red also = no cell)
-  ContinuationDepth,  // A-nHPSF: depth of the pixel's continued path / the maximum depth
-  TemporalHistory,    // temporal reprojection: frames of history behind the pixel / 32 (1/32: it started over)
-  SvgfVariance,       // svgf: the luminance variance estimate of direct (r) and indirect (g) light, history frames / 32 (b)
-  TemporalGradient,   // temporal gradients: how much of the history the pixel drops, direct (r) and indirect (g)
+  None = gpu::GI_DEBUG_NONE,                             // composite = direct + diffuse albedo × indirect
+  Direct = gpu::GI_DEBUG_DIRECT,                         // direct light only (emission + first reflection)
+  Indirect = gpu::GI_DEBUG_INDIRECT,                     // demodulated indirect light
+  Albedo = gpu::GI_DEBUG_ALBEDO,                         // G-buffer base colour
+  Normal = gpu::GI_DEBUG_NORMAL,                         // G-buffer normal, mapped to [0,1]
+  Guidance = gpu::GI_DEBUG_GUIDANCE,                     // filter guidance: normal (rgb) as the guided filter sees it
+  GuidanceDepth = gpu::GI_DEBUG_GUIDANCE_DEPTH,          // filter guidance: depth channel
+  FilterInOut = gpu::GI_DEBUG_FILTER_IN_OUT,             // left half: noisy indirect; right half: filtered
+  GifCoefficients = gpu::GI_DEBUG_GIF_COEFFICIENTS,      // guided filter: |a| (r), |b| (g) per pixel
+  AafZMin = gpu::GI_DEBUG_AAF_ZMIN,                      // AAF: nearest reflector distance / scene extent
+  AafZMax = gpu::GI_DEBUG_AAF_ZMAX,                      // AAF: farthest reflector distance / scene extent
+  AafSamples = gpu::GI_DEBUG_AAF_SAMPLES,                // AAF: samples per pixel / 100
+  AafFilterWidth = gpu::GI_DEBUG_AAF_FILTER_WIDTH,       // AAF: filter σ in pixels / 32
+  HashCells = gpu::GI_DEBUG_HASH_CELLS,                  // HPSF: each pixel's cell, coloured by its key
+  HashLod = gpu::GI_DEBUG_HASH_LOD,                      // HPSF: the cell's level of detail
+  HashSamples = gpu::GI_DEBUG_HASH_SAMPLES,              // HPSF: samples behind the cell's mean / 100
+  HashFound = gpu::GI_DEBUG_HASH_FOUND,                  // HPSF: green = cell used, yellow = too few samples, red = no cell (fallback)
+  HashOccupancy = gpu::GI_DEBUG_HASH_OCCUPANCY,          // HPSF: how full the probe window around the pixel's cell is, green (empty) → red (full; red also = no cell)
+  ContinuationDepth = gpu::GI_DEBUG_CONTINUATION_DEPTH,  // A-nHPSF: depth of the pixel's continued path / the maximum depth
+  TemporalHistory = gpu::GI_DEBUG_TEMPORAL_HISTORY,      // temporal reprojection: frames of history behind the pixel / 32 (1/32: it started over)
+  SvgfVariance = gpu::GI_DEBUG_SVGF_VARIANCE,            // svgf: the luminance variance estimate of direct (r) and indirect (g) light, history frames / 32 (b)
+  TemporalGradient = gpu::GI_DEBUG_TEMPORAL_GRADIENT,    // temporal gradients: how much of the history the pixel drops, direct (r) and indirect (g)
 };
 inline constexpr uint32_t kDebugViewCount = uint32_t(DebugView::TemporalGradient) + 1;  // keep after the last view
 

@@ -54,7 +54,7 @@ gpu::GpuMaterial gpuMaterial(const MaterialDesc& m, glm::vec3& emission) {
   emission = glm::vec3(m.emissive[0], m.emissive[1], m.emissive[2]) * m.emissiveStrength;
   const bool emissive = emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f;
   // A GGX lobe is added only where it changes the result noticeably.
-  const bool glossy = m.metallic > 0.0f || m.roughness < 0.9f || m.metallicRoughnessTexture >= 0;
+  const bool glossy = gpu::materialHasGlossyLobe(m.metallic, m.roughness) || m.metallicRoughnessTexture >= 0;
   auto texture = [](int32_t t) { return t >= 0 ? uint32_t(t) : gpu::NO_TEXTURE; };
   gpu::GpuMaterial g{};
   g.baseColor = glm::vec4(m.baseColor[0], m.baseColor[1], m.baseColor[2], m.baseColor[3]);
