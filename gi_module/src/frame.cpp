@@ -118,14 +118,35 @@ void recordHashPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const gpu::
   const HpsfSettings& h = s.hpsf;
   const bool strict = h.eviction == EvictionPolicy::Strict;
   const glm::uvec2 size{m.width, m.height};
-  gpu::HgPush push{m.hash.capacity, h.probeWindow, h.filterWidth, pixelScale(frame.camera), h.jitter, h.normalBits,
-                   h.stochasticLod ? 1u : 0u, h.clampSigma, frame.frameIndex, h.historyFrames, h.staleFrames, h.minSamples,
-                   s.seed, spp, s.maxBounces, s.russianRouletteStart, hashTableBase(m.hash, frame.frameIndex),
-                   previousHashTableBase(m.hash, frame.frameIndex), strict ? 1u : 0u, uint32_t(s.debugView),
-                   hashMode(s.method), s.method == Method::Nhpsf ? h.pathDepth : h.continuationDepth,
-                   h.secondaryWidthScale, strict ? 0u : h.validationInterval, radianceScale(m),
-                   m.hash.forgetLight ? 1u : 0u, h.normalJitter, uint32_t(h.secondaryLod),
-                   s.method == Method::Hpsf ? 0u : h.historySamples, 0, 0, 0};
+  const gpu::HgPush push{.capacity = m.hash.capacity,
+                         .probeWindow = h.probeWindow,
+                         .filterWidth = h.filterWidth,
+                         .pixelAngle = pixelScale(frame.camera),
+                         .jitter = h.jitter,
+                         .normalBits = h.normalBits,
+                         .stochasticLod = h.stochasticLod ? 1u : 0u,
+                         .clampSigma = h.clampSigma,
+                         .frameIndex = frame.frameIndex,
+                         .historyCap = h.historyFrames,
+                         .staleFrames = h.staleFrames,
+                         .minSamples = h.minSamples,
+                         .seed = s.seed,
+                         .samplesPerPixel = spp,
+                         .maxBounces = s.maxBounces,
+                         .russianRouletteStart = s.russianRouletteStart,
+                         .table = hashTableBase(m.hash, frame.frameIndex),
+                         .previousTable = previousHashTableBase(m.hash, frame.frameIndex),
+                         .strict = strict ? 1u : 0u,
+                         .debugView = uint32_t(s.debugView),
+                         .mode = hashMode(s.method),
+                         .depth = s.method == Method::Nhpsf ? h.pathDepth : h.continuationDepth,
+                         .secondaryWidthScale = h.secondaryWidthScale,
+                         .validationInterval = strict ? 0u : h.validationInterval,
+                         .radianceScale = radianceScale(m),
+                         .forgetLight = m.hash.forgetLight ? 1u : 0u,
+                         .normalJitter = h.normalJitter,
+                         .secondaryLod = uint32_t(h.secondaryLod),
+                         .historySamples = s.method == Method::Hpsf ? 0u : h.historySamples};
   m.hash.forgetLight = false;
   VkDescriptorSet sets[] = {m.desc.scene.set, m.sized.frameSets[slot], m.hash.set[0]};
   recordHashGridFrameStart(m.gpu, cmd, m.hash, frame.frameIndex);
@@ -153,18 +174,17 @@ void recordReservoirPasses(Module& m, VkCommandBuffer cmd, uint32_t slot) {
   const Settings& s = m.settings;
   const ReservoirSettings& r = s.reservoirs;
   VkDescriptorSet sets[] = {m.desc.scene.set, m.sized.frameSets[slot]};
-  gpu::GiReservoirPush push{gpu::GI_RESERVOIR_TEMPORAL,
-                            s.seed,
-                            r.candidates,
-                            r.temporal && m.reservoirFrames > 0 ? 1u : 0u,
-                            r.neighbours,
-                            r.radius,
-                            r.maxHistory,
-                            r.unbiased ? 1u : 0u,
-                            s.temporal.depthTolerance,
-                            cosDegrees(s.temporal.normalLimitDegrees),
-                            m.reservoirFrames & 1u,
-                            0};
+  gpu::GiReservoirPush push{.mode = gpu::GI_RESERVOIR_TEMPORAL,
+                            .seed = s.seed,
+                            .candidates = r.candidates,
+                            .temporal = r.temporal && m.reservoirFrames > 0 ? 1u : 0u,
+                            .neighbours = r.neighbours,
+                            .radius = r.radius,
+                            .maxHistory = r.maxHistory,
+                            .unbiased = r.unbiased ? 1u : 0u,
+                            .depthTolerance = s.temporal.depthTolerance,
+                            .cosNormalLimit = cosDegrees(s.temporal.normalLimitDegrees),
+                            .parity = m.reservoirFrames & 1u};
   // Pass: candidates from the light sampler, last frame's reservoir, the survivor's shadow ray.
   runPass(m, cmd, slot, Pass::ReservoirTemporal, m.reservoirs, sets, {m.width, m.height}, push);
   // Pass: neighbours' reservoirs merged and the survivor's shadow ray: the pick the tracing passes take.
@@ -178,8 +198,14 @@ void recordSvgfPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, bool filter
   const SvgfSettings& v = m.settings.svgf;
   VkDescriptorSet sets[] = {m.desc.scene.set, m.sized.frameSets[slot]};
   const glm::uvec2 size{m.width, m.height};
-  gpu::GiSvgfPush push{m.temporalFrames & 1u, 0, v.sigmaLuminance, v.sigmaNormal, v.sigmaDepth, v.iterations,
-                       filterDirect ? 1u : 0u, m.settings.debugView == DebugView::SvgfVariance ? 1u : 0u};
+  gpu::GiSvgfPush push{.parity = m.temporalFrames & 1u,
+                       .iteration = 0,
+                       .sigmaLuminance = v.sigmaLuminance,
+                       .sigmaNormal = v.sigmaNormal,
+                       .sigmaDepth = v.sigmaDepth,
+                       .iterations = v.iterations,
+                       .direct = filterDirect ? 1u : 0u,
+                       .debug = m.settings.debugView == DebugView::SvgfVariance ? 1u : 0u};
   // Pass: the luminance variance of direct and indirect light, from their moments.
   runPass(m, cmd, slot, Pass::SvgfVariance, m.svgfVariance, sets, size, push);
   // Passes: the à-trous iterations (the first feeds the history back).
@@ -348,26 +374,33 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
   const bool gradientsTraced = usesTemporalGradients(m, s) && m.temporalFrames > 0;
   if (isAaf(s.method)) {
     // Passes: 16 stratified rays give reflector distances, β and n per pixel; then the remaining n − 16.
-    gpu::AafPush aaf{s.aaf.mu, s.aaf.alpha, m.desc.scene.extent, s.seed, s.method == Method::AafAo ? 1u : 0u,
-                     aafBudget, s.maxBounces, s.russianRouletteStart, s.aaf.uniformSamples,
-                     aafSpecular(m, s) ? 1u : 0u, 0, 0};
+    const gpu::AafPush aaf{.mu = s.aaf.mu,
+                           .alpha = s.aaf.alpha,
+                           .sceneExtent = m.desc.scene.extent,
+                           .seed = s.seed,
+                           .ambientOcclusion = s.method == Method::AafAo ? 1u : 0u,
+                           .sampleBudget = aafBudget,
+                           .maxBounces = s.maxBounces,
+                           .russianRouletteStart = s.russianRouletteStart,
+                           .uniformSamples = s.aaf.uniformSamples,
+                           .glossy = aafSpecular(m, s) ? 1u : 0u};
     runPass(m, cmd, slot, Pass::AafSample, m.aafSample, sets, size, aaf);
     runPass(m, cmd, slot, Pass::AafAdaptive, m.aafAdaptive, sets, size, aaf);
   } else if (usesHashGrid(s.method)) {
     recordHashPasses(m, cmd, slot, frame, spp);
   } else {
     // Pass: trace paths from the G-buffer (direct + demodulated indirect, optional temporal mean).
-    gpu::GiRawPush raw{s.seed,
-                       spp,
-                       s.maxBounces,
-                       s.russianRouletteStart,
-                       m.historyLength,
-                       s.raw.maxAccumulatedFrames,
-                       accumulate ? 1u : 0u,
-                       usesTemporalGradients(m, s) ? 1u : 0u,
-                       m.temporalFrames & 1u,
-                       s.temporal.depthTolerance,
-                       cosDegrees(s.temporal.normalLimitDegrees)};
+    const gpu::GiRawPush raw{.seed = s.seed,
+                             .samplesPerPixel = spp,
+                             .maxBounces = s.maxBounces,
+                             .russianRouletteStart = s.russianRouletteStart,
+                             .historyLength = m.historyLength,
+                             .maxHistory = s.raw.maxAccumulatedFrames,
+                             .accumulate = accumulate ? 1u : 0u,
+                             .gradients = usesTemporalGradients(m, s) ? 1u : 0u,
+                             .parity = m.temporalFrames & 1u,
+                             .depthTolerance = s.temporal.depthTolerance,
+                             .cosNormalLimit = cosDegrees(s.temporal.normalLimitDegrees)};
     runPass(m, cmd, slot, Pass::RawTrace, m.rawTrace, sets, size, raw);
     // Pass: one more path per 3×3 tile with last frame's random numbers: how much its light changed.
     if (gradientsTraced)
@@ -384,19 +417,19 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
     // accumulated only for the filter clamp).
     const TemporalSettings& t = s.temporal;
     const bool svgf = s.method == Method::Svgf;
-    gpu::GiTemporalPush temporal{m.temporalFrames & 1u,
-                                 m.temporalFrames == 0 ? 1u : 0u,
-                                 svgf ? s.svgf.alpha : t.minBlend,
-                                 t.depthTolerance,
-                                 cosDegrees(t.normalLimitDegrees),
-                                 usesPackedHistory(m, s) ? 1u : 0u,
-                                 noisyDirect ? 1u : 0u,
-                                 svgf ? 1u : 0u,
-                                 s.svgf.momentsAlpha,
-                                 gradientsTraced ? 1u : 0u,
-                                 usesHashGrid(s.method) ? 0u : 1u,
-                                 usesHistoryClamp(m, s) ? t.historyClamp : 0.0f,
-                                 radianceScale(m)};
+    const gpu::GiTemporalPush temporal{.parity = m.temporalFrames & 1u,
+                                       .reset = m.temporalFrames == 0 ? 1u : 0u,
+                                       .minBlend = svgf ? s.svgf.alpha : t.minBlend,
+                                       .depthTolerance = t.depthTolerance,
+                                       .cosNormalLimit = cosDegrees(t.normalLimitDegrees),
+                                       .directOnly = usesPackedHistory(m, s) ? 1u : 0u,
+                                       .direct = noisyDirect ? 1u : 0u,
+                                       .moments = svgf ? 1u : 0u,
+                                       .momentsMinBlend = s.svgf.momentsAlpha,
+                                       .gradients = gradientsTraced ? 1u : 0u,
+                                       .indirectOutput = usesHashGrid(s.method) ? 0u : 1u,
+                                       .historyClamp = usesHistoryClamp(m, s) ? t.historyClamp : 0.0f,
+                                       .historyScale = radianceScale(m)};
     // Pass: this frame's samples' spread around each pixel, which the history is clamped to.
     if (usesHistoryClamp(m, s) && m.temporalFrames > 0)
       runPass(m, cmd, slot, Pass::TemporalSpread, m.temporalSpread, sets, size, temporal);
@@ -416,15 +449,19 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
     clampLight = gpu::GI_CLAMP_INDIRECT | gpu::GI_CLAMP_FROM_MOMENTS |
                  (noisyDirect && s.svgf.filterDirect ? gpu::GI_CLAMP_DIRECT : 0u);
   // Pass: composite (or the chosen debug view).
-  gpu::GiCompositePush composite{uint32_t(s.debugView), s.method == Method::AafAo ? 1u : 0u, m.desc.scene.extent,
-                                 pixelScale(camera), aafSpecular(m, s) ? 1u : 0u,
-                                 debugViewCatalogue()[size_t(s.debugView)].radiance ? 1u : 0u,
-                                 runTemporal ? m.temporalFrames & 1u : 2u,  // odd counts: this frame wrote B
-                                 gradientsTraced ? 1u : 0u,
-                                 s.temporal.filterClamp,
-                                 clampLight,
-                                 usesPackedHistory(m, s) ? 1u : 0u,
-                                 radianceScale(m)};
+  const gpu::GiCompositePush composite{
+      .debugView = uint32_t(s.debugView),
+      .ambientOcclusion = s.method == Method::AafAo ? 1u : 0u,
+      .sceneExtent = m.desc.scene.extent,
+      .pixelScale = pixelScale(camera),
+      .aafSpecular = aafSpecular(m, s) ? 1u : 0u,
+      .radiance = debugViewCatalogue()[size_t(s.debugView)].radiance ? 1u : 0u,
+      .temporalWritten = runTemporal ? m.temporalFrames & 1u : 2u,  // odd counts: this frame wrote B
+      .gradients = gradientsTraced ? 1u : 0u,
+      .filterClamp = s.temporal.filterClamp,
+      .clampLight = clampLight,
+      .packedHistory = usesPackedHistory(m, s) ? 1u : 0u,
+      .historyScale = radianceScale(m)};
   runPass(m, cmd, slot, Pass::Composite, m.composite, sets, size, composite);
 
   if (s.method == Method::Gif && s.gif.supersamples > 0 && s.debugView == DebugView::None) {
