@@ -28,11 +28,8 @@ struct SceneGpu {
   bool hasEmissiveTriangles() const { return desc.hasEmissiveTriangles; }
   bool hasPunctualLights() const { return desc.hasPunctualLights; }
 
-  // Values for the SCENE_SPEC_* specialisation constants.
-  std::array<uint32_t, SCENE_SPEC_COUNT> specialization() const {
-    return {desc.hasEmissiveTriangles ? 1u : 0u, desc.hasPunctualLights ? 1u : 0u, desc.hasAlphaMask ? 1u : 0u,
-            desc.hasSky ? 1u : 0u};
-  }
+  // Values for the SCENE_SPEC_* specialisation constants: the module's (gi::sceneSpecialization).
+  std::array<uint32_t, SCENE_SPEC_COUNT> specialization() const { return gi::sceneSpecialization(desc); }
 };
 
 // Expects a scene whose primitives

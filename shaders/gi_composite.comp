@@ -12,29 +12,6 @@
 layout(local_size_x = GI_GROUP_SIZE, local_size_y = GI_GROUP_SIZE) in;
 layout(push_constant, scalar) uniform Push { GiCompositePush pc; };
 
-// The luminance spread of the accumulated indirect and direct light (over
-// the base colour) over p's 3×3 neighbourhood: svgf's first luminance moments
-// (the set written this frame), or the noisy image the filter read (indirect).
-void accumulatedSpread(ivec2 p, out GiLuminanceSpread indirect, out GiLuminanceSpread direct) {
-  vec2 sum = vec2(0.0), squares = vec2(0.0);
-  float count = 0.0;
-  for (int j = -1; j <= 1; ++j)
-    for (int i = -1; i <= 1; ++i) {
-      const ivec2 q = p + ivec2(i, j);
-      if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, ivec2(giFrame.size))) || !giGbCoveredRaw(q)) continue;
-      vec2 l;  // indirect, direct
-      if ((pc.clampLight & GI_CLAMP_FROM_MOMENTS) != 0u)
-        l = giLoadMoments(pc.temporalWritten, q).mean.yx;
-      else
-        l = vec2(giLuminance(giLoadNoisy(q)), 0.0);
-      sum += l;
-      squares += l * l;
-      count += 1.0;
-    }
-  indirect = giSpread(sum.x, squares.x, count);
-  direct = giSpread(sum.y, squares.y, count);
-}
-
 void main() {
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   if (!giInFrame(gl_GlobalInvocationID.xy)) return;
@@ -65,8 +42,10 @@ void main() {
                        giGbCovered(p) &&
                        ((pc.clampLight & GI_CLAMP_FILTER_VERTICES) == 0u || imageLoad(giNoisyIndirect, p).a > 0.5);
   if (clamped) {
+    // Against svgf's first luminance moments (the set written this frame), or the noisy image the filter read.
     GiLuminanceSpread indirectSpread, directSpread;
-    accumulatedSpread(p, indirectSpread, directSpread);
+    giNeighbourhoodSpread(p, (pc.clampLight & GI_CLAMP_FROM_MOMENTS) != 0u ? GI_SPREAD_MOMENTS : GI_SPREAD_NOISY,
+                          pc.temporalWritten, directSpread, indirectSpread);
     if ((pc.clampLight & GI_CLAMP_INDIRECT) != 0u) {
       indirect = giClampLuminance(indirect, indirectSpread, pc.filterClamp);
       giStoreIndirect(p, indirect);

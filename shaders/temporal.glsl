@@ -164,6 +164,39 @@ GiLuminanceSpread giSpread(float sum, float squares, float count) {
   const float mean = sum / max(count, 1.0);
   return GiLuminanceSpread(mean, sqrt(max(squares / max(count, 1.0) - mean * mean, 0.0)));
 }
+// The luminance spread over p's 3×3 neighbourhood (surfaces only) of the direct light over the base colour
+// and of the demodulated indirect, from one source: this frame's samples (giNewFrameLight; the history
+// clamp's yardstick), svgf's first luminance moments in `set`, or the noisy image the filter read
+// (indirect only, direct 0; the filter clamp's).
+#define GI_SPREAD_NEW_FRAME 0u
+#define GI_SPREAD_MOMENTS 1u
+#define GI_SPREAD_NOISY 2u
+void giNeighbourhoodSpread(ivec2 p, uint source, uint set, out GiLuminanceSpread direct,
+                           out GiLuminanceSpread indirect) {
+  vec2 sum = vec2(0.0), squares = vec2(0.0);  // direct, indirect
+  float count = 0.0;
+  for (int j = -1; j <= 1; ++j)
+    for (int i = -1; i <= 1; ++i) {
+      const ivec2 q = p + ivec2(i, j);
+      if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, ivec2(giFrame.size))) || !giGbCovered(q)) continue;
+      vec2 l;
+      if (source == GI_SPREAD_NEW_FRAME) {
+        vec3 d, ind;
+        giNewFrameLight(q, d, ind);
+        l = vec2(giLuminance(d), giLuminance(ind));
+      } else if (source == GI_SPREAD_MOMENTS) {
+        l = giLoadMoments(set, q).mean;
+      } else {
+        l = vec2(0.0, giLuminance(giLoadNoisy(q)));
+      }
+      sum += l;
+      squares += l * l;
+      count += 1.0;
+    }
+  direct = giSpread(sum.x, squares.x, count);
+  indirect = giSpread(sum.y, squares.y, count);
+}
+
 vec3 giClampLuminance(vec3 light, GiLuminanceSpread spread, float gamma) {
   const float l = giLuminance(light);
   const float clamped = clamp(l, spread.mean - gamma * spread.sigma, spread.mean + gamma * spread.sigma);

@@ -311,7 +311,7 @@ void replaceHashGrid(Module& m, HashGrid& next) {
 
 }  // namespace
 
-// The SCENE_SPEC_* specialisation values for a scene.
+// gi.h: set 0's specialisation values for a scene.
 std::array<uint32_t, SCENE_SPEC_COUNT> sceneSpecialization(const SceneDesc& scene) {
   return {scene.hasEmissiveTriangles ? 1u : 0u, scene.hasPunctualLights ? 1u : 0u, scene.hasAlphaMask ? 1u : 0u,
           scene.hasSky ? 1u : 0u};

@@ -36,13 +36,6 @@ GPU_CONST SCENE_BINDING_SKY_DISTRIBUTION = 15;// R32_SFLOAT: the sky map's sampl
 GPU_CONST SCENE_BINDING_TEXTURES = 16;         // sampler2D[], variable count (must stay the last binding)
 GPU_CONST SCENE_BINDING_COUNT = 17;
 
-// Specialisation constant ids every scene-reading pipeline receives (0/1 values).
-#define SCENE_SPEC_HAS_EMISSIVE 0
-#define SCENE_SPEC_HAS_PUNCTUAL 1
-#define SCENE_SPEC_HAS_ALPHA_MASK 2
-#define SCENE_SPEC_HAS_SKY 3
-#define SCENE_SPEC_COUNT 4
-
 GPU_CONST MATERIAL_FLAG_GLOSSY = 1u;       // has a GGX lobe (materialHasGlossyLobe, or a roughness texture)
 GPU_CONST MATERIAL_FLAG_ALPHA_MASK = 2u;   // alphaMode MASK: texels below alphaCutoff are holes
 GPU_CONST MATERIAL_FLAG_EMISSIVE = 4u;     // emissive (factor × strength) is non-zero

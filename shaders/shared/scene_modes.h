@@ -1,8 +1,16 @@
 // The scene's modes that the module's public header names (gi::SceneDesc, gi::SceneCreateDesc) and the
-// shaders branch on: how set 0 is traced and how next-event estimation picks punctual lights. No GLM.
+// shaders branch on: the scene facts every set-0 pipeline is specialised on, how set 0 is traced and how
+// next-event estimation picks punctual lights. No GLM.
 #ifndef GI_SCENE_MODES_H
 #define GI_SCENE_MODES_H
 #include "gpu_macros.h"
+
+// Specialisation constant ids every scene-reading pipeline receives (0/1 values).
+#define SCENE_SPEC_HAS_EMISSIVE 0
+#define SCENE_SPEC_HAS_PUNCTUAL 1
+#define SCENE_SPEC_HAS_ALPHA_MASK 2
+#define SCENE_SPEC_HAS_SKY 3
+#define SCENE_SPEC_COUNT 4
 
 GPU_NAMESPACE_BEGIN
 

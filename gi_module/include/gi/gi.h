@@ -53,6 +53,7 @@
 #pragma once
 #include <vulkan/vulkan_core.h>
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -96,6 +97,10 @@ struct SceneDesc {
                                                   // noisy, and the temporal passes and svgf accumulate and filter it as
                                                   // area lights' (picksPunctualLights: under the scene's own sampler)
 };
+
+// The values of the SCENE_SPEC_* specialisation constants (shared/scene_modes.h) for `scene`: what every
+// pipeline that binds set 0 is specialised on, the module's and an engine's own passes alike.
+std::array<uint32_t, SCENE_SPEC_COUNT> sceneSpecialization(const SceneDesc& scene);
 
 // Whether NEE picks among the scene's punctual lights under its own sampler.
 inline bool picksPunctualLights(const SceneDesc& scene) {
