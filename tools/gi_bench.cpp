@@ -81,6 +81,10 @@ std::string sanitise(const std::string& text) {
   return out;
 }
 
+// A configuration's last frame, relative to the run's directory (results.csv's `image`, which
+// plot_bench.py reads).
+std::string imagePath(const std::string& label) { return "images/" + sanitise(label) + ".pfm"; }
+
 double median(std::vector<double> v) {
   if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
@@ -501,7 +505,7 @@ int main(int argc, char** argv) {
       pose(0.0f);  // the next configuration starts before the move
     }
     if (animate) pose(0.0f);
-    engine::writeImage((dir / "images" / (sanitise(config.label) + ".pfm")).string(), out.final, error);
+    engine::writeImage((dir / imagePath(config.label)).string(), out.final, error);
 
     if (cameraPath) row.flickerRatio = refFlicker > 0.0 ? flicker / refFlicker : 0.0;
     tools::destroyModuleSession(ctx, session);
@@ -531,7 +535,7 @@ int main(int argc, char** argv) {
   csv << "scene,method,settings,spp,frames,total_ms,pass_ms,rays,mrays_per_s,ray_efficiency,mse,relmse,psnr,ssim,"
          "mse_indirect,relmse_indirect,psnr_indirect,ssim_indirect,memory_bytes,equal_error_speedup,flicker_ratio,"
          "hash_occupancy,hash_failed_inserts,hash_mean_probe,hash_max_probe,hash_evicted,traced_spp,equal_error_speedup_indirect,"
-         "hash_stale_resets,move_recovery_frames,move_steady_mse_indirect,label\n";
+         "hash_stale_resets,move_recovery_frames,move_steady_mse_indirect,label,image\n";
   for (const Row& r : rows) {
     std::string passes;
     for (const std::string& name : r.passOrder) {
@@ -542,14 +546,15 @@ int main(int argc, char** argv) {
     double mrays = r.traceMs > 0.0 ? r.rays / (r.traceMs * 1e3) : 0.0;
     char line[4096];
     std::snprintf(line, sizeof(line),
-                  "%s,%s,\"%s\",%u,%u,%.4f,%s,%.0f,%.4f,%.4f,%.6e,%.6e,%.4f,%.6f,%.6e,%.6e,%.4f,%.6f,%llu,%.4f,%s,%.4f,%u,%.3f,%u,%u,%u,%.4f,%u,%d,%.6e,\"%s\"\n",
+                  "%s,%s,\"%s\",%u,%u,%.4f,%s,%.0f,%.4f,%.4f,%.6e,%.6e,%.4f,%.6f,%.6e,%.6e,%.4f,%.6f,%llu,%.4f,%s,%.4f,%u,%.3f,%u,%u,%u,%.4f,%u,%d,%.6e,\"%s\",%s\n",
                   sceneName.c_str(), gi::methodName(r.config.settings.method), r.config.settingsText.c_str(), r.config.spp,
                   frames, r.totalMs, passes.c_str(), r.rays, mrays, bare.mraysPerSecond() > 0 ? mrays / bare.mraysPerSecond() : 0.0,
                   r.final.mse, r.final.relMse, r.final.psnr, r.final.ssim, r.indirect.mse, r.indirect.relMse,
                   r.indirect.psnr, r.indirect.ssim, (unsigned long long)r.memory, r.speedup,
                   r.flickerRatio >= 0.0 ? std::to_string(r.flickerRatio).c_str() : "", double(r.hash.occupancy()),
                   r.hash.failedInserts, double(r.hash.meanProbe), r.hash.maxProbe, r.hash.evicted, r.tracedSpp,
-                  r.speedupIndirect, r.hash.staleResets, r.recoveryFrames, r.steadyMse, r.config.label.c_str());
+                  r.speedupIndirect, r.hash.staleResets, r.recoveryFrames, r.steadyMse, r.config.label.c_str(),
+                  imagePath(r.config.label).c_str());
     csv << line;
   }
   csv.close();

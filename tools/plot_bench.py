@@ -32,10 +32,6 @@ def to_srgb(img):
     return np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
 
 
-def sanitise(text):
-    return "".join(c if (c.isalnum() or c in ".-") else "_" for c in text)
-
-
 def pareto(points):
     """Indices of points not dominated in (time, error), sorted by time."""
     order = sorted(range(len(points)), key=lambda i: (points[i][0], points[i][1]))
@@ -87,7 +83,7 @@ def main(out_dir):
 
     # Insets: a central crop of the reference and of each configuration's last frame.
     ref_path = os.path.join(out_dir, "images", "reference.pfm")
-    panels = [("reference", ref_path)] + [(r["label"], os.path.join(out_dir, "images", sanitise(r["label"]) + ".pfm")) for r in rows]
+    panels = [("reference", ref_path)] + [(r["label"], os.path.join(out_dir, r["image"])) for r in rows]
     panels = [(name, p) for name, p in panels if os.path.exists(p)]
     if panels:
         ref = read_pfm(panels[0][1])
