@@ -30,8 +30,8 @@ GPU_CONST SCENE_BINDING_CONSTANTS = 10;        // GpuSceneConstants, RGBA32UI ro
 // Each is an RGBA32UI uniform texel buffer holding the structs' 16-byte rows.
 GPU_CONST SCENE_BINDING_BVH_NODES = 11;        // GpuBvhNode[], every bottom level
 GPU_CONST SCENE_BINDING_BVH_TRIANGLES = 12;    // GpuBvhTriangle[]
-GPU_CONST SCENE_BINDING_BVH_TOP_NODES = 13;    // GpuBvhNode[], the top level (node 0 = root), host-written
-GPU_CONST SCENE_BINDING_BVH_INSTANCES = 14;    // GpuBvhInstance[], host-written
+GPU_CONST SCENE_BINDING_BVH_TOP_NODES = 13;    // GpuBvhNode[], the top level (node 0 = root), rewritten by updates
+GPU_CONST SCENE_BINDING_BVH_INSTANCES = 14;    // GpuBvhInstance[], rewritten by updates
 GPU_CONST SCENE_BINDING_SKY_DISTRIBUTION = 15;// R32_SFLOAT: the sky map's sampling tables (sky.glsl); a placeholder without a map
 GPU_CONST SCENE_BINDING_TEXTURES = 16;         // sampler2D[], variable count (must stay the last binding)
 GPU_CONST SCENE_BINDING_COUNT = 17;

@@ -24,7 +24,8 @@ struct Scene {
   uint32_t emissiveCapacity = 0;                // entries the emission table's buffer holds
 
   vk::Buffer positions, normals, uvs, indices, geometries, materials;  // device-local, uploaded once
-  vk::Buffer instanceTable, emissiveTriangles, punctualLights, constants, skyDistribution;  // host-written
+  vk::Buffer instanceTable, emissiveTriangles, punctualLights, constants, skyDistribution;  // host-visible: written
+                                                // at create, then by commands in the engine's frames (updates)
   VkBufferView arrayViews[11]{};                // texel views of the arrays above and the constants (bindings 1–10, 15)
   vk::Image skyMap;                             // rgba32f equirectangular map (none for a constant sky)
   VkSampler skySampler = VK_NULL_HANDLE;
