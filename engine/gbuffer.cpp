@@ -9,6 +9,12 @@
 
 namespace engine {
 
+gi::GBufferDesc moduleGBufferDesc() {
+  gi::GBufferDesc g;
+  g.glossy = gi::GlossyFlag::AlbedoAlpha;
+  return g;
+}
+
 GBuffer createGBuffer(const Context& ctx, VkExtent2D extent) {
   GBuffer g;
   g.extent = extent;

@@ -6,6 +6,7 @@
 #include "resources.h"
 #include "scene_gpu.h"
 
+#include "gi/gi.h"
 #include "shared/gbuffer.h"
 
 namespace engine {
@@ -32,6 +33,10 @@ struct GBufferPass {
   DescriptorSet cameraSet;
   Buffer cameraBuffer;  // GpuCamera, written by recordGBuffer in the command buffer
 };
+
+// This G-buffer as the GI module reads it (gi::ModuleDesc::gbuffer): the module's default formats and
+// encodings, the glossy flag in albedo alpha (gbuffer.frag writes the material's flag there).
+gi::GBufferDesc moduleGBufferDesc();
 
 GBuffer createGBuffer(const Context& ctx, VkExtent2D extent);
 void destroyGBuffer(const Context& ctx, GBuffer& gbuffer);

@@ -54,7 +54,7 @@ int main(int argc, char** argv) {
   desc.width = width;
   desc.height = height;
   desc.scene = sceneGpu.desc;  // set 0 and the scene's facts, from gi::sceneDesc
-  desc.gbuffer.glossy = gi::GlossyFlag::AlbedoAlpha;  // our G-buffer writes the glossy flag in albedo alpha
+  desc.gbuffer = engine::moduleGBufferDesc();  // our G-buffer's formats, the glossy flag in albedo alpha
   gi::Settings settings;
   settings.method = gi::Method::Gif;  // guided filtering of 1-spp indirect light
   settings.maxBounces = 2;

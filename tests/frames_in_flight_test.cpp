@@ -78,11 +78,8 @@ AnimatedRun runFrames(const engine::Context& ctx, uint32_t inFlight, bool overla
 
 TEST(FramesInFlight, AnimatedFramesThreeInFlightWaitOnOneFenceEachAndMatchFramesRunAlone) {
   engine::Context ctx;
-  engine::ContextDesc contextDesc;
-  contextDesc.validation = true;
-  contextDesc.synchronizationValidation = true;
   std::string error;
-  ASSERT_TRUE(engine::createContext(contextDesc, ctx, error)) << error;
+  ASSERT_TRUE(createSyncValidatedContext(ctx, error)) << error;
   engine::startCountingVulkanCalls();
   engine::VulkanCallCounts steady;
   const AnimatedRun overlapped = runFrames(ctx, kInFlight, true, &steady);

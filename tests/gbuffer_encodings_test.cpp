@@ -172,7 +172,7 @@ TEST_F(GBufferEncodingsTest, EveryAcceptedEncodingGivesTheSameImage) {
   };
 
   std::vector<Variant> variants;
-  variants.push_back({"ours", tools::gbufferDesc(), [&](const CpuGBuffer&, const glm::mat4&, Encoded (&e)[6]) { ours(e); }});
+  variants.push_back({"ours", engine::moduleGBufferDesc(), [&](const CpuGBuffer&, const glm::mat4&, Encoded (&e)[6]) { ours(e); }});
   for (bool isSigned : {false, true}) {
     Variant v{isSigned ? "octahedral RG16 snorm normals" : "octahedral RG16 unorm normals", {}, nullptr};
     v.desc.normalFormat = isSigned ? VK_FORMAT_R16G16_SNORM : VK_FORMAT_R16G16_UNORM;
@@ -520,11 +520,8 @@ TEST_F(GBufferEncodingsTest, MotionInEveryConventionReprojectsAsOurs) {
 // frames of GENERAL everywhere, 3 frames of svgf with 2 in flight, under synchronization validation.
 TEST(GBufferLayouts, ReadOnlyGBufferAndOutputsInTheEnginesLayoutGiveTheSameFrames) {
   engine::Context ctx;
-  engine::ContextDesc contextDesc;
-  contextDesc.validation = true;
-  contextDesc.synchronizationValidation = true;
   std::string error;
-  ASSERT_TRUE(engine::createContext(contextDesc, ctx, error)) << error;
+  ASSERT_TRUE(createSyncValidatedContext(ctx, error)) << error;
   LoadedScene s;
   ASSERT_TRUE(engine::loadSceneForRendering(sharedScene("cornell-simple/cornell_simple.gltf"), s.scene, error)) << error;
   engine::createSceneGpu(ctx, s.scene, s.gpu);

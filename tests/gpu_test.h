@@ -50,6 +50,15 @@ class GpuTest : public ::testing::Test {
 
 inline engine::Context GpuTest::ctx;
 
+// A context of a test's own with validation and its synchronization checks (hazards between commands and
+// across frames in flight), for the tests of frames in flight and the engine's layouts.
+inline bool createSyncValidatedContext(engine::Context& ctx, std::string& error) {
+  engine::ContextDesc desc;
+  desc.validation = true;
+  desc.synchronizationValidation = true;
+  return engine::createContext(desc, ctx, error);
+}
+
 // The mean over every pixel and channel (0 for an empty image).
 inline double meanOf(const engine::FloatImage& img) {
   double sum = 0.0;

@@ -17,11 +17,6 @@ gi::GBufferViews gbufferViews(const engine::GBuffer& g) {
 
 gi::SceneDesc sceneDesc(const engine::SceneGpu& scene) { return scene.desc; }
 
-gi::GBufferDesc gbufferDesc() {
-  gi::GBufferDesc g;  // the formats and encodings are the defaults: shared/gbuffer.h's
-  g.glossy = gi::GlossyFlag::AlbedoAlpha;  // gbuffer.frag writes the material's glossy flag in albedo alpha
-  return g;
-}
 
 gi::ModuleDesc moduleDesc(const engine::Context& ctx, const engine::SceneGpu& scene, VkExtent2D extent) {
   gi::ModuleDesc desc;
@@ -32,7 +27,7 @@ gi::ModuleDesc moduleDesc(const engine::Context& ctx, const engine::SceneGpu& sc
   desc.width = extent.width;
   desc.height = extent.height;
   desc.scene = sceneDesc(scene);
-  desc.gbuffer = gbufferDesc();
+  desc.gbuffer = engine::moduleGBufferDesc();
   desc.debugLabels = ctx.debugUtils;
   return desc;
 }

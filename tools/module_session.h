@@ -35,8 +35,6 @@ struct FrameTiming {
 
 // The engine's G-buffer as the module takes it.
 gi::GBufferViews gbufferViews(const engine::GBuffer& gbuffer);
-// Our G-buffer (engine/gbuffer.h) as the module reads it.
-gi::GBufferDesc gbufferDesc();
 // What the module needs to know about a loaded scene.
 gi::SceneDesc sceneDesc(const engine::SceneGpu& scene);
 // The module's desc for this context, scene and size (defaults elsewhere).

@@ -74,6 +74,15 @@ void runPass(Module& m, VkCommandBuffer cmd, uint32_t slot, Pass name, const vk:
   runPass(m, cmd, slot, name, program, sets, threads, &push, sizeof(Push));
 }
 
+// The three outputs between the engine's layout (ModuleDesc::outputLayout) and the passes' GENERAL; nothing
+// when the engine keeps them in GENERAL.
+void moveOutputs(Module& m, VkCommandBuffer cmd, VkImageLayout from, VkImageLayout to, VkPipelineStageFlags2 srcStage,
+                 VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dstStage, VkAccessFlags2 dstAccess) {
+  if (from == to) return;
+  for (const vk::Image* img : {&m.outputs.direct, &m.outputs.indirect, &m.outputs.composite})
+    vk::imageBarrier(m.gpu, cmd, img->image, from, to, srcStage, srcAccess, dstStage, dstAccess);
+}
+
 // Slot setup: the G-buffer into this slot's set (the frame that last read
 // the set has completed), the images' first layout, and the frame's start:
 // everything earlier frames wrote (history, hash map, counters) is made
@@ -100,11 +109,10 @@ void beginFrame(Module& m, VkCommandBuffer cmd, uint32_t slot, const FrameInputs
                     VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT |
                         VK_ACCESS_2_TRANSFER_READ_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT);
   // The outputs come back from the engine's layout (its reads of the last frame's done first).
-  if (m.outputs.initialised && m.desc.outputLayout != VK_IMAGE_LAYOUT_GENERAL)
-    for (const vk::Image* img : {&m.outputs.direct, &m.outputs.indirect, &m.outputs.composite})
-      vk::imageBarrier(g, cmd, img->image, m.desc.outputLayout, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
-                       VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                       VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+  if (m.outputs.initialised)
+    moveOutputs(m, cmd, m.desc.outputLayout, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_NONE,
+                VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
   recordFirstUse(g, cmd, m.outputs, r);
   if (m.timestamps) g.fn.vkCmdResetQueryPool(cmd, m.timestamps, slot * kMaxPasses * 2, kMaxPasses * 2);
   g.fn.vkCmdFillBuffer(cmd, m.counters.buffer, 0, sizeof(gpu::GiCounters), 0);
@@ -471,11 +479,8 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
   vk::memoryBarrier(m.gpu, cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                     VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
   // The outputs to the engine's layout, visible to whatever reads them next.
-  if (m.desc.outputLayout != VK_IMAGE_LAYOUT_GENERAL)
-    for (const vk::Image* img : {&m.outputs.direct, &m.outputs.indirect, &m.outputs.composite})
-      vk::imageBarrier(m.gpu, cmd, img->image, VK_IMAGE_LAYOUT_GENERAL, m.desc.outputLayout,
-                       VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                       VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT);
+  moveOutputs(m, cmd, VK_IMAGE_LAYOUT_GENERAL, m.desc.outputLayout, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+              VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT);
   // Counters to this slot's readback copy.
   VkBufferCopy copy{0, sizeof(gpu::GiCounters) * (1 + slot), sizeof(gpu::GiCounters)};
   m.gpu.fn.vkCmdCopyBuffer(cmd, m.counters.buffer, m.counters.buffer, 1, &copy);
