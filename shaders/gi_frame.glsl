@@ -203,16 +203,27 @@ vec3 giGbPosition(ivec2 p, out vec3 dir) {
 // The primary hit as a shading point: position from view depth along the
 // pixel-centre ray, normal and material from the G-buffer. The G-buffer stores
 // no triangle normal, so the (camera-facing) shading normal stands in for it.
-// The reconstruction is only as exact as fp32 camera position + distance
-// (about 2.4e-7 of their size: 6 cm for a camera 1e5 m from the origin), so
-// the point is lifted off the surface by four times that, or the rays that
-// leave it (offset for the surface's own coordinates) would hit the surface.
+// Two errors put the reconstructed point behind the surface, where every ray
+// that leaves it is blocked (walls at grazing angles render black):
+// - the rasterizer's depth: interpolated, not traced. On an NVIDIA H200 it
+//   differed from lavapipe's by up to 2e-4 of the distance (Cornell box at
+//   24×24, its walls and floor; scripts/device/diag-depth). The point is pulled back
+//   towards the camera by GI_GBUFFER_DEPTH_TOLERANCE of its distance: the
+//   view ray is the direction of that error, so the point leaves the surface
+//   by tolerance × distance × cos θ, no further than the error at any angle;
+// - fp32 camera position + distance (about 2.4e-7 of their size: 6 cm for a
+//   camera 1e5 m from the origin): the point is lifted off the surface by four
+//   times that, or the rays that leave it (offset for the surface's own
+//   coordinates) would hit the surface.
+const float GI_GBUFFER_DEPTH_TOLERANCE = 1e-3;  // of the distance from the camera, 5× the error seen
 GiSurface giGbSurface(ivec2 p, out vec3 V) {
   GiSurface s;
   vec3 dir;
   s.position = giGbPosition(p, dir);
   s.normal = giGbNormal(p);
-  float reach = length(giFrame.camera.position) + distance(giFrame.camera.position, s.position);
+  const float distanceFromCamera = distance(giFrame.camera.position, s.position);
+  s.position -= dir * (GI_GBUFFER_DEPTH_TOLERANCE * distanceFromCamera);
+  float reach = length(giFrame.camera.position) + distanceFromCamera;
   s.position += s.normal * (1e-6 * reach);
   s.geometricNormal = s.normal;
   s.frontFace = true;

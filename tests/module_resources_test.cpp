@@ -192,12 +192,12 @@ TEST_F(ModuleResourcesTest, HpsfAt1080pHoldsAtMost150MB) {
   EXPECT_LE(m->gpu.memory.held, VkDeviceSize(150'000'000)) << m->gpu.memory.held << " bytes";
   std::printf("hpsf at 1080p: %.1f MB held, %.1f MB used\n", m->gpu.memory.held * 1e-6, m->gpu.memory.used * 1e-6);
   // What it holds is what it needs: three half-float outputs, the map (2^19 cells: keys, sums and
-  // cells) and the packed direct history (8 bytes a pixel), with under 2 MB of anything else and
-  // under 1% of the blocks unused.
+  // cells) and the packed direct history (8 bytes a pixel), with under 3 MB of anything else (lavapipe:
+  // under 2 MB; an NVIDIA H200's image padding: 2.3 MB) and under 1% of the blocks unused.
   const VkDeviceSize pixels = 1920 * 1080, cells = VkDeviceSize(1) << 19;
   const VkDeviceSize needed = 3 * 8 * pixels + cells * (sizeof(uint32_t) + sizeof(gpu::HgAccum) + sizeof(gpu::HgCell)) + 8 * pixels;
   EXPECT_GE(m->gpu.memory.used, needed);
-  EXPECT_LE(m->gpu.memory.used, needed + (VkDeviceSize(2) << 20));
+  EXPECT_LE(m->gpu.memory.used, needed + (VkDeviceSize(3) << 20));
   EXPECT_LE(m->gpu.memory.held - m->gpu.memory.used, m->gpu.memory.held / 100);
   gi::destroy(m);
   unload(s);

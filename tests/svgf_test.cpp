@@ -133,10 +133,10 @@ TEST_F(SvgfTest, VarianceEstimateMatchesTheCpu) {
       positive += gpu > 0.0;
       const double error = std::abs(gpu - expected[p]) / (expected[p] + 1e-3 * meanVariance);
       worst = std::max(worst, error);
-      far += error > 1e-3;
+      far += error > 3e-3;  // lavapipe: under 1e-3; an NVIDIA H200 (fused multiply-adds): up to 1.8e-3
       EXPECT_FLOAT_EQ(img.final.pixels[3 * p + 2], float(frame) / 32.0f) << "history frames at pixel " << p;
     }
-    std::printf("frame %u (%s): %zu covered pixels, mean variance %.4e, worst relative difference %.2e, %zu beyond 1e-3\n",
+    std::printf("frame %u (%s): %zu covered pixels, mean variance %.4e, worst relative difference %.2e, %zu beyond 3e-3\n",
                 frame, frame < 4 ? "spatial" : "temporal", covered, meanVariance, worst, far);
     EXPECT_GT(covered, pixels / 2);
     EXPECT_EQ(far, 0u) << "frame " << frame;
