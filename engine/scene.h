@@ -50,6 +50,7 @@ struct Mesh {
   std::string name;
   uint32_t firstPrimitive = 0;
   uint32_t primitiveCount = 0;
+  bool deformable = false;  // its vertices may change after upload (gi::MeshDesc::deformable; recordMeshVertexUpdate)
 };
 
 struct Instance {

@@ -98,6 +98,7 @@ void createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu) {
     d.indices = scene.indices.data();
     d.indexCount = uint32_t(scene.indices.size());
     d.primitives = std::span(primitives).subspan(mesh.firstPrimitive, mesh.primitiveCount);
+    d.deformable = mesh.deformable;
     meshes.push_back(d);
   }
   std::vector<gi::MaterialDesc> materials;
@@ -146,6 +147,13 @@ void recordSceneTransformUpdate(const Context& ctx, VkCommandBuffer cmd, const S
   (void)ctx;
   throwIf(gi::updateInstances(gpu.scene, cmd, instanceDescs(scene)));
   throwIf(gi::updateLights(gpu.scene, cmd, lightDescs(scene)));
+}
+
+void recordMeshVertexUpdate(VkCommandBuffer cmd, const Scene& scene, SceneGpu& gpu, uint32_t mesh) {
+  gi::MeshVertices vertices;
+  vertices.positions = &scene.positions[0].x;
+  vertices.normals = &scene.normals[0].x;
+  throwIf(gi::updateMeshVertices(gpu.scene, cmd, mesh, vertices));
 }
 
 void destroySceneGpu(const Context& ctx, SceneGpu& gpu) {

@@ -43,5 +43,8 @@ void destroySceneGpu(const Context& ctx, SceneGpu& gpu);
 // punctual lights (gi::updateInstances, gi::updateLights), which record the
 // tables' writes and the TLAS rebuild into `cmd`: frames in flight keep theirs.
 void recordSceneTransformUpdate(const Context& ctx, VkCommandBuffer cmd, const Scene& scene, SceneGpu& gpu);
+// For a deformable mesh (Mesh::deformable): hands the module `scene`'s vertices of mesh `mesh`
+// (gi::updateMeshVertices), which records their write, the BVH's refit and the BLAS update into `cmd`.
+void recordMeshVertexUpdate(VkCommandBuffer cmd, const Scene& scene, SceneGpu& gpu, uint32_t mesh);
 
 }  // namespace engine

@@ -80,6 +80,9 @@ struct MeshDesc {
   uint32_t indexCount = 0;
   std::span<const PrimitiveDesc> primitives;
   DeviceMeshDesc device;             // instead of the arrays above (vertexCount, indexCount, primitives apply)
+  // Its vertices change through updateMeshVertices (a skinned or morphing mesh): its instances stay out of
+  // the BVH's merged static level, and with ray queries its BLAS is built to be updated.
+  bool deformable = false;
 };
 
 enum class AlphaMode : uint32_t { Opaque = 0, Mask, Blend };  // Blend is lit as opaque
@@ -221,6 +224,27 @@ Error updateInstances(Scene* scene, VkCommandBuffer cmd, std::span<const Instanc
 // New punctual lights, as many as at createScene, written into `cmd` like the
 // tables above (the light tree rebuilt on the CPU).
 Error updateLights(Scene* scene, VkCommandBuffer cmd, std::span<const LightDesc> lights);
+
+// A deformable mesh's new vertices, as many and in the order of its MeshDesc: CPU arrays (copied into the
+// command buffer), or streams in the engine's device buffers (decoded on the device, no read-back), in
+// DeviceMeshDesc's position and normal formats. The module's positions, normals and BVH follow.
+struct MeshVertices {
+  const float* positions = nullptr;  // xyz per vertex, object space, metres
+  uint32_t positionStride = 0;       // 0 = 12
+  const float* normals = nullptr;    // xyz, unit length
+  uint32_t normalStride = 0;         // 0 = 12
+  DeviceStream devicePositions, deviceNormals;  // instead of the arrays (both, or neither)
+};
+
+// New vertices for deformable mesh `mesh` (MeshDesc::deformable), recorded into `cmd` like updateInstances
+// (after every earlier command's reads, before every later command): the packed positions and normals are
+// written, the compute traversal's BVH is refit on the device (its triangles, its bottom level a level at a
+// time, the top level; the tree keeps the shape of the pose it was built in, so traversal stays exact and
+// slows as the deformation grows), and with ray queries the mesh's BLAS is updated and the TLAS rebuilt.
+// With CPU arrays the emission table follows the new areas; device streams leave emissive meshes' picking
+// weights at their last CPU-known areas. The G-buffer's motion vectors of deforming surfaces are the
+// engine's (previous positions): the module's temporal passes see them as moving geometry.
+Error updateMeshVertices(Scene* scene, VkCommandBuffer cmd, uint32_t mesh, const MeshVertices& vertices);
 
 struct SceneInfo {
   uint32_t triangles = 0;            // instanced

@@ -48,17 +48,60 @@ VkAccelerationStructureGeometryKHR instancesGeometry(VkDeviceAddress instances) 
 }
 
 VkAccelerationStructureBuildGeometryInfoKHR buildInfo(VkAccelerationStructureTypeKHR type,
-                                                      std::span<const VkAccelerationStructureGeometryKHR> geometries) {
+                                                      std::span<const VkAccelerationStructureGeometryKHR> geometries,
+                                                      bool updatable = false) {
   VkAccelerationStructureBuildGeometryInfoKHR b{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR};
   b.type = type;
-  b.flags = VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_TRACE_BIT_KHR;
+  b.flags = VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_TRACE_BIT_KHR |
+            (updatable ? VK_BUILD_ACCELERATION_STRUCTURE_ALLOW_UPDATE_BIT_KHR : 0);
   b.mode = VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR;
   b.geometryCount = uint32_t(geometries.size());
   b.pGeometries = geometries.data();
   return b;
 }
 
+// A mesh's BLAS geometries: one per primitive, over the scene's packed positions and indices.
+void blasGeometries(const AccelerationMesh& mesh, VkDeviceAddress positions, VkDeviceAddress indices,
+                    std::vector<VkAccelerationStructureGeometryKHR>& geometries,
+                    std::vector<VkAccelerationStructureBuildRangeInfoKHR>& ranges) {
+  for (const AccelerationGeometry& geo : mesh.geometries) {
+    VkAccelerationStructureGeometryKHR g{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR};
+    g.geometryType = VK_GEOMETRY_TYPE_TRIANGLES_KHR;
+    g.flags = geo.opaque ? VkGeometryFlagsKHR(VK_GEOMETRY_OPAQUE_BIT_KHR) : VkGeometryFlagsKHR(0);
+    auto& tri = g.geometry.triangles;
+    tri.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_TRIANGLES_DATA_KHR;
+    tri.vertexFormat = VK_FORMAT_R32G32B32_SFLOAT;
+    tri.vertexData.deviceAddress = positions + VkDeviceSize(geo.vertexOffset) * sizeof(glm::vec3);
+    tri.vertexStride = sizeof(glm::vec3);
+    tri.maxVertex = geo.vertexCount > 0 ? geo.vertexCount - 1 : 0;
+    tri.indexType = VK_INDEX_TYPE_UINT32;
+    tri.indexData.deviceAddress = indices + VkDeviceSize(geo.firstIndex) * sizeof(uint32_t);
+    geometries.push_back(g);
+    ranges.push_back({geo.triangleCount, 0, 0, 0});
+  }
+}
+
 }  // namespace
+
+void recordBlasUpdate(const vk::Device& d, VkCommandBuffer cmd, const vk::Buffer& positions, const vk::Buffer& indices,
+                      const AccelerationMesh& mesh, const SceneAcceleration& accel, uint32_t m) {
+  std::vector<VkAccelerationStructureGeometryKHR> geometries;
+  std::vector<VkAccelerationStructureBuildRangeInfoKHR> ranges;
+  blasGeometries(mesh, deviceAddress(d, positions), deviceAddress(d, indices), geometries, ranges);
+  VkAccelerationStructureBuildGeometryInfoKHR build =
+      buildInfo(VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, geometries, true);
+  build.mode = VK_BUILD_ACCELERATION_STRUCTURE_MODE_UPDATE_KHR;
+  build.srcAccelerationStructure = build.dstAccelerationStructure = accel.blas[m].handle;
+  build.scratchData.deviceAddress = alignUp(deviceAddress(d, accel.updateScratch), accel.scratchAlignment);
+  const VkAccelerationStructureBuildRangeInfoKHR* rangePointer = ranges.data();
+  // Earlier traces read this BLAS; the update overwrites it in place.
+  vk::memoryBarrier(d, cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_ACCELERATION_STRUCTURE_READ_BIT_KHR,
+                    VK_PIPELINE_STAGE_2_ACCELERATION_STRUCTURE_BUILD_BIT_KHR, kAsReadWrite);
+  d.fn.vkCmdBuildAccelerationStructuresKHR(cmd, 1, &build, &rangePointer);
+  // The TLAS rebuild reads it; the next update reuses the scratch.
+  vk::memoryBarrier(d, cmd, VK_PIPELINE_STAGE_2_ACCELERATION_STRUCTURE_BUILD_BIT_KHR, kAsReadWrite,
+                    VK_PIPELINE_STAGE_2_ACCELERATION_STRUCTURE_BUILD_BIT_KHR, kAsReadWrite);
+}
 
 VkDeviceAddress deviceAddress(const vk::Device& d, const vk::Buffer& buffer) {
   VkBufferDeviceAddressInfo info{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
@@ -85,39 +128,31 @@ vk::Status buildSceneAcceleration(vk::Device& d, VkCommandBuffer cmd, const vk::
     VkAccelerationStructureBuildSizesInfoKHR sizes{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_SIZES_INFO_KHR};
   };
   std::vector<Pending> pending(meshes.size());
-  VkDeviceSize maxScratch = 0;
+  VkDeviceSize maxScratch = 0, maxUpdateScratch = 0;
   for (size_t m = 0; m < meshes.size(); ++m) {
     Pending& p = pending[m];
     std::vector<uint32_t> maxPrims;
-    for (const AccelerationGeometry& geo : meshes[m].geometries) {
-      VkAccelerationStructureGeometryKHR g{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR};
-      g.geometryType = VK_GEOMETRY_TYPE_TRIANGLES_KHR;
-      g.flags = geo.opaque ? VkGeometryFlagsKHR(VK_GEOMETRY_OPAQUE_BIT_KHR) : VkGeometryFlagsKHR(0);
-      auto& tri = g.geometry.triangles;
-      tri.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_TRIANGLES_DATA_KHR;
-      tri.vertexFormat = VK_FORMAT_R32G32B32_SFLOAT;
-      tri.vertexData.deviceAddress = positionsAddress + VkDeviceSize(geo.vertexOffset) * sizeof(glm::vec3);
-      tri.vertexStride = sizeof(glm::vec3);
-      tri.maxVertex = geo.vertexCount > 0 ? geo.vertexCount - 1 : 0;
-      tri.indexType = VK_INDEX_TYPE_UINT32;
-      tri.indexData.deviceAddress = indicesAddress + VkDeviceSize(geo.firstIndex) * sizeof(uint32_t);
-      p.geometries.push_back(g);
-      p.ranges.push_back({geo.triangleCount, 0, 0, 0});
-      maxPrims.push_back(geo.triangleCount);
-    }
-    VkAccelerationStructureBuildGeometryInfoKHR build = buildInfo(VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, p.geometries);
+    blasGeometries(meshes[m], positionsAddress, indicesAddress, p.geometries, p.ranges);
+    for (const AccelerationGeometry& geo : meshes[m].geometries) maxPrims.push_back(geo.triangleCount);
+    VkAccelerationStructureBuildGeometryInfoKHR build =
+        buildInfo(VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, p.geometries, meshes[m].updatable);
     d.fn.vkGetAccelerationStructureBuildSizesKHR(d.device, VK_ACCELERATION_STRUCTURE_BUILD_TYPE_DEVICE_KHR, &build,
                                                  maxPrims.data(), &p.sizes);
     maxScratch = std::max(maxScratch, p.sizes.buildScratchSize);
+    if (meshes[m].updatable) maxUpdateScratch = std::max(maxUpdateScratch, p.sizes.updateScratchSize);
   }
   GI_TRY(vk::createBuffer(d, maxScratch + accel.scratchAlignment, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | kAddressable,
                           false, scratchOut));
+  if (maxUpdateScratch > 0)
+    GI_TRY(vk::createBuffer(d, maxUpdateScratch + accel.scratchAlignment,
+                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | kAddressable, false, accel.updateScratch));
   const VkDeviceAddress scratch = alignUp(deviceAddress(d, scratchOut), accel.scratchAlignment);
   accel.blas.resize(meshes.size());
   for (size_t m = 0; m < meshes.size(); ++m) {
     Pending& p = pending[m];
     GI_TRY(createAs(d, VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, p.sizes.accelerationStructureSize, accel.blas[m]));
-    VkAccelerationStructureBuildGeometryInfoKHR build = buildInfo(VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, p.geometries);
+    VkAccelerationStructureBuildGeometryInfoKHR build =
+        buildInfo(VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, p.geometries, meshes[m].updatable);
     build.dstAccelerationStructure = accel.blas[m].handle;
     build.scratchData.deviceAddress = scratch;
     const VkAccelerationStructureBuildRangeInfoKHR* ranges = p.ranges.data();
@@ -191,6 +226,7 @@ void destroySceneAcceleration(vk::Device& d, SceneAcceleration& accel) {
   for (AccelerationStructure& b : accel.blas) destroyAs(d, b);
   destroyAs(d, accel.tlas);
   vk::destroyBuffer(d, accel.tlasScratch);
+  vk::destroyBuffer(d, accel.updateScratch);
   vk::destroyBuffer(d, accel.instanceBuffer);
   accel = SceneAcceleration{};
 }

@@ -23,6 +23,7 @@ struct AccelerationStructure {
 
 struct SceneAcceleration {
   std::vector<AccelerationStructure> blas;  // per mesh
+  vk::Buffer updateScratch;                 // for the updatable BLASes' updates (none without)
   AccelerationStructure tlas;
   vk::Buffer tlasScratch;
   vk::Buffer instanceBuffer;  // host-visible VkAccelerationStructureInstanceKHR[]
@@ -36,6 +37,7 @@ struct AccelerationGeometry {
 };
 struct AccelerationMesh {
   std::vector<AccelerationGeometry> geometries;
+  bool updatable = false;  // a deformable mesh: built with ALLOW_UPDATE, refit by recordBlasUpdate
 };
 struct AccelerationInstance {
   uint32_t index = 0;  // in the instance table: the TLAS instance's custom index (24 bits)
@@ -54,6 +56,11 @@ vk::Status buildSceneAcceleration(vk::Device& device, VkCommandBuffer cmd, const
                                   const vk::Buffer& indices, std::span<const AccelerationMesh> meshes,
                                   std::span<const AccelerationInstance> instances, SceneAcceleration& accel,
                                   vk::Buffer& scratchOut);
+// Records the update of mesh `m`'s BLAS (updatable) to the positions now in `positions`, written before by
+// commands made visible to acceleration-structure builds; the TLAS rebuild that must follow reads it.
+void recordBlasUpdate(const vk::Device& device, VkCommandBuffer cmd, const vk::Buffer& positions,
+                      const vk::Buffer& indices, const AccelerationMesh& mesh, const SceneAcceleration& accel,
+                      uint32_t m);
 // The TLAS's instance records for `instances` (as many as the TLAS was built for).
 std::vector<VkAccelerationStructureInstanceKHR> tlasInstances(std::span<const AccelerationInstance> instances,
                                                               const SceneAcceleration& accel);

@@ -70,7 +70,38 @@ std::vector<float> packedCopy(const T* base, uint32_t stride, uint32_t packedByt
   return out;
 }
 
+// Decodes `count` elements from `source` into 32-bit words at `destination`.
+void dispatchGather(const vk::Device& d, VkCommandBuffer cmd, const vk::ComputeProgram& gather, VkDeviceAddress source,
+                    uint32_t stride, uint32_t encoding, uint32_t count, uint32_t components, VkDeviceAddress destination) {
+  if (count == 0) return;
+  gpu::GatherPush push{{uint32_t(source), uint32_t(source >> 32)}, {uint32_t(destination), uint32_t(destination >> 32)},
+                       stride, encoding, count, components};
+  const uint32_t groups = std::min<uint32_t>((count + GATHER_GROUP_SIZE - 1) / GATHER_GROUP_SIZE, gpu::GATHER_MAX_GROUPS);
+  vk::dispatch(d, cmd, gather, {}, {groups * GATHER_GROUP_SIZE, 1}, push);
+}
+
 }  // namespace
+
+vk::Status createGatherProgram(const vk::Device& d, vk::ComputeProgram& out) {
+  return vk::createComputeProgram(d, spv_gi_scene_gather_comp, {}, sizeof(gpu::GatherPush), {GATHER_GROUP_SIZE, 1}, {},
+                                  out);
+}
+
+std::string checkVertexStreams(const DeviceStream& positions, const DeviceStream& normals, uint32_t vertexCount,
+                               const std::string& where) {
+  if (std::string e = checkStream(positions, kPositionFormats, vertexCount, where + ".devicePositions"); !e.empty())
+    return e;
+  return checkStream(normals, kNormalFormats, vertexCount, where + ".deviceNormals");
+}
+
+void recordVertexGather(const vk::Device& d, VkCommandBuffer cmd, const vk::ComputeProgram& gather,
+                        const DeviceStream& stream, bool normals, uint32_t first, uint32_t count,
+                        VkDeviceAddress destination) {
+  std::span<const StreamFormat> formats = normals ? std::span<const StreamFormat>(kNormalFormats) : kPositionFormats;
+  const uint32_t stride = strideOf(stream, formats);
+  dispatchGather(d, cmd, gather, stream.address + VkDeviceAddress(stride) * first, stride,
+                 findFormat(formats, stream.format)->encoding, count, 3, destination);
+}
 
 bool isDeviceMesh(const MeshDesc& mesh) { return mesh.device.positions.address != 0; }
 
@@ -145,19 +176,13 @@ vk::Status recordDeviceMeshReadback(vk::Device& d, VkCommandBuffer cmd, const He
     s.indices = s.uvs + (mesh.device.uvs.address ? size_t(mesh.vertexCount) * 2 : 0);
     words = s.indices + mesh.indexCount;
   }
-  GI_TRY(vk::createComputeProgram(d, spv_gi_scene_gather_comp, {}, sizeof(gpu::GatherPush), {GATHER_GROUP_SIZE, 1}, {},
-                                  out.gather));
+  GI_TRY(createGatherProgram(d, out.gather));
   GI_TRY(vk::createBuffer(d, std::max<size_t>(words, 4) * 4,
                           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT, true, out.words));
   const VkDeviceAddress base = deviceAddress(d, out.words);
   auto gather = [&](VkDeviceAddress source, uint32_t stride, uint32_t encoding, uint32_t count, uint32_t components,
                     size_t wordOffset) {
-    if (count == 0) return;
-    const VkDeviceAddress destination = base + VkDeviceAddress(wordOffset) * 4;
-    gpu::GatherPush push{{uint32_t(source), uint32_t(source >> 32)}, {uint32_t(destination), uint32_t(destination >> 32)},
-                         stride, encoding, count, components};
-    const uint32_t groups = std::min<uint32_t>((count + GATHER_GROUP_SIZE - 1) / GATHER_GROUP_SIZE, gpu::GATHER_MAX_GROUPS);
-    vk::dispatch(d, cmd, out.gather, {}, {groups * GATHER_GROUP_SIZE, 1}, push);
+    dispatchGather(d, cmd, out.gather, source, stride, encoding, count, components, base + VkDeviceAddress(wordOffset) * 4);
   };
   for (size_t m = 0; m < held.meshes.size(); ++m) {
     const MeshDesc& mesh = held.meshes[m];

@@ -51,4 +51,15 @@ vk::Status recordDeviceMeshReadback(vk::Device& device, VkCommandBuffer cmd, con
 void takeDeviceMeshes(const DeviceMeshReadback& readback, HeldContents& held);
 void destroyDeviceMeshReadback(vk::Device& device, DeviceMeshReadback& readback);
 
+// gi_scene_gather.comp, for the read-back and for gi::updateMeshVertices's device streams.
+vk::Status createGatherProgram(const vk::Device& device, vk::ComputeProgram& out);
+// gi::MeshVertices's device streams (`where` names the argument); "" when good.
+std::string checkVertexStreams(const DeviceStream& positions, const DeviceStream& normals, uint32_t vertexCount,
+                               const std::string& where);
+// Records the decode of elements [first, first + count) of a position (normals false) or normal stream into
+// packed floats, three per element, at `destination` (normals as stored: the shaders normalise them).
+void recordVertexGather(const vk::Device& device, VkCommandBuffer cmd, const vk::ComputeProgram& gather,
+                        const DeviceStream& stream, bool normals, uint32_t first, uint32_t count,
+                        VkDeviceAddress destination);
+
 }  // namespace gi

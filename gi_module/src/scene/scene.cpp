@@ -3,6 +3,7 @@
 #include "scene/scene.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <memory>
 #include <new>
@@ -20,6 +21,7 @@ namespace {
 constexpr VkBufferUsageFlags kTexels = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
 constexpr VkBufferUsageFlags kBuildInput = VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR |
                                            VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
+constexpr VkBufferUsageFlags kAddressed = VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;  // read and written by bvh_refit.comp
 
 const vk::Binding kSceneBindings[] = {
     {gpu::SCENE_BINDING_TLAS, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR},  // first: left out without ray queries
@@ -42,6 +44,11 @@ const vk::Binding kSceneBindings[] = {
 };
 
 bool rayQuery(const Scene& s) { return s.desc.traversal == gpu::TRAVERSAL_RAY_QUERY; }
+bool hasDeformable(const PackedScene& p) {
+  return std::find(p.meshDeformable.begin(), p.meshDeformable.end(), 1) != p.meshDeformable.end();
+}
+// The buffers deformable meshes' updates write on the device are reached by address.
+VkBufferUsageFlags refitUsage(const Scene& s) { return hasDeformable(s.packed) ? kAddressed : 0; }
 
 // The TLAS's instances in Morton order of their world-space centres at
 // create (s.tlasOrder); updates keep that order: moving instances change
@@ -135,20 +142,31 @@ vk::Status buildBvhBuffers(Scene& s, VkCommandBuffer cmd, std::span<const uint8_
     return {VK_ERROR_INITIALIZATION_FAILED, "rtcBuildBVH (Embree's BVH build)"};
   }
   destroyBvhBuffers(s);
+  const VkBufferUsageFlags usage = kTexels | refitUsage(s);
   if (cmd) {
-    GI_TRY(upload(s, cmd, s.bvh.bottomNodes, kTexels, s.bvhNodes));
-    GI_TRY(upload(s, cmd, s.bvh.triangles, kTexels, s.bvhTriangles));
+    GI_TRY(upload(s, cmd, s.bvh.bottomNodes, usage, s.bvhNodes));
+    GI_TRY(upload(s, cmd, s.bvh.triangles, usage, s.bvhTriangles));
   } else {
-    GI_TRY(hostBuffer(s, s.bvh.bottomNodes, s.bvh.bottomNodes.size(), kTexels, s.bvhNodes));
-    GI_TRY(hostBuffer(s, s.bvh.triangles, s.bvh.triangles.size(), kTexels, s.bvhTriangles));
+    GI_TRY(hostBuffer(s, s.bvh.bottomNodes, s.bvh.bottomNodes.size(), usage, s.bvhNodes));
+    GI_TRY(hostBuffer(s, s.bvh.triangles, s.bvh.triangles.size(), usage, s.bvhTriangles));
   }
-  GI_TRY(hostBuffer(s, s.bvh.topNodes, maxTopNodes(s.instances.size()), kTexels, s.bvhTopNodes));
-  GI_TRY(hostBuffer(s, s.bvh.topInstances, maxTopInstances(s.instances.size()), kTexels, s.bvhInstances));
+  GI_TRY(hostBuffer(s, s.bvh.topNodes, maxTopNodes(s.instances.size()), usage, s.bvhTopNodes));
+  GI_TRY(hostBuffer(s, s.bvh.topInstances, maxTopInstances(s.instances.size()), usage, s.bvhInstances));
+  if (hasDeformable(s.packed)) {
+    s.refit = refitPlan(s.bvh, s.packed.meshDeformable);
+    vk::destroyBuffer(s.gpu, s.refitOrder);
+    GI_TRY(hostBuffer(s, s.refit.order, s.refit.order.size(), kAddressed, s.refitOrder));
+  }
   const vk::Buffer* buffers[] = {&s.bvhNodes, &s.bvhTriangles, &s.bvhTopNodes, &s.bvhInstances};
   for (int i = 0; i < 4; ++i) GI_TRY(rowView(s, *buffers[i], "vkCreateBufferView (the BVH exceeds maxTexelBufferElements)", s.bvhViews[i]));
   return {};
 }
 
+RefitBuffers refitBuffers(const Scene& s) {
+  return {deviceAddress(s.gpu, s.positions),    deviceAddress(s.gpu, s.indices),     deviceAddress(s.gpu, s.geometries),
+          deviceAddress(s.gpu, s.bvhTriangles), deviceAddress(s.gpu, s.bvhNodes),    deviceAddress(s.gpu, s.refitOrder),
+          deviceAddress(s.gpu, s.bvhTopNodes),  deviceAddress(s.gpu, s.bvhInstances)};
+}
 void writeBvhDescriptors(Scene& s) {
   vk::DescriptorWriter w(s.set[0]);
   w.uniformTexelBuffer(gpu::SCENE_BINDING_BVH_NODES, s.bvhViews[0])
@@ -200,12 +218,16 @@ vk::Status uploadSky(Scene& s, VkCommandBuffer cmd, const SkyDesc& sky, uint32_t
 
 vk::Status buildScene(Scene& s, VkCommandBuffer cmd, const SceneContents& contents) {
   const PackedScene& p = s.packed;
-  const VkBufferUsageFlags geometryUsage = kTexels | (rayQuery(s) ? kBuildInput : 0);
+  const VkBufferUsageFlags geometryUsage = kTexels | (rayQuery(s) ? kBuildInput : 0) | refitUsage(s);
   GI_TRY(upload(s, cmd, p.positions, geometryUsage, s.positions));
-  GI_TRY(upload(s, cmd, p.normals, kTexels, s.normals));
+  GI_TRY(upload(s, cmd, p.normals, kTexels | refitUsage(s), s.normals));
   GI_TRY(upload(s, cmd, p.uvs, kTexels, s.uvs));
   GI_TRY(upload(s, cmd, p.indices, geometryUsage, s.indices));
-  GI_TRY(upload(s, cmd, p.geometries, kTexels, s.geometries));
+  GI_TRY(upload(s, cmd, p.geometries, kTexels | refitUsage(s), s.geometries));
+  if (hasDeformable(p)) {
+    GI_TRY(createRefitProgram(s.gpu, s.refitProgram));
+    GI_TRY(createGatherProgram(s.gpu, s.gatherProgram));
+  }
   GI_TRY(upload(s, cmd, p.materials, kTexels, s.materials));
 
   GI_TRY(hostBuffer(s, gpuInstances(p, s.instances, {}), s.instances.size(), kTexels, s.instanceTable));
@@ -243,6 +265,7 @@ vk::Status buildScene(Scene& s, VkCommandBuffer cmd, const SceneContents& conten
   if (rayQuery(s)) {
     for (size_t m = 0; m < p.meshFirstGeometry.size(); ++m) {
       AccelerationMesh mesh;
+      mesh.updatable = p.meshDeformable[m] != 0;
       for (uint32_t id = p.meshFirstGeometry[m]; id < p.meshFirstGeometry[m] + p.meshGeometryCount[m]; ++id) {
         const gpu::GpuGeometry& g = p.geometries[id];
         mesh.geometries.push_back({g.firstIndex, g.triangleCount, g.vertexOffset, p.geometryVertexCount[id],
@@ -323,8 +346,10 @@ void destroySceneResources(Scene& s) {
   if (s.skySampler) s.gpu.fn.vkDestroySampler(s.gpu.device, s.skySampler, s.gpu.allocator);
   s.skySampler = VK_NULL_HANDLE;
   for (vk::Buffer* b : {&s.positions, &s.normals, &s.uvs, &s.indices, &s.geometries, &s.materials, &s.instanceTable,
-                        &s.emissiveTriangles, &s.punctualLights, &s.constants, &s.skyDistribution})
+                        &s.emissiveTriangles, &s.punctualLights, &s.constants, &s.skyDistribution, &s.refitOrder})
     vk::destroyBuffer(s.gpu, *b);
+  vk::destroyComputeProgram(s.gpu, s.refitProgram);
+  vk::destroyComputeProgram(s.gpu, s.gatherProgram);
   vk::closeDevice(s.gpu);
 }
 
@@ -336,7 +361,10 @@ std::string prepare(Scene& s, const SceneContents& contents) {
   if (std::string e = checkInstances(s.packed, contents.instances, "contents.instances"); !e.empty()) return e;
   if (std::string e = checkLights(contents.lights, "contents.lights"); !e.empty()) return e;
   s.instances.assign(contents.instances.begin(), contents.instances.end());
-  for (const InstanceDesc& inst : s.instances) s.previousTransforms.push_back(toMat4(inst.worldFromObject));
+  for (InstanceDesc& inst : s.instances) {
+    inst.movable |= s.packed.meshDeformable[inst.mesh] != 0;  // its bottom level is its mesh's own, refit in place
+    s.previousTransforms.push_back(toMat4(inst.worldFromObject));
+  }
   s.lightCount = contents.lights.size();
   return {};
 }
@@ -382,7 +410,9 @@ Error createScene(const SceneCreateDesc& desc, const SceneContents& contents, Vk
   s->gpu.allocator = desc.allocationCallbacks;
   s->gpu.memory.budget = desc.memoryBudgetBytes;
   // Acceleration-structure inputs and the device meshes' read-back are used through device addresses.
-  s->gpu.deviceAddressMemory = desc.traversal == gpu::TRAVERSAL_RAY_QUERY || deviceMeshes;
+  const bool deformable = std::any_of(contents.meshes.begin(), contents.meshes.end(),
+                                      [](const MeshDesc& m) { return m.deformable; });
+  s->gpu.deviceAddressMemory = desc.traversal == gpu::TRAVERSAL_RAY_QUERY || deviceMeshes || deformable;
   if (vk::Status st = vk::openDevice(desc.getInstanceProcAddr, desc.instance, desc.physicalDevice, desc.device, s->gpu))
     return {ErrorCode::MissingHandle, std::string("gi::createScene: desc.getInstanceProcAddr returned no ") + st.call,
             st.result};
@@ -391,9 +421,9 @@ Error createScene(const SceneCreateDesc& desc, const SceneContents& contents, Vk
     return {ErrorCode::MissingFeature, "gi::createScene: TRAVERSAL_RAY_QUERY needs VK_KHR_acceleration_structure, "
                                        "which the device was created without"};
   }
-  if (deviceMeshes && !s->gpu.fn.vkGetBufferDeviceAddress) {
+  if ((deviceMeshes || deformable) && !s->gpu.fn.vkGetBufferDeviceAddress) {
     vk::closeDevice(s->gpu);
-    return {ErrorCode::MissingFeature, "gi::createScene: device meshes need bufferDeviceAddress (Vulkan 1.2)"};
+    return {ErrorCode::MissingFeature, "gi::createScene: device and deformable meshes need bufferDeviceAddress (Vulkan 1.2)"};
   }
   vk::Status st;
   if (deviceMeshes) {
@@ -492,7 +522,89 @@ Error updateInstances(Scene* s, VkCommandBuffer cmd, std::span<const InstanceDes
   }
   if (rayQuery(*s)) writeTlasInstances(s->gpu, cmd, placedInstances(*s), s->accel);
   vk::endBufferWrites(s->gpu, cmd);
+  // The CPU's boxes of deformed meshes are their last CPU-known pose's: the device refits the top level.
+  if (hasDeformable(s->packed)) recordTopRefit(s->gpu, cmd, s->refitProgram, refitBuffers(*s), uint32_t(s->bvh.topNodes.size()));
   if (rayQuery(*s)) recordTlasRebuild(s->gpu, cmd, s->accel);
+  return {};
+}
+
+Error updateMeshVertices(Scene* s, VkCommandBuffer cmd, uint32_t mesh, const MeshVertices& v) {
+  if (!sceneBuilt(s)) return {ErrorCode::MissingHandle, "gi::updateMeshVertices: the scene is not built (finishSceneUpload)"};
+  if (!cmd) return {ErrorCode::MissingHandle, "gi::updateMeshVertices: cmd is VK_NULL_HANDLE (the vertices are written in it)"};
+  PackedScene& p = s->packed;
+  if (mesh >= p.meshDeformable.size())
+    return sceneError("gi::updateMeshVertices: mesh " + std::to_string(mesh) + " is not below the scene's " +
+                      std::to_string(p.meshDeformable.size()) + " meshes");
+  if (!p.meshDeformable[mesh])
+    return sceneError("gi::updateMeshVertices: mesh " + std::to_string(mesh) +
+                      " was not created deformable (MeshDesc::deformable)");
+  const uint32_t firstGeometry = p.meshFirstGeometry[mesh], geometryEnd = firstGeometry + p.meshGeometryCount[mesh];
+  uint32_t vertexCount = 0;  // the mesh's arrays reach this far
+  bool emissive = false;
+  for (uint32_t id = firstGeometry; id < geometryEnd; ++id) {
+    vertexCount = std::max(vertexCount, p.geometryFirstVertex[id] + p.geometryVertexCount[id]);
+    emissive |= (p.materials[p.geometries[id].material].flags & gpu::MATERIAL_FLAG_EMISSIVE) != 0;
+  }
+  const bool device = v.devicePositions.address || v.deviceNormals.address;
+  if (device) {
+    if (v.positions || v.normals)
+      return sceneError("gi::updateMeshVertices: vertices: device streams and CPU arrays both given");
+    if (std::string e = checkVertexStreams(v.devicePositions, v.deviceNormals, vertexCount, "vertices"); !e.empty())
+      return sceneError("gi::updateMeshVertices: " + e);
+    if (emissive)
+      return sceneError("gi::updateMeshVertices: mesh " + std::to_string(mesh) + " emits light: its emission is "
+                        "sampled by triangle areas the CPU computes, so give its vertices as CPU arrays");
+  } else {
+    if (!v.positions || !v.normals)
+      return sceneError("gi::updateMeshVertices: vertices.positions and vertices.normals are required (or device streams)");
+    for (uint32_t i = 0; i < vertexCount; ++i) {
+      const float* pos = reinterpret_cast<const float*>(reinterpret_cast<const char*>(v.positions) +
+                                                        size_t(v.positionStride ? v.positionStride : 12) * i);
+      if (!std::isfinite(pos[0]) || !std::isfinite(pos[1]) || !std::isfinite(pos[2]))
+        return sceneError("gi::updateMeshVertices: vertices.positions[" + std::to_string(i) + "] is not finite");
+    }
+  }
+  // Every earlier command's reads of the vertices and the BVH (frames in flight) before the writes.
+  vk::memoryBarrier(s->gpu, cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_NONE,
+                    VK_PIPELINE_STAGE_2_TRANSFER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                    VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+  const VkDeviceAddress positions = deviceAddress(s->gpu, s->positions), normals = deviceAddress(s->gpu, s->normals);
+  for (uint32_t id = firstGeometry; id < geometryEnd; ++id) {
+    const uint32_t first = p.geometryFirstVertex[id], count = p.geometryVertexCount[id], at = p.geometries[id].vertexOffset;
+    if (device) {
+      recordVertexGather(s->gpu, cmd, s->gatherProgram, v.devicePositions, false, first, count, positions + 12ull * at);
+      recordVertexGather(s->gpu, cmd, s->gatherProgram, v.deviceNormals, true, first, count, normals + 12ull * at);
+      continue;
+    }
+    for (uint32_t i = 0; i < count; ++i) {
+      const char* pos = reinterpret_cast<const char*>(v.positions) + size_t(v.positionStride ? v.positionStride : 12) * (first + i);
+      const char* nrm = reinterpret_cast<const char*>(v.normals) + size_t(v.normalStride ? v.normalStride : 12) * (first + i);
+      std::memcpy(&p.positions[at + i], pos, 12);
+      std::memcpy(&p.normals[at + i], nrm, 12);
+    }
+    vk::recordBufferWrite(s->gpu, cmd, s->positions, &p.positions[at], size_t(count) * 12, VkDeviceSize(at) * 12);
+    vk::recordBufferWrite(s->gpu, cmd, s->normals, &p.normals[at], size_t(count) * 12, VkDeviceSize(at) * 12);
+  }
+  if (!device && emissive) {  // the emission table follows the new areas
+    float totalPower = 0.0f;
+    std::vector<gpu::GpuEmissiveTriangle> table = emissiveTable(p, s->instances, totalPower);
+    table.resize(std::min<size_t>(table.size(), s->emissiveCapacity));
+    s->sceneConstants.emissiveTriangleCount = uint32_t(table.size());
+    s->sceneConstants.emissiveTotalPower = totalPower;
+    writeInCommands(*s, cmd, s->emissiveTriangles, table);
+    writeInCommands(*s, cmd, s->constants, std::vector<gpu::GpuSceneConstants>{s->sceneConstants});
+  }
+  // The vertices before the refit, the BLAS update and every later reader.
+  vk::memoryBarrier(s->gpu, cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                    VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                    VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT);
+  const RefitBuffers buffers = refitBuffers(*s);
+  recordMeshRefit(s->gpu, cmd, s->refitProgram, buffers, s->refit, mesh);
+  recordTopRefit(s->gpu, cmd, s->refitProgram, buffers, uint32_t(s->bvh.topNodes.size()));
+  if (rayQuery(*s)) {
+    recordBlasUpdate(s->gpu, cmd, s->positions, s->indices, s->accelMeshes[mesh], s->accel, mesh);
+    recordTlasRebuild(s->gpu, cmd, s->accel);
+  }
   return {};
 }
 

@@ -10,6 +10,7 @@
 #include "scene/acceleration.h"
 #include "scene/bvh_builder.h"
 #include "scene/device_meshes.h"
+#include "scene/refit.h"
 #include "scene/scene_tables.h"
 
 namespace gi {
@@ -32,6 +33,9 @@ struct Scene {
   SceneBvh bvh;                                 // the compute traversal's two levels
   vk::Buffer bvhNodes, bvhTriangles, bvhTopNodes, bvhInstances;
   VkBufferView bvhViews[4]{};                   // RGBA32UI texel views of the four, in that order
+  RefitPlan refit;                              // deformable meshes: their bottom levels' refit order
+  vk::Buffer refitOrder;                        // RefitPlan::order on the device
+  vk::ComputeProgram refitProgram, gatherProgram;  // deformable meshes only
   SceneAcceleration accel;                      // ray queries only
   std::vector<AccelerationMesh> accelMeshes;
   std::vector<uint32_t> tlasOrder;              // instance indices in the TLAS's (Morton) order, fixed at create

@@ -109,6 +109,7 @@ std::string packMesh(const MeshDesc& mesh, size_t materialCount, const std::stri
     gpu::GpuGeometry g{uint32_t(out.indices.size()), uint32_t(out.positions.size()), prim.material, prim.indexCount / 3};
     out.geometries.push_back(g);
     out.geometryVertexCount.push_back(prim.vertexCount);
+    out.geometryFirstVertex.push_back(prim.firstVertex);
     out.indices.insert(out.indices.end(), mesh.indices + prim.firstIndex, mesh.indices + prim.firstIndex + prim.indexCount);
     for (uint32_t v = prim.firstVertex; v < prim.firstVertex + prim.vertexCount; ++v) {
       const float* pos = element(mesh.positions, mesh.positionStride, 12, v);
@@ -152,6 +153,7 @@ std::string packScene(const SceneContents& contents, PackedScene& out) {
   for (size_t m = 0; m < contents.meshes.size(); ++m) {
     out.meshFirstGeometry.push_back(uint32_t(out.geometries.size()));
     out.meshGeometryCount.push_back(uint32_t(contents.meshes[m].primitives.size()));
+    out.meshDeformable.push_back(contents.meshes[m].deformable ? 1 : 0);
     if (std::string e = packMesh(contents.meshes[m], contents.materials.size(), at("contents.meshes", m), out); !e.empty())
       return e;
   }

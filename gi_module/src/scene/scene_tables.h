@@ -19,6 +19,8 @@ struct PackedScene {
   std::vector<uint32_t> indices;              // relative to their geometry's vertexOffset, Morton-sorted per geometry
   std::vector<gpu::GpuGeometry> geometries;   // every mesh's primitives, mesh by mesh
   std::vector<uint32_t> geometryVertexCount;
+  std::vector<uint32_t> geometryFirstVertex;  // the primitive's firstVertex in its mesh's arrays (updates copy from there)
+  std::vector<uint8_t> meshDeformable;        // per mesh: MeshDesc::deformable
   std::vector<uint32_t> meshFirstGeometry, meshGeometryCount;
   std::vector<glm::vec3> meshCentres;         // centre of each mesh's object-space bounds
   std::vector<gpu::GpuMaterial> materials;

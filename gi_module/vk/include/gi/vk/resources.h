@@ -52,7 +52,8 @@ void memoryBarrier(const Device& device, VkCommandBuffer cmd, VkPipelineStageFla
 // Between beginBufferWrites and endBufferWrites: the first waits for every earlier command's reads, the
 // second makes the writes visible to every later command.
 void beginBufferWrites(const Device& device, VkCommandBuffer cmd);
-void recordBufferWrite(const Device& device, VkCommandBuffer cmd, const Buffer& buffer, const void* data, size_t bytes);
+void recordBufferWrite(const Device& device, VkCommandBuffer cmd, const Buffer& buffer, const void* data, size_t bytes,
+                       VkDeviceSize offset = 0);  // bytes from `offset` (a multiple of 4, as is `bytes`)
 void endBufferWrites(const Device& device, VkCommandBuffer cmd);
 // What a compute pass wrote, visible to the next compute pass (read and write).
 void computeToComputeBarrier(const Device& device, VkCommandBuffer cmd);
