@@ -103,9 +103,17 @@ class Gltf:
     def node(self, node):
         self.doc["nodes"].append(node)
 
-    def write(self, directory, stem):
-        """Writes DIRECTORY/STEM.gltf and STEM.bin, every node in the scene."""
-        self.doc["scenes"][0]["nodes"] = list(range(len(self.doc["nodes"])))
+    def accessor(self, values, fmt, comp, kind, target=None):
+        """An accessor of VALUES (tuples or scalars) packed as struct format FMT; no bufferView target for
+        animation and skin data (TARGET None)."""
+        index = self._accessor(values, fmt, comp, kind, target or 0)
+        if target is None:
+            self.doc["bufferViews"][self.doc["accessors"][index]["bufferView"]].pop("target")
+        return index
+
+    def write(self, directory, stem, roots=None):
+        """Writes DIRECTORY/STEM.gltf and STEM.bin; the scene holds ROOTS (default: every node)."""
+        self.doc["scenes"][0]["nodes"] = list(range(len(self.doc["nodes"]))) if roots is None else roots
         self.doc["buffers"] = [{"byteLength": len(self.blob), "uri": stem + ".bin"}]
         os.makedirs(directory, exist_ok=True)
         with open(os.path.join(directory, stem + ".bin"), "wb") as f:

@@ -35,6 +35,10 @@ bool namedLikeAnObject(const std::string& name) {
 
 SceneAnimation makeSceneAnimation(const Scene& scene) {
   SceneAnimation a;
+  if (scene.gltf.playable()) {
+    a.gltf = true;
+    return a;
+  }
   const float extent = scene.worldBounds().extent();
   a.radius = 0.15f * extent;
   if (!scene.lights.empty()) {
@@ -75,6 +79,10 @@ SceneAnimation makeSceneAnimation(const Scene& scene) {
 }
 
 void animateScene(const SceneAnimation& a, float seconds, Scene& scene) {
+  if (a.gltf) {
+    poseGltfAnimations(scene, seconds);
+    return;
+  }
   const float phase = 6.2831853f * std::fmod(seconds / a.periodSeconds, 1.0f);
   // The light circles in the horizontal plane around where it started.
   glm::vec3 offset(a.radius * std::cos(phase) - a.radius, 0.0f, a.radius * std::sin(phase));
@@ -96,6 +104,7 @@ void animateScene(const SceneAnimation& a, float seconds, Scene& scene) {
 }
 
 void markAnimatedInstancesMovable(const SceneAnimation& animation, Scene& scene) {
+  if (animation.gltf) markGltfAnimatedInstancesMovable(scene);
   for (int instance : {animation.lightInstance, animation.objectInstance})
     if (instance >= 0 && size_t(instance) < scene.instances.size()) scene.instances[size_t(instance)].movable = true;
 }

@@ -23,9 +23,11 @@ struct SceneAnimation {
   glm::vec3 objectCenter{0.0f};  // world-space centre of the object's bounds at t = 0
   float radius = 0.0f;           // metres: the light's circle, a fraction of the scene extent
   float periodSeconds = 8.0f;    // one loop of both paths
+  bool gltf = false;             // the file's own animations play instead (engine/gltf_animation.h)
 };
 
-// Picks what moves; an animation with nothing to move (no light, no object) is valid and does nothing.
+// Picks what moves: a file's glTF animations when it has any, otherwise one light and one object; an
+// animation with nothing to move (no light, no object) is valid and does nothing.
 SceneAnimation makeSceneAnimation(const Scene& scene);
 // Declares the instances the animation moves `movable` (before createSceneGpu), as an engine declares its
 // dynamic objects: their moves are then recorded updates that frames in flight never wait for (an

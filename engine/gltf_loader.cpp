@@ -51,6 +51,7 @@ int componentCount(int type) {
     case TINYGLTF_TYPE_VEC2: return 2;
     case TINYGLTF_TYPE_VEC3: return 3;
     case TINYGLTF_TYPE_VEC4: return 4;
+    case TINYGLTF_TYPE_MAT4: return 16;  // inverse bind matrices
     default: return 0;
   }
 }
@@ -155,6 +156,112 @@ struct Loader {
   Scene& scene;
   std::vector<int> meshMap;                  // glTF mesh -> scene mesh (-1 = not yet loaded)
   std::vector<std::array<int, 2>> imageMap;  // glTF image -> scene texture, per colour space (linear, sRGB)
+  bool warnedMorphTargets = false, warnedExtraInfluences = false;  // each unsupported feature is named once
+
+  // Skins: joints and inverse bind matrices (identity when the file gives none).
+  void skins() {
+    for (size_t k = 0; k < model.skins.size(); ++k) {
+      const tinygltf::Skin& in = model.skins[k];
+      const std::string what = "skin " + std::to_string(k) + " ('" + in.name + "')";
+      Skin out;
+      for (int j : in.joints) {
+        if (j < 0 || size_t(j) >= model.nodes.size()) fail(what + " has joint node " + std::to_string(j) + ", which does not exist");
+        out.joints.push_back(j);
+      }
+      out.inverseBind.assign(out.joints.size(), glm::mat4(1.0f));
+      if (in.inverseBindMatrices >= 0) {
+        AccessorView m = viewAccessor(model, in.inverseBindMatrices, what + " inverseBindMatrices");
+        if (m.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT || model.accessors[size_t(in.inverseBindMatrices)].type != TINYGLTF_TYPE_MAT4 ||
+            m.count < out.joints.size())
+          fail(what + " inverseBindMatrices must be one MAT4 of FLOAT per joint");
+        for (size_t j = 0; j < out.joints.size(); ++j)
+          for (int c = 0; c < 16; ++c) {
+            float f;
+            std::memcpy(&f, m.data + j * m.stride + size_t(c) * 4, 4);
+            if (!std::isfinite(f)) fail(what + " inverse bind matrix " + std::to_string(j) + " is not finite");
+            glm::value_ptr(out.inverseBind[j])[c] = f;
+          }
+      }
+      scene.gltf.skins.push_back(std::move(out));
+    }
+    for (const SkinnedMesh& sm : scene.gltf.skinnedMeshes) {
+      const Mesh& mesh = scene.meshes[sm.mesh];
+      for (uint32_t p = mesh.firstPrimitive; p < mesh.firstPrimitive + mesh.primitiveCount; ++p)
+        for (uint32_t v = scene.primitives[p].vertexOffset; v < scene.primitives[p].vertexOffset + scene.primitives[p].vertexCount; ++v) {
+          if (scene.gltf.vertexWeights[v] == glm::vec4(0.0f))
+            fail("mesh '" + mesh.name + "' is skinned but its primitive " + std::to_string(p - mesh.firstPrimitive) +
+                 " has no JOINTS_0/WEIGHTS_0");
+          for (int k = 0; k < 4; ++k)
+            if (scene.gltf.vertexJoints[v][k] >= scene.gltf.skins[sm.skin].joints.size())
+              fail("mesh '" + mesh.name + "' vertex " + std::to_string(v - scene.primitives[p].vertexOffset) +
+                   " names joint " + std::to_string(scene.gltf.vertexJoints[v][k]) + " of a skin with " +
+                   std::to_string(scene.gltf.skins[sm.skin].joints.size()));
+        }
+    }
+  }
+
+  // Animations: translation, rotation and scale channels; morph weights and animated cameras are named.
+  void animations() {
+    for (size_t k = 0; k < model.animations.size(); ++k) {
+      const tinygltf::Animation& in = model.animations[k];
+      const std::string what = "animation " + std::to_string(k) + " ('" + in.name + "')";
+      Animation out;
+      out.name = in.name;
+      for (size_t i = 0; i < in.samplers.size(); ++i) {
+        const tinygltf::AnimationSampler& s = in.samplers[i];
+        const std::string where = what + " sampler " + std::to_string(i);
+        AnimationSampler sampler;
+        if (s.interpolation == "STEP") sampler.interpolation = AnimationSampler::Interpolation::Step;
+        else if (s.interpolation == "CUBICSPLINE") sampler.interpolation = AnimationSampler::Interpolation::CubicSpline;
+        else if (s.interpolation.empty() || s.interpolation == "LINEAR") sampler.interpolation = AnimationSampler::Interpolation::Linear;
+        else fail(where + " has interpolation '" + s.interpolation + "' (LINEAR, STEP or CUBICSPLINE)");
+        AccessorView times = viewAccessor(model, s.input, where + " input");
+        AccessorView values = viewAccessor(model, s.output, where + " output");
+        if (times.components != 1 || times.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT) fail(where + " input must be SCALAR FLOAT");
+        for (size_t t = 0; t < times.count; ++t) {
+          const float time = readComponent(times, t, 0);
+          if (!std::isfinite(time) || time < 0.0f || (t > 0 && time < sampler.times.back()))
+            fail(where + " input time " + std::to_string(t) + " is not finite, negative or decreasing");
+          sampler.times.push_back(time);
+        }
+        const size_t perKey = sampler.interpolation == AnimationSampler::Interpolation::CubicSpline ? 3 : 1;
+        if (values.count < perKey * times.count) fail(where + " output has fewer values than its input has keys");
+        for (size_t v = 0; v < perKey * times.count; ++v) {
+          glm::vec4 value(0.0f);
+          for (int c = 0; c < std::min(values.components, 4); ++c) value[c] = readComponent(values, v, c);
+          if (!std::isfinite(value.x + value.y + value.z + value.w)) fail(where + " output value " + std::to_string(v) + " is not finite");
+          sampler.values.push_back(value);
+        }
+        out.seconds = std::max(out.seconds, sampler.times.back());
+        out.samplers.push_back(std::move(sampler));
+      }
+      for (size_t c = 0; c < in.channels.size(); ++c) {
+        const tinygltf::AnimationChannel& ch = in.channels[c];
+        const std::string where = what + " channel " + std::to_string(c);
+        if (ch.sampler < 0 || size_t(ch.sampler) >= out.samplers.size()) fail(where + " refers to a sampler that does not exist");
+        if (ch.target_node < 0) continue;  // no target: glTF says ignore it
+        if (size_t(ch.target_node) >= model.nodes.size()) fail(where + " targets node " + std::to_string(ch.target_node) + ", which does not exist");
+        AnimationChannel channel;
+        channel.node = ch.target_node;
+        channel.sampler = ch.sampler;
+        if (ch.target_path == "translation") channel.path = AnimationChannel::Path::Translation;
+        else if (ch.target_path == "rotation") channel.path = AnimationChannel::Path::Rotation;
+        else if (ch.target_path == "scale") channel.path = AnimationChannel::Path::Scale;
+        else {
+          std::fprintf(stderr, "%s: warning: %s animates '%s' (morph target weights), which is not played\n",
+                       scene.sourcePath.c_str(), where.c_str(), ch.target_path.c_str());
+          continue;
+        }
+        if (model.nodes[size_t(ch.target_node)].camera >= 0)
+          std::fprintf(stderr, "%s: warning: %s moves a camera node; cameras are not animated (the view stays)\n",
+                       scene.sourcePath.c_str(), where.c_str());
+        if (scene.gltf.nodes[size_t(ch.target_node)].hasMatrix)
+          fail(where + " animates node " + std::to_string(ch.target_node) + ", which has a matrix (glTF forbids both)");
+        out.channels.push_back(channel);
+      }
+      scene.gltf.animations.push_back(std::move(out));
+    }
+  }
 
   int texture(int gltfTexture, bool srgb, const std::string& what) {
     int image = textureImage(model, gltfTexture, what);
@@ -315,6 +422,12 @@ struct Loader {
         else tris.insert(tris.end(), {raw[i - 1], raw[i - 2], raw[i]});  // keep the winding of odd strip triangles
       }
     }
+    skinInfluences(p, pos.count, what);
+    if (!p.targets.empty() && !warnedMorphTargets) {
+      std::fprintf(stderr, "%s: warning: %s has morph targets, which are not played (the mesh keeps its base shape)\n",
+                   scene.sourcePath.c_str(), what.c_str());
+      warnedMorphTargets = true;
+    }
     scene.indices.insert(scene.indices.end(), tris.begin(), tris.end());
     prim.indexCount = uint32_t(tris.size());
     scene.primitives.push_back(prim);
@@ -327,10 +440,48 @@ struct Loader {
       }
   }
 
-  int mesh(int index) {
+  // JOINTS_0 and WEIGHTS_0 of a primitive whose vertices were just appended (zero where it has none).
+  void skinInfluences(const tinygltf::Primitive& p, size_t vertices, const std::string& what) {
+    SceneAnimations& a = scene.gltf;
+    const size_t first = scene.positions.size() - vertices;
+    a.vertexJoints.resize(scene.positions.size(), glm::uvec4(0));
+    a.vertexWeights.resize(scene.positions.size(), glm::vec4(0.0f));
+    auto joints = p.attributes.find("JOINTS_0"), weights = p.attributes.find("WEIGHTS_0");
+    if (joints == p.attributes.end() && weights == p.attributes.end()) return;
+    if (joints == p.attributes.end() || weights == p.attributes.end()) fail(what + " has one of JOINTS_0 and WEIGHTS_0 without the other");
+    if (p.attributes.count("JOINTS_1") && !warnedExtraInfluences) {
+      std::fprintf(stderr, "%s: warning: %s has JOINTS_1/WEIGHTS_1; only the first four influences are played\n",
+                   scene.sourcePath.c_str(), what.c_str());
+      warnedExtraInfluences = true;
+    }
+    AccessorView j = viewAccessor(model, joints->second, what + " JOINTS_0"), w = viewAccessor(model, weights->second, what + " WEIGHTS_0");
+    if (j.components != 4 || j.count != vertices ||
+        (j.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && j.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT))
+      fail(what + " JOINTS_0 must be VEC4 of unsigned bytes or shorts, one per vertex");
+    if (w.components != 4 || w.count != vertices) fail(what + " WEIGHTS_0 must be VEC4, one per vertex");
+    for (size_t v = 0; v < vertices; ++v) {
+      glm::vec4 weight;
+      for (int k = 0; k < 4; ++k) {
+        a.vertexJoints[first + v][k] = uint32_t(readComponent(j, v, k));
+        weight[k] = readComponent(w, v, k);
+      }
+      const float sum = weight.x + weight.y + weight.z + weight.w;
+      if (!std::isfinite(sum) || glm::any(glm::lessThan(weight, glm::vec4(0.0f))) || !(sum > 0.0f))
+        fail(what + " WEIGHTS_0 " + std::to_string(v) + " is negative, not finite or all zero");
+      a.vertexWeights[first + v] = weight / sum;  // glTF asks for a sum of 1; rounding in the file is forgiven
+    }
+  }
+
+  int mesh(int index, bool skinned = false) {
     if (index < 0 || size_t(index) >= model.meshes.size())
       fail("a node refers to mesh " + std::to_string(index) + ", which does not exist");
+    if (skinned) return newMesh(index);  // each skinned node poses its own copy
     if (meshMap[index] >= 0) return meshMap[index];
+    meshMap[index] = newMesh(index);
+    return meshMap[index];
+  }
+
+  int newMesh(int index) {
     const tinygltf::Mesh& m = model.meshes[index];
     Mesh out;
     out.name = m.name;
@@ -338,9 +489,8 @@ struct Loader {
     for (size_t i = 0; i < m.primitives.size(); ++i)
       primitive(m.primitives[i], "mesh " + std::to_string(index) + " ('" + m.name + "') primitive " + std::to_string(i));
     out.primitiveCount = uint32_t(scene.primitives.size()) - out.firstPrimitive;
-    meshMap[index] = int(scene.meshes.size());
     scene.meshes.push_back(out);
-    return meshMap[index];
+    return int(scene.meshes.size()) - 1;
   }
 
   glm::mat4 localTransform(const tinygltf::Node& n, const std::string& what) {
@@ -359,7 +509,7 @@ struct Loader {
     return glm::translate(glm::mat4(1.0f), t) * glm::mat4_cast(r / rl) * glm::scale(glm::mat4(1.0f), s);
   }
 
-  void node(int index, const glm::mat4& parent, std::vector<int>& path) {
+  void node(int index, const glm::mat4& parent, std::vector<int>& path, int parentNode = -1) {
     if (index < 0 || size_t(index) >= model.nodes.size())
       fail("the node hierarchy refers to node " + std::to_string(index) + ", which does not exist");
     if (std::find(path.begin(), path.end(), index) != path.end())
@@ -371,7 +521,29 @@ struct Loader {
     for (int c = 0; c < 4; ++c)
       if (!finite(glm::vec3(world[c])) || !std::isfinite(world[c][3])) fail(what + " has a non-finite transform");
 
-    if (n.mesh >= 0) scene.instances.push_back({n.name, uint32_t(mesh(n.mesh)), world});
+    SceneNode& record = scene.gltf.nodes[size_t(index)];
+    record.parent = parentNode;
+    if (n.matrix.size() == 16) {
+      record.hasMatrix = true;
+      record.matrix = localTransform(n, what);
+    } else {
+      record.translation = glm::vec3(float(numberOr(n.translation, 0, 0)), float(numberOr(n.translation, 1, 0)),
+                                     float(numberOr(n.translation, 2, 0)));
+      record.rotation = glm::normalize(glm::quat(float(numberOr(n.rotation, 3, 1)), float(numberOr(n.rotation, 0, 0)),
+                                                 float(numberOr(n.rotation, 1, 0)), float(numberOr(n.rotation, 2, 0))));
+      record.scale = glm::vec3(float(numberOr(n.scale, 0, 1)), float(numberOr(n.scale, 1, 1)), float(numberOr(n.scale, 2, 1)));
+    }
+    if (n.mesh >= 0 && n.skin >= 0) {
+      // glTF places a skinned mesh by its joints alone: the node's own transform is ignored.
+      if (size_t(n.skin) >= model.skins.size()) fail(what + " refers to skin " + std::to_string(n.skin) + ", which does not exist");
+      const uint32_t m = uint32_t(mesh(n.mesh, true));
+      scene.meshes[m].deformable = true;
+      scene.gltf.skinnedMeshes.push_back({m, uint32_t(n.skin)});
+      scene.instances.push_back({n.name, m, glm::mat4(1.0f)});
+    } else if (n.mesh >= 0) {
+      record.instances.push_back(int(scene.instances.size()));
+      scene.instances.push_back({n.name, uint32_t(mesh(n.mesh)), world});
+    }
     if (n.camera >= 0) {
       if (size_t(n.camera) >= model.cameras.size()) fail(what + " refers to a camera that does not exist");
       const tinygltf::Camera& c = model.cameras[n.camera];
@@ -419,10 +591,11 @@ struct Loader {
       glm::vec3 dir = -glm::vec3(world[2]);
       if (!(glm::length(dir) > 0.0f)) fail(what + " has a degenerate light direction");
       out.direction = glm::normalize(dir);
+      record.lights.push_back(int(scene.lights.size()));
       scene.lights.push_back(out);
     }
     path.push_back(index);
-    for (int child : n.children) node(child, world, path);
+    for (int child : n.children) node(child, world, path, index);
     path.pop_back();
   }
 };
@@ -473,8 +646,17 @@ bool loadGltf(const std::string& path, Scene& scene, std::string& error) {
       for (size_t i = 0; i < model.nodes.size(); ++i)
         if (!isChild[i]) roots.push_back(int(i));
     }
+    scene.gltf.nodes.assign(model.nodes.size(), SceneNode{});
     std::vector<int> path2;
     for (int r : roots) loader.node(r, glm::mat4(1.0f), path2);
+    loader.skins();
+    loader.animations();
+    if (!scene.gltf.skinnedMeshes.empty()) {  // the skinned meshes at t = 0, from their bind pose
+      scene.gltf.bindPositions = scene.positions;
+      scene.gltf.bindNormals = scene.normals;
+      poseGltfAnimations(scene, 0.0f);
+      skinOnCpu(scene);
+    }
   } catch (const LoadError& e) {
     error = path + ": " + e.message;
     scene = Scene{};

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "gltf_animation.h"
 #include "sky.h"
 
 namespace engine {
@@ -109,6 +110,7 @@ struct Scene {
   Sky sky;                      // not in glTF: set by the caller (--sky); black by default
   uint32_t lightSampler = 2;    // not in glTF: --light-sampler, gi::SceneCreateDesc's (gpu::LIGHT_SAMPLER_TREE)
   uint32_t lightTreeCut = 4;    // not in glTF: --light-tree-cut, gi::SceneCreateDesc's
+  SceneAnimations gltf;         // the file's node hierarchy, animations and skins (engine/gltf_animation.h)
 
   Bounds worldBounds() const;
   size_t triangleCount() const;  // instanced triangles

@@ -1,5 +1,7 @@
 #include "scene_gpu.h"
 
+#include "skinning.h"
+
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
@@ -141,12 +143,13 @@ void createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu) {
   gpu.desc.traversal = ctx.traversalId();
   gpu.set.layout = gpu.desc.layout;
   gpu.set.set = gpu.desc.set;
+  createSkinningGpu(ctx, scene, gpu.skinning);
 }
 
 void recordSceneTransformUpdate(const Context& ctx, VkCommandBuffer cmd, const Scene& scene, SceneGpu& gpu) {
-  (void)ctx;
   throwIf(gi::updateInstances(gpu.scene, cmd, instanceDescs(scene)));
   throwIf(gi::updateLights(gpu.scene, cmd, lightDescs(scene)));
+  recordSkinning(ctx, cmd, scene, gpu);
 }
 
 void recordMeshVertexUpdate(VkCommandBuffer cmd, const Scene& scene, SceneGpu& gpu, uint32_t mesh) {
@@ -157,6 +160,7 @@ void recordMeshVertexUpdate(VkCommandBuffer cmd, const Scene& scene, SceneGpu& g
 }
 
 void destroySceneGpu(const Context& ctx, SceneGpu& gpu) {
+  destroySkinningGpu(ctx, gpu.skinning);
   gi::destroyScene(gpu.scene);
   for (Image& img : gpu.textures) destroyImage(ctx, img);
   if (gpu.sampler) vkDestroySampler(ctx.device, gpu.sampler, nullptr);

@@ -6,6 +6,7 @@
 #pragma once
 #include <array>
 
+#include "compute_program.h"
 #include "descriptors.h"
 #include "gi/scene.h"
 #include "resources.h"
@@ -14,6 +15,14 @@
 #include "shared/gpu_scene.h"
 
 namespace engine {
+
+// glTF skins on the device (engine/skinning.h): none for a scene without skinned meshes.
+struct SkinningGpu {
+  ComputeProgram program;
+  Buffer bindPositions, bindNormals, joints, weights;  // per scene vertex, uploaded once
+  Buffer jointMatrices;                                // written in each frame's command buffer
+  Buffer positions, normals;                           // the posed vertices, per scene vertex
+};
 
 struct SceneGpu {
   std::vector<Image> textures;  // the engine's, sampled through `sampler`
@@ -24,6 +33,7 @@ struct SceneGpu {
     VkDescriptorSetLayout layout = VK_NULL_HANDLE;
     VkDescriptorSet set = VK_NULL_HANDLE;
   } set;                        // set 0
+  SkinningGpu skinning;
 
   bool hasEmissiveTriangles() const { return desc.hasEmissiveTriangles; }
   bool hasPunctualLights() const { return desc.hasPunctualLights; }
@@ -41,7 +51,8 @@ void destroySceneGpu(const Context& ctx, SceneGpu& gpu);
 
 // For moving instances and lights: hands the module `scene`'s transforms and
 // punctual lights (gi::updateInstances, gi::updateLights), which record the
-// tables' writes and the TLAS rebuild into `cmd`: frames in flight keep theirs.
+// tables' writes and the TLAS rebuild into `cmd`, and skins the skinned meshes
+// with scene.gltf.jointMatrices (engine/skinning.h): frames in flight keep theirs.
 void recordSceneTransformUpdate(const Context& ctx, VkCommandBuffer cmd, const Scene& scene, SceneGpu& gpu);
 // For a deformable mesh (Mesh::deformable): hands the module `scene`'s vertices of mesh `mesh`
 // (gi::updateMeshVertices), which records their write, the BVH's refit and the BLAS update into `cmd`.
