@@ -116,9 +116,9 @@ def walk(directory, raw64=None):
     print("| configuration | ms/frame | × raw 1 spp | relMSE final | relMSE indirect | MSE final | flicker |")
     print("|---|---|---|---|---|---|---|")
     for r in rows_:
+        flicker = f"{float(r['flicker_ratio']):.2f}" if r["flicker_ratio"] else "–"  # --animate runs: none
         print(f"| {r['label']} | {float(r['total_ms']):.1f} | {float(r['total_ms']) / base:.2f} | "
-              f"{float(r['relmse']):.3e} | {float(r['relmse_indirect']):.3e} | {float(r['mse']):.3e} | "
-              f"{float(r['flicker_ratio']):.2f} |")
+              f"{float(r['relmse']):.3e} | {float(r['relmse_indirect']):.3e} | {float(r['mse']):.3e} | {flicker} |")
 
 
 def walk_best(pairs, budget=1.5):

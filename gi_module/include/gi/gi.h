@@ -17,8 +17,8 @@
 // calls earlier has completed on the GPU (the engine waited on its fence),
 // as an engine with N frames in flight does anyway. All frames are submitted
 // to one queue in recording order. Scene updates (gi/scene.h's
-// updateInstances, updateLights) are recorded into the frame's command
-// buffer too: they never wait for the frames in flight.
+// updateInstances, updateLights, updateMeshVertices) are recorded into the
+// frame's command buffer too: they never wait for the frames in flight.
 //
 // Barrier contract for gi::recordFrame:
 //  - before: G-buffer images are in GBufferDesc::colorLayout (depth:
@@ -64,7 +64,8 @@
 #include "shared/scene_modes.h"
 
 #define GI_VERSION_MAJOR 0
-#define GI_VERSION_MINOR 8  // 0.8: GBufferDesc::motionScale, motionHasJitter, MotionUnits::Ndc; defaults a host that
+#define GI_VERSION_MINOR 9  // 0.9: deformable meshes (MeshDesc::deformable, updateMeshVertices);
+                            // 0.8: GBufferDesc::motionScale, motionHasJitter, MotionUnits::Ndc; defaults a host that
                             // sets nothing expects (GlossyFlag::FromMaterial, MaterialDesc::metallic 0);
                             // 0.7: Settings::reservoirs (ReSTIR DI for the primary hits), Settings::lights (NEE's sampler
                             // at run time); 0.6: light samplers, checkBounds
