@@ -19,6 +19,7 @@
 #include "module_session.h"
 #include "path_tracer.h"
 #include "bench_rays.h"
+#include "bench_refit.h"
 #include "ray_bench.h"
 #include "animation.h"
 #include "scene_loading.h"
@@ -54,6 +55,9 @@ const cli::Option kOptions[] = {
                      "shows the moved scene; results get the frames to recover"},
     {"invalidate-at-move", "WHAT", "with --move-at: the engine tells the module at the jump, gi::invalidate(all) or "
                                    "(lights)"},
+    {"refit", "N,N,...", "only the deforming-mesh microbenchmark: a grid of each triangle count handed over every frame "
+                         "(gi::updateMeshVertices) against its scene created anew, for each traversal backend; appends "
+                         "to DIR/refit.csv (no --scene or --methods needed)"},
     {"rays", nullptr, "only the bare-ray microbenchmark: primary, diffuse and shadow Mrays/s for each traversal backend "
                       "and for Embree on the CPU; appends to DIR/rays.csv (no --methods needed)"},
     {"history-format", "half|single", "the light the temporal passes blend: radiance histories and noisy indirect "
@@ -211,6 +215,39 @@ void recovery(const std::vector<double>& afterMove, int& frames, double& steady)
 
 }  // namespace
 
+// --refit: the deforming-mesh microbenchmark alone (tools/bench_refit.h).
+int refitOnly(cli::Args& args) {
+  std::vector<uint32_t> counts;
+  std::string error;
+  for (const std::string& s : cli::splitList(args.values["refit"])) {
+    cli::Args one;
+    one.values["refit"] = s;
+    uint32_t v;
+    if (!cli::getUint(one, "refit", 1000, 2, 1u << 24, v, error)) return usageError(error);
+    counts.push_back(v);
+  }
+  engine::ContextDesc desc;
+  desc.validation = args.has("validation");
+  if (!cli::getTraversal(args, desc.traversal, error)) return usageError(error);
+  const fs::path dir = args.has("out") ? args.values["out"] : "bench_out";
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  engine::Context ctx;
+  if (!engine::createContext(desc, ctx, error)) {
+    std::fprintf(stderr, "gi-bench: %s\n", error.c_str());
+    return 1;
+  }
+  bool written = false;
+  try {
+    written = tools::benchRefit(ctx, counts, dir, error);
+  } catch (const std::exception& e) {
+    error = e.what();
+  }
+  if (!written) std::fprintf(stderr, "gi-bench: %s\n", error.c_str());
+  engine::destroyContext(ctx);
+  return written ? 0 : 1;
+}
+
 int main(int argc, char** argv) {
   cli::Args args;
   std::string error;
@@ -219,6 +256,7 @@ int main(int argc, char** argv) {
     std::printf("%s", cli::usage("gi-bench", kSynopsis, kOptions).c_str());
     return 0;
   }
+  if (args.has("refit")) return refitOnly(args);
   const bool raysOnly = args.has("rays");
   if (!args.has("scene") || (!args.has("methods") && !raysOnly)) return usageError("--scene and --methods are required");
   uint32_t width, height, cameraIndex, frames, warmup, bounces, refSpp, pathRefSpp, moveAt = 0;

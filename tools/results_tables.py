@@ -462,6 +462,19 @@ def rays(path):
               f"{f'{build:.1f}' if build > 0 else '–'} |")
 
 
+def refit(path):
+    """A deforming mesh's cost a frame (gi-bench --refit): the device refit against creating the scene anew."""
+    names = {"rayquery": "ray queries (+ compute BVH)", "compute": "compute"}
+    print("| backend | triangles | refit, CPU ms | refit, GPU ms | rebuild, CPU ms | rebuild, GPU ms | rebuild ÷ refit |")
+    print("|---|---|---|---|---|---|---|")
+    for r in rows(path):
+        refit_ms = float(r["refit_cpu_ms"]) + float(r["refit_gpu_ms"])
+        rebuild_ms = float(r["rebuild_cpu_ms"]) + float(r["rebuild_gpu_ms"])
+        print(f"| {names[r['backend']]} | {int(r['triangles']):,} | {float(r['refit_cpu_ms']):.2f} | "
+              f"{float(r['refit_gpu_ms']):.2f} | {float(r['rebuild_cpu_ms']):.1f} | {float(r['rebuild_gpu_ms']):.1f} | "
+              f"{rebuild_ms / refit_ms:.0f}× |")
+
+
 def error_at_frames(pairs, ks=(1, 4, 8, 32, 64)):
     """Final / indirect MSE after frame k of each run's series, its light at 32 and 64, its ms (args: NAME DIR ...)."""
     print("| scene | method | " + " | ".join(f"k = {k}" for k in ks) + " | light at k = 32 / 64 | frame ms |")
@@ -683,6 +696,7 @@ KINDS = {
     "indirect": lambda a: indirect(a[0], a[1]),
     "move": lambda a: move(a[0]),
     "walk": lambda a: walk(a[0], a[1] if len(a) > 1 else None),
+    "refit": lambda a: refit(a[0]),
     "walk_best": walk_best,
     "hashdirect": hashdirect,
     "spikes": lambda a: spikes(a[0], a[1], a[2:]),

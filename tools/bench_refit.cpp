@@ -1,0 +1,171 @@
+#include "bench_refit.h"
+
+#include <glm/glm.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <stdexcept>
+#include <vector>
+
+#include "gi/scene.h"
+#include "gpu_timer.h"
+
+namespace tools {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point start) { return std::chrono::duration<double, std::milli>(Clock::now() - start).count(); }
+
+// A square grid of at least `triangles` triangles in the xz plane, 1 m wide, facing up.
+struct Grid {
+  std::vector<glm::vec3> rest, positions, normals;
+  std::vector<uint32_t> indices;
+};
+Grid makeGrid(uint32_t triangles) {
+  const uint32_t side = std::max(1u, uint32_t(std::ceil(std::sqrt(double(triangles) / 2.0))));
+  Grid g;
+  for (uint32_t z = 0; z <= side; ++z)
+    for (uint32_t x = 0; x <= side; ++x) {
+      g.rest.push_back({float(x) / float(side) - 0.5f, 0.0f, float(z) / float(side) - 0.5f});
+      g.normals.push_back({0.0f, 1.0f, 0.0f});
+    }
+  for (uint32_t z = 0; z < side; ++z)
+    for (uint32_t x = 0; x < side; ++x) {
+      const uint32_t a = z * (side + 1) + x, b = a + 1, c = a + side + 1, d = c + 1;
+      g.indices.insert(g.indices.end(), {a, c, b, b, c, d});
+    }
+  g.positions = g.rest;
+  return g;
+}
+
+// The grid waved: a ripple of `phase` (every vertex moves, the bounds barely change).
+void wave(Grid& g, float phase) {
+  for (size_t v = 0; v < g.rest.size(); ++v) {
+    const glm::vec3 r = g.rest[v];
+    g.positions[v] = r + glm::vec3(0.0f, 0.05f * std::sin(12.0f * r.x + phase) * std::cos(9.0f * r.z + phase), 0.0f);
+  }
+}
+
+struct Timed {
+  double cpuMs = 0.0, gpuMs = 0.0;
+};
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+// Records `record` into a command buffer between a timestamp pair, submits and waits.
+template <typename F>
+Timed timed(const engine::Context& ctx, engine::GpuTimer& timer, F&& record) {
+  Timed t;
+  engine::resetGpuTimer(ctx, timer);
+  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+    engine::beginPass(ctx, cmd, timer, "update");
+    engine::timestampFence(cmd);
+    const Clock::time_point start = Clock::now();
+    record(cmd);
+    t.cpuMs = msSince(start);
+    engine::endPass(ctx, cmd, timer);
+  });
+  t.gpuMs = engine::readPassTimes(ctx, timer).at(0).ms;
+  return t;
+}
+
+void check(const gi::Error& e) {
+  if (e) throw std::runtime_error(e.message);
+}
+
+}  // namespace
+
+bool benchRefit(const engine::Context& ctx, std::span<const uint32_t> triangleCounts, const std::filesystem::path& dir,
+                std::string& error) {
+  const std::filesystem::path csvPath = dir / "refit.csv";
+  const bool fresh = !std::filesystem::exists(csvPath);
+  std::ofstream csv(csvPath, std::ios::app);
+  if (!csv) {
+    error = csvPath.string() + ": cannot write";
+    return false;
+  }
+  if (fresh) csv << "device,backend,triangles,refit_cpu_ms,refit_gpu_ms,rebuild_cpu_ms,rebuild_gpu_ms\n";
+  std::vector<uint32_t> backends{gpu::TRAVERSAL_COMPUTE};
+  if (ctx.rayQuery) backends.push_back(gpu::TRAVERSAL_RAY_QUERY);
+  engine::GpuTimer timer = engine::createGpuTimer(ctx, 4);
+  std::printf("gi-bench: a deforming grid on %s: ms a frame, refit (updateMeshVertices) against rebuild (createScene)\n",
+              ctx.properties.deviceName);
+  std::printf("  %-9s %10s %12s %12s %14s %14s\n", "backend", "triangles", "refit CPU", "refit GPU", "rebuild CPU",
+              "rebuild GPU");
+  gi::MaterialDesc material;
+  gi::LightDesc light;
+  light.position[1] = 2.0f;
+  for (uint32_t count : triangleCounts)
+    for (uint32_t backend : backends) {
+      Grid grid = makeGrid(count);
+      const gi::PrimitiveDesc primitive{0, uint32_t(grid.indices.size()), 0, uint32_t(grid.rest.size()), 0};
+      gi::MeshDesc mesh;
+      mesh.positions = &grid.positions[0].x;
+      mesh.normals = &grid.normals[0].x;
+      mesh.vertexCount = uint32_t(grid.rest.size());
+      mesh.indices = grid.indices.data();
+      mesh.indexCount = uint32_t(grid.indices.size());
+      mesh.primitives = std::span(&primitive, 1);
+      mesh.deformable = true;
+      gi::InstanceDesc instance;
+      gi::SceneContents contents;
+      contents.meshes = std::span(&mesh, 1);
+      contents.materials = std::span(&material, 1);
+      contents.lights = std::span(&light, 1);
+      contents.instances = std::span(&instance, 1);
+      gi::SceneCreateDesc desc;
+      desc.getInstanceProcAddr = vkGetInstanceProcAddr;
+      desc.instance = ctx.instance;
+      desc.physicalDevice = ctx.physicalDevice;
+      desc.device = ctx.device;
+      desc.traversal = backend;
+      // Rebuild: a new scene in each pose, of a mesh not declared deformable (what a module without refits
+      // would need every frame).
+      mesh.deformable = false;
+      std::vector<double> rebuildCpu, rebuildGpu;
+      for (int i = 0; i < 3; ++i) {
+        wave(grid, float(i));
+        gi::Scene* scene = nullptr;
+        gi::Error created;
+        const Timed t = timed(ctx, timer, [&](VkCommandBuffer cmd) { created = gi::createScene(desc, contents, cmd, scene); });
+        check(created);
+        check(gi::finishSceneUpload(scene));
+        rebuildCpu.push_back(t.cpuMs);
+        rebuildGpu.push_back(t.gpuMs);
+        gi::destroyScene(scene);
+      }
+      // Refit: one scene, a new pose a frame (two untimed first: compilation at the first dispatch).
+      mesh.deformable = true;
+      gi::Scene* scene = nullptr;
+      engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { check(gi::createScene(desc, contents, cmd, scene)); });
+      check(gi::finishSceneUpload(scene));
+      std::vector<double> refitCpu, refitGpu;
+      for (int i = 0; i < 7; ++i) {
+        wave(grid, 0.5f * float(i));
+        gi::MeshVertices vertices;
+        vertices.positions = &grid.positions[0].x;
+        vertices.normals = &grid.normals[0].x;
+        const Timed t = timed(ctx, timer, [&](VkCommandBuffer cmd) { check(gi::updateMeshVertices(scene, cmd, 0, vertices)); });
+        if (i < 2) continue;
+        refitCpu.push_back(t.cpuMs);
+        refitGpu.push_back(t.gpuMs);
+      }
+      gi::destroyScene(scene);
+      const char* name = backend == gpu::TRAVERSAL_COMPUTE ? "compute" : "rayquery";
+      const uint32_t triangles = uint32_t(grid.indices.size() / 3);
+      std::printf("  %-9s %10u %12.2f %12.2f %14.2f %14.2f\n", name, triangles, median(refitCpu), median(refitGpu),
+                  median(rebuildCpu), median(rebuildGpu));
+      csv << '"' << ctx.properties.deviceName << "\"," << name << ',' << triangles << ',' << median(refitCpu) << ','
+          << median(refitGpu) << ',' << median(rebuildCpu) << ',' << median(rebuildGpu) << '\n';
+    }
+  engine::destroyGpuTimer(ctx, timer);
+  return true;
+}
+
+}  // namespace tools

@@ -1,0 +1,24 @@
+// gi-bench --refit: what a deforming mesh costs a frame. A grid of each
+// triangle count, created deformable, is twisted and handed over
+// (gi::updateMeshVertices: the vertices' copy, the compute BVH's refit and,
+// with ray queries, the BLAS update and TLAS rebuild), against creating its
+// scene anew in that pose (gi::createScene: Embree's build of the BVH and,
+// with ray queries, the BLAS and TLAS builds; the mesh then not deformable).
+// Each traversal backend the
+// device has: a compute scene, and a ray-query scene (which holds the compute
+// BVH too, and refits both).
+#pragma once
+#include <filesystem>
+#include <span>
+#include <string>
+
+#include "context.h"
+
+namespace tools {
+
+// Prints a table, appends rows to DIR/refit.csv (header written when the file is new). Returns false with
+// `error` set if a file cannot be written.
+bool benchRefit(const engine::Context& ctx, std::span<const uint32_t> triangleCounts, const std::filesystem::path& dir,
+                std::string& error);
+
+}  // namespace tools
