@@ -26,7 +26,8 @@ void main() {
   outWorldPosition = world.xyz;
   outNormal = mat3(inst.normalWorldFromObject) * sceneNormal(vertex);
   outUv = sceneUvAt(vertex);
-  outPreviousClip = camera.previousClipFromWorld * (inst.previousWorldFromObject * vec4(position, 1.0));
+  // Motion: the previous transform of the previous position (a deforming mesh's last pose).
+  outPreviousClip = camera.previousClipFromWorld * (inst.previousWorldFromObject * vec4(scenePreviousPosition(vertex), 1.0));
   outClip = camera.clipFromWorld * world;
   gl_Position = outClip;
 }

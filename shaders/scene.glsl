@@ -32,6 +32,7 @@ layout(constant_id = SCENE_SPEC_HAS_SKY) const bool GI_SCENE_HAS_SKY = true;
 // lines of LLVM IR each), and a program's compile time grows faster than its size.
 #extension GL_EXT_samplerless_texture_functions : require
 layout(set = 0, binding = SCENE_BINDING_POSITIONS) uniform textureBuffer scenePositionTexels;     // R32_SFLOAT, 3 a vertex
+layout(set = 0, binding = SCENE_BINDING_PREVIOUS_POSITIONS) uniform textureBuffer scenePreviousPositionTexels;  // R32_SFLOAT
 layout(set = 0, binding = SCENE_BINDING_NORMALS) uniform textureBuffer sceneNormalTexels;         // R32_SFLOAT, 3 a vertex
 layout(set = 0, binding = SCENE_BINDING_UVS) uniform textureBuffer sceneUvTexels;                 // R32G32_SFLOAT
 layout(set = 0, binding = SCENE_BINDING_INDICES) uniform utextureBuffer sceneIndexTexels;         // R32_UINT
@@ -60,6 +61,12 @@ vec3 scenePosition(uint vertex) {
   int i = int(3u * vertex);
   return vec3(GI_FETCH(scenePositionTexels, i).r, GI_FETCH(scenePositionTexels, i + 1).r,
               GI_FETCH(scenePositionTexels, i + 2).r);
+}
+// Last frame's position of a vertex (differs from scenePosition only for deforming meshes).
+vec3 scenePreviousPosition(uint vertex) {
+  int i = int(3u * vertex);
+  return vec3(GI_FETCH(scenePreviousPositionTexels, i).r, GI_FETCH(scenePreviousPositionTexels, i + 1).r,
+              GI_FETCH(scenePreviousPositionTexels, i + 2).r);
 }
 vec3 sceneNormal(uint vertex) {
   int i = int(3u * vertex);

@@ -12,6 +12,8 @@
 #include <sstream>
 
 #include "animation.h"
+#include "gbuffer.h"
+#include "image_io.h"
 #include "metrics.h"
 #include "module_test_helpers.h"
 
@@ -154,4 +156,44 @@ TEST_F(SkinningTest, MorphTargetsAreNamedInAWarning) {
   ASSERT_TRUE(loaded) << error;
   EXPECT_NE(warnings.find("warning: mesh"), std::string::npos) << warnings;
   EXPECT_NE(warnings.find("has morph targets, which are not played"), std::string::npos) << warnings;
+}
+
+// The G-buffer's motion on a deforming surface: the module's scene keeps last frame's positions
+// (gi::updateMeshVertices copies them before writing the new pose), so the bar's bending pixels carry
+// their motion, and a pose repeated carries none.
+TEST_F(SkinningTest, DeformingSurfacesCarryTheirMotion) {
+  LoadedScene s;
+  std::string error;
+  ASSERT_TRUE(engine::loadSceneForRendering(kBar, s.scene, error)) << error;
+  const engine::SceneAnimation animation = engine::makeSceneAnimation(s.scene);
+  engine::markAnimatedInstancesMovable(animation, s.scene);
+  engine::createSceneGpu(ctx, s.scene, s.gpu);
+  tools::ModuleSession session;
+  ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {kSize, kSize}, gi::Settings{}, session));
+  const gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], kSize, kSize, nullptr);
+  auto motionAt = [&](float seconds, uint32_t frame) {
+    engine::poseScene(ctx, animation, seconds, s.scene, s.gpu);
+    tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, frame);
+    const std::vector<std::byte> raw =
+        engine::readbackImage(ctx, session.gbuffer.color[gpu::GBUFFER_MOTION], VK_IMAGE_LAYOUT_GENERAL, 4);
+    std::vector<float> lengths;
+    for (size_t p = 0; p < size_t(kSize) * kSize; ++p) {
+      uint16_t h[2];
+      std::memcpy(h, &raw[4 * p], 4);
+      lengths.push_back(glm::length(glm::vec2(engine::halfToFloat(h[0]), engine::halfToFloat(h[1]))));
+    }
+    return lengths;
+  };
+  motionAt(0.3f, 0);
+  const std::vector<float> bending = motionAt(0.4f, 1);  // 9 degrees further
+  const std::vector<float> still = motionAt(0.4f, 2);    // the same pose again
+  const size_t moving = size_t(std::count_if(bending.begin(), bending.end(), [](float l) { return l > 0.5f; }));
+  const float largest = *std::max_element(still.begin(), still.end());
+  std::printf("bending: %zu pixels move more than half a pixel (largest %.2f px); the pose repeated: largest %.2e px\n",
+              moving, *std::max_element(bending.begin(), bending.end()), largest);
+  EXPECT_GE(moving, 10u) << "the bar's top half moves on screen";
+  EXPECT_LT(moving, size_t(kSize) * kSize / 10) << "the room stands still";
+  EXPECT_LT(largest, 1e-3f) << "a repeated pose has no motion";
+  tools::destroyModuleSession(ctx, session);
+  unload(s);
 }

@@ -33,8 +33,12 @@ GPU_CONST SCENE_BINDING_BVH_TRIANGLES = 12;    // GpuBvhTriangle[]
 GPU_CONST SCENE_BINDING_BVH_TOP_NODES = 13;    // GpuBvhNode[], the top level (node 0 = root), rewritten by updates
 GPU_CONST SCENE_BINDING_BVH_INSTANCES = 14;    // GpuBvhInstance[], rewritten by updates
 GPU_CONST SCENE_BINDING_SKY_DISTRIBUTION = 15;// R32_SFLOAT: the sky map's sampling tables (sky.glsl); a placeholder without a map
-GPU_CONST SCENE_BINDING_TEXTURES = 16;         // sampler2D[], variable count (must stay the last binding)
-GPU_CONST SCENE_BINDING_COUNT = 17;
+// R32_SFLOAT: the positions of the previous frame, for the motion vectors of deforming meshes
+// (gi::updateMeshVertices copies a mesh's positions here before writing the new ones); without
+// deformable meshes the positions' own view.
+GPU_CONST SCENE_BINDING_PREVIOUS_POSITIONS = 16;
+GPU_CONST SCENE_BINDING_TEXTURES = 17;         // sampler2D[], variable count (must stay the last binding)
+GPU_CONST SCENE_BINDING_COUNT = 18;
 
 GPU_CONST MATERIAL_FLAG_GLOSSY = 1u;       // has a GGX lobe (materialHasGlossyLobe, or a roughness texture)
 GPU_CONST MATERIAL_FLAG_ALPHA_MASK = 2u;   // alphaMode MASK: texels below alphaCutoff are holes

@@ -40,6 +40,7 @@ const vk::Binding kSceneBindings[] = {
     {gpu::SCENE_BINDING_BVH_TOP_NODES, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
     {gpu::SCENE_BINDING_BVH_INSTANCES, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
     {gpu::SCENE_BINDING_SKY_DISTRIBUTION, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
+    {gpu::SCENE_BINDING_PREVIOUS_POSITIONS, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
     {gpu::SCENE_BINDING_TEXTURES, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 4096, true},
 };
 
@@ -219,7 +220,8 @@ vk::Status uploadSky(Scene& s, VkCommandBuffer cmd, const SkyDesc& sky, uint32_t
 vk::Status buildScene(Scene& s, VkCommandBuffer cmd, const SceneContents& contents) {
   const PackedScene& p = s.packed;
   const VkBufferUsageFlags geometryUsage = kTexels | (rayQuery(s) ? kBuildInput : 0) | refitUsage(s);
-  GI_TRY(upload(s, cmd, p.positions, geometryUsage, s.positions));
+  GI_TRY(upload(s, cmd, p.positions, geometryUsage | (hasDeformable(p) ? VK_BUFFER_USAGE_TRANSFER_SRC_BIT : 0), s.positions));
+  if (hasDeformable(p)) GI_TRY(upload(s, cmd, p.positions, kTexels, s.previousPositions));
   GI_TRY(upload(s, cmd, p.normals, kTexels | refitUsage(s), s.normals));
   GI_TRY(upload(s, cmd, p.uvs, kTexels, s.uvs));
   GI_TRY(upload(s, cmd, p.indices, geometryUsage, s.indices));
@@ -294,6 +296,8 @@ vk::Status buildScene(Scene& s, VkCommandBuffer cmd, const SceneContents& conten
     const char* tooLarge;
   } arrays[] = {
       {gpu::SCENE_BINDING_POSITIONS, &s.positions, VK_FORMAT_R32_SFLOAT, 4, "vkCreateBufferView (the positions exceed maxTexelBufferElements)"},
+      {gpu::SCENE_BINDING_PREVIOUS_POSITIONS, s.previousPositions.buffer ? &s.previousPositions : &s.positions, VK_FORMAT_R32_SFLOAT, 4,
+       "vkCreateBufferView (the positions exceed maxTexelBufferElements)"},
       {gpu::SCENE_BINDING_NORMALS, &s.normals, VK_FORMAT_R32_SFLOAT, 4, "vkCreateBufferView (the normals exceed maxTexelBufferElements)"},
       {gpu::SCENE_BINDING_UVS, &s.uvs, VK_FORMAT_R32G32_SFLOAT, 8, "vkCreateBufferView (the texture coordinates exceed maxTexelBufferElements)"},
       {gpu::SCENE_BINDING_INDICES, &s.indices, VK_FORMAT_R32_UINT, 4, "vkCreateBufferView (the indices exceed maxTexelBufferElements)"},
@@ -345,7 +349,7 @@ void destroySceneResources(Scene& s) {
   vk::destroyImage(s.gpu, s.skyMap);
   if (s.skySampler) s.gpu.fn.vkDestroySampler(s.gpu.device, s.skySampler, s.gpu.allocator);
   s.skySampler = VK_NULL_HANDLE;
-  for (vk::Buffer* b : {&s.positions, &s.normals, &s.uvs, &s.indices, &s.geometries, &s.materials, &s.instanceTable,
+  for (vk::Buffer* b : {&s.positions, &s.previousPositions, &s.normals, &s.uvs, &s.indices, &s.geometries, &s.materials, &s.instanceTable,
                         &s.emissiveTriangles, &s.punctualLights, &s.constants, &s.skyDistribution, &s.refitOrder})
     vk::destroyBuffer(s.gpu, *b);
   vk::destroyComputeProgram(s.gpu, s.refitProgram);
@@ -564,8 +568,19 @@ Error updateMeshVertices(Scene* s, VkCommandBuffer cmd, uint32_t mesh, const Mes
         return sceneError("gi::updateMeshVertices: vertices.positions[" + std::to_string(i) + "] is not finite");
     }
   }
-  // Every earlier command's reads of the vertices and the BVH (frames in flight) before the writes.
-  vk::memoryBarrier(s->gpu, cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_NONE,
+  // Every earlier command's reads of the vertices and the BVH (frames in flight) before the writes, and the
+  // last update's writes of the positions before the copy reads them.
+  vk::memoryBarrier(s->gpu, cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                    VK_PIPELINE_STAGE_2_TRANSFER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                    VK_ACCESS_2_TRANSFER_READ_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+  // This pose's positions become the previous ones (the G-buffer's motion vectors), then the new ones follow.
+  std::vector<VkBufferCopy> previous;
+  for (uint32_t id = firstGeometry; id < geometryEnd; ++id) {
+    const VkDeviceSize at = VkDeviceSize(p.geometries[id].vertexOffset) * 12;
+    previous.push_back({at, at, VkDeviceSize(p.geometryVertexCount[id]) * 12});
+  }
+  s->gpu.fn.vkCmdCopyBuffer(cmd, s->positions.buffer, s->previousPositions.buffer, uint32_t(previous.size()), previous.data());
+  vk::memoryBarrier(s->gpu, cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT,
                     VK_PIPELINE_STAGE_2_TRANSFER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                     VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
   const VkDeviceAddress positions = deviceAddress(s->gpu, s->positions), normals = deviceAddress(s->gpu, s->normals);

@@ -27,7 +27,8 @@ struct Scene {
   vk::Buffer positions, normals, uvs, indices, geometries, materials;  // device-local, uploaded once
   vk::Buffer instanceTable, emissiveTriangles, punctualLights, constants, skyDistribution;  // host-visible: written
                                                 // at create, then by commands in the engine's frames (updates)
-  VkBufferView arrayViews[11]{};                // texel views of the arrays above and the constants (bindings 1–10, 15)
+  vk::Buffer previousPositions;                 // deformable meshes: last frame's positions (else set 0 binds `positions`)
+  VkBufferView arrayViews[12]{};                // texel views of the arrays above and the constants (bindings 1–10, 15, 16)
   vk::Image skyMap;                             // rgba32f equirectangular map (none for a constant sky)
   VkSampler skySampler = VK_NULL_HANDLE;
   SceneBvh bvh;                                 // the compute traversal's two levels
