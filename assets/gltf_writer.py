@@ -122,3 +122,69 @@ class Gltf:
             json.dump(self.doc, f, indent=1)
             f.write("\n")
         print("wrote", os.path.join(directory, stem + ".gltf"), len(self.blob), "bytes of geometry")
+
+
+def smoothstep(a, b, x):
+    t = min(max((x - a) / (b - a), 0.0), 1.0)
+    return t * t * (3 - 2 * t)
+
+
+def bar(half, height, segments):
+    """A square bar standing on y = 0 (x and z in [-half, half]): four sides of SEGMENTS rows each (their own
+    vertices: flat normals) and a top cap."""
+    pos, nrm, idx = [], [], []
+    sides = [((1, 0, 0), (half, -half), (half, half)), ((-1, 0, 0), (-half, half), (-half, -half)),
+             ((0, 0, 1), (-half, half), (half, half)), ((0, 0, -1), (half, -half), (-half, -half))]
+    for normal, (ax, az), (bx, bz) in sides:
+        base = len(pos)
+        for row in range(segments + 1):
+            y = height * row / segments
+            pos += [(ax, y, az), (bx, y, bz)]
+            nrm += [normal, normal]
+        for row in range(segments):
+            a, b, c, d = base + 2 * row, base + 2 * row + 1, base + 2 * row + 3, base + 2 * row + 2
+            idx += [a, b, c, a, c, d]  # counter-clockwise seen from outside
+    top = quad((-half, height, half), (half, height, half), (half, height, -half), (-half, height, -half))
+    base = len(pos)
+    pos += top[0]
+    nrm += top[1]
+    idx += [base + i for i in top[2]]
+    return pos, nrm, idx
+
+
+def add_skinned_bar(gltf, name, material, base, half, height, segments, bend_y, blend, seconds, degrees):
+    """A bar standing at BASE skinned to two joints: `NAME_root` at BASE and its child `NAME_bend` BEND_Y above
+    it; a vertex at height y weighs the bend joint by smoothstep(BLEND[0], BLEND[1], y). An animation turns the
+    bend joint about +Z from 0 to DEGREES over SECONDS / 2 and back (LINEAR). Returns the root nodes to put in
+    the scene (the joints' root and the skinned mesh's node)."""
+    pos, nrm, idx = bar(half, height, segments)
+    weights = [smoothstep(blend[0], blend[1], p[1]) for p in pos]
+    pos = [(x + base[0], y + base[1], z + base[2]) for x, y, z in pos]
+    p = gltf.accessor(pos, "f", 5126, "VEC3", 34962)
+    gltf.doc["accessors"][p].update(min=[min(v[i] for v in pos) for i in range(3)], max=[max(v[i] for v in pos) for i in range(3)])
+    n = gltf.accessor(nrm, "f", 5126, "VEC3", 34962)
+    j = gltf.accessor([(0, 1, 0, 0)] * len(pos), "B", 5121, "VEC4", 34962)
+    w = gltf.accessor([(1 - b, b, 0.0, 0.0) for b in weights], "f", 5126, "VEC4", 34962)
+    i = gltf.accessor(idx, "H", 5123, "SCALAR", 34963)
+    gltf.doc["meshes"].append({"name": name, "primitives": [{
+        "attributes": {"POSITION": p, "NORMAL": n, "JOINTS_0": j, "WEIGHTS_0": w}, "indices": i,
+        "material": gltf.material_index[material]}]})
+    root = len(gltf.doc["nodes"])
+    gltf.node({"name": name + "_root", "translation": list(base), "children": [root + 1]})
+    gltf.node({"name": name + "_bend", "translation": [0, bend_y, 0]})
+    identity = [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0]
+    ibm = gltf.accessor([tuple(identity + [-base[0], -base[1], -base[2], 1]),
+                         tuple(identity + [-base[0], -base[1] - bend_y, -base[2], 1])], "f", 5126, "MAT4")
+    gltf.doc.setdefault("skins", []).append({"name": name, "joints": [root, root + 1], "skeleton": root,
+                                             "inverseBindMatrices": ibm})
+    gltf.node({"name": name, "mesh": len(gltf.doc["meshes"]) - 1, "skin": len(gltf.doc["skins"]) - 1})
+    times = gltf.accessor([0.0, seconds / 2, seconds], "f", 5126, "SCALAR")
+    gltf.doc["accessors"][times].update(min=[0.0], max=[seconds])
+    half_angle = math.radians(degrees) / 2
+    turns = gltf.accessor([(0.0, 0.0, 0.0, 1.0), (0.0, 0.0, math.sin(half_angle), math.cos(half_angle)),
+                           (0.0, 0.0, 0.0, 1.0)], "f", 5126, "VEC4")
+    gltf.doc.setdefault("animations", []).append({"name": name + "_bend", "samplers": [
+        {"input": times, "output": turns, "interpolation": "LINEAR"}],
+        "channels": [{"sampler": 0, "target": {"node": root + 1, "path": "rotation"}}]})
+    return [root, root + 2]
+
