@@ -45,21 +45,22 @@ glm::vec4 sample(const AnimationSampler& s, float t, bool rotation) {
 
 }  // namespace
 
+glm::mat4 localMatrix(const SceneNode& node) {
+  if (node.hasMatrix) return node.matrix;
+  return glm::translate(glm::mat4(1.0f), node.translation) * glm::mat4_cast(node.rotation) *
+         glm::scale(glm::mat4(1.0f), node.scale);
+}
+
 std::vector<glm::mat4> worldTransformsAt(const SceneAnimations& a, float seconds) {
-  std::vector<glm::vec3> translation(a.nodes.size()), scale(a.nodes.size());
-  std::vector<glm::quat> rotation(a.nodes.size());
-  for (size_t n = 0; n < a.nodes.size(); ++n) {
-    translation[n] = a.nodes[n].translation;
-    rotation[n] = a.nodes[n].rotation;
-    scale[n] = a.nodes[n].scale;
-  }
+  std::vector<SceneNode> posed = a.nodes;  // the rest poses, the channels' values applied
   for (const Animation& anim : a.animations) {
     const float t = anim.seconds > 0.0f ? std::fmod(seconds, anim.seconds) : 0.0f;
     for (const AnimationChannel& c : anim.channels) {
       const glm::vec4 v = sample(anim.samplers[c.sampler], t, c.path == AnimationChannel::Path::Rotation);
-      if (c.path == AnimationChannel::Path::Translation) translation[c.node] = glm::vec3(v);
-      else if (c.path == AnimationChannel::Path::Scale) scale[c.node] = glm::vec3(v);
-      else rotation[c.node] = glm::normalize(glm::quat(v.w, v.x, v.y, v.z));
+      SceneNode& node = posed[size_t(c.node)];
+      if (c.path == AnimationChannel::Path::Translation) node.translation = glm::vec3(v);
+      else if (c.path == AnimationChannel::Path::Scale) node.scale = glm::vec3(v);
+      else node.rotation = glm::normalize(glm::quat(v.w, v.x, v.y, v.z));
     }
   }
   std::vector<glm::mat4> world(a.nodes.size());
@@ -67,10 +68,8 @@ std::vector<glm::mat4> worldTransformsAt(const SceneAnimations& a, float seconds
   // Parents first: the loader refused cycles, so following parents ends.
   auto resolve = [&](auto&& self, size_t n) -> const glm::mat4& {
     if (done[n]) return world[n];
-    const SceneNode& node = a.nodes[n];
-    const glm::mat4 local = node.hasMatrix ? node.matrix
-                                           : glm::translate(glm::mat4(1.0f), translation[n]) * glm::mat4_cast(rotation[n]) *
-                                                 glm::scale(glm::mat4(1.0f), scale[n]);
+    const SceneNode& node = posed[n];
+    const glm::mat4 local = localMatrix(node);
     world[n] = node.parent >= 0 ? self(self, size_t(node.parent)) * local : local;
     done[n] = 1;
     return world[n];

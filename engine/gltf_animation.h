@@ -75,6 +75,8 @@ struct SceneAnimations {
   bool playable() const { return !animations.empty(); }
 };
 
+// A node's local transform: its matrix, or translation × rotation × scale.
+glm::mat4 localMatrix(const SceneNode& node);
 // Every node's world transform with the animations applied at `seconds`.
 std::vector<glm::mat4> worldTransformsAt(const SceneAnimations& a, float seconds);
 // Poses the scene at `seconds`: instances and lights placed by animated nodes move and every skin's joint

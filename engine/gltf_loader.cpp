@@ -493,20 +493,24 @@ struct Loader {
     return int(scene.meshes.size()) - 1;
   }
 
-  glm::mat4 localTransform(const tinygltf::Node& n, const std::string& what) {
+  // The node's rest pose as the file gives it: a matrix, or translation, rotation and scale.
+  SceneNode restPose(const tinygltf::Node& n, const std::string& what) {
+    SceneNode out;
     if (n.matrix.size() == 16) {
-      glm::mat4 m;
-      for (int i = 0; i < 16; ++i) glm::value_ptr(m)[i] = float(n.matrix[i]);
-      return m;
+      out.hasMatrix = true;
+      for (int i = 0; i < 16; ++i) glm::value_ptr(out.matrix)[i] = float(n.matrix[i]);
+      return out;
     }
     if (!n.matrix.empty()) fail(what + " has a matrix that is not 16 numbers");
-    glm::vec3 t(float(numberOr(n.translation, 0, 0)), float(numberOr(n.translation, 1, 0)), float(numberOr(n.translation, 2, 0)));
-    glm::quat r(float(numberOr(n.rotation, 3, 1)), float(numberOr(n.rotation, 0, 0)), float(numberOr(n.rotation, 1, 0)),
-                float(numberOr(n.rotation, 2, 0)));
-    glm::vec3 s(float(numberOr(n.scale, 0, 1)), float(numberOr(n.scale, 1, 1)), float(numberOr(n.scale, 2, 1)));
-    float rl = glm::length(r);
+    out.translation = glm::vec3(float(numberOr(n.translation, 0, 0)), float(numberOr(n.translation, 1, 0)),
+                                float(numberOr(n.translation, 2, 0)));
+    const glm::quat r(float(numberOr(n.rotation, 3, 1)), float(numberOr(n.rotation, 0, 0)), float(numberOr(n.rotation, 1, 0)),
+                      float(numberOr(n.rotation, 2, 0)));
+    const float rl = glm::length(r);
     if (!(rl > 0.0f)) fail(what + " has a zero rotation quaternion");
-    return glm::translate(glm::mat4(1.0f), t) * glm::mat4_cast(r / rl) * glm::scale(glm::mat4(1.0f), s);
+    out.rotation = r / rl;
+    out.scale = glm::vec3(float(numberOr(n.scale, 0, 1)), float(numberOr(n.scale, 1, 1)), float(numberOr(n.scale, 2, 1)));
+    return out;
   }
 
   void node(int index, const glm::mat4& parent, std::vector<int>& path, int parentNode = -1) {
@@ -517,22 +521,13 @@ struct Loader {
     if (path.size() > 256) fail("the node hierarchy is deeper than 256 levels");
     const tinygltf::Node& n = model.nodes[index];
     std::string what = "node " + std::to_string(index) + " ('" + n.name + "')";
-    glm::mat4 world = parent * localTransform(n, what);
+    SceneNode& record = scene.gltf.nodes[size_t(index)];
+    record = restPose(n, what);
+    record.parent = parentNode;
+    glm::mat4 world = parent * localMatrix(record);
     for (int c = 0; c < 4; ++c)
       if (!finite(glm::vec3(world[c])) || !std::isfinite(world[c][3])) fail(what + " has a non-finite transform");
 
-    SceneNode& record = scene.gltf.nodes[size_t(index)];
-    record.parent = parentNode;
-    if (n.matrix.size() == 16) {
-      record.hasMatrix = true;
-      record.matrix = localTransform(n, what);
-    } else {
-      record.translation = glm::vec3(float(numberOr(n.translation, 0, 0)), float(numberOr(n.translation, 1, 0)),
-                                     float(numberOr(n.translation, 2, 0)));
-      record.rotation = glm::normalize(glm::quat(float(numberOr(n.rotation, 3, 1)), float(numberOr(n.rotation, 0, 0)),
-                                                 float(numberOr(n.rotation, 1, 0)), float(numberOr(n.rotation, 2, 0))));
-      record.scale = glm::vec3(float(numberOr(n.scale, 0, 1)), float(numberOr(n.scale, 1, 1)), float(numberOr(n.scale, 2, 1)));
-    }
     if (n.mesh >= 0 && n.skin >= 0) {
       // glTF places a skinned mesh by its joints alone: the node's own transform is ignored.
       if (size_t(n.skin) >= model.skins.size()) fail(what + " refers to skin " + std::to_string(n.skin) + ", which does not exist");

@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "gi/vk/resources.h"
 #include "shared/skinning.h"
 #include "skinning.comp.h"
 
@@ -47,11 +48,8 @@ void recordSkinning(const Context& ctx, VkCommandBuffer cmd, const Scene& scene,
   memoryBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_NONE,
                 VK_PIPELINE_STAGE_2_TRANSFER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                 VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-  constexpr size_t kMaxUpdate = 65536;  // vkCmdUpdateBuffer's limit per call
-  const size_t bytes = joints.size() * sizeof(glm::mat4);
-  for (size_t at = 0; at < bytes; at += kMaxUpdate)
-    vkCmdUpdateBuffer(cmd, skinning.jointMatrices.buffer, at, std::min(kMaxUpdate, bytes - at),
-                      reinterpret_cast<const std::byte*>(joints.data()) + at);
+  gi::vk::recordBufferWrite(ctx.vk, cmd, skinning.jointMatrices.buffer, skinning.jointMatrices.size, joints.data(),
+                            joints.size() * sizeof(glm::mat4));
   memoryBarrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                 VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
   for (const SkinnedMesh& sm : a.skinnedMeshes) {

@@ -8,7 +8,6 @@ namespace engine {
 namespace {
 
 std::atomic<uint64_t> fenceWaits{0}, idleWaits{0}, creations{0};
-bool counting = false;
 
 // The entry points volk loaded, called by the wrappers.
 PFN_vkWaitForFences realWaitForFences;
@@ -60,19 +59,26 @@ VKAPI_ATTR VkResult VKAPI_CALL createGraphicsPipelines(VkDevice d, VkPipelineCac
   return realCreateGraphicsPipelines(d, c, n, i, a, p);
 }
 
+// Routes volk's `entry` through `wrapper`, keeping the device's own function in `real`; a no-op when it
+// already goes there. Each createContext reloads volk's entry points, so a second context is hooked anew.
+template <typename Pfn>
+void hook(Pfn& entry, Pfn& real, Pfn wrapper) {
+  if (entry == wrapper) return;
+  real = entry;
+  entry = wrapper;
+}
+
 }  // namespace
 
 void startCountingVulkanCalls() {
-  if (counting) return;
-  counting = true;
-  realWaitForFences = vkWaitForFences, vkWaitForFences = waitForFences;
-  realQueueWaitIdle = vkQueueWaitIdle, vkQueueWaitIdle = queueWaitIdle;
-  realDeviceWaitIdle = vkDeviceWaitIdle, vkDeviceWaitIdle = deviceWaitIdle;
-  realAllocateMemory = vkAllocateMemory, vkAllocateMemory = allocateMemory;
-  realCreateImage = vkCreateImage, vkCreateImage = createImage;
-  realCreateBuffer = vkCreateBuffer, vkCreateBuffer = createBuffer;
-  realCreateComputePipelines = vkCreateComputePipelines, vkCreateComputePipelines = createComputePipelines;
-  realCreateGraphicsPipelines = vkCreateGraphicsPipelines, vkCreateGraphicsPipelines = createGraphicsPipelines;
+  hook(vkWaitForFences, realWaitForFences, &waitForFences);
+  hook(vkQueueWaitIdle, realQueueWaitIdle, &queueWaitIdle);
+  hook(vkDeviceWaitIdle, realDeviceWaitIdle, &deviceWaitIdle);
+  hook(vkAllocateMemory, realAllocateMemory, &allocateMemory);
+  hook(vkCreateImage, realCreateImage, &createImage);
+  hook(vkCreateBuffer, realCreateBuffer, &createBuffer);
+  hook(vkCreateComputePipelines, realCreateComputePipelines, &createComputePipelines);
+  hook(vkCreateGraphicsPipelines, realCreateGraphicsPipelines, &createGraphicsPipelines);
 }
 
 VulkanCallCounts vulkanCallCounts() { return {fenceWaits.load(), idleWaits.load(), creations.load()}; }

@@ -13,7 +13,8 @@ struct VulkanCallCounts {
   uint64_t creations = 0;    // vkAllocateMemory, vkCreateImage, vkCreateBuffer, vkCreate*Pipelines
 };
 
-// After the device's entry points are loaded (createContext); idempotent. Not thread-safe with calls
+// After the device's entry points are loaded (createContext; again after another createContext, which
+// reloads them); idempotent. Not thread-safe with calls
 // being made.
 void startCountingVulkanCalls();
 // Since startCountingVulkanCalls (all 0 before).

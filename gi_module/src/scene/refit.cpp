@@ -25,13 +25,6 @@ gpu::RefitPush push(const RefitBuffers& b, uint32_t mode, uint32_t first, uint32
   return p;
 }
 
-// Each dispatch reads what the previous wrote (triangles, then children before parents).
-void computeBarrier(const vk::Device& d, VkCommandBuffer cmd) {
-  vk::memoryBarrier(d, cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                    VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                    VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-}
-
 // The refit's writes before every later reader of set 0's BVH views (traversal in any stage).
 void afterRefit(const vk::Device& d, VkCommandBuffer cmd) {
   vk::memoryBarrier(d, cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
@@ -90,7 +83,7 @@ void recordMeshRefit(const vk::Device& d, VkCommandBuffer cmd, const vk::Compute
   dispatch(d, cmd, program, push(buffers, gpu::REFIT_TRIANGLES, refit.firstTriangle, refit.triangleCount),
            refit.triangleCount);
   for (const auto& [first, count] : refit.levels) {
-    computeBarrier(d, cmd);
+    vk::computeToComputeBarrier(d, cmd);  // each level reads what the one below wrote
     dispatch(d, cmd, program, push(buffers, gpu::REFIT_NODES, first, count), count);
   }
   afterRefit(d, cmd);

@@ -163,6 +163,18 @@ vk::Status buildBvhBuffers(Scene& s, VkCommandBuffer cmd, std::span<const uint8_
   return {};
 }
 
+// The emission table for the instances' and vertices' current state, its count and power in the scene's
+// constants (both written by the caller, in its command buffer).
+std::vector<gpu::GpuEmissiveTriangle> refreshEmission(Scene& s) {
+  float totalPower = 0.0f;
+  std::vector<gpu::GpuEmissiveTriangle> table = emissiveTable(s.packed, s.instances, totalPower);
+  // Moves and deformations keep the triangles; only degenerate ones could drop entries.
+  table.resize(std::min<size_t>(table.size(), s.emissiveCapacity));
+  s.sceneConstants.emissiveTriangleCount = uint32_t(table.size());
+  s.sceneConstants.emissiveTotalPower = totalPower;
+  return table;
+}
+
 RefitBuffers refitBuffers(const Scene& s) {
   return {deviceAddress(s.gpu, s.positions),    deviceAddress(s.gpu, s.indices),     deviceAddress(s.gpu, s.geometries),
           deviceAddress(s.gpu, s.bvhTriangles), deviceAddress(s.gpu, s.bvhNodes),    deviceAddress(s.gpu, s.refitOrder),
@@ -498,12 +510,7 @@ Error updateInstances(Scene* s, VkCommandBuffer cmd, std::span<const InstanceDes
     s->instances[i] = instances[i];
     s->instances[i].movable = movable;
   }
-  float totalPower = 0.0f;
-  std::vector<gpu::GpuEmissiveTriangle> emissive = emissiveTable(s->packed, s->instances, totalPower);
-  // Moving instances keep their triangles; only degenerate scaling could drop entries.
-  emissive.resize(std::min<size_t>(emissive.size(), s->emissiveCapacity));
-  s->sceneConstants.emissiveTriangleCount = uint32_t(emissive.size());
-  s->sceneConstants.emissiveTotalPower = totalPower;
+  const std::vector<gpu::GpuEmissiveTriangle> emissive = refreshEmission(*s);
   if (mergedMoved) {  // merged as static: taken out once, its level rebuilt (new buffers, set 0 rewritten)
     if (vk::Status st = buildBvhBuffers(*s, VK_NULL_HANDLE, moved)) return vulkanError("gi::updateInstances", st);
     writeBvhDescriptors(*s);
@@ -562,8 +569,7 @@ Error updateMeshVertices(Scene* s, VkCommandBuffer cmd, uint32_t mesh, const Mes
     if (!v.positions || !v.normals)
       return sceneError("gi::updateMeshVertices: vertices.positions and vertices.normals are required (or device streams)");
     for (uint32_t i = 0; i < vertexCount; ++i) {
-      const float* pos = reinterpret_cast<const float*>(reinterpret_cast<const char*>(v.positions) +
-                                                        size_t(v.positionStride ? v.positionStride : 12) * i);
+      const float* pos = element(v.positions, v.positionStride, 12, i);
       if (!std::isfinite(pos[0]) || !std::isfinite(pos[1]) || !std::isfinite(pos[2]))
         return sceneError("gi::updateMeshVertices: vertices.positions[" + std::to_string(i) + "] is not finite");
     }
@@ -592,21 +598,14 @@ Error updateMeshVertices(Scene* s, VkCommandBuffer cmd, uint32_t mesh, const Mes
       continue;
     }
     for (uint32_t i = 0; i < count; ++i) {
-      const char* pos = reinterpret_cast<const char*>(v.positions) + size_t(v.positionStride ? v.positionStride : 12) * (first + i);
-      const char* nrm = reinterpret_cast<const char*>(v.normals) + size_t(v.normalStride ? v.normalStride : 12) * (first + i);
-      std::memcpy(&p.positions[at + i], pos, 12);
-      std::memcpy(&p.normals[at + i], nrm, 12);
+      std::memcpy(&p.positions[at + i], element(v.positions, v.positionStride, 12, first + i), 12);
+      std::memcpy(&p.normals[at + i], element(v.normals, v.normalStride, 12, first + i), 12);
     }
     vk::recordBufferWrite(s->gpu, cmd, s->positions, &p.positions[at], size_t(count) * 12, VkDeviceSize(at) * 12);
     vk::recordBufferWrite(s->gpu, cmd, s->normals, &p.normals[at], size_t(count) * 12, VkDeviceSize(at) * 12);
   }
   if (!device && emissive) {  // the emission table follows the new areas
-    float totalPower = 0.0f;
-    std::vector<gpu::GpuEmissiveTriangle> table = emissiveTable(p, s->instances, totalPower);
-    table.resize(std::min<size_t>(table.size(), s->emissiveCapacity));
-    s->sceneConstants.emissiveTriangleCount = uint32_t(table.size());
-    s->sceneConstants.emissiveTotalPower = totalPower;
-    writeInCommands(*s, cmd, s->emissiveTriangles, table);
+    writeInCommands(*s, cmd, s->emissiveTriangles, refreshEmission(*s));
     writeInCommands(*s, cmd, s->constants, std::vector<gpu::GpuSceneConstants>{s->sceneConstants});
   }
   // The vertices before the refit, the BLAS update and every later reader.

@@ -20,11 +20,6 @@ bool finiteNonNegative(std::span<const float> values) {
   return std::all_of(values.begin(), values.end(), [](float v) { return std::isfinite(v) && v >= 0.0f; });
 }
 
-const float* element(const float* base, uint32_t stride, uint32_t packedSize, uint32_t i) {
-  const uint32_t s = stride ? stride : packedSize;
-  return reinterpret_cast<const float*>(reinterpret_cast<const char*>(base) + size_t(s) * i);
-}
-
 float luminance(const glm::vec3& c) { return gi::luminance(c.x, c.y, c.z); }
 
 std::string checkTexture(int32_t texture, size_t count, const std::string& field) {
@@ -130,6 +125,11 @@ std::string packMesh(const MeshDesc& mesh, size_t materialCount, const std::stri
 }
 
 }  // namespace
+
+const float* element(const float* base, uint32_t stride, uint32_t packedSize, uint32_t i) {
+  const uint32_t s = stride ? stride : packedSize;
+  return reinterpret_cast<const float*>(reinterpret_cast<const char*>(base) + size_t(s) * i);
+}
 
 glm::mat4 toMat4(const float (&m)[16]) {
   glm::mat4 r;

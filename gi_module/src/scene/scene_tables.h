@@ -35,6 +35,8 @@ std::string checkInstances(const PackedScene& packed, std::span<const InstanceDe
 std::string checkLights(std::span<const LightDesc> lights, const char* what);
 
 glm::mat4 toMat4(const float (&m)[16]);
+// Element i of a strided CPU array (stride 0: packed, `packedSize` bytes apart).
+const float* element(const float* base, uint32_t stride, uint32_t packedSize, uint32_t i);
 
 // One entry per emissive (instance, triangle), picked in proportion to world
 // area × luminance(emission); `totalPower` gets Σ of the weights.

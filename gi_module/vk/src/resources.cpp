@@ -132,13 +132,18 @@ void beginBufferWrites(const Device& d, VkCommandBuffer cmd) {
                 VK_ACCESS_2_TRANSFER_WRITE_BIT);
 }
 
+void recordBufferWrite(const Device& d, VkCommandBuffer cmd, VkBuffer buffer, VkDeviceSize bufferSize, const void* data,
+                       size_t bytes, VkDeviceSize offset) {
+  constexpr size_t kMaxUpdate = 65536;  // vkCmdUpdateBuffer's limit per call
+  for (size_t at = 0; at < bytes && offset + at < bufferSize; at += kMaxUpdate) {
+    const size_t n = std::min({kMaxUpdate, bytes - at, size_t(bufferSize - offset) - at});
+    d.fn.vkCmdUpdateBuffer(cmd, buffer, offset + at, n, static_cast<const std::byte*>(data) + at);
+  }
+}
+
 void recordBufferWrite(const Device& d, VkCommandBuffer cmd, const Buffer& buffer, const void* data, size_t bytes,
                        VkDeviceSize offset) {
-  constexpr size_t kMaxUpdate = 65536;  // vkCmdUpdateBuffer's limit per call
-  for (size_t at = 0; at < bytes && offset + at < buffer.size; at += kMaxUpdate) {
-    const size_t n = std::min({kMaxUpdate, bytes - at, size_t(buffer.size - offset) - at});
-    d.fn.vkCmdUpdateBuffer(cmd, buffer.buffer, offset + at, n, static_cast<const std::byte*>(data) + at);
-  }
+  recordBufferWrite(d, cmd, buffer.buffer, buffer.size, data, bytes, offset);
 }
 
 void endBufferWrites(const Device& d, VkCommandBuffer cmd) {

@@ -54,6 +54,9 @@ void memoryBarrier(const Device& device, VkCommandBuffer cmd, VkPipelineStageFla
 void beginBufferWrites(const Device& device, VkCommandBuffer cmd);
 void recordBufferWrite(const Device& device, VkCommandBuffer cmd, const Buffer& buffer, const void* data, size_t bytes,
                        VkDeviceSize offset = 0);  // bytes from `offset` (a multiple of 4, as is `bytes`)
+// The same into a buffer of `bufferSize` bytes that is not the module's (an engine's).
+void recordBufferWrite(const Device& device, VkCommandBuffer cmd, VkBuffer buffer, VkDeviceSize bufferSize,
+                       const void* data, size_t bytes, VkDeviceSize offset = 0);
 void endBufferWrites(const Device& device, VkCommandBuffer cmd);
 // What a compute pass wrote, visible to the next compute pass (read and write).
 void computeToComputeBarrier(const Device& device, VkCommandBuffer cmd);
