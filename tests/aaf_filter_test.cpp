@@ -135,7 +135,7 @@ TEST_F(AafFilterTest, NormalThresholdStopsFilteringAcrossARightAngle) {
   std::vector<float> out = filter(std::cos(10.0f * 3.14159265f / 180.0f));
   for (uint32_t y = 0; y < H; ++y) {
     EXPECT_EQ(out[size_t(y) * W + W / 2 - 1], 0.0f) << "row " << y;  // nothing leaks from the other face
-    // The other face's ones, averaged: 1 to a rounding of the weights' sum (an NVIDIA H200 gave 1 − 6e-8).
+    // The other face's ones, averaged: 1 to a rounding of the weights' sum (on an NVIDIA H200 it was not exactly 1).
     EXPECT_NEAR(out[size_t(y) * W + W / 2], 1.0f, 1e-6f) << "row " << y;
   }
   // With the limit opened to 180°, the edge blurs.
