@@ -62,7 +62,7 @@ void throwIf(const gi::Error& e) {
 
 }  // namespace
 
-void createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu) {
+void createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu, const gi::DeviceMemoryCallbacks& deviceMemory) {
   // Textures with full mip chains, the engine's; the module samples them.
   for (const Texture& t : scene.textures) {
     uint32_t mips = 1 + uint32_t(std::floor(std::log2(double(std::max(t.width, t.height)))));
@@ -132,6 +132,7 @@ void createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu) {
   desc.traversal = ctx.rayQuery ? gpu::TRAVERSAL_RAY_QUERY : gpu::TRAVERSAL_COMPUTE;
   desc.lightSampler = scene.lightSampler;
   desc.lightTreeCut = scene.lightTreeCut;
+  desc.deviceMemory = deviceMemory;
   gi::Error error;
   submitAndWait(ctx, [&](VkCommandBuffer cmd) { error = gi::createScene(desc, contents, cmd, gpu.scene); });
   if (error) {

@@ -45,8 +45,9 @@ struct SceneGpu {
 // Expects a scene whose primitives
 // are numbered mesh by mesh (as the loader does: the module's geometry
 // indices are then the scene's primitive indices). Uploads and builds; waits.
-// Throws std::runtime_error with the module's message when it refuses the scene.
-void createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu);
+// Throws std::runtime_error with the module's message when it refuses the scene. `deviceMemory`: the
+// scene's buffers and images from an allocator of the caller's (gi::SceneCreateDesc::deviceMemory).
+void createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu, const gi::DeviceMemoryCallbacks& deviceMemory = {});
 void destroySceneGpu(const Context& ctx, SceneGpu& gpu);
 
 // For moving instances and lights: hands the module `scene`'s transforms and

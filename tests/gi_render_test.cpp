@@ -38,7 +38,7 @@ TEST(GiRenderTool, BadInputExitsWithASentence) {
 }
 
 // --sky end to end, for the reference and a module method, with validation
-// (its light is checked in tests/sky_test.cpp).
+// (its light is checked in tests/sky_test.cpp); the module's memory as --stats predicts it.
 TEST(GiRenderTool, SkyRunsWithoutValidationMessages) {
   std::string dir = std::filesystem::temp_directory_path() / "gi_render_sky_test";
   std::filesystem::create_directories(dir);
@@ -50,7 +50,12 @@ TEST(GiRenderTool, SkyRunsWithoutValidationMessages) {
                      out);
     ASSERT_EQ(rc, 0) << out;
     std::ifstream f(dir + "/s.json");
-    EXPECT_EQ(nlohmann::json::parse(f)["validation_messages"], 0) << method;
+    const nlohmann::json j = nlohmann::json::parse(f);
+    EXPECT_EQ(j["validation_messages"], 0) << method;
+    if (j.contains("module_memory_bytes")) {  // the module's figure after the frames, and its prediction before
+      EXPECT_EQ(j["module_memory_predicted_bytes"], j["module_memory_bytes"]);
+      EXPECT_EQ(j["module_memory_predicted_transient_bytes"], j["module_memory_transient_bytes"]);
+    }
   }
 }
 

@@ -1,3 +1,7 @@
+// gi::predictMemory tells, without creating anything, exactly what a module will hold; and an
+// engine's own device-memory allocator (ModuleDesc::deviceMemory) serves every byte a module holds,
+// with the same frames as the module's own blocks.
+//
 // Every method at 1920×1080 holds what docs/RESULTS.md's memory table says
 // (docs/results/memory/memory.csv, written by `scripts/bench memory` after one
 // frame): held, used and transient bytes as the module is created, to within
@@ -8,6 +12,7 @@
 #include <map>
 #include <sstream>
 
+#include "engine_device_memory.h"
 #include "gi/catalogue.h"
 #include "module.h"
 #include "module_test_helpers.h"
@@ -18,13 +23,14 @@ struct MemoryRow {
   uint64_t held = 0, used = 0, transient = 0;
 };
 
-// The 1920×1080 rows of memory.csv by method (header: method,width,height,held_bytes,used_bytes,transient_bytes,blocks).
+// The 1920×1080 rows of memory.csv by method (header: method,width,height,held_bytes,used_bytes,transient_bytes,blocks,
+// predicted_bytes).
 std::map<std::string, MemoryRow> fullHdRows(const std::string& path) {
   std::map<std::string, MemoryRow> out;
   std::ifstream file(path);
   std::string line;
   std::getline(file, line);
-  EXPECT_EQ(line, "method,width,height,held_bytes,used_bytes,transient_bytes,blocks") << path;
+  EXPECT_EQ(line, "method,width,height,held_bytes,used_bytes,transient_bytes,blocks,predicted_bytes") << path;
   while (std::getline(file, line)) {
     std::stringstream fields(line);
     std::string method, width, height, held, used, transient;
@@ -64,5 +70,144 @@ TEST_F(ModuleMemoryTest, EveryMethodAt1080pHoldsWhatTheMemoryTableSays) {
     EXPECT_EQ(transient, row.transient);
     gi::destroy(m);
   }
+  unload(s);
+}
+
+// The prediction equals what create holds, field by field, for every method: at 1920×1080 and at an
+// odd small size whose hash map is sized for a larger maximum, with two and three frames in flight,
+// with the module's own blocks and with the engine's allocator. A budget the module would exceed is
+// the error create would give.
+TEST_F(ModuleMemoryTest, ThePredictionIsWhatTheModuleHolds) {
+  LoadedScene s;
+  load(std::string(GI_ASSETS) + "/cornell_box/cornell_box.gltf", s);
+  EngineDeviceMemory engineMemory(ctx);
+  struct Case {
+    VkExtent2D size, maximum;
+    uint32_t framesInFlight;
+    bool engineAllocator;
+  };
+  const Case cases[] = {{{1920, 1080}, {0, 0}, 2, false}, {{97, 61}, {300, 200}, 3, false}, {{97, 61}, {0, 0}, 2, true}};
+  for (const Case& c : cases)
+    for (const gi::MethodInfo& info : gi::methodCatalogue()) {
+      SCOPED_TRACE(std::string(info.name) + " at " + std::to_string(c.size.width) + "x" + std::to_string(c.size.height) +
+                   (c.engineAllocator ? " from the engine's allocator" : ""));
+      gi::ModuleDesc desc = tools::moduleDesc(ctx, s.gpu, c.size);
+      desc.maxWidth = c.maximum.width;
+      desc.maxHeight = c.maximum.height;
+      desc.framesInFlight = c.framesInFlight;
+      if (c.engineAllocator) desc.deviceMemory = engineMemory.callbacks();
+      gi::Settings settings;
+      settings.method = info.method;
+      gi::MemoryPrediction predicted;
+      ASSERT_FALSE(gi::predictMemory(desc, settings, predicted));
+      EXPECT_EQ(engineMemory.requests, 0u) << "a prediction asks the engine for nothing";
+      gi::Module* m = nullptr;
+      ASSERT_FALSE(gi::create(desc, settings, m));
+      EXPECT_EQ(predicted.heldBytes, m->gpu.memory.held);
+      EXPECT_EQ(predicted.usedBytes, m->gpu.memory.used);
+      EXPECT_EQ(predicted.transientBytes, m->sized.frameBytes);
+      EXPECT_EQ(predicted.permanentBytes, m->gpu.memory.used - m->sized.frameBytes);
+      EXPECT_EQ(predicted.deviceAllocations, m->gpu.memory.allocations);
+      if (c.engineAllocator) {
+        EXPECT_EQ(predicted.heldBytes, engineMemory.liveBytes);
+        EXPECT_EQ(predicted.transientBytes, engineMemory.transientBytes) << "the requests say which images are transient";
+        EXPECT_EQ(predicted.deviceAllocations, 0u);
+      }
+      gi::destroy(m);
+      engineMemory.requests = 0;
+    }
+  EXPECT_EQ(engineMemory.liveBytes, 0u);
+  EXPECT_TRUE(engineMemory.error.empty()) << engineMemory.error;
+  // Beyond a budget: the error create gives, and nothing predicted.
+  gi::ModuleDesc desc = tools::moduleDesc(ctx, s.gpu, {1920, 1080});
+  gi::Settings settings;
+  gi::MemoryPrediction full;
+  ASSERT_FALSE(gi::predictMemory(desc, settings, full));
+  desc.memoryBudgetBytes = full.heldBytes - 1;
+  gi::MemoryPrediction over;
+  const gi::Error e = gi::predictMemory(desc, settings, over);
+  EXPECT_EQ(e.code, gi::ErrorCode::VulkanCall) << e.message;
+  EXPECT_EQ(e.result, VK_ERROR_OUT_OF_DEVICE_MEMORY);
+  EXPECT_NE(e.message.find("memoryBudgetBytes"), std::string::npos) << e.message;
+  EXPECT_EQ(over.heldBytes, 0u);
+  gi::Module* m = nullptr;
+  EXPECT_EQ(gi::create(desc, settings, m).result, VK_ERROR_OUT_OF_DEVICE_MEMORY);
+  desc.memoryBudgetBytes = full.heldBytes;
+  ASSERT_FALSE(gi::create(desc, settings, m)) << "the predicted bytes are enough";
+  gi::destroy(m);
+  unload(s);
+}
+
+// With ModuleDesc::deviceMemory set the engine's allocator holds every byte the module holds, the
+// module calls vkAllocateMemory not once (counted through the loader entry point it is given), its
+// frames are bit for bit those it renders from its own blocks, a method switch frees the old method's
+// slices once its frames are done, and destroy frees the rest. Half-baked callbacks are a named error.
+TEST_F(ModuleMemoryTest, AnEnginesAllocatorHoldsEveryByteAndTheModuleAllocatesNone) {
+  LoadedScene s;
+  load(sharedScene("cornell-simple/cornell_simple.gltf"), s);
+  const VkExtent2D size{48, 32};
+  const gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], size.width, size.height, nullptr);
+  EngineDeviceMemory engineMemory(ctx);
+  const gi::Method methods[] = {gi::Method::Raw,  gi::Method::Gif,    gi::Method::Aaf, gi::Method::Sspsf,
+                                gi::Method::Hpsf, gi::Method::Anhpsf, gi::Method::Svgf};
+  for (gi::Method method : methods) {
+    SCOPED_TRACE(gi::methodName(method));
+    gi::Settings settings;
+    settings.method = method;
+    engine::ReferenceImages images[2];
+    for (int engineOwned = 0; engineOwned < 2; ++engineOwned) {
+      gi::ModuleDesc desc = tools::moduleDesc(ctx, s.gpu, size);
+      desc.getInstanceProcAddr = countingGetInstanceProcAddr;
+      if (engineOwned) desc.deviceMemory = engineMemory.callbacks();
+      moduleAllocateMemoryCalls = 0;
+      tools::ModuleSession session;
+      ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, size, settings, session, &desc));
+      for (uint32_t f = 0; f < 3; ++f) tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, f);
+      const gi::FrameStats stats = gi::stats(session.module);
+      if (engineOwned) {
+        EXPECT_EQ(moduleAllocateMemoryCalls, 0u);
+        EXPECT_EQ(stats.deviceAllocations, 0u);
+        EXPECT_EQ(stats.memoryBytes, engineMemory.liveBytes);
+        EXPECT_EQ(stats.memoryUsedBytes, engineMemory.liveBytes);
+        EXPECT_EQ(stats.memoryTransientBytes, engineMemory.transientBytes);
+      } else {
+        EXPECT_GT(moduleAllocateMemoryCalls, 0u) << "the counter sees the module's own blocks";
+      }
+      images[engineOwned] = tools::readModuleImages(ctx, session);
+      tools::destroyModuleSession(ctx, session);
+    }
+    EXPECT_EQ(engineMemory.liveBytes, 0u) << "destroy frees every slice";
+    EXPECT_TRUE(sameBits(images[0].final, images[1].final));
+    EXPECT_TRUE(sameBits(images[0].indirect, images[1].indirect));
+  }
+  // A switch: hpsf's slices (its hash map) go back once the frames that read them are done.
+  {
+    gi::ModuleDesc desc = tools::moduleDesc(ctx, s.gpu, size);
+    desc.deviceMemory = engineMemory.callbacks();
+    gi::Settings hpsf, svgf;
+    hpsf.method = gi::Method::Hpsf;
+    svgf.method = gi::Method::Svgf;
+    tools::ModuleSession session;
+    ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, size, hpsf, session, &desc));
+    tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, 0);
+    ASSERT_FALSE(gi::setSettings(session.module, svgf));
+    for (uint32_t f = 1; f < 4; ++f) tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, f);
+    gi::MemoryPrediction predicted;
+    ASSERT_FALSE(gi::predictMemory(desc, svgf, predicted));
+    EXPECT_EQ(engineMemory.liveBytes, predicted.heldBytes) << "what svgf needs, nothing of hpsf's";
+    EXPECT_EQ(gi::stats(session.module).memoryBytes, predicted.heldBytes);
+    tools::destroyModuleSession(ctx, session);
+    EXPECT_EQ(engineMemory.liveBytes, 0u);
+  }
+  EXPECT_EQ(engineMemory.requests, engineMemory.frees);
+  EXPECT_TRUE(engineMemory.error.empty()) << engineMemory.error;
+  gi::ModuleDesc half = tools::moduleDesc(ctx, s.gpu, size);
+  half.deviceMemory.allocate = engineMemory.callbacks().allocate;
+  gi::Module* m = nullptr;
+  const gi::Error e = gi::create(half, gi::Settings{}, m);
+  EXPECT_EQ(e.code, gi::ErrorCode::MissingHandle);
+  EXPECT_NE(e.message.find("desc.deviceMemory.free must be set with desc.deviceMemory.allocate"), std::string::npos)
+      << e.message;
+  EXPECT_EQ(m, nullptr);
   unload(s);
 }

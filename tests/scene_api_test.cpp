@@ -6,6 +6,7 @@
 
 #include <cstring>
 
+#include "engine_device_memory.h"
 #include "gi/scene.h"
 #include "gpu_test.h"
 #include "quad_contents.h"
@@ -163,6 +164,36 @@ TEST_F(SceneApiTest, InstanceMovedThroughUpdateInstancesMatchesTheSceneLoadedInT
     unload(moved);
     unload(posed);
   }
+}
+
+// SceneCreateDesc::deviceMemory: every byte the scene holds (tables, BVH, textures, acceleration
+// structures where ray queries are on, their device-address memory included) comes from the engine's
+// allocator, the scene allocates no block of its own, the reference renders bit for bit as from the
+// scene's own memory, and destroyScene frees every slice.
+TEST_F(SceneApiTest, AnEnginesAllocatorHoldsEveryByteOfTheScene) {
+  const std::string path = sharedScene("cornell-box-mcguire/CornellBox-Original.gltf");
+  LoadedScene own, engineOwned;
+  ASSERT_NO_FATAL_FAILURE(load(path, own));
+  std::string error;
+  ASSERT_TRUE(engine::loadSceneForRendering(path, engineOwned.scene, error)) << error;
+  EngineDeviceMemory engineMemory(ctx);
+  engine::createSceneGpu(ctx, engineOwned.scene, engineOwned.gpu, engineMemory.callbacks());
+  const gi::vk::MemoryArena& arena = engineOwned.gpu.scene->gpu.memory;
+  EXPECT_EQ(arena.allocations, 0u);
+  EXPECT_GT(engineMemory.liveBytes, 0u);
+  EXPECT_EQ(engineMemory.liveBytes, arena.held);
+  EXPECT_EQ(arena.held, arena.used);
+  EXPECT_EQ(own.gpu.scene->gpu.memory.used, arena.used) << "the same resources, from another allocator";
+  engine::ReferenceSettings settings;
+  settings.seed = 3;
+  const engine::ReferenceImages a = render(own, 32, 32, settings, 4);
+  const engine::ReferenceImages b = render(engineOwned, 32, 32, settings, 4);
+  EXPECT_EQ(a.final.pixels, b.final.pixels);
+  unload(engineOwned);
+  unload(own);
+  EXPECT_EQ(engineMemory.liveBytes, 0u);
+  EXPECT_EQ(engineMemory.requests, engineMemory.frees);
+  EXPECT_TRUE(engineMemory.error.empty()) << engineMemory.error;
 }
 
 namespace {

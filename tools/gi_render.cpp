@@ -160,6 +160,7 @@ int main(int argc, char** argv) {
   uint64_t memoryUsedBytes = 0;          // of that, what its buffers and images occupy
   uint64_t memoryTransientBytes = 0;     // of that, images whose contents live within one frame
   uint32_t deviceAllocations = 0;
+  gi::MemoryPrediction predicted;        // module methods: gi::predictMemory before the module was created
   uint64_t boundsViolations = 0;         // module methods with --check-bounds: summed over the frames
   // Each program's first dispatch, before any timed frame (the compile, on lavapipe).
   std::map<std::string, double> firstDispatchMs;
@@ -175,6 +176,12 @@ int main(int argc, char** argv) {
     tools::ModuleSession session;
     gi::ModuleDesc moduleDesc = tools::moduleDesc(ctx, sceneGpu, {width, height});
     moduleDesc.checkBounds = args.has("check-bounds");
+    if (gi::Error e = gi::predictMemory(moduleDesc, moduleSettings, predicted)) {
+      std::fprintf(stderr, "gi-render: %s\n", e.message.c_str());
+      engine::destroySceneGpu(ctx, sceneGpu);
+      engine::destroyContext(ctx);
+      return 2;
+    }
     if (!tools::createModuleSession(ctx, sceneGpu, {width, height}, moduleSettings, session, error, &moduleDesc)) {
       std::fprintf(stderr, "gi-render: %s\n", error.c_str());
       engine::destroySceneGpu(ctx, sceneGpu);
@@ -273,6 +280,9 @@ int main(int argc, char** argv) {
       j["module_memory_used_bytes"] = memoryUsedBytes;
       j["module_memory_transient_bytes"] = memoryTransientBytes;  // FrameStats::memoryTransientBytes
       j["module_device_allocations"] = deviceAllocations;
+      // What gi::predictMemory said before the module existed (held, and its transient part).
+      j["module_memory_predicted_bytes"] = predicted.heldBytes;
+      j["module_memory_predicted_transient_bytes"] = predicted.transientBytes;
       if (args.has("check-bounds")) j["bounds_violations"] = boundsViolations;
     }
     if (lastHash.capacity)

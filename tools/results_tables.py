@@ -180,7 +180,8 @@ MEMORY_GOAL_DEFAULT_MB = 200
 
 def memory(path, before_path):
     """Device memory each method holds after one frame (scripts/bench memory), MB = 10^6 bytes: held at
-    720p and 1080p (and at 1080p in an earlier run), and at 1080p what is used, of that what lives within
+    720p and 1080p (and at 1080p in an earlier run), at 1080p what gi::predictMemory said before the
+    module existed ("=": to the byte), what is used, of that what lives within
     a frame (transient) and what carries over (histories, the hash map, the outputs), the blocks, and
     the goal."""
     def by_method(p):
@@ -189,15 +190,19 @@ def memory(path, before_path):
             by.setdefault(r["method"], {})[f"{r['width']}x{r['height']}"] = r
         return by
     before = by_method(before_path)
-    print("| method | 1280x720 held MB | 1920x1080 held MB | before | used MB | transient MB | persistent MB "
-          "| blocks | goal MB | held / goal |")
-    print("|---|---|---|---|---|---|---|---|---|---|")
+    def predicted(r):  # gi::predictMemory's held bytes, and whether they are the held bytes to the byte
+        if not r.get("predicted_bytes"):
+            return "–"
+        return f"{int(r['predicted_bytes']) / 1e6:.1f}" + (" (=)" if r["predicted_bytes"] == r["held_bytes"] else " (≠)")
+    print("| method | 1280x720 held MB | 1920x1080 held MB | predicted MB | before | used MB | transient MB "
+          "| persistent MB | blocks | goal MB | held / goal |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
     for method, at in by_method(path).items():
         small, full = at["1280x720"], at["1920x1080"]
         held, used, transient = (int(full[k]) / 1e6 for k in ("held_bytes", "used_bytes", "transient_bytes"))
         goal = MEMORY_GOAL_MB.get(method, MEMORY_GOAL_DEFAULT_MB)
         verdict = f"{held / goal:.2f}" + ("" if held <= goal else " (over)")
-        print(f"| `{method}` | {int(small['held_bytes']) / 1e6:.1f} | {held:.1f} | "
+        print(f"| `{method}` | {int(small['held_bytes']) / 1e6:.1f} | {held:.1f} | {predicted(full)} | "
               f"{int(before[method]['1920x1080']['held_bytes']) / 1e6:.1f} | {used:.1f} | {transient:.1f} | "
               f"{used - transient:.1f} | {full['blocks']} | {goal} | {verdict} |")
 

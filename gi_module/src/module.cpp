@@ -179,7 +179,7 @@ Error checkDesc(const ModuleDesc& d) {
   if (d.historyFormat != VK_FORMAT_R16G16B16A16_SFLOAT && d.historyFormat != VK_FORMAT_R32G32B32A32_SFLOAT)
     return {ErrorCode::UnsupportedFormat, "desc.historyFormat = VkFormat " + std::to_string(int(d.historyFormat)) +
                                               " is not VK_FORMAT_R16G16B16A16_SFLOAT or VK_FORMAT_R32G32B32A32_SFLOAT"};
-  return {};
+  return checkDeviceMemory(d.deviceMemory, "desc.deviceMemory");
 }
 
 // The features of gi/device.h: in the chain the engine enabled, if it says
@@ -252,7 +252,7 @@ vk::Status createFrameBuffers(Module& m) {
                           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
                               VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
                           true, m.counters));
-  std::memset(m.counters.memory.mapped, 0, m.counters.size);
+  if (m.counters.memory.mapped) std::memset(m.counters.memory.mapped, 0, m.counters.size);  // null: a prediction
   return {};
 }
 
@@ -265,14 +265,20 @@ vk::Status createTimestamps(Module& m) {
   return {};
 }
 
-vk::Status createModuleResources(Module& m) {
-  GI_TRY(vk::createDescriptorLayout(m.gpu, frameBindings(), m.frameLayout));
-  GI_TRY(createHashGridLayout(m.gpu, m.hashLayout));
+// Every buffer and image the module holds at its size and settings, in the order predictMemory replays.
+vk::Status createMemoryResources(Module& m) {
   GI_TRY(createFrameBuffers(m));
-  GI_TRY(ensurePrograms(m, m.settings));
   GI_TRY(createOutputImages(m.gpu, m.width, m.height, m.desc.outputFormat, m.outputs));
   GI_TRY(createSizedResources(m, m.settings, m.width, m.height, m.outputs, m.sized));
   if (usesHashGrid(m.settings.method)) GI_TRY(createHashGridFor(m, m.settings, m.desc.maxWidth, m.desc.maxHeight, m.hash));
+  return {};
+}
+
+vk::Status createModuleResources(Module& m) {
+  GI_TRY(vk::createDescriptorLayout(m.gpu, frameBindings(), m.frameLayout));
+  GI_TRY(createHashGridLayout(m.gpu, m.hashLayout));
+  GI_TRY(ensurePrograms(m, m.settings));
+  GI_TRY(createMemoryResources(m));
   GI_TRY(createTimestamps(m));
   return {};
 }
@@ -374,6 +380,13 @@ Error vulkanError(const char* what, const vk::Status& status) {
           status.result};
 }
 
+Error checkDeviceMemory(const DeviceMemoryCallbacks& c, const char* field) {
+  if ((c.allocate == nullptr) != (c.free == nullptr))
+    return {ErrorCode::MissingHandle, std::string(field) + (c.allocate ? ".free" : ".allocate") +
+                                          " must be set with " + field + (c.allocate ? ".allocate" : ".free")};
+  return {};
+}
+
 const char* resultName(VkResult result) {
   switch (result) {
 #define GI_RESULT_CASE(r) \
@@ -422,6 +435,7 @@ Error create(const ModuleDesc& desc, const Settings& settings, Module*& out) {
   m->gpu.allocator = desc.allocationCallbacks;
   m->gpu.pipelineCache = desc.pipelineCache;
   m->gpu.memory.budget = desc.memoryBudgetBytes;
+  m->gpu.memory.engine = desc.deviceMemory;
   if (vk::Status s = vk::openDevice(desc.getInstanceProcAddr, desc.instance, desc.physicalDevice, desc.device, m->gpu)) {
     delete m;
     return {ErrorCode::MissingHandle,
@@ -444,6 +458,44 @@ Error create(const ModuleDesc& desc, const Settings& settings, Module*& out) {
     return e;
   }
   out = m;
+  return {};
+}
+
+Error predictMemory(const ModuleDesc& desc, const Settings& settings, MemoryPrediction& out) {
+  out = {};
+  if (Error e = checkDesc(desc)) return e;
+  if (Error e = validate(settings)) return e;
+  Module m;  // what create would hold, on a simulated arena: the same rules, no allocation
+  m.desc = desc;
+  m.desc.maxWidth = std::max(desc.maxWidth, desc.width);
+  m.desc.maxHeight = std::max(desc.maxHeight, desc.height);
+  m.settings = settings;
+  m.width = desc.width;
+  m.height = desc.height;
+  m.gpu.memory.budget = desc.memoryBudgetBytes;
+  m.gpu.memory.engine = desc.deviceMemory;
+  m.gpu.memory.simulate = true;
+  if (vk::Status s = vk::openDevice(desc.getInstanceProcAddr, desc.instance, desc.physicalDevice, desc.device, m.gpu))
+    return {ErrorCode::MissingHandle,
+            std::string("gi::predictMemory: desc.getInstanceProcAddr returned no ") + s.call + " for this instance and device",
+            s.result};
+  const vk::Status built = createMemoryResources(m);
+  out.heldBytes = m.gpu.memory.held;
+  out.usedBytes = m.gpu.memory.used;
+  out.transientBytes = m.sized.frameBytes;
+  out.permanentBytes = out.usedBytes - out.transientBytes;
+  out.deviceAllocations = m.gpu.memory.allocations;
+  destroySizedResources(m.gpu, m.sized);
+  destroyOutputImages(m.gpu, m.outputs);
+  destroyHashGrid(m.gpu, m.hash);
+  vk::destroyBuffer(m.gpu, m.frameConstants);
+  vk::destroyBuffer(m.gpu, m.counters);
+  vk::closeDevice(m.gpu);
+  if (built) {  // beyond memoryBudgetBytes, or a memory type the device lacks
+    Error e = vulkanError("gi::predictMemory", built);
+    out = {};
+    return e;
+  }
   return {};
 }
 

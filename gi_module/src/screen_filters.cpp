@@ -129,12 +129,13 @@ vk::Status createScreenFilters(vk::Device& d, const FilterPrograms& programs, ui
   f.width = width;
   f.height = height;
   FilterTargets targets = t;
-  if (!targets.counters) {
+  // (A prediction's buffers have no handles; the module always names its counters.)
+  if (!targets.counters && !d.memory.simulate) {
     if (vk::Status s = vk::createBuffer(d, sizeof(gpu::GiCounters), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, f.ownCounters)) {
       destroyScreenFilters(d, f);
       return s;
     }
-    std::memset(f.ownCounters.memory.mapped, 0, sizeof(gpu::GiCounters));
+    if (f.ownCounters.memory.mapped) std::memset(f.ownCounters.memory.mapped, 0, sizeof(gpu::GiCounters));  // null: a prediction
     targets.counters = f.ownCounters.buffer;
   }
   if (vk::Status s = createFilterSets(d, programs, std::span(&targets, 1), f.set)) {
@@ -149,7 +150,8 @@ vk::Status ensureGuidedStack(vk::Device& d, ScreenFilters& f) {
   if (f.a[0].image) return {};
   for (vk::Image& img : f.a)
     if (vk::Status s = vk::createImage(d, {f.width, f.height}, VK_FORMAT_R32G32B32A32_SFLOAT,
-                                           VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT, img)) {
+                                           VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT, img,
+                                           true)) {
       for (vk::Image& made : f.a) vk::destroyImage(d, made);
       return s;
     }

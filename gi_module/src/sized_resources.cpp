@@ -215,7 +215,7 @@ std::vector<const vk::Image*> frameImages(const SizedResources& r) {
   for (const SizedImage& image : kSizedImages)
     if (image.lifetime == Lifetime::Frame) images.push_back(&(r.*image.image));
   for (const vk::Image& stack : r.filters.a)
-    if (stack.image) images.push_back(&stack);
+    if (stack.memory.size) images.push_back(&stack);  // (a prediction's images have memory and no handle)
   return images;
 }
 
@@ -250,7 +250,7 @@ vk::Status createSizedResources(Module& m, const Settings& settings, uint32_t wi
       GI_TRY(vk::createImage(m.gpu, extent, imageFormat(m, kSizedImages[i], r.needs),
                              VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT |
                                  VK_IMAGE_USAGE_SAMPLED_BIT,
-                             r.*kSizedImages[i].image));
+                             r.*kSizedImages[i].image, kSizedImages[i].lifetime == Lifetime::Frame));
     }
     GI_TRY(vk::createDescriptorSets(m.gpu, kFrameBindings, m.desc.framesInFlight, r.frameSets, m.frameLayout));
     for (uint32_t slot = 0; slot < m.desc.framesInFlight; ++slot) {

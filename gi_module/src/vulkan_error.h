@@ -1,5 +1,6 @@
-// A module-internal Vulkan failure (gi::vk::Status) as the public gi::Error
-// (module.cpp): "<what>: <call> failed with VK_ERROR_...".
+// Errors the module and the scene share (module.cpp): a module-internal Vulkan failure (gi::vk::Status)
+// as the public gi::Error, "<what>: <call> failed with VK_ERROR_..."; and the engine's device-memory
+// callbacks checked (both set, or neither).
 #pragma once
 #include "gi/gi.h"
 #include "gi/vk/status.h"
@@ -7,5 +8,6 @@
 namespace gi {
 
 Error vulkanError(const char* what, const vk::Status& status);
+Error checkDeviceMemory(const DeviceMemoryCallbacks& callbacks, const char* field);
 
 }  // namespace gi

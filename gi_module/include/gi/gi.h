@@ -60,11 +60,13 @@
 #include <vector>
 
 #include "gi/device.h"
+#include "gi/device_memory.h"
 #include "gi/settings.h"
 #include "shared/scene_modes.h"
 
 #define GI_VERSION_MAJOR 0
-#define GI_VERSION_MINOR 9  // 0.9: deformable meshes (MeshDesc::deformable, updateMeshVertices);
+#define GI_VERSION_MINOR 10 // 0.10: device memory from the engine (ModuleDesc/SceneCreateDesc::deviceMemory),
+                            // predictMemory; 0.9: deformable meshes (MeshDesc::deformable, updateMeshVertices);
                             // 0.8: GBufferDesc::motionScale, motionHasJitter, MotionUnits::Ndc; defaults a host that
                             // sets nothing expects (GlossyFlag::FromMaterial, MaterialDesc::metallic 0);
                             // 0.7: Settings::reservoirs (ReSTIR DI for the primary hits), Settings::lights (NEE's sampler
@@ -195,6 +197,10 @@ struct ModuleDesc {
   uint64_t memoryBudgetBytes = 0;    // device memory the module may hold; 0 = no limit. Beyond it calls fail
                                      // with VK_ERROR_OUT_OF_DEVICE_MEMORY, as a full heap would
   const VkAllocationCallbacks* allocationCallbacks = nullptr;  // passed to every vkCreate*/vkAllocateMemory
+  // Set (allocate and free): every buffer and image takes its memory from the engine (gi/device_memory.h),
+  // one request per resource; the module allocates no device memory of its own. memoryBudgetBytes still
+  // applies, to the sum of the requests.
+  DeviceMemoryCallbacks deviceMemory;
   VkPipelineCache pipelineCache = VK_NULL_HANDLE;              // the engine's; used for every pipeline
   // The feature chain the engine passed to vkCreateDevice (gi/device.h fills
   // it). When given, create checks that it enables what the module needs;
@@ -338,6 +344,21 @@ uint32_t version();
 
 Error validate(const Settings& settings);
 Error create(const ModuleDesc& desc, const Settings& settings, Module*& out);
+
+// The device memory a module created from `desc` and `settings` would hold, without creating it (no
+// object, no allocation, no engine callback: the memory requirements come from the device,
+// vkGetDevice*MemoryRequirements, and go through the module's allocation rules). Equal to the
+// FrameStats figures of such a module after its first frame: heldBytes = memoryBytes, usedBytes =
+// memoryUsedBytes, transientBytes = memoryTransientBytes, deviceAllocations. With desc.deviceMemory set,
+// held = used = the sum of the requests the engine will see. Not counted: the scene (gi/scene.h).
+struct MemoryPrediction {
+  uint64_t heldBytes = 0;       // blocks the module allocates (with deviceMemory: the engine's slices)
+  uint64_t usedBytes = 0;       // what its buffers and images occupy
+  uint64_t transientBytes = 0;  // of that, images whose contents live within one frame (aliasable)
+  uint64_t permanentBytes = 0;  // usedBytes − transientBytes: history, the hash map, the outputs, constants
+  uint32_t deviceAllocations = 0;  // vkAllocateMemory calls (0 with deviceMemory)
+};
+Error predictMemory(const ModuleDesc& desc, const Settings& settings, MemoryPrediction& out);
 void destroy(Module* module);  // the caller ensures the GPU no longer uses it (every recorded frame completed)
 Error setSettings(Module* module, const Settings& settings);
 const Settings& settings(const Module* module);  // what it runs with now

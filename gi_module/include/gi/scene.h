@@ -176,6 +176,7 @@ struct SceneCreateDesc {
   uint32_t lightTreeCut = 4;  // [1, 64]: LIGHT_SAMPLER_TREE's subtrees (shadow rays a vertex for its lights)
   const VkAllocationCallbacks* allocationCallbacks = nullptr;
   uint64_t memoryBudgetBytes = 0;    // 0 = no limit
+  DeviceMemoryCallbacks deviceMemory;  // set: every buffer and image takes its memory from the engine (gi/device_memory.h)
 };
 
 // Validates `contents` (indices within their vertex ranges, material,

@@ -423,8 +423,10 @@ Error createScene(const SceneCreateDesc& desc, const SceneContents& contents, Vk
     return sceneError("gi::createScene: " + std::to_string(contents.instances.size()) +
                       " instances; ray queries index at most 2^24 (a TLAS instance's custom index)");
 
+  if (Error e = checkDeviceMemory(desc.deviceMemory, "gi::createScene: desc.deviceMemory")) return e;
   s->gpu.allocator = desc.allocationCallbacks;
   s->gpu.memory.budget = desc.memoryBudgetBytes;
+  s->gpu.memory.engine = desc.deviceMemory;
   // Acceleration-structure inputs and the device meshes' read-back are used through device addresses.
   const bool deformable = std::any_of(contents.meshes.begin(), contents.meshes.end(),
                                       [](const MeshDesc& m) { return m.deformable; });

@@ -39,7 +39,7 @@ bool carve(MemoryArena::Block& b, VkDeviceSize size, VkDeviceSize alignment, VkD
 VkDeviceSize sharedBlockSize(const MemoryArena& a, uint32_t type, bool linear, bool hostVisible) {
   uint32_t live = 0;
   for (const MemoryArena::Block& b : a.blocks)
-    live += b.memory && b.shared && b.memoryType == type && b.linear == linear && (b.mapped != nullptr) == hostVisible;
+    live += b.memory && b.shared && b.memoryType == type && b.linear == linear && b.hostVisible == hostVisible;
   return std::min(a.maxBlockSize, a.firstBlockSize << std::min(live, 16u));
 }
 
@@ -52,14 +52,16 @@ Status newBlock(Device& d, uint32_t type, VkDeviceSize size, bool shared, bool h
   b.memoryType = type;
   b.shared = shared;
   b.linear = linear;
+  b.hostVisible = hostVisible;
   VkMemoryAllocateInfo info{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
   VkMemoryAllocateFlagsInfo flags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
   flags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;
   if (d.deviceAddressMemory) info.pNext = &flags;
   info.allocationSize = size;
   info.memoryTypeIndex = type;
-  GI_VK(d.fn.vkAllocateMemory(d.device, &info, d.allocator, &b.memory));
-  if (hostVisible) {
+  if (a.simulate) b.memory = reinterpret_cast<VkDeviceMemory>(a.nextPlaceholder++);
+  else GI_VK(d.fn.vkAllocateMemory(d.device, &info, d.allocator, &b.memory));
+  if (hostVisible && !a.simulate) {
     if (VkResult r = d.fn.vkMapMemory(d.device, b.memory, 0, VK_WHOLE_SIZE, 0, &b.mapped); r != VK_SUCCESS) {
       d.fn.vkFreeMemory(d.device, b.memory, d.allocator);
       return {r, "vkMapMemory"};
@@ -75,13 +77,51 @@ Status newBlock(Device& d, uint32_t type, VkDeviceSize size, bool shared, bool h
   return {};
 }
 
+// One resource's memory from the engine's callbacks, checked: the module binds what it is given.
+Status engineAllocate(Device& d, const DeviceMemoryRequest& request, Allocation& out) {
+  MemoryArena& a = d.memory;
+  const VkDeviceSize size = request.requirements.size;
+  if (a.budget && a.held + size > a.budget) return {VK_ERROR_OUT_OF_DEVICE_MEMORY, "an allocation within ModuleDesc::memoryBudgetBytes"};
+  DeviceMemorySlice slice;
+  if (a.simulate) {
+    slice.memory = reinterpret_cast<VkDeviceMemory>(a.nextPlaceholder++);
+  } else {
+    if (VkResult r = a.engine.allocate(a.engine.userData, request, slice); r != VK_SUCCESS)
+      return {r, "DeviceMemoryCallbacks::allocate"};
+    const VkDeviceSize alignment = std::max<VkDeviceSize>(request.requirements.alignment, 1);
+    const bool hostVisible = request.properties & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT;
+    const char* wrong = !slice.memory                          ? "DeviceMemoryCallbacks::allocate returned no memory"
+                        : slice.offset % alignment != 0        ? "DeviceMemoryCallbacks::allocate returned an offset off the alignment"
+                        : hostVisible && slice.mapped == nullptr ? "DeviceMemoryCallbacks::allocate returned no mapped pointer for host-visible memory"
+                                                                 : nullptr;
+    if (wrong) {
+      slice.size = size;
+      if (slice.memory && a.engine.free) a.engine.free(a.engine.userData, slice);
+      return {VK_ERROR_INITIALIZATION_FAILED, wrong};
+    }
+  }
+  a.held += size;
+  a.used += size;
+  out.memory = slice.memory;
+  out.offset = slice.offset;
+  out.size = size;
+  out.mapped = slice.mapped;
+  out.block = kEngineMemory;
+  return {};
+}
+
 }  // namespace
 
-Status allocate(Device& d, const VkMemoryRequirements& req, bool hostVisible, bool linear, Allocation& out) {
+Status allocate(Device& d, const VkMemoryRequirements& req, bool hostVisible, bool linear, bool transient,
+                Allocation& out) {
   MemoryArena& a = d.memory;
   const std::lock_guard<std::mutex> guard(a.lock.mutex);
   const VkMemoryPropertyFlags flags = hostVisible ? VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT
                                                   : VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
+  if (a.engine.enabled()) {
+    const VkMemoryAllocateFlags allocateFlags = d.deviceAddressMemory ? VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT : 0;
+    return engineAllocate(d, {req, flags, allocateFlags, linear, transient}, out);
+  }
   uint32_t type = 0;
   if (!findMemoryType(d, req.memoryTypeBits, flags, type))
     return {VK_ERROR_FEATURE_NOT_PRESENT, hostVisible ? "a host-visible coherent memory type" : "a device-local memory type"};
@@ -92,7 +132,7 @@ Status allocate(Device& d, const VkMemoryRequirements& req, bool hostVisible, bo
   if (!ownBlock)
     for (uint32_t i = 0; i < a.blocks.size(); ++i) {
       MemoryArena::Block& b = a.blocks[i];
-      if (b.memory && b.shared && b.memoryType == type && b.linear == linear && (b.mapped != nullptr) == hostVisible &&
+      if (b.memory && b.shared && b.memoryType == type && b.linear == linear && b.hostVisible == hostVisible &&
           carve(b, req.size, req.alignment, offset)) {
         index = i;
         break;
@@ -120,6 +160,13 @@ Status allocate(Device& d, const VkMemoryRequirements& req, bool hostVisible, bo
 void release(Device& d, Allocation& al) {
   MemoryArena& a = d.memory;
   const std::lock_guard<std::mutex> guard(a.lock.mutex);
+  if (al.block == kEngineMemory) {
+    if (!a.simulate) a.engine.free(a.engine.userData, {al.memory, al.offset, al.size, al.mapped});
+    a.held -= al.size;
+    a.used -= al.size;
+    al = Allocation{};
+    return;
+  }
   if (al.block >= a.blocks.size()) return;
   MemoryArena::Block& b = a.blocks[al.block];
   auto it = std::lower_bound(b.free.begin(), b.free.end(), al.offset,
@@ -139,7 +186,7 @@ void release(Device& d, Allocation& al) {
   b.used -= al.size;
   a.used -= al.size;
   if (b.used == 0) {  // the last resource in it: give the block back
-    d.fn.vkFreeMemory(d.device, b.memory, d.allocator);
+    if (!a.simulate) d.fn.vkFreeMemory(d.device, b.memory, d.allocator);
     a.held -= b.size;
     a.allocations--;
     b = MemoryArena::Block{};
@@ -149,7 +196,7 @@ void release(Device& d, Allocation& al) {
 
 void destroyArena(Device& d) {
   for (MemoryArena::Block& b : d.memory.blocks)
-    if (b.memory) d.fn.vkFreeMemory(d.device, b.memory, d.allocator);
+    if (b.memory && !d.memory.simulate) d.fn.vkFreeMemory(d.device, b.memory, d.allocator);
   d.memory.blocks.clear();
   d.memory.held = d.memory.used = 0;
   d.memory.allocations = 0;

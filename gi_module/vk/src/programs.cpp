@@ -96,6 +96,11 @@ Status createDescriptorLayout(const Device& d, std::span<const Binding> bindings
 Status createDescriptorSets(const Device& d, std::span<const Binding> bindings, uint32_t count, DescriptorSets& out,
                             VkDescriptorSetLayout layout, uint32_t variableCount) {
   DescriptorSets s;
+  if (d.memory.simulate) {  // a memory prediction: sets hold no device memory of the module's
+    s.sets.assign(count, VK_NULL_HANDLE);
+    out = std::move(s);
+    return {};
+  }
   auto build = [&]() -> Status {
     if (layout) {
       s.layout = layout;
@@ -197,7 +202,7 @@ DescriptorWriter& DescriptorWriter::uniformTexelBuffer(uint32_t binding, VkBuffe
 }
 
 void DescriptorWriter::write(const Device& d) {
-  if (!writes_.empty()) d.fn.vkUpdateDescriptorSets(d.device, uint32_t(writes_.size()), writes_.data(), 0, nullptr);
+  if (!writes_.empty() && !d.memory.simulate) d.fn.vkUpdateDescriptorSets(d.device, uint32_t(writes_.size()), writes_.data(), 0, nullptr);
   writes_.clear();
 }
 

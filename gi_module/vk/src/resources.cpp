@@ -12,10 +12,16 @@ Status createBuffer(Device& d, VkDeviceSize size, VkBufferUsageFlags usage, bool
   info.size = size > 0 ? size : 16;  // a zero-sized buffer is invalid
   info.usage = usage;
   auto build = [&]() -> Status {
+    if (d.memory.simulate) {
+      const VkDeviceBufferMemoryRequirements query{VK_STRUCTURE_TYPE_DEVICE_BUFFER_MEMORY_REQUIREMENTS, nullptr, &info};
+      VkMemoryRequirements2 req{VK_STRUCTURE_TYPE_MEMORY_REQUIREMENTS_2};
+      d.fn.vkGetDeviceBufferMemoryRequirements(d.device, &query, &req);
+      return allocate(d, req.memoryRequirements, hostVisible, true, false, b.memory);
+    }
     GI_VK(d.fn.vkCreateBuffer(d.device, &info, d.allocator, &b.buffer));
     VkMemoryRequirements req;
     d.fn.vkGetBufferMemoryRequirements(d.device, b.buffer, &req);
-    GI_TRY(allocate(d, req, hostVisible, true, b.memory));
+    GI_TRY(allocate(d, req, hostVisible, true, false, b.memory));
     GI_VK(d.fn.vkBindBufferMemory(d.device, b.buffer, b.memory.memory, b.memory.offset));
     return {};
   };
@@ -33,7 +39,7 @@ void destroyBuffer(Device& d, Buffer& b) {
   b = Buffer{};
 }
 
-Status createImage(Device& d, VkExtent2D extent, VkFormat format, VkImageUsageFlags usage, Image& out) {
+Status createImage(Device& d, VkExtent2D extent, VkFormat format, VkImageUsageFlags usage, Image& out, bool transient) {
   Image img;
   img.format = format;
   img.extent = extent;
@@ -48,10 +54,17 @@ Status createImage(Device& d, VkExtent2D extent, VkFormat format, VkImageUsageFl
   info.usage = usage;
   info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
   auto build = [&]() -> Status {
+    if (d.memory.simulate) {
+      const VkDeviceImageMemoryRequirements query{VK_STRUCTURE_TYPE_DEVICE_IMAGE_MEMORY_REQUIREMENTS, nullptr, &info,
+                                                  VkImageAspectFlagBits(0)};
+      VkMemoryRequirements2 req{VK_STRUCTURE_TYPE_MEMORY_REQUIREMENTS_2};
+      d.fn.vkGetDeviceImageMemoryRequirements(d.device, &query, &req);
+      return allocate(d, req.memoryRequirements, false, false, transient, img.memory);
+    }
     GI_VK(d.fn.vkCreateImage(d.device, &info, d.allocator, &img.image));
     VkMemoryRequirements req;
     d.fn.vkGetImageMemoryRequirements(d.device, img.image, &req);
-    GI_TRY(allocate(d, req, false, false, img.memory));
+    GI_TRY(allocate(d, req, false, false, transient, img.memory));
     GI_VK(d.fn.vkBindImageMemory(d.device, img.image, img.memory.memory, img.memory.offset));
     VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
     view.image = img.image;

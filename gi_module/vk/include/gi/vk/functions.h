@@ -59,6 +59,8 @@ namespace gi::vk {
   X(vkFreeMemory)                  \
   X(vkGetBufferDeviceAddress)      \
   X(vkGetBufferMemoryRequirements) \
+  X(vkGetDeviceBufferMemoryRequirements) \
+  X(vkGetDeviceImageMemoryRequirements)  \
   X(vkGetImageMemoryRequirements)  \
   X(vkGetQueryPoolResults)         \
   X(vkMapMemory)                   \

@@ -20,10 +20,13 @@ struct Image {
   VkExtent2D extent{};
 };
 
+// On a simulated arena (MemoryArena::simulate) these create no object: they take the memory the
+// object would need (vkGetDevice*MemoryRequirements) from the arena and leave the handles null.
 Status createBuffer(Device& device, VkDeviceSize size, VkBufferUsageFlags usage, bool hostVisible, Buffer& out);
 void destroyBuffer(Device& device, Buffer& buffer);
-// A 2D colour image with one mip and a view of it.
-Status createImage(Device& device, VkExtent2D extent, VkFormat format, VkImageUsageFlags usage, Image& out);
+// A 2D colour image with one mip and a view of it. `transient`: its contents live within a frame.
+Status createImage(Device& device, VkExtent2D extent, VkFormat format, VkImageUsageFlags usage, Image& out,
+                   bool transient = false);
 void destroyImage(Device& device, Image& image);
 
 // Barriers (synchronization2): the structs, and one recording function that

@@ -1,0 +1,101 @@
+// A test host's device-memory allocator (gi::DeviceMemoryCallbacks) that counts every byte it hands
+// the module or a scene, and a loader entry point that counts the module's own vkAllocateMemory calls.
+// Each request gets its own VkDeviceMemory with the slice placed one alignment in, so a module that
+// ignored the offset would bind the wrong bytes.
+#pragma once
+#include <atomic>
+#include <cstring>
+#include <map>
+
+#include "context.h"
+#include "gi/device_memory.h"
+
+struct EngineDeviceMemory {
+  const engine::Context* ctx = nullptr;
+  uint64_t liveBytes = 0, transientBytes = 0;  // requested sizes of the slices alive
+  uint32_t requests = 0, frees = 0;
+  std::map<VkDeviceMemory, gi::DeviceMemoryRequest> live;
+  std::string error;  // the first request the allocator could not serve, or a free of an unknown slice
+
+  explicit EngineDeviceMemory(const engine::Context& c) : ctx(&c) {}
+  ~EngineDeviceMemory() {
+    for (const auto& [memory, request] : live) vkFreeMemory(ctx->device, memory, nullptr);
+  }
+
+  gi::DeviceMemoryCallbacks callbacks() {
+    gi::DeviceMemoryCallbacks c;
+    c.userData = this;
+    c.allocate = [](void* user, const gi::DeviceMemoryRequest& r, gi::DeviceMemorySlice& out) {
+      return static_cast<EngineDeviceMemory*>(user)->allocate(r, out);
+    };
+    c.free = [](void* user, const gi::DeviceMemorySlice& slice) { static_cast<EngineDeviceMemory*>(user)->release(slice); };
+    return c;
+  }
+
+  VkResult allocate(const gi::DeviceMemoryRequest& r, gi::DeviceMemorySlice& out) {
+    const VkPhysicalDeviceMemoryProperties& props = ctx->memoryProperties;
+    uint32_t type = UINT32_MAX;
+    for (uint32_t i = 0; i < props.memoryTypeCount && type == UINT32_MAX; ++i)
+      if ((r.requirements.memoryTypeBits & (1u << i)) && (props.memoryTypes[i].propertyFlags & r.properties) == r.properties)
+        type = i;
+    if (type == UINT32_MAX) {
+      if (error.empty()) error = "no memory type for a request";
+      return VK_ERROR_OUT_OF_DEVICE_MEMORY;
+    }
+    const VkDeviceSize alignment = std::max<VkDeviceSize>(r.requirements.alignment, 1);
+    VkMemoryAllocateFlagsInfo flags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
+    flags.flags = r.allocateFlags;
+    VkMemoryAllocateInfo info{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    info.pNext = r.allocateFlags ? &flags : nullptr;
+    info.allocationSize = alignment + r.requirements.size;
+    info.memoryTypeIndex = type;
+    VkDeviceMemory memory = VK_NULL_HANDLE;
+    if (VkResult result = vkAllocateMemory(ctx->device, &info, nullptr, &memory); result != VK_SUCCESS) return result;
+    out.memory = memory;
+    out.offset = alignment;
+    out.mapped = nullptr;
+    if (r.properties & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT) {
+      void* base = nullptr;
+      vkMapMemory(ctx->device, memory, 0, VK_WHOLE_SIZE, 0, &base);
+      out.mapped = static_cast<char*>(base) + alignment;
+    }
+    live[memory] = r;
+    liveBytes += r.requirements.size;
+    if (r.transient) transientBytes += r.requirements.size;
+    requests++;
+    return VK_SUCCESS;
+  }
+
+  void release(const gi::DeviceMemorySlice& slice) {
+    auto it = live.find(slice.memory);
+    if (it == live.end() || slice.size != it->second.requirements.size) {
+      if (error.empty()) error = "a free of a slice this allocator did not hand out (or of another size)";
+      return;
+    }
+    liveBytes -= it->second.requirements.size;
+    if (it->second.transient) transientBytes -= it->second.requirements.size;
+    vkFreeMemory(ctx->device, slice.memory, nullptr);
+    live.erase(it);
+    frees++;
+  }
+};
+
+// vkGetInstanceProcAddr (volk's) but for vkAllocateMemory, which it counts in moduleAllocateMemoryCalls:
+// a module or scene created with it calls vkAllocateMemory through the counter (it loads its device
+// functions through the vkGetDeviceProcAddr this returns).
+inline std::atomic<uint32_t> moduleAllocateMemoryCalls{0};
+inline VKAPI_ATTR VkResult VKAPI_CALL countedAllocateMemory(VkDevice device, const VkMemoryAllocateInfo* info,
+                                                            const VkAllocationCallbacks* allocator, VkDeviceMemory* out) {
+  moduleAllocateMemoryCalls++;
+  return vkAllocateMemory(device, info, allocator, out);
+}
+inline VKAPI_ATTR PFN_vkVoidFunction VKAPI_CALL countingGetDeviceProcAddr(VkDevice device, const char* name) {
+  if (std::strcmp(name, "vkAllocateMemory") == 0) return reinterpret_cast<PFN_vkVoidFunction>(&countedAllocateMemory);
+  return vkGetDeviceProcAddr(device, name);
+}
+inline VKAPI_ATTR PFN_vkVoidFunction VKAPI_CALL countingGetInstanceProcAddr(VkInstance instance, const char* name) {
+  if (std::strcmp(name, "vkGetDeviceProcAddr") == 0)
+    return reinterpret_cast<PFN_vkVoidFunction>(&countingGetDeviceProcAddr);
+  if (std::strcmp(name, "vkAllocateMemory") == 0) return reinterpret_cast<PFN_vkVoidFunction>(&countedAllocateMemory);
+  return vkGetInstanceProcAddr(instance, name);
+}
