@@ -17,7 +17,7 @@ gi::GBufferDesc moduleGBufferDesc() {
 
 GBuffer createGBuffer(const Context& ctx, VkExtent2D extent) {
   GBuffer g;
-  g.extent = extent;
+  g.extent = g.renderExtent = extent;
   for (uint32_t i = 0; i < gpu::GBUFFER_COLOR_COUNT; ++i)
     g.color[i] = createImage(ctx, extent, kGBufferFormats[i],
                              VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT |
@@ -120,14 +120,14 @@ void recordGBuffer(const Context& ctx, VkCommandBuffer cmd, GBufferPass& pass, c
   depth.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
   depth.clearValue.depthStencil = {0.0f, 0};  // reversed Z: 0 is infinitely far
   VkRenderingInfo rendering{VK_STRUCTURE_TYPE_RENDERING_INFO};
-  rendering.renderArea = {{0, 0}, g.extent};
+  rendering.renderArea = {{0, 0}, g.renderExtent};
   rendering.layerCount = 1;
   rendering.colorAttachmentCount = gpu::GBUFFER_COLOR_COUNT;
   rendering.pColorAttachments = colors;
   rendering.pDepthAttachment = &depth;
   vkCmdBeginRendering(cmd, &rendering);
-  VkViewport viewport{0.0f, 0.0f, float(g.extent.width), float(g.extent.height), 0.0f, 1.0f};
-  VkRect2D scissor{{0, 0}, g.extent};
+  VkViewport viewport{0.0f, 0.0f, float(g.renderExtent.width), float(g.renderExtent.height), 0.0f, 1.0f};
+  VkRect2D scissor{{0, 0}, g.renderExtent};
   vkCmdSetViewport(cmd, 0, 1, &viewport);
   vkCmdSetScissor(cmd, 0, 1, &scissor);
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pass.pipeline);

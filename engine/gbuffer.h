@@ -24,7 +24,8 @@ inline constexpr VkFormat kGBufferDepthFormat = VK_FORMAT_D32_SFLOAT;
 struct GBuffer {
   Image color[gpu::GBUFFER_COLOR_COUNT];
   Image depth;
-  VkExtent2D extent{};
+  VkExtent2D extent{};        // the images' size
+  VkExtent2D renderExtent{};  // the rectangle recordGBuffer renders into (from the top left; dynamic resolution)
 };
 
 struct GBufferPass {

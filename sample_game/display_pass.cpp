@@ -39,13 +39,14 @@ void destroyDisplayPass(const engine::Context& ctx, DisplayPass& d) {
   d = DisplayPass{};
 }
 
-void recordDisplay(const engine::Context& ctx, VkCommandBuffer cmd, const DisplayPass& d, float exposure) {
+void recordDisplay(const engine::Context& ctx, VkCommandBuffer cmd, const DisplayPass& d, float exposure,
+                   VkExtent2D sourceExtent) {
   engine::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_TRANSFER_BIT,
                         VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_TRANSFER_READ_BIT,
                         VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                         VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
   engine::dispatch(ctx, cmd, d.program, std::span(&d.set.set, 1), {d.extent.width, d.extent.height},
-                   gpu::DisplayPush{exposure, 0, 0, 0});
+                   gpu::DisplayPush{exposure, 0, {sourceExtent.width, sourceExtent.height}});
 }
 
 engine::FloatImage readDisplay(const engine::Context& ctx, const DisplayPass& d) {

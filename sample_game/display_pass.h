@@ -22,7 +22,9 @@ inline constexpr VkFormat kDisplayFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
 DisplayPass createDisplayPass(const engine::Context& ctx, VkExtent2D extent, VkImageView source);
 void destroyDisplayPass(const engine::Context& ctx, DisplayPass& pass);
 // Waits for the module's compute writes, then fills the display image.
-void recordDisplay(const engine::Context& ctx, VkCommandBuffer cmd, const DisplayPass& pass, float exposure);
+// `sourceExtent`: the render rectangle in the composite (the module's render size).
+void recordDisplay(const engine::Context& ctx, VkCommandBuffer cmd, const DisplayPass& pass, float exposure,
+                   VkExtent2D sourceExtent);
 // The display image as linear RGB floats (after the frame has completed).
 engine::FloatImage readDisplay(const engine::Context& ctx, const DisplayPass& pass);
 

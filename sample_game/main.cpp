@@ -409,7 +409,7 @@ int main(int argc, char** argv) {
       // range; the display applies what is left (nothing) and clamps.
       session.preExposure = ui.exposure;
       tools::recordModuleFrame(ctx, cmd, session, scene, sceneGpu, camera, frame > 0 ? previousCamera : camera, frame);
-      demo::recordDisplay(ctx, cmd, display, ui.exposure / session.preExposure);
+      demo::recordDisplay(ctx, cmd, display, ui.exposure / session.preExposure, session.extent);
       demo::recordOverlay(ctx, cmd, overlay, frame, *ImGui::GetDrawData(), display.image.image, display.image.view,
                           displaySize);
     };

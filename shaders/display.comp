@@ -15,8 +15,8 @@ layout(push_constant, scalar) uniform Push { DisplayPush pc; };
 void main() {
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(p, imageSize(target)))) return;
-  // Nearest source pixel: the display may be larger than the render size.
-  ivec2 q = ivec2((vec2(p) + 0.5) * vec2(imageSize(source)) / vec2(imageSize(target)));
+  // Nearest source pixel of the render rectangle: the display may be larger or smaller.
+  ivec2 q = ivec2((vec2(p) + 0.5) * vec2(pc.sourceSize) / vec2(imageSize(target)));
   vec3 c = imageLoad(source, q).rgb * pc.exposure;
   c = clamp(c, vec3(0.0), vec3(1.0));  // NaN-safe enough: the module never emits non-finite values
   imageStore(target, p, vec4(c, 1.0));

@@ -20,7 +20,9 @@ layout(set = 0, binding = FILTER_BINDING_COUNTERS, scalar) buffer FilterCounters
 // With ModuleDesc::checkBounds a coordinate outside its image is counted here (bounds.glsl).
 GI_COUNT_PIXELS_OUTSIDE_INTO(filterCounters.boundsViolations)
 
-ivec2 filterSize() { return imageSize(filterInput); }
+// The render rectangle: every filter's push constants (`pc`) carry it, as the images may be larger
+// (dynamic resolution).
+#define filterSize() ivec2(pc.size)
 
 void filterStoreOutput(ivec2 p, vec3 radiance, FilterOutputEncoding e) {
   imageStore(filterOutput, p, vec4(clamp(radiance * e.scale, vec3(-e.limit), vec3(e.limit)), 1.0));

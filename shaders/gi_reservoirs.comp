@@ -87,8 +87,8 @@ uvec4 giTemporalReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float 
     const float target = chance > 0.0 ? giReservoirTarget(light, s, b, V) : 0.0;
     giReservoirMerge(r, light, target, target / max(chance, 1e-30), 1.0, giRandom(rng));
   }
-  const ivec2 q = ivec2(floor(vec2(p) + 0.5 + giGbMotionPixels(p)));
-  if (pc.temporal != 0u && all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, ivec2(giFrame.size)))) {
+  const ivec2 q = ivec2(floor(giPreviousPosition(p)));
+  if (pc.temporal != 0u && giInPreviousFrame(q)) {
     const uvec4 previous = giLoadReservoir(q, false);
     if (previous.x != GI_RESERVOIR_EMPTY &&
         giHistoryTexelAgrees(giUnpackGuide(previous.w), n, giPreviousViewDepth(s.position), depth, pc.depthTolerance,

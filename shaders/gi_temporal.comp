@@ -68,7 +68,7 @@ History reproject(ivec2 p, vec3 n, float depth, vec3 world) {
   History h = History(vec3(0.0), vec3(0.0), vec2(0.0), vec2(0.0), 0.0);
   if (pc.reset != 0u) return h;
   // Continuous pixel coordinates in the previous frame, then its four nearest texel centres.
-  const vec2 previous = vec2(p) + 0.5 + giGbMotionPixels(p) - 0.5;
+  const vec2 previous = giPreviousPosition(p) - 0.5;
   const ivec2 base = ivec2(floor(previous));
   const vec2 f = previous - vec2(base);
   const float staticDepth = giPreviousViewDepth(world);
@@ -76,7 +76,7 @@ History reproject(ivec2 p, vec3 n, float depth, vec3 world) {
   for (int j = 0; j < 2; ++j)
     for (int i = 0; i < 2; ++i) {
       const ivec2 q = base + ivec2(i, j);
-      if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, ivec2(giFrame.size)))) continue;
+      if (!giInPreviousFrame(q)) continue;
       const HistoryTexel texel = readTexel(q);
       if (!giHistoryTexelAgrees(texel.guide, n, staticDepth, depth, pc.depthTolerance, pc.cosNormalLimit)) continue;
       const float w = (i == 1 ? f.x : 1.0 - f.x) * (j == 1 ? f.y : 1.0 - f.y);

@@ -121,8 +121,8 @@ ivec2 giGradientPixel(ivec2 tile, uint frameIndex, uint seed) {
 // Where the gradient pixel p was last frame: the nearest texel to its
 // reprojected centre, if that texel saw the same surface.
 bool giGradientSource(ivec2 p, uint parity, float tolerance, float cosNormalLimit, out ivec2 q) {
-  q = ivec2(floor(vec2(p) + 0.5 + giGbMotionPixels(p)));
-  if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, ivec2(giFrame.size)))) return false;
+  q = ivec2(floor(giPreviousPosition(p)));
+  if (!giInPreviousFrame(q)) return false;
   vec3 dir;
   const vec3 world = giGbPosition(p, dir);
   return giHistoryTexelAgrees(giPreviousGuide(q, parity), giGbNormal(p), giPreviousViewDepth(world), giGbViewDepth(p),

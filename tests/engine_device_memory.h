@@ -1,5 +1,6 @@
 // A test host's device-memory allocator (gi::DeviceMemoryCallbacks) that counts every byte it hands
-// the module or a scene, and a loader entry point that counts the module's own vkAllocateMemory calls.
+// the module or a scene, and a loader entry point that counts the module's own vkAllocateMemory,
+// vkCreateImage and vkCreateBuffer calls.
 // Each request gets its own VkDeviceMemory with the slice placed one alignment in, so a module that
 // ignored the offset would bind the wrong bytes.
 #pragma once
@@ -80,22 +81,38 @@ struct EngineDeviceMemory {
   }
 };
 
-// vkGetInstanceProcAddr (volk's) but for vkAllocateMemory, which it counts in moduleAllocateMemoryCalls:
-// a module or scene created with it calls vkAllocateMemory through the counter (it loads its device
-// functions through the vkGetDeviceProcAddr this returns).
-inline std::atomic<uint32_t> moduleAllocateMemoryCalls{0};
+// vkGetInstanceProcAddr (volk's), but vkAllocateMemory, vkCreateImage and vkCreateBuffer are counted: a
+// module or scene created with it calls them through the counters (it loads its device functions
+// through the vkGetDeviceProcAddr this returns).
+inline std::atomic<uint32_t> moduleAllocateMemoryCalls{0}, moduleCreateImageCalls{0}, moduleCreateBufferCalls{0};
 inline VKAPI_ATTR VkResult VKAPI_CALL countedAllocateMemory(VkDevice device, const VkMemoryAllocateInfo* info,
                                                             const VkAllocationCallbacks* allocator, VkDeviceMemory* out) {
   moduleAllocateMemoryCalls++;
   return vkAllocateMemory(device, info, allocator, out);
 }
-inline VKAPI_ATTR PFN_vkVoidFunction VKAPI_CALL countingGetDeviceProcAddr(VkDevice device, const char* name) {
+inline VKAPI_ATTR VkResult VKAPI_CALL countedCreateImage(VkDevice device, const VkImageCreateInfo* info,
+                                                         const VkAllocationCallbacks* allocator, VkImage* out) {
+  moduleCreateImageCalls++;
+  return vkCreateImage(device, info, allocator, out);
+}
+inline VKAPI_ATTR VkResult VKAPI_CALL countedCreateBuffer(VkDevice device, const VkBufferCreateInfo* info,
+                                                          const VkAllocationCallbacks* allocator, VkBuffer* out) {
+  moduleCreateBufferCalls++;
+  return vkCreateBuffer(device, info, allocator, out);
+}
+inline PFN_vkVoidFunction countedDeviceFunction(const char* name) {
   if (std::strcmp(name, "vkAllocateMemory") == 0) return reinterpret_cast<PFN_vkVoidFunction>(&countedAllocateMemory);
+  if (std::strcmp(name, "vkCreateImage") == 0) return reinterpret_cast<PFN_vkVoidFunction>(&countedCreateImage);
+  if (std::strcmp(name, "vkCreateBuffer") == 0) return reinterpret_cast<PFN_vkVoidFunction>(&countedCreateBuffer);
+  return nullptr;
+}
+inline VKAPI_ATTR PFN_vkVoidFunction VKAPI_CALL countingGetDeviceProcAddr(VkDevice device, const char* name) {
+  if (PFN_vkVoidFunction counted = countedDeviceFunction(name)) return counted;
   return vkGetDeviceProcAddr(device, name);
 }
 inline VKAPI_ATTR PFN_vkVoidFunction VKAPI_CALL countingGetInstanceProcAddr(VkInstance instance, const char* name) {
   if (std::strcmp(name, "vkGetDeviceProcAddr") == 0)
     return reinterpret_cast<PFN_vkVoidFunction>(&countingGetDeviceProcAddr);
-  if (std::strcmp(name, "vkAllocateMemory") == 0) return reinterpret_cast<PFN_vkVoidFunction>(&countedAllocateMemory);
+  if (PFN_vkVoidFunction counted = countedDeviceFunction(name)) return counted;
   return vkGetInstanceProcAddr(instance, name);
 }

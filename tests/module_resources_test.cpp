@@ -241,8 +241,8 @@ TEST_F(ModuleResourcesTest, OnlyTheActiveMethodsMemoryIsHeld) {
 }
 
 // Dynamic resolution: within the maximum size given at create, resize keeps
-// the hash map (the same buffers, cells and all); beyond it the map is new.
-TEST_F(ModuleResourcesTest, ResizeWithinTheMaximumKeepsTheHashMap) {
+// the hash map (the same buffers, cells and all) and every image; beyond it they are new.
+TEST_F(ModuleResourcesTest, ResizeWithinTheMaximumKeepsTheHashMapAndTheImages) {
   LoadedScene s;
   load(sharedScene("cornell-simple/cornell_simple.gltf"), s);
   gi::ModuleDesc desc = tools::moduleDesc(ctx, s.gpu, {48, 32});
@@ -262,13 +262,16 @@ TEST_F(ModuleResourcesTest, ResizeWithinTheMaximumKeepsTheHashMap) {
   ASSERT_GT(occupied, 0u);
   std::string error;
   const VkImage composite = gi::outputs(session.module).composite;
+  const uint64_t held = session.module->gpu.memory.held;
   ASSERT_TRUE(tools::resizeModuleSession(ctx, session, {64, 48}, error)) << error;
   EXPECT_EQ(session.module->hash.cells.buffer, cells) << "a size within the maximum keeps the map";
-  EXPECT_NE(gi::outputs(session.module).composite, composite) << "outputs of the new size";
+  EXPECT_EQ(gi::outputs(session.module).composite, composite) << "and the images, made at the maximum";
+  EXPECT_EQ(session.module->gpu.memory.held, held);
   frames(4, 1);
   EXPECT_GE(gi::stats(session.module).hash.occupied, occupied) << "the cells survived the resize";
   ASSERT_TRUE(tools::resizeModuleSession(ctx, session, {80, 48}, error)) << error;
   EXPECT_NE(session.module->hash.cells.buffer, cells) << "beyond the maximum the map is rebuilt";
+  EXPECT_NE(gi::outputs(session.module).composite, composite) << "and the images, at the new maximum";
   frames(5, 2);
   EXPECT_GT(gi::stats(session.module).hash.occupied, 0u);
   tools::destroyModuleSession(ctx, session);

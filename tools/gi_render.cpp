@@ -25,6 +25,9 @@ const std::string kMethodHelp = "reference (default) or a GI module method: " + 
 const cli::Option kOptions[] = {
     {"scene", "FILE.gltf", "scene to render (required)"},
     {"size", "WxH", "image size in pixels (default 320x180)"},
+    {"dynamic-resolution", "WxH", "module methods: the render size alternates between --size and this one every "
+                                  "4 frames (starting at --size), in the same images (gi::resize within "
+                                  "ModuleDesc::maxWidth x maxHeight); the last frame is written at its size"},
     {"camera", "N", "glTF camera index (default 0; a default camera is made when the file has none)"},
     {"method", "NAME", kMethodHelp.c_str()},
     {"set", "KEY=V", "a GI module setting, repeatable (keys: see --help)"},
@@ -85,6 +88,16 @@ int main(int argc, char** argv) {
       !cli::getChoice(args, "aov", "final", kAovs, aov, error))
     return usageError(error);
   if (uint64_t(spp) * frames > (1u << 24)) return usageError("spp × frames must not exceed 16777216");
+  // --dynamic-resolution: frame f renders at renderSize(f).
+  uint32_t alternateWidth = 0, alternateHeight = 0;
+  const bool dynamicResolution = args.has("dynamic-resolution");
+  if (dynamicResolution && !cli::getSize(args, "dynamic-resolution", 0, 0, alternateWidth, alternateHeight, error))
+    return usageError(error);
+  if (dynamicResolution && (method == "reference" || args.has("window")))
+    return usageError("--dynamic-resolution is for module methods without --window");
+  auto renderSize = [&](uint32_t f) {
+    return dynamicResolution && (f / 4) % 2 == 1 ? VkExtent2D{alternateWidth, alternateHeight} : VkExtent2D{width, height};
+  };
   engine::Traversal traversal = engine::Traversal::Auto;
   if (!cli::getTraversal(args, traversal, error)) return usageError(error);
   uint32_t lightSampler = 2, lightTreeCut = 4;  // SceneCreateDesc's defaults (gpu::LIGHT_SAMPLER_TREE)
@@ -161,6 +174,8 @@ int main(int argc, char** argv) {
   uint64_t memoryTransientBytes = 0;     // of that, images whose contents live within one frame
   uint32_t deviceAllocations = 0;
   gi::MemoryPrediction predicted;        // module methods: gi::predictMemory before the module was created
+  uint64_t firstFrameMemoryBytes = 0;    // module methods: held after the first frame (dynamic resolution: constant)
+  int status = 0;
   uint64_t boundsViolations = 0;         // module methods with --check-bounds: summed over the frames
   // Each program's first dispatch, before any timed frame (the compile, on lavapipe).
   std::map<std::string, double> firstDispatchMs;
@@ -176,6 +191,8 @@ int main(int argc, char** argv) {
     tools::ModuleSession session;
     gi::ModuleDesc moduleDesc = tools::moduleDesc(ctx, sceneGpu, {width, height});
     moduleDesc.checkBounds = args.has("check-bounds");
+    moduleDesc.maxWidth = std::max(width, alternateWidth);  // dynamic resolution: every image at the larger size
+    moduleDesc.maxHeight = std::max(height, alternateHeight);
     if (gi::Error e = gi::predictMemory(moduleDesc, moduleSettings, predicted)) {
       std::fprintf(stderr, "gi-render: %s\n", e.message.c_str());
       engine::destroySceneGpu(ctx, sceneGpu);
@@ -213,7 +230,16 @@ int main(int argc, char** argv) {
         continue;
       }
       poseFor(f);
+      if (const VkExtent2D size = renderSize(f); size.width != session.extent.width || size.height != session.extent.height) {
+        if (!tools::resizeModuleSession(ctx, session, size, error)) {
+          std::fprintf(stderr, "gi-render: %s\n", error.c_str());
+          status = 1;
+          break;
+        }
+        camera = engine::makeGpuCamera(scene.cameras[cameraIndex], size.width, size.height, nullptr);
+      }
       tools::FrameTiming t = tools::renderModuleFrame(ctx, session, scene, sceneGpu, camera, camera, f);
+      if (f == 0) firstFrameMemoryBytes = gi::stats(session.module).memoryBytes;
       boundsViolations += gi::stats(session.module).boundsViolations;
       for (const gi::PassTiming& p : t.passes) passMs[p.name] += p.ms;
       run.gpuMs += t.totalMs;
@@ -221,6 +247,8 @@ int main(int argc, char** argv) {
     }
     if (windowed) engine::destroyWindow(ctx, window);
     run.images = tools::readModuleImages(ctx, session);
+    width = session.extent.width;  // the last frame's size (--dynamic-resolution)
+    height = session.extent.height;
     const gi::FrameStats last = gi::stats(session.module);
     tracedSpp = last.samplesPerPixel;
     lastHash = last.hash;
@@ -231,7 +259,6 @@ int main(int argc, char** argv) {
     tools::destroyModuleSession(ctx, session);
   }
 
-  int status = 0;
   if (boundsViolations > 0) {
     std::fprintf(stderr, "gi-render: %llu accesses outside a buffer or image (--check-bounds)\n",
                  static_cast<unsigned long long>(boundsViolations));
@@ -283,6 +310,7 @@ int main(int argc, char** argv) {
       // What gi::predictMemory said before the module existed (held, and its transient part).
       j["module_memory_predicted_bytes"] = predicted.heldBytes;
       j["module_memory_predicted_transient_bytes"] = predicted.transientBytes;
+      j["module_memory_bytes_first_frame"] = firstFrameMemoryBytes;
       if (args.has("check-bounds")) j["bounds_violations"] = boundsViolations;
     }
     if (lastHash.capacity)

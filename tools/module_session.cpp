@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <algorithm>
 #include <cstring>
 
 namespace tools {
@@ -42,7 +43,9 @@ bool createModuleSession(const engine::Context& ctx, const engine::SceneGpu& sce
   s.framesInFlight = created.framesInFlight;
   s.extent = extent;
   s.preExposure = 1.0f / scene.desc.typicalRadiance;
-  s.gbuffer = engine::createGBuffer(ctx, extent);
+  // At the largest render size (ModuleDesc::maxWidth × maxHeight): a smaller one renders into its top left.
+  s.gbuffer = engine::createGBuffer(ctx, {std::max(extent.width, created.maxWidth), std::max(extent.height, created.maxHeight)});
+  s.gbuffer.renderExtent = extent;
   s.gbufferPass = engine::createGBufferPass(ctx, scene);
   for (uint32_t slot = 0; slot < s.framesInFlight; ++slot) s.timers[slot] = engine::createGpuTimer(ctx, 4);
   return true;
@@ -81,14 +84,18 @@ std::vector<ProgramWarmup> warmModulePrograms(const engine::Context& ctx, Module
 }
 
 bool resizeModuleSession(const engine::Context& ctx, ModuleSession& s, VkExtent2D extent, std::string& error) {
-  vkDeviceWaitIdle(ctx.device);
   if (gi::Error e = gi::resize(s.module, extent.width, extent.height)) {
     error = e.message;
     return false;
   }
+  s.extent = extent;
+  if (extent.width <= s.gbuffer.extent.width && extent.height <= s.gbuffer.extent.height) {
+    s.gbuffer.renderExtent = extent;  // dynamic resolution: the same images, a smaller rectangle; no wait
+    return true;
+  }
+  vkDeviceWaitIdle(ctx.device);
   engine::destroyGBuffer(ctx, s.gbuffer);
   s.gbuffer = engine::createGBuffer(ctx, extent);
-  s.extent = extent;
   return true;
 }
 
@@ -137,9 +144,14 @@ engine::ReferenceImages readModuleImages(const engine::Context& ctx, const Modul
   out.direct = engine::readbackRgb(ctx, o.direct, o.format, s.extent, scale.direct);
   out.indirect = engine::readbackRgb(ctx, o.indirect, o.format, s.extent, scale.indirect);
   size_t n = size_t(s.extent.width) * s.extent.height;
-  std::vector<std::byte> albedo = engine::readbackImage(ctx, s.gbuffer.color[gpu::GBUFFER_ALBEDO], VK_IMAGE_LAYOUT_GENERAL, 4);
-  std::vector<std::byte> normal = engine::readbackImage(ctx, s.gbuffer.color[gpu::GBUFFER_NORMAL], VK_IMAGE_LAYOUT_GENERAL, 8);
-  std::vector<std::byte> depth = engine::readbackImage(ctx, s.gbuffer.color[gpu::GBUFFER_VIEWZ], VK_IMAGE_LAYOUT_GENERAL, 4);
+  auto rendered = [&](uint32_t view) {  // the rectangle rendered into (the images may be larger)
+    engine::Image image = s.gbuffer.color[view];
+    image.extent = s.extent;
+    return image;
+  };
+  std::vector<std::byte> albedo = engine::readbackImage(ctx, rendered(gpu::GBUFFER_ALBEDO), VK_IMAGE_LAYOUT_GENERAL, 4);
+  std::vector<std::byte> normal = engine::readbackImage(ctx, rendered(gpu::GBUFFER_NORMAL), VK_IMAGE_LAYOUT_GENERAL, 8);
+  std::vector<std::byte> depth = engine::readbackImage(ctx, rendered(gpu::GBUFFER_VIEWZ), VK_IMAGE_LAYOUT_GENERAL, 4);
   out.albedo = engine::FloatImage(s.extent.width, s.extent.height, 3);
   out.normal = engine::FloatImage(s.extent.width, s.extent.height, 3);
   out.depth = engine::FloatImage(s.extent.width, s.extent.height, 1);

@@ -346,7 +346,7 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
   const float outputMax = largestFinite(m.desc.outputFormat);
   const bool noisyIsOutput = noisyAliasesIndirect(m.sized);
   const VkFormat noisyFormat = m.sized.noisyIndirect.format, historyFormat = m.sized.historyDirect.format;
-  const gpu::GpuCamera previousCamera = gpuCamera(in.previousCamera, in.previousCamera, m.width, m.height);
+  const gpu::GpuCamera previousCamera = gpuCamera(in.previousCamera, in.previousCamera, m.previousWidth, m.previousHeight);
   const glm::vec2 halfSize = 0.5f * glm::vec2(float(m.width), float(m.height));
   gpu::GiFrameConstants frame{camera,
                               previousCamera,
@@ -367,7 +367,8 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
                               motionPixelsPerUnit(m.desc.gbuffer, m.width, m.height),
                               // Previous − current of the NDC shifts (jitter, off-axis), in pixels.
                               m.desc.gbuffer.motionHasJitter ? glm::vec2(0.0f)
-                                                             : (previousCamera.ndcShift - camera.ndcShift) * halfSize};
+                                                             : (previousCamera.ndcShift - camera.ndcShift) * halfSize,
+                              {m.previousWidth, m.previousHeight}};
   std::memcpy(static_cast<std::byte*>(m.frameConstants.memory.mapped) + slot * m.frameConstantsStride, &frame, sizeof(frame));
   beginFrame(m, cmd, slot, in);
   // History survives only while the view and the settings stay put.
@@ -377,6 +378,8 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
 
   VkDescriptorSet sets[] = {m.desc.scene.set, m.sized.frameSets[slot]};
   const glm::uvec2 size{m.width, m.height};
+  m.sized.filters.width = m.width;  // the filters' rectangle within their images (dynamic resolution)
+  m.sized.filters.height = m.height;
   if (usesReservoirs(m, s)) recordReservoirPasses(m, cmd, slot);
   // Temporal gradients need last frame's samples, kept in the set the temporal pass reads.
   const bool gradientsTraced = usesTemporalGradients(m, s) && m.temporalFrames > 0;
@@ -494,6 +497,8 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
   frameSlot.spp = spp;
   frameSlot.method = s.method;
   frameSlot.recorded = true;
+  m.previousWidth = m.width;  // the next frame's histories cover this rectangle
+  m.previousHeight = m.height;
   m.recordedFrames++;
   return {};
 }

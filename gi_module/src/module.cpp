@@ -268,8 +268,8 @@ vk::Status createTimestamps(Module& m) {
 // Every buffer and image the module holds at its size and settings, in the order predictMemory replays.
 vk::Status createMemoryResources(Module& m) {
   GI_TRY(createFrameBuffers(m));
-  GI_TRY(createOutputImages(m.gpu, m.width, m.height, m.desc.outputFormat, m.outputs));
-  GI_TRY(createSizedResources(m, m.settings, m.width, m.height, m.outputs, m.sized));
+  GI_TRY(createOutputImages(m.gpu, m.desc.maxWidth, m.desc.maxHeight, m.desc.outputFormat, m.outputs));
+  GI_TRY(createSizedResources(m, m.settings, m.desc.maxWidth, m.desc.maxHeight, m.outputs, m.sized));
   if (usesHashGrid(m.settings.method)) GI_TRY(createHashGridFor(m, m.settings, m.desc.maxWidth, m.desc.maxHeight, m.hash));
   return {};
 }
@@ -430,8 +430,8 @@ Error create(const ModuleDesc& desc, const Settings& settings, Module*& out) {
   m->desc.maxWidth = std::max(desc.maxWidth, desc.width);  // from here on: the largest size so far
   m->desc.maxHeight = std::max(desc.maxHeight, desc.height);
   m->settings = settings;
-  m->width = desc.width;
-  m->height = desc.height;
+  m->width = m->previousWidth = desc.width;
+  m->height = m->previousHeight = desc.height;
   m->gpu.allocator = desc.allocationCallbacks;
   m->gpu.pipelineCache = desc.pipelineCache;
   m->gpu.memory.budget = desc.memoryBudgetBytes;
@@ -515,7 +515,7 @@ Error setSettings(Module* m, const Settings& settings) {
   SizedResources sized;
   bool newSized = sizedResourcesNeeded(*m, settings) != m->sized.needs;
   if (newSized)
-    if (vk::Status s = createSizedResources(*m, settings, m->width, m->height, m->outputs, sized))
+    if (vk::Status s = createSizedResources(*m, settings, m->desc.maxWidth, m->desc.maxHeight, m->outputs, sized))
       return vulkanError("gi::setSettings", s);
   HashGrid hash;
   bool newHash = hashGridChanges(*m, settings);
@@ -555,7 +555,7 @@ Error setScene(Module* m, const SceneDesc& scene) {
   vk::Status s = createPrograms(*m, m->settings);
   SizedResources sized;  // the glossy images follow the scene's materials
   const bool newSized = sizedResourcesNeeded(*m, m->settings) != m->sized.needs;
-  if (!s && newSized) s = createSizedResources(*m, m->settings, m->width, m->height, m->outputs, sized);
+  if (!s && newSized) s = createSizedResources(*m, m->settings, m->desc.maxWidth, m->desc.maxHeight, m->outputs, sized);
   if (s) {
     destroySizedResources(m->gpu, sized);
     if (rebuild) {
@@ -582,29 +582,32 @@ Error setScene(Module* m, const SceneDesc& scene) {
 Error resize(Module* m, uint32_t width, uint32_t height) {
   if (Error e = checkSize("gi::resize width × height", width, height)) return e;
   if (width == m->width && height == m->height) return {};
+  if (width <= m->desc.maxWidth && height <= m->desc.maxHeight) {
+    // Dynamic resolution: a new render rectangle in the same images. Nothing is allocated, the outputs
+    // stay, and the histories are reprojected across the change (GiFrameConstants::previousSize);
+    // anhpsf's continued paths, which belong to pixels, restart.
+    m->width = width;
+    m->height = height;
+    m->hash.walksCleared = false;
+    return {};
+  }
+  // Beyond the largest size: every per-pixel image, and the hash map, at the new largest size.
   const std::lock_guard<std::mutex> lock(m->programsMutex);  // the screen filters' sets read their layout
+  const uint32_t maxWidth = std::max(width, m->desc.maxWidth), maxHeight = std::max(height, m->desc.maxHeight);
   OutputImages outputs;
   SizedResources sized;
-  vk::Status built = createOutputImages(m->gpu, width, height, m->desc.outputFormat, outputs);
-  if (!built) built = createSizedResources(*m, m->settings, width, height, outputs, sized);
+  HashGrid hash;
+  vk::Status built = createOutputImages(m->gpu, maxWidth, maxHeight, m->desc.outputFormat, outputs);
+  if (!built) built = createSizedResources(*m, m->settings, maxWidth, maxHeight, outputs, sized);
+  if (!built && usesHashGrid(m->settings.method)) built = createHashGridFor(*m, m->settings, maxWidth, maxHeight, hash);
   if (built) {
+    destroyHashGrid(m->gpu, hash);
+    destroySizedResources(m->gpu, sized);
     destroyOutputImages(m->gpu, outputs);
     return vulkanError("gi::resize", built);
   }
-  // Within the largest size the hash map keeps its cells; beyond it, a map for the new largest size.
-  const uint32_t newMaxWidth = std::max(width, m->desc.maxWidth), newMaxHeight = std::max(height, m->desc.maxHeight);
-  const bool within = newMaxWidth == m->desc.maxWidth && newMaxHeight == m->desc.maxHeight;
-  HashGrid hash;
-  if (!within && usesHashGrid(m->settings.method)) {
-    if (vk::Status s = createHashGridFor(*m, m->settings, newMaxWidth, newMaxHeight, hash)) {
-      destroyHashGrid(m->gpu, hash);
-      destroySizedResources(m->gpu, sized);
-      destroyOutputImages(m->gpu, outputs);
-      return vulkanError("gi::resize", s);
-    }
-  }
-  m->desc.maxWidth = newMaxWidth;
-  m->desc.maxHeight = newMaxHeight;
+  m->desc.maxWidth = maxWidth;
+  m->desc.maxHeight = maxHeight;
   m->width = width;
   m->height = height;
   replaceSized(*m, sized);
@@ -612,7 +615,6 @@ Error resize(Module* m, uint32_t width, uint32_t height) {
   retire(*m, [oldOutputs](vk::Device& g) { destroyOutputImages(g, *oldOutputs); });
   m->outputs = outputs;
   if (hash.capacity) replaceHashGrid(*m, hash);
-  else m->hash.walksCleared = false;  // continued paths belong to pixels of the old size
   dropHistory(*m);
   return {};
 }

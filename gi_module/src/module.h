@@ -91,6 +91,7 @@ struct Module {
   ModuleDesc desc;
   Settings settings;
   uint32_t width = 0, height = 0;                  // the render size now (desc holds the size at create)
+  uint32_t previousWidth = 0, previousHeight = 0;  // the last recorded frame's: what its histories cover
 
   OutputImages outputs;
   SizedResources sized;                            // built over `outputs`

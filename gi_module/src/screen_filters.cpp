@@ -18,10 +18,12 @@
 namespace gi {
 namespace {
 
-// One pass: hooks around a dispatch and the barrier that publishes it.
+// One pass: hooks around a dispatch and the barrier that publishes it. The push constants get the
+// render rectangle (every filter push has `size`).
 template <typename Push>
-void passOn(const vk::Device& d, VkCommandBuffer cmd, VkDescriptorSet set, const PassHooks& hooks, Pass name,
-            const vk::ComputeProgram& program, glm::uvec2 threads, const Push& push) {
+void passOn(const vk::Device& d, VkCommandBuffer cmd, VkDescriptorSet set, const ScreenFilters& f, const PassHooks& hooks,
+            Pass name, const vk::ComputeProgram& program, glm::uvec2 threads, Push push) {
+  push.size = {f.width, f.height};
   if (hooks.begin) hooks.begin(cmd, name);
   vk::dispatch(d, cmd, program, std::span(&set, 1), threads, push);
   vk::computeToComputeBarrier(d, cmd);
@@ -31,7 +33,7 @@ void passOn(const vk::Device& d, VkCommandBuffer cmd, VkDescriptorSet set, const
 template <typename Push>
 void pass(const vk::Device& d, VkCommandBuffer cmd, const ScreenFilters& f, const PassHooks& hooks, Pass name,
           const vk::ComputeProgram& program, glm::uvec2 threads, const Push& push) {
-  passOn(d, cmd, f.set[0], hooks, name, program, threads, push);
+  passOn(d, cmd, f.set[0], f, hooks, name, program, threads, push);
 }
 
 }  // namespace
@@ -126,8 +128,8 @@ vk::Status createScreenFilters(vk::Device& d, const FilterPrograms& programs, ui
                                const FilterTargets& t, ScreenFilters& out) {
   ScreenFilters f;
   f.programs = &programs;
-  f.width = width;
-  f.height = height;
+  f.width = f.imageWidth = width;
+  f.height = f.imageHeight = height;
   FilterTargets targets = t;
   // (A prediction's buffers have no handles; the module always names its counters.)
   if (!targets.counters && !d.memory.simulate) {
@@ -149,7 +151,7 @@ vk::Status createScreenFilters(vk::Device& d, const FilterPrograms& programs, ui
 vk::Status ensureGuidedStack(vk::Device& d, ScreenFilters& f) {
   if (f.a[0].image) return {};
   for (vk::Image& img : f.a)
-    if (vk::Status s = vk::createImage(d, {f.width, f.height}, VK_FORMAT_R32G32B32A32_SFLOAT,
+    if (vk::Status s = vk::createImage(d, {f.imageWidth, f.imageHeight}, VK_FORMAT_R32G32B32A32_SFLOAT,
                                            VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT, img,
                                            true)) {
       for (vk::Image& made : f.a) vk::destroyImage(d, made);
@@ -191,9 +193,9 @@ void recordGuidedFilter(const vk::Device& d, VkCommandBuffer cmd, ScreenFilters&
 void recordAafFilter(const vk::Device& d, VkCommandBuffer cmd, const ScreenFilters& f, VkDescriptorSet targets,
                      const gpu::FilterOutputEncoding& output, Pass rows, Pass columns, float cosNormalLimit,
                      float pixelScale, uint32_t maxRadius, float positionScale, const PassHooks& hooks) {
-  passOn(d, cmd, targets, hooks, rows, f.programs->aaf, {f.width, f.height},
+  passOn(d, cmd, targets, f, hooks, rows, f.programs->aaf, {f.width, f.height},
          gpu::AafFilterPush{0, cosNormalLimit, pixelScale, maxRadius, output, positionScale});
-  passOn(d, cmd, targets, hooks, columns, f.programs->aaf, {f.width, f.height},
+  passOn(d, cmd, targets, f, hooks, columns, f.programs->aaf, {f.width, f.height},
          gpu::AafFilterPush{1, cosNormalLimit, pixelScale, maxRadius, output, positionScale});
 }
 

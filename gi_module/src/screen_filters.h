@@ -57,7 +57,8 @@ struct ScreenFilters {
   vk::DescriptorSets set;           // one set over the module's targets
   vk::DescriptorSets aafGlossySets;  // two: AAF's specular terms filtered in place (glossy scenes)
   vk::Buffer ownCounters;           // where the targets named no counters (the filters on their own, in tests)
-  uint32_t width = 0, height = 0;
+  uint32_t imageWidth = 0, imageHeight = 0;  // the images' size (the largest render size)
+  uint32_t width = 0, height = 0;            // the render rectangle the passes filter, within the images
   uint64_t memoryBytes = 0;
   bool initialised = false;  // images moved to GENERAL layout
 };

@@ -88,8 +88,9 @@ struct AafFilterPush {
   uint maxRadius;       // pixels; the Gaussian is cut at 3σ or here (0: at 3σ, within the image)
   FilterOutputEncoding encoding;  // of the output image
   float positionScale;  // metres per unit of the position image (the module's: the scene extent; β is in metres)
+  uvec2 size;       // the render rectangle, pixels (dynamic resolution: the images may be larger); set by the pass
 };
-GPU_ASSERT_SIZE(AafFilterPush, 28);
+GPU_ASSERT_SIZE(AafFilterPush, 36);
 
 GPU_NAMESPACE_END
 #endif

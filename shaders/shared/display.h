@@ -11,10 +11,9 @@ GPU_CONST DISPLAY_BINDING_TARGET = 1;  // rgba16f storage image: linear display 
 #define DISPLAY_GROUP_SIZE 8u
 
 struct DisplayPush {
-  float exposure;  // multiplier on the (pre-exposed) composite before clamping to [0, 1]
+  float exposure;    // multiplier on the (pre-exposed) composite before clamping to [0, 1]
   uint pad0;
-  uint pad1;
-  uint pad2;
+  uvec2 sourceSize;  // the render rectangle in the source (dynamic resolution: the image may be larger)
 };
 GPU_ASSERT_SIZE(DisplayPush, 16);
 

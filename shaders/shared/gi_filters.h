@@ -72,24 +72,27 @@ struct GuidedMomentsPush {
   uint guidanceDimensions;  // 1 (grey normal), 3 (normal), 4 (normal + depth)
   uint writeCoefficientView;// gif_output: 1 = also write (|a|, |b|) to the temp image
   FilterOutputEncoding encoding;  // of the output image
+  uvec2 size;       // the render rectangle, pixels (dynamic resolution: the images may be larger); set by the pass
 };
-GPU_ASSERT_SIZE(GuidedMomentsPush, 16);
+GPU_ASSERT_SIZE(GuidedMomentsPush, 24);
 
 struct BoxPush {
   uint radius;      // window half-size in pixels; windows are clipped at the borders
   uint vertical;    // 0: rows, 1: columns (both in place over the A images)
   uint imageCount;  // how many of the FILTER_STACK images hold data
   uint pad0;
+  uvec2 size;       // the render rectangle, pixels (dynamic resolution: the images may be larger); set by the pass
 };
-GPU_ASSERT_SIZE(BoxPush, 16);
+GPU_ASSERT_SIZE(BoxPush, 24);
 
 struct GuidedCoefficientsPush {
   float epsilonNormal;  // ridge term for the normal channels (in guidance units²)
   float epsilonDepth;   // ridge term for the depth channel
   uint pad0;
   uint pad1;
+  uvec2 size;       // the render rectangle, pixels (dynamic resolution: the images may be larger); set by the pass
 };
-GPU_ASSERT_SIZE(GuidedCoefficientsPush, 16);
+GPU_ASSERT_SIZE(GuidedCoefficientsPush, 24);
 
 struct BilateralPush {
   uint radius;          // pixels
@@ -97,8 +100,9 @@ struct BilateralPush {
   float sigmaNormal;    // on |Δ(normal·0.5+0.5)|
   float sigmaDepth;     // on |Δ guidance depth|, relative to the centre's depth
   FilterOutputEncoding encoding;  // of the output image
+  uvec2 size;       // the render rectangle, pixels (dynamic resolution: the images may be larger); set by the pass
 };
-GPU_ASSERT_SIZE(BilateralPush, 24);
+GPU_ASSERT_SIZE(BilateralPush, 32);
 
 struct SspsfPush {  // the input's alpha is 1 where the pixel's primary vertex is a filter vertex
   uint window;          // odd window side in pixels (9 in the thesis)
@@ -106,8 +110,9 @@ struct SspsfPush {  // the input's alpha is 1 where the pixel's primary vertex i
   float pixelAngle;     // metres per metre of distance per pixel
   float cosNormal;      // neighbours whose normals differ more are not filtered in
   FilterOutputEncoding encoding;  // of the output image
+  uvec2 size;       // the render rectangle, pixels (dynamic resolution: the images may be larger); set by the pass
 };
-GPU_ASSERT_SIZE(SspsfPush, 24);
+GPU_ASSERT_SIZE(SspsfPush, 32);
 
 struct AtrousPush {
   uint iteration;       // 0-based; the tap spacing is 2^iteration
@@ -117,8 +122,9 @@ struct AtrousPush {
   float sigmaNormal;    // on |Δ(normal·0.5+0.5)|²
   float sigmaPosition;  // world distance as a fraction of the centre's view depth
   FilterOutputEncoding encoding;  // of the output image
+  uvec2 size;       // the render rectangle, pixels (dynamic resolution: the images may be larger); set by the pass
 };
-GPU_ASSERT_SIZE(AtrousPush, 32);
+GPU_ASSERT_SIZE(AtrousPush, 40);
 
 GPU_NAMESPACE_END
 #endif
