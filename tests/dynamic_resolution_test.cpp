@@ -91,7 +91,9 @@ TEST_F(DynamicResolutionTest, AlternatingSizesKeepTheImagesAndTheHistory) {
     EXPECT_LE(alternatingError, 1.5 * fixedError);
     // raw's light is all history: restarting it costs several times the error (svgf's spatial filter
     // hides most of a restart, so there the two runs end close).
-    if (settings.method == gi::Method::Raw) EXPECT_GT(restartingError, 2.0 * alternatingError);
+    if (settings.method == gi::Method::Raw) {
+      EXPECT_GT(restartingError, 2.0 * alternatingError);
+    }
   }
   unload(s);
 }
