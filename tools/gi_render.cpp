@@ -8,6 +8,8 @@
 #include <nlohmann/json.hpp>
 
 #include "camera.h"
+#include "image_io.h"
+#include "metrics.h"
 #include "cli.h"
 #include "bench_configs.h"
 #include "module_session.h"
@@ -38,6 +40,10 @@ const cli::Option kOptions[] = {
     {"aov", "NAME", "final|direct|indirect|albedo|normal|depth (default final)"},
     {"out", "FILE", "output image: .exr or .pfm (linear) or .png (sRGB)"},
     {"stats", "FILE.json", "write device, timings (each program's first dispatch apart), rays and wall time as JSON"},
+    {"compare", "REF.exr", "the written image's MSE against this one (same size), printed and in --stats as "
+                           "mse_vs_reference"},
+    {"pixel-centres", nullptr, "the reference traces through pixel centres, as the module's G-buffer sees them "
+                               "(default: jittered within each pixel)"},
     {"validation", nullptr, "enable Vulkan validation; any message makes the run fail"},
     {"check-bounds", nullptr, "module methods: check every hash-map index and image coordinate the module's "
                               "passes use (gi::ModuleDesc::checkBounds); any outside makes the run fail"},
@@ -183,6 +189,7 @@ int main(int argc, char** argv) {
     engine::ReferenceSettings settings;
     settings.maxBounces = bounces;
     settings.seed = seed;
+    settings.pixelJitter = !args.has("pixel-centres");
     poseFor(frames - 1);
     run = engine::renderReference(ctx, sceneGpu, camera, settings, spp * frames);
     passMs["path_trace"] = run.gpuMs;
@@ -277,6 +284,23 @@ int main(int argc, char** argv) {
       status = 1;
     }
   }
+  double mseVsReference = -1.0;  // --compare
+  if (args.has("compare")) {
+    const engine::ReferenceImages& im = run.images;
+    const engine::FloatImage& img = aov == "direct" ? im.direct : aov == "indirect" ? im.indirect : im.final;
+    engine::FloatImage reference;
+    if (!engine::readImage(args.values["compare"], reference, error)) {
+      std::fprintf(stderr, "gi-render: %s\n", error.c_str());
+      status = 1;
+    } else if (reference.width != img.width || reference.height != img.height) {
+      std::fprintf(stderr, "gi-render: %s is %ux%u, the image %ux%u\n", args.values["compare"].c_str(), reference.width,
+                   reference.height, img.width, img.height);
+      status = 1;
+    } else {
+      mseVsReference = metrics::mse(img, reference);
+      std::printf("MSE against %s: %.4e\n", args.values["compare"].c_str(), mseVsReference);
+    }
+  }
 
   double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
   double mraysPerSecond = run.gpuMs > 0.0 ? double(run.rays) / (run.gpuMs * 1e3) : 0.0;
@@ -324,6 +348,7 @@ int main(int argc, char** argv) {
     j["mrays_per_second"] = mraysPerSecond;
     j["wall_seconds"] = wall;
     j["validation_messages"] = ctx.validationMessages();
+    if (mseVsReference >= 0.0) j["mse_vs_reference"] = mseVsReference;
     std::ofstream f(args.values["stats"]);
     f << j.dump(2) << "\n";
     if (!f) {

@@ -207,6 +207,19 @@ def memory(path, before_path):
               f"{used - transient:.1f} | {full['blocks']} | {goal} | {verdict} |")
 
 
+def dynamic_resolution(path):
+    """The render size alternating within the module's largest size (scripts/bench dynamic_resolution): the
+    last frame's MSE against the reference with the size fixed and alternating, their ratio (issue 35's
+    goal: at most 1.5), and the module's memory after the first and the last frame."""
+    print("| sizes | method | MSE, fixed | MSE, alternating | alternating / fixed | memory after frame 1 / 36, MB |")
+    print("|---|---|---|---|---|---|")
+    for r in rows(path):
+        ratio = float(r["mse_alternating"]) / float(r["mse_fixed"])
+        print(f"| {r['large']} with {r['small']} | `{r['method']}` | {float(r['mse_fixed']):.3e} | "
+              f"{float(r['mse_alternating']):.3e} | {ratio:.2f}" + ("" if ratio <= 1.5 else " (over)") +
+              f" | {int(r['memory_first_frame']) / 1e6:.2f} / {int(r['memory_last_frame']) / 1e6:.2f} |")
+
+
 def ab(prefix, a_name, b_name, scenes):
     """Two runs of the same configurations against the same reference (args: PREFIX A B SCENE ...; the runs
     are PREFIX_<scene>_A and PREFIX_<scene>_B): each method's final and indirect MSE, the means over the
@@ -708,6 +721,7 @@ KINDS = {
     # A table a test wrote, committed as it came (tests/extremes_test.cpp: extremes.md).
     "file": lambda a: print(open(a[0], encoding="utf-8").read().strip()),
     "memory": lambda a: memory(a[0], a[1]),
+    "dynamic_resolution": lambda a: dynamic_resolution(a[0]),
     "gif_order": gif_order,
     "filter_cost": lambda a: filter_cost(a[0]),
     "aaf_cost": aaf_cost,

@@ -183,9 +183,9 @@ struct ModuleDesc {
   VkPhysicalDevice physicalDevice = VK_NULL_HANDLE;
   VkDevice device = VK_NULL_HANDLE;  // with the features and extensions of gi/device.h
   uint32_t width = 0, height = 0;    // render size in pixels, [1, 16384]
-  // Largest render size resize() may ask for without losing the hash map's
-  // light (dynamic resolution); 0 = width/height. Per-pixel buffers of the
-  // hash methods are allocated at this size.
+  // Largest render size (dynamic resolution); 0 = width/height. Every per-pixel image (the outputs
+  // included) and the hash methods' per-pixel buffers are allocated at this size, and resize() within
+  // it allocates nothing and keeps the history; the render size is the top-left width × height of them.
   uint32_t maxWidth = 0, maxHeight = 0;
   uint32_t framesInFlight = 2;       // [1, 4]: frames the engine records before waiting on the oldest
   SceneDesc scene;
@@ -226,7 +226,8 @@ struct ModuleDesc {
 };
 
 // G-buffer views in the formats and encodings of ModuleDesc::gbuffer, GENERAL
-// layout (depth: GBufferDesc::depthLayout), sampled images.
+// layout (depth: GBufferDesc::depthLayout), sampled images; at least the render size, which the module
+// reads from their top left (images of the largest size serve every size of dynamic resolution).
 struct GBufferViews {
   VkImageView normal, albedo, material, emission, motion, depth;
 };
@@ -258,7 +259,8 @@ struct FrameInputs {
 };
 
 // Module-owned images in ModuleDesc::outputFormat, GENERAL layout after
-// recordFrame, usage STORAGE | SAMPLED | TRANSFER_SRC, rgb = light, a = 1:
+// recordFrame, usage STORAGE | SAMPLED | TRANSFER_SRC, ModuleDesc::maxWidth × maxHeight (the frame is
+// its top-left render size; gi::resize), rgb = light, a = 1:
 //   direct    emission + direct light of the primary hit, W/(sr·m²) × preExposure
 //   indirect  demodulated indirect light (the light a white Lambertian surface
 //             would reflect), × preExposure; multiply by the diffuse albedo
@@ -386,11 +388,13 @@ Error setScene(Module* module, const SceneDesc& scene);
 // Takes effect in the next recordFrame.
 enum class Invalidate : uint32_t { All, LightsChanged, History };
 void invalidate(Module* module, Invalidate what);
-// A new render size: the module's images and filters start over at that
-// size; within ModuleDesc::maxWidth × maxHeight the hash map keeps its cells
-// (anhpsf's continued paths restart), beyond it the map starts over too. The
-// old images are released once the frames using them complete; the caller
-// passes G-buffer views of the new size from the next frame on.
+// A new render size. Within ModuleDesc::maxWidth × maxHeight (dynamic resolution): the frames from the
+// next on render the top-left width × height of the same images. Nothing is allocated or replaced,
+// gi::outputs() stays, the histories carry on (reprojected across the change of scale: the G-buffer's
+// motion is in the new size's pixels) and so does the hash map; anhpsf's continued paths restart. The
+// engine renders its G-buffer into the same top-left rectangle of its views (which may be larger) and
+// reads that rectangle of the outputs. Beyond the maximum it becomes the new maximum: every image and
+// the hash map start over at it, the old ones are released once the frames using them complete.
 Error resize(Module* module, uint32_t width, uint32_t height);
 // Records the frame's passes into `cmd`. Fails (recording nothing) only on
 // missing G-buffer views or a pre-exposure that is not positive and finite.
@@ -402,8 +406,8 @@ struct OutputScales {
   float direct = 1.0f, indirect = 1.0f, composite = 1.0f;
 };
 OutputScales outputScales(const Settings& settings, float preExposure);
-// The images the frames write. They change only on resize (setSettings keeps
-// them, whatever method it switches to): bind them once per size.
+// The images the frames write. They change only on a resize beyond the largest size (setSettings and
+// dynamic resolution keep them): bind them once per largest size.
 Outputs outputs(const Module* module);
 // Numbers from the newest recorded frame whose GPU work has completed (with
 // ModuleDesc::timestamps off the module cannot tell and trusts that the
