@@ -101,3 +101,20 @@ TEST(ForeignEngine, BadInputIsANamedError) {
   EXPECT_EQ(runProcess(GI_FOREIGN_ENGINE_BINARY, "--scene x.gltf --method magic", out), 1) << out;
   EXPECT_NE(out.find("unknown method magic"), std::string::npos) << out;
 }
+
+// Issue 35 §5: the engine reads everything in SHADER_READ_ONLY_OPTIMAL (its G-buffer, depth included)
+// and keeps the outputs in the layout it samples them in, reading them in a fragment shader
+// (examples/foreign_engine/present_pass.h) with 3 frames in flight for 100 frames: no validation
+// message with synchronization validation on, for a method with history (svgf) and a hash method.
+TEST(ForeignEngine, OutputsSampledInAFragmentShaderForAHundredFramesThreeInFlight) {
+  for (const char* method : {"svgf", "hpsf"}) {
+    std::string out;
+    ASSERT_EQ(runProcess(GI_FOREIGN_ENGINE_BINARY, std::string("--method ") + method +
+                                                       " --frames 100 --size 32x32 --validation --scene " + kCornell,
+                         out),
+              0)
+        << out;
+    EXPECT_NE(out.find("100 frames (jittered, 3 in flight)"), std::string::npos) << out;
+    EXPECT_NE(out.find("validation messages: 0"), std::string::npos) << out;
+  }
+}

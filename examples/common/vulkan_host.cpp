@@ -224,6 +224,15 @@ void memoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags2 srcStage, VkAccess
   vkCmdPipelineBarrier2(cmd, &dep);
 }
 
+VkShaderModule createShaderModule(const Host& h, const uint32_t* words, size_t bytes) {
+  VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+  info.codeSize = bytes;
+  info.pCode = words;
+  VkShaderModule m;
+  EXAMPLE_CHECK(vkCreateShaderModule(h.device, &info, nullptr, &m));
+  return m;
+}
+
 void recordReadback(VkCommandBuffer cmd, VkImage image, VkExtent2D extent, const Buffer& out, VkImageLayout layout) {
   memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                 VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);

@@ -55,6 +55,7 @@ void destroyHost(Host& h);
 Buffer createBuffer(const Host& h, VkDeviceSize size, VkBufferUsageFlags usage, const void* data = nullptr);
 void destroyBuffer(const Host& h, Buffer& b);
 Image createImage(const Host& h, VkFormat format, VkExtent2D extent, VkImageUsageFlags usage, VkImageAspectFlags aspect);
+VkShaderModule createShaderModule(const Host& h, const uint32_t* words, size_t bytes);
 void destroyImage(const Host& h, Image& img);
 
 void imageBarrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, VkImageLayout from, VkImageLayout to,

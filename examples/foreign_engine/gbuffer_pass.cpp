@@ -14,15 +14,6 @@ struct DrawPush {  // gbuffer.vert's Draw block
 };
 static_assert(sizeof(DrawPush) == 112);
 
-VkShaderModule shaderModule(const example::Host& h, const uint32_t* words, size_t bytes) {
-  VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-  info.codeSize = bytes;
-  info.pCode = words;
-  VkShaderModule m;
-  EXAMPLE_CHECK(vkCreateShaderModule(h.device, &info, nullptr, &m));
-  return m;
-}
-
 void createPipeline(const example::Host& h, GBufferPass& p) {
   VkDescriptorSetLayoutBinding binding{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1,
                                        VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, nullptr};
@@ -61,8 +52,8 @@ void createPipeline(const example::Host& h, GBufferPass& p) {
   layoutInfo.pPushConstantRanges = &push;
   EXAMPLE_CHECK(vkCreatePipelineLayout(h.device, &layoutInfo, nullptr, &p.layout));
 
-  VkShaderModule vert = shaderModule(h, spv_gbuffer_vert, sizeof(spv_gbuffer_vert));
-  VkShaderModule frag = shaderModule(h, spv_gbuffer_frag, sizeof(spv_gbuffer_frag));
+  VkShaderModule vert = example::createShaderModule(h, spv_gbuffer_vert, sizeof(spv_gbuffer_vert));
+  VkShaderModule frag = example::createShaderModule(h, spv_gbuffer_frag, sizeof(spv_gbuffer_frag));
   VkPipelineShaderStageCreateInfo stages[2]{};
   stages[0] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_VERTEX_BIT, vert, "main", nullptr};
   stages[1] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_FRAGMENT_BIT, frag, "main", nullptr};
@@ -130,7 +121,7 @@ gi::GBufferDesc gbufferDesc() {
   d.glossy = gi::GlossyFlag::FromMaterial;
   d.depthFormat = kDepthFormat;
   d.depthEncoding = gi::DepthEncoding::HardwareReversed;
-  d.depthLayout = VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL;
+  d.depthLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
   d.colorLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;  // as an engine leaves targets it samples
   d.motion = gi::MotionUnits::Pixels;
   return d;
@@ -202,7 +193,7 @@ void recordGBuffer(VkCommandBuffer cmd, GBufferPass& p, uint32_t slot, const Fra
                  VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, reads, 0, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
                  VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
   example::imageBarrier(cmd, p.depth.image, VK_IMAGE_ASPECT_DEPTH_BIT,
-               p.initialised ? VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL : VK_IMAGE_LAYOUT_UNDEFINED,
+               p.initialised ? VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL : VK_IMAGE_LAYOUT_UNDEFINED,
                VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, reads, 0,
                VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
                VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT);
@@ -253,7 +244,7 @@ void recordGBuffer(VkCommandBuffer cmd, GBufferPass& p, uint32_t slot, const Fra
                  VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
   example::imageBarrier(cmd, p.depth.image, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
-               VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
+               VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
                VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
 }

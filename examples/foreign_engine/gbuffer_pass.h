@@ -64,8 +64,8 @@ struct GBufferPass {
 
 void createGBufferPass(const example::Host& h, const SceneFile& scene, VkExtent2D extent, GBufferPass& pass);
 void destroyGBufferPass(const example::Host& h, GBufferPass& pass);
-// Rasterises the scene; leaves the colour targets in GENERAL and the depth in
-// DEPTH_READ_ONLY_OPTIMAL, made visible to compute-shader sampled reads.
+// Rasterises the scene; leaves every target (depth included) in SHADER_READ_ONLY_OPTIMAL, made visible
+// to compute-shader sampled reads.
 void recordGBuffer(VkCommandBuffer cmd, GBufferPass& pass, uint32_t slot, const FrameUniforms& uniforms);
 gi::GBufferViews gbufferViews(const GBufferPass& pass);
 // The pass's own vertex and index buffers, as the module's device meshes

@@ -4,8 +4,11 @@
 // rasterises its own G-buffer (octahedral RG16 normals, sRGB albedo,
 // hardware reversed-Z depth) with a projection jittered every frame, hands
 // the scene to the module (gi::createScene) and the G-buffer to each frame
-// (gi::recordFrame), two frames in flight. It reports the mean demodulated
-// indirect light over its frames, which the tests compare with gi-render's.
+// (gi::recordFrame), three frames in flight. Everything the module reads is
+// in SHADER_READ_ONLY_OPTIMAL, and the engine keeps the outputs in that
+// layout and samples them in a fragment shader (present_pass.h). It reports
+// the mean demodulated indirect light over its frames, which the tests
+// compare with gi-render's.
 //
 //   foreign_engine --scene FILE.gltf [--method NAME] [--size WxH] [--frames N] [--max-bounces B] [--view NAME] [--meshes device|cpu] [--out FILE.pfm] [--validation]
 //
@@ -17,7 +20,6 @@
 #include <gi/gi.h>
 #include <gi/scene.h>
 
-#include <glm/gtc/packing.hpp>
 
 #include <cmath>
 #include <cstring>
@@ -26,6 +28,7 @@
 
 #include "gbuffer_pass.h"
 #include "gltf_scene.h"
+#include "present_pass.h"
 #include "vulkan_host.h"
 
 namespace {
@@ -207,7 +210,7 @@ int main(int argc, char** argv) {
   desc.framesInFlight = kFramesInFlight;
   desc.scene = gi::sceneDesc(scene);
   desc.gbuffer = foreign::gbufferDesc();
-  desc.outputLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;  // the layout this engine copies them in
+  desc.outputLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;  // the layout this engine samples them in
   gi::Settings settings;
   settings.method = options.method;
   settings.debugView = options.view;
@@ -221,6 +224,10 @@ int main(int argc, char** argv) {
   const float preExposure = 1.0f / desc.scene.typicalRadiance;
   const gi::OutputScales scales = gi::outputScales(settings, preExposure);  // 1 for debug views that are pictures
   const float scale = options.view == gi::DebugView::None ? scales.indirect : scales.composite;
+  const gi::Outputs outputs = gi::outputs(module);  // a debug view is shown in the composite
+  foreign::PresentPass present;
+  foreign::createPresentPass(h, extent, options.view == gi::DebugView::None ? outputs.indirectView : outputs.compositeView,
+                             present);
 
   VkCommandBuffer cmds[kFramesInFlight];
   VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
@@ -235,22 +242,21 @@ int main(int argc, char** argv) {
     VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
     fenceInfo.flags = VK_FENCE_CREATE_SIGNALED_BIT;
     EXAMPLE_CHECK(vkCreateFence(h.device, &fenceInfo, nullptr, &fences[i]));
-    readback[i] = example::createBuffer(h, pixels * 8, VK_BUFFER_USAGE_TRANSFER_DST_BIT);  // rgba16f
+    readback[i] = example::createBuffer(h, pixels * 16, VK_BUFFER_USAGE_TRANSFER_DST_BIT);  // rgba32f
   }
 
   // --- frames ----------------------------------------------------------------------
   std::vector<glm::dvec3> frameMeans;
   std::vector<float> meanImage;  // rgb, W/(sr·m²), rows top to bottom: the frames' mean
   auto collect = [&](uint32_t slot) {  // the mean indirect light of the frame that used `slot`
-    const uint16_t* texels = static_cast<const uint16_t*>(readback[slot].mapped);
+    const float* texels = static_cast<const float*>(readback[slot].mapped);  // radiance: the present pass divided
     glm::dvec3 sum(0.0);
     for (size_t p = 0; p < pixels; ++p)
-      for (int c = 0; c < 3; ++c) sum[c] += glm::unpackHalf1x16(texels[4 * p + size_t(c)]) / scale;
+      for (int c = 0; c < 3; ++c) sum[c] += texels[4 * p + size_t(c)];
     frameMeans.push_back(sum / double(pixels));
     meanImage.resize(pixels * 3, 0.0f);
     for (size_t p = 0; p < pixels; ++p)
-      for (int c = 0; c < 3; ++c)
-        meanImage[3 * p + size_t(c)] += glm::unpackHalf1x16(texels[4 * p + size_t(c)]) / scale / float(options.frames);
+      for (int c = 0; c < 3; ++c) meanImage[3 * p + size_t(c)] += texels[4 * p + size_t(c)] / float(options.frames);
   };
   glm::mat4 previousMotionClip(0.0f);
   for (uint32_t frame = 0; frame < options.frames; ++frame) {
@@ -278,9 +284,9 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "foreign_engine: gi::recordFrame: %s\n", e.message.c_str());
       return 1;
     }
-    const gi::Outputs outputs = gi::outputs(module);  // a debug view is shown in the composite
-    example::recordReadback(cmd, options.view == gi::DebugView::None ? outputs.indirect : outputs.composite, extent,
-                            readback[slot], desc.outputLayout);
+    // The output sampled in a fragment shader: the module's last barrier made it visible, and the next
+    // recordFrame waits for this read before writing it again.
+    foreign::recordPresent(cmd, present, slot, scale, readback[slot]);
     EXAMPLE_CHECK(vkEndCommandBuffer(cmd));
     VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
     submit.commandBufferCount = 1;
@@ -314,6 +320,7 @@ int main(int argc, char** argv) {
     vkDestroyFence(h.device, fences[i], nullptr);
     example::destroyBuffer(h, readback[i]);
   }
+  foreign::destroyPresentPass(h, present);
   gi::destroy(module);
   gi::destroyScene(scene);
   foreign::destroyGBufferPass(h, gbuffer);
