@@ -70,17 +70,17 @@ uvec2 giPrimaryReservoir(ivec2 p) {
 // Output images hold radiance × outputScale, clamped into the format's range
 // (a half float overflows to Inf past 65504). Loads give radiance back.
 vec3 giOutputEncode(vec3 radiance, float scale, float limit) { return clamp(radiance * scale, vec3(-limit), vec3(limit)); }
-#define GI_OUTPUT_ACCESS(Name, image)                                                                    \
-  void giStore##Name(ivec2 p, vec3 radiance) { imageStore(image, p, vec4(giOutputEncode(radiance, giFrame.outputScale, giFrame.outputMax), 1.0)); } \
+#define GI_OUTPUT_ACCESS(Name, image, limit)                                                                    \
+  void giStore##Name(ivec2 p, vec3 radiance) { imageStore(image, p, vec4(giOutputEncode(radiance, giFrame.outputScale, limit), 1.0)); } \
   vec3 giLoad##Name(ivec2 p) { return imageLoad(image, p).rgb / giFrame.outputScale; }
-GI_OUTPUT_ACCESS(Direct, giOutDirect)
+GI_OUTPUT_ACCESS(Direct, giOutDirect, giFrame.outputMax)
 // The hash methods' temporal pass hands the history's frames to the composite pass in the direct
 // output's alpha; the composite puts the 1 back.
 void giStoreDirectAndFrames(ivec2 p, vec3 radiance, float frames) {
   imageStore(giOutDirect, p, vec4(giOutputEncode(radiance, giFrame.outputScale, giFrame.outputMax), frames));
 }
-GI_OUTPUT_ACCESS(Indirect, giOutIndirect)
-GI_OUTPUT_ACCESS(Composite, giOutComposite)
+GI_OUTPUT_ACCESS(Indirect, giOutIndirect, giFrame.outputMax)
+GI_OUTPUT_ACCESS(Composite, giOutComposite, giFrame.compositeMax)
 // The noisy indirect keeps its alpha (the filter-vertex flag).
 void giStoreNoisy(ivec2 p, vec3 radiance, float alpha) {
   imageStore(giNoisyIndirect, p, vec4(giOutputEncode(radiance, giFrame.noisyScale, giFrame.noisyMax), alpha));

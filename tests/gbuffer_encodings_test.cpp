@@ -287,7 +287,7 @@ TEST_F(GBufferEncodingsTest, EveryAcceptedEncodingGivesTheSameImage) {
     engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { ASSERT_FALSE(gi::recordFrame(module, cmd, in)); });
     const gi::Outputs o = gi::outputs(module);
     engine::ReferenceImages out;
-    out.final = engine::readbackRgb(ctx, o.composite, o.format, {kSize, kSize});
+    out.final = engine::readbackRgb(ctx, o.composite, o.compositeFormat, {kSize, kSize});
     out.direct = engine::readbackRgb(ctx, o.direct, o.format, {kSize, kSize});
     images.push_back(out);
     gi::destroy(module);
@@ -581,7 +581,7 @@ TEST(GBufferLayouts, ReadOnlyGBufferAndOutputsInTheEnginesLayoutGiveTheSameFrame
     }
     vkDeviceWaitIdle(ctx.device);
     const gi::Outputs o = gi::outputs(module);
-    composites.push_back(engine::readbackRgb(ctx, o.composite, o.format, {kSize, kSize}, 1.0f, run.outputs));
+    composites.push_back(engine::readbackRgb(ctx, o.composite, o.compositeFormat, {kSize, kSize}, 1.0f, run.outputs));
     engine::destroyFrameSlots(ctx, slots);
     for (engine::Image& img : uploaded.images) engine::destroyImage(ctx, img);
     gi::destroy(module);
@@ -625,7 +625,7 @@ TEST_F(GBufferEncodingsTest, WithoutAnEmissionViewTheEngineAddsTheEmission) {
     const gi::Outputs o = gi::outputs(module);
     out[withEmission].direct = engine::readbackRgb(ctx, o.direct, o.format, {kSize, kSize});
     out[withEmission].indirect = engine::readbackRgb(ctx, o.indirect, o.format, {kSize, kSize});
-    out[withEmission].final = engine::readbackRgb(ctx, o.composite, o.format, {kSize, kSize});
+    out[withEmission].final = engine::readbackRgb(ctx, o.composite, o.compositeFormat, {kSize, kSize});
     gi::destroy(module);
   }
   for (engine::Image& img : uploaded.images) engine::destroyImage(ctx, img);

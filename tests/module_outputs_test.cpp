@@ -24,9 +24,10 @@ struct Stored {
 // `history`), pre-exposed by `preExposure`. Use as ASSERT_NO_FATAL_FAILURE(renderOutputs(...)).
 void renderOutputs(const engine::Context& ctx, LoadedScene& s, const gi::Settings& settings, VkFormat format,
                    float preExposure, Stored& out, VkFormat history = VK_FORMAT_R16G16B16A16_SFLOAT,
-                   uint32_t frames = kFrames) {
+                   uint32_t frames = kFrames, VkFormat composite = VK_FORMAT_UNDEFINED) {
   gi::ModuleDesc desc = tools::moduleDesc(ctx, s.gpu, {kSize, kSize});
   desc.outputFormat = format;
+  desc.compositeFormat = composite;
   desc.historyFormat = history;
   tools::ModuleSession session;
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {kSize, kSize}, settings, session, &desc));
@@ -35,9 +36,10 @@ void renderOutputs(const engine::Context& ctx, LoadedScene& s, const gi::Setting
   for (uint32_t f = 0; f < frames; ++f) tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, f);
   const gi::Outputs o = gi::outputs(session.module);
   EXPECT_EQ(o.format, format);
+  EXPECT_EQ(o.compositeFormat, composite == VK_FORMAT_UNDEFINED ? format : composite);
   out.direct = engine::readbackRgb(ctx, o.direct, o.format, {kSize, kSize});
   out.indirect = engine::readbackRgb(ctx, o.indirect, o.format, {kSize, kSize});
-  out.composite = engine::readbackRgb(ctx, o.composite, o.format, {kSize, kSize});
+  out.composite = engine::readbackRgb(ctx, o.composite, o.compositeFormat, {kSize, kSize});
   tools::destroyModuleSession(ctx, session);
 }
 
@@ -76,6 +78,44 @@ TEST_F(ModuleOutputsTest, HalfFloatOutputsMatchSingleFloatOnes) {
     EXPECT_LT(indirect, 2e-3) << name << " indirect";
     EXPECT_LT(composite, 2e-3) << name << " composite";
   }
+  unload(s);
+}
+
+// ModuleDesc::compositeFormat = B10G11R11_UFLOAT_PACK32 (an engine's HDR target): every method's
+// direct and indirect outputs are bit for bit those of the half-float default, and its composite is
+// theirs to the packed format's steps (6 mantissa bits in red and green, 5 in blue: a value is within
+// 1/32 of itself after one rounding; gif's supersampling reads the composite and rounds again). A
+// format the module does not take is a named error.
+TEST_F(ModuleOutputsTest, APackedCompositeIsTheHalfFloatOneToItsSteps) {
+  LoadedScene s;
+  load(sharedScene("cornell-simple/cornell_simple.gltf"), s);
+  const float preExposure = 1.0f / s.gpu.desc.typicalRadiance;
+  constexpr VkFormat kHalf = VK_FORMAT_R16G16B16A16_SFLOAT, kPacked = VK_FORMAT_B10G11R11_UFLOAT_PACK32;
+  for (uint32_t i = 0; i < gi::kMethodCount; ++i) {
+    gi::Settings settings;
+    settings.method = gi::Method(i);
+    const char* name = gi::methodName(settings.method);
+    Stored half, packed;
+    ASSERT_NO_FATAL_FAILURE(renderOutputs(ctx, s, settings, kHalf, preExposure, half));
+    ASSERT_NO_FATAL_FAILURE(renderOutputs(ctx, s, settings, kHalf, preExposure, packed, kHalf, kFrames, kPacked));
+    EXPECT_TRUE(sameBits(half.direct, packed.direct)) << name;
+    EXPECT_TRUE(sameBits(half.indirect, packed.indirect)) << name;
+    size_t outside = 0;
+    for (size_t v = 0; v < half.composite.pixels.size(); ++v) {
+      const float a = packed.composite.pixels[v], b = std::max(half.composite.pixels[v], 0.0f);
+      outside += !(std::fabs(a - b) <= b / 16.0f + 1e-4f);
+    }
+    EXPECT_EQ(outside, 0u) << name;
+    std::printf("%-9s packed composite vs half, relative L1 %.2e\n", name, relativeL1(packed.composite, half.composite));
+    EXPECT_LT(relativeL1(packed.composite, half.composite), 1e-2) << name;
+  }
+  gi::ModuleDesc desc = tools::moduleDesc(ctx, s.gpu, {kSize, kSize});
+  desc.compositeFormat = VK_FORMAT_R8G8B8A8_UNORM;
+  gi::Module* m = nullptr;
+  const gi::Error e = gi::create(desc, gi::Settings{}, m);
+  EXPECT_EQ(e.code, gi::ErrorCode::UnsupportedFormat);
+  EXPECT_NE(e.message.find("desc.compositeFormat = R8G8B8A8Unorm"), std::string::npos) << e.message;
+  EXPECT_EQ(m, nullptr);
   unload(s);
 }
 

@@ -140,7 +140,7 @@ engine::ReferenceImages readModuleImages(const engine::Context& ctx, const Modul
   engine::ReferenceImages out;
   gi::Outputs o = gi::outputs(s.module);
   const gi::OutputScales scale = gi::outputScales(gi::settings(s.module), s.preExposure);
-  out.final = engine::readbackRgb(ctx, o.composite, o.format, s.extent, scale.composite);
+  out.final = engine::readbackRgb(ctx, o.composite, o.compositeFormat, s.extent, scale.composite);
   out.direct = engine::readbackRgb(ctx, o.direct, o.format, s.extent, scale.direct);
   out.indirect = engine::readbackRgb(ctx, o.indirect, o.format, s.extent, scale.indirect);
   size_t n = size_t(s.extent.width) * s.extent.height;

@@ -50,7 +50,11 @@ uint32_t aafSampleBudget(const Module& m, uint32_t slot) {
 float radianceScale(const Module& m) { return 1.0f / m.desc.scene.typicalRadiance; }
 
 // The largest finite value an image of `format` holds: stores clamp to it (a half float overflows to Inf).
-float largestFinite(VkFormat format) { return format == VK_FORMAT_R16G16B16A16_SFLOAT ? 65504.0f : FLT_MAX; }
+float largestFinite(VkFormat format) {
+  return format == VK_FORMAT_R16G16B16A16_SFLOAT     ? 65504.0f
+         : format == VK_FORMAT_B10G11R11_UFLOAT_PACK32 ? 65024.0f  // the 10-bit blue channel's (11-bit: 65024 too)
+                                                       : FLT_MAX;
+}
 // What the module's own light images hold per unit of radiance: half floats radiance over the scene's
 // typical radiance (in range at any scene brightness), single floats radiance as it is.
 float lightScale(const Module& m, VkFormat format) {
@@ -368,7 +372,8 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
                               // Previous − current of the NDC shifts (jitter, off-axis), in pixels.
                               m.desc.gbuffer.motionHasJitter ? glm::vec2(0.0f)
                                                              : (previousCamera.ndcShift - camera.ndcShift) * halfSize,
-                              {m.previousWidth, m.previousHeight}};
+                              {m.previousWidth, m.previousHeight},
+                              largestFinite(compositeFormat(m.desc))};
   std::memcpy(static_cast<std::byte*>(m.frameConstants.memory.mapped) + slot * m.frameConstantsStride, &frame, sizeof(frame));
   beginFrame(m, cmd, slot, in);
   // History survives only while the view and the settings stay put.

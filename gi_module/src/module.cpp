@@ -144,9 +144,20 @@ Error checkGBufferFormats(const Module& m) {
     VkFormatProperties p{};
     m.gpu.fn.vkGetPhysicalDeviceFormatProperties(m.desc.physicalDevice, format, &p);
     if (!(p.optimalTilingFeatures & VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT))
-      return {ErrorCode::UnsupportedFormat, std::string(field) + " = VkFormat " + std::to_string(int(format)) +
+      return {ErrorCode::UnsupportedFormat, std::string(field) + " = " + vk::formatName(format) +
                                                 ": the device cannot sample it"};
   }
+  return {};
+}
+
+// The composite's format (B10G11R11 is not every device's storage format).
+Error checkOutputFormats(const Module& m) {
+  VkFormatProperties p{};
+  const VkFormat composite = compositeFormat(m.desc);
+  m.gpu.fn.vkGetPhysicalDeviceFormatProperties(m.desc.physicalDevice, composite, &p);
+  if (!(p.optimalTilingFeatures & VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT))
+    return {ErrorCode::UnsupportedFormat,
+            "desc.compositeFormat = " + vk::formatName(composite) + ": the device cannot store to it (a storage image)"};
   return {};
 }
 
@@ -174,8 +185,13 @@ Error checkDesc(const ModuleDesc& d) {
     return {ErrorCode::OutOfRange, "desc.outputLayout = " + vk::layoutName(d.outputLayout) +
                                        " is not GENERAL, SHADER_READ_ONLY_OPTIMAL or TRANSFER_SRC_OPTIMAL"};
   if (d.outputFormat != VK_FORMAT_R16G16B16A16_SFLOAT && d.outputFormat != VK_FORMAT_R32G32B32A32_SFLOAT)
-    return {ErrorCode::UnsupportedFormat, "desc.outputFormat = VkFormat " + std::to_string(int(d.outputFormat)) +
-                                              " is not VK_FORMAT_R16G16B16A16_SFLOAT or VK_FORMAT_R32G32B32A32_SFLOAT"};
+    return {ErrorCode::UnsupportedFormat, "desc.outputFormat = " + vk::formatName(d.outputFormat) +
+                                              " is not R16G16B16A16Sfloat or R32G32B32A32Sfloat"};
+  if (d.compositeFormat != VK_FORMAT_UNDEFINED && d.compositeFormat != VK_FORMAT_R16G16B16A16_SFLOAT &&
+      d.compositeFormat != VK_FORMAT_R32G32B32A32_SFLOAT && d.compositeFormat != VK_FORMAT_B10G11R11_UFLOAT_PACK32)
+    return {ErrorCode::UnsupportedFormat, "desc.compositeFormat = " + vk::formatName(d.compositeFormat) +
+                                              " is not Undefined, R16G16B16A16Sfloat, R32G32B32A32Sfloat or "
+                                              "B10G11R11UfloatPack32"};
   if (d.historyFormat != VK_FORMAT_R16G16B16A16_SFLOAT && d.historyFormat != VK_FORMAT_R32G32B32A32_SFLOAT)
     return {ErrorCode::UnsupportedFormat, "desc.historyFormat = VkFormat " + std::to_string(int(d.historyFormat)) +
                                               " is not VK_FORMAT_R16G16B16A16_SFLOAT or VK_FORMAT_R32G32B32A32_SFLOAT"};
@@ -268,7 +284,7 @@ vk::Status createTimestamps(Module& m) {
 // Every buffer and image the module holds at its size and settings, in the order predictMemory replays.
 vk::Status createMemoryResources(Module& m) {
   GI_TRY(createFrameBuffers(m));
-  GI_TRY(createOutputImages(m.gpu, m.desc.maxWidth, m.desc.maxHeight, m.desc.outputFormat, m.outputs));
+  GI_TRY(createOutputImages(m.gpu, m.desc.maxWidth, m.desc.maxHeight, m.desc, m.outputs));
   GI_TRY(createSizedResources(m, m.settings, m.desc.maxWidth, m.desc.maxHeight, m.outputs, m.sized));
   if (usesHashGrid(m.settings.method)) GI_TRY(createHashGridFor(m, m.settings, m.desc.maxWidth, m.desc.maxHeight, m.hash));
   return {};
@@ -446,7 +462,7 @@ Error create(const ModuleDesc& desc, const Settings& settings, Module*& out) {
     delete m;
     return e;
   }
-  if (Error e = checkGBufferFormats(*m)) {
+  if (Error e = checkGBufferFormats(*m); e || (e = checkOutputFormats(*m))) {
     delete m;
     return e;
   }
@@ -479,6 +495,7 @@ Error predictMemory(const ModuleDesc& desc, const Settings& settings, MemoryPred
     return {ErrorCode::MissingHandle,
             std::string("gi::predictMemory: desc.getInstanceProcAddr returned no ") + s.call + " for this instance and device",
             s.result};
+  if (Error e = checkOutputFormats(m)) return e;
   const vk::Status built = createMemoryResources(m);
   out.heldBytes = m.gpu.memory.held;
   out.usedBytes = m.gpu.memory.used;
@@ -597,7 +614,7 @@ Error resize(Module* m, uint32_t width, uint32_t height) {
   OutputImages outputs;
   SizedResources sized;
   HashGrid hash;
-  vk::Status built = createOutputImages(m->gpu, maxWidth, maxHeight, m->desc.outputFormat, outputs);
+  vk::Status built = createOutputImages(m->gpu, maxWidth, maxHeight, m->desc, outputs);
   if (!built) built = createSizedResources(*m, m->settings, maxWidth, maxHeight, outputs, sized);
   if (!built && usesHashGrid(m->settings.method)) built = createHashGridFor(*m, m->settings, maxWidth, maxHeight, hash);
   if (built) {
@@ -636,7 +653,7 @@ OutputScales outputScales(const Settings& s, float preExposure) {
 Outputs outputs(const Module* m) {
   const OutputImages& o = m->outputs;
   return {o.direct.image, o.indirect.image, o.composite.image, o.direct.view, o.indirect.view, o.composite.view,
-          m->desc.outputFormat};
+          m->desc.outputFormat, compositeFormat(m->desc)};
 }
 
 }  // namespace gi

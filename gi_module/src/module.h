@@ -133,7 +133,9 @@ vk::Status createSizedResources(Module& m, const Settings& settings, uint32_t wi
 void destroySizedResources(vk::Device& gpu, SizedResources& r);
 // Moves images not used yet (new outputs, new sized resources) to GENERAL layout.
 void recordFirstUse(const vk::Device& gpu, VkCommandBuffer cmd, OutputImages& outputs, SizedResources& r);
-vk::Status createOutputImages(vk::Device& gpu, uint32_t width, uint32_t height, VkFormat format, OutputImages& out);
+// The three outputs: direct and indirect in desc.outputFormat, the composite in compositeFormat(desc).
+vk::Status createOutputImages(vk::Device& gpu, uint32_t width, uint32_t height, const ModuleDesc& desc, OutputImages& out);
+VkFormat compositeFormat(const ModuleDesc& desc);
 // The hash methods trace their noisy indirect straight into the indirect output (no image of its own).
 bool noisyAliasesIndirect(const SizedResources& r);
 // The images whose contents live within one frame (written before they are

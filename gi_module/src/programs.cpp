@@ -82,7 +82,7 @@ vk::Status createMissing(Module& m, std::span<const ProgramUse> list) {
 
 // The placeholders the warm-up binds, for `settings`: 1×1 images, a 64-cell map.
 vk::Status buildWarmup(Module& m, const Settings& s, WarmupResources& w) {
-  GI_TRY(createOutputImages(m.gpu, 1, 1, m.desc.outputFormat, w.outputs));
+  GI_TRY(createOutputImages(m.gpu, 1, 1, m.desc, w.outputs));
   GI_TRY(createSizedResources(m, s, 1, 1, w.outputs, w.sized));
   if (usesHashGrid(s.method))
     GI_TRY(createHashGrid(m.gpu, m.hashLayout, 64, s.hpsf.eviction == EvictionPolicy::Strict ? 2u : 1u, 1, 1, 1,

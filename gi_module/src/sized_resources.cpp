@@ -219,10 +219,16 @@ std::vector<const vk::Image*> frameImages(const SizedResources& r) {
   return images;
 }
 
-vk::Status createOutputImages(vk::Device& gpu, uint32_t width, uint32_t height, VkFormat format, OutputImages& out) {
+VkFormat compositeFormat(const ModuleDesc& desc) {
+  return desc.compositeFormat == VK_FORMAT_UNDEFINED ? desc.outputFormat : desc.compositeFormat;
+}
+
+vk::Status createOutputImages(vk::Device& gpu, uint32_t width, uint32_t height, const ModuleDesc& desc, OutputImages& out) {
   OutputImages o;
   const VkImageUsageFlags usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
-  for (vk::Image* img : {&o.direct, &o.indirect, &o.composite})
+  const std::pair<vk::Image*, VkFormat> images[] = {
+      {&o.direct, desc.outputFormat}, {&o.indirect, desc.outputFormat}, {&o.composite, compositeFormat(desc)}};
+  for (const auto& [img, format] : images)
     if (vk::Status s = vk::createImage(gpu, {width, height}, format, usage, *img)) {
       destroyOutputImages(gpu, o);
       return s;

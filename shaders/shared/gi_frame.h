@@ -118,8 +118,10 @@ struct GiFrameConstants {
   vec2 motionScale;  // the G-buffer's stored motion → pixels: GBufferDesc::motionScale × its units' pixels
   vec2 motionOffset; // pixels added after: the cameras' jitter difference where the engine's motion leaves it out
   uvec2 previousSize;// last frame's render size in pixels (dynamic resolution: its histories cover that rectangle)
+  float compositeMax; // largest finite value of the composite's format (ModuleDesc::compositeFormat)
+  uint pad0;
 };
-GPU_ASSERT_SIZE(GiFrameConstants, 744);
+GPU_ASSERT_SIZE(GiFrameConstants, 752);
 
 // The temporal pass's history lengths (frames behind a pixel, this one included) are counted in this
 // many bins, the last holding every length from GI_HISTORY_BINS − 1 up: FrameStats::accumulatedFrames is

@@ -66,7 +66,7 @@
 
 #define GI_VERSION_MAJOR 0
 #define GI_VERSION_MINOR 10 // 0.10: device memory from the engine (ModuleDesc/SceneCreateDesc::deviceMemory),
-                            // predictMemory; 0.9: deformable meshes (MeshDesc::deformable, updateMeshVertices);
+                            // predictMemory, dynamic resolution within maxWidth × maxHeight, compositeFormat; 0.9: deformable meshes (MeshDesc::deformable, updateMeshVertices);
                             // 0.8: GBufferDesc::motionScale, motionHasJitter, MotionUnits::Ndc; defaults a host that
                             // sets nothing expects (GlossyFlag::FromMaterial, MaterialDesc::metallic 0);
                             // 0.7: Settings::reservoirs (ReSTIR DI for the primary hits), Settings::lights (NEE's sampler
@@ -211,6 +211,11 @@ struct ModuleDesc {
   // the memory; set FrameInputs::preExposure so the light stays within
   // ±65504) or VK_FORMAT_R32G32B32A32_SFLOAT. Anything else: UnsupportedFormat.
   VkFormat outputFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
+  // Format of the composite alone: VK_FORMAT_UNDEFINED (outputFormat), R16G16B16A16_SFLOAT,
+  // R32G32B32A32_SFLOAT, or B10G11R11_UFLOAT_PACK32 where the device can store to it (an engine's HDR
+  // target: 4 bytes a pixel, steps of at most 1/64 of a value, no sign, no alpha, up to 65024; where
+  // not, UnsupportedFormat). The direct and indirect outputs stay in outputFormat.
+  VkFormat compositeFormat = VK_FORMAT_UNDEFINED;
   // The layout the engine keeps the three outputs in between frames: GENERAL, SHADER_READ_ONLY_OPTIMAL
   // (it samples them) or TRANSFER_SRC_OPTIMAL (it copies them). recordFrame moves them to GENERAL after
   // every earlier command (the engine's reads of the last frame's outputs included) and back to this
@@ -272,7 +277,8 @@ struct FrameInputs {
 struct Outputs {
   VkImage direct, indirect, composite;
   VkImageView directView, indirectView, compositeView;
-  VkFormat format;  // ModuleDesc::outputFormat
+  VkFormat format;           // ModuleDesc::outputFormat: the direct and indirect outputs'
+  VkFormat compositeFormat;  // ModuleDesc::compositeFormat (outputFormat where that is UNDEFINED)
 };
 
 struct PassTiming {
