@@ -110,6 +110,8 @@ struct Scene {
   Sky sky;                      // not in glTF: set by the caller (--sky); black by default
   uint32_t lightSampler = 2;    // not in glTF: --light-sampler, gi::SceneCreateDesc's (gpu::LIGHT_SAMPLER_TREE)
   uint32_t lightTreeCut = 4;    // not in glTF: --light-tree-cut, gi::SceneCreateDesc's
+  bool bothTraversals = false;  // not in glTF: build both traversals' structures where the device has ray queries
+                                // (tests and benchmarks that compare them); else only the context's traversal
   SceneAnimations gltf;         // the file's node hierarchy, animations and skins (engine/gltf_animation.h)
 
   Bounds worldBounds() const;

@@ -128,8 +128,9 @@ void createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu, const
   desc.instance = ctx.instance;
   desc.physicalDevice = ctx.physicalDevice;
   desc.device = ctx.device;
-  // With ray queries enabled both structures are built, so either backend can trace it.
-  desc.traversal = ctx.rayQuery ? gpu::TRAVERSAL_RAY_QUERY : gpu::TRAVERSAL_COMPUTE;
+  // The structures of the context's traversal; both (either backend can trace it) where asked.
+  desc.bothTraversals = scene.bothTraversals && ctx.rayQuery;
+  desc.traversal = desc.bothTraversals ? gpu::TRAVERSAL_RAY_QUERY : ctx.traversalId();
   desc.lightSampler = scene.lightSampler;
   desc.lightTreeCut = scene.lightTreeCut;
   desc.deviceMemory = deviceMemory;

@@ -36,9 +36,9 @@ std::string warmOnSecondDevice(const engine::Context& ctx, const gi::ModuleDesc&
   sceneDesc.instance = desc.instance;
   sceneDesc.physicalDevice = desc.physicalDevice;
   sceneDesc.device = dev.device;
-  // Built as the engine builds its scenes (engine/scene_gpu.cpp): with the TLAS wherever the device has ray
-  // queries, whichever traversal runs, so that set 0's layout, and with it the compiled programs, match.
-  sceneDesc.traversal = ctx.rayQuery ? gpu::TRAVERSAL_RAY_QUERY : gpu::TRAVERSAL_COMPUTE;
+  // Built as the engine builds the demo's scenes (engine/scene_gpu.cpp): for the traversal that runs, so
+  // that set 0's layout, and with it the compiled programs, match.
+  sceneDesc.traversal = desc.scene.traversal;
   gi::Scene* scene = nullptr;
   gi::Module* module = nullptr;
   auto fail = [&](const std::string& what) {

@@ -166,6 +166,48 @@ TEST_F(SceneApiTest, InstanceMovedThroughUpdateInstancesMatchesTheSceneLoadedInT
   }
 }
 
+// The CPU BVH (Embree) is built only for the compute traversal: a ray-query scene holds no BVH and says
+// so (SceneDesc::hasComputeBvh), a module asked to trace it with the compute traversal is a named error,
+// and SceneCreateDesc::bothTraversals builds both.
+TEST_F(SceneApiTest, RayQueryScenesBuildNoCpuBvhUnlessAskedForBoth) {
+  if (!ctx.rayQuery) GTEST_SKIP() << "the device has no ray queries";
+  Quad q;
+  gi::Scene* rayQueryOnly = nullptr;
+  gi::Scene* both = nullptr;
+  gi::SceneCreateDesc desc = createDesc();
+  desc.traversal = gpu::TRAVERSAL_RAY_QUERY;
+  gi::Error e;
+  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { e = gi::createScene(desc, q.contents(), cmd, rayQueryOnly); });
+  ASSERT_FALSE(e) << e.message;
+  desc.bothTraversals = true;
+  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { e = gi::createScene(desc, q.contents(), cmd, both); });
+  ASSERT_FALSE(e) << e.message;
+  EXPECT_FALSE(gi::sceneDesc(rayQueryOnly).hasComputeBvh);
+  EXPECT_TRUE(rayQueryOnly->bvh.bottomNodes.empty() && rayQueryOnly->bvh.topNodes.empty()) << "no CPU BVH";
+  EXPECT_TRUE(gi::sceneDesc(both).hasComputeBvh);
+  EXPECT_FALSE(both->bvh.bottomNodes.empty());
+  EXPECT_LT(rayQueryOnly->gpu.memory.used, both->gpu.memory.used);
+  gi::ModuleDesc module;
+  module.getInstanceProcAddr = vkGetInstanceProcAddr;
+  module.instance = ctx.instance;
+  module.physicalDevice = ctx.physicalDevice;
+  module.device = ctx.device;
+  module.width = module.height = 8;
+  module.scene = gi::sceneDesc(rayQueryOnly);
+  module.scene.traversal = gpu::TRAVERSAL_COMPUTE;
+  gi::Module* m = nullptr;
+  e = gi::create(module, gi::Settings{}, m);
+  EXPECT_EQ(e.code, gi::ErrorCode::OutOfRange);
+  EXPECT_NE(e.message.find("built for ray queries alone"), std::string::npos) << e.message;
+  EXPECT_EQ(m, nullptr);
+  module.scene = gi::sceneDesc(both);
+  module.scene.traversal = gpu::TRAVERSAL_COMPUTE;
+  ASSERT_FALSE(gi::create(module, gi::Settings{}, m));
+  gi::destroy(m);
+  gi::destroyScene(rayQueryOnly);
+  gi::destroyScene(both);
+}
+
 // SceneCreateDesc::deviceMemory: every byte the scene holds (tables, BVH, textures, acceleration
 // structures where ray queries are on, their device-address memory included) comes from the engine's
 // allocator, the scene allocates no block of its own, the reference renders bit for bit as from the

@@ -135,9 +135,16 @@ class TraversalTest : public GpuTest {
       expectAgree(compare(compute, rayQuery, rays), "compute vs ray queries");
     }
   }
+  // Loads with both traversals' structures: the tests compare them.
+  static void loadBoth(const std::string& path, LoadedScene& s) {
+    std::string error;
+    ASSERT_TRUE(engine::loadSceneForRendering(path, s.scene, error)) << error;
+    s.scene.bothTraversals = true;
+    engine::createSceneGpu(ctx, s.scene, s.gpu);
+  }
   void checkFile(const std::string& path) {
     LoadedScene s;
-    load(path, s);
+    ASSERT_NO_FATAL_FAILURE(loadBoth(path, s));
     checkScene(s.scene, s.gpu);
     unload(s);
   }
@@ -151,7 +158,7 @@ TEST_F(TraversalTest, ConferenceAgrees) { checkFile(sharedScene("conference-ward
 // level; moving them must take them out of it.
 TEST_F(TraversalTest, MovedInstancesAgree) {
   LoadedScene s;
-  load(sharedScene("cornell-simple/cornell_simple.gltf"), s);
+  ASSERT_NO_FATAL_FAILURE(loadBoth(sharedScene("cornell-simple/cornell_simple.gltf"), s));
   uint32_t boxMesh = s.scene.instances.back().mesh;
   for (engine::Instance& inst : s.scene.instances)
     if (inst.mesh == boxMesh) inst.worldFromObject = glm::rotate(glm::translate(inst.worldFromObject, {0.2f, 0.0f, 0.1f}), 0.3f, {0, 1, 0});
@@ -204,6 +211,7 @@ TEST_F(TraversalTest, DeformedMeshesAgree) {
   ASSERT_TRUE(engine::loadSceneForRendering(sharedScene("cornell-simple/cornell_simple.gltf"), s.scene, error)) << error;
   const uint32_t boxMesh = s.scene.instances.back().mesh;
   s.scene.meshes[boxMesh].deformable = true;
+  s.scene.bothTraversals = true;
   engine::createSceneGpu(ctx, s.scene, s.gpu);
   const std::vector<glm::vec3> restPositions = s.scene.positions, restNormals = s.scene.normals;
   for (float turns : {0.5f, 1.2f}) {
@@ -241,6 +249,7 @@ TEST_F(TraversalTest, DeformedMeshesAgree) {
   LoadedScene fresh;
   fresh.scene = s.scene;
   fresh.scene.meshes[boxMesh].deformable = false;
+  fresh.scene.bothTraversals = true;
   engine::createSceneGpu(ctx, fresh.scene, fresh.gpu);
   engine::ReferenceSettings settings;
   settings.maxBounces = 2;
@@ -266,6 +275,7 @@ TEST_F(TraversalTest, MeshVertexUpdatesNameWhatIsWrong) {
   const uint32_t boxMesh = s.scene.instances.back().mesh, otherMesh = s.scene.instances.front().mesh;
   ASSERT_NE(boxMesh, otherMesh);
   s.scene.meshes[boxMesh].deformable = true;
+  s.scene.bothTraversals = true;
   engine::createSceneGpu(ctx, s.scene, s.gpu);
   std::vector<glm::vec3> positions = s.scene.positions;
   gi::MeshVertices v;
@@ -324,6 +334,7 @@ TEST_F(TraversalTest, AlphaMaskedGeometryIsAHoleOnlyBelowTheCutoff) {
     SCOPED_TRACE(alpha);
     engine::Scene scene = maskedQuads(alpha);
     engine::SceneGpu gpu;
+    scene.bothTraversals = true;
     engine::createSceneGpu(ctx, scene, gpu);
     ASSERT_TRUE(gpu.desc.hasAlphaMask);
     std::vector<gpu::TraceBatchRay> rays;
@@ -379,6 +390,7 @@ TEST_F(TraversalTest, ExtremeScalesAndDegenerateTrianglesAgree) {
     SCOPED_TRACE(scale);
     engine::Scene scene = scaledCornell(cornell, scale, degenerate);
     engine::SceneGpu gpu;
+    scene.bothTraversals = true;
     engine::createSceneGpu(ctx, scene, gpu);
     checkScene(scene, gpu);
     if (degenerate) {  // nothing ever reports the degenerate triangles

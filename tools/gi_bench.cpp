@@ -343,6 +343,7 @@ int main(int argc, char** argv) {
   }
   engine::SceneGpu sceneGpu;
   scene.sky = std::move(sky);
+  scene.bothTraversals = raysOnly;  // --rays measures both backends on one scene
   engine::createSceneGpu(ctx, scene, sceneGpu);
   const engine::Camera& startCamera = scene.cameras[cameraIndex];
   gpu::GpuCamera camera = engine::makeGpuCamera(startCamera, width, height, nullptr);

@@ -36,6 +36,9 @@ Error checkScene(const SceneDesc& scene, const std::string& what) {
   if (scene.traversal != gpu::TRAVERSAL_RAY_QUERY && scene.traversal != gpu::TRAVERSAL_COMPUTE)
     return {ErrorCode::OutOfRange, what + ".traversal = " + std::to_string(scene.traversal) +
                                        " is neither TRAVERSAL_RAY_QUERY nor TRAVERSAL_COMPUTE"};
+  if (scene.traversal == gpu::TRAVERSAL_COMPUTE && !scene.hasComputeBvh)
+    return {ErrorCode::OutOfRange, what + ".traversal = TRAVERSAL_COMPUTE, but the scene was built for ray queries "
+                                          "alone (gi::SceneCreateDesc::bothTraversals builds the compute BVH too)"};
   return {};
 }
 

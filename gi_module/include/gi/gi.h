@@ -94,6 +94,9 @@ struct SceneDesc {
                                                   // fields): every pass compiles the sky's NEE and misses in
   uint32_t traversal = gpu::TRAVERSAL_RAY_QUERY;  // how set 0 is traced: TRAVERSAL_RAY_QUERY (binding 0 is the TLAS)
                                                   // or TRAVERSAL_COMPUTE (the BVH bindings; the device needs no ray queries)
+  bool hasComputeBvh = true;                      // set 0's BVH bindings hold the scene (false: a scene built for ray
+                                                  // queries alone, SceneCreateDesc::bothTraversals off; then
+                                                  // TRAVERSAL_COMPUTE is an error)
   uint32_t lightSampler = gpu::LIGHT_SAMPLER_TREE;  // the scene's (gi::SceneCreateDesc::lightSampler)
   bool picksPunctualLightsWith[3] = {};           // under each gpu::LIGHT_SAMPLER_*, NEE picks one of several punctual
                                                   // lights (power, or the tree beyond its cut): their direct light is

@@ -158,10 +158,15 @@ struct SceneCreateDesc {
   VkInstance instance = VK_NULL_HANDLE;
   VkPhysicalDevice physicalDevice = VK_NULL_HANDLE;
   VkDevice device = VK_NULL_HANDLE;  // with gi/device.h's features for this traversal
-  // gpu::TRAVERSAL_COMPUTE: the module's BVH, walked in its shaders (any
-  // device). gpu::TRAVERSAL_RAY_QUERY: BLAS/TLAS as well (the device has
-  // VK_KHR_acceleration_structure and VK_KHR_ray_query enabled).
+  // gpu::TRAVERSAL_COMPUTE: the module's BVH (built on the CPU with Embree),
+  // walked in its shaders (any device). gpu::TRAVERSAL_RAY_QUERY: BLAS/TLAS
+  // (the device has VK_KHR_acceleration_structure and VK_KHR_ray_query
+  // enabled), and no CPU BVH unless bothTraversals.
   uint32_t traversal = gpu::TRAVERSAL_COMPUTE;
+  // With TRAVERSAL_RAY_QUERY: also the compute traversal's BVH, so that either
+  // backend may trace the scene (SceneDesc::traversal switched; tools and tests
+  // that compare the two). Costs the CPU build and its memory.
+  bool bothTraversals = false;
   // Next-event estimation over the punctual lights, for the module and the engine's reference alike.
   // gpu::LIGHT_SAMPLER_ALL: a shadow ray to every light at every path vertex (exact; cost grows with
   // the count). gpu::LIGHT_SAMPLER_POWER: one light a vertex, picked by its power (the same

@@ -45,6 +45,8 @@ const vk::Binding kSceneBindings[] = {
 };
 
 bool rayQuery(const Scene& s) { return s.desc.traversal == gpu::TRAVERSAL_RAY_QUERY; }
+// Whether the compute traversal's BVH exists: built on the CPU only for that traversal (or both).
+bool computeBvh(const Scene& s) { return !rayQuery(s) || s.desc.bothTraversals; }
 bool hasDeformable(const PackedScene& p) {
   return std::find(p.meshDeformable.begin(), p.meshDeformable.end(), 1) != p.meshDeformable.end();
 }
@@ -132,15 +134,18 @@ void destroyBvhBuffers(Scene& s) {
 
 // Builds the compute BVH and stores it (bottom levels uploaded through `cmd`,
 // or host-visible without one; the top level host-visible, sized for every instance).
+// A scene for ray queries alone builds none: its BVH bindings get one-element placeholders.
 vk::Status buildBvhBuffers(Scene& s, VkCommandBuffer cmd, std::span<const uint8_t> forceMovable) {
-  std::vector<BvhMesh> meshes = bvhMeshes(s.packed);
-  std::vector<BvhInstance> instances = bvhInstances(s.instances, forceMovable);
-  try {
-    s.bvh = buildSceneBvh({s.packed.positions, s.packed.indices, meshes, instances});
-  } catch (const std::bad_alloc&) {
-    return {VK_ERROR_OUT_OF_HOST_MEMORY, "rtcBuildBVH (Embree's BVH build)"};
-  } catch (const std::exception&) {
-    return {VK_ERROR_INITIALIZATION_FAILED, "rtcBuildBVH (Embree's BVH build)"};
+  if (computeBvh(s)) {
+    std::vector<BvhMesh> meshes = bvhMeshes(s.packed);
+    std::vector<BvhInstance> instances = bvhInstances(s.instances, forceMovable);
+    try {
+      s.bvh = buildSceneBvh({s.packed.positions, s.packed.indices, meshes, instances});
+    } catch (const std::bad_alloc&) {
+      return {VK_ERROR_OUT_OF_HOST_MEMORY, "rtcBuildBVH (Embree's BVH build)"};
+    } catch (const std::exception&) {
+      return {VK_ERROR_INITIALIZATION_FAILED, "rtcBuildBVH (Embree's BVH build)"};
+    }
   }
   destroyBvhBuffers(s);
   const VkBufferUsageFlags usage = kTexels | refitUsage(s);
@@ -151,9 +156,10 @@ vk::Status buildBvhBuffers(Scene& s, VkCommandBuffer cmd, std::span<const uint8_
     GI_TRY(hostBuffer(s, s.bvh.bottomNodes, s.bvh.bottomNodes.size(), usage, s.bvhNodes));
     GI_TRY(hostBuffer(s, s.bvh.triangles, s.bvh.triangles.size(), usage, s.bvhTriangles));
   }
-  GI_TRY(hostBuffer(s, s.bvh.topNodes, maxTopNodes(s.instances.size()), usage, s.bvhTopNodes));
-  GI_TRY(hostBuffer(s, s.bvh.topInstances, maxTopInstances(s.instances.size()), usage, s.bvhInstances));
-  if (hasDeformable(s.packed)) {
+  const size_t instances = computeBvh(s) ? s.instances.size() : 0;
+  GI_TRY(hostBuffer(s, s.bvh.topNodes, maxTopNodes(instances), usage, s.bvhTopNodes));
+  GI_TRY(hostBuffer(s, s.bvh.topInstances, maxTopInstances(instances), usage, s.bvhInstances));
+  if (hasDeformable(s.packed) && computeBvh(s)) {
     s.refit = refitPlan(s.bvh, s.packed.meshDeformable);
     vk::destroyBuffer(s.gpu, s.refitOrder);
     GI_TRY(hostBuffer(s, s.refit.order, s.refit.order.size(), kAddressed, s.refitOrder));
@@ -343,6 +349,7 @@ vk::Status buildScene(Scene& s, VkCommandBuffer cmd, const SceneContents& conten
   s.facts.extent = c.sceneExtent;
   s.facts.typicalRadiance = typicalRadiance(p, contents.lights, contents.sky, c.sceneExtent);
   s.facts.traversal = s.desc.traversal;
+  s.facts.hasComputeBvh = computeBvh(s);
   return {};
 }
 
@@ -516,7 +523,7 @@ Error updateInstances(Scene* s, VkCommandBuffer cmd, std::span<const InstanceDes
   if (mergedMoved) {  // merged as static: taken out once, its level rebuilt (new buffers, set 0 rewritten)
     if (vk::Status st = buildBvhBuffers(*s, VK_NULL_HANDLE, moved)) return vulkanError("gi::updateInstances", st);
     writeBvhDescriptors(*s);
-  } else {
+  } else if (computeBvh(*s)) {
     try {
       rebuildTopLevel(bvhInstances(s->instances, {}), s->bvh);
     } catch (const std::exception& e) {
@@ -529,14 +536,15 @@ Error updateInstances(Scene* s, VkCommandBuffer cmd, std::span<const InstanceDes
   writeInCommands(*s, cmd, s->instanceTable, gpuInstances(s->packed, s->instances, s->previousTransforms));
   writeInCommands(*s, cmd, s->emissiveTriangles, emissive);
   writeInCommands(*s, cmd, s->constants, std::vector<gpu::GpuSceneConstants>{s->sceneConstants});
-  if (!mergedMoved) {
+  if (!mergedMoved && computeBvh(*s)) {
     writeInCommands(*s, cmd, s->bvhTopNodes, s->bvh.topNodes);
     writeInCommands(*s, cmd, s->bvhInstances, s->bvh.topInstances);
   }
   if (rayQuery(*s)) writeTlasInstances(s->gpu, cmd, placedInstances(*s), s->accel);
   vk::endBufferWrites(s->gpu, cmd);
   // The CPU's boxes of deformed meshes are their last CPU-known pose's: the device refits the top level.
-  if (hasDeformable(s->packed)) recordTopRefit(s->gpu, cmd, s->refitProgram, refitBuffers(*s), uint32_t(s->bvh.topNodes.size()));
+  if (hasDeformable(s->packed) && computeBvh(*s))
+    recordTopRefit(s->gpu, cmd, s->refitProgram, refitBuffers(*s), uint32_t(s->bvh.topNodes.size()));
   if (rayQuery(*s)) recordTlasRebuild(s->gpu, cmd, s->accel);
   return {};
 }
@@ -614,9 +622,11 @@ Error updateMeshVertices(Scene* s, VkCommandBuffer cmd, uint32_t mesh, const Mes
   vk::memoryBarrier(s->gpu, cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                     VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                     VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT);
-  const RefitBuffers buffers = refitBuffers(*s);
-  recordMeshRefit(s->gpu, cmd, s->refitProgram, buffers, s->refit, mesh);
-  recordTopRefit(s->gpu, cmd, s->refitProgram, buffers, uint32_t(s->bvh.topNodes.size()));
+  if (computeBvh(*s)) {
+    const RefitBuffers buffers = refitBuffers(*s);
+    recordMeshRefit(s->gpu, cmd, s->refitProgram, buffers, s->refit, mesh);
+    recordTopRefit(s->gpu, cmd, s->refitProgram, buffers, uint32_t(s->bvh.topNodes.size()));
+  }
   if (rayQuery(*s)) {
     recordBlasUpdate(s->gpu, cmd, s->positions, s->indices, s->accelMeshes[mesh], s->accel, mesh);
     recordTlasRebuild(s->gpu, cmd, s->accel);
