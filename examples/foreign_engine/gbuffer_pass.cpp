@@ -4,6 +4,7 @@
 
 #include "gbuffer.frag.h"
 #include "gbuffer.vert.h"
+#include "raster_pipeline.h"
 
 namespace foreign {
 namespace {
@@ -52,11 +53,6 @@ void createPipeline(const example::Host& h, GBufferPass& p) {
   layoutInfo.pPushConstantRanges = &push;
   EXAMPLE_CHECK(vkCreatePipelineLayout(h.device, &layoutInfo, nullptr, &p.layout));
 
-  VkShaderModule vert = example::createShaderModule(h, spv_gbuffer_vert, sizeof(spv_gbuffer_vert));
-  VkShaderModule frag = example::createShaderModule(h, spv_gbuffer_frag, sizeof(spv_gbuffer_frag));
-  VkPipelineShaderStageCreateInfo stages[2]{};
-  stages[0] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_VERTEX_BIT, vert, "main", nullptr};
-  stages[1] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_FRAGMENT_BIT, frag, "main", nullptr};
   VkVertexInputBindingDescription vertexBinding{0, 24, VK_VERTEX_INPUT_RATE_VERTEX};
   VkVertexInputAttributeDescription attributes[2] = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
                                                      {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 12}};
@@ -65,50 +61,14 @@ void createPipeline(const example::Host& h, GBufferPass& p) {
   vertexInput.pVertexBindingDescriptions = &vertexBinding;
   vertexInput.vertexAttributeDescriptionCount = 2;
   vertexInput.pVertexAttributeDescriptions = attributes;
-  VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
-  assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
-  VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
-  viewport.viewportCount = 1;
-  viewport.scissorCount = 1;
-  VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
-  raster.polygonMode = VK_POLYGON_MODE_FILL;
-  raster.cullMode = VK_CULL_MODE_NONE;  // surfaces are lit from both sides
-  raster.lineWidth = 1.0f;
-  VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
-  multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
-  VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
-  depth.depthTestEnable = VK_TRUE;
-  depth.depthWriteEnable = VK_TRUE;
-  depth.depthCompareOp = VK_COMPARE_OP_GREATER;  // reversed Z: 1 near, 0 infinitely far
-  VkPipelineColorBlendAttachmentState blends[kTargetCount]{};
-  for (auto& b : blends) b.colorWriteMask = 0xf;
-  VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
-  blend.attachmentCount = kTargetCount;
-  blend.pAttachments = blends;
-  VkDynamicState dynamics[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
-  VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
-  dynamic.dynamicStateCount = 2;
-  dynamic.pDynamicStates = dynamics;
-  VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
-  rendering.colorAttachmentCount = kTargetCount;
-  rendering.pColorAttachmentFormats = kTargetFormats;
-  rendering.depthAttachmentFormat = kDepthFormat;
-  VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
-  info.pNext = &rendering;
-  info.stageCount = 2;
-  info.pStages = stages;
-  info.pVertexInputState = &vertexInput;
-  info.pInputAssemblyState = &assembly;
-  info.pViewportState = &viewport;
-  info.pRasterizationState = &raster;
-  info.pMultisampleState = &multisample;
-  info.pDepthStencilState = &depth;
-  info.pColorBlendState = &blend;
-  info.pDynamicState = &dynamic;
-  info.layout = p.layout;
-  EXAMPLE_CHECK(vkCreateGraphicsPipelines(h.device, VK_NULL_HANDLE, 1, &info, nullptr, &p.pipeline));
-  vkDestroyShaderModule(h.device, vert, nullptr);
-  vkDestroyShaderModule(h.device, frag, nullptr);
+  RasterPipelineDesc pipeline;
+  pipeline.layout = p.layout;
+  pipeline.vertexCode = spv_gbuffer_vert;
+  pipeline.fragmentCode = spv_gbuffer_frag;
+  pipeline.vertexInput = &vertexInput;
+  pipeline.colorFormats = kTargetFormats;
+  pipeline.depthFormat = kDepthFormat;
+  p.pipeline = createRasterPipeline(h, pipeline);
 }
 
 }  // namespace
