@@ -154,14 +154,21 @@ bool gbufferReference(const engine::Context& ctx, const engine::Scene& scene, co
   return true;
 }
 
+// Where the cached reference image `aov` (final, indirect) for `key` lives: the one place its name is
+// made (run.txt's reference_final line hands it to scripts/bench).
+fs::path referencePath(const fs::path& dir, std::string key, bool gbufferPrimary, const char* aov) {
+  if (gbufferPrimary) key += "_gb";
+  return dir / ("ref_" + key + "_" + aov + ".exr");
+}
+
 // Loads the cached reference for `key` or renders and caches it: traced from
 // the camera through pixel centres (to match the raster G-buffer), or, with
 // `gbufferPrimary`, from the G-buffer's hits (gbufferReference; key + "_gb").
 bool reference(const engine::Context& ctx, const engine::Scene& scene, const engine::SceneGpu& sceneGpu,
                const gpu::GpuCamera& camera, uint32_t bounces, uint32_t spp, bool gbufferPrimary, const fs::path& dir,
-               std::string key, Reference& out, std::string& error) {
-  if (gbufferPrimary) key += "_gb";
-  fs::path finalPath = dir / ("ref_" + key + "_final.exr"), indirectPath = dir / ("ref_" + key + "_indirect.exr");
+               const std::string& key, Reference& out, std::string& error) {
+  const fs::path finalPath = referencePath(dir, key, gbufferPrimary, "final"),
+                 indirectPath = referencePath(dir, key, gbufferPrimary, "indirect");
   if (fs::exists(finalPath) && fs::exists(indirectPath))
     return engine::readImage(finalPath, out.final, error) && engine::readImage(indirectPath, out.indirect, error);
   std::printf("gi-bench: rendering reference %s (%u spp)...\n", key.c_str(), spp);
@@ -601,6 +608,8 @@ int main(int argc, char** argv) {
   std::ofstream meta(dir / "run.txt");
   meta << "scene " << scene.sourcePath << "\ndevice " << ctx.properties.deviceName << "\nsize " << width << "x" << height
        << "\nmax_bounces " << bounces << "\nreference " << (args.has("reference") ? args.values["reference"] : key)
+       << "\nreference_final "
+       << (args.has("reference") ? fs::absolute(args.values["reference"]) : fs::absolute(referencePath(dir, key, gbufferPrimary, "final"))).string()
        << "\nreference_spp " << refSpp << "\nframes " << frames << "\nwarmup " << warmup
        << "\ntraversal " << engine::traversalName(ctx.traversal) << "\nbare_mrays_per_s " << bare.mraysPerSecond()
        << "\nhistory_format " << history << "\n";
