@@ -4,6 +4,7 @@
 // Each request gets its own VkDeviceMemory with the slice placed one alignment in, so a module that
 // ignored the offset would bind the wrong bytes.
 #pragma once
+#include <algorithm>
 #include <atomic>
 #include <cstring>
 #include <map>
@@ -116,3 +117,59 @@ inline VKAPI_ATTR PFN_vkVoidFunction VKAPI_CALL countingGetInstanceProcAddr(VkIn
   if (PFN_vkVoidFunction counted = countedDeviceFunction(name)) return counted;
   return vkGetInstanceProcAddr(instance, name);
 }
+
+// A transient pool: the transient requests of a module carved one after another (aligned) from one
+// VkDeviceMemory of `bytes` (the engine sizes it with gi::predictMemory), which a buffer of the
+// engine's own aliases whole. The other requests go to `EngineDeviceMemory`.
+struct AliasedTransientPool {
+  EngineDeviceMemory* other = nullptr;
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+  VkBuffer alias = VK_NULL_HANDLE;  // the engine's resource on the same bytes
+  VkDeviceSize size = 0, used = 0;
+  uint32_t memoryType = UINT32_MAX, slices = 0;
+
+  AliasedTransientPool(const engine::Context& ctx, EngineDeviceMemory& nonTransient, VkDeviceSize bytes) : other(&nonTransient) {
+    VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+    info.size = bytes;
+    info.usage = VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    vkCreateBuffer(ctx.device, &info, nullptr, &alias);
+    VkMemoryRequirements req;
+    vkGetBufferMemoryRequirements(ctx.device, alias, &req);
+    for (uint32_t i = 0; i < ctx.memoryProperties.memoryTypeCount && memoryType == UINT32_MAX; ++i)
+      if ((req.memoryTypeBits & (1u << i)) &&
+          (ctx.memoryProperties.memoryTypes[i].propertyFlags & VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT))
+        memoryType = i;
+    VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    alloc.allocationSize = size = req.size;
+    alloc.memoryTypeIndex = memoryType;
+    vkAllocateMemory(ctx.device, &alloc, nullptr, &memory);
+    vkBindBufferMemory(ctx.device, alias, memory, 0);
+  }
+  ~AliasedTransientPool() {
+    vkDestroyBuffer(other->ctx->device, alias, nullptr);
+    vkFreeMemory(other->ctx->device, memory, nullptr);
+  }
+
+  gi::DeviceMemoryCallbacks callbacks() {
+    gi::DeviceMemoryCallbacks c;
+    c.userData = this;
+    c.allocate = [](void* user, const gi::DeviceMemoryRequest& r, gi::DeviceMemorySlice& out) {
+      auto* pool = static_cast<AliasedTransientPool*>(user);
+      if (!r.transient) return pool->other->allocate(r, out);
+      const VkDeviceSize alignment = std::max<VkDeviceSize>(r.requirements.alignment, 1);
+      const VkDeviceSize offset = (pool->used + alignment - 1) / alignment * alignment;
+      if (!(r.requirements.memoryTypeBits & (1u << pool->memoryType)) || offset + r.requirements.size > pool->size)
+        return VK_ERROR_OUT_OF_DEVICE_MEMORY;
+      pool->used = offset + r.requirements.size;
+      pool->slices++;
+      out.memory = pool->memory;
+      out.offset = offset;
+      return VK_SUCCESS;
+    };
+    c.free = [](void* user, const gi::DeviceMemorySlice& slice) {
+      auto* pool = static_cast<AliasedTransientPool*>(user);
+      if (slice.memory != pool->memory) pool->other->release(slice);  // the pool's slices go with the pool
+    };
+    return c;
+  }
+};

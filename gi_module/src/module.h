@@ -133,6 +133,10 @@ vk::Status createSizedResources(Module& m, const Settings& settings, uint32_t wi
 void destroySizedResources(vk::Device& gpu, SizedResources& r);
 // Moves images not used yet (new outputs, new sized resources) to GENERAL layout.
 void recordFirstUse(const vk::Device& gpu, VkCommandBuffer cmd, OutputImages& outputs, SizedResources& r);
+// The images whose contents live within a frame (frameImages) start every frame from UNDEFINED, after
+// every earlier command's writes: their memory may have served the engine's own resources since the
+// last frame (the transient requests of ModuleDesc::deviceMemory, which an engine may alias).
+void recordTransientReset(const vk::Device& gpu, VkCommandBuffer cmd, const SizedResources& r);
 // The three outputs: direct and indirect in desc.outputFormat, the composite in compositeFormat(desc).
 vk::Status createOutputImages(vk::Device& gpu, uint32_t width, uint32_t height, const ModuleDesc& desc, OutputImages& out);
 VkFormat compositeFormat(const ModuleDesc& desc);

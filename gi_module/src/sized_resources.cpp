@@ -299,6 +299,21 @@ void recordFirstUse(const vk::Device& gpu, VkCommandBuffer cmd, OutputImages& o,
   o.initialised = r.initialised = true;
 }
 
+void recordTransientReset(const vk::Device& gpu, VkCommandBuffer cmd, const SizedResources& r) {
+  std::vector<VkImageMemoryBarrier2> barriers;
+  for (const vk::Image* image : frameImages(r))
+    if (image->image)
+      barriers.push_back(vk::imageBarrierInfo(image->image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
+                                              VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT,
+                                              VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                                              VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT));
+  if (barriers.empty()) return;
+  VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+  dependency.imageMemoryBarrierCount = uint32_t(barriers.size());
+  dependency.pImageMemoryBarriers = barriers.data();
+  gpu.fn.vkCmdPipelineBarrier2(cmd, &dependency);
+}
+
 void destroySizedResources(vk::Device& gpu, SizedResources& r) {
   destroyScreenFilters(gpu, r.filters);
   vk::destroyDescriptorSets(gpu, r.frameSets);

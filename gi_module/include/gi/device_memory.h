@@ -18,8 +18,11 @@ struct DeviceMemoryRequest {
   // inputs and storage); the memory must have been allocated with these flags.
   VkMemoryAllocateFlags allocateFlags;
   bool linear;     // a buffer (true) or an optimal-tiling image: bufferImageGranularity keeps them apart
-  bool transient;  // contents live within one frame (NRD's transient pool): memory the engine may alias
-                   // with its own per-frame resources between the module's frames
+  // Contents live within one frame (NRD's transient pool): memory the engine may alias with its own
+  // resources between the module's frames. recordFrame starts each such image from UNDEFINED after every
+  // earlier command's writes; the engine's use of the memory after a frame waits for that frame's
+  // compute work (a barrier of its own, as for any aliased memory).
+  bool transient;
 };
 
 struct DeviceMemorySlice {
