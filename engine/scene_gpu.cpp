@@ -130,7 +130,7 @@ void createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu, const
   desc.device = ctx.device;
   // The structures of the context's traversal; both (either backend can trace it) where asked.
   desc.bothTraversals = scene.bothTraversals && ctx.rayQuery;
-  desc.traversal = desc.bothTraversals ? gpu::TRAVERSAL_RAY_QUERY : ctx.traversalId();
+  desc.traversal = desc.bothTraversals ? gi::Traversal::RayQuery : gi::Traversal(ctx.traversalId());
   desc.lightSampler = scene.lightSampler;
   desc.lightTreeCut = scene.lightTreeCut;
   desc.deviceMemory = deviceMemory;
@@ -142,7 +142,7 @@ void createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu, const
   }
   throwIf(gi::finishSceneUpload(gpu.scene));  // CPU meshes: frees the staging, builds nothing
   gpu.desc = gi::sceneDesc(gpu.scene);
-  gpu.desc.traversal = ctx.traversalId();
+  gpu.desc.traversal = gi::Traversal(ctx.traversalId());
   gpu.set.layout = gpu.desc.layout;
   gpu.set.set = gpu.desc.set;
   createSkinningGpu(ctx, scene, gpu.skinning);

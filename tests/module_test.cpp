@@ -75,7 +75,7 @@ TEST_F(ModuleTest, CreateRejectsImpossibleValuesWithNamedErrors) {
   // Ray-query traversal needs the ray-tracing features this chain does not have.
   add("no ray queries", [&](gi::ModuleDesc& d) {
         d.enabledFeatures = &enabled;
-        d.scene.traversal = gpu::TRAVERSAL_RAY_QUERY;
+        d.scene.traversal = gi::Traversal::RayQuery;
       }, same, gi::ErrorCode::MissingFeature, "ray-query");
   for (const Case& c : cases) {
     gi::Error e = gi::create(c.desc, c.settings, m);

@@ -20,7 +20,7 @@ class SceneApiTest : public GpuTest {
     d.instance = ctx.instance;
     d.physicalDevice = ctx.physicalDevice;
     d.device = ctx.device;
-    d.traversal = ctx.rayQuery ? gpu::TRAVERSAL_RAY_QUERY : gpu::TRAVERSAL_COMPUTE;
+    d.traversal = ctx.rayQuery ? gi::Traversal::RayQuery : gi::Traversal::Compute;
     return d;
   }
   // createScene into a one-shot command buffer; the scene (or null) in `out`.
@@ -175,7 +175,7 @@ TEST_F(SceneApiTest, RayQueryScenesBuildNoCpuBvhUnlessAskedForBoth) {
   gi::Scene* rayQueryOnly = nullptr;
   gi::Scene* both = nullptr;
   gi::SceneCreateDesc desc = createDesc();
-  desc.traversal = gpu::TRAVERSAL_RAY_QUERY;
+  desc.traversal = gi::Traversal::RayQuery;
   gi::Error e;
   engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { e = gi::createScene(desc, q.contents(), cmd, rayQueryOnly); });
   ASSERT_FALSE(e) << e.message;
@@ -194,14 +194,14 @@ TEST_F(SceneApiTest, RayQueryScenesBuildNoCpuBvhUnlessAskedForBoth) {
   module.device = ctx.device;
   module.width = module.height = 8;
   module.scene = gi::sceneDesc(rayQueryOnly);
-  module.scene.traversal = gpu::TRAVERSAL_COMPUTE;
+  module.scene.traversal = gi::Traversal::Compute;
   gi::Module* m = nullptr;
   e = gi::create(module, gi::Settings{}, m);
   EXPECT_EQ(e.code, gi::ErrorCode::OutOfRange);
   EXPECT_NE(e.message.find("built for ray queries alone"), std::string::npos) << e.message;
   EXPECT_EQ(m, nullptr);
   module.scene = gi::sceneDesc(both);
-  module.scene.traversal = gpu::TRAVERSAL_COMPUTE;
+  module.scene.traversal = gi::Traversal::Compute;
   ASSERT_FALSE(gi::create(module, gi::Settings{}, m));
   gi::destroy(m);
   gi::destroyScene(rayQueryOnly);

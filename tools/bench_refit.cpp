@@ -124,7 +124,7 @@ bool benchRefit(const engine::Context& ctx, std::span<const uint32_t> triangleCo
       desc.instance = ctx.instance;
       desc.physicalDevice = ctx.physicalDevice;
       desc.device = ctx.device;
-      desc.traversal = backend;
+      desc.traversal = gi::Traversal(backend);
       // With ray queries, the compute BVH too: the refit and the BLAS update, as RESULTS' refit table was
       // measured (a scene for ray queries alone pays the BLAS update and the TLAS rebuild only).
       desc.bothTraversals = backend == gpu::TRAVERSAL_RAY_QUERY;

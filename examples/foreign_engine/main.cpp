@@ -182,7 +182,7 @@ int main(int argc, char** argv) {
   sceneCreate.instance = h.instance;
   sceneCreate.physicalDevice = h.physical;
   sceneCreate.device = h.device;
-  sceneCreate.traversal = gpu::TRAVERSAL_COMPUTE;  // the device has no ray-tracing extensions
+  sceneCreate.traversal = gi::Traversal::Compute;  // the device has no ray-tracing extensions
   gi::Scene* scene = nullptr;
   gi::Error sceneError;
   example::submitOnce(h, [&](VkCommandBuffer cmd) { sceneError = gi::createScene(sceneCreate, contents, cmd, scene); });

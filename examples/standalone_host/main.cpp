@@ -42,7 +42,7 @@ gi::Scene* createEmptyScene(const example::Host& h) {
   desc.instance = h.instance;
   desc.physicalDevice = h.physical;
   desc.device = h.device;
-  desc.traversal = gpu::TRAVERSAL_COMPUTE;
+  desc.traversal = gi::Traversal::Compute;
   gi::Scene* scene = nullptr;
   gi::Error e;
   example::submitOnce(h, [&](VkCommandBuffer cmd) { e = gi::createScene(desc, gi::SceneContents{}, cmd, scene); });

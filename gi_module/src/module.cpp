@@ -33,11 +33,11 @@ Error checkScene(const SceneDesc& scene, const std::string& what) {
   if (!(scene.typicalRadiance > 0.0f) || !std::isfinite(scene.typicalRadiance))
     return {ErrorCode::OutOfRange, what + ".typicalRadiance = " + std::to_string(scene.typicalRadiance) +
                                        " is not a positive finite radiance"};
-  if (scene.traversal != gpu::TRAVERSAL_RAY_QUERY && scene.traversal != gpu::TRAVERSAL_COMPUTE)
-    return {ErrorCode::OutOfRange, what + ".traversal = " + std::to_string(scene.traversal) +
-                                       " is neither TRAVERSAL_RAY_QUERY nor TRAVERSAL_COMPUTE"};
-  if (scene.traversal == gpu::TRAVERSAL_COMPUTE && !scene.hasComputeBvh)
-    return {ErrorCode::OutOfRange, what + ".traversal = TRAVERSAL_COMPUTE, but the scene was built for ray queries "
+  if (scene.traversal != Traversal::RayQuery && scene.traversal != Traversal::Compute)
+    return {ErrorCode::OutOfRange, what + ".traversal = " + std::to_string(uint32_t(scene.traversal)) +
+                                       " is neither Traversal::RayQuery nor Traversal::Compute"};
+  if (scene.traversal == Traversal::Compute && !scene.hasComputeBvh)
+    return {ErrorCode::OutOfRange, what + ".traversal = Traversal::Compute, but the scene was built for ray queries "
                                           "alone (gi::SceneCreateDesc::bothTraversals builds the compute BVH too)"};
   return {};
 }
@@ -205,7 +205,7 @@ Error checkDesc(const ModuleDesc& d) {
 // which, else among what the device supports.
 Error checkFeatures(const Module& m) {
   const ModuleDesc& d = m.desc;
-  const bool rayQuery = d.scene.traversal == gpu::TRAVERSAL_RAY_QUERY;
+  const bool rayQuery = d.scene.traversal == Traversal::RayQuery;
   const char* missing = nullptr;
   const char* where = "the enabled features (desc.enabledFeatures)";
   if (d.enabledFeatures) {

@@ -116,7 +116,7 @@ void recordWarmupFirstUse(const vk::Device& g, VkCommandBuffer cmd, WarmupResour
 }  // namespace
 
 std::vector<ProgramUse> programsFor(Module& m, const Settings& s) {
-  const uint32_t t = m.desc.scene.traversal;
+  const uint32_t t = uint32_t(m.desc.scene.traversal);
   std::vector<ProgramUse> list;
   auto add = [&](const char* name, vk::ComputeProgram& program, std::span<const uint32_t> spirv, uint32_t push,
                  ProgramSets sets = ProgramSets::Frame, glm::uvec2 group = kTile) {

@@ -9,7 +9,7 @@
 //   if (const char* missing = gi::enableRequiredFeatures(f2, rayQuery)) ... // a struct the chain lacks
 //   extensions: gi::requiredExtensions(rayQuery) (none for the compute traversal)
 // `rayQuery`: whether the scene is traced with ray queries (SceneDesc::traversal
-// is TRAVERSAL_RAY_QUERY); the compute traversal needs none of their features.
+// is Traversal::RayQuery); the compute traversal needs none of their features.
 #pragma once
 #include <vulkan/vulkan_core.h>
 

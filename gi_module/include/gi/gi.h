@@ -78,6 +78,12 @@
 
 namespace gi {
 
+// How set 0 is traced. The values are shared/scene_modes.h's TRAVERSAL_*, which the shaders are built for.
+enum class Traversal : uint32_t {
+  RayQuery = gpu::TRAVERSAL_RAY_QUERY,  // VK_KHR_ray_query against the TLAS (the device has the ray-tracing extensions)
+  Compute = gpu::TRAVERSAL_COMPUTE,     // the module's BVH, walked in its shaders (any device)
+};
+
 // Set 0 and the facts the module specialises its passes on: what
 // gi::sceneDesc(scene) returns for a gi::Scene (gi/scene.h).
 struct SceneDesc {
@@ -92,11 +98,11 @@ struct SceneDesc {
                                                   // sums resolve 2^-16 of it and hold 1e9 times it
   bool hasSky = false;                            // rays that leave the scene see the sky (GpuSceneConstants' sky
                                                   // fields): every pass compiles the sky's NEE and misses in
-  uint32_t traversal = gpu::TRAVERSAL_RAY_QUERY;  // how set 0 is traced: TRAVERSAL_RAY_QUERY (binding 0 is the TLAS)
-                                                  // or TRAVERSAL_COMPUTE (the BVH bindings; the device needs no ray queries)
+  Traversal traversal = Traversal::RayQuery;      // how set 0 is traced: RayQuery (binding 0 is the TLAS) or Compute
+                                                  // (the BVH bindings; the device needs no ray queries)
   bool hasComputeBvh = true;                      // set 0's BVH bindings hold the scene (false: a scene built for ray
                                                   // queries alone, SceneCreateDesc::bothTraversals off; then
-                                                  // TRAVERSAL_COMPUTE is an error)
+                                                  // Traversal::Compute is an error)
   uint32_t lightSampler = gpu::LIGHT_SAMPLER_TREE;  // the scene's (gi::SceneCreateDesc::lightSampler)
   bool picksPunctualLightsWith[3] = {};           // under each gpu::LIGHT_SAMPLER_*, NEE picks one of several punctual
                                                   // lights (power, or the tree beyond its cut): their direct light is

@@ -158,12 +158,12 @@ struct SceneCreateDesc {
   VkInstance instance = VK_NULL_HANDLE;
   VkPhysicalDevice physicalDevice = VK_NULL_HANDLE;
   VkDevice device = VK_NULL_HANDLE;  // with gi/device.h's features for this traversal
-  // gpu::TRAVERSAL_COMPUTE: the module's BVH (built on the CPU with Embree),
-  // walked in its shaders (any device). gpu::TRAVERSAL_RAY_QUERY: BLAS/TLAS
-  // (the device has VK_KHR_acceleration_structure and VK_KHR_ray_query
-  // enabled), and no CPU BVH unless bothTraversals.
-  uint32_t traversal = gpu::TRAVERSAL_COMPUTE;
-  // With TRAVERSAL_RAY_QUERY: also the compute traversal's BVH, so that either
+  // Traversal::Compute: the module's BVH (built on the CPU with Embree),
+  // walked in its shaders (any device). Traversal::RayQuery: BLAS/TLAS (the
+  // device has VK_KHR_acceleration_structure and VK_KHR_ray_query enabled),
+  // and no CPU BVH unless bothTraversals.
+  Traversal traversal = Traversal::Compute;
+  // With Traversal::RayQuery: also the compute traversal's BVH, so that either
   // backend may trace the scene (SceneDesc::traversal switched; tools and tests
   // that compare the two). Costs the CPU build and its memory.
   bool bothTraversals = false;

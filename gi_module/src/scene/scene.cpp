@@ -44,7 +44,7 @@ const vk::Binding kSceneBindings[] = {
     {gpu::SCENE_BINDING_TEXTURES, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 4096, true},
 };
 
-bool rayQuery(const Scene& s) { return s.desc.traversal == gpu::TRAVERSAL_RAY_QUERY; }
+bool rayQuery(const Scene& s) { return s.desc.traversal == Traversal::RayQuery; }
 // Whether the compute traversal's BVH exists: built on the CPU only for that traversal (or both).
 bool computeBvh(const Scene& s) { return !rayQuery(s) || s.desc.bothTraversals; }
 bool hasDeformable(const PackedScene& p) {
@@ -406,9 +406,9 @@ Error createScene(const SceneCreateDesc& desc, const SceneContents& contents, Vk
   if (!desc.instance || !desc.physicalDevice || !desc.device || !desc.getInstanceProcAddr || !cmd)
     return {ErrorCode::MissingHandle, "gi::createScene: instance, physicalDevice, device, getInstanceProcAddr and cmd "
                                       "are required"};
-  if (desc.traversal != gpu::TRAVERSAL_RAY_QUERY && desc.traversal != gpu::TRAVERSAL_COMPUTE)
-    return sceneError("gi::createScene: desc.traversal = " + std::to_string(desc.traversal) +
-                      " is not TRAVERSAL_RAY_QUERY or TRAVERSAL_COMPUTE");
+  if (desc.traversal != Traversal::RayQuery && desc.traversal != Traversal::Compute)
+    return sceneError("gi::createScene: desc.traversal = " + std::to_string(uint32_t(desc.traversal)) +
+                      " is not Traversal::RayQuery or Traversal::Compute");
   if (desc.lightTreeCut < 1 || desc.lightTreeCut > 64)
     return sceneError("gi::createScene: desc.lightTreeCut = " + std::to_string(desc.lightTreeCut) +
                       " is outside [1, 64]");
@@ -426,7 +426,7 @@ Error createScene(const SceneCreateDesc& desc, const SceneContents& contents, Vk
     }
   if (!deviceMeshes)
     if (std::string e = prepare(*s, contents); !e.empty()) return sceneError("gi::createScene: " + e);
-  if (desc.traversal == gpu::TRAVERSAL_RAY_QUERY && contents.instances.size() > (1u << 24))
+  if (desc.traversal == Traversal::RayQuery && contents.instances.size() > (1u << 24))
     return sceneError("gi::createScene: " + std::to_string(contents.instances.size()) +
                       " instances; ray queries index at most 2^24 (a TLAS instance's custom index)");
 
@@ -437,13 +437,13 @@ Error createScene(const SceneCreateDesc& desc, const SceneContents& contents, Vk
   // Acceleration-structure inputs and the device meshes' read-back are used through device addresses.
   const bool deformable = std::any_of(contents.meshes.begin(), contents.meshes.end(),
                                       [](const MeshDesc& m) { return m.deformable; });
-  s->gpu.deviceAddressMemory = desc.traversal == gpu::TRAVERSAL_RAY_QUERY || deviceMeshes || deformable;
+  s->gpu.deviceAddressMemory = desc.traversal == Traversal::RayQuery || deviceMeshes || deformable;
   if (vk::Status st = vk::openDevice(desc.getInstanceProcAddr, desc.instance, desc.physicalDevice, desc.device, s->gpu))
     return {ErrorCode::MissingHandle, std::string("gi::createScene: desc.getInstanceProcAddr returned no ") + st.call,
             st.result};
   if (rayQuery(*s) && !s->gpu.fn.vkCmdBuildAccelerationStructuresKHR) {
     vk::closeDevice(s->gpu);
-    return {ErrorCode::MissingFeature, "gi::createScene: TRAVERSAL_RAY_QUERY needs VK_KHR_acceleration_structure, "
+    return {ErrorCode::MissingFeature, "gi::createScene: Traversal::RayQuery needs VK_KHR_acceleration_structure, "
                                        "which the device was created without"};
   }
   if ((deviceMeshes || deformable) && !s->gpu.fn.vkGetBufferDeviceAddress) {
