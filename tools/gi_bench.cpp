@@ -154,11 +154,12 @@ bool gbufferReference(const engine::Context& ctx, const engine::Scene& scene, co
   return true;
 }
 
-// Where the cached reference image `aov` (final, indirect) for `key` lives: the one place its name is
-// made (run.txt's reference_final line hands it to scripts/bench).
-fs::path referencePath(const fs::path& dir, std::string key, bool gbufferPrimary, const char* aov) {
-  if (gbufferPrimary) key += "_gb";
-  return dir / ("ref_" + key + "_" + aov + ".exr");
+// The cached reference's name for `key` (from the G-buffer's hits: "_gb" appended), and where its image
+// `aov` (final, indirect) lives: the one place both are made (run.txt's reference_final line hands the
+// path to scripts/bench).
+std::string referenceName(const std::string& key, bool gbufferPrimary) { return gbufferPrimary ? key + "_gb" : key; }
+fs::path referencePath(const fs::path& dir, const std::string& key, bool gbufferPrimary, const char* aov) {
+  return dir / ("ref_" + referenceName(key, gbufferPrimary) + "_" + aov + ".exr");
 }
 
 // Loads the cached reference for `key` or renders and caches it: traced from
@@ -171,7 +172,7 @@ bool reference(const engine::Context& ctx, const engine::Scene& scene, const eng
                  indirectPath = referencePath(dir, key, gbufferPrimary, "indirect");
   if (fs::exists(finalPath) && fs::exists(indirectPath))
     return engine::readImage(finalPath, out.final, error) && engine::readImage(indirectPath, out.indirect, error);
-  std::printf("gi-bench: rendering reference %s (%u spp)...\n", key.c_str(), spp);
+  std::printf("gi-bench: rendering reference %s (%u spp)...\n", referenceName(key, gbufferPrimary).c_str(), spp);
   std::fflush(stdout);
   if (gbufferPrimary) {
     if (!gbufferReference(ctx, scene, sceneGpu, camera, bounces, spp, out, error)) return false;
