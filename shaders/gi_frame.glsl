@@ -162,10 +162,12 @@ vec2 giGbMotionPixels(ivec2 p) {
 // its motion, scaled from this frame's render size to last frame's (dynamic resolution; the motion is in
 // this frame's pixels, as the engine rendered it).
 vec2 giPreviousPosition(ivec2 p) {
-  return (vec2(p) + 0.5 + giGbMotionPixels(p)) * vec2(giFrame.previousSize) / vec2(giFrame.size);
+  return (vec2(p) + 0.5 + giGbMotionPixels(p)) * giFrame.previousCamera.imageSize / vec2(giFrame.size);
 }
 // True for a texel of last frame's render rectangle (the histories hold nothing valid beyond it).
-bool giInPreviousFrame(ivec2 q) { return all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, ivec2(giFrame.previousSize))); }
+bool giInPreviousFrame(ivec2 q) {
+  return all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, ivec2(giFrame.previousCamera.imageSize)));
+}
 
 bool giGbGlossy(ivec2 p) {
   if (GI_GLOSSY_FLAG == GI_GLOSSY_FROM_MATERIAL) {

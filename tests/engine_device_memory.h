@@ -10,6 +10,7 @@
 #include <map>
 
 #include "context.h"
+#include "resources.h"
 #include "gi/device_memory.h"
 
 struct EngineDeviceMemory {
@@ -17,7 +18,7 @@ struct EngineDeviceMemory {
   uint64_t liveBytes = 0, transientBytes = 0;  // requested sizes of the slices alive
   uint32_t requests = 0, frees = 0;
   std::map<VkDeviceMemory, gi::DeviceMemoryRequest> live;
-  std::string error;  // the first request the allocator could not serve, or a free of an unknown slice
+  std::string error;  // a free of a slice this allocator did not hand out
 
   explicit EngineDeviceMemory(const engine::Context& c) : ctx(&c) {}
   ~EngineDeviceMemory() {
@@ -35,15 +36,7 @@ struct EngineDeviceMemory {
   }
 
   VkResult allocate(const gi::DeviceMemoryRequest& r, gi::DeviceMemorySlice& out) {
-    const VkPhysicalDeviceMemoryProperties& props = ctx->memoryProperties;
-    uint32_t type = UINT32_MAX;
-    for (uint32_t i = 0; i < props.memoryTypeCount && type == UINT32_MAX; ++i)
-      if ((r.requirements.memoryTypeBits & (1u << i)) && (props.memoryTypes[i].propertyFlags & r.properties) == r.properties)
-        type = i;
-    if (type == UINT32_MAX) {
-      if (error.empty()) error = "no memory type for a request";
-      return VK_ERROR_OUT_OF_DEVICE_MEMORY;
-    }
+    const uint32_t type = engine::findMemoryType(*ctx, r.requirements.memoryTypeBits, r.properties);
     const VkDeviceSize alignment = std::max<VkDeviceSize>(r.requirements.alignment, 1);
     VkMemoryAllocateFlagsInfo flags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
     flags.flags = r.allocateFlags;
@@ -135,10 +128,7 @@ struct AliasedTransientPool {
     vkCreateBuffer(ctx.device, &info, nullptr, &alias);
     VkMemoryRequirements req;
     vkGetBufferMemoryRequirements(ctx.device, alias, &req);
-    for (uint32_t i = 0; i < ctx.memoryProperties.memoryTypeCount && memoryType == UINT32_MAX; ++i)
-      if ((req.memoryTypeBits & (1u << i)) &&
-          (ctx.memoryProperties.memoryTypes[i].propertyFlags & VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT))
-        memoryType = i;
+    memoryType = engine::findMemoryType(ctx, req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
     VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
     alloc.allocationSize = size = req.size;
     alloc.memoryTypeIndex = memoryType;

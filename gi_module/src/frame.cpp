@@ -373,7 +373,6 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
                               // Previous − current of the NDC shifts (jitter, off-axis), in pixels.
                               m.desc.gbuffer.motionHasJitter ? glm::vec2(0.0f)
                                                              : (previousCamera.ndcShift - camera.ndcShift) * halfSize,
-                              {m.previousWidth, m.previousHeight},
                               largestFinite(compositeFormat(m.desc))};
   std::memcpy(static_cast<std::byte*>(m.frameConstants.memory.mapped) + slot * m.frameConstantsStride, &frame, sizeof(frame));
   beginFrame(m, cmd, slot, in);

@@ -196,8 +196,8 @@ Error checkDesc(const ModuleDesc& d) {
                                               " is not Undefined, R16G16B16A16Sfloat, R32G32B32A32Sfloat or "
                                               "B10G11R11UfloatPack32"};
   if (d.historyFormat != VK_FORMAT_R16G16B16A16_SFLOAT && d.historyFormat != VK_FORMAT_R32G32B32A32_SFLOAT)
-    return {ErrorCode::UnsupportedFormat, "desc.historyFormat = VkFormat " + std::to_string(int(d.historyFormat)) +
-                                              " is not VK_FORMAT_R16G16B16A16_SFLOAT or VK_FORMAT_R32G32B32A32_SFLOAT"};
+    return {ErrorCode::UnsupportedFormat, "desc.historyFormat = " + vk::formatName(d.historyFormat) +
+                                              " is not R16G16B16A16Sfloat or R32G32B32A32Sfloat"};
   return checkDeviceMemory(d.deviceMemory, "desc.deviceMemory");
 }
 
@@ -440,83 +440,55 @@ const char* resultName(VkResult result) {
 
 uint32_t version() { return GI_VERSION_MAJOR << 16 | GI_VERSION_MINOR; }
 
-Error create(const ModuleDesc& desc, const Settings& settings, Module*& out) {
-  out = nullptr;
+// What create and predictMemory share: the desc and settings checked, the module's sizes and memory
+// rules, its function table, and the output formats the device must store.
+Error openModule(Module& m, const ModuleDesc& desc, const Settings& settings, const char* caller) {
   if (Error e = checkDesc(desc)) return e;
   if (Error e = validate(settings)) return e;
-  auto* m = new Module;
-  m->desc = desc;
-  m->desc.maxWidth = std::max(desc.maxWidth, desc.width);  // from here on: the largest size so far
-  m->desc.maxHeight = std::max(desc.maxHeight, desc.height);
-  m->settings = settings;
-  m->width = m->previousWidth = desc.width;
-  m->height = m->previousHeight = desc.height;
-  m->gpu.allocator = desc.allocationCallbacks;
-  m->gpu.pipelineCache = desc.pipelineCache;
-  m->gpu.memory.budget = desc.memoryBudgetBytes;
-  m->gpu.memory.engine = desc.deviceMemory;
-  if (vk::Status s = vk::openDevice(desc.getInstanceProcAddr, desc.instance, desc.physicalDevice, desc.device, m->gpu)) {
-    delete m;
+  m.desc = desc;
+  m.desc.maxWidth = std::max(desc.maxWidth, desc.width);  // from here on: the largest size so far
+  m.desc.maxHeight = std::max(desc.maxHeight, desc.height);
+  m.settings = settings;
+  m.width = m.previousWidth = desc.width;
+  m.height = m.previousHeight = desc.height;
+  m.gpu.allocator = desc.allocationCallbacks;
+  m.gpu.pipelineCache = desc.pipelineCache;
+  m.gpu.memory.budget = desc.memoryBudgetBytes;
+  m.gpu.memory.engine = desc.deviceMemory;
+  if (vk::Status s = vk::openDevice(desc.getInstanceProcAddr, desc.instance, desc.physicalDevice, desc.device, m.gpu))
     return {ErrorCode::MissingHandle,
-            std::string("gi::create: desc.getInstanceProcAddr returned no ") + s.call + " for this instance and device",
+            std::string(caller) + ": desc.getInstanceProcAddr returned no " + s.call + " for this instance and device",
             s.result};
-  }
-  if (Error e = checkFeatures(*m)) {
-    delete m;
-    return e;
-  }
-  if (Error e = checkGBufferFormats(*m); e || (e = checkOutputFormats(*m))) {
-    delete m;
-    return e;
-  }
+  return checkOutputFormats(m);
+}
+
+Error create(const ModuleDesc& desc, const Settings& settings, Module*& out) {
+  out = nullptr;
+  auto m = std::make_unique<Module>();
+  if (Error e = openModule(*m, desc, settings, "gi::create")) return e;
+  if (Error e = checkFeatures(*m); e || (e = checkGBufferFormats(*m))) return e;
   if (vk::Status s = createModuleResources(*m)) {
     Error e = vulkanError("gi::create", s);
     e.message += " (the module held " + std::to_string(m->gpu.memory.held) + " bytes of device memory)";
     destroyModuleResources(*m);
-    delete m;
     return e;
   }
-  out = m;
+  out = m.release();
   return {};
 }
 
 Error predictMemory(const ModuleDesc& desc, const Settings& settings, MemoryPrediction& out) {
   out = {};
-  if (Error e = checkDesc(desc)) return e;
-  if (Error e = validate(settings)) return e;
   Module m;  // what create would hold, on a simulated arena: the same rules, no allocation
-  m.desc = desc;
-  m.desc.maxWidth = std::max(desc.maxWidth, desc.width);
-  m.desc.maxHeight = std::max(desc.maxHeight, desc.height);
-  m.settings = settings;
-  m.width = desc.width;
-  m.height = desc.height;
-  m.gpu.memory.budget = desc.memoryBudgetBytes;
-  m.gpu.memory.engine = desc.deviceMemory;
   m.gpu.memory.simulate = true;
-  if (vk::Status s = vk::openDevice(desc.getInstanceProcAddr, desc.instance, desc.physicalDevice, desc.device, m.gpu))
-    return {ErrorCode::MissingHandle,
-            std::string("gi::predictMemory: desc.getInstanceProcAddr returned no ") + s.call + " for this instance and device",
-            s.result};
-  if (Error e = checkOutputFormats(m)) return e;
+  if (Error e = openModule(m, desc, settings, "gi::predictMemory")) return e;
   const vk::Status built = createMemoryResources(m);
-  out.heldBytes = m.gpu.memory.held;
-  out.usedBytes = m.gpu.memory.used;
-  out.transientBytes = m.sized.frameBytes;
-  out.permanentBytes = out.usedBytes - out.transientBytes;
-  out.deviceAllocations = m.gpu.memory.allocations;
-  destroySizedResources(m.gpu, m.sized);
-  destroyOutputImages(m.gpu, m.outputs);
-  destroyHashGrid(m.gpu, m.hash);
-  vk::destroyBuffer(m.gpu, m.frameConstants);
-  vk::destroyBuffer(m.gpu, m.counters);
-  vk::closeDevice(m.gpu);
-  if (built) {  // beyond memoryBudgetBytes, or a memory type the device lacks
-    Error e = vulkanError("gi::predictMemory", built);
-    out = {};
-    return e;
-  }
-  return {};
+  if (!built)
+    out = {m.gpu.memory.held, m.gpu.memory.used, m.sized.frameBytes, m.gpu.memory.used - m.sized.frameBytes,
+           m.gpu.memory.allocations};
+  destroyModuleResources(m);
+  // Beyond memoryBudgetBytes, or a memory type the device lacks: the error create would give.
+  return built ? vulkanError("gi::predictMemory", built) : Error{};
 }
 
 void destroy(Module* m) {
@@ -604,7 +576,7 @@ Error resize(Module* m, uint32_t width, uint32_t height) {
   if (width == m->width && height == m->height) return {};
   if (width <= m->desc.maxWidth && height <= m->desc.maxHeight) {
     // Dynamic resolution: a new render rectangle in the same images. Nothing is allocated, the outputs
-    // stay, and the histories are reprojected across the change (GiFrameConstants::previousSize);
+    // stay, and the histories are reprojected across the change (last frame's size is the previous camera's);
     // anhpsf's continued paths, which belong to pixels, restart.
     m->width = width;
     m->height = height;

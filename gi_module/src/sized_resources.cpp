@@ -210,12 +210,21 @@ vk::Status createFilters(Module& m, const OutputImages& outputs, SizedResources&
 bool noisyAliasesIndirect(const SizedResources& r) { return (r.needs & kNoisyIsIndirect) != 0; }
 
 
+namespace {
+// Calls `visit` for each image whose contents live within one frame: the sized images of frame lifetime,
+// then the guided filter's stack where it exists (a prediction's images have memory and no handle).
+template <typename Visit>
+void forEachFrameImage(const SizedResources& r, Visit&& visit) {
+  for (const SizedImage& image : kSizedImages)
+    if (image.lifetime == Lifetime::Frame) visit(r.*image.image);
+  for (const vk::Image& stack : r.filters.a)
+    if (stack.memory.size) visit(stack);
+}
+}  // namespace
+
 std::vector<const vk::Image*> frameImages(const SizedResources& r) {
   std::vector<const vk::Image*> images;
-  for (const SizedImage& image : kSizedImages)
-    if (image.lifetime == Lifetime::Frame) images.push_back(&(r.*image.image));
-  for (const vk::Image& stack : r.filters.a)
-    if (stack.memory.size) images.push_back(&stack);  // (a prediction's images have memory and no handle)
+  forEachFrameImage(r, [&](const vk::Image& image) { images.push_back(&image); });
   return images;
 }
 
@@ -300,16 +309,18 @@ void recordFirstUse(const vk::Device& gpu, VkCommandBuffer cmd, OutputImages& o,
 }
 
 void recordTransientReset(const vk::Device& gpu, VkCommandBuffer cmd, const SizedResources& r) {
-  std::vector<VkImageMemoryBarrier2> barriers;
-  for (const vk::Image* image : frameImages(r))
-    if (image->image)
-      barriers.push_back(vk::imageBarrierInfo(image->image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
-                                              VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT,
-                                              VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                                              VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT));
-  if (barriers.empty()) return;
+  // Every frame: the barriers on the stack (the sized images and the guided stack at most), one call.
+  std::array<VkImageMemoryBarrier2, std::size(kSizedImages) + FILTER_STACK> barriers;
+  uint32_t count = 0;
+  forEachFrameImage(r, [&](const vk::Image& image) {
+    barriers[count++] = vk::imageBarrierInfo(image.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
+                                             VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT,
+                                             VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                                             VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+  });
+  if (count == 0) return;
   VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-  dependency.imageMemoryBarrierCount = uint32_t(barriers.size());
+  dependency.imageMemoryBarrierCount = count;
   dependency.pImageMemoryBarriers = barriers.data();
   gpu.fn.vkCmdPipelineBarrier2(cmd, &dependency);
 }

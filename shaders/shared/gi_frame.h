@@ -101,7 +101,7 @@ GPU_CONST GI_PRIMARY_DIRECT_NONE = 2u;        // none: the engine lights them (S
 
 struct GiFrameConstants {
   GpuCamera camera;
-  GpuCamera previousCamera;
+  GpuCamera previousCamera;  // its imageSize: last frame's render size (dynamic resolution: what its histories cover)
   uvec2 size;        // pixels
   uint frameIndex;
   float depthScale;  // metres: view depth is divided by it for the filters' guidance (the scene extent, fixed)
@@ -117,11 +117,10 @@ struct GiFrameConstants {
   mat4 viewFromClip; // inverse of the camera's projection: hardware depth → view depth
   vec2 motionScale;  // the G-buffer's stored motion → pixels: GBufferDesc::motionScale × its units' pixels
   vec2 motionOffset; // pixels added after: the cameras' jitter difference where the engine's motion leaves it out
-  uvec2 previousSize;// last frame's render size in pixels (dynamic resolution: its histories cover that rectangle)
   float compositeMax; // largest finite value of the composite's format (ModuleDesc::compositeFormat)
   uint pad0;
 };
-GPU_ASSERT_SIZE(GiFrameConstants, 752);
+GPU_ASSERT_SIZE(GiFrameConstants, 744);
 
 // The temporal pass's history lengths (frames behind a pixel, this one included) are counted in this
 // many bins, the last holding every length from GI_HISTORY_BINS − 1 up: FrameStats::accumulatedFrames is

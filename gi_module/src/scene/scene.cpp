@@ -244,10 +244,8 @@ vk::Status buildScene(Scene& s, VkCommandBuffer cmd, const SceneContents& conten
   GI_TRY(upload(s, cmd, p.uvs, kTexels, s.uvs));
   GI_TRY(upload(s, cmd, p.indices, geometryUsage, s.indices));
   GI_TRY(upload(s, cmd, p.geometries, kTexels | refitUsage(s), s.geometries));
-  if (hasDeformable(p)) {
-    GI_TRY(createRefitProgram(s.gpu, s.refitProgram));
-    GI_TRY(createGatherProgram(s.gpu, s.gatherProgram));
-  }
+  if (hasDeformable(p) && computeBvh(s)) GI_TRY(createRefitProgram(s.gpu, s.refitProgram));  // the compute BVH's
+  if (hasDeformable(p)) GI_TRY(createGatherProgram(s.gpu, s.gatherProgram));                  // device streams
   GI_TRY(upload(s, cmd, p.materials, kTexels, s.materials));
 
   GI_TRY(hostBuffer(s, gpuInstances(p, s.instances, {}), s.instances.size(), kTexels, s.instanceTable));

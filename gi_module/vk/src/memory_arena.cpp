@@ -43,10 +43,16 @@ VkDeviceSize sharedBlockSize(const MemoryArena& a, uint32_t type, bool linear, b
   return std::min(a.maxBlockSize, a.firstBlockSize << std::min(live, 16u));
 }
 
+// `size` more bytes held within the budget, or the error a full heap gives.
+Status withinBudget(const MemoryArena& a, VkDeviceSize size) {
+  if (a.budget && a.held + size > a.budget) return {VK_ERROR_OUT_OF_DEVICE_MEMORY, "an allocation within ModuleDesc::memoryBudgetBytes"};
+  return {};
+}
+
 Status newBlock(Device& d, uint32_t type, VkDeviceSize size, bool shared, bool hostVisible, bool linear,
                 uint32_t& index) {
   MemoryArena& a = d.memory;
-  if (a.budget && a.held + size > a.budget) return {VK_ERROR_OUT_OF_DEVICE_MEMORY, "an allocation within ModuleDesc::memoryBudgetBytes"};
+  GI_TRY(withinBudget(a, size));
   MemoryArena::Block b;
   b.size = size;
   b.memoryType = type;
@@ -81,7 +87,7 @@ Status newBlock(Device& d, uint32_t type, VkDeviceSize size, bool shared, bool h
 Status engineAllocate(Device& d, const DeviceMemoryRequest& request, Allocation& out) {
   MemoryArena& a = d.memory;
   const VkDeviceSize size = request.requirements.size;
-  if (a.budget && a.held + size > a.budget) return {VK_ERROR_OUT_OF_DEVICE_MEMORY, "an allocation within ModuleDesc::memoryBudgetBytes"};
+  GI_TRY(withinBudget(a, size));
   DeviceMemorySlice slice;
   if (a.simulate) {
     slice.memory = reinterpret_cast<VkDeviceMemory>(a.nextPlaceholder++);
@@ -141,7 +147,7 @@ Status allocate(Device& d, const VkMemoryRequirements& req, bool hostVisible, bo
   if (index == UINT32_MAX) {
     VkDeviceSize size = ownBlock ? req.size : blockSize;
     // Under a budget a small resource may still fit in a block of its own size.
-    const bool shared = !ownBlock && !(a.budget && a.held + size > a.budget);
+    const bool shared = !ownBlock && !withinBudget(a, size);
     if (!shared) size = req.size;
     GI_TRY(newBlock(d, type, size, shared, hostVisible, linear, index));
     carve(a.blocks[index], req.size, req.alignment, offset);
