@@ -1,6 +1,7 @@
 // The frame script: each pass is one dispatch and the barrier that publishes
 // its writes, between a debug label and a timestamp pair.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cfloat>
 #include <cstring>
@@ -318,8 +319,10 @@ void endPass(Module& m, VkCommandBuffer cmd, uint32_t slot) {
   if (m.desc.debugLabels && g.fn.vkCmdEndDebugUtilsLabelEXT) g.fn.vkCmdEndDebugUtilsLabelEXT(cmd);
 }
 
-Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
-  Module& m = *mp;
+namespace {
+
+// The caller's inputs, checked before anything is recorded.
+Error checkFrameInputs(const Module& m, VkCommandBuffer cmd, const FrameInputs& in) {
   const GBufferViews& gb = in.gbuffer;
   if (!cmd) return {ErrorCode::MissingHandle, "gi::recordFrame: the command buffer is VK_NULL_HANDLE"};
   const bool emissionView = m.desc.gbuffer.hasEmission;
@@ -335,59 +338,57 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
     return {ErrorCode::OutOfRange, "gi::recordFrame: inputs.preExposure = " + std::to_string(in.preExposure) +
                                        " is not a positive finite factor"};
   if (Error e = checkCamera(in.camera, "inputs.camera")) return e;
-  if (Error e = checkCamera(in.previousCamera, "inputs.previousCamera")) return e;
-  const gpu::GpuCamera camera = gpuCamera(in.camera, in.previousCamera, m.width, m.height);
-  releaseRetired(m, false);
-  const uint32_t slot = uint32_t(m.recordedFrames % m.desc.framesInFlight);
-  const Settings& s = m.settings;
-  FrameSlot& frameSlot = m.slots[slot];
-  // Budgets read the counters this slot holds (its last frame has completed) before they are overwritten.
-  const uint32_t spp = isAaf(s.method) ? 0u : samplesWithinBudget(m, tracedSamplesPerPixel(s), slot);
-  const uint32_t aafBudget = aafSampleBudget(m, slot);
-  frameSlot.passes.clear();
+  return checkCamera(in.previousCamera, "inputs.previousCamera");
+}
 
-  // Outputs hold radiance × pre-exposure (aaf_ao's hold ratios in [0,1]), clamped into their format.
+// The frame's constants (set 1's uniform buffer): cameras, sizes, and the scales that keep light within each
+// image's format. Outputs hold radiance × pre-exposure (aaf_ao's hold ratios in [0,1]), clamped into their format.
+gpu::GiFrameConstants frameConstants(const Module& m, const FrameInputs& in, const gpu::GpuCamera& camera) {
+  const Settings& s = m.settings;
   const float outputScale = outputScales(s, in.preExposure).indirect;
   const float outputMax = largestFinite(m.desc.outputFormat);
   const bool noisyIsOutput = noisyAliasesIndirect(m.sized);
   const VkFormat noisyFormat = m.sized.noisyIndirect.format, historyFormat = m.sized.historyDirect.format;
   const gpu::GpuCamera previousCamera = gpuCamera(in.previousCamera, in.previousCamera, m.previousWidth, m.previousHeight);
   const glm::vec2 halfSize = 0.5f * glm::vec2(float(m.width), float(m.height));
-  gpu::GiFrameConstants frame{camera,
-                              previousCamera,
-                              {m.width, m.height},
-                              in.frameIndex,
-                              std::max(m.desc.scene.extent, 1e-6f),
-                              outputScale,
-                              outputMax,
-                              noisyIsOutput ? outputScale : lightScale(m, noisyFormat),
-                              noisyIsOutput ? outputMax : largestFinite(noisyFormat),
-                              lightScale(m, historyFormat),
-                              largestFinite(historyFormat),
-                              s.indirectOnly          ? gpu::GI_PRIMARY_DIRECT_NONE
-                              : usesReservoirs(m, s) ? gpu::GI_PRIMARY_DIRECT_RESERVOIRS
-                                                     : gpu::GI_PRIMARY_DIRECT_NEE,
-                              lightSampler(m, s),
-                              glm::inverse(clipFromView(in.camera)),
-                              motionPixelsPerUnit(m.desc.gbuffer, m.width, m.height),
-                              // Previous − current of the NDC shifts (jitter, off-axis), in pixels.
-                              m.desc.gbuffer.motionHasJitter ? glm::vec2(0.0f)
-                                                             : (previousCamera.ndcShift - camera.ndcShift) * halfSize,
-                              largestFinite(compositeFormat(m.desc))};
-  std::memcpy(static_cast<std::byte*>(m.frameConstants.memory.mapped) + slot * m.frameConstantsStride, &frame, sizeof(frame));
-  beginFrame(m, cmd, slot, in);
-  // History survives only while the view and the settings stay put.
-  const bool accumulate = s.method == Method::Raw && s.raw.temporalAccumulation;
-  if (!accumulate || !sameCamera(camera, m.historyCamera)) m.historyLength = 0;
-  m.historyCamera = camera;
+  return {camera,
+          previousCamera,
+          {m.width, m.height},
+          in.frameIndex,
+          std::max(m.desc.scene.extent, 1e-6f),
+          outputScale,
+          outputMax,
+          noisyIsOutput ? outputScale : lightScale(m, noisyFormat),
+          noisyIsOutput ? outputMax : largestFinite(noisyFormat),
+          lightScale(m, historyFormat),
+          largestFinite(historyFormat),
+          s.indirectOnly          ? gpu::GI_PRIMARY_DIRECT_NONE
+          : usesReservoirs(m, s) ? gpu::GI_PRIMARY_DIRECT_RESERVOIRS
+                                 : gpu::GI_PRIMARY_DIRECT_NEE,
+          lightSampler(m, s),
+          glm::inverse(clipFromView(in.camera)),
+          motionPixelsPerUnit(m.desc.gbuffer, m.width, m.height),
+          // Previous − current of the NDC shifts (jitter, off-axis), in pixels.
+          m.desc.gbuffer.motionHasJitter ? glm::vec2(0.0f) : (previousCamera.ndcShift - camera.ndcShift) * halfSize,
+          largestFinite(compositeFormat(m.desc))};
+}
 
-  VkDescriptorSet sets[] = {m.desc.scene.set, m.sized.frameSets[slot]};
+// What this frame records, decided once before its passes.
+struct FramePlan {
+  uint32_t slot = 0;
+  uint32_t spp = 0;        // paths per pixel within the ray budget (0 for AAF, which adapts its own)
+  uint32_t aafBudget = 0;  // AAF's samples within the ray budget (0: none)
+  bool accumulate = false;       // raw's running mean
+  bool gradientsTraced = false;  // temporal gradients, which need last frame's samples
+  bool noisyDirect = false;      // direct light with noise to average (area lights, picked lights)
+  bool runTemporal = false;
+  std::array<VkDescriptorSet, 2> sets{};  // scene, frame
+};
+
+// Passes: the light the method starts from (AAF's samples, the hash map's paths, or raw paths).
+void recordTracePasses(Module& m, VkCommandBuffer cmd, const FramePlan& plan, const gpu::GiFrameConstants& frame) {
+  const Settings& s = m.settings;
   const glm::uvec2 size{m.width, m.height};
-  m.sized.filters.width = m.width;  // the filters' rectangle within their images (dynamic resolution)
-  m.sized.filters.height = m.height;
-  if (usesReservoirs(m, s)) recordReservoirPasses(m, cmd, slot);
-  // Temporal gradients need last frame's samples, kept in the set the temporal pass reads.
-  const bool gradientsTraced = usesTemporalGradients(m, s) && m.temporalFrames > 0;
   if (isAaf(s.method)) {
     // Passes: 16 stratified rays give reflector distances, β and n per pixel; then the remaining n − 16.
     const gpu::AafPush aaf{.mu = s.aaf.mu,
@@ -395,76 +396,76 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
                            .sceneExtent = m.desc.scene.extent,
                            .seed = s.seed,
                            .ambientOcclusion = s.method == Method::AafAo ? 1u : 0u,
-                           .sampleBudget = aafBudget,
+                           .sampleBudget = plan.aafBudget,
                            .maxBounces = s.maxBounces,
                            .russianRouletteStart = s.russianRouletteStart,
                            .uniformSamples = s.aaf.uniformSamples,
                            .glossy = aafSpecular(m, s) ? 1u : 0u};
-    runPass(m, cmd, slot, Pass::AafSample, m.aafSample, sets, size, aaf);
-    runPass(m, cmd, slot, Pass::AafAdaptive, m.aafAdaptive, sets, size, aaf);
-  } else if (usesHashGrid(s.method)) {
-    recordHashPasses(m, cmd, slot, frame, spp);
-  } else {
-    // Pass: trace paths from the G-buffer (direct + demodulated indirect, optional temporal mean).
-    const gpu::GiRawPush raw{.seed = s.seed,
-                             .samplesPerPixel = spp,
-                             .maxBounces = s.maxBounces,
-                             .russianRouletteStart = s.russianRouletteStart,
-                             .historyLength = m.historyLength,
-                             .maxHistory = s.raw.maxAccumulatedFrames,
-                             .accumulate = accumulate ? 1u : 0u,
-                             .gradients = usesTemporalGradients(m, s) ? 1u : 0u,
-                             .parity = m.temporalFrames & 1u,
-                             .depthTolerance = s.temporal.depthTolerance,
-                             .cosNormalLimit = cosDegrees(s.temporal.normalLimitDegrees)};
-    runPass(m, cmd, slot, Pass::RawTrace, m.rawTrace, sets, size, raw);
-    // Pass: one more path per 3×3 tile with last frame's random numbers: how much its light changed.
-    if (gradientsTraced)
-      runPass(m, cmd, slot, Pass::TemporalGradient, m.temporalGradient, sets,
-              {(m.width + GI_GRADIENT_TILE - 1) / GI_GRADIENT_TILE, (m.height + GI_GRADIENT_TILE - 1) / GI_GRADIENT_TILE},
-              raw);
+    runPass(m, cmd, plan.slot, Pass::AafSample, m.aafSample, plan.sets, size, aaf);
+    runPass(m, cmd, plan.slot, Pass::AafAdaptive, m.aafAdaptive, plan.sets, size, aaf);
+    return;
   }
-  // Direct light has noise to average only from area lights (emissive triangles, a sky) and picked lights.
-  const bool noisyDirect = hasNoisyDirect(m, s);
-  const bool runTemporal = runsTemporalPass(m, s);
-  if (runTemporal) {
-    // Pass: last frame's light, reprojected through the motion vectors, blended into this frame's
-    // (the hash methods' direct light; their map holds the indirect, and their own samples are
-    // accumulated only for the filter clamp).
-    const TemporalSettings& t = s.temporal;
-    const bool svgf = s.method == Method::Svgf;
-    const gpu::GiTemporalPush temporal{.parity = m.temporalFrames & 1u,
-                                       .reset = m.temporalFrames == 0 ? 1u : 0u,
-                                       .minBlend = svgf ? s.svgf.alpha : t.minBlend,
-                                       .depthTolerance = t.depthTolerance,
-                                       .cosNormalLimit = cosDegrees(t.normalLimitDegrees),
-                                       .directOnly = usesPackedHistory(m, s) ? 1u : 0u,
-                                       .direct = noisyDirect ? 1u : 0u,
-                                       .moments = svgf ? 1u : 0u,
-                                       .momentsMinBlend = s.svgf.momentsAlpha,
-                                       .gradients = gradientsTraced ? 1u : 0u,
-                                       .indirectOutput = usesHashGrid(s.method) ? 0u : 1u,
-                                       .historyClamp = usesHistoryClamp(m, s) ? t.historyClamp : 0.0f,
-                                       .historyScale = radianceScale(m)};
-    // Pass: this frame's samples' spread around each pixel, which the history is clamped to.
-    if (usesHistoryClamp(m, s) && m.temporalFrames > 0)
-      runPass(m, cmd, slot, Pass::TemporalSpread, m.temporalSpread, sets, size, temporal);
-    runPass(m, cmd, slot, Pass::Temporal, m.temporal, sets, size, temporal);
-    m.temporalFrames++;
-  }
-  if (s.method == Method::Svgf) recordSvgfPasses(m, cmd, slot, noisyDirect && s.svgf.filterDirect);
-  if (usesScreenFilters(s.method)) recordFilterPasses(m, cmd, slot, frame);
+  if (usesHashGrid(s.method)) return recordHashPasses(m, cmd, plan.slot, frame, plan.spp);
+  // Pass: trace paths from the G-buffer (direct + demodulated indirect, optional temporal mean).
+  const gpu::GiRawPush raw{.seed = s.seed,
+                           .samplesPerPixel = plan.spp,
+                           .maxBounces = s.maxBounces,
+                           .russianRouletteStart = s.russianRouletteStart,
+                           .historyLength = m.historyLength,
+                           .maxHistory = s.raw.maxAccumulatedFrames,
+                           .accumulate = plan.accumulate ? 1u : 0u,
+                           .gradients = usesTemporalGradients(m, s) ? 1u : 0u,
+                           .parity = m.temporalFrames & 1u,
+                           .depthTolerance = s.temporal.depthTolerance,
+                           .cosNormalLimit = cosDegrees(s.temporal.normalLimitDegrees)};
+  runPass(m, cmd, plan.slot, Pass::RawTrace, m.rawTrace, plan.sets, size, raw);
+  // Pass: one more path per 3×3 tile with last frame's random numbers: how much its light changed.
+  if (plan.gradientsTraced)
+    runPass(m, cmd, plan.slot, Pass::TemporalGradient, m.temporalGradient, plan.sets,
+            {(m.width + GI_GRADIENT_TILE - 1) / GI_GRADIENT_TILE, (m.height + GI_GRADIENT_TILE - 1) / GI_GRADIENT_TILE},
+            raw);
+}
 
+// Pass: last frame's light, reprojected through the motion vectors, blended into this frame's (the hash
+// methods' direct light; their map holds the indirect, and their own samples are accumulated only for
+// the filter clamp).
+void recordTemporalPasses(Module& m, VkCommandBuffer cmd, const FramePlan& plan) {
+  const Settings& s = m.settings;
+  const TemporalSettings& t = s.temporal;
+  const bool svgf = s.method == Method::Svgf;
+  const gpu::GiTemporalPush temporal{.parity = m.temporalFrames & 1u,
+                                     .reset = m.temporalFrames == 0 ? 1u : 0u,
+                                     .minBlend = svgf ? s.svgf.alpha : t.minBlend,
+                                     .depthTolerance = t.depthTolerance,
+                                     .cosNormalLimit = cosDegrees(t.normalLimitDegrees),
+                                     .directOnly = usesPackedHistory(m, s) ? 1u : 0u,
+                                     .direct = plan.noisyDirect ? 1u : 0u,
+                                     .moments = svgf ? 1u : 0u,
+                                     .momentsMinBlend = s.svgf.momentsAlpha,
+                                     .gradients = plan.gradientsTraced ? 1u : 0u,
+                                     .indirectOutput = usesHashGrid(s.method) ? 0u : 1u,
+                                     .historyClamp = usesHistoryClamp(m, s) ? t.historyClamp : 0.0f,
+                                     .historyScale = radianceScale(m)};
+  const glm::uvec2 size{m.width, m.height};
+  // Pass: this frame's samples' spread around each pixel, which the history is clamped to.
+  if (usesHistoryClamp(m, s) && m.temporalFrames > 0)
+    runPass(m, cmd, plan.slot, Pass::TemporalSpread, m.temporalSpread, plan.sets, size, temporal);
+  runPass(m, cmd, plan.slot, Pass::Temporal, m.temporal, plan.sets, size, temporal);
+  m.temporalFrames++;
+}
+
+// Pass: composite (or the chosen debug view), then gif's supersamples.
+void recordCompositePasses(Module& m, VkCommandBuffer cmd, const FramePlan& plan, const gpu::GpuCamera& camera) {
+  const Settings& s = m.settings;
   // What the filter clamp holds (TemporalSettings::filterClamp): what the method filtered, against
   // the light the temporal pass accumulated.
   uint32_t clampLight = 0;
-  if (runTemporal && usesScreenFilters(s.method)) clampLight = gpu::GI_CLAMP_INDIRECT;
-  if (runTemporal && (s.method == Method::Sspsf || clampsHashIndirect(s)))  // they filter filter vertices only
+  if (plan.runTemporal && usesScreenFilters(s.method)) clampLight = gpu::GI_CLAMP_INDIRECT;
+  if (plan.runTemporal && (s.method == Method::Sspsf || clampsHashIndirect(s)))  // they filter filter vertices only
     clampLight = gpu::GI_CLAMP_INDIRECT | gpu::GI_CLAMP_FILTER_VERTICES;
   if (s.method == Method::Svgf && s.svgf.iterations > 0)
     clampLight = gpu::GI_CLAMP_INDIRECT | gpu::GI_CLAMP_FROM_MOMENTS |
-                 (noisyDirect && s.svgf.filterDirect ? gpu::GI_CLAMP_DIRECT : 0u);
-  // Pass: composite (or the chosen debug view).
+                 (plan.noisyDirect && s.svgf.filterDirect ? gpu::GI_CLAMP_DIRECT : 0u);
   const gpu::GiCompositePush composite{
       .debugView = uint32_t(s.debugView),
       .ambientOcclusion = s.method == Method::AafAo ? 1u : 0u,
@@ -472,39 +473,86 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
       .pixelScale = pixelScale(camera),
       .aafSpecular = aafSpecular(m, s) ? 1u : 0u,
       .radiance = debugViewCatalogue()[size_t(s.debugView)].radiance ? 1u : 0u,
-      .temporalWritten = runTemporal ? m.temporalFrames & 1u : 2u,  // odd counts: this frame wrote B
-      .gradients = gradientsTraced ? 1u : 0u,
+      .temporalWritten = plan.runTemporal ? m.temporalFrames & 1u : 2u,  // odd counts: this frame wrote B
+      .gradients = plan.gradientsTraced ? 1u : 0u,
       .filterClamp = s.temporal.filterClamp,
       .clampLight = clampLight,
       .packedHistory = usesPackedHistory(m, s) ? 1u : 0u,
       .historyScale = radianceScale(m)};
-  runPass(m, cmd, slot, Pass::Composite, m.composite, sets, size, composite);
-
+  const glm::uvec2 size{m.width, m.height};
+  runPass(m, cmd, plan.slot, Pass::Composite, m.composite, plan.sets, size, composite);
   if (s.method == Method::Gif && s.gif.supersamples > 0 && s.debugView == DebugView::None) {
     // Pass: extra eye rays with their own direct light and geometry-aware indirect lookup.
-    runPass(m, cmd, slot, Pass::GifSupersample, m.supersample, sets, size, gpu::GiSupersamplePush{s.seed, s.gif.supersamples});
+    runPass(m, cmd, plan.slot, Pass::GifSupersample, m.supersample, plan.sets, size,
+            gpu::GiSupersamplePush{s.seed, s.gif.supersamples});
   }
+}
+
+// The frame's end: the outputs to the engine's layout, the counters to the slot's readback copy, and what
+// the next frame needs to know of this one.
+void endFrame(Module& m, VkCommandBuffer cmd, const FramePlan& plan, const FrameInputs& in) {
   vk::memoryBarrier(m.gpu, cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                     VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
   // The outputs to the engine's layout, visible to whatever reads them next.
   moveOutputs(m, cmd, VK_IMAGE_LAYOUT_GENERAL, m.desc.outputLayout, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
               VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT);
   // Counters to this slot's readback copy.
-  VkBufferCopy copy{0, sizeof(gpu::GiCounters) * (1 + slot), sizeof(gpu::GiCounters)};
+  VkBufferCopy copy{0, sizeof(gpu::GiCounters) * (1 + plan.slot), sizeof(gpu::GiCounters)};
   m.gpu.fn.vkCmdCopyBuffer(cmd, m.counters.buffer, m.counters.buffer, 1, &copy);
   // The slot's counters and telemetry are read by the host once the frame's fence has signalled.
   vk::memoryBarrier(m.gpu, cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                     VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
 
-  if (accumulate) m.historyLength = std::min(m.historyLength + 1, s.raw.maxAccumulatedFrames);
+  const Settings& s = m.settings;
+  if (plan.accumulate) m.historyLength = std::min(m.historyLength + 1, s.raw.maxAccumulatedFrames);
+  FrameSlot& frameSlot = m.slots[plan.slot];
   frameSlot.frameIndex = in.frameIndex;
   frameSlot.history = m.historyLength;
-  frameSlot.spp = spp;
+  frameSlot.spp = plan.spp;
   frameSlot.method = s.method;
   frameSlot.recorded = true;
   m.previousWidth = m.width;  // the next frame's histories cover this rectangle
   m.previousHeight = m.height;
   m.recordedFrames++;
+}
+
+}  // namespace
+
+Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
+  Module& m = *mp;
+  if (Error e = checkFrameInputs(m, cmd, in)) return e;
+  const gpu::GpuCamera camera = gpuCamera(in.camera, in.previousCamera, m.width, m.height);
+  releaseRetired(m, false);
+  const Settings& s = m.settings;
+  FramePlan plan;
+  plan.slot = uint32_t(m.recordedFrames % m.desc.framesInFlight);
+  // Budgets read the counters this slot holds (its last frame has completed) before they are overwritten.
+  plan.spp = isAaf(s.method) ? 0u : samplesWithinBudget(m, tracedSamplesPerPixel(s), plan.slot);
+  plan.aafBudget = aafSampleBudget(m, plan.slot);
+  plan.accumulate = s.method == Method::Raw && s.raw.temporalAccumulation;
+  plan.gradientsTraced = usesTemporalGradients(m, s) && m.temporalFrames > 0;
+  plan.noisyDirect = hasNoisyDirect(m, s);
+  plan.runTemporal = runsTemporalPass(m, s);
+  plan.sets = {m.desc.scene.set, m.sized.frameSets[plan.slot]};
+  m.slots[plan.slot].passes.clear();
+
+  const gpu::GiFrameConstants frame = frameConstants(m, in, camera);
+  std::memcpy(static_cast<std::byte*>(m.frameConstants.memory.mapped) + plan.slot * m.frameConstantsStride, &frame,
+              sizeof(frame));
+  beginFrame(m, cmd, plan.slot, in);
+  // History survives only while the view and the settings stay put.
+  if (!plan.accumulate || !sameCamera(camera, m.historyCamera)) m.historyLength = 0;
+  m.historyCamera = camera;
+  m.sized.filters.width = m.width;  // the filters' rectangle within their images (dynamic resolution)
+  m.sized.filters.height = m.height;
+
+  if (usesReservoirs(m, s)) recordReservoirPasses(m, cmd, plan.slot);
+  recordTracePasses(m, cmd, plan, frame);
+  if (plan.runTemporal) recordTemporalPasses(m, cmd, plan);
+  if (s.method == Method::Svgf) recordSvgfPasses(m, cmd, plan.slot, plan.noisyDirect && s.svgf.filterDirect);
+  if (usesScreenFilters(s.method)) recordFilterPasses(m, cmd, plan.slot, frame);
+  recordCompositePasses(m, cmd, plan, camera);
+  endFrame(m, cmd, plan, in);
   return {};
 }
 
