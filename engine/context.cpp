@@ -138,7 +138,10 @@ VkResult createEngineDevice(const Context& ctx, bool swapchain, VkDevice& out) {
   return vkCreateDevice(ctx.physicalDevice, &deviceInfo, nullptr, &out);
 }
 
-bool createContext(const ContextDesc& desc, Context& ctx, std::string& error) {
+namespace {
+
+// The instance, with the validation layer and its message counter when asked for.
+bool createInstance(const ContextDesc& desc, Context& ctx, std::string& error) {
   if (volkInitialize() != VK_SUCCESS) {
     error = "No Vulkan loader was found (libvulkan.so.1); install libvulkan1 and a Vulkan driver such as mesa-vulkan-drivers.";
     return false;
@@ -205,8 +208,12 @@ bool createContext(const ContextDesc& desc, Context& ctx, std::string& error) {
   }
   volkLoadInstanceOnly(ctx.instance);
   if (desc.validation) VK_CHECK(vkCreateDebugUtilsMessengerEXT(ctx.instance, &messengerInfo, nullptr, &ctx.messenger));
+  return true;
+}
 
-  // Pick the best-ranked device (discrete first, CPU last) that matches the filter.
+// The best-ranked device (discrete first, CPU last) that matches the name filter and has what the traversal
+// needs; the traversal resolved for it (Auto: ray queries where the device has them, unless it is a CPU device).
+bool pickPhysicalDevice(const ContextDesc& desc, Context& ctx, std::string& error) {
   uint32_t deviceCount = 0;
   vkEnumeratePhysicalDevices(ctx.instance, &deviceCount, nullptr);
   std::vector<VkPhysicalDevice> devices(deviceCount);
@@ -275,9 +282,14 @@ bool createContext(const ContextDesc& desc, Context& ctx, std::string& error) {
   ctx.physicalDevice = best;
   ctx.properties = bestProps;
   vkGetPhysicalDeviceMemoryProperties(best, &ctx.memoryProperties);
+  return true;
+}
 
-  // Feature chain: check what we need before enabling it. The GI module's
-  // needs come from its public catalogue (gi/device.h); the engine adds its own.
+// Feature chain: check what we need before enabling it. The GI module's
+// needs come from its public catalogue (gi/device.h); the engine adds its own.
+bool checkDeviceFeatures(const Context& ctx, std::string& error) {
+  const VkPhysicalDevice best = ctx.physicalDevice;
+  const VkPhysicalDeviceProperties& bestProps = ctx.properties;
   VkPhysicalDeviceRayQueryFeaturesKHR rayQuery{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR};
   VkPhysicalDeviceAccelerationStructureFeaturesKHR accel{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
   accel.pNext = &rayQuery;
@@ -305,6 +317,12 @@ bool createContext(const ContextDesc& desc, Context& ctx, std::string& error) {
             ", which the GI module or the engine needs.";
     return false;
   }
+  return true;
+}
+
+// A queue family with graphics, compute and timestamps.
+bool pickQueueFamily(Context& ctx, std::string& error) {
+  const VkPhysicalDevice best = ctx.physicalDevice;
   uint32_t familyCount = 0;
   vkGetPhysicalDeviceQueueFamilyProperties(best, &familyCount, nullptr);
   std::vector<VkQueueFamilyProperties> families(familyCount);
@@ -318,13 +336,22 @@ bool createContext(const ContextDesc& desc, Context& ctx, std::string& error) {
     }
   }
   if (ctx.queueFamily == UINT32_MAX) {
-    error = std::string("The Vulkan device '") + bestProps.deviceName +
+    error = std::string("The Vulkan device '") + ctx.properties.deviceName +
             "' has no queue family with graphics, compute and timestamps.";
     return false;
   }
+  return true;
+}
 
+}  // namespace
+
+bool createContext(const ContextDesc& desc, Context& ctx, std::string& error) {
+  if (!createInstance(desc, ctx, error) || !pickPhysicalDevice(desc, ctx, error) || !checkDeviceFeatures(ctx, error) ||
+      !pickQueueFamily(ctx, error))
+    return false;
+  const VkPhysicalDevice best = ctx.physicalDevice;
   if (VkResult made = createEngineDevice(ctx, desc.swapchain, ctx.device); made != VK_SUCCESS) {
-    error = std::string("vkCreateDevice failed on '") + bestProps.deviceName + "' (" + vkResultName(made) + ").";
+    error = std::string("vkCreateDevice failed on '") + ctx.properties.deviceName + "' (" + vkResultName(made) + ").";
     return false;
   }
   volkLoadDevice(ctx.device);
