@@ -175,29 +175,63 @@ bool saveDisplay(const engine::Context& ctx, const demo::DisplayPass& display, c
 
 }  // namespace
 
-int main(int argc, char** argv) {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Everything the demo holds while it runs: the engine's side, the module's session, the window or the headless
+// frame slots, the overlay, and the walkthrough's state.
+struct Demo {
   Options o;
+  engine::Scene scene;
+  engine::Context ctx;
+  engine::SceneGpu sceneGpu;
+  engine::SceneAnimation animation;
+  tools::ModuleSession session;
+  gi::ModuleDesc moduleDesc;
+  engine::Window window;
+  VkExtent2D displaySize{};
+  // One display image per frame in flight: a finished frame's image is read (saved) while the next frame
+  // draws into the other.
+  demo::DisplayPass displays[engine::kFramesInFlight];
+  engine::FrameSlots headless;  // the window has its own
+  demo::OverlayRenderer overlay;
+  bool imgui = false;
+  demo::OverlayState ui;
+  float extent = 1.0f;
+  demo::Walkthrough path;
+  demo::FreeCamera freeCamera;
+  gi::Settings settings, applied;  // what the panel edits, what the module runs
+  // Settings whose programs are not ready are readied off the frame first (program_readiness.h).
+  demo::ProgramReadiness readiness;
+  demo::FrameFacts factsOfFrame[engine::kFramesInFlight];  // what each frame in flight ran, for its CSV row
+  demo::FrameLog log;
+  bool logging = false;
+  // Input.
+  Keys keys;
+  bool previousP = false, previousF12 = false, screenshotPending = false;
+  glm::dvec2 previousMouse{0.0};
+  // Time.
+  gpu::GpuCamera previousCamera{};
+  Clock::time_point start = Clock::now(), lastFrame = start;
+  double cpuMs = 0.0, moduleMsSum = 0.0, seconds = 0.0, lastSeconds = 0.0;
+  uint32_t measured = 0, frame = 0;
+};
+
+int fail(const std::string& error, int status) {
+  std::fprintf(stderr, "sample_game: %s\n", error.c_str());
+  return status;
+}
+
+// The output directory, the scene, the context (windowed when a display is there) and the module's session.
+// 0, or the exit status.
+int openEngine(Demo& d) {
+  Options& o = d.o;
   std::string error;
-  if (!parseOptions(argc, argv, o, error)) return usageError(error);
-  if (o.help) {
-    std::printf("%s", cli::usage("sample_game", "[options]", kOptions).c_str());
-    return 0;
-  }
-  if (o.headless && o.frames == 0) o.frames = o.benchmark ? o.benchmark : 30;
-  if (o.benchmark) o.frames = o.benchmark;
   std::error_code ec;
   fs::create_directories(o.out, ec);
-  if (ec) {
-    std::fprintf(stderr, "sample_game: %s: cannot create the output directory (%s)\n", o.out.string().c_str(),
-                 ec.message().c_str());
-    return 1;
-  }
-
-  engine::Scene scene;
-  if (!engine::loadSceneForRendering(o.scene, scene, error)) {
-    std::fprintf(stderr, "sample_game: %s\n", error.c_str());
-    return 1;
-  }
+  if (ec) return fail(o.out.string() + ": cannot create the output directory (" + ec.message() + ")", 1);
+  if (!engine::loadSceneForRendering(o.scene, d.scene, error)) return fail(error, 1);
   engine::ContextDesc contextDesc;
   contextDesc.validation = o.validation;
   contextDesc.synchronizationValidation = o.syncValidation;
@@ -213,251 +247,285 @@ int main(int argc, char** argv) {
   if (o.headless)
     std::printf("sample_game: no display: running headless, writing the walkthrough's frames (PNG) and benchmark.csv to %s\n",
                 o.out.string().c_str());
-  engine::Context ctx;
-  if (!engine::createContext(contextDesc, ctx, error)) {
-    std::fprintf(stderr, "sample_game: %s\n", error.c_str());
-    return 1;
-  }
-  engine::SceneGpu sceneGpu;
-  scene.sky = o.sky;
-  scene.lightSampler = o.lightSampler;
-  scene.lightTreeCut = o.lightTreeCut;
-  const engine::SceneAnimation animation = engine::makeSceneAnimation(scene);
-  engine::markAnimatedInstancesMovable(animation, scene);  // the overlay may start the animation at any time
-  engine::createSceneGpu(ctx, scene, sceneGpu);
-  tools::ModuleSession session;
-  if (!tools::createModuleSession(ctx, sceneGpu, {o.width, o.height}, o.settings, session, error)) {
-    std::fprintf(stderr, "sample_game: %s\n", error.c_str());
-    return 2;
-  }
-  engine::Window window;
-  if (!o.headless && !engine::createWindow(ctx, o.windowWidth, o.windowHeight, "GI module: sample game", window, error)) {
-    std::fprintf(stderr, "sample_game: %s\n", error.c_str());
-    return 1;
-  }
-  const VkExtent2D displaySize{o.windowWidth, o.windowHeight};
-  // One display image per frame in flight: a finished frame's image is read
-  // (saved) while the next frame draws into the other.
-  demo::DisplayPass displays[engine::kFramesInFlight];
-  for (demo::DisplayPass& d : displays) d = demo::createDisplayPass(ctx, displaySize, gi::outputs(session.module).compositeView);
-  engine::FrameSlots headless;  // the window has its own
-  if (o.headless) headless = engine::createFrameSlots(ctx);
+  if (!engine::createContext(contextDesc, d.ctx, error)) return fail(error, 1);
+  d.scene.sky = o.sky;
+  d.scene.lightSampler = o.lightSampler;
+  d.scene.lightTreeCut = o.lightTreeCut;
+  d.animation = engine::makeSceneAnimation(d.scene);
+  engine::markAnimatedInstancesMovable(d.animation, d.scene);  // the overlay may start the animation at any time
+  engine::createSceneGpu(d.ctx, d.scene, d.sceneGpu);
+  if (!tools::createModuleSession(d.ctx, d.sceneGpu, {o.width, o.height}, o.settings, d.session, error))
+    return fail(error, 2);
+  d.moduleDesc = tools::moduleDesc(d.ctx, d.sceneGpu, {o.width, o.height});
+  return 0;
+}
+
+// The window (or the headless frame slots), the display images, ImGui and its renderer, the walkthrough and
+// the frame log. 0, or the exit status.
+int openPresentation(Demo& d) {
+  const Options& o = d.o;
+  std::string error;
+  if (!o.headless && !engine::createWindow(d.ctx, o.windowWidth, o.windowHeight, "GI module: sample game", d.window, error))
+    return fail(error, 1);
+  d.displaySize = {o.windowWidth, o.windowHeight};
+  for (demo::DisplayPass& display : d.displays)
+    display = demo::createDisplayPass(d.ctx, d.displaySize, gi::outputs(d.session.module).compositeView);
+  if (o.headless) d.headless = engine::createFrameSlots(d.ctx);
 
   ImGui::CreateContext();
+  d.imgui = true;
   ImGui::StyleColorsDark();
   ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini next to the user's files
-  if (!o.headless) ImGui_ImplGlfw_InitForVulkan(window.handle, true);
-  demo::OverlayRenderer overlay = demo::createOverlayRenderer(ctx, demo::kDisplayFormat);
+  if (!o.headless) ImGui_ImplGlfw_InitForVulkan(d.window.handle, true);
+  d.overlay = demo::createOverlayRenderer(d.ctx, demo::kDisplayFormat);
 
-  demo::OverlayState ui;
-  ui.animate = o.animate;
-  ui.walkthrough = o.walkthrough;
-  ui.budgetMode = o.budgetMs > 0.0f;
-  if (ui.budgetMode) ui.budget.targetMs = o.budgetMs;
-  const float extent = scene.worldBounds().extent();
-  demo::Walkthrough path{demo::freeCameraFrom(scene.cameras[0]), extent};
-  demo::FreeCamera freeCamera = path.start;
-  gi::Settings settings = o.settings, applied = o.settings;  // what the panel edits, what the module runs
+  d.ui.animate = o.animate;
+  d.ui.walkthrough = o.walkthrough;
+  d.ui.budgetMode = o.budgetMs > 0.0f;
+  if (d.ui.budgetMode) d.ui.budget.targetMs = o.budgetMs;
+  d.extent = d.scene.worldBounds().extent();
+  d.path = demo::Walkthrough{demo::freeCameraFrom(d.scene.cameras[0]), d.extent};
+  d.freeCamera = d.path.start;
+  d.settings = d.applied = o.settings;
+  d.logging = o.headless || o.benchmark > 0;
+  if (d.logging && !demo::openFrameLog(d.log, (o.out / "benchmark.csv").string(), error)) return fail(error, 1);
+  return 0;
+}
 
-  // Settings whose programs are not ready are readied off the frame first (program_readiness.h).
-  demo::ProgramReadiness readiness;
-  const gi::ModuleDesc moduleDesc = tools::moduleDesc(ctx, sceneGpu, {o.width, o.height});
-  auto apply = [&](const gi::Settings& wanted) {
-    if (gi::Error e = gi::validate(wanted)) {
-      ui.settingsError = e.message;  // the module keeps running what it had
-      settings = applied;
-      return;
-    }
-    ui.settingsError.clear();
-    if (!o.switchInFrame && !gi::programsPrepared(session.module, wanted)) {
-      if (!readiness.busy) demo::startReadying(readiness, ctx, session.module, moduleDesc, wanted);
-      ui.compiling = gi::methodName(wanted.method);  // the newest wish is applied when the worker is done
-      return;
-    }
-    if (gi::Error e = gi::setSettings(session.module, wanted)) {
-      ui.settingsError = e.message;
-      settings = applied;
-    } else {
-      applied = wanted;
-    }
-  };
-  demo::FrameFacts factsOfFrame[engine::kFramesInFlight];  // what each frame in flight ran, for its CSV row
-
-  demo::FrameLog log;
-  bool logging = o.headless || o.benchmark > 0;
-  if (logging && !demo::openFrameLog(log, (o.out / "benchmark.csv").string(), error)) {
-    std::fprintf(stderr, "sample_game: %s\n", error.c_str());
-    return 1;
+// The panel's (or a switch's) wish: validated, readied off the frame when its programs are not, then applied.
+void applySettings(Demo& d, const gi::Settings& wanted) {
+  if (gi::Error e = gi::validate(wanted)) {
+    d.ui.settingsError = e.message;  // the module keeps running what it had
+    d.settings = d.applied;
+    return;
   }
+  d.ui.settingsError.clear();
+  if (!d.o.switchInFrame && !gi::programsPrepared(d.session.module, wanted)) {
+    if (!d.readiness.busy) demo::startReadying(d.readiness, d.ctx, d.session.module, d.moduleDesc, wanted);
+    d.ui.compiling = gi::methodName(wanted.method);  // the newest wish is applied when the worker is done
+    return;
+  }
+  if (gi::Error e = gi::setSettings(d.session.module, wanted)) {
+    d.ui.settingsError = e.message;
+    d.settings = d.applied;
+  } else {
+    d.applied = wanted;
+  }
+}
 
-  Keys keys;
-  bool previousP = false, previousF12 = false, screenshotPending = false;
-  glm::dvec2 previousMouse(0.0);
-  gpu::GpuCamera previousCamera{};
-  using Clock = std::chrono::steady_clock;
-  Clock::time_point start = Clock::now(), lastFrame = start;
-  double cpuMs = 0.0, moduleMsSum = 0.0, seconds = 0.0, lastSeconds = 0.0;
-  uint32_t measured = 0, frame = 0;
+// Once frame `completed` has finished on the GPU: its numbers and the CSV row.
+gi::FrameStats completedFrame(Demo& d, uint32_t completed) {
+  gi::FrameStats stats;
+  if (!gi::frameStats(d.session.module, completed, stats)) stats = gi::stats(d.session.module);
+  double gbufferMs = 0.0;
+  for (const engine::PassTime& p : engine::readPassTimes(d.ctx, tools::gbufferTimer(d.session, completed)))
+    gbufferMs += p.ms;
+  demo::recordFrameNumbers(d.ui, stats, gbufferMs, d.cpuMs);
+  if (d.logging)
+    demo::writeFrameRow(d.log, completed, d.lastSeconds, d.cpuMs, gbufferMs, stats,
+                        d.factsOfFrame[completed % engine::kFramesInFlight]);
+  d.moduleMsSum += stats.totalMs;
+  ++d.measured;
+  return stats;
+}
+
+// Headless: a completed frame's display image as frame_NNNNN.png.
+bool saveFrame(const Demo& d, uint32_t completed) {
+  char name[64];
+  std::snprintf(name, sizeof(name), "frame_%05u.png", completed);
+  return saveDisplay(d.ctx, d.displays[completed % engine::kFramesInFlight], d.o.out / name, false);
+}
+
+// Frames are recorded two ahead, windowed and headless: the frame recorded kFramesInFlight ago has completed,
+// so its numbers (and headless its PNG, before this frame redraws it) are taken now, and budget mode takes
+// its next step. False when the PNG could not be written.
+bool takeCompletedFrame(Demo& d) {
+  const Clock::time_point now = Clock::now();
+  d.cpuMs = std::chrono::duration<double, std::milli>(now - d.lastFrame).count();
+  d.lastFrame = now;
+  if (d.frame < engine::kFramesInFlight) return true;
+  const uint32_t completed = d.frame - engine::kFramesInFlight;
+  const gi::FrameStats stats = completedFrame(d, completed);
+  if (d.o.headless && !d.o.benchmark && !saveFrame(d, completed)) return false;
+  if (d.ui.budgetMode) {
+    d.settings.rayBudget = d.applied.rayBudget = gi::updateBudget(d.ui.budget, stats);
+    gi::setSettings(d.session.module, d.applied);
+  }
+  return true;
+}
+
+// Input, the walkthrough or free camera, and the overlay (whose edits are applied): this frame's camera.
+gpu::GpuCamera updateCameraAndOverlay(Demo& d, float dt) {
+  const Options& o = d.o;
+  ImGuiIO& io = ImGui::GetIO();
+  if (o.headless) {
+    io.DeltaTime = 1.0f / 30.0f;
+  } else {
+    ImGui_ImplGlfw_NewFrame();  // sets the window's size, which the display size below replaces
+    int ww = 1, wh = 1;
+    glfwGetWindowSize(d.window.handle, &ww, &wh);
+    io.MousePos.x *= float(d.displaySize.width) / float(std::max(ww, 1));  // the overlay lives in display pixels
+    io.MousePos.y *= float(d.displaySize.height) / float(std::max(wh, 1));
+    io.DisplayFramebufferScale = ImVec2(1.0f, 1.0f);
+    demo::CameraInput input = pollInput(d.window.handle, d.extent, d.keys, d.previousP, d.previousF12, d.previousMouse);
+    if (d.keys.walkthroughToggle) d.ui.walkthrough = !d.ui.walkthrough;
+    if (d.keys.screenshot) d.ui.screenshotRequested = true;
+    if (!d.ui.walkthrough) demo::updateFreeCamera(d.freeCamera, input, dt);
+  }
+  io.DisplaySize = ImVec2(float(d.displaySize.width), float(d.displaySize.height));
+  if (d.ui.walkthrough) d.freeCamera = demo::walkthroughCamera(d.path, d.seconds);
+  const gpu::GpuCamera camera = engine::makeGpuCamera(demo::toCamera(d.freeCamera), o.width, o.height,
+                                                      d.frame > 0 ? &d.previousCamera : nullptr);
+
+  ImGui::NewFrame();
+  gi::FrameStats shown = gi::stats(d.session.module);
+  if (demo::collectReady(d.readiness)) {
+    if (!d.readiness.error.empty())
+      std::printf("sample_game: readying %s: %s\n", gi::methodName(d.readiness.target.method), d.readiness.error.c_str());
+    d.ui.compiling.clear();
+    applySettings(d, d.settings);  // the newest wish: readied now, or readied next
+  }
+  if (d.frame == o.switchAt) {
+    d.settings.method = o.switchTo;
+    applySettings(d, d.settings);
+  }
+  if (demo::buildOverlay(d.ui, d.settings, shown)) applySettings(d, d.settings);
+  demo::FrameFacts& facts = d.factsOfFrame[d.frame % engine::kFramesInFlight];
+  facts.method = gi::methodName(d.applied.method);
+  facts.readying = d.readiness.busy;
+  if (d.ui.screenshotRequested) {
+    d.screenshotPending = true;
+    d.ui.screenshotRequested = false;
+  }
+  ImGui::Render();
+  return camera;
+}
+
+// The frame's commands: the moving scene, the G-buffer and the module, the display and the overlay.
+void recordDemoFrame(Demo& d, VkCommandBuffer cmd, const gpu::GpuCamera& camera, demo::DisplayPass& display) {
+  if (d.ui.animate) {
+    // The scene's tables are written in this frame's command buffer: the frame in flight keeps its own.
+    engine::animateScene(d.animation, d.seconds, d.scene);
+    engine::recordSceneTransformUpdate(d.ctx, cmd, d.scene, d.sceneGpu);
+    if (d.ui.tellModuleLightsMoved) gi::invalidate(d.session.module, gi::Invalidate::LightsChanged);
+  }
+  // The module pre-exposes its light with the demo's exposure, as an engine keeps half floats in
+  // range; the display applies what is left (nothing) and clamps.
+  d.session.preExposure = d.ui.exposure;
+  tools::recordModuleFrame(d.ctx, cmd, d.session, d.scene, d.sceneGpu, camera, d.frame > 0 ? d.previousCamera : camera,
+                           d.frame);
+  demo::recordDisplay(d.ctx, cmd, display, d.ui.exposure / d.session.preExposure, d.session.extent);
+  demo::recordOverlay(d.ctx, cmd, d.overlay, d.frame, *ImGui::GetDrawData(), display.image.image, display.image.view,
+                      d.displaySize);
+}
+
+// The frames, until the window closes or the count is reached. 0, or the exit status.
+int runFrames(Demo& d) {
+  const Options& o = d.o;
   const bool fixedStep = o.headless || o.benchmark > 0;  // a deterministic path: 30 frames per walkthrough second
-
-  // Once frame `completed` has finished on the GPU: its numbers and the CSV row.
-  auto completedFrame = [&](uint32_t completed) {
-    gi::FrameStats stats;
-    if (!gi::frameStats(session.module, completed, stats)) stats = gi::stats(session.module);
-    double gbufferMs = 0.0;
-    for (const engine::PassTime& p : engine::readPassTimes(ctx, tools::gbufferTimer(session, completed))) gbufferMs += p.ms;
-    demo::recordFrameNumbers(ui, stats, gbufferMs, cpuMs);
-    if (logging)
-      demo::writeFrameRow(log, completed, lastSeconds, cpuMs, gbufferMs, stats, factsOfFrame[completed % engine::kFramesInFlight]);
-    moduleMsSum += stats.totalMs;
-    ++measured;
-    return stats;
-  };
-  // Frames are recorded two ahead, windowed and headless: a frame's numbers,
-  // and headless its PNG, are taken once the frame two later begins.
-  const uint32_t framesInFlight = engine::kFramesInFlight;
-  auto saveFrame = [&](uint32_t completed) {
-    char name[64];
-    std::snprintf(name, sizeof(name), "frame_%05u.png", completed);
-    return saveDisplay(ctx, displays[completed % framesInFlight], o.out / name, false);
-  };
-
   engine::startCountingVulkanCalls();
-  for (; o.frames == 0 || frame < o.frames; ++frame) {
+  for (; o.frames == 0 || d.frame < o.frames; ++d.frame) {
     const engine::VulkanCallCounts callsBefore = engine::vulkanCallCounts();
     uint32_t image = 0;
     VkCommandBuffer frameCmd = VK_NULL_HANDLE;
     if (!o.headless) {
-      if (engine::windowShouldClose(window)) break;
-      if (!engine::beginWindowFrame(ctx, window, image)) {
-        --frame;
+      if (engine::windowShouldClose(d.window)) break;
+      if (!engine::beginWindowFrame(d.ctx, d.window, image)) {
+        --d.frame;
         continue;
       }
-      frameCmd = window.cmd;
+      frameCmd = d.window.cmd;
     } else {
-      engine::waitFrameSlot(ctx, headless, frame);
-      frameCmd = engine::beginFrameSlot(ctx, headless, frame);
+      engine::waitFrameSlot(d.ctx, d.headless, d.frame);
+      frameCmd = engine::beginFrameSlot(d.ctx, d.headless, d.frame);
     }
-    demo::DisplayPass& display = displays[frame % framesInFlight];
-    // The frame recorded framesInFlight ago has completed: its numbers and the budget's next step.
-    Clock::time_point now = Clock::now();
-    cpuMs = std::chrono::duration<double, std::milli>(now - lastFrame).count();
-    lastFrame = now;
-    if (frame >= framesInFlight) {
-      gi::FrameStats stats = completedFrame(frame - framesInFlight);
-      if (o.headless && !o.benchmark && !saveFrame(frame - framesInFlight)) return 1;  // before this frame redraws it
-      if (ui.budgetMode) {
-        settings.rayBudget = applied.rayBudget = gi::updateBudget(ui.budget, stats);
-        gi::setSettings(session.module, applied);
-      }
-    }
-
-    // Input, camera and the moving scene.
-    ImGuiIO& io = ImGui::GetIO();
-    if (o.headless) {
-      io.DisplaySize = ImVec2(float(displaySize.width), float(displaySize.height));
-      io.DeltaTime = 1.0f / 30.0f;
-    } else {
-      ImGui_ImplGlfw_NewFrame();
-      int ww = 1, wh = 1;
-      glfwGetWindowSize(window.handle, &ww, &wh);
-      io.MousePos.x *= float(displaySize.width) / float(std::max(ww, 1));  // the overlay lives in display pixels
-      io.MousePos.y *= float(displaySize.height) / float(std::max(wh, 1));
-      io.DisplaySize = ImVec2(float(displaySize.width), float(displaySize.height));
-      io.DisplayFramebufferScale = ImVec2(1.0f, 1.0f);
-    }
-    float dt = fixedStep ? 1.0f / 30.0f : float(cpuMs * 1e-3);
-    seconds += dt;
-    if (!o.headless) {
-      demo::CameraInput input = pollInput(window.handle, extent, keys, previousP, previousF12, previousMouse);
-      if (keys.walkthroughToggle) ui.walkthrough = !ui.walkthrough;
-      if (keys.screenshot) ui.screenshotRequested = true;
-      if (!ui.walkthrough) demo::updateFreeCamera(freeCamera, input, dt);
-    }
-    if (ui.walkthrough) freeCamera = demo::walkthroughCamera(path, seconds);
-    gpu::GpuCamera camera =
-        engine::makeGpuCamera(demo::toCamera(freeCamera), o.width, o.height, frame > 0 ? &previousCamera : nullptr);
-
-    ImGui::NewFrame();
-    gi::FrameStats shown = gi::stats(session.module);
-    if (demo::collectReady(readiness)) {
-      if (!readiness.error.empty()) std::printf("sample_game: readying %s: %s\n", gi::methodName(readiness.target.method), readiness.error.c_str());
-      ui.compiling.clear();
-      apply(settings);  // the newest wish: readied now, or readied next
-    }
-    if (frame == o.switchAt) {
-      settings.method = o.switchTo;
-      apply(settings);
-    }
-    if (demo::buildOverlay(ui, settings, shown)) apply(settings);
-    factsOfFrame[frame % engine::kFramesInFlight].method = gi::methodName(applied.method);
-    factsOfFrame[frame % engine::kFramesInFlight].readying = readiness.busy;
-    if (ui.screenshotRequested) {
-      screenshotPending = true;
-      ui.screenshotRequested = false;
-    }
-    ImGui::Render();
-
-    auto record = [&](VkCommandBuffer cmd) {
-      if (ui.animate) {
-        // The scene's tables are written in this frame's command buffer: the frame in flight keeps its own.
-        engine::animateScene(animation, seconds, scene);
-        engine::recordSceneTransformUpdate(ctx, cmd, scene, sceneGpu);
-        if (ui.tellModuleLightsMoved) gi::invalidate(session.module, gi::Invalidate::LightsChanged);
-      }
-      // The module pre-exposes its light with the demo's exposure, as an engine keeps half floats in
-      // range; the display applies what is left (nothing) and clamps.
-      session.preExposure = ui.exposure;
-      tools::recordModuleFrame(ctx, cmd, session, scene, sceneGpu, camera, frame > 0 ? previousCamera : camera, frame);
-      demo::recordDisplay(ctx, cmd, display, ui.exposure / session.preExposure, session.extent);
-      demo::recordOverlay(ctx, cmd, overlay, frame, *ImGui::GetDrawData(), display.image.image, display.image.view,
-                          displaySize);
-    };
-    record(frameCmd);
-    if (o.headless) engine::submitFrameSlot(ctx, headless, frame);
-    else engine::endWindowFrame(ctx, window, image, display.image.image, displaySize);
-    if (screenshotPending || frame == o.screenshotAt) {
+    demo::DisplayPass& display = d.displays[d.frame % engine::kFramesInFlight];
+    if (!takeCompletedFrame(d)) return 1;
+    const float dt = fixedStep ? 1.0f / 30.0f : float(d.cpuMs * 1e-3);
+    d.seconds += dt;
+    const gpu::GpuCamera camera = updateCameraAndOverlay(d, dt);
+    recordDemoFrame(d, frameCmd, camera, display);
+    if (o.headless) engine::submitFrameSlot(d.ctx, d.headless, d.frame);
+    else engine::endWindowFrame(d.ctx, d.window, image, display.image.image, d.displaySize);
+    if (d.screenshotPending || d.frame == o.screenshotAt) {
       // With the overlay: once this frame has completed (its display image is not redrawn until frame + 2).
-      vkQueueWaitIdle(ctx.queue);
+      vkQueueWaitIdle(d.ctx.queue);
       char name[64];
-      std::snprintf(name, sizeof(name), "screenshot_%05u.png", frame);
-      saveDisplay(ctx, display, o.out / name, true);
-      screenshotPending = false;
+      std::snprintf(name, sizeof(name), "screenshot_%05u.png", d.frame);
+      saveDisplay(d.ctx, display, o.out / name, true);
+      d.screenshotPending = false;
     }
-    previousCamera = camera;
-    lastSeconds = seconds;
-    factsOfFrame[frame % engine::kFramesInFlight].calls = engine::vulkanCallCounts() - callsBefore;
+    d.previousCamera = camera;
+    d.lastSeconds = d.seconds;
+    d.factsOfFrame[d.frame % engine::kFramesInFlight].calls = engine::vulkanCallCounts() - callsBefore;
   }
+  return 0;
+}
 
-  joinReadying(readiness);
-  vkDeviceWaitIdle(ctx.device);
-  cpuMs = std::chrono::duration<double, std::milli>(Clock::now() - lastFrame).count();
-  for (uint32_t c = frame >= framesInFlight ? frame - framesInFlight : 0; c < frame; ++c) {
-    completedFrame(c);
-    if (o.headless && !o.benchmark && !saveFrame(c)) return 1;
+// The frames still in flight taken, and the summary line. 0, or the exit status.
+int finishFrames(Demo& d) {
+  joinReadying(d.readiness);
+  vkDeviceWaitIdle(d.ctx.device);
+  d.cpuMs = std::chrono::duration<double, std::milli>(Clock::now() - d.lastFrame).count();
+  const uint32_t framesInFlight = engine::kFramesInFlight;
+  for (uint32_t c = d.frame >= framesInFlight ? d.frame - framesInFlight : 0; c < d.frame; ++c) {
+    completedFrame(d, c);
+    if (d.o.headless && !d.o.benchmark && !saveFrame(d, c)) return 1;
   }
-  double wall = std::chrono::duration<double>(Clock::now() - start).count();
-  std::printf("frames %u in %.1f s; module %.2f ms GPU per frame (mean)", frame, wall,
-              measured ? moduleMsSum / measured : 0.0);
-  if (ui.budgetMode)
-    std::printf("; budget mode: target %.1f ms, last frame %.2f ms, ray budget %.3g", ui.budget.targetMs,
-                gi::stats(session.module).totalMs, double(settings.rayBudget));
+  const double wall = std::chrono::duration<double>(Clock::now() - d.start).count();
+  std::printf("frames %u in %.1f s; module %.2f ms GPU per frame (mean)", d.frame, wall,
+              d.measured ? d.moduleMsSum / d.measured : 0.0);
+  if (d.ui.budgetMode)
+    std::printf("; budget mode: target %.1f ms, last frame %.2f ms, ray budget %.3g", d.ui.budget.targetMs,
+                gi::stats(d.session.module).totalMs, double(d.settings.rayBudget));
   std::printf("\n");
-  if (logging) std::printf("csv %s\n", (o.out / "benchmark.csv").string().c_str());
+  if (d.logging) std::printf("csv %s\n", (d.o.out / "benchmark.csv").string().c_str());
+  return 0;
+}
 
-  demo::destroyOverlayRenderer(ctx, overlay);
-  if (!o.headless) ImGui_ImplGlfw_Shutdown();
-  ImGui::DestroyContext();
-  for (demo::DisplayPass& d : displays) demo::destroyDisplayPass(ctx, d);
-  engine::destroyFrameSlots(ctx, headless);
-  if (!o.headless) engine::destroyWindow(ctx, window);
-  tools::destroyModuleSession(ctx, session);
-  engine::destroySceneGpu(ctx, sceneGpu);
-  uint32_t messages = ctx.validationMessages();
-  engine::destroyContext(ctx);
-  if (o.validation && messages > 0) {
+// Everything released, in reverse order; exit status 3 when validation reported anything.
+int closeDemo(Demo& d, int status) {
+  if (!d.ctx.device) {  // nothing was made on a device
+    engine::destroyContext(d.ctx);
+    return status;
+  }
+  joinReadying(d.readiness);
+  vkDeviceWaitIdle(d.ctx.device);
+  if (d.imgui) {
+    demo::destroyOverlayRenderer(d.ctx, d.overlay);
+    if (!d.o.headless) ImGui_ImplGlfw_Shutdown();
+    ImGui::DestroyContext();
+  }
+  for (demo::DisplayPass& display : d.displays) demo::destroyDisplayPass(d.ctx, display);
+  engine::destroyFrameSlots(d.ctx, d.headless);
+  if (!d.o.headless) engine::destroyWindow(d.ctx, d.window);
+  tools::destroyModuleSession(d.ctx, d.session);
+  engine::destroySceneGpu(d.ctx, d.sceneGpu);
+  const uint32_t messages = d.ctx.validationMessages();
+  engine::destroyContext(d.ctx);
+  if (status == 0 && d.o.validation && messages > 0) {
     std::fprintf(stderr, "sample_game: Vulkan validation reported %u messages\n", messages);
     return 3;
   }
-  return 0;
+  return status;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Demo d;
+  Options& o = d.o;
+  std::string error;
+  if (!parseOptions(argc, argv, o, error)) return usageError(error);
+  if (o.help) {
+    std::printf("%s", cli::usage("sample_game", "[options]", kOptions).c_str());
+    return 0;
+  }
+  if (o.headless && o.frames == 0) o.frames = o.benchmark ? o.benchmark : 30;
+  if (o.benchmark) o.frames = o.benchmark;
+  int status = openEngine(d);
+  if (status == 0) status = openPresentation(d);
+  if (status == 0) status = runFrames(d);
+  if (status == 0) status = finishFrames(d);
+  return closeDemo(d, status);
 }
