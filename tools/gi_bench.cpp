@@ -256,6 +256,516 @@ int refitOnly(cli::Args& args) {
   return written ? 0 : 1;
 }
 
+namespace {
+
+// What the command line asks for, checked.
+struct BenchOptions {
+  uint32_t width = 320, height = 180, cameraIndex = 0, frames = 8, warmup = 2, bounces = 4;
+  uint32_t refSpp = 4096, pathRefSpp = 1024, moveAt = 0;
+  bool animate = false, move = false, cameraPath = false, raysOnly = false, gbufferPrimary = false;
+  bool series = false, plots = true;
+  std::string scenePath, referenceFile;  // referenceFile: --reference, empty when rendered
+  std::string history = "half";
+  VkFormat historyFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
+  std::optional<gi::Invalidate> invalidateAtMove;
+  std::vector<tools::BenchConfig> configs;
+  engine::ContextDesc context;
+  uint32_t lightSampler = 2, lightTreeCut = 4;  // SceneCreateDesc's defaults (gpu::LIGHT_SAMPLER_TREE)
+  engine::Sky sky;
+  fs::path dir = "bench_out";
+};
+
+// The experiment's options and how they combine: false with a sentence in `error`.
+bool parseExperiment(cli::Args& args, BenchOptions& o, std::string& error) {
+  o.raysOnly = args.has("rays");
+  if (!args.has("scene") || (!args.has("methods") && !o.raysOnly)) {
+    error = "--scene and --methods are required";
+    return false;
+  }
+  o.scenePath = args.values["scene"];
+  if (!cli::getSize(args, "size", 320, 180, o.width, o.height, error) ||
+      !cli::getUint(args, "camera", 0, 0, 1u << 20, o.cameraIndex, error) ||
+      !cli::getUint(args, "frames", 8, 1, 100000, o.frames, error) ||
+      !cli::getUint(args, "warmup", 2, 0, 100000, o.warmup, error) ||
+      !cli::getUint(args, "max-bounces", 4, 1, 32, o.bounces, error) ||
+      !cli::getUint(args, "reference-spp", 4096, 1, 1u << 24, o.refSpp, error) ||
+      !cli::getUint(args, "path-reference-spp", std::max(1u, o.refSpp / 4), 1, 1u << 24, o.pathRefSpp, error) ||
+      !cli::getUint(args, "move-at", 0, 0, 1u << 20, o.moveAt, error))
+    return false;
+  o.animate = args.has("animate");
+  o.move = args.has("move-at");
+  o.cameraPath = args.has("camera-path");
+  if (args.has("reference")) o.referenceFile = args.values["reference"];
+  auto refuse = [&](const std::string& why) {
+    error = why;
+    return false;
+  };
+  if (o.animate && o.move) return refuse("--animate and --move-at are two different experiments; choose one");
+  if (o.animate && !o.referenceFile.empty()) return refuse("--animate renders a reference per frame; drop --reference");
+  if (o.cameraPath && (o.animate || o.move))
+    return refuse("--camera-path moves the camera, --animate and --move-at the scene; choose one");
+  if (o.cameraPath && o.frames < 2) return refuse("--camera-path walks the timed frames: --frames must be 2 or more");
+  const std::string primary = args.has("reference-primary") ? args.values["reference-primary"] : "traced";
+  if (primary != "traced" && primary != "gbuffer")
+    return refuse("--reference-primary: '" + primary + "' is not traced or gbuffer");
+  o.gbufferPrimary = primary == "gbuffer";
+  if (args.has("history-format")) o.history = args.values["history-format"];
+  if (o.history != "half" && o.history != "single")
+    return refuse("--history-format: '" + o.history + "' is not half or single");
+  o.historyFormat = o.history == "half" ? VK_FORMAT_R16G16B16A16_SFLOAT : VK_FORMAT_R32G32B32A32_SFLOAT;
+  if (args.has("invalidate-at-move")) {
+    const std::string& what = args.values["invalidate-at-move"];
+    if (!o.move) return refuse("--invalidate-at-move needs --move-at");
+    if (what == "all") o.invalidateAtMove = gi::Invalidate::All;
+    else if (what == "lights") o.invalidateAtMove = gi::Invalidate::LightsChanged;
+    else return refuse("--invalidate-at-move: '" + what + "' is neither all nor lights");
+  }
+  return true;
+}
+
+// The configurations, the device and the scene's lights and sky: false with a sentence in `error`.
+bool parseConfigurations(cli::Args& args, BenchOptions& o, std::string& error) {
+  std::vector<uint32_t> spps;
+  for (const std::string& s : cli::splitList(args.has("spp") ? args.values["spp"] : "1")) {
+    cli::Args one;
+    one.values["spp"] = s;
+    uint32_t v;
+    if (!cli::getUint(one, "spp", 1, 1, 64, v, error)) return false;
+    spps.push_back(v);
+  }
+  gi::Settings base;
+  base.maxBounces = o.bounces;
+  base.seed = 7;
+  if (!o.raysOnly &&
+      !tools::expandConfigs(cli::splitList(args.values["methods"]), spps, args.values["set"], base, o.configs, error))
+    return false;
+  o.context.validation = args.has("validation");
+  o.series = args.has("series") || o.cameraPath;
+  o.plots = !args.has("no-plots");
+  if (args.has("out")) o.dir = args.values["out"];
+  return cli::getTraversal(args, o.context.traversal, error) &&
+         cli::getLightSampler(args, o.lightSampler, o.lightTreeCut, error) && cli::getSky(args, o.sky, error);
+}
+
+// What a run holds: the device and the scene on it (released once, by the destructor), the camera, the
+// scene's motion, the references and the bare-ray ceiling.
+struct Bench {
+  engine::Context ctx;
+  engine::Scene scene;
+  engine::SceneGpu sceneGpu;
+  bool sceneOnDevice = false;
+  engine::Camera startCamera;
+  gpu::GpuCamera camera{};
+  engine::SceneAnimation animation;
+  float movedSeconds = 0.0f;
+  std::string sceneName, key;  // key: the references' cache key
+  Reference ref;
+  std::vector<Reference> animationRefs, pathRefs;  // --animate, --camera-path: one per timed frame
+  double refFlicker = 0.0;  // --camera-path: the references' mean change between consecutive frames
+  engine::RayBenchResult bare;
+  uint32_t messages = 0;  // validation messages, counted before the context goes
+
+  Bench() = default;
+  Bench(const Bench&) = delete;
+  Bench& operator=(const Bench&) = delete;
+  ~Bench() {
+    if (sceneOnDevice) engine::destroySceneGpu(ctx, sceneGpu);
+    engine::destroyContext(ctx);
+  }
+  void pose(float seconds) { engine::poseScene(ctx, animation, seconds, scene, sceneGpu); }
+};
+
+constexpr float kFrameSeconds = 1.0f / 30.0f;
+
+// The output folder, the scene with its lights, the device and the scene on it. False with `error`.
+bool openBench(const BenchOptions& o, cli::Args& args, Bench& b, std::string& error) {
+  std::error_code ec;
+  fs::create_directories(o.dir / "images", ec);
+  if (ec) {
+    error = o.dir.string() + ": cannot create the output folder (" + ec.message() + ")";
+    return false;
+  }
+  if (!engine::loadSceneForRendering(o.scenePath, b.scene, error) || !cli::applyPointLights(args, b.scene, error))
+    return false;
+  b.scene.lightSampler = o.lightSampler;
+  b.scene.lightTreeCut = o.lightTreeCut;
+  if (o.cameraIndex >= b.scene.cameras.size()) {
+    error = b.scene.sourcePath + ": camera " + std::to_string(o.cameraIndex) + " does not exist";
+    return false;
+  }
+  if (!engine::createContext(o.context, b.ctx, error)) return false;
+  b.scene.sky = o.sky;
+  b.scene.bothTraversals = o.raysOnly;  // --rays measures both backends on one scene
+  engine::createSceneGpu(b.ctx, b.scene, b.sceneGpu);
+  b.sceneOnDevice = true;
+  b.startCamera = b.scene.cameras[o.cameraIndex];
+  b.camera = engine::makeGpuCamera(b.startCamera, o.width, o.height, nullptr);
+  b.sceneName = fs::path(b.scene.sourcePath).stem().string();
+  b.key = sanitise(b.sceneName) + "_cam" + std::to_string(o.cameraIndex) + "_" + std::to_string(o.width) + "x" +
+          std::to_string(o.height) + "_b" + std::to_string(o.bounces) + "_s" + std::to_string(o.refSpp) +
+          cli::skyKey(b.scene.sky) + cli::pointLightsKey(args) + cli::lightSamplerKey(b.scene, b.sceneGpu.desc);
+  // Moving scenes: the pose at a time, uploaded (TLAS rebuilt) before the next frame.
+  b.animation = engine::makeSceneAnimation(b.scene);
+  b.movedSeconds = 0.5f * b.animation.periodSeconds;
+  if (o.move) {
+    b.pose(b.movedSeconds);
+    b.key += "_moved";
+  }
+  return true;
+}
+
+// --camera-path: the camera of timed frame f (warm-up frames stand at the start).
+gpu::GpuCamera walkCamera(const BenchOptions& o, const Bench& b, uint32_t f, const gpu::GpuCamera* previous) {
+  return engine::makeGpuCamera(pathCamera(b.startCamera, b.sceneGpu.desc.extent, f), o.width, o.height, previous);
+}
+
+// --reference: the given image (and, for one gi-bench cached, its indirect AOV beside it), of the run's size.
+bool readGivenReference(const BenchOptions& o, Reference& ref, std::string& error) {
+  if (!engine::readImage(o.referenceFile, ref.final, error)) return false;
+  std::string indirectPath = o.referenceFile;
+  const size_t at = indirectPath.rfind("_final.exr");
+  if (at != std::string::npos && at + 10 == indirectPath.size()) {
+    indirectPath.replace(at, 10, "_indirect.exr");
+    std::string ignored;
+    if (fs::exists(indirectPath) && !engine::readImage(indirectPath, ref.indirect, ignored)) ref.indirect = engine::FloatImage();
+  }
+  if (ref.final.width != o.width || ref.final.height != o.height) {
+    error = o.referenceFile + ": the reference is " + std::to_string(ref.final.width) + "x" +
+            std::to_string(ref.final.height) + ", not " + std::to_string(o.width) + "x" + std::to_string(o.height);
+    return false;
+  }
+  return true;
+}
+
+// The references: the run's (given or cached), one per timed frame's pose with --animate, one per camera of
+// the walk with --camera-path (cached like the main one). False with `error`.
+bool loadReferences(const BenchOptions& o, Bench& b, std::string& error) {
+  const bool loaded = o.referenceFile.empty()
+                          ? reference(b.ctx, b.scene, b.sceneGpu, b.camera, o.bounces, o.refSpp, o.gbufferPrimary, o.dir,
+                                      b.key, b.ref, error)
+                          : readGivenReference(o, b.ref, error);
+  if (!loaded) return false;
+  engine::writeImage((o.dir / "images" / "reference.pfm").string(), b.ref.final, error);
+  const std::string perFrameSpp = "_s" + std::to_string(o.pathRefSpp);
+  for (uint32_t f = 0; o.animate && f < o.frames; ++f) {
+    b.pose(float(o.warmup + f) * kFrameSeconds);
+    Reference r;
+    if (!reference(b.ctx, b.scene, b.sceneGpu, b.camera, o.bounces, o.pathRefSpp, o.gbufferPrimary, o.dir,
+                   b.key + "_anim" + std::to_string(o.warmup + f) + perFrameSpp, r, error))
+      return false;
+    b.animationRefs.push_back(std::move(r));
+  }
+  for (uint32_t f = 0; o.cameraPath && f < o.frames; ++f) {
+    Reference r;
+    if (!reference(b.ctx, b.scene, b.sceneGpu, walkCamera(o, b, f, nullptr), o.bounces, o.pathRefSpp, o.gbufferPrimary,
+                   o.dir, b.key + kWalkKey + "_path" + std::to_string(f) + perFrameSpp, r, error))
+      return false;
+    b.pathRefs.push_back(std::move(r));
+    if (f > 0) b.refFlicker += meanFrameDifference(b.pathRefs[f].final, b.pathRefs[f - 1].final) / double(o.frames - 1);
+  }
+  return true;
+}
+
+metrics::ImageError averageError(const std::vector<metrics::ImageError>& v) {
+  metrics::ImageError a;
+  for (const auto& e : v) {
+    a.mse += e.mse / double(v.size());
+    a.relMse += e.relMse / double(v.size());
+    a.ssim += e.ssim / double(v.size());
+  }
+  a.psnr = metrics::psnrFromMse(a.mse);
+  return a;
+}
+
+// One configuration's frames as they run: pass times, rays and errors per timed frame.
+struct FrameSamples {
+  std::set<std::string> tracingPasses;
+  std::map<std::string, std::vector<double>> passMs;
+  std::vector<double> totals, rays, afterMove;
+  std::vector<metrics::ImageError> finals, indirects;
+  uint32_t staleResets = 0;  // over the timed frames (the stats hold one frame's)
+  double flicker = 0.0;      // --camera-path: mean change between consecutive frames
+  engine::ReferenceImages last;
+};
+
+// The scene's pose for a frame: moving with --animate, before and after the jump with --move-at; and the
+// engine's word to the module at the jump.
+void poseFrame(const BenchOptions& o, Bench& b, tools::ModuleSession& session, uint32_t frame) {
+  if (o.animate) b.pose(float(frame) * kFrameSeconds);
+  else if (o.move && (frame == 0 || frame == o.moveAt))
+    engine::jumpScene(b.ctx, b.animation, frame < o.moveAt ? 0.0f : b.movedSeconds, b.scene, b.sceneGpu);
+  if (o.invalidateAtMove && o.move && frame == o.moveAt) gi::invalidate(session.module, *o.invalidateAtMove);
+}
+
+// Timed frame f (frame `frame` of the run): rendered, timed, read back and compared with its reference.
+void measureFrame(const BenchOptions& o, Bench& b, tools::ModuleSession& session, const tools::BenchConfig& config,
+                  uint32_t f, uint32_t frame, gpu::GpuCamera& previousCamera, Row& row, FrameSamples& s,
+                  std::ofstream& series) {
+  poseFrame(o, b, session, frame);
+  const Reference& frameRef = o.animate ? b.animationRefs[f] : o.cameraPath ? b.pathRefs[f] : b.ref;
+  const gpu::GpuCamera frameCamera = o.cameraPath ? walkCamera(o, b, f, &previousCamera) : b.camera;
+  tools::FrameTiming t = tools::renderModuleFrame(b.ctx, session, b.scene, b.sceneGpu, frameCamera, previousCamera, frame);
+  previousCamera = frameCamera;
+  // A pass that runs several times a frame (à-trous iterations, the guided filter's two box
+  // passes) counts with its frame total.
+  std::map<std::string, double> frameTotals;
+  for (const gi::PassTiming& p : t.passes) {
+    if (!s.passMs.count(p.name) && !frameTotals.count(p.name)) row.passOrder.push_back(p.name);
+    frameTotals[p.name] += p.ms;
+    if (p.tracesRays) s.tracingPasses.insert(p.name);  // the module says which passes trace
+  }
+  for (const auto& [name, ms] : frameTotals) s.passMs[name].push_back(ms);
+  s.totals.push_back(t.totalMs);
+  s.rays.push_back(double(t.rays));
+  const gi::FrameStats frameStats = gi::stats(session.module);
+  s.staleResets += frameStats.hash.staleResets;
+  engine::FloatImage lastFinal = std::move(s.last.final);
+  s.last = tools::readModuleImages(b.ctx, session);
+  if (o.cameraPath && f > 0) s.flicker += meanFrameDifference(s.last.final, lastFinal) / double(o.frames - 1);
+  s.finals.push_back(metrics::compare(s.last.final, frameRef.final));
+  if (!frameRef.indirect.pixels.empty()) s.indirects.push_back(metrics::compare(s.last.indirect, frameRef.indirect));
+  // The caches hold indirect light: recovery is judged on it (on the final image without an indirect reference).
+  if (o.move && frame >= o.moveAt) s.afterMove.push_back(s.indirects.empty() ? s.finals.back().mse : s.indirects.back().mse);
+  if (series.is_open())
+    series << '"' << config.label << "\"," << frame + 1 << ',' << s.finals.back().mse << ',' << s.finals.back().relMse
+           << ',' << (s.indirects.empty() ? 0.0 : s.indirects.back().mse) << ','
+           << (s.indirects.empty() ? 1.0 : s.indirects.back().energy) << ',' << frameStats.hash.occupancy() << ','
+           << frameStats.hash.staleResets << ','
+           << (frameStats.hash.reads ? double(frameStats.hash.readMisses) / frameStats.hash.reads : 0.0) << ','
+           << frameStats.hash.evicted << "\n";
+}
+
+// One configuration: a module session, its programs warmed, the warm-up frames, the timed frames, and the
+// row of medians and mean errors. False with `error` when the session cannot be made.
+bool measureConfig(const BenchOptions& o, Bench& b, const tools::BenchConfig& config, std::ofstream& series, Row& row,
+                   std::string& warmed, std::string& error) {
+  row.config = config;
+  tools::ModuleSession session;
+  gi::ModuleDesc moduleDesc = tools::moduleDesc(b.ctx, b.sceneGpu, {o.width, o.height});
+  moduleDesc.historyFormat = o.historyFormat;
+  if (!tools::createModuleSession(b.ctx, b.sceneGpu, {o.width, o.height}, config.settings, session, error, &moduleDesc)) {
+    error = config.label + ": " + error;
+    return false;
+  }
+  // Every program's first dispatch before any frame: no frame, timed or not, times a compiler.
+  double warmMs = 0.0;
+  for (const tools::ProgramWarmup& w :
+       tools::warmModulePrograms(b.ctx, session, config.settings, b.scene, b.sceneGpu, b.camera))
+    warmMs += w.ms;
+  warmed = config.label + " " + std::to_string(int(warmMs + 0.5)) + " ms";
+  uint32_t frame = 0;
+  for (; frame < o.warmup; ++frame) {
+    poseFrame(o, b, session, frame);
+    tools::renderModuleFrame(b.ctx, session, b.scene, b.sceneGpu, b.camera, b.camera, frame);
+  }
+  FrameSamples s;
+  gpu::GpuCamera previousCamera = b.camera;  // the walk starts where the warm-up stood
+  for (uint32_t f = 0; f < o.frames; ++f, ++frame)
+    measureFrame(o, b, session, config, f, frame, previousCamera, row, s, series);
+
+  for (const auto& [name, samples] : s.passMs) {
+    row.passMs[name] = median(samples);
+    if (s.tracingPasses.count(name)) row.traceMs += row.passMs[name];
+  }
+  row.totalMs = median(s.totals);
+  for (double r : s.rays) row.rays += r / double(s.rays.size());
+  row.final = averageError(s.finals);
+  if (!s.indirects.empty()) row.indirect = averageError(s.indirects);
+  const gi::FrameStats finalStats = gi::stats(session.module);
+  row.memory = finalStats.memoryBytes;
+  row.hash = finalStats.hash;
+  row.hash.staleResets = s.staleResets;
+  row.tracedSpp = finalStats.samplesPerPixel;
+  if (o.move) recovery(s.afterMove, row.recoveryFrames, row.steadyMse);
+  if (o.move || o.animate) b.pose(0.0f);  // the next configuration starts before the move
+  engine::writeImage((o.dir / imagePath(config.label)).string(), s.last.final, error);
+  if (o.cameraPath) row.flickerRatio = b.refFlicker > 0.0 ? s.flicker / b.refFlicker : 0.0;
+  tools::destroyModuleSession(b.ctx, session);
+  std::printf("gi-bench: %-40s %9.2f ms  MSE %.4e  relMSE %.4e  SSIM %.4f\n", config.label.c_str(), row.totalMs,
+              row.final.mse, row.final.relMse, row.final.ssim);
+  std::fflush(stdout);
+  return true;
+}
+
+// Equal-error speed-up against raw MC measured in the same run.
+void equalErrorSpeedups(std::vector<Row>& rows) {
+  std::vector<double> rawTimes, rawErrors, rawIndirectErrors;
+  for (const Row& r : rows)
+    if (r.config.settings.method == gi::Method::Raw && !r.config.settings.raw.temporalAccumulation) {
+      rawTimes.push_back(r.totalMs);
+      rawErrors.push_back(r.final.mse);
+      rawIndirectErrors.push_back(r.indirect.mse);
+    }
+  const double c = metrics::fitInverseLaw(rawTimes, rawErrors);
+  const double cIndirect = metrics::fitInverseLaw(rawTimes, rawIndirectErrors);
+  for (Row& r : rows) {
+    r.speedup = metrics::equalErrorSpeedup(c, r.totalMs, r.final.mse);
+    r.speedupIndirect = metrics::equalErrorSpeedup(cIndirect, r.totalMs, r.indirect.mse);
+  }
+}
+
+std::string format(const char* spec, auto value) {
+  char text[256];
+  std::snprintf(text, sizeof(text), spec, value);
+  return text;
+}
+
+// results.csv: each column's name beside its value (plot_bench.py and scripts/bench read the names).
+struct RunFacts {
+  const std::string& sceneName;
+  uint32_t frames;
+  double bareMrays;
+};
+struct Column {
+  const char* name;
+  std::string (*value)(const Row&, const RunFacts&);
+};
+double mraysPerSecond(const Row& r) { return r.traceMs > 0.0 ? r.rays / (r.traceMs * 1e3) : 0.0; }
+std::string passTimes(const Row& r) {
+  std::string passes;
+  for (const std::string& name : r.passOrder)
+    passes += (passes.empty() ? "" : ";") + name + ":" + format("%.3f", r.passMs.at(name));
+  return passes;
+}
+std::string quoted(const std::string& text) { return '"' + text + '"'; }
+const Column kColumns[] = {
+    {"scene", [](const Row&, const RunFacts& f) { return f.sceneName; }},
+    {"method", [](const Row& r, const RunFacts&) { return std::string(gi::methodName(r.config.settings.method)); }},
+    {"settings", [](const Row& r, const RunFacts&) { return quoted(r.config.settingsText); }},
+    {"spp", [](const Row& r, const RunFacts&) { return format("%u", r.config.spp); }},
+    {"frames", [](const Row&, const RunFacts& f) { return format("%u", f.frames); }},
+    {"total_ms", [](const Row& r, const RunFacts&) { return format("%.4f", r.totalMs); }},
+    {"pass_ms", [](const Row& r, const RunFacts&) { return passTimes(r); }},
+    {"rays", [](const Row& r, const RunFacts&) { return format("%.0f", r.rays); }},
+    {"mrays_per_s", [](const Row& r, const RunFacts&) { return format("%.4f", mraysPerSecond(r)); }},
+    {"ray_efficiency",
+     [](const Row& r, const RunFacts& f) { return format("%.4f", f.bareMrays > 0 ? mraysPerSecond(r) / f.bareMrays : 0.0); }},
+    {"mse", [](const Row& r, const RunFacts&) { return format("%.6e", r.final.mse); }},
+    {"relmse", [](const Row& r, const RunFacts&) { return format("%.6e", r.final.relMse); }},
+    {"psnr", [](const Row& r, const RunFacts&) { return format("%.4f", r.final.psnr); }},
+    {"ssim", [](const Row& r, const RunFacts&) { return format("%.6f", r.final.ssim); }},
+    {"mse_indirect", [](const Row& r, const RunFacts&) { return format("%.6e", r.indirect.mse); }},
+    {"relmse_indirect", [](const Row& r, const RunFacts&) { return format("%.6e", r.indirect.relMse); }},
+    {"psnr_indirect", [](const Row& r, const RunFacts&) { return format("%.4f", r.indirect.psnr); }},
+    {"ssim_indirect", [](const Row& r, const RunFacts&) { return format("%.6f", r.indirect.ssim); }},
+    {"memory_bytes", [](const Row& r, const RunFacts&) { return format("%llu", (unsigned long long)r.memory); }},
+    {"equal_error_speedup", [](const Row& r, const RunFacts&) { return format("%.4f", r.speedup); }},
+    {"flicker_ratio", [](const Row& r, const RunFacts&) { return r.flickerRatio >= 0.0 ? std::to_string(r.flickerRatio) : ""; }},
+    {"hash_occupancy", [](const Row& r, const RunFacts&) { return format("%.4f", double(r.hash.occupancy())); }},
+    {"hash_failed_inserts", [](const Row& r, const RunFacts&) { return format("%u", r.hash.failedInserts); }},
+    {"hash_mean_probe", [](const Row& r, const RunFacts&) { return format("%.3f", double(r.hash.meanProbe)); }},
+    {"hash_max_probe", [](const Row& r, const RunFacts&) { return format("%u", r.hash.maxProbe); }},
+    {"hash_evicted", [](const Row& r, const RunFacts&) { return format("%u", r.hash.evicted); }},
+    {"traced_spp", [](const Row& r, const RunFacts&) { return format("%u", r.tracedSpp); }},
+    {"equal_error_speedup_indirect", [](const Row& r, const RunFacts&) { return format("%.4f", r.speedupIndirect); }},
+    {"hash_stale_resets", [](const Row& r, const RunFacts&) { return format("%u", r.hash.staleResets); }},
+    {"move_recovery_frames", [](const Row& r, const RunFacts&) { return format("%d", r.recoveryFrames); }},
+    {"move_steady_mse_indirect", [](const Row& r, const RunFacts&) { return format("%.6e", r.steadyMse); }},
+    {"label", [](const Row& r, const RunFacts&) { return quoted(r.config.label); }},
+    {"image", [](const Row& r, const RunFacts&) { return imagePath(r.config.label); }},
+};
+
+void writeResults(const fs::path& path, const std::vector<Row>& rows, const RunFacts& facts) {
+  std::ofstream csv(path);
+  for (const Column& c : kColumns) csv << (&c == kColumns ? "" : ",") << c.name;
+  csv << "\n";
+  for (const Row& r : rows) {
+    for (const Column& c : kColumns) csv << (&c == kColumns ? "" : ",") << c.value(r, facts);
+    csv << "\n";
+  }
+}
+
+// run.txt: what the run measured on, for scripts/bench and the reports.
+void writeRunFacts(const BenchOptions& o, const Bench& b, const std::vector<std::string>& programsWarmed) {
+  const bool given = !o.referenceFile.empty();
+  std::ofstream meta(o.dir / "run.txt");
+  meta << "scene " << b.scene.sourcePath << "\ndevice " << b.ctx.properties.deviceName << "\nsize " << o.width << "x"
+       << o.height << "\nmax_bounces " << o.bounces << "\nreference " << (given ? o.referenceFile : b.key)
+       << "\nreference_final "
+       << (given ? fs::absolute(o.referenceFile) : fs::absolute(referencePath(o.dir, b.key, o.gbufferPrimary, "final")))
+              .string()
+       << "\nreference_spp " << o.refSpp << "\nframes " << o.frames << "\nwarmup " << o.warmup << "\ntraversal "
+       << engine::traversalName(b.ctx.traversal) << "\nbare_mrays_per_s " << b.bare.mraysPerSecond()
+       << "\nhistory_format " << o.history << "\n";
+  // Each configuration's programs were dispatched once, empty, before its first frame (tools::warmModulePrograms):
+  // no frame's timing includes a compile. The sums are those first dispatches' wall time.
+  for (const std::string& w : programsWarmed) meta << "programs_warmed_before_frames " << w << "\n";
+}
+
+// Every configuration measured and written (results.csv, series.csv, run.txt). False with `error` when a
+// configuration's session could not be made (the rows measured before it are still written).
+bool measureAll(const BenchOptions& o, Bench& b, std::string& error) {
+  // The tracing passes' ceiling: the active backend's camera + diffuse rays.
+  b.bare = engine::runRayBench(b.ctx, b.sceneGpu, b.camera, gpu::RB_KIND_DIFFUSE, b.ctx.traversalId());
+  std::printf("gi-bench: bare rays (%s traversal) on %s: %.3f Mrays/s\n", engine::traversalName(b.ctx.traversal),
+              b.ctx.properties.deviceName, b.bare.mraysPerSecond());
+  std::vector<Row> rows;
+  std::ofstream series;
+  if (o.series) {
+    series.open(o.dir / "series.csv");
+    series << "label,frame,mse,relmse,mse_indirect,energy_indirect,hash_occupancy,hash_stale_resets,hash_read_misses,hash_evicted\n";
+  }
+  std::vector<std::string> programsWarmed;  // per configuration: its programs' first dispatches, summed
+  bool ok = true;
+  for (const tools::BenchConfig& config : o.configs) {
+    Row row;
+    std::string warmed;
+    if (!measureConfig(o, b, config, series, row, warmed, error)) {
+      ok = false;
+      break;
+    }
+    programsWarmed.push_back(warmed);
+    rows.push_back(row);
+  }
+  equalErrorSpeedups(rows);
+  const fs::path csvPath = o.dir / "results.csv";
+  writeResults(csvPath, rows, {b.sceneName, o.frames, b.bare.mraysPerSecond()});
+  if (series.is_open()) series.close();  // complete on disk before plot_bench.py reads it
+  writeRunFacts(o, b, programsWarmed);
+  std::printf("gi-bench: wrote %s\n", csvPath.c_str());
+  std::fflush(stdout);
+  return ok;
+}
+
+int fail(const std::string& error) {
+  std::fprintf(stderr, "gi-bench: %s\n", error.c_str());
+  return 1;
+}
+
+// --rays: the bare-ray microbenchmark alone (tools/bench_rays.h).
+int raysOnly(const BenchOptions& o, cli::Args& args) {
+  Bench b;
+  std::string error;
+  if (!openBench(o, args, b, error)) return fail(error);
+  if (!tools::benchRays(b.ctx, b.scene, b.sceneGpu, b.camera, o.dir, error)) return fail(error);
+  return 0;
+}
+
+// Measured and written; 0, 1 on an error, 3 when validation reported anything.
+int runBench(const BenchOptions& o, cli::Args& args) {
+  uint32_t messages = 0;
+  {
+    Bench b;
+    std::string error;
+    if (!openBench(o, args, b, error) || !loadReferences(o, b, error)) return fail(error);
+    const bool measured = measureAll(o, b, error);
+    if (!measured) return fail(error);
+    messages = b.ctx.validationMessages();
+  }
+  if (o.plots) {
+    std::string python = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
+    std::string cmd = python + " \"" GI_SOURCE_DIR "/tools/plot_bench.py\" \"" + o.dir.string() + "\"";
+    if (std::system(cmd.c_str()) != 0) std::fprintf(stderr, "gi-bench: plot_bench.py failed; results.csv is complete\n");
+  }
+  if (messages > 0) {
+    std::fprintf(stderr, "gi-bench: %u Vulkan validation message(s)\n", messages);
+    return 3;
+  }
+  return 0;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   cli::Args args;
   std::string error;
@@ -265,374 +775,7 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (args.has("refit")) return refitOnly(args);
-  const bool raysOnly = args.has("rays");
-  if (!args.has("scene") || (!args.has("methods") && !raysOnly)) return usageError("--scene and --methods are required");
-  uint32_t width, height, cameraIndex, frames, warmup, bounces, refSpp, pathRefSpp, moveAt = 0;
-  if (!cli::getSize(args, "size", 320, 180, width, height, error) ||
-      !cli::getUint(args, "camera", 0, 0, 1u << 20, cameraIndex, error) ||
-      !cli::getUint(args, "frames", 8, 1, 100000, frames, error) ||
-      !cli::getUint(args, "warmup", 2, 0, 100000, warmup, error) ||
-      !cli::getUint(args, "max-bounces", 4, 1, 32, bounces, error) ||
-      !cli::getUint(args, "reference-spp", 4096, 1, 1u << 24, refSpp, error) ||
-      !cli::getUint(args, "path-reference-spp", std::max(1u, refSpp / 4), 1, 1u << 24, pathRefSpp, error) ||
-      !cli::getUint(args, "move-at", 0, 0, 1u << 20, moveAt, error))
-    return usageError(error);
-  const bool animate = args.has("animate"), move = args.has("move-at");
-  if (animate && move) return usageError("--animate and --move-at are two different experiments; choose one");
-  if (animate && args.has("reference")) return usageError("--animate renders a reference per frame; drop --reference");
-  if (args.has("camera-path") && (animate || move))
-    return usageError("--camera-path moves the camera, --animate and --move-at the scene; choose one");
-  if (args.has("camera-path") && frames < 2) return usageError("--camera-path walks the timed frames: --frames must be 2 or more");
-  const std::string primary = args.has("reference-primary") ? args.values["reference-primary"] : "traced";
-  if (primary != "traced" && primary != "gbuffer")
-    return usageError("--reference-primary: '" + primary + "' is not traced or gbuffer");
-  const bool gbufferPrimary = primary == "gbuffer";
-  const std::string history = args.has("history-format") ? args.values["history-format"] : "half";
-  if (history != "half" && history != "single")
-    return usageError("--history-format: '" + history + "' is not half or single");
-  const VkFormat historyFormat = history == "half" ? VK_FORMAT_R16G16B16A16_SFLOAT : VK_FORMAT_R32G32B32A32_SFLOAT;
-  std::optional<gi::Invalidate> invalidateAtMove;
-  if (args.has("invalidate-at-move")) {
-    const std::string& what = args.values["invalidate-at-move"];
-    if (!move) return usageError("--invalidate-at-move needs --move-at");
-    if (what == "all") invalidateAtMove = gi::Invalidate::All;
-    else if (what == "lights") invalidateAtMove = gi::Invalidate::LightsChanged;
-    else return usageError("--invalidate-at-move: '" + what + "' is neither all nor lights");
-  }
-  std::vector<uint32_t> spps;
-  for (const std::string& s : cli::splitList(args.has("spp") ? args.values["spp"] : "1")) {
-    cli::Args one;
-    one.values["spp"] = s;
-    uint32_t v;
-    if (!cli::getUint(one, "spp", 1, 1, 64, v, error)) return usageError(error);
-    spps.push_back(v);
-  }
-  gi::Settings base;
-  base.maxBounces = bounces;
-  base.seed = 7;
-  std::vector<tools::BenchConfig> configs;
-  if (!raysOnly &&
-      !tools::expandConfigs(cli::splitList(args.values["methods"]), spps, args.values["set"], base, configs, error))
-    return usageError(error);
-  engine::ContextDesc desc;
-  desc.validation = args.has("validation");
-  if (!cli::getTraversal(args, desc.traversal, error)) return usageError(error);
-  uint32_t lightSampler = 2, lightTreeCut = 4;  // SceneCreateDesc's defaults (gpu::LIGHT_SAMPLER_TREE)
-  if (!cli::getLightSampler(args, lightSampler, lightTreeCut, error)) return usageError(error);
-  engine::Sky sky;
-  if (!cli::getSky(args, sky, error)) return usageError(error);
-
-  fs::path dir = args.has("out") ? args.values["out"] : "bench_out";
-  std::error_code ec;
-  fs::create_directories(dir / "images", ec);
-  if (ec) {
-    std::fprintf(stderr, "gi-bench: %s: cannot create the output folder (%s)\n", dir.c_str(), ec.message().c_str());
-    return 1;
-  }
-  engine::Scene scene;
-  if (!engine::loadSceneForRendering(args.values["scene"], scene, error)) {
-    std::fprintf(stderr, "gi-bench: %s\n", error.c_str());
-    return 1;
-  }
-  if (!cli::applyPointLights(args, scene, error)) {
-    std::fprintf(stderr, "gi-bench: %s\n", error.c_str());
-    return 1;
-  }
-  scene.lightSampler = lightSampler;
-  scene.lightTreeCut = lightTreeCut;
-  if (cameraIndex >= scene.cameras.size()) {
-    std::fprintf(stderr, "gi-bench: %s: camera %u does not exist\n", scene.sourcePath.c_str(), cameraIndex);
-    return 1;
-  }
-  engine::Context ctx;
-  if (!engine::createContext(desc, ctx, error)) {
-    std::fprintf(stderr, "gi-bench: %s\n", error.c_str());
-    return 1;
-  }
-  engine::SceneGpu sceneGpu;
-  scene.sky = std::move(sky);
-  scene.bothTraversals = raysOnly;  // --rays measures both backends on one scene
-  engine::createSceneGpu(ctx, scene, sceneGpu);
-  const engine::Camera& startCamera = scene.cameras[cameraIndex];
-  gpu::GpuCamera camera = engine::makeGpuCamera(startCamera, width, height, nullptr);
-  if (raysOnly) {
-    bool written = tools::benchRays(ctx, scene, sceneGpu, camera, dir, error);
-    if (!written) std::fprintf(stderr, "gi-bench: %s\n", error.c_str());
-    engine::destroySceneGpu(ctx, sceneGpu);
-    engine::destroyContext(ctx);
-    return written ? 0 : 1;
-  }
-  std::string sceneName = fs::path(scene.sourcePath).stem().string();
-  std::string key = sanitise(sceneName) + "_cam" + std::to_string(cameraIndex) + "_" + std::to_string(width) + "x" +
-                    std::to_string(height) + "_b" + std::to_string(bounces) + "_s" + std::to_string(refSpp) +
-                    cli::skyKey(scene.sky) + cli::pointLightsKey(args) + cli::lightSamplerKey(scene, sceneGpu.desc);
-  // Moving scenes: the pose at a time, uploaded (TLAS rebuilt) before the next frame.
-  engine::SceneAnimation animation = engine::makeSceneAnimation(scene);
-  auto pose = [&](float seconds) { engine::poseScene(ctx, animation, seconds, scene, sceneGpu); };
-  const float movedSeconds = 0.5f * animation.periodSeconds, frameSeconds = 1.0f / 30.0f;
-  if (move) {
-    pose(movedSeconds);
-    key += "_moved";
-  }
-
-  Reference ref;
-  bool ok = true;
-  if (args.has("reference")) {
-    ok = engine::readImage(args.values["reference"], ref.final, error);
-    // A reference cached by gi-bench (…_final.exr) has its indirect AOV beside it.
-    std::string indirectPath = args.values["reference"];
-    size_t at = indirectPath.rfind("_final.exr");
-    if (ok && at != std::string::npos && at + 10 == indirectPath.size()) {
-      indirectPath.replace(at, 10, "_indirect.exr");
-      std::string ignored;
-      if (fs::exists(indirectPath) && !engine::readImage(indirectPath, ref.indirect, ignored)) ref.indirect = engine::FloatImage();
-    }
-    if (ok && (ref.final.width != width || ref.final.height != height)) {
-      error = args.values["reference"] + ": the reference is " + std::to_string(ref.final.width) + "x" +
-              std::to_string(ref.final.height) + ", not " + std::to_string(width) + "x" + std::to_string(height);
-      ok = false;
-    }
-  } else {
-    ok = reference(ctx, scene, sceneGpu, camera, bounces, refSpp, gbufferPrimary, dir, key, ref, error);
-  }
-  if (!ok) {
-    std::fprintf(stderr, "gi-bench: %s\n", error.c_str());
-    engine::destroySceneGpu(ctx, sceneGpu);
-    engine::destroyContext(ctx);
-    return 1;
-  }
-  engine::writeImage((dir / "images" / "reference.pfm").string(), ref.final, error);
-  // --animate: a reference per timed frame, at that frame's pose (cached like the main one).
-  std::vector<Reference> animationRefs;
-  for (uint32_t f = 0; animate && f < frames && ok; ++f) {
-    pose(float(warmup + f) * frameSeconds);
-    Reference r;
-    ok = reference(ctx, scene, sceneGpu, camera, bounces, pathRefSpp, gbufferPrimary, dir,
-                   key + "_anim" + std::to_string(warmup + f) + "_s" + std::to_string(pathRefSpp), r, error);
-    animationRefs.push_back(r);
-  }
-  if (!ok) {
-    std::fprintf(stderr, "gi-bench: %s\n", error.c_str());
-    engine::destroySceneGpu(ctx, sceneGpu);
-    engine::destroyContext(ctx);
-    return 1;
-  }
-
-  // --camera-path: the camera of each timed frame (warm-up frames stand at the
-  // start) and a reference per pose, cached like the main one.
-  const bool cameraPath = args.has("camera-path");
-  auto walkCamera = [&](uint32_t f, const gpu::GpuCamera* previous) {
-    return engine::makeGpuCamera(pathCamera(startCamera, sceneGpu.desc.extent, f), width, height, previous);
-  };
-  std::vector<Reference> pathRefs;
-  double refFlicker = 0.0;
-  for (uint32_t f = 0; cameraPath && f < frames && ok; ++f) {
-    Reference r;
-    ok = reference(ctx, scene, sceneGpu, walkCamera(f, nullptr), bounces, pathRefSpp, gbufferPrimary, dir,
-                   key + kWalkKey + "_path" + std::to_string(f) + "_s" + std::to_string(pathRefSpp), r, error);
-    pathRefs.push_back(r);
-    if (f > 0) refFlicker += meanFrameDifference(pathRefs[f].final, pathRefs[f - 1].final) / double(frames - 1);
-  }
-  if (!ok) {
-    std::fprintf(stderr, "gi-bench: %s\n", error.c_str());
-    engine::destroySceneGpu(ctx, sceneGpu);
-    engine::destroyContext(ctx);
-    return 1;
-  }
-
-  // The tracing passes' ceiling: the active backend's camera + diffuse rays.
-  engine::RayBenchResult bare =
-      engine::runRayBench(ctx, sceneGpu, camera, gpu::RB_KIND_DIFFUSE, ctx.traversalId());
-  std::printf("gi-bench: bare rays (%s traversal) on %s: %.3f Mrays/s\n", engine::traversalName(ctx.traversal),
-              ctx.properties.deviceName, bare.mraysPerSecond());
-
-  std::vector<Row> rows;
-  std::ofstream series;
-  if (args.has("series") || cameraPath) {
-    series.open(dir / "series.csv");
-    series << "label,frame,mse,relmse,mse_indirect,energy_indirect,hash_occupancy,hash_stale_resets,hash_read_misses,hash_evicted\n";
-  }
-  std::vector<std::string> programsWarmed;  // per configuration: its programs' first dispatches, summed
-  for (const tools::BenchConfig& config : configs) {
-    Row row;
-    row.config = config;
-    tools::ModuleSession session;
-    gi::ModuleDesc moduleDesc = tools::moduleDesc(ctx, sceneGpu, {width, height});
-    moduleDesc.historyFormat = historyFormat;
-    if (!tools::createModuleSession(ctx, sceneGpu, {width, height}, config.settings, session, error, &moduleDesc)) {
-      std::fprintf(stderr, "gi-bench: %s: %s\n", config.label.c_str(), error.c_str());
-      ok = false;
-      break;
-    }
-    // Every program's first dispatch before any frame: no frame, timed or not, times a compiler.
-    double warmMs = 0.0;
-    for (const tools::ProgramWarmup& w : tools::warmModulePrograms(ctx, session, config.settings, scene, sceneGpu, camera))
-      warmMs += w.ms;
-    programsWarmed.push_back(config.label + " " + std::to_string(int(warmMs + 0.5)) + " ms");
-    std::set<std::string> tracingPasses;
-    std::map<std::string, std::vector<double>> passSamples;
-    std::vector<double> totals, rays;
-    std::vector<metrics::ImageError> finals, indirects;
-    uint32_t frame = 0;
-    // The scene's pose for a frame: moving with --animate, before and after the jump with --move-at.
-    auto poseFor = [&](uint32_t f) {
-      if (animate) pose(float(f) * frameSeconds);
-      else if (move && (f == 0 || f == moveAt))
-        engine::jumpScene(ctx, animation, f < moveAt ? 0.0f : movedSeconds, scene, sceneGpu);
-    };
-    std::vector<double> afterMove;
-    uint32_t staleResets = 0;  // over the timed frames (the stats hold one frame's)
-    for (; frame < warmup; ++frame) {
-      poseFor(frame);
-      if (invalidateAtMove && move && frame == moveAt) gi::invalidate(session.module, *invalidateAtMove);
-      tools::renderModuleFrame(ctx, session, scene, sceneGpu, camera, camera, frame);
-    }
-    engine::ReferenceImages out;
-    gpu::GpuCamera previousCamera = camera;  // the walk starts where the warm-up stood
-    double flicker = 0.0;                    // --camera-path: mean change between consecutive frames
-    for (uint32_t f = 0; f < frames; ++f, ++frame) {
-      poseFor(frame);
-      if (invalidateAtMove && move && frame == moveAt) gi::invalidate(session.module, *invalidateAtMove);
-      const Reference& frameRef = animate ? animationRefs[f] : cameraPath ? pathRefs[f] : ref;
-      const gpu::GpuCamera frameCamera = cameraPath ? walkCamera(f, &previousCamera) : camera;
-      tools::FrameTiming t = tools::renderModuleFrame(ctx, session, scene, sceneGpu, frameCamera, previousCamera, frame);
-      previousCamera = frameCamera;
-      // A pass that runs several times a frame (à-trous iterations, the guided filter's two box
-      // passes) counts with its frame total.
-      std::map<std::string, double> frameTotals;
-      for (const gi::PassTiming& p : t.passes) {
-        if (!passSamples.count(p.name) && !frameTotals.count(p.name)) row.passOrder.push_back(p.name);
-        frameTotals[p.name] += p.ms;
-        if (p.tracesRays) tracingPasses.insert(p.name);  // the module says which passes trace
-      }
-      for (const auto& [name, ms] : frameTotals) passSamples[name].push_back(ms);
-      totals.push_back(t.totalMs);
-      rays.push_back(double(t.rays));
-      const gi::FrameStats frameStats = gi::stats(session.module);
-      staleResets += frameStats.hash.staleResets;
-      engine::FloatImage lastFinal = std::move(out.final);
-      out = tools::readModuleImages(ctx, session);
-      if (cameraPath && f > 0) flicker += meanFrameDifference(out.final, lastFinal) / double(frames - 1);
-      finals.push_back(metrics::compare(out.final, frameRef.final));
-      if (!frameRef.indirect.pixels.empty()) indirects.push_back(metrics::compare(out.indirect, frameRef.indirect));
-      // The caches hold indirect light: recovery is judged on it (on the final image without an indirect reference).
-      if (move && frame >= moveAt) afterMove.push_back(indirects.empty() ? finals.back().mse : indirects.back().mse);
-      if (series.is_open())
-        series << '"' << config.label << "\"," << frame + 1 << ',' << finals.back().mse << ',' << finals.back().relMse << ','
-               << (indirects.empty() ? 0.0 : indirects.back().mse) << ',' << (indirects.empty() ? 1.0 : indirects.back().energy)
-               << ',' << frameStats.hash.occupancy() << ',' << frameStats.hash.staleResets << ','
-               << (frameStats.hash.reads ? double(frameStats.hash.readMisses) / frameStats.hash.reads : 0.0) << ','
-               << frameStats.hash.evicted << "\n";
-    }
-    for (const auto& [name, samples] : passSamples) {
-      row.passMs[name] = median(samples);
-      if (tracingPasses.count(name)) row.traceMs += row.passMs[name];
-    }
-    row.totalMs = median(totals);
-    for (double r : rays) row.rays += r / double(rays.size());
-    auto average = [](const std::vector<metrics::ImageError>& v) {
-      metrics::ImageError a;
-      for (const auto& e : v) {
-        a.mse += e.mse / double(v.size());
-        a.relMse += e.relMse / double(v.size());
-        a.ssim += e.ssim / double(v.size());
-      }
-      a.psnr = metrics::psnrFromMse(a.mse);
-      return a;
-    };
-    row.final = average(finals);
-    if (!indirects.empty()) row.indirect = average(indirects);
-    gi::FrameStats finalStats = gi::stats(session.module);
-    row.memory = finalStats.memoryBytes;
-    row.hash = finalStats.hash;
-    row.hash.staleResets = staleResets;
-    row.tracedSpp = finalStats.samplesPerPixel;
-    if (move) {
-      recovery(afterMove, row.recoveryFrames, row.steadyMse);
-      pose(0.0f);  // the next configuration starts before the move
-    }
-    if (animate) pose(0.0f);
-    engine::writeImage((dir / imagePath(config.label)).string(), out.final, error);
-
-    if (cameraPath) row.flickerRatio = refFlicker > 0.0 ? flicker / refFlicker : 0.0;
-    tools::destroyModuleSession(ctx, session);
-    std::printf("gi-bench: %-40s %9.2f ms  MSE %.4e  relMSE %.4e  SSIM %.4f\n", config.label.c_str(), row.totalMs,
-                row.final.mse, row.final.relMse, row.final.ssim);
-    std::fflush(stdout);
-    rows.push_back(row);
-  }
-
-  // Equal-error speed-up against raw MC measured in the same run.
-  std::vector<double> rawTimes, rawErrors, rawIndirectErrors;
-  for (const Row& r : rows)
-    if (r.config.settings.method == gi::Method::Raw && !r.config.settings.raw.temporalAccumulation) {
-      rawTimes.push_back(r.totalMs);
-      rawErrors.push_back(r.final.mse);
-      rawIndirectErrors.push_back(r.indirect.mse);
-    }
-  double c = metrics::fitInverseLaw(rawTimes, rawErrors);
-  double cIndirect = metrics::fitInverseLaw(rawTimes, rawIndirectErrors);
-  for (Row& r : rows) {
-    r.speedup = metrics::equalErrorSpeedup(c, r.totalMs, r.final.mse);
-    r.speedupIndirect = metrics::equalErrorSpeedup(cIndirect, r.totalMs, r.indirect.mse);
-  }
-
-  fs::path csvPath = dir / "results.csv";
-  std::ofstream csv(csvPath);
-  csv << "scene,method,settings,spp,frames,total_ms,pass_ms,rays,mrays_per_s,ray_efficiency,mse,relmse,psnr,ssim,"
-         "mse_indirect,relmse_indirect,psnr_indirect,ssim_indirect,memory_bytes,equal_error_speedup,flicker_ratio,"
-         "hash_occupancy,hash_failed_inserts,hash_mean_probe,hash_max_probe,hash_evicted,traced_spp,equal_error_speedup_indirect,"
-         "hash_stale_resets,move_recovery_frames,move_steady_mse_indirect,label,image\n";
-  for (const Row& r : rows) {
-    std::string passes;
-    for (const std::string& name : r.passOrder) {
-      char item[128];
-      std::snprintf(item, sizeof(item), "%s%s:%.3f", passes.empty() ? "" : ";", name.c_str(), r.passMs.at(name));
-      passes += item;
-    }
-    double mrays = r.traceMs > 0.0 ? r.rays / (r.traceMs * 1e3) : 0.0;
-    char line[4096];
-    std::snprintf(line, sizeof(line),
-                  "%s,%s,\"%s\",%u,%u,%.4f,%s,%.0f,%.4f,%.4f,%.6e,%.6e,%.4f,%.6f,%.6e,%.6e,%.4f,%.6f,%llu,%.4f,%s,%.4f,%u,%.3f,%u,%u,%u,%.4f,%u,%d,%.6e,\"%s\",%s\n",
-                  sceneName.c_str(), gi::methodName(r.config.settings.method), r.config.settingsText.c_str(), r.config.spp,
-                  frames, r.totalMs, passes.c_str(), r.rays, mrays, bare.mraysPerSecond() > 0 ? mrays / bare.mraysPerSecond() : 0.0,
-                  r.final.mse, r.final.relMse, r.final.psnr, r.final.ssim, r.indirect.mse, r.indirect.relMse,
-                  r.indirect.psnr, r.indirect.ssim, (unsigned long long)r.memory, r.speedup,
-                  r.flickerRatio >= 0.0 ? std::to_string(r.flickerRatio).c_str() : "", double(r.hash.occupancy()),
-                  r.hash.failedInserts, double(r.hash.meanProbe), r.hash.maxProbe, r.hash.evicted, r.tracedSpp,
-                  r.speedupIndirect, r.hash.staleResets, r.recoveryFrames, r.steadyMse, r.config.label.c_str(),
-                  imagePath(r.config.label).c_str());
-    csv << line;
-  }
-  csv.close();
-  if (series.is_open()) series.close();  // complete on disk before plot_bench.py reads it
-  std::ofstream meta(dir / "run.txt");
-  meta << "scene " << scene.sourcePath << "\ndevice " << ctx.properties.deviceName << "\nsize " << width << "x" << height
-       << "\nmax_bounces " << bounces << "\nreference " << (args.has("reference") ? args.values["reference"] : key)
-       << "\nreference_final "
-       << (args.has("reference") ? fs::absolute(args.values["reference"]) : fs::absolute(referencePath(dir, key, gbufferPrimary, "final"))).string()
-       << "\nreference_spp " << refSpp << "\nframes " << frames << "\nwarmup " << warmup
-       << "\ntraversal " << engine::traversalName(ctx.traversal) << "\nbare_mrays_per_s " << bare.mraysPerSecond()
-       << "\nhistory_format " << history << "\n";
-  // Each configuration's programs were dispatched once, empty, before its first frame (tools::warmModulePrograms):
-  // no frame's timing includes a compile. The sums are those first dispatches' wall time.
-  for (const std::string& w : programsWarmed) meta << "programs_warmed_before_frames " << w << "\n";
-  meta.close();
-  std::printf("gi-bench: wrote %s\n", csvPath.c_str());
-  std::fflush(stdout);
-
-  uint32_t messages = ctx.validationMessages();
-  engine::destroySceneGpu(ctx, sceneGpu);
-  engine::destroyContext(ctx);
-  if (!ok) return 1;
-  if (!args.has("no-plots")) {
-    std::string python = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
-    std::string cmd = python + " \"" GI_SOURCE_DIR "/tools/plot_bench.py\" \"" + dir.string() + "\"";
-    if (std::system(cmd.c_str()) != 0) std::fprintf(stderr, "gi-bench: plot_bench.py failed; results.csv is complete\n");
-  }
-  if (messages > 0) {
-    std::fprintf(stderr, "gi-bench: %u Vulkan validation message(s)\n", messages);
-    return 3;
-  }
-  return 0;
+  BenchOptions o;
+  if (!parseExperiment(args, o, error) || !parseConfigurations(args, o, error)) return usageError(error);
+  return o.raysOnly ? raysOnly(o, args) : runBench(o, args);
 }
