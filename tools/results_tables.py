@@ -167,7 +167,7 @@ def spikes(before_root, after_root, scenes):
                 e = [float(r["mse_indirect"]) for r in series if r["label"] == label]
                 ratios = [(e[i] / (0.5 * (e[i - 1] + e[i + 1])), i + 1) for i in range(1, len(e) - 1)]
                 worst = max(ratios)
-                policy = "strict" if "hpsf.aging=0" in label else "aging"
+                policy = "strict" if "hpsf.eviction=0" in label else "aging"
                 print(f"| {scene} | {policy} | {build} | {worst[0]:.2f} (frame {worst[1]}) | "
                       f"{sum(1 for r, _ in ratios if r > 1.3)} | {e[0]:.3e} | {sum(e[-16:]) / 16:.3e} |")
 
@@ -437,9 +437,9 @@ def pathtracer(path):
 
 
 MOVING_RUNS = (  # (directory suffix, label prefix, the table's name for it)
-    ("strict", "hpsf spp=4 hpsf.aging=0", "hpsf strict"),
-    ("hpsf", "hpsf spp=4 hpsf.aging=1 hpsf.validation=0", "hpsf aging"),
-    ("hpsf", "hpsf spp=4 hpsf.aging=1 hpsf.validation=4", "hpsf aging + probes"),
+    ("strict", "hpsf spp=4 hpsf.eviction=0", "hpsf strict"),
+    ("hpsf", "hpsf spp=4 hpsf.eviction=1 hpsf.validation=0", "hpsf aging"),
+    ("hpsf", "hpsf spp=4 hpsf.eviction=1 hpsf.validation=4", "hpsf aging + probes"),
     ("anhpsf", "anhpsf spp=4 hpsf.validation=0", "anhpsf"),
     ("anhpsf", "anhpsf spp=4 hpsf.validation=4", "anhpsf + probes"),
     ("invalidate", "hpsf spp=4", "hpsf aging + probes + invalidate(LightsChanged)"),
@@ -508,7 +508,7 @@ def error_at_frames(pairs, ks=(1, 4, 8, 32, 64)):
 
 def hpsf_frames(pairs, ks=(1, 4, 8, 32)):
     """Final-image MSE after frame k per eviction policy and sspsf beside it (args: NAME DIR ...)."""
-    policy = {"hpsf spp=1 hpsf.aging=0": "hpsf, strict", "hpsf spp=1 hpsf.aging=1": "hpsf, aging", "sspsf spp=1": "sspsf"}
+    policy = {"hpsf spp=1 hpsf.eviction=0": "hpsf, strict", "hpsf spp=1 hpsf.eviction=1": "hpsf, aging", "sspsf spp=1": "sspsf"}
     print("| scene | method | " + " | ".join(f"k = {k}" for k in ks) + " | hash occupancy |")
     print("|---|---|" + "---|" * len(ks) + "---|")
     for name, directory in named(pairs):
