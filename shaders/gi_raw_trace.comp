@@ -16,7 +16,7 @@ layout(push_constant, scalar) uniform Push { GiRawPush pc; };
 // Temporal gradients: this frame's first samples go to the set the temporal pass writes.
 void giStoreGradientSample(ivec2 p, vec2 luminance, uint state) {
   const uvec4 v = uvec4(floatBitsToUint(luminance), state, 0u);
-  if (pc.parity == 0u) imageStore(giGradientSamplesB, p, v);
+  if (pc.readSet == 0u) imageStore(giGradientSamplesB, p, v);
   else imageStore(giGradientSamplesA, p, v);
 }
 

@@ -9,7 +9,7 @@
 //     sampler (the tree's importance or power) are resampled by p̂ / pdf;
 //     last frame's temporal reservoir at the pixel's reprojection is merged
 //     in (its M capped at maxHistory × candidates), where its guide says it
-//     saw this surface. Last frame's set → this frame's (A and B by parity).
+//     saw this surface. Last frame's set → this frame's (A and B alternate: GiReservoirPush::readSet).
 //   GI_RESERVOIR_SPATIAL: the pixel's temporal reservoir and `neighbours`
 //     others from a disc of `radius` pixels, those whose surface agrees in
 //     depth and normal, are merged by p̂ at this pixel (giSpatialReservoir
@@ -75,7 +75,7 @@ float giStoredM(uvec4 v) { return uintBitsToFloat(v.z); }
 
 // The two sets of temporal reservoirs: this frame's and last frame's.
 uvec4 giLoadReservoir(ivec2 p, bool current) {
-  return (pc.parity == 0u) == current ? imageLoad(giReservoirsB, p) : imageLoad(giReservoirsA, p);
+  return (pc.readSet == 0u) == current ? imageLoad(giReservoirsB, p) : imageLoad(giReservoirsA, p);
 }
 
 // GI_RESERVOIR_TEMPORAL at a covered pixel: candidates and last frame's reservoir.
@@ -179,7 +179,7 @@ void main() {
                                                 : giSpatialReservoir(p, s, b, V, n, depth, rng);
     }
     if (pc.mode == GI_RESERVOIR_SPATIAL) imageStore(giReservoirPick, p, stored);
-    else if (pc.parity == 0u) imageStore(giReservoirsB, p, stored);
+    else if (pc.readSet == 0u) imageStore(giReservoirsB, p, stored);
     else imageStore(giReservoirsA, p, stored);
   }
   giCountRays(inside);

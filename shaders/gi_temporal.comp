@@ -39,12 +39,12 @@ HistoryTexel readTexel(ivec2 q) {
     const GiPackedHistory h = giUnpackHistory(imageLoad(giHistoryPacked, q).xy);
     return HistoryTexel(h.guide, vec4(h.direct / pc.historyScale, h.frames));
   }
-  return HistoryTexel(giPreviousGuide(q, pc.parity), pc.parity == 0u ? giLoadHistoryDirect(q) : giLoadHistoryDirectB(q));
+  return HistoryTexel(giPreviousGuide(q, pc.readSet), pc.readSet == 0u ? giLoadHistoryDirect(q) : giLoadHistoryDirectB(q));
 }
-vec4 readIndirect(ivec2 q) { return pc.parity == 0u ? giLoadHistoryIndirect(q) : giLoadHistoryIndirectB(q); }
+vec4 readIndirect(ivec2 q) { return pc.readSet == 0u ? giLoadHistoryIndirect(q) : giLoadHistoryIndirectB(q); }
 // svgf: the luminance moments, into the set this pass writes.
 void writeMoments(ivec2 p, GiMoments moments) {
-  if (pc.moments != 0u) giStoreMoments(1u - pc.parity, p, moments);
+  if (pc.moments != 0u) giStoreMoments(1u - pc.readSet, p, moments);
 }
 // The guide keeps view depth over the scene extent: half floats then hold it
 // at any scene scale (metres would overflow past 65504).
@@ -53,7 +53,7 @@ void writeMoments(ivec2 p, GiMoments moments) {
 // read it: this pass hands the frames on in the direct output's alpha.
 void write(ivec2 p, vec3 direct, vec3 indirect, float frames, vec3 n, float depth) {
   if (pc.directOnly != 0u) return;
-  if (pc.parity == 0u) {
+  if (pc.readSet == 0u) {
     giStoreHistoryDirectB(p, direct, frames);
     giStoreHistoryIndirectB(p, indirect, 1.0);
     imageStore(giHistoryGuideB, p, uvec4(giPackGuide(n, depth / giFrame.depthScale)));
@@ -85,7 +85,7 @@ History reproject(ivec2 p, vec3 n, float depth, vec3 world) {
       h.direct += w * direct.rgb;
       if (pc.directOnly == 0u) h.indirect += w * readIndirect(q).rgb;
       if (pc.moments != 0u) {
-        const GiMoments m = giLoadMoments(pc.parity, q);
+        const GiMoments m = giLoadMoments(pc.readSet, q);
         h.mean += w * m.mean;
         h.square += w * (m.variance + m.mean * m.mean);
       }

@@ -119,10 +119,10 @@ void hgEvict(uint table, uint slot, uint capacity) {
   empty.frames = 0.0;
   empty.recent = vec3(0.0);
   empty.lastSeen = 0u;
-  empty.probeOrigin = vec3(0.0);
-  empty.probeDistance = 0.0;
-  empty.probeLight = 0.0;
-  empty.probeDirection = 0u;
+  empty.sentinelOrigin = vec3(0.0);
+  empty.sentinelDistance = 0.0;
+  empty.sentinelLight = 0.0;
+  empty.sentinelDirection = 0u;
   empty.samples = 0u;
   empty.previousLod = 0u;
   HG_AT(hgCells, slot) = empty;
@@ -155,7 +155,7 @@ void hgAccumulate(int slot, vec3 radiance, vec3 tail, float momentLuminance, uin
   atomicAdd(HG_AT(hgAccum, slot).count, count);
 }
 
-// Walk directions are stored octahedral in 2 × 16 bits (HgWalk::direction, HgCell::probeDirection).
+// Walk directions are stored octahedral in 2 × 16 bits (HgWalk::direction, HgCell::sentinelDirection).
 uint hgPackDirection(vec3 d) { return packSnorm2x16(giOctahedralEncode(d)); }
 vec3 hgUnpackDirection(uint packed) {
   vec2 o = unpackSnorm2x16(packed);

@@ -14,7 +14,7 @@
 
 layout(local_size_x = GI_GROUP_SIZE, local_size_y = GI_GROUP_SIZE) in;
 
-// A pixel's work as a ray task (ray_loop.glsl): its paths, then the probe of
+// A pixel's work as a ray task (ray_loop.glsl): its paths, then the sentinel of
 // the cell it made, if it made one.
 struct GiTask {
   GiSurface s;
@@ -25,9 +25,9 @@ struct GiTask {
   GiRng rng;
   float kept;          // paths kept (finite)
   vec3 direct, indirect;
-  bool probing;        // the paths are done; the probe is out
-  int slot;            // the cell the pixel made, while its probe is out
-  HgProbe probe;
+  bool sentinelOut;        // the paths are done; the sentinel is out
+  int slot;            // the cell the pixel made, while its sentinel is out
+  HgSentinel sentinel;
 };
 
 GiRng hgSampleRng(ivec2 p, uint i) {
@@ -39,24 +39,24 @@ void hgInsertPixel(inout GiTask t) {
   float inv = 1.0 / max(t.kept, 1.0);
   t.direct = t.s.material.emission + t.direct * inv;
   t.indirect *= inv;
-  t.probing = true;
-  t.probe.phase = HG_PROBE_DONE;
+  t.sentinelOut = true;
+  t.sentinel.phase = HG_SENTINEL_DONE;
   if (!giHasDiffuseLobe(t.s.material)) return;
   GiRng rng = giRngCreate(uvec2(t.p), pc.frameIndex, pc.seed, GI_STREAM_HASH);
   HgDescriptor d = hgPrimaryDescriptor(t.s.position, t.s.normal, rng);
-  vec3 probeOrigin = giOffsetRay(t.s.position, t.s.geometricNormal);
-  vec3 probeDirection = giCosineSample(t.s.normal, giRandom2(rng));
+  vec3 sentinelOrigin = giOffsetRay(t.s.position, t.s.geometricNormal);
+  vec3 sentinelDirection = giCosineSample(t.s.normal, giRandom2(rng));
   // The lookup finds this cell again from the same surface and random numbers (hgPixelCell).
   const uint key = hgVerificationKey(d);
-  bool needsProbe;
-  const int slot = hgInsertSample(hgIndexHash(d), key, t.indirect, 1u, d.lod, needsProbe);
-  if (!needsProbe) return;
+  bool needsSentinel;
+  const int slot = hgInsertSample(hgIndexHash(d), key, t.indirect, 1u, d.lod, needsSentinel);
+  if (!needsSentinel) return;
   t.slot = slot;
-  t.probe = hgNewCellProbe(probeOrigin, probeDirection, key);
+  t.sentinel = hgNewCellSentinel(sentinelOrigin, sentinelDirection, key);
 }
 
 uint giTaskNext(inout GiTask t, out GiRay ray, out GiNeeRequest nee) {
-  if (!t.probing) {
+  if (!t.sentinelOut) {
     for (;;) {
       const uint step = giPathNext(t.path, t.rng, ray, nee);
       if (step != GI_STEP_DONE) return step;
@@ -73,22 +73,22 @@ uint giTaskNext(inout GiTask t, out GiRay ray, out GiNeeRequest nee) {
     }
     hgInsertPixel(t);
   }
-  const uint step = hgProbeNext(t.probe, ray, nee);
+  const uint step = hgSentinelNext(t.sentinel, ray, nee);
   if (step == GI_STEP_DONE && t.slot >= 0) {
-    hgStoreProbe(t.slot, t.probe);
+    hgStoreSentinel(t.slot, t.sentinel);
     t.slot = -1;
   }
   return step;
 }
 
 void giTaskTakeHit(inout GiTask t, GiHit hit, GiSurface s) {
-  if (t.probing) hgProbeTakeHit(t.probe, hit, s);
+  if (t.sentinelOut) hgSentinelTakeHit(t.sentinel, hit, s);
   else giPathTakeHit(t.path, hit, s);
 }
 
 void giTaskTakeNee(inout GiTask t, vec3 light, GiRng rng) {
-  if (t.probing) {
-    hgProbeTakeNee(t.probe, light);
+  if (t.sentinelOut) {
+    hgSentinelTakeNee(t.sentinel, light);
     return;
   }
   t.rng = rng;
@@ -113,7 +113,7 @@ void main() {
       t.path.reservoir = giPrimaryReservoir(p);
       t.kept = 0.0;
       t.direct = t.indirect = vec3(0.0);
-      t.probing = false;
+      t.sentinelOut = false;
       t.slot = -1;
       giRunTask(t);
       direct = t.direct;

@@ -91,10 +91,10 @@ void resolveAging(uint slot, inout uint live, inout uint evicted) {
   float cap = float(pc.historyCap);
   float recentCap = cap;
   if (pc.historySamples > 0u && a.count > 0u) recentCap = clamp(float(pc.historySamples) / float(a.count), 1.0, cap);
-  // Stale radiance: hpsf_validate.comp, before this pass, cut histories the probes found stale.
+  // Stale radiance: hpsf_validate.comp, before this pass, cut histories the sentinels found stale.
   if (pc.forgetLight != 0u) {
     // The engine says the lights changed: the history goes (hpsf_validate.comp
-    // taught every probe the new light). The cell keeps its key and its probe;
+    // taught every sentinel the new light). The cell keeps its key and its sentinel;
     // until this frame's samples (if any) restart its mean, it is not read.
     c.frames = 0.0;
     c.samples = 0u;

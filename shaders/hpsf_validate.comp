@@ -1,16 +1,16 @@
 #version 460
 // Hashed path space filtering, stale radiance (aging eviction), before
 // resolve: every validationInterval frames (staggered over cells) a cell's
-// probe is re-traced. If the cell's mean moved by Δ, a history of n frames
+// sentinel is re-traced. If the cell's mean moved by Δ, a history of n frames
 // carries a bias of about Δ while its noise is σ²/n (σ² the variance of one
 // frame's mean), so the history is cut to n = σ²/Δ² frames, where bias and
 // noise match (A-SVGF's temporal gradients, Schied et al. 2018, weighed
 // against the cell's noise rather than its value). A change lost in the
-// noise keeps the history; a shadow that moved across the probe restarts it.
+// noise keeps the history; a shadow that moved across the sentinel restarts it.
 // Resetting on any change cost Conference accuracy: one of its four lights
-// moving changed every probe that picked that light.
+// moving changed every sentinel that picked that light.
 // A pass of its own, not part of resolve: lavapipe's compile time grows
-// faster than a program's size, and the probe's ray loop is most of it.
+// faster than a program's size, and the sentinel's ray loop is most of it.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #extension GL_EXT_scalar_block_layout : require
@@ -18,26 +18,26 @@
 #extension GL_EXT_shader_atomic_int64 : require
 #include "gi_frame.glsl"  // set 1: where the bounds-checked variant counts (bounds.glsl)
 #include "hpsf.glsl"
-#include "hpsf_probe.glsl"
+#include "hpsf_sentinel.glsl"
 
 layout(local_size_x = 64) in;
 layout(push_constant, scalar) uniform Push { HgPush pc; };
 
-// A cell's probe, re-traced as a ray task (ray_loop.glsl).
+// A cell's sentinel, re-traced as a ray task (ray_loop.glsl).
 struct GiTask {
-  HgProbe probe;
+  HgSentinel sentinel;
 };
-uint giTaskNext(inout GiTask task, out GiRay ray, out GiNeeRequest nee) { return hgProbeNext(task.probe, ray, nee); }
-void giTaskTakeHit(inout GiTask task, GiHit hit, GiSurface s) { hgProbeTakeHit(task.probe, hit, s); }
-void giTaskTakeNee(inout GiTask task, vec3 light, GiRng rng) { hgProbeTakeNee(task.probe, light); }
+uint giTaskNext(inout GiTask task, out GiRay ray, out GiNeeRequest nee) { return hgSentinelNext(task.sentinel, ray, nee); }
+void giTaskTakeHit(inout GiTask task, GiHit hit, GiSurface s) { hgSentinelTakeHit(task.sentinel, hit, s); }
+void giTaskTakeNee(inout GiTask task, vec3 light, GiRng rng) { hgSentinelTakeNee(task.sentinel, light); }
 #include "ray_loop.glsl"
 
-// What the cell's probe sees now: its hit distance and NEE light. Called at one place.
-void hgRetraceProbe(HgCell c, uint key, out float distance_, out float light) {
-  GiTask task = GiTask(hgProbeStart(c.probeOrigin, hgUnpackDirection(c.probeDirection), key));
+// What the cell's sentinel sees now: its hit distance and NEE light. Called at one place.
+void hgRetraceSentinel(HgCell c, uint key, out float distance_, out float light) {
+  GiTask task = GiTask(hgSentinelStart(c.sentinelOrigin, hgUnpackDirection(c.sentinelDirection), key));
   giRunTask(task);
-  distance_ = task.probe.distance_;
-  light = task.probe.light;
+  distance_ = task.sentinel.distance_;
+  light = task.sentinel.light;
 }
 
 // Returns 1 when the cell's history was cut.
@@ -45,20 +45,20 @@ uint validate(uint slot) {
   uint key = HG_AT(hgKeys, slot);
   if (key == HG_EMPTY_KEY || key == HG_TOMBSTONE_KEY) return 0u;
   HgCell c = HG_AT(hgCells, slot);
-  bool hasProbe = c.probeDistance != 0.0 || c.probeLight != 0.0;
-  bool due = hasProbe && c.frames > 0.0 && (slot + pc.frameIndex) % pc.validationInterval == 0u;
-  if (!(pc.forgetLight != 0u ? hasProbe : due)) return 0u;
+  bool hasSentinel = c.sentinelDistance != 0.0 || c.sentinelLight != 0.0;
+  bool due = hasSentinel && c.frames > 0.0 && (slot + pc.frameIndex) % pc.validationInterval == 0u;
+  if (!(pc.forgetLight != 0u ? hasSentinel : due)) return 0u;
   float distance_, light;
-  hgRetraceProbe(c, key, distance_, light);
+  hgRetraceSentinel(c, key, distance_, light);
   if (pc.forgetLight != 0u) {
     // The engine says the lights changed (resolve drops the history): every
-    // probe learns the new light now, so that its next check does not cut again.
-    HG_AT(hgCells, slot).probeDistance = distance_;
-    HG_AT(hgCells, slot).probeLight = light;
+    // sentinel learns the new light now, so that its next check does not cut again.
+    HG_AT(hgCells, slot).sentinelDistance = distance_;
+    HG_AT(hgCells, slot).sentinelLight = light;
     return 0u;
   }
   float mean = giLuminance(c.mean);
-  float change = hgProbeChange(c.probeDistance, c.probeLight, distance_, light, mean);
+  float change = hgSentinelChange(c.sentinelDistance, c.sentinelLight, distance_, light, mean);
   if (change <= 0.0) return 0u;
   uint reset = 0u;
   float window = min(c.frames, float(pc.historyCap));
@@ -70,8 +70,8 @@ uint validate(uint slot) {
     HG_AT(hgCells, slot).frames = kept;
     reset = 1u;
   }
-  HG_AT(hgCells, slot).probeDistance = distance_;
-  HG_AT(hgCells, slot).probeLight = light;
+  HG_AT(hgCells, slot).sentinelDistance = distance_;
+  HG_AT(hgCells, slot).sentinelLight = light;
   return reset;
 }
 

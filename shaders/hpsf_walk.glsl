@@ -13,7 +13,7 @@
 #include "path.glsl"
 #include "gi_frame.glsl"
 #include "hpsf.glsl"
-#include "hpsf_probe.glsl"
+#include "hpsf_sentinel.glsl"
 
 layout(push_constant, scalar) uniform Push { HgPush pc; };
 
@@ -58,12 +58,12 @@ uint hgReadTable() { return pc.strict != 0u ? pc.previousTable : pc.table; }
 // counted, which only finds the cell) to the cell (index, key) of this frame's table. Samples above the
 // cell's history mean + kσ of luminance are clamped so one firefly cannot
 // poison the cache. Returns the global slot, or -1 when the probe window is
-// full; `needsProbe` when this invocation made the cell and the cell keeps a
-// stale-radiance probe, which the caller traces (HgProbe) and stores (hgStoreProbe).
-int hgInsertSample(uint index, uint key, vec3 radiance, uint count, int lod, out bool needsProbe) {
+// full; `needsSentinel` when this invocation made the cell and the cell keeps a
+// stale-radiance sentinel, which the caller traces (HgSentinel) and stores (hgStoreSentinel).
+int hgInsertSample(uint index, uint key, vec3 radiance, uint count, int lod, out bool needsSentinel) {
   uint probes;
   bool created;
-  needsProbe = false;
+  needsSentinel = false;
   // More light for a sample already counted belongs to an existing cell: it never makes one (a cell
   // holding light but no sample would pass that light on to whatever key claims the slot next).
   int slot = hgInsertOrFind(pc.table, index, key, pc.capacity, pc.probeWindow, count > 0u, probes, created);
@@ -71,7 +71,7 @@ int hgInsertSample(uint index, uint key, vec3 radiance, uint count, int lod, out
     hgFailedCount++;
     return -1;
   }
-  needsProbe = created && pc.validationInterval > 0u;
+  needsSentinel = created && pc.validationInterval > 0u;
   hgProbeCount += probes;
   hgProbeMax = max(hgProbeMax, probes);
   // With strict eviction the history is the same key's cell in the previous
@@ -117,17 +117,17 @@ int hgInsertSample(uint index, uint key, vec3 radiance, uint count, int lod, out
   return slot;
 }
 
-// A new cell's probe: the ray from the vertex that made it, with its
+// A new cell's sentinel: the ray from the vertex that made it, with its
 // direction as the cell stores it (packed), so the checks re-trace the very same ray.
-HgProbe hgNewCellProbe(vec3 origin, vec3 direction, uint key) {
-  return hgProbeStart(origin, hgUnpackDirection(hgPackDirection(direction)), key);
+HgSentinel hgNewCellSentinel(vec3 origin, vec3 direction, uint key) {
+  return hgSentinelStart(origin, hgUnpackDirection(hgPackDirection(direction)), key);
 }
-// Stores the traced probe in the cell that made it.
-void hgStoreProbe(int slot, HgProbe probe) {
-  HG_AT(hgCells, slot).probeOrigin = probe.origin;
-  HG_AT(hgCells, slot).probeDirection = hgPackDirection(probe.direction);
-  HG_AT(hgCells, slot).probeDistance = probe.distance_;
-  HG_AT(hgCells, slot).probeLight = probe.light;
+// Stores the traced sentinel in the cell that made it.
+void hgStoreSentinel(int slot, HgSentinel sentinel) {
+  HG_AT(hgCells, slot).sentinelOrigin = sentinel.origin;
+  HG_AT(hgCells, slot).sentinelDirection = hgPackDirection(sentinel.direction);
+  HG_AT(hgCells, slot).sentinelDistance = sentinel.distance_;
+  HG_AT(hgCells, slot).sentinelLight = sentinel.light;
 }
 
 // Last frame's radiance at (index, key) as the map passes it on (the cell's
@@ -176,7 +176,7 @@ HgWalk hgWalkFrom(GiSurface s, HgDescriptor d, bool feeds, uint depth, float tra
 #define HG_STEP_WAITING 1u   // for its hit or NEE's light
 #define HG_STEP_NEE 2u       // NEE at w is next
 #define HG_STEP_INSERT 3u    // what arrived goes into the fed cell
-#define HG_STEP_PROBE 4u     // the cell just made traces its probe
+#define HG_STEP_SENTINEL 4u     // the cell just made traces its sentinel
 #define HG_STEP_CONTINUE 5u  // the walk moves on
 #define HG_STEP_DONE 6u
 
@@ -190,8 +190,8 @@ struct HgStep {
   HgDescriptor dw;   // w's cell, where w is a filter vertex
   bool filterVertex;
   float segment;     // L∞ length of the segment
-  int slot;          // the fed cell, while its probe is traced
-  HgProbe probe;
+  int slot;          // the fed cell, while its sentinel is traced
+  HgSentinel sentinel;
 };
 
 HgStep hgStepStart(HgWalk walk) {
@@ -225,12 +225,12 @@ void hgStepInsert(inout HgStep st, HgWalk walk, inout GiRng rng) {
   }
   if (walk.key == HG_EMPTY_KEY) return;
   vec3 added = walk.throughput * st.arriving;
-  bool needsProbe;
-  st.slot = hgInsertSample(walk.index, walk.key, added, hgWalkContinues(walk) ? 0u : 1u, hgWalkLod(walk), needsProbe);
+  bool needsSentinel;
+  st.slot = hgInsertSample(walk.index, walk.key, added, hgWalkContinues(walk) ? 0u : 1u, hgWalkLod(walk), needsSentinel);
   if (pc.mode == HG_MODE_ANHPSF && hgWalkDepth(walk) > 1u) hgTransported += giLuminance(added);
-  if (needsProbe) {
-    st.probe = hgNewCellProbe(walk.origin, st.direction, walk.key);
-    st.phase = HG_STEP_PROBE;
+  if (needsSentinel) {
+    st.sentinel = hgNewCellSentinel(walk.origin, st.direction, walk.key);
+    st.phase = HG_STEP_SENTINEL;
   }
 }
 
@@ -271,10 +271,10 @@ uint hgStepNext(inout HgStep st, inout HgWalk walk, inout GiRng rng, out GiRay r
     return GI_STEP_NEE;
   }
   if (st.phase == HG_STEP_INSERT) hgStepInsert(st, walk, rng);
-  if (st.phase == HG_STEP_PROBE) {
-    const uint step = hgProbeNext(st.probe, ray, nee);
+  if (st.phase == HG_STEP_SENTINEL) {
+    const uint step = hgSentinelNext(st.sentinel, ray, nee);
     if (step != GI_STEP_DONE) return step;
-    hgStoreProbe(st.slot, st.probe);
+    hgStoreSentinel(st.slot, st.sentinel);
     st.phase = HG_STEP_CONTINUE;
   }
   if (st.phase == HG_STEP_CONTINUE) {
@@ -285,8 +285,8 @@ uint hgStepNext(inout HgStep st, inout HgWalk walk, inout GiRng rng, out GiRay r
 }
 
 void hgStepTakeHit(inout HgStep st, GiHit hit, GiSurface s) {
-  if (st.phase == HG_STEP_PROBE) {
-    hgProbeTakeHit(st.probe, hit, s);
+  if (st.phase == HG_STEP_SENTINEL) {
+    hgSentinelTakeHit(st.sentinel, hit, s);
     return;
   }
   st.hit = hit.t >= 0.0;
@@ -297,10 +297,10 @@ void hgStepTakeHit(inout HgStep st, GiHit hit, GiSurface s) {
   st.phase = HG_STEP_NEE;
 }
 
-// NEE's light, and the random state after it: the walk's, unless the probe's (its own) asked.
+// NEE's light, and the random state after it: the walk's, unless the sentinel's (its own) asked.
 void hgStepTakeNee(inout HgStep st, vec3 light, GiRng after, inout GiRng rng) {
-  if (st.phase == HG_STEP_PROBE) {
-    hgProbeTakeNee(st.probe, light);
+  if (st.phase == HG_STEP_SENTINEL) {
+    hgSentinelTakeNee(st.sentinel, light);
     return;
   }
   rng = after;

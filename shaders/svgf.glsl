@@ -23,20 +23,20 @@
 bool svgfInside(ivec2 q) { return all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, ivec2(giFrame.size))); }
 
 // Normal (xyz) and view depth / depthScale (w; 0 outside the image or where there is no surface) of
-// this frame's pixel q; `parity` is the history set the temporal pass wrote this frame. The weights
+// this frame's pixel q; `writtenSet` is the history set the temporal pass wrote this frame. The weights
 // compare depths by their ratios: the scale does not matter.
-vec4 svgfGuide(ivec2 q, uint parity) {
+vec4 svgfGuide(ivec2 q, uint writtenSet) {
   if (!svgfInside(q)) return vec4(0.0);
-  return giUnpackGuide(parity == 0u ? imageLoad(giHistoryGuideA, q).x : imageLoad(giHistoryGuideB, q).x);
+  return giUnpackGuide(writtenSet == 0u ? imageLoad(giHistoryGuideA, q).x : imageLoad(giHistoryGuideB, q).x);
 }
 
 // The view depth's screen-space gradient at p (per pixel) from the depths
 // around it: central differences, one-sided beside an edge of the surface.
-vec2 svgfDepthGradient(ivec2 p, float z, uint parity) {
+vec2 svgfDepthGradient(ivec2 p, float z, uint writtenSet) {
   vec2 g;
   for (int axis = 0; axis < 2; ++axis) {
     const ivec2 d = axis == 0 ? ivec2(1, 0) : ivec2(0, 1);
-    const float a = svgfGuide(p + d, parity).w, b = svgfGuide(p - d, parity).w;
+    const float a = svgfGuide(p + d, writtenSet).w, b = svgfGuide(p - d, writtenSet).w;
     g[axis] = a > 0.0 && b > 0.0 ? 0.5 * (a - b) : a > 0.0 ? a - z : b > 0.0 ? z - b : 0.0;
   }
   return g;
@@ -69,18 +69,18 @@ vec4 svgfEncode(vec4 v, float scale, float limit) {
   return vec4(giOutputEncode(v.rgb, scale, limit), min(v.a * scale * scale, limit));
 }
 
-SvgfTexel svgfLoad(uint pair, uint parity, ivec2 q) {
+SvgfTexel svgfLoad(uint pair, uint writtenSet, ivec2 q) {
   if (pair == SVGF_OUTPUTS)
     return SvgfTexel(svgfDecode(imageLoad(giOutDirect, q), giFrame.outputScale),
                      svgfDecode(imageLoad(giOutIndirect, q), giFrame.outputScale));
   // The scratch pair: the set the temporal pass did not write this frame.
-  const vec4 d = parity == 0u ? imageLoad(giHistoryDirectB, q) : imageLoad(giHistoryDirect, q);
-  const vec4 i = parity == 0u ? imageLoad(giHistoryIndirectB, q) : imageLoad(giHistoryIndirect, q);
+  const vec4 d = writtenSet == 0u ? imageLoad(giHistoryDirectB, q) : imageLoad(giHistoryDirect, q);
+  const vec4 i = writtenSet == 0u ? imageLoad(giHistoryIndirectB, q) : imageLoad(giHistoryIndirect, q);
   return SvgfTexel(svgfDecode(d, giFrame.historyScale), svgfDecode(i, giFrame.historyScale));
 }
 
 // `direct` 0: the direct light is not filtered, and its image keeps what it holds.
-void svgfStore(uint pair, uint parity, ivec2 p, SvgfTexel t, uint direct) {
+void svgfStore(uint pair, uint writtenSet, ivec2 p, SvgfTexel t, uint direct) {
   if (pair == SVGF_OUTPUTS) {
     if (direct != 0u) imageStore(giOutDirect, p, svgfEncode(t.direct, giFrame.outputScale, giFrame.outputMax));
     imageStore(giOutIndirect, p, svgfEncode(t.indirect, giFrame.outputScale, giFrame.outputMax));
@@ -88,7 +88,7 @@ void svgfStore(uint pair, uint parity, ivec2 p, SvgfTexel t, uint direct) {
   }
   const vec4 d = svgfEncode(t.direct, giFrame.historyScale, giFrame.historyMax);
   const vec4 i = svgfEncode(t.indirect, giFrame.historyScale, giFrame.historyMax);
-  if (parity == 0u) {
+  if (writtenSet == 0u) {
     if (direct != 0u) imageStore(giHistoryDirectB, p, d);
     imageStore(giHistoryIndirectB, p, i);
   } else {

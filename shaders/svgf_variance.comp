@@ -17,22 +17,22 @@ layout(push_constant, scalar) uniform Push { GiSvgfPush pc; };
 void main() {
   const ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   if (!giInFrame(gl_GlobalInvocationID.xy)) return;
-  const vec4 direct = pc.parity == 0u ? giLoadHistoryDirect(p) : giLoadHistoryDirectB(p);
-  const vec3 indirect = (pc.parity == 0u ? giLoadHistoryIndirect(p) : giLoadHistoryIndirectB(p)).rgb;
+  const vec4 direct = pc.writtenSet == 0u ? giLoadHistoryDirect(p) : giLoadHistoryDirectB(p);
+  const vec3 indirect = (pc.writtenSet == 0u ? giLoadHistoryIndirect(p) : giLoadHistoryIndirectB(p)).rgb;
   const float frames = direct.a;
-  const vec4 guide = svgfGuide(p, pc.parity);
+  const vec4 guide = svgfGuide(p, pc.writtenSet);
   vec2 variance = vec2(0.0);
   if (guide.w > 0.0 && frames < GI_TRUSTED_HISTORY) {
-    const vec2 gradient = svgfDepthGradient(p, guide.w, pc.parity);
+    const vec2 gradient = svgfDepthGradient(p, guide.w, pc.writtenSet);
     vec2 mean = vec2(0.0), square = vec2(0.0);
     float weights = 0.0;
     for (int j = -3; j <= 3; ++j)
       for (int i = -3; i <= 3; ++i) {
         const ivec2 q = p + ivec2(i, j);
-        const vec4 tap = svgfGuide(q, pc.parity);
+        const vec4 tap = svgfGuide(q, pc.writtenSet);
         if (tap.w <= 0.0) continue;
         const float w = i == 0 && j == 0 ? 1.0 : svgfGeometryWeight(guide, gradient, tap, vec2(i, j), pc.sigmaDepth, pc.sigmaNormal);
-        const GiMoments m = giLoadMoments(pc.parity, q);
+        const GiMoments m = giLoadMoments(pc.writtenSet, q);
         mean += w * m.mean;
         square += w * (m.variance + m.mean * m.mean);
         weights += w;
@@ -40,10 +40,10 @@ void main() {
     mean /= weights;
     variance = max(vec2(0.0), square / weights - mean * mean);
   } else if (guide.w > 0.0) {
-    variance = giLoadMoments(pc.parity, p).variance;
+    variance = giLoadMoments(pc.writtenSet, p).variance;
   }
   if (pc.debug != 0u) imageStore(giDebug, p, vec4(variance, frames, 0.0));
   if (guide.w > 0.0)
-    svgfStore(svgfReadPair(0u, pc.iterations), pc.parity, p,
+    svgfStore(svgfReadPair(0u, pc.iterations), pc.writtenSet, p,
               SvgfTexel(vec4(direct.rgb, variance.x), vec4(indirect, variance.y)), pc.direct);
 }

@@ -6,7 +6,7 @@
 // function; lavapipe compiles at a program's first dispatch), so a program's
 // compile time grows with its call sites, faster than linearly: the path
 // programs are written as ray machines (lights.glsl GiNee, path.glsl GiPath,
-// hpsf_probe.glsl, hpsf_walk.glsl) whose rays all go through one giTrace call
+// hpsf_sentinel.glsl, hpsf_walk.glsl) whose rays all go through one giTrace call
 // in the program's main loop. giTraceClosest and giTraceVisible are one-ray
 // conveniences for programs that trace a single ray.
 // Alpha-masked geometry is non-opaque in the BLAS; its candidates are accepted

@@ -193,7 +193,7 @@ TEST_F(NhpsfTest, StaleRadianceIsDetectedWhenTheLightMoves) {
   engine::ReferenceImages moved = pixelCentreReference(ctx, s, cam, 31, 512);
   std::vector<double> after[3];
   uint32_t resets[3] = {0, 0, 0};
-  for (int check = 0; check < 3; ++check) {  // probes off, on; off with invalidate(LightsChanged)
+  for (int check = 0; check < 3; ++check) {  // sentinels off, on; off with invalidate(LightsChanged)
     pose(0.0f);
     gi::Settings settings;
     settings.method = gi::Method::Anhpsf;
@@ -212,7 +212,7 @@ TEST_F(NhpsfTest, StaleRadianceIsDetectedWhenTheLightMoves) {
     }
     tools::destroyModuleSession(ctx, session);
   }
-  std::printf("after the move: histories cut %u (probes off) / %u (on); MSE frame 8: %.3e / %.3e / %.3e (invalidate)\n",
+  std::printf("after the move: histories cut %u (sentinels off) / %u (on); MSE frame 8: %.3e / %.3e / %.3e (invalidate)\n",
               resets[0], resets[1], after[0].back(), after[1].back(), after[2].back());
   EXPECT_EQ(resets[0], 0u);
   EXPECT_GT(resets[1], 0u);

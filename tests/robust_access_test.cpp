@@ -49,8 +49,8 @@ TEST_F(RobustAccessTest, EveryMethodRendersTheSameBitsOnABoundsCheckedDevice) {
     gi::Settings settings;
     settings.method = info.method;
     // The hash methods run on a still scene: under moving light their frames are not reproducible
-    // even on one device (the invocation that makes a cell traces its probe, and which one that is
-    // depends on the order the invocations run in; the probes then cut different histories).
+    // even on one device (the invocation that makes a cell traces its sentinel ray, and which one that is
+    // depends on the order the invocations run in; the sentinels then cut different histories).
     const bool moving = !gi::usesHashGrid(info.method);
     const engine::ReferenceImages a = renderAnimatedFrames(ctx, plain, animation, settings, kSize, kFrames, moving);
     const engine::ReferenceImages b = renderAnimatedFrames(robust, checked, animation, settings, kSize, kFrames, moving);

@@ -439,11 +439,11 @@ def pathtracer(path):
 MOVING_RUNS = (  # (directory suffix, label prefix, the table's name for it)
     ("strict", "hpsf spp=4 hpsf.eviction=0", "hpsf strict"),
     ("hpsf", "hpsf spp=4 hpsf.eviction=1 hpsf.validation=0", "hpsf aging"),
-    ("hpsf", "hpsf spp=4 hpsf.eviction=1 hpsf.validation=4", "hpsf aging + probes"),
+    ("hpsf", "hpsf spp=4 hpsf.eviction=1 hpsf.validation=4", "hpsf aging + sentinels"),
     ("anhpsf", "anhpsf spp=4 hpsf.validation=0", "anhpsf"),
-    ("anhpsf", "anhpsf spp=4 hpsf.validation=4", "anhpsf + probes"),
-    ("invalidate", "hpsf spp=4", "hpsf aging + probes + invalidate(LightsChanged)"),
-    ("invalidate", "anhpsf spp=4", "anhpsf + probes + invalidate(LightsChanged)"),
+    ("anhpsf", "anhpsf spp=4 hpsf.validation=4", "anhpsf + sentinels"),
+    ("invalidate", "hpsf spp=4", "hpsf aging + sentinels + invalidate(LightsChanged)"),
+    ("invalidate", "anhpsf spp=4", "anhpsf + sentinels + invalidate(LightsChanged)"),
 )
 
 

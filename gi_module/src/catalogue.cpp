@@ -194,7 +194,7 @@ const SettingInfo kSettings[] = {
                false, kHash),
     GI_SETTING("hpsf.min_samples", hpsf.minSamples, "samples", "fewer in the cell: the pixel keeps its own", Uint, 1, 1e6,
                false, kHash),
-    GI_SETTING("hpsf.validation", hpsf.validationInterval, "frames", "aging: re-trace each cell's probe this often (0 = off)",
+    GI_SETTING("hpsf.validation", hpsf.validationInterval, "frames", "aging: re-trace each cell's sentinel ray this often (0 = off)",
                Uint, 0, 1000, false, kHash),
     GI_SETTING("hpsf.path_depth", hpsf.pathDepth, "segments", "nhpsf: path segments per pixel and frame", Uint, 1, 16, false,
                kNhpsf),
@@ -276,7 +276,7 @@ constexpr PassInfo kPasses[] = {
     {Pass::HpsfInsert, "hpsf_insert", true},
     {Pass::NhpsfPaths, "nhpsf_paths", true},
     {Pass::AnhpsfPaths, "anhpsf_paths", true},
-    {Pass::HpsfValidate, "hpsf_validate", false},  // its probe rays are a small part: not counted as tracing time
+    {Pass::HpsfValidate, "hpsf_validate", false},  // its sentinel rays are a small part: not counted as tracing time
     {Pass::HpsfResolve, "hpsf_resolve", false},
     {Pass::HpsfLookup, "hpsf_lookup", false},
     {Pass::TemporalGradient, "temporal_gradient", true},

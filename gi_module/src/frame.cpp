@@ -173,7 +173,7 @@ void recordHashPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const gpu::
     runPass(m, cmd, slot, s.method == Method::Nhpsf ? Pass::NhpsfPaths : Pass::AnhpsfPaths, m.hashPaths, sets, size, push);
   }
   if (validatesHashCells(s)) {
-    // Pass: re-trace the probes due this frame; cut histories whose light changed.
+    // Pass: re-trace the sentinel rays due this frame; cut histories whose light changed.
     runPass(m, cmd, slot, Pass::HpsfValidate, m.hashValidate, sets, {m.hash.capacity, 1}, push);
   }
   // Pass: fold the frame's sums into each cell's history; evict stale cells.
@@ -198,7 +198,7 @@ void recordReservoirPasses(Module& m, VkCommandBuffer cmd, uint32_t slot) {
                             .unbiased = r.unbiased ? 1u : 0u,
                             .depthTolerance = s.temporal.depthTolerance,
                             .cosNormalLimit = cosDegrees(s.temporal.normalLimitDegrees),
-                            .parity = m.reservoirFrames & 1u};
+                            .readSet = m.reservoirFrames & 1u};
   // Pass: candidates from the light sampler, last frame's reservoir, the survivor's shadow ray.
   runPass(m, cmd, slot, Pass::ReservoirTemporal, m.reservoirs, sets, {m.width, m.height}, push);
   // Pass: neighbours' reservoirs merged and the survivor's shadow ray: the pick the tracing passes take.
@@ -212,7 +212,7 @@ void recordSvgfPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, bool filter
   const SvgfSettings& v = m.settings.svgf;
   VkDescriptorSet sets[] = {m.desc.scene.set, m.sized.frameSets[slot]};
   const glm::uvec2 size{m.width, m.height};
-  gpu::GiSvgfPush push{.parity = m.temporalFrames & 1u,
+  gpu::GiSvgfPush push{.writtenSet = m.temporalFrames & 1u,
                        .iteration = 0,
                        .sigmaLuminance = v.sigmaLuminance,
                        .sigmaNormal = v.sigmaNormal,
@@ -415,7 +415,7 @@ void recordTracePasses(Module& m, VkCommandBuffer cmd, const FramePlan& plan, co
                            .maxHistory = s.raw.maxAccumulatedFrames,
                            .accumulate = plan.accumulate ? 1u : 0u,
                            .gradients = usesTemporalGradients(m, s) ? 1u : 0u,
-                           .parity = m.temporalFrames & 1u,
+                           .readSet = m.temporalFrames & 1u,
                            .depthTolerance = s.temporal.depthTolerance,
                            .cosNormalLimit = cosDegrees(s.temporal.normalLimitDegrees)};
   runPass(m, cmd, plan.slot, Pass::RawTrace, m.rawTrace, plan.sets, size, raw);
@@ -433,7 +433,7 @@ void recordTemporalPasses(Module& m, VkCommandBuffer cmd, const FramePlan& plan)
   const Settings& s = m.settings;
   const TemporalSettings& t = s.temporal;
   const bool svgf = s.method == Method::Svgf;
-  const gpu::GiTemporalPush temporal{.parity = m.temporalFrames & 1u,
+  const gpu::GiTemporalPush temporal{.readSet = m.temporalFrames & 1u,
                                      .reset = m.temporalFrames == 0 ? 1u : 0u,
                                      .minBlend = svgf ? s.svgf.alpha : t.minBlend,
                                      .depthTolerance = t.depthTolerance,

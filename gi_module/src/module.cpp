@@ -614,7 +614,7 @@ Error resize(Module* m, uint32_t width, uint32_t height) {
 void invalidate(Module* m, Invalidate what) {
   dropHistory(*m);
   if (what == Invalidate::All) m->hash.cleared = false;  // re-zeroed at the start of the next frame
-  else if (what == Invalidate::LightsChanged) m->hash.forgetLight = true;  // cells, probes and paths stay, their light goes
+  else if (what == Invalidate::LightsChanged) m->hash.forgetLight = true;  // cells, sentinels and paths stay, their light goes
 }
 
 const Settings& settings(const Module* m) { return m->settings; }

@@ -187,7 +187,7 @@ void endPass(Module& m, VkCommandBuffer cmd, uint32_t slot);
 
 // The counters frame slot `slot` copied back (valid once its frame has completed; frame.cpp).
 gpu::GiCounters slotCounters(const Module& m, uint32_t slot);
-// The hash map's stale-radiance probes are re-traced (hpsf_validate): aging eviction with hpsf.validation > 0.
+// The hash map's stale-radiance sentinel rays are re-traced (hpsf_validate): aging eviction with hpsf.validation > 0.
 bool validatesHashCells(const Settings& settings);
 // gpu::HG_MODE_* of a hash method (module.cpp).
 // Accumulated light is stale (settings, scene, size or invalidate): raw's

@@ -43,7 +43,7 @@ GPU_CONST GI_BINDING_HISTORY_INDIRECT_B = 22; // rgba32f: accumulated demodulate
 GPU_CONST GI_BINDING_HISTORY_GUIDE_A = 23;    // rgba16f: the frame's world normal (xyz), view depth / depthScale (w; 0 = background)
 GPU_CONST GI_BINDING_HISTORY_GUIDE_B = 24;
 // SVGF (svgf_variance.comp, svgf_atrous.comp): the luminance moments' history, read and written with the
-// colour's (sets A and B by parity). Its à-trous iterations hold no images of their own: they ping-pong
+// colour's (sets A and B alternate: GiSvgfPush::writtenSet). Its à-trous iterations hold no images of their own: they ping-pong
 // between the outputs and the history set last frame wrote (svgf.glsl), and read the normal from this
 // frame's history guide and the depth from the G-buffer.
 GPU_CONST GI_BINDING_SVGF_MOMENTS_A = 25;     // the histories' format: direct luminance mean, variance; indirect's (zw)
@@ -62,7 +62,7 @@ GPU_CONST GI_BINDING_TEMPORAL_SPREAD = 30;    // rgba32f: this frame's samples a
 // temporal pass has read every neighbour's texel: one image, not two.
 GPU_CONST GI_BINDING_HISTORY_PACKED = 31;
 // Reservoir resampling of the primary hits' point and spot lights (ReservoirSettings, gi_reservoirs.comp).
-// A and B, rgba32ui, the temporal pass's reservoirs, one set written a frame (GiReservoirPush::parity) and
+// A and B, rgba32ui, the temporal pass's reservoirs, one set written a frame (GiReservoirPush::readSet) and
 // read by the next: the chosen light (x; GI_RESERVOIR_EMPTY = none), its weight W (y, float bits), the
 // samples behind it M (z, float bits), the pixel's guide (w, giPackGuide). The pick, rg32ui, the spatial
 // pass's result the tracing passes take (giPrimaryReservoir): the light and its W (float bits), 0 where
@@ -159,7 +159,7 @@ struct GiReservoirPush {
   uint unbiased;        // spatial: 1/Z weights (neighbours whose surface the light can reach), else 1/M
   float depthTolerance; // the reprojection and neighbour tests (TemporalSettings)
   float cosNormalLimit;
-  uint parity;          // 0: this frame's temporal reservoirs go to B (last frame's are in A); 1: the reverse
+  uint readSet;         // 0: last frame's temporal reservoirs are in A, this frame's go to B; 1: the reverse
   uint pad0;
 };
 GPU_ASSERT_SIZE(GiReservoirPush, 48);
@@ -174,7 +174,7 @@ struct GiRawPush {
   uint accumulate;            // 1 = blend with history, 0 = this frame only
   uint gradients;             // 1 (TemporalSettings::gradients): keep each pixel's first sample for the
                               // next frame's gradients (gi_temporal_gradient.comp reads this struct too)
-  uint parity;                // the temporal pass's this frame: 0 = last frame wrote set A (this one writes B)
+  uint readSet;               // the temporal pass's this frame: 0 = last frame wrote set A (this one writes B)
   float depthTolerance;       // gradients: the reprojection tests of GiTemporalPush
   float cosNormalLimit;
 };
@@ -186,7 +186,7 @@ GPU_ASSERT_SIZE(GiRawPush, 44);
 // normal agree; the pixel then blends in this frame by 1/(frames + 1), at
 // least minBlend.
 struct GiTemporalPush {
-  uint parity;          // 0: read set A, write set B; 1: the other way round
+  uint readSet;         // 0: read set A, write set B; 1: the other way round
   uint reset;           // 1: no history (first frame, new size, settings or invalidate)
   float minBlend;       // (0, 1]: the smallest weight of the new frame (caps the history at about 1/minBlend frames)
   float depthTolerance; // relative view-depth difference a history tap may have
@@ -207,7 +207,7 @@ GPU_ASSERT_SIZE(GiTemporalPush, 52);
 
 // svgf_variance.comp and svgf_atrous.comp.
 struct GiSvgfPush {
-  uint parity;          // the history set the temporal pass wrote this frame: 0 = A, 1 = B
+  uint writtenSet;      // the history set the temporal pass wrote this frame: 0 = A, 1 = B
   uint iteration;       // à-trous: taps 2^iteration pixels apart
   float sigmaLuminance; // σ_l: luminance stop in standard deviations
   float sigmaNormal;    // σ_n: exponent on max(0, n·n')

@@ -65,13 +65,13 @@ struct HgCell {
   vec3 recent;        // nhpsf/anhpsf: the mean over the last historySamples samples only; what the
                       // map passes on to the vertices before this one (recent + tail)
   uint lastSeen;      // frame index of the last update
-  // Aging: the probe that detects stale radiance. A ray from the cell's first
+  // Aging: the sentinel that detects stale radiance. A ray from the cell's first
   // vertex; re-traced with the same random numbers it gives the same hit
   // distance and the same light at the hit unless the scene moved.
-  vec3 probeOrigin;
-  float probeDistance;  // metres; < 0: the ray missed; 0 with probeLight 0: no probe
-  float probeLight;     // luminance of the light (NEE) at the hit
-  uint probeDirection;  // octahedral, 2 × 16-bit snorm (hgPackDirection); traced as it unpacks, both times
+  vec3 sentinelOrigin;
+  float sentinelDistance;  // metres; < 0: the ray missed; 0 with sentinelLight 0: no sentinel
+  float sentinelLight;     // luminance of the light (NEE) at the hit
+  uint sentinelDirection;  // octahedral, 2 × 16-bit snorm (hgPackDirection); traced as it unpacks, both times
   uint samples;         // samples behind the mean (capped with the history)
   uint previousLod;     // bits 0–23, strict: global slot + 1 of the same key in the previous frame's
                         // table, 0 = none; bits 24–31: the cell's level of detail + 128 (hgPackPreviousLod)
@@ -94,7 +94,7 @@ struct HgTelemetry {
   uint inserts;       // successful inserts (samples stored)
   uint evicted;       // cells removed by the eviction policy this frame
   uint overflows;     // samples clamped to HG_MAX_SAMPLE
-  uint staleResets;   // cells whose probe came back different enough to cut their history
+  uint staleResets;   // cells whose sentinel came back different enough to cut their history
   uint64_t transported; // anhpsf: Σ luminance added by continuation segments · radianceScale · HG_FIXED_POINT_SCALE
   uint continued;     // anhpsf: pixels with a live continued path after this frame
   uint depthSum;      // anhpsf: Σ of their depths (segments)
@@ -289,7 +289,7 @@ struct HgPush {
   uint mode;              // HG_MODE_*
   uint depth;             // nhpsf: segments per frame; anhpsf: the longest continued path
   float secondaryWidthScale; // cells at vertices after the first are this much wider
-  uint validationInterval;  // aging: frames between re-traces of a cell's probe (0 = off)
+  uint validationInterval;  // aging: frames between re-traces of a cell's sentinel (0 = off)
   float radianceScale;    // 1 / SceneDesc::typicalRadiance: radiance is summed as radiance · radianceScale in fixed point
   uint forgetLight;       // 1 in the frame after gi::invalidate(LightsChanged): every cell's mean restarts
   float normalJitter;     // ± normal bins, 0 = off

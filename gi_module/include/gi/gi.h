@@ -393,7 +393,7 @@ Error setScene(Module* module, const SceneDesc& scene);
 // For engines that know what changed: drop cached light so stale radiance is
 // never shown. All (geometry moved): temporal history, the hash map and
 // anhpsf's continued paths start over. LightsChanged (only lights changed):
-// the map keeps its cells, their probes and the continued paths, and every
+// the map keeps its cells, their sentinel rays and the continued paths, and every
 // cell's mean restarts from the next frame's samples (that frame's paths still
 // read the old light at their far ends; it washes out within a few frames).
 // History: the screen-space histories alone restart (temporal reprojection,

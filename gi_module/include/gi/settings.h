@@ -150,7 +150,7 @@ struct TemporalSettings {
   bool gradients = false;           // A-SVGF's temporal gradients (Schied et al. 2018): one pixel per 3×3 tile
                                     // re-traces last frame's random numbers; where its light changed, the
                                     // new frame weighs more. For the methods whose paths start in raw's
-                                    // trace (not the hash methods, whose map has its probes)
+                                    // trace (not the hash methods, whose map has its sentinel rays)
 };
 
 enum class EvictionPolicy : uint32_t {
@@ -187,7 +187,7 @@ struct HpsfSettings {
                                   // the pixel still shows the historyFrames mean. [0 = the same mean, 1e6]
   uint32_t staleFrames = 60;      // aging: frames untouched before eviction, [1, 100000]
   uint32_t minSamples = 1;        // fewer samples in the cell: the pixel keeps its own, [1, 1e6]
-  uint32_t validationInterval = 4;  // aging: every N frames each cell re-traces its probe ray (stored when the
+  uint32_t validationInterval = 4;  // aging: every N frames each cell re-traces its sentinel ray (stored when the
                                     // cell was made); if the answer changed by more than the cell's noise, the
                                     // history is cut to match (docs/RESULTS.md, "stale radiance"). A static
                                     // scene answers bit-exactly the same. 0 = off, [0, 1000]
