@@ -20,7 +20,7 @@ void main() {
   // Only where the history is long enough to speak for itself (a few samples' spread says little:
   // nine 1-spp samples that all missed the light would hold the filter at black).
   const float historyFrames = pc.packedHistory != 0u     ? imageLoad(giOutDirect, p).a
-                              : pc.temporalWritten == 0u ? imageLoad(giHistoryDirect, p).a
+                              : pc.temporalWritten == 0u ? imageLoad(giHistoryDirectA, p).a
                               : pc.temporalWritten == 1u ? imageLoad(giHistoryDirectB, p).a
                                                          : 0.0;
   if (pc.packedHistory != 0u) {

@@ -26,8 +26,8 @@ layout(set = 1, binding = GI_BINDING_OUT_DIRECT) uniform image2D giOutDirect;
 layout(set = 1, binding = GI_BINDING_OUT_INDIRECT) uniform image2D giOutIndirect;
 layout(set = 1, binding = GI_BINDING_OUT_COMPOSITE) uniform image2D giOutComposite;
 // The radiance histories are half or single floats (GiFrameConstants::historyScale): no format qualifier.
-layout(set = 1, binding = GI_BINDING_HISTORY_DIRECT) uniform image2D giHistoryDirect;
-layout(set = 1, binding = GI_BINDING_HISTORY_INDIRECT) uniform image2D giHistoryIndirect;
+layout(set = 1, binding = GI_BINDING_HISTORY_DIRECT_A) uniform image2D giHistoryDirectA;
+layout(set = 1, binding = GI_BINDING_HISTORY_INDIRECT_A) uniform image2D giHistoryIndirectA;
 layout(set = 1, binding = GI_BINDING_COUNTERS, scalar) buffer GiCountersBlock { GiCounters giCounters; };
 layout(set = 1, binding = GI_BINDING_NOISY_INDIRECT) uniform image2D giNoisyIndirect;  // formatless: may alias an output
 layout(set = 1, binding = GI_BINDING_GUIDANCE, rgba16f) uniform image2D giGuidance;
@@ -97,8 +97,8 @@ vec3 giLoadNoisy(ivec2 p) { return imageLoad(giNoisyIndirect, p).rgb / giFrame.n
     const vec4 v = imageLoad(image, p);                                                                  \
     return vec4(v.rgb / giFrame.historyScale, v.a);                                                      \
   }
-GI_HISTORY_ACCESS(HistoryDirect, giHistoryDirect)
-GI_HISTORY_ACCESS(HistoryIndirect, giHistoryIndirect)
+GI_HISTORY_ACCESS(HistoryDirectA, giHistoryDirectA)
+GI_HISTORY_ACCESS(HistoryIndirectA, giHistoryIndirectA)
 GI_HISTORY_ACCESS(HistoryDirectB, giHistoryDirectB)
 GI_HISTORY_ACCESS(HistoryIndirectB, giHistoryIndirectB)
 

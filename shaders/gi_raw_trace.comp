@@ -20,6 +20,13 @@ void giStoreGradientSample(ivec2 p, vec2 luminance, uint state) {
   else imageStore(giGradientSamplesA, p, v);
 }
 
+// Raw's still-camera running mean, kept in the radiance histories' set A (raw runs no temporal pass):
+// this frame's light takes weight w.
+void runningMean(ivec2 p, float w, inout vec3 direct, inout vec3 indirect) {
+  direct = mix(giLoadHistoryDirectA(p).rgb, direct, w);
+  indirect = mix(giLoadHistoryIndirectA(p).rgb, indirect, w);
+}
+
 void main() {
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   bool inside = giInFrame(gl_GlobalInvocationID.xy);
@@ -54,12 +61,9 @@ void main() {
       // Running mean: weight 1/(n+1) until the cap, then an exponential average.
       float n = float(min(pc.historyLength, pc.maxHistory - 1u));
       float w = 1.0 / (n + 1.0);
-      if (pc.historyLength > 0u) {
-        direct = mix(giLoadHistoryDirect(p).rgb, direct, w);
-        indirect = mix(giLoadHistoryIndirect(p).rgb, indirect, w);
-      }
-      giStoreHistoryDirect(p, direct, 1.0);
-      giStoreHistoryIndirect(p, indirect, 1.0);
+      if (pc.historyLength > 0u) runningMean(p, w, direct, indirect);
+      giStoreHistoryDirectA(p, direct, 1.0);  // the running mean lives in the radiance histories' set A
+      giStoreHistoryIndirectA(p, indirect, 1.0);
     }
     giStoreDirect(p, direct);
     giStoreIndirect(p, indirect);   // filters overwrite this one

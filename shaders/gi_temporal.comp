@@ -39,9 +39,9 @@ HistoryTexel readTexel(ivec2 q) {
     const GiPackedHistory h = giUnpackHistory(imageLoad(giHistoryPacked, q).xy);
     return HistoryTexel(h.guide, vec4(h.direct / pc.historyScale, h.frames));
   }
-  return HistoryTexel(giPreviousGuide(q, pc.readSet), pc.readSet == 0u ? giLoadHistoryDirect(q) : giLoadHistoryDirectB(q));
+  return HistoryTexel(giPreviousGuide(q, pc.readSet), pc.readSet == 0u ? giLoadHistoryDirectA(q) : giLoadHistoryDirectB(q));
 }
-vec4 readIndirect(ivec2 q) { return pc.readSet == 0u ? giLoadHistoryIndirect(q) : giLoadHistoryIndirectB(q); }
+vec4 readIndirect(ivec2 q) { return pc.readSet == 0u ? giLoadHistoryIndirectA(q) : giLoadHistoryIndirectB(q); }
 // svgf: the luminance moments, into the set this pass writes.
 void writeMoments(ivec2 p, GiMoments moments) {
   if (pc.moments != 0u) giStoreMoments(1u - pc.readSet, p, moments);
@@ -58,8 +58,8 @@ void write(ivec2 p, vec3 direct, vec3 indirect, float frames, vec3 n, float dept
     giStoreHistoryIndirectB(p, indirect, 1.0);
     imageStore(giHistoryGuideB, p, uvec4(giPackGuide(n, depth / giFrame.depthScale)));
   } else {
-    giStoreHistoryDirect(p, direct, frames);
-    giStoreHistoryIndirect(p, indirect, 1.0);
+    giStoreHistoryDirectA(p, direct, frames);
+    giStoreHistoryIndirectA(p, indirect, 1.0);
     imageStore(giHistoryGuideA, p, uvec4(giPackGuide(n, depth / giFrame.depthScale)));
   }
 }

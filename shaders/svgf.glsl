@@ -74,8 +74,8 @@ SvgfTexel svgfLoad(uint pair, uint writtenSet, ivec2 q) {
     return SvgfTexel(svgfDecode(imageLoad(giOutDirect, q), giFrame.outputScale),
                      svgfDecode(imageLoad(giOutIndirect, q), giFrame.outputScale));
   // The scratch pair: the set the temporal pass did not write this frame.
-  const vec4 d = writtenSet == 0u ? imageLoad(giHistoryDirectB, q) : imageLoad(giHistoryDirect, q);
-  const vec4 i = writtenSet == 0u ? imageLoad(giHistoryIndirectB, q) : imageLoad(giHistoryIndirect, q);
+  const vec4 d = writtenSet == 0u ? imageLoad(giHistoryDirectB, q) : imageLoad(giHistoryDirectA, q);
+  const vec4 i = writtenSet == 0u ? imageLoad(giHistoryIndirectB, q) : imageLoad(giHistoryIndirectA, q);
   return SvgfTexel(svgfDecode(d, giFrame.historyScale), svgfDecode(i, giFrame.historyScale));
 }
 
@@ -92,8 +92,8 @@ void svgfStore(uint pair, uint writtenSet, ivec2 p, SvgfTexel t, uint direct) {
     if (direct != 0u) imageStore(giHistoryDirectB, p, d);
     imageStore(giHistoryIndirectB, p, i);
   } else {
-    if (direct != 0u) imageStore(giHistoryDirect, p, d);
-    imageStore(giHistoryIndirect, p, i);
+    if (direct != 0u) imageStore(giHistoryDirectA, p, d);
+    imageStore(giHistoryIndirectA, p, i);
   }
 }
 

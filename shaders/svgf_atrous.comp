@@ -71,8 +71,8 @@ void main() {
   if (pc.iteration == 0u) {  // feedback: the next frame reprojects this
     // Unfiltered direct light is already in the history as the temporal pass stored it.
     if (pc.writtenSet == 0u) {
-      if (pc.direct != 0u) giStoreHistoryDirect(p, filtered.direct.rgb, imageLoad(giHistoryDirect, p).a);
-      giStoreHistoryIndirect(p, filtered.indirect.rgb, 1.0);
+      if (pc.direct != 0u) giStoreHistoryDirectA(p, filtered.direct.rgb, imageLoad(giHistoryDirectA, p).a);
+      giStoreHistoryIndirectA(p, filtered.indirect.rgb, 1.0);
     } else {
       if (pc.direct != 0u) giStoreHistoryDirectB(p, filtered.direct.rgb, imageLoad(giHistoryDirectB, p).a);
       giStoreHistoryIndirectB(p, filtered.indirect.rgb, 1.0);

@@ -348,7 +348,7 @@ gpu::GiFrameConstants frameConstants(const Module& m, const FrameInputs& in, con
   const float outputScale = outputScales(s, in.preExposure).indirect;
   const float outputMax = largestFinite(m.desc.outputFormat);
   const bool noisyIsOutput = noisyAliasesIndirect(m.sized);
-  const VkFormat noisyFormat = m.sized.noisyIndirect.format, historyFormat = m.sized.historyDirect.format;
+  const VkFormat noisyFormat = m.sized.noisyIndirect.format, historyFormat = m.sized.historyDirectA.format;
   const gpu::GpuCamera previousCamera = gpuCamera(in.previousCamera, in.previousCamera, m.previousWidth, m.previousHeight);
   const glm::vec2 halfSize = 0.5f * glm::vec2(float(m.width), float(m.height));
   return {camera,

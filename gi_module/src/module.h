@@ -39,7 +39,7 @@ struct SizedResources {
   uint32_t width = 0, height = 0;
   uint32_t needs = 0;                             // sizedResourcesNeeded() it was built for
   uint64_t frameBytes = 0;                        // the bytes of frameImages(), counted once they exist
-  vk::Image historyDirect, historyIndirect;       // raw's still-camera mean; temporal reprojection's set A
+  vk::Image historyDirectA, historyIndirectA;       // raw's still-camera mean; temporal reprojection's set A
   vk::Image historyDirectB, historyIndirectB;     // temporal reprojection's set B
   vk::Image historyGuideA, historyGuideB;         // temporal reprojection: each frame's normal and view depth
   vk::Image svgfMomentsA, svgfMomentsB;           // svgf: luminance moments' history (sets A and B)

@@ -45,8 +45,8 @@ constexpr VkFormat kHalf = VK_FORMAT_R16G16B16A16_SFLOAT;
 constexpr VkFormat kRadianceHistory = VK_FORMAT_UNDEFINED;
 constexpr Lifetime kFrame = Lifetime::Frame, kHistory = Lifetime::History;
 constexpr SizedImage kSizedImages[] = {
-    {&SizedResources::historyDirect, gpu::GI_BINDING_HISTORY_DIRECT, kHistory, kRadianceHistory},
-    {&SizedResources::historyIndirect, gpu::GI_BINDING_HISTORY_INDIRECT, kHistory, kRadianceHistory},
+    {&SizedResources::historyDirectA, gpu::GI_BINDING_HISTORY_DIRECT_A, kHistory, kRadianceHistory},
+    {&SizedResources::historyIndirectA, gpu::GI_BINDING_HISTORY_INDIRECT_A, kHistory, kRadianceHistory},
     {&SizedResources::noisyIndirect, gpu::GI_BINDING_NOISY_INDIRECT, kFrame, kRadianceHistory},
     {&SizedResources::guidance, gpu::GI_BINDING_GUIDANCE, kFrame, kHalf},
     {&SizedResources::position, gpu::GI_BINDING_POSITION, kFrame, kHalf},
@@ -122,15 +122,15 @@ uint32_t sizedResourcesNeeded(const Module& m, const Settings& s) {
     need |= kNoisyIsIndirect;
   else need |= bit(&SizedResources::noisyIndirect);
   if (s.method == Method::Raw && s.raw.temporalAccumulation)
-    need |= bit(&SizedResources::historyDirect) | bit(&SizedResources::historyIndirect) | kFullPrecisionHistory;
+    need |= bit(&SizedResources::historyDirectA) | bit(&SizedResources::historyIndirectA) | kFullPrecisionHistory;
   if (usesPackedHistory(m, s)) {
     need |= bit(&SizedResources::historyPacked);
   } else if (runsTemporalPass(m, s)) {
-    need |= bit(&SizedResources::historyDirect) | bit(&SizedResources::historyDirectB) |
+    need |= bit(&SizedResources::historyDirectA) | bit(&SizedResources::historyDirectB) |
             bit(&SizedResources::historyGuideA) | bit(&SizedResources::historyGuideB);
     // The hash methods reproject their direct light only, and with the filter clamp accumulate their samples.
     if (!usesHashGrid(s.method) || clampsHashIndirect(s))
-      need |= bit(&SizedResources::historyIndirect) | bit(&SizedResources::historyIndirectB);
+      need |= bit(&SizedResources::historyIndirectA) | bit(&SizedResources::historyIndirectB);
   }
   if (usesScreenFilters(s.method)) need |= bit(&SizedResources::guidance) | bit(&SizedResources::position);
   // The filters' temp image (set 1's debug image): à-trous ping-pongs through it and AAF's row pass writes
@@ -165,7 +165,7 @@ uint32_t sizedResourcesNeeded(const Module& m, const Settings& s) {
     case DebugView::ContinuationDepth:
     case DebugView::SvgfVariance: need |= bit(&SizedResources::debug); break;
     case DebugView::TemporalHistory:  // the packed history's frames reach the composite in the direct output
-      if (!usesPackedHistory(m, s)) need |= bit(&SizedResources::historyDirect) | bit(&SizedResources::historyDirectB);
+      if (!usesPackedHistory(m, s)) need |= bit(&SizedResources::historyDirectA) | bit(&SizedResources::historyDirectB);
       break;
     case DebugView::TemporalGradient: need |= bit(&SizedResources::temporalGradient); break;
     default: break;

@@ -24,8 +24,10 @@ GPU_CONST GI_BINDING_GB_DEPTH = 6;      // linear view depth, or the hardware de
 GPU_CONST GI_BINDING_OUT_DIRECT = 7;     // emission + direct light, W/(sr·m²) × pre-exposure
 GPU_CONST GI_BINDING_OUT_INDIRECT = 8;   // demodulated indirect light × pre-exposure
 GPU_CONST GI_BINDING_OUT_COMPOSITE = 9;  // what the debug view selects (default: the lit image × pre-exposure)
-GPU_CONST GI_BINDING_HISTORY_DIRECT = 10;   // rgba32f: running mean of direct (rgb)
-GPU_CONST GI_BINDING_HISTORY_INDIRECT = 11; // rgba32f: running mean of demodulated indirect (rgb)
+// The radiance histories' set A (B below): the temporal pass's, or where raw (which runs no temporal pass)
+// keeps its still-camera running mean (gi_raw_trace.comp's runningMean).
+GPU_CONST GI_BINDING_HISTORY_DIRECT_A = 10;   // direct light (rgb), history frames (a)
+GPU_CONST GI_BINDING_HISTORY_INDIRECT_A = 11; // demodulated indirect (rgb)
 GPU_CONST GI_BINDING_COUNTERS = 12;      // GiCounters, host-visible, one slot per frame in flight
 GPU_CONST GI_BINDING_NOISY_INDIRECT = 13;// rgba32f: demodulated indirect before any filter; the hash methods
                                          // alias it to the indirect output (then it holds × noisyScale)
@@ -36,11 +38,11 @@ GPU_CONST GI_BINDING_AAF_PARAMS = 17;    // rgba32f: AAF z_min, z_max, samples, 
 GPU_CONST GI_BINDING_AAF_SUM = 18;       // rgba32f: AAF Σ demodulated indirect samples (rgb), count (a)
 GPU_CONST GI_BINDING_AAF_GLOSSY = 19;    // rgba32f: AAF glossy receivers: Σ, then mean, of lobe·(1 − s)·L (rgb); β_glossy (a)
 GPU_CONST GI_BINDING_AAF_GLOSSY_EDGE = 20; // rgba32f: the same for lobe·s·L (Schlick's s); specular = f0·glossy + edge
-// Temporal reprojection (gi_temporal.comp): two sets of history, read one, write the other, by frame parity.
-// Set A's colour images are the raw method's still-camera history above.
-GPU_CONST GI_BINDING_HISTORY_DIRECT_B = 21;   // rgba32f: accumulated direct over the base colour (rgb), history frames (a)
-GPU_CONST GI_BINDING_HISTORY_INDIRECT_B = 22; // rgba32f: accumulated demodulated indirect (rgb)
-GPU_CONST GI_BINDING_HISTORY_GUIDE_A = 23;    // rgba16f: the frame's world normal (xyz), view depth / depthScale (w; 0 = background)
+// Temporal reprojection (gi_temporal.comp): two sets of history, read one, write the other
+// (GiTemporalPush::readSet); set A's radiance images are above.
+GPU_CONST GI_BINDING_HISTORY_DIRECT_B = 21;   // accumulated direct over the base colour (rgb), history frames (a)
+GPU_CONST GI_BINDING_HISTORY_INDIRECT_B = 22; // accumulated demodulated indirect (rgb)
+GPU_CONST GI_BINDING_HISTORY_GUIDE_A = 23;    // r32ui: the frame's normal and view depth (temporal.glsl's giPackGuide)
 GPU_CONST GI_BINDING_HISTORY_GUIDE_B = 24;
 // SVGF (svgf_variance.comp, svgf_atrous.comp): the luminance moments' history, read and written with the
 // colour's (sets A and B alternate: GiSvgfPush::writtenSet). Its à-trous iterations hold no images of their own: they ping-pong
