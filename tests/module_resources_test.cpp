@@ -188,7 +188,7 @@ TEST_F(ModuleResourcesTest, HpsfAt1080pHoldsAtMost150MB) {
   settings.method = gi::Method::Hpsf;
   gi::Module* m = nullptr;
   ASSERT_FALSE(gi::create(tools::moduleDesc(ctx, s.gpu, {1920, 1080}), settings, m));
-  EXPECT_TRUE(gi::usesPackedHistory(*m, settings)) << "the default hpsf reprojects its direct light: its history counts";
+  EXPECT_TRUE(m->plan.packedHistory) << "the default hpsf reprojects its direct light: its history counts";
   EXPECT_LE(m->gpu.memory.held, VkDeviceSize(150'000'000)) << m->gpu.memory.held << " bytes";
   std::printf("hpsf at 1080p: %.1f MB held, %.1f MB used\n", m->gpu.memory.held * 1e-6, m->gpu.memory.used * 1e-6);
   // What it holds is what it needs: three half-float outputs, the map (2^19 cells: keys, sums and

@@ -172,7 +172,7 @@ void recordHashPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const gpu::
     // one of each pixel's continued path); each diffuse vertex's cell gets what its segment brings.
     runPass(m, cmd, slot, s.method == Method::Nhpsf ? Pass::NhpsfPaths : Pass::AnhpsfPaths, m.hashPaths, sets, size, push);
   }
-  if (validatesHashCells(s)) {
+  if (m.plan.validatesHashCells) {
     // Pass: re-trace the sentinel rays due this frame; cut histories whose light changed.
     runPass(m, cmd, slot, Pass::HpsfValidate, m.hashValidate, sets, {m.hash.capacity, 1}, push);
   }
@@ -246,12 +246,12 @@ void recordFilterPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const gpu
     const SspsfSettings& ss = s.sspsf;
     recordSspsf(g, cmd, f, {ss.window, ss.filterWidth, pixelScale(frame.camera), cosDegrees(ss.normalLimitDegrees), toIndirect},
                 hooks);
-  } else if (isAaf(s.method)) {
+  } else if (m.plan.aaf) {
     float cosLimit = cosDegrees(s.aaf.normalLimitDegrees);
     const uint32_t maxRadius = s.aaf.maxRadius;
     recordAafFilter(g, cmd, f, f.set[0], toIndirect, Pass::AafFilterDiffuseRows, Pass::AafFilterDiffuseColumns, cosLimit, pixelScale(frame.camera), maxRadius,
                     positionScale, hooks);
-    if (aafSpecular(m, s)) {  // glossy receivers: their specular terms, with the glossy β
+    if (m.plan.aafSpecular) {  // glossy receivers: their specular terms, with the glossy β
       recordAafFilter(g, cmd, f, f.aafGlossySets[0], kPlainOutput, Pass::AafFilterGlossyRows, Pass::AafFilterGlossyColumns, cosLimit, pixelScale(frame.camera), maxRadius,
                     positionScale, hooks);
       recordAafFilter(g, cmd, f, f.aafGlossySets[1], kPlainOutput, Pass::AafFilterGlossyEdgeRows, Pass::AafFilterGlossyEdgeColumns, cosLimit, pixelScale(frame.camera), maxRadius,
@@ -363,9 +363,9 @@ gpu::GiFrameConstants frameConstants(const Module& m, const FrameInputs& in, con
           lightScale(m, historyFormat),
           largestFinite(historyFormat),
           s.indirectOnly          ? gpu::GI_PRIMARY_DIRECT_NONE
-          : usesReservoirs(m, s) ? gpu::GI_PRIMARY_DIRECT_RESERVOIRS
+          : m.plan.reservoirs ? gpu::GI_PRIMARY_DIRECT_RESERVOIRS
                                  : gpu::GI_PRIMARY_DIRECT_NEE,
-          lightSampler(m, s),
+          m.plan.lightSampler,
           glm::inverse(clipFromView(in.camera)),
           motionPixelsPerUnit(m.desc.gbuffer, m.width, m.height),
           // Previous − current of the NDC shifts (jitter, off-axis), in pixels.
@@ -373,55 +373,53 @@ gpu::GiFrameConstants frameConstants(const Module& m, const FrameInputs& in, con
           largestFinite(compositeFormat(m.desc))};
 }
 
-// What this frame records, decided once before its passes.
-struct FramePlan {
+// This frame's own facts beside the method's plan (Module::plan), decided once before its passes.
+struct FrameSetup {
   uint32_t slot = 0;
   uint32_t spp = 0;        // paths per pixel within the ray budget (0 for AAF, which adapts its own)
   uint32_t aafBudget = 0;  // AAF's samples within the ray budget (0: none)
   bool accumulate = false;       // raw's running mean
   bool gradientsTraced = false;  // temporal gradients, which need last frame's samples
-  bool noisyDirect = false;      // direct light with noise to average (area lights, picked lights)
-  bool runTemporal = false;
   std::array<VkDescriptorSet, 2> sets{};  // scene, frame
 };
 
 // Passes: the light the method starts from (AAF's samples, the hash map's paths, or raw paths).
-void recordTracePasses(Module& m, VkCommandBuffer cmd, const FramePlan& plan, const gpu::GiFrameConstants& frame) {
+void recordTracePasses(Module& m, VkCommandBuffer cmd, const FrameSetup& setup, const gpu::GiFrameConstants& frame) {
   const Settings& s = m.settings;
   const glm::uvec2 size{m.width, m.height};
-  if (isAaf(s.method)) {
+  if (m.plan.aaf) {
     // Passes: 16 stratified rays give reflector distances, β and n per pixel; then the remaining n − 16.
     const gpu::AafPush aaf{.mu = s.aaf.mu,
                            .alpha = s.aaf.alpha,
                            .sceneExtent = m.desc.scene.extent,
                            .seed = s.seed,
                            .ambientOcclusion = s.method == Method::AafAo ? 1u : 0u,
-                           .sampleBudget = plan.aafBudget,
+                           .sampleBudget = setup.aafBudget,
                            .maxBounces = s.maxBounces,
                            .russianRouletteStart = s.russianRouletteStart,
                            .uniformSamples = s.aaf.uniformSamples,
-                           .glossy = aafSpecular(m, s) ? 1u : 0u};
-    runPass(m, cmd, plan.slot, Pass::AafSample, m.aafSample, plan.sets, size, aaf);
-    runPass(m, cmd, plan.slot, Pass::AafAdaptive, m.aafAdaptive, plan.sets, size, aaf);
+                           .glossy = m.plan.aafSpecular ? 1u : 0u};
+    runPass(m, cmd, setup.slot, Pass::AafSample, m.aafSample, setup.sets, size, aaf);
+    runPass(m, cmd, setup.slot, Pass::AafAdaptive, m.aafAdaptive, setup.sets, size, aaf);
     return;
   }
-  if (usesHashGrid(s.method)) return recordHashPasses(m, cmd, plan.slot, frame, plan.spp);
+  if (m.plan.hashGrid) return recordHashPasses(m, cmd, setup.slot, frame, setup.spp);
   // Pass: trace paths from the G-buffer (direct + demodulated indirect, optional temporal mean).
   const gpu::GiRawPush raw{.seed = s.seed,
-                           .samplesPerPixel = plan.spp,
+                           .samplesPerPixel = setup.spp,
                            .maxBounces = s.maxBounces,
                            .russianRouletteStart = s.russianRouletteStart,
                            .historyLength = m.historyLength,
                            .maxHistory = s.raw.maxAccumulatedFrames,
-                           .accumulate = plan.accumulate ? 1u : 0u,
-                           .gradients = usesTemporalGradients(m, s) ? 1u : 0u,
+                           .accumulate = setup.accumulate ? 1u : 0u,
+                           .gradients = m.plan.temporalGradients ? 1u : 0u,
                            .readSet = m.temporalFrames & 1u,
                            .depthTolerance = s.temporal.depthTolerance,
                            .cosNormalLimit = cosDegrees(s.temporal.normalLimitDegrees)};
-  runPass(m, cmd, plan.slot, Pass::RawTrace, m.rawTrace, plan.sets, size, raw);
+  runPass(m, cmd, setup.slot, Pass::RawTrace, m.rawTrace, setup.sets, size, raw);
   // Pass: one more path per 3×3 tile with last frame's random numbers: how much its light changed.
-  if (plan.gradientsTraced)
-    runPass(m, cmd, plan.slot, Pass::TemporalGradient, m.temporalGradient, plan.sets,
+  if (setup.gradientsTraced)
+    runPass(m, cmd, setup.slot, Pass::TemporalGradient, m.temporalGradient, setup.sets,
             {(m.width + GI_GRADIENT_TILE - 1) / GI_GRADIENT_TILE, (m.height + GI_GRADIENT_TILE - 1) / GI_GRADIENT_TILE},
             raw);
 }
@@ -429,7 +427,7 @@ void recordTracePasses(Module& m, VkCommandBuffer cmd, const FramePlan& plan, co
 // Pass: last frame's light, reprojected through the motion vectors, blended into this frame's (the hash
 // methods' direct light; their map holds the indirect, and their own samples are accumulated only for
 // the filter clamp).
-void recordTemporalPasses(Module& m, VkCommandBuffer cmd, const FramePlan& plan) {
+void recordTemporalPasses(Module& m, VkCommandBuffer cmd, const FrameSetup& setup) {
   const Settings& s = m.settings;
   const TemporalSettings& t = s.temporal;
   const bool svgf = s.method == Method::Svgf;
@@ -438,77 +436,77 @@ void recordTemporalPasses(Module& m, VkCommandBuffer cmd, const FramePlan& plan)
                                      .minBlend = svgf ? s.svgf.alpha : t.minBlend,
                                      .depthTolerance = t.depthTolerance,
                                      .cosNormalLimit = cosDegrees(t.normalLimitDegrees),
-                                     .directOnly = usesPackedHistory(m, s) ? 1u : 0u,
-                                     .direct = plan.noisyDirect ? 1u : 0u,
+                                     .directOnly = m.plan.packedHistory ? 1u : 0u,
+                                     .direct = m.plan.noisyDirect ? 1u : 0u,
                                      .moments = svgf ? 1u : 0u,
                                      .momentsMinBlend = s.svgf.momentsAlpha,
-                                     .gradients = plan.gradientsTraced ? 1u : 0u,
-                                     .indirectOutput = usesHashGrid(s.method) ? 0u : 1u,
-                                     .historyClamp = usesHistoryClamp(m, s) ? t.historyClamp : 0.0f,
+                                     .gradients = setup.gradientsTraced ? 1u : 0u,
+                                     .indirectOutput = m.plan.hashGrid ? 0u : 1u,
+                                     .historyClamp = m.plan.historyClamp ? t.historyClamp : 0.0f,
                                      .historyScale = radianceScale(m)};
   const glm::uvec2 size{m.width, m.height};
   // Pass: this frame's samples' spread around each pixel, which the history is clamped to.
-  if (usesHistoryClamp(m, s) && m.temporalFrames > 0)
-    runPass(m, cmd, plan.slot, Pass::TemporalSpread, m.temporalSpread, plan.sets, size, temporal);
-  runPass(m, cmd, plan.slot, Pass::Temporal, m.temporal, plan.sets, size, temporal);
+  if (m.plan.historyClamp && m.temporalFrames > 0)
+    runPass(m, cmd, setup.slot, Pass::TemporalSpread, m.temporalSpread, setup.sets, size, temporal);
+  runPass(m, cmd, setup.slot, Pass::Temporal, m.temporal, setup.sets, size, temporal);
   m.temporalFrames++;
 }
 
 // Pass: composite (or the chosen debug view), then gif's supersamples.
-void recordCompositePasses(Module& m, VkCommandBuffer cmd, const FramePlan& plan, const gpu::GpuCamera& camera) {
+void recordCompositePasses(Module& m, VkCommandBuffer cmd, const FrameSetup& setup, const gpu::GpuCamera& camera) {
   const Settings& s = m.settings;
   // What the filter clamp holds (TemporalSettings::filterClamp): what the method filtered, against
   // the light the temporal pass accumulated.
   uint32_t clampLight = 0;
-  if (plan.runTemporal && usesScreenFilters(s.method)) clampLight = gpu::GI_CLAMP_INDIRECT;
-  if (plan.runTemporal && (s.method == Method::Sspsf || clampsHashIndirect(s)))  // they filter filter vertices only
+  if (m.plan.temporalPass && m.plan.screenFilters) clampLight = gpu::GI_CLAMP_INDIRECT;
+  if (m.plan.temporalPass && (s.method == Method::Sspsf || m.plan.clampsHashIndirect))  // they filter filter vertices only
     clampLight = gpu::GI_CLAMP_INDIRECT | gpu::GI_CLAMP_FILTER_VERTICES;
   if (s.method == Method::Svgf && s.svgf.iterations > 0)
     clampLight = gpu::GI_CLAMP_INDIRECT | gpu::GI_CLAMP_FROM_MOMENTS |
-                 (plan.noisyDirect && s.svgf.filterDirect ? gpu::GI_CLAMP_DIRECT : 0u);
+                 (m.plan.noisyDirect && s.svgf.filterDirect ? gpu::GI_CLAMP_DIRECT : 0u);
   const gpu::GiCompositePush composite{
       .debugView = uint32_t(s.debugView),
       .ambientOcclusion = s.method == Method::AafAo ? 1u : 0u,
       .sceneExtent = m.desc.scene.extent,
       .pixelScale = pixelScale(camera),
-      .aafSpecular = aafSpecular(m, s) ? 1u : 0u,
+      .aafSpecular = m.plan.aafSpecular ? 1u : 0u,
       .radiance = debugViewCatalogue()[size_t(s.debugView)].radiance ? 1u : 0u,
-      .temporalWritten = plan.runTemporal ? m.temporalFrames & 1u : 2u,  // odd counts: this frame wrote B
-      .gradients = plan.gradientsTraced ? 1u : 0u,
+      .temporalWritten = m.plan.temporalPass ? m.temporalFrames & 1u : 2u,  // odd counts: this frame wrote B
+      .gradients = setup.gradientsTraced ? 1u : 0u,
       .filterClamp = s.temporal.filterClamp,
       .clampLight = clampLight,
-      .packedHistory = usesPackedHistory(m, s) ? 1u : 0u,
+      .packedHistory = m.plan.packedHistory ? 1u : 0u,
       .historyScale = radianceScale(m)};
   const glm::uvec2 size{m.width, m.height};
-  runPass(m, cmd, plan.slot, Pass::Composite, m.composite, plan.sets, size, composite);
+  runPass(m, cmd, setup.slot, Pass::Composite, m.composite, setup.sets, size, composite);
   if (s.method == Method::Gif && s.gif.supersamples > 0 && s.debugView == DebugView::None) {
     // Pass: extra eye rays with their own direct light and geometry-aware indirect lookup.
-    runPass(m, cmd, plan.slot, Pass::GifSupersample, m.supersample, plan.sets, size,
+    runPass(m, cmd, setup.slot, Pass::GifSupersample, m.supersample, setup.sets, size,
             gpu::GiSupersamplePush{s.seed, s.gif.supersamples});
   }
 }
 
 // The frame's end: the outputs to the engine's layout, the counters to the slot's readback copy, and what
 // the next frame needs to know of this one.
-void endFrame(Module& m, VkCommandBuffer cmd, const FramePlan& plan, const FrameInputs& in) {
+void endFrame(Module& m, VkCommandBuffer cmd, const FrameSetup& setup, const FrameInputs& in) {
   vk::memoryBarrier(m.gpu, cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                     VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
   // The outputs to the engine's layout, visible to whatever reads them next.
   moveOutputs(m, cmd, VK_IMAGE_LAYOUT_GENERAL, m.desc.outputLayout, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
               VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT);
   // Counters to this slot's readback copy.
-  VkBufferCopy copy{0, sizeof(gpu::GiCounters) * (1 + plan.slot), sizeof(gpu::GiCounters)};
+  VkBufferCopy copy{0, sizeof(gpu::GiCounters) * (1 + setup.slot), sizeof(gpu::GiCounters)};
   m.gpu.fn.vkCmdCopyBuffer(cmd, m.counters.buffer, m.counters.buffer, 1, &copy);
   // The slot's counters and telemetry are read by the host once the frame's fence has signalled.
   vk::memoryBarrier(m.gpu, cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                     VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
 
   const Settings& s = m.settings;
-  if (plan.accumulate) m.historyLength = std::min(m.historyLength + 1, s.raw.maxAccumulatedFrames);
-  FrameSlot& frameSlot = m.slots[plan.slot];
+  if (setup.accumulate) m.historyLength = std::min(m.historyLength + 1, s.raw.maxAccumulatedFrames);
+  FrameSlot& frameSlot = m.slots[setup.slot];
   frameSlot.frameIndex = in.frameIndex;
   frameSlot.history = m.historyLength;
-  frameSlot.spp = plan.spp;
+  frameSlot.spp = setup.spp;
   frameSlot.method = s.method;
   frameSlot.recorded = true;
   m.previousWidth = m.width;  // the next frame's histories cover this rectangle
@@ -524,35 +522,33 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
   const gpu::GpuCamera camera = gpuCamera(in.camera, in.previousCamera, m.width, m.height);
   releaseRetired(m, false);
   const Settings& s = m.settings;
-  FramePlan plan;
-  plan.slot = uint32_t(m.recordedFrames % m.desc.framesInFlight);
+  FrameSetup setup;
+  setup.slot = uint32_t(m.recordedFrames % m.desc.framesInFlight);
   // Budgets read the counters this slot holds (its last frame has completed) before they are overwritten.
-  plan.spp = isAaf(s.method) ? 0u : samplesWithinBudget(m, tracedSamplesPerPixel(s), plan.slot);
-  plan.aafBudget = aafSampleBudget(m, plan.slot);
-  plan.accumulate = s.method == Method::Raw && s.raw.temporalAccumulation;
-  plan.gradientsTraced = usesTemporalGradients(m, s) && m.temporalFrames > 0;
-  plan.noisyDirect = hasNoisyDirect(m, s);
-  plan.runTemporal = runsTemporalPass(m, s);
-  plan.sets = {m.desc.scene.set, m.sized.frameSets[plan.slot]};
-  m.slots[plan.slot].passes.clear();
+  setup.spp = m.plan.aaf ? 0u : samplesWithinBudget(m, tracedSamplesPerPixel(s), setup.slot);
+  setup.aafBudget = aafSampleBudget(m, setup.slot);
+  setup.accumulate = s.method == Method::Raw && s.raw.temporalAccumulation;
+  setup.gradientsTraced = m.plan.temporalGradients && m.temporalFrames > 0;
+  setup.sets = {m.desc.scene.set, m.sized.frameSets[setup.slot]};
+  m.slots[setup.slot].passes.clear();
 
   const gpu::GiFrameConstants frame = frameConstants(m, in, camera);
-  std::memcpy(static_cast<std::byte*>(m.frameConstants.memory.mapped) + plan.slot * m.frameConstantsStride, &frame,
+  std::memcpy(static_cast<std::byte*>(m.frameConstants.memory.mapped) + setup.slot * m.frameConstantsStride, &frame,
               sizeof(frame));
-  beginFrame(m, cmd, plan.slot, in);
+  beginFrame(m, cmd, setup.slot, in);
   // History survives only while the view and the settings stay put.
-  if (!plan.accumulate || !sameCamera(camera, m.historyCamera)) m.historyLength = 0;
+  if (!setup.accumulate || !sameCamera(camera, m.historyCamera)) m.historyLength = 0;
   m.historyCamera = camera;
   m.sized.filters.width = m.width;  // the filters' rectangle within their images (dynamic resolution)
   m.sized.filters.height = m.height;
 
-  if (usesReservoirs(m, s)) recordReservoirPasses(m, cmd, plan.slot);
-  recordTracePasses(m, cmd, plan, frame);
-  if (plan.runTemporal) recordTemporalPasses(m, cmd, plan);
-  if (s.method == Method::Svgf) recordSvgfPasses(m, cmd, plan.slot, plan.noisyDirect && s.svgf.filterDirect);
-  if (usesScreenFilters(s.method)) recordFilterPasses(m, cmd, plan.slot, frame);
-  recordCompositePasses(m, cmd, plan, camera);
-  endFrame(m, cmd, plan, in);
+  if (m.plan.reservoirs) recordReservoirPasses(m, cmd, setup.slot);
+  recordTracePasses(m, cmd, setup, frame);
+  if (m.plan.temporalPass) recordTemporalPasses(m, cmd, setup);
+  if (s.method == Method::Svgf) recordSvgfPasses(m, cmd, setup.slot, m.plan.noisyDirect && s.svgf.filterDirect);
+  if (m.plan.screenFilters) recordFilterPasses(m, cmd, setup.slot, frame);
+  recordCompositePasses(m, cmd, setup, camera);
+  endFrame(m, cmd, setup, in);
   return {};
 }
 

@@ -289,7 +289,7 @@ vk::Status createMemoryResources(Module& m) {
   GI_TRY(createFrameBuffers(m));
   GI_TRY(createOutputImages(m.gpu, m.desc.maxWidth, m.desc.maxHeight, m.desc, m.outputs));
   GI_TRY(createSizedResources(m, m.settings, m.desc.maxWidth, m.desc.maxHeight, m.outputs, m.sized));
-  if (usesHashGrid(m.settings.method)) GI_TRY(createHashGridFor(m, m.settings, m.desc.maxWidth, m.desc.maxHeight, m.hash));
+  if (m.plan.hashGrid) GI_TRY(createHashGridFor(m, m.settings, m.desc.maxWidth, m.desc.maxHeight, m.hash));
   return {};
 }
 
@@ -354,45 +354,6 @@ uint32_t hashMode(Method method) {
   return method == Method::Nhpsf ? gpu::HG_MODE_NHPSF : method == Method::Anhpsf ? gpu::HG_MODE_ANHPSF : gpu::HG_MODE_HPSF;
 }
 
-bool aafSpecular(const Module& m, const Settings& s) { return s.method == Method::Aaf && m.desc.scene.hasGlossyMaterials; }
-uint32_t lightSampler(const Module& m, const Settings& s) {
-  return s.lights.sampler == LightSampling::Scene ? m.desc.scene.lightSampler : uint32_t(s.lights.sampler) - 1;
-}
-bool picksPunctualLights(const Module& m, const Settings& s) {
-  const uint32_t sampler = lightSampler(m, s);
-  return sampler <= gpu::LIGHT_SAMPLER_TREE && m.desc.scene.picksPunctualLightsWith[sampler];
-}
-bool hasNoisyDirect(const Module& m, const Settings& s) {
-  return !s.indirectOnly && (m.desc.scene.hasEmissiveTriangles || m.desc.scene.hasSky || picksPunctualLights(m, s));
-}
-bool validatesHashCells(const Settings& s) {
-  return usesHashGrid(s.method) && s.hpsf.eviction == EvictionPolicy::Aging && s.hpsf.validationInterval > 0;
-}
-
-bool runsTemporalPass(const Module& m, const Settings& s) {
-  return usesTemporalReprojection(s) && (hasNoisyDirect(m, s) || !usesHashGrid(s.method) || clampsHashIndirect(s));
-}
-
-bool clampsHashIndirect(const Settings& s) {
-  return usesHashGrid(s.method) && s.hpsf.temporalDirect && s.hpsf.temporalIndirect && s.temporal.filterClamp > 0.0f;
-}
-
-bool usesPackedHistory(const Module& m, const Settings& s) {
-  return runsTemporalPass(m, s) && usesHashGrid(s.method) && !clampsHashIndirect(s);
-}
-
-bool usesHistoryClamp(const Module& m, const Settings& s) {
-  return s.temporal.historyClamp > 0.0f && runsTemporalPass(m, s);
-}
-
-bool usesReservoirs(const Module& m, const Settings& s) {
-  return s.reservoirs.enabled && !s.indirectOnly && picksPunctualLights(m, s);
-}
-
-bool usesTemporalGradients(const Module& m, const Settings& s) {
-  return s.temporal.gradients && runsTemporalPass(m, s) && !usesHashGrid(s.method) && !isAaf(s.method);
-}
-
 Error vulkanError(const char* what, const vk::Status& status) {
   return {ErrorCode::VulkanCall,
           std::string(what) + ": " + (status.call ? status.call : "a Vulkan call") + " failed with " + resultName(status.result),
@@ -449,6 +410,7 @@ Error openModule(Module& m, const ModuleDesc& desc, const Settings& settings, co
   m.desc.maxWidth = std::max(desc.maxWidth, desc.width);  // from here on: the largest size so far
   m.desc.maxHeight = std::max(desc.maxHeight, desc.height);
   m.settings = settings;
+  m.plan = planMethod(m.desc.scene, settings);
   m.width = m.previousWidth = desc.width;
   m.height = m.previousHeight = desc.height;
   m.gpu.allocator = desc.allocationCallbacks;
@@ -505,7 +467,7 @@ Error setSettings(Module* m, const Settings& settings) {
   // read; only once all of it exists does the old part retire.
   if (vk::Status s = createPrograms(*m, settings)) return vulkanError("gi::setSettings", s);
   SizedResources sized;
-  bool newSized = sizedResourcesNeeded(*m, settings) != m->sized.needs;
+  bool newSized = sizedResourcesNeeded(planMethod(m->desc.scene, settings), settings) != m->sized.needs;
   if (newSized)
     if (vk::Status s = createSizedResources(*m, settings, m->desc.maxWidth, m->desc.maxHeight, m->outputs, sized))
       return vulkanError("gi::setSettings", s);
@@ -525,6 +487,7 @@ Error setSettings(Module* m, const Settings& settings) {
   for (const SettingInfo& info : settingCatalogue())
     restart = restart || (info.restartsHistory && info.get(settings) != info.get(m->settings));
   m->settings = settings;
+  m->plan = planMethod(m->desc.scene, settings);
   if (restart) dropHistory(*m);
   return {};
 }
@@ -546,7 +509,7 @@ Error setScene(Module* m, const SceneDesc& scene) {
     for (vk::ComputeProgram* p : scenePrograms(*m)) previous.push_back(std::exchange(*p, vk::ComputeProgram{}));
   vk::Status s = createPrograms(*m, m->settings);
   SizedResources sized;  // the glossy images follow the scene's materials
-  const bool newSized = sizedResourcesNeeded(*m, m->settings) != m->sized.needs;
+  const bool newSized = sizedResourcesNeeded(planMethod(m->desc.scene, m->settings), m->settings) != m->sized.needs;
   if (!s && newSized) s = createSizedResources(*m, m->settings, m->desc.maxWidth, m->desc.maxHeight, m->outputs, sized);
   if (s) {
     destroySizedResources(m->gpu, sized);
@@ -567,6 +530,7 @@ Error setScene(Module* m, const SceneDesc& scene) {
     });
   }
   if (newSized) replaceSized(*m, sized);
+  m->plan = planMethod(m->desc.scene, m->settings);  // the scene's facts are part of it
   dropHistory(*m);
   return {};
 }
@@ -591,7 +555,7 @@ Error resize(Module* m, uint32_t width, uint32_t height) {
   HashGrid hash;
   vk::Status built = createOutputImages(m->gpu, maxWidth, maxHeight, m->desc, outputs);
   if (!built) built = createSizedResources(*m, m->settings, maxWidth, maxHeight, outputs, sized);
-  if (!built && usesHashGrid(m->settings.method)) built = createHashGridFor(*m, m->settings, maxWidth, maxHeight, hash);
+  if (!built && m->plan.hashGrid) built = createHashGridFor(*m, m->settings, maxWidth, maxHeight, hash);
   if (built) {
     destroyHashGrid(m->gpu, hash);
     destroySizedResources(m->gpu, sized);

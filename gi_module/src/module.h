@@ -12,6 +12,7 @@
 #include "gi/vk/device.h"
 #include "gi/vk/programs.h"
 #include "gi/vk/resources.h"
+#include "method_plan.h"
 #include "hash_grid.h"
 #include "screen_filters.h"
 #include "shared/gi_frame.h"
@@ -90,6 +91,7 @@ struct Module {
   vk::Device gpu;                                  // the engine's device through the module's own function table
   ModuleDesc desc;
   Settings settings;
+  MethodPlan plan;                                 // planMethod(desc.scene, settings): what the frame runs
   uint32_t width = 0, height = 0;                  // the render size now (desc holds the size at create)
   uint32_t previousWidth = 0, previousHeight = 0;  // the last recorded frame's: what its histories cover
 
@@ -127,7 +129,7 @@ struct Module {
 // the images at full size and the filters the settings use.
 // Set 1 of every pass: frame constants, G-buffer, the module images, counters.
 std::span<const vk::Binding> frameBindings();
-uint32_t sizedResourcesNeeded(const Module& m, const Settings& settings);
+uint32_t sizedResourcesNeeded(const MethodPlan& plan, const Settings& settings);
 vk::Status createSizedResources(Module& m, const Settings& settings, uint32_t width, uint32_t height,
                                 const OutputImages& outputs, SizedResources& out);
 void destroySizedResources(vk::Device& gpu, SizedResources& r);
@@ -152,34 +154,6 @@ void retire(Module& m, std::function<void(vk::Device&)> release);
 // Runs the releases whose frames have completed (all of them with `all`).
 void releaseRetired(Module& m, bool all);
 
-// Scene facts the passes specialise on (module.cpp).
-bool aafSpecular(const Module& m, const Settings& settings);
-// NEE's light sampler in the module's passes (gpu::LIGHT_SAMPLER_*: LightSettings::sampler, or the scene's),
-// and whether it picks among the punctual lights.
-uint32_t lightSampler(const Module& m, const Settings& settings);
-bool picksPunctualLights(const Module& m, const Settings& settings);
-// Direct light has noise to average only from area lights (emissive triangles, a sky) and from punctual
-// lights NEE picks one of.
-bool hasNoisyDirect(const Module& m, const Settings& settings);
-// The temporal pass runs (and its images and program exist) when the method
-// reprojects and there is something to reproject: the hash methods reproject
-// their direct light, so not without area lights, unless they clamp.
-bool runsTemporalPass(const Module& m, const Settings& settings);
-// The hash methods with hpsf.temporal, hpsf.temporalIndirect and the filter
-// clamp also accumulate each pixel's own indirect sample, which the map's
-// light is held against.
-bool clampsHashIndirect(const Settings& settings);
-// The hash methods' direct light alone is reprojected: its history is one
-// packed image (GI_BINDING_HISTORY_PACKED) that the composite pass writes.
-bool usesPackedHistory(const Module& m, const Settings& settings);
-// Temporal gradients are traced (raw's trace pass) when the temporal pass runs
-// for a method whose paths start there (not the hash methods).
-bool usesTemporalGradients(const Module& m, const Settings& settings);
-// The temporal pass clamps the reprojected history to this frame's samples (TemporalSettings::historyClamp).
-bool usesHistoryClamp(const Module& m, const Settings& settings);
-// The reservoir passes run: asked for, and NEE picks among the scene's point and spot lights.
-bool usesReservoirs(const Module& m, const Settings& settings);
-
 // Pass helpers (frame.cpp).
 PassHooks passHooks(Module& m, uint32_t slot);
 void beginPass(Module& m, VkCommandBuffer cmd, uint32_t slot, Pass pass);
@@ -187,8 +161,6 @@ void endPass(Module& m, VkCommandBuffer cmd, uint32_t slot);
 
 // The counters frame slot `slot` copied back (valid once its frame has completed; frame.cpp).
 gpu::GiCounters slotCounters(const Module& m, uint32_t slot);
-// The hash map's stale-radiance sentinel rays are re-traced (hpsf_validate): aging eviction with hpsf.validation > 0.
-bool validatesHashCells(const Settings& settings);
 // gpu::HG_MODE_* of a hash method (module.cpp).
 // Accumulated light is stale (settings, scene, size or invalidate): raw's
 // still-camera mean and the temporal reprojection's history start over.

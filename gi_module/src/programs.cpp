@@ -117,40 +117,41 @@ void recordWarmupFirstUse(const vk::Device& g, VkCommandBuffer cmd, WarmupResour
 
 std::vector<ProgramUse> programsFor(Module& m, const Settings& s) {
   const uint32_t t = uint32_t(m.desc.scene.traversal);
+  const MethodPlan plan = planMethod(m.desc.scene, s);
   std::vector<ProgramUse> list;
   auto add = [&](const char* name, vk::ComputeProgram& program, std::span<const uint32_t> spirv, uint32_t push,
                  ProgramSets sets = ProgramSets::Frame, glm::uvec2 group = kTile) {
     list.push_back({name, &program, spirv, push, group, sets});
   };
-  if (usesReservoirs(m, s))
+  if (plan.reservoirs)
     add("gi_reservoirs", m.reservoirs, GI_SCENE_SPIRV(t, gi_reservoirs_comp), sizeof(gpu::GiReservoirPush));
-  if (isAaf(s.method)) {
+  if (plan.aaf) {
     add("aaf_sample", m.aafSample, GI_SCENE_SPIRV(t, aaf_sample_comp), sizeof(gpu::AafPush));
     add("aaf_adaptive", m.aafAdaptive, GI_SCENE_SPIRV(t, aaf_adaptive_comp), sizeof(gpu::AafPush));
-  } else if (usesHashGrid(s.method)) {
+  } else if (plan.hashGrid) {
     const ProgramSets hash = ProgramSets::FrameAndHash;
     if (s.method == Method::Hpsf)
       add("hpsf_insert", m.hashInsert, GI_SCENE_SPIRV(t, hpsf_insert_comp), sizeof(gpu::HgPush), hash);
     else
       add("nhpsf_paths", m.hashPaths, GI_SCENE_SPIRV(t, nhpsf_paths_comp), sizeof(gpu::HgPush), hash);
-    if (validatesHashCells(s))
+    if (plan.validatesHashCells)
       add("hpsf_validate", m.hashValidate, GI_SCENE_SPIRV(t, hpsf_validate_comp), sizeof(gpu::HgPush), hash, {64, 1});
     add("hpsf_resolve", m.hashResolve, spv_hpsf_resolve_comp, sizeof(gpu::HgPush), hash, {64, 1});  // traces nothing
     add("hpsf_lookup", m.hashLookup, GI_SCENE_SPIRV(t, hpsf_lookup_comp), sizeof(gpu::HgPush), hash);
   } else {
     add("gi_raw_trace", m.rawTrace, GI_SCENE_SPIRV(t, gi_raw_trace_comp), sizeof(gpu::GiRawPush));
-    if (usesTemporalGradients(m, s))
+    if (plan.temporalGradients)
       add("gi_temporal_gradient", m.temporalGradient, GI_SCENE_SPIRV(t, gi_temporal_gradient_comp), sizeof(gpu::GiRawPush));
   }
-  if (usesHistoryClamp(m, s))
+  if (plan.historyClamp)
     add("gi_temporal_spread", m.temporalSpread, GI_SCENE_SPIRV(t, gi_temporal_spread_comp), sizeof(gpu::GiTemporalPush));
-  if (runsTemporalPass(m, s))
+  if (plan.temporalPass)
     add("gi_temporal", m.temporal, GI_SCENE_SPIRV(t, gi_temporal_comp), sizeof(gpu::GiTemporalPush));
-  if (s.method == Method::Svgf) {
+  if (plan.svgf) {
     add("svgf_variance", m.svgfVariance, GI_SCENE_SPIRV(t, svgf_variance_comp), sizeof(gpu::GiSvgfPush));
     add("svgf_atrous", m.svgfAtrous, GI_SCENE_SPIRV(t, svgf_atrous_comp), sizeof(gpu::GiSvgfPush));
   }
-  if (usesScreenFilters(s.method)) {
+  if (plan.screenFilters) {
     add("gi_guidance", m.guidancePass, GI_SCENE_SPIRV(t, gi_guidance_comp), 0);
     for (FilterProgram f : filterProgramsOf(s.method)) {
       const FilterProgramInfo& info = filterProgramCatalogue()[size_t(f)];
@@ -158,7 +159,7 @@ std::vector<ProgramUse> programsFor(Module& m, const Settings& s) {
     }
   }
   add("gi_composite", m.composite, GI_SCENE_SPIRV(t, gi_composite_comp), sizeof(gpu::GiCompositePush));
-  if (s.method == Method::Gif && s.gif.supersamples > 0)
+  if (plan.gifSupersamples)
     add("gi_supersample", m.supersample, GI_SCENE_SPIRV(t, gi_supersample_comp), sizeof(gpu::GiSupersamplePush));
   return list;
 }

@@ -115,39 +115,39 @@ static_assert(std::size(kFrameBindings) == gpu::GI_BINDING_COUNT, "every binding
 
 std::span<const vk::Binding> frameBindings() { return kFrameBindings; }
 
-uint32_t sizedResourcesNeeded(const Module& m, const Settings& s) {
+uint32_t sizedResourcesNeeded(const MethodPlan& plan, const Settings& s) {
   uint32_t need = 0;
   const bool noisyReadAfterOutput = s.debugView == DebugView::FilterInOut;
-  if (!noisyReadAfterOutput && ((usesHashGrid(s.method) && !clampsHashIndirect(s)) || s.method == Method::Svgf))
+  if (!noisyReadAfterOutput && ((plan.hashGrid && !plan.clampsHashIndirect) || plan.svgf))
     need |= kNoisyIsIndirect;
   else need |= bit(&SizedResources::noisyIndirect);
   if (s.method == Method::Raw && s.raw.temporalAccumulation)
     need |= bit(&SizedResources::historyDirectA) | bit(&SizedResources::historyIndirectA) | kFullPrecisionHistory;
-  if (usesPackedHistory(m, s)) {
+  if (plan.packedHistory) {
     need |= bit(&SizedResources::historyPacked);
-  } else if (runsTemporalPass(m, s)) {
+  } else if (plan.temporalPass) {
     need |= bit(&SizedResources::historyDirectA) | bit(&SizedResources::historyDirectB) |
             bit(&SizedResources::historyGuideA) | bit(&SizedResources::historyGuideB);
     // The hash methods reproject their direct light only, and with the filter clamp accumulate their samples.
-    if (!usesHashGrid(s.method) || clampsHashIndirect(s))
+    if (!plan.hashGrid || plan.clampsHashIndirect)
       need |= bit(&SizedResources::historyIndirectA) | bit(&SizedResources::historyIndirectB);
   }
-  if (usesScreenFilters(s.method)) need |= bit(&SizedResources::guidance) | bit(&SizedResources::position);
+  if (plan.screenFilters) need |= bit(&SizedResources::guidance) | bit(&SizedResources::position);
   // The filters' temp image (set 1's debug image): à-trous ping-pongs through it and AAF's row pass writes
   // it; gif writes it only for its coefficient view, bilateral and sspsf never.
-  if (s.method == Method::Atrous || isAaf(s.method)) need |= bit(&SizedResources::debug) | kHalfFilterTemp;
+  if (s.method == Method::Atrous || plan.aaf) need |= bit(&SizedResources::debug) | kHalfFilterTemp;
   // The hash lookup leaves its data for any debug view (the hash views read it).
-  if (usesHashGrid(s.method) && s.debugView != DebugView::None) need |= bit(&SizedResources::debug);
-  if (s.method == Method::Svgf)
+  if (plan.hashGrid && s.debugView != DebugView::None) need |= bit(&SizedResources::debug);
+  if (plan.svgf)
     need |= bit(&SizedResources::svgfMomentsA) | bit(&SizedResources::svgfMomentsB);
-  if (usesTemporalGradients(m, s))
+  if (plan.temporalGradients)
     need |= bit(&SizedResources::gradientSamplesA) | bit(&SizedResources::gradientSamplesB) |
             bit(&SizedResources::temporalGradient);
-  if (usesHistoryClamp(m, s)) need |= bit(&SizedResources::temporalSpread);
-  if (isAaf(s.method)) need |= bit(&SizedResources::aafParams) | bit(&SizedResources::aafSum);
-  if (usesReservoirs(m, s))
+  if (plan.historyClamp) need |= bit(&SizedResources::temporalSpread);
+  if (plan.aaf) need |= bit(&SizedResources::aafParams) | bit(&SizedResources::aafSum);
+  if (plan.reservoirs)
     need |= bit(&SizedResources::reservoirsA) | bit(&SizedResources::reservoirsB) | bit(&SizedResources::reservoirPick);
-  if (aafSpecular(m, s)) need |= bit(&SizedResources::aafGlossy) | bit(&SizedResources::aafGlossyEdge);
+  if (plan.aafSpecular) need |= bit(&SizedResources::aafGlossy) | bit(&SizedResources::aafGlossyEdge);
   // Debug views read their source at full size whatever the method (zero where it does not write).
   switch (s.debugView) {
     case DebugView::Guidance:
@@ -165,14 +165,14 @@ uint32_t sizedResourcesNeeded(const Module& m, const Settings& s) {
     case DebugView::ContinuationDepth:
     case DebugView::SvgfVariance: need |= bit(&SizedResources::debug); break;
     case DebugView::TemporalHistory:  // the packed history's frames reach the composite in the direct output
-      if (!usesPackedHistory(m, s)) need |= bit(&SizedResources::historyDirectA) | bit(&SizedResources::historyDirectB);
+      if (!plan.packedHistory) need |= bit(&SizedResources::historyDirectA) | bit(&SizedResources::historyDirectB);
       break;
     case DebugView::TemporalGradient: need |= bit(&SizedResources::temporalGradient); break;
     default: break;
   }
-  if (usesScreenFilters(s.method)) need |= kNeedsFilters;
+  if (plan.screenFilters) need |= kNeedsFilters;
   if (s.method == Method::Gif) need |= kNeedsGuidedStack;
-  if (aafSpecular(m, s)) need |= kNeedsGlossySets;
+  if (plan.aafSpecular) need |= kNeedsGlossySets;
   return need;
 }
 
@@ -256,7 +256,7 @@ vk::Status createSizedResources(Module& m, const Settings& settings, uint32_t wi
   SizedResources r;
   r.width = width;
   r.height = height;
-  r.needs = sizedResourcesNeeded(m, settings);
+  r.needs = sizedResourcesNeeded(planMethod(m.desc.scene, settings), settings);
   auto build = [&]() -> vk::Status {
     for (uint32_t i = 0; i < std::size(kSizedImages); ++i) {
       const uint32_t tile = kSizedImages[i].tile;

@@ -1,0 +1,28 @@
+#include "method_plan.h"
+
+namespace gi {
+
+MethodPlan planMethod(const SceneDesc& scene, const Settings& s) {
+  MethodPlan p;
+  p.method = s.method;
+  p.hashGrid = usesHashGrid(s.method);
+  p.screenFilters = usesScreenFilters(s.method);
+  p.aaf = isAaf(s.method);
+  p.aafSpecular = s.method == Method::Aaf && scene.hasGlossyMaterials;
+  p.svgf = s.method == Method::Svgf;
+  p.gifSupersamples = s.method == Method::Gif && s.gif.supersamples > 0;
+  p.lightSampler = s.lights.sampler == LightSampling::Scene ? scene.lightSampler : uint32_t(s.lights.sampler) - 1;
+  p.picksPunctualLights = p.lightSampler <= gpu::LIGHT_SAMPLER_TREE && scene.picksPunctualLightsWith[p.lightSampler];
+  p.noisyDirect = !s.indirectOnly && (scene.hasEmissiveTriangles || scene.hasSky || p.picksPunctualLights);
+  p.clampsHashIndirect =
+      p.hashGrid && s.hpsf.temporalDirect && s.hpsf.temporalIndirect && s.temporal.filterClamp > 0.0f;
+  p.temporalPass = usesTemporalReprojection(s) && (p.noisyDirect || !p.hashGrid || p.clampsHashIndirect);
+  p.packedHistory = p.temporalPass && p.hashGrid && !p.clampsHashIndirect;
+  p.temporalGradients = s.temporal.gradients && p.temporalPass && !p.hashGrid && !p.aaf;
+  p.historyClamp = s.temporal.historyClamp > 0.0f && p.temporalPass;
+  p.reservoirs = s.reservoirs.enabled && !s.indirectOnly && p.picksPunctualLights;
+  p.validatesHashCells = p.hashGrid && s.hpsf.eviction == EvictionPolicy::Aging && s.hpsf.validationInterval > 0;
+  return p;
+}
+
+}  // namespace gi

@@ -1,0 +1,48 @@
+// What a method runs for a scene: every decision about passes, images and
+// programs, made once from the settings and the scene's facts (planMethod),
+// and read by allocation (sized_resources.cpp), program creation
+// (programs.cpp) and recording (frame.cpp). The module keeps the plan of the
+// settings it runs (Module::plan); a caller asking about other settings (a
+// switch being prepared, a memory prediction) plans them on the spot.
+#pragma once
+
+#include <cstdint>
+
+#include "gi/gi.h"
+
+namespace gi {
+
+struct MethodPlan {
+  Method method = Method::Raw;
+  bool hashGrid = false;       // the persistent world-space hash map's passes (hpsf, nhpsf, anhpsf)
+  bool screenFilters = false;  // a screen-space filter after the trace (gif, bilateral, à-trous, aaf, sspsf)
+  bool aaf = false;            // AAF's adaptive sample passes (aaf, aaf_ao)
+  bool aafSpecular = false;    // AAF with glossy receivers in the scene: their specular terms filtered apart
+  bool svgf = false;           // svgf's variance and à-trous passes
+  bool gifSupersamples = false;  // gif's extra eye rays after the composite
+  uint32_t lightSampler = 0;     // NEE's light sampler (gpu::LIGHT_SAMPLER_*): the setting's, or the scene's
+  bool picksPunctualLights = false;  // NEE picks one of several punctual lights (noise the temporal pass averages)
+  // Direct light has noise to average only from area lights (emissive triangles, a sky) and from punctual
+  // lights NEE picks one of.
+  bool noisyDirect = false;
+  // The temporal pass runs (its images and program exist) when the method reprojects and there is
+  // something to reproject: the hash methods reproject their direct light, so not without area lights,
+  // unless they clamp.
+  bool temporalPass = false;
+  // The hash methods with hpsf.temporal, hpsf.temporalIndirect and the filter clamp also accumulate each
+  // pixel's own indirect sample, which the map's light is held against.
+  bool clampsHashIndirect = false;
+  // The hash methods' direct light alone is reprojected: its history is one packed image
+  // (GI_BINDING_HISTORY_PACKED) that the composite pass writes.
+  bool packedHistory = false;
+  // Temporal gradients are traced (raw's trace pass) when the temporal pass runs for a method whose paths
+  // start there (not the hash methods, not AAF).
+  bool temporalGradients = false;
+  bool historyClamp = false;  // the temporal pass clamps the history to this frame's samples
+  bool reservoirs = false;    // the reservoir passes: asked for, and NEE picks among point and spot lights
+  bool validatesHashCells = false;  // the hash map's sentinel rays are re-traced (aging with hpsf.validation > 0)
+};
+
+MethodPlan planMethod(const SceneDesc& scene, const Settings& settings);
+
+}  // namespace gi
