@@ -3,9 +3,7 @@
 #include <cstring>
 #include <random>
 
-#include "gpu_test.h"
-#include "module_device.h"
-#include "screen_filters.h"
+#include "screen_filter_fixture.h"
 #include "shared/aaf.h"
 
 namespace {
@@ -13,43 +11,15 @@ constexpr uint32_t W = 48, H = 40;
 constexpr float kPixel = 0.01f;  // metres per pixel at depth 1 with pixelScale = 0.01
 }  // namespace
 
-class AafFilterTest : public GpuTest {
+class AafFilterTest : public ScreenFilterTest<W, H> {
  protected:
-  engine::Image images[6];  // guidance, position, input, output, temp, params
-  gi::ScreenFilters filters;
-  gi::FilterPrograms programs;
-  gi::vk::Device dev;
-
-  void SetUp() override {
-    dev = openModuleDevice(ctx);
-    for (engine::Image& img : images)
-      img = engine::createImage(ctx, {W, H}, VK_FORMAT_R32G32B32A32_SFLOAT,
-                                VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
-    ASSERT_FALSE(gi::createFilterPrograms(dev, programs));
-    ASSERT_FALSE(gi::createScreenFilters(dev, programs, W, H, {images[0].view, images[1].view, images[2].view, images[3].view,
-                                                     images[4].view, images[5].view}, filters));
-    std::vector<float> zero(size_t(W) * H * 4, 0.0f);
-    for (engine::Image& img : images) engine::uploadImage(ctx, img, zero.data(), zero.size() * 4, VK_IMAGE_LAYOUT_GENERAL);
-  }
-  void TearDown() override {
-    gi::destroyScreenFilters(dev, filters);
-    gi::destroyFilterPrograms(dev, programs);
-    gi::vk::closeDevice(dev);
-    for (engine::Image& img : images) engine::destroyImage(ctx, img);
-    GpuTest::TearDown();
-  }
-  void upload(int index, const std::vector<float>& rgba) {
-    engine::uploadImage(ctx, images[index], rgba.data(), rgba.size() * 4, VK_IMAGE_LAYOUT_GENERAL);
-  }
   std::vector<float> filter(float cosLimit, uint32_t maxRadius = 0) {
-    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
-      gi::recordAafFilter(dev, cmd, filters, filters.set[0], gi::kPlainOutput, gi::Pass::AafFilterDiffuseRows,
-                          gi::Pass::AafFilterDiffuseColumns, cosLimit, kPixel, maxRadius, 1.0f, {});
-    });
-    std::vector<std::byte> raw = engine::readbackImage(ctx, images[3], VK_IMAGE_LAYOUT_GENERAL, 16);
-    std::vector<float> out(size_t(W) * H);
-    for (size_t p = 0; p < out.size(); ++p) std::memcpy(&out[p], &raw[16 * p], 4);  // red channel
-    return out;
+    return filterOutput(
+        [&](VkCommandBuffer cmd) {
+          gi::recordAafFilter(dev, cmd, filters, filters.set[0], gi::kPlainOutput, gi::Pass::AafFilterDiffuseRows,
+                              gi::Pass::AafFilterDiffuseColumns, cosLimit, kPixel, maxRadius, 1.0f, {});
+        },
+        1);  // red
   }
   // A plane facing the camera at depth 1: world x, y = pixel × 1 cm.
   void plane(float beta, const std::vector<glm::vec3>& normals) {
@@ -63,9 +33,9 @@ class AafFilterTest : public GpuTest {
         std::memcpy(&position[i], pos, 16);
         std::memcpy(&params[i], prm, 16);
       }
-    upload(0, guidance);
-    upload(1, position);
-    upload(5, params);
+    upload(kGuidance, guidance);
+    upload(kPosition, position);
+    upload(kParams, params);
   }
 };
 
@@ -100,7 +70,7 @@ TEST_F(AafFilterTest, SeparableMatchesBruteForceWhereBetaIsConstant) {
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   std::vector<float> input(size_t(W) * H * 4);
   for (float& v : input) v = u(rng);
-  upload(2, input);
+  upload(kInput, input);
   EXPECT_LT(bruteForceWorst(input, filter(std::cos(10.0f * 3.14159265f / 180.0f)), beta, 9), 1e-4);
 }
 
@@ -114,7 +84,7 @@ TEST_F(AafFilterTest, WideFiltersReachThreeSigma) {
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   std::vector<float> input(size_t(W) * H * 4);
   for (float& v : input) v = u(rng);
-  upload(2, input);
+  upload(kInput, input);
   const float cosLimit = std::cos(10.0f * 3.14159265f / 180.0f);
   EXPECT_LT(bruteForceWorst(input, filter(cosLimit), beta, 42), 1e-4);
   EXPECT_GT(bruteForceWorst(input, filter(cosLimit), beta, 32), 1e-4) << "the 3σ and the 32-pixel filter should differ here";
@@ -131,7 +101,7 @@ TEST_F(AafFilterTest, NormalThresholdStopsFilteringAcrossARightAngle) {
       for (int c = 0; c < 4; ++c) input[(size_t(y) * W + x) * 4 + c] = left ? 0.0f : 1.0f;
     }
   plane(6.0f * kPixel, normals);
-  upload(2, input);
+  upload(kInput, input);
   std::vector<float> out = filter(std::cos(10.0f * 3.14159265f / 180.0f));
   for (uint32_t y = 0; y < H; ++y) {
     EXPECT_EQ(out[size_t(y) * W + W / 2 - 1], 0.0f) << "row " << y;  // nothing leaks from the other face

@@ -3,9 +3,7 @@
 #include <cstring>
 #include <random>
 
-#include "gpu_test.h"
-#include "module_device.h"
-#include "screen_filters.h"
+#include "screen_filter_fixture.h"
 
 namespace {
 
@@ -101,47 +99,18 @@ std::vector<double> guidedFilterCpu(const Rgba& guidance, const Rgba& input, int
 
 }  // namespace
 
-class GuidedFilterTest : public GpuTest {
+class GuidedFilterTest : public ScreenFilterTest<W, H> {
  protected:
-  engine::Image images[5];  // guidance, position, input, output, temp
-  gi::ScreenFilters filters;
-  gi::FilterPrograms programs;
-  gi::vk::Device dev;
-
-  void SetUp() override {
-    dev = openModuleDevice(ctx);
-    for (engine::Image& img : images)
-      img = engine::createImage(ctx, {W, H}, VK_FORMAT_R32G32B32A32_SFLOAT,
-                                VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
-    ASSERT_FALSE(gi::createFilterPrograms(dev, programs));
-    ASSERT_FALSE(gi::createScreenFilters(dev, programs, W, H, {images[0].view, images[1].view, images[2].view, images[3].view,
-                                                     images[4].view, images[4].view}, filters));
-    ASSERT_FALSE(gi::ensureGuidedStack(dev, filters));
-    Rgba zero(size_t(W) * H * 4, 0.0f);
-    for (engine::Image& img : images) engine::uploadImage(ctx, img, zero.data(), zero.size() * 4, VK_IMAGE_LAYOUT_GENERAL);
-  }
-  void TearDown() override {
-    gi::destroyScreenFilters(dev, filters);
-    gi::destroyFilterPrograms(dev, programs);
-    gi::vk::closeDevice(dev);
-    for (engine::Image& img : images) engine::destroyImage(ctx, img);
-    GpuTest::TearDown();
-  }
-
   // `covered`: 1 per covered pixel, 0 for background (the position image's
   // view depth); empty = every pixel covered.
   std::vector<float> run(const Rgba& guidance, const Rgba& input, const gi::GuidedFilterParams& params,
                          const std::vector<float>& covered = {}) {
     Rgba position(size_t(W) * H * 4, 0.0f);
     for (size_t p = 0; p < size_t(W) * H; ++p) position[4 * p + 3] = covered.empty() ? 1.0f : covered[p];
-    engine::uploadImage(ctx, images[1], position.data(), position.size() * 4, VK_IMAGE_LAYOUT_GENERAL);
-    engine::uploadImage(ctx, images[0], guidance.data(), guidance.size() * 4, VK_IMAGE_LAYOUT_GENERAL);
-    engine::uploadImage(ctx, images[2], input.data(), input.size() * 4, VK_IMAGE_LAYOUT_GENERAL);
-    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { gi::recordGuidedFilter(dev, cmd, filters, params, {}); });
-    std::vector<std::byte> raw = engine::readbackImage(ctx, images[3], VK_IMAGE_LAYOUT_GENERAL, 16);
-    std::vector<float> out(size_t(W) * H * 3);
-    for (size_t p = 0; p < size_t(W) * H; ++p) std::memcpy(&out[3 * p], &raw[16 * p], 12);
-    return out;
+    upload(kPosition, position);
+    upload(kGuidance, guidance);
+    upload(kInput, input);
+    return filterOutput([&](VkCommandBuffer cmd) { gi::recordGuidedFilter(dev, cmd, filters, params, {}); }, 3);
   }
 
   static Rgba random(uint32_t seed) {
