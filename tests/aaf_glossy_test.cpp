@@ -85,7 +85,6 @@ TEST_F(AafGlossyTest, MetalFloorReflectsTheLitWall) {
   EXPECT_TRUE(has(glossyPasses, "aaf_filter_glossy_edge_columns"));
   EXPECT_FALSE(has(diffusePasses, "aaf_filter_glossy_rows"));
   EXPECT_TRUE(has(diffusePasses, "aaf_filter_diffuse_rows"));
-  unload(s);
 }
 
 // A scene whose primitives all use diffuse, opaque materials is described as
@@ -98,5 +97,4 @@ TEST_F(AafGlossyTest, UnusedMaterialsDoNotTurnOnGlossyOrAlphaWork) {
       << "the loader's fallback material is a metal";
   EXPECT_FALSE(s.gpu.desc.hasGlossyMaterials);
   EXPECT_FALSE(s.gpu.desc.hasAlphaMask);
-  unload(s);
 }

@@ -16,7 +16,6 @@ TEST_F(Determinism, SameSeedSameImageDifferentSeedDifferentImage) {
   EXPECT_EQ(a.final.pixels, b.final.pixels);
   EXPECT_EQ(a.indirect.pixels, b.indirect.pixels);
   EXPECT_NE(a.final.pixels, c.final.pixels);
-  unload(s);
 }
 
 // A textured scene (Sponza: 11 JPEG textures with mip chains, a directional
@@ -36,5 +35,4 @@ TEST_F(TexturedScene, SponzaRendersUnderValidation) {
   for (size_t i = 3; i < img.albedo.pixels.size(); ++i) albedoVariation += std::abs(img.albedo.pixels[i] - img.albedo.pixels[i - 3]);
   EXPECT_GT(albedoVariation, 1.0) << "textured albedo should vary across the image";
   for (float v : img.final.pixels) ASSERT_TRUE(std::isfinite(v));
-  unload(s);
 }

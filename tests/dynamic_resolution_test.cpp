@@ -95,5 +95,4 @@ TEST_F(DynamicResolutionTest, AlternatingSizesKeepTheImagesAndTheHistory) {
       EXPECT_GT(restartingError, 2.0 * alternatingError);
     }
   }
-  unload(s);
 }

@@ -210,7 +210,6 @@ TEST_F(ExtremesTest, BlackScenesStayBlack) {
       EXPECT_EQ(o.mean, 0.0) << gi::methodName(m);
       table[which == 0 ? "NoLight" : "CameraInsideGeometry"][gi::methodName(m)] = o.finite && o.mean == 0.0 ? "black" : "FAIL";
     }
-    unload(s);
   }
 }
 
@@ -230,7 +229,7 @@ TEST_F(ExtremesTest, EmptySceneIsANamedError) {
   // If the loader accepts it, every method must render black.
   LoadedScene s;
   s.scene = std::move(scene);
-  engine::createSceneGpu(ctx, s.scene, s.gpu);
+  s.upload(ctx);
   ExtremesRun run(ctx, s);
   for (gi::Method m : radianceMethods()) {
     Outcome o = run.run(defaults(m));
@@ -238,7 +237,6 @@ TEST_F(ExtremesTest, EmptySceneIsANamedError) {
     EXPECT_EQ(o.mean, 0.0) << gi::methodName(m);
     table["EmptyScene"][gi::methodName(m)] = "black";
   }
-  unload(s);
 }
 
 // Parameter extremes of one method against its defaults on the normal room.
@@ -290,7 +288,6 @@ TEST_F(ExtremesTest, KnobsAtTheirLimits) {
   table["Spp4096"]["raw"] = std::to_string(b.relMse / raw.relMse).substr(0, 5) + "×";
   EXPECT_TRUE(b.finite);
   EXPECT_LT(b.relMse, raw.relMse / 100.0) << "4096 spp against 1 spp";
-  unload(s);
 }
 
 // The white furnace at albedo 1 (emission 1): the answer is B + 2 with B
@@ -344,7 +341,6 @@ TEST_F(ExtremesTest, WhiteFurnaceStaysFinite) {
     table["WhiteFurnaceAlbedo1"][gi::methodName(m)] = std::to_string(last).substr(0, 4);
     tools::destroyModuleSession(ctx, session);
   }
-  unload(s);
 }
 
 // Consistency: for every method, error against the reference falls as its
@@ -382,5 +378,4 @@ TEST_F(ExtremesTest, ErrorFallsAsEachQualityKnobRises) {
     table[std::string("consistency: ") + k.knob][gi::methodName(k.method)] = std::to_string(b.relMse / a.relMse).substr(0, 4) + "×";
     EXPECT_LT(b.relMse, a.relMse) << gi::methodName(k.method) << " " << k.knob;
   }
-  unload(s);
 }

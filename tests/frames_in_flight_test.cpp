@@ -32,7 +32,7 @@ AnimatedRun runFrames(const engine::Context& ctx, const std::string& path, uint3
   EXPECT_TRUE(engine::loadSceneForRendering(path, s.scene, error)) << error;
   const engine::SceneAnimation animation = engine::makeSceneAnimation(s.scene);
   engine::markAnimatedInstancesMovable(animation, s.scene);
-  engine::createSceneGpu(ctx, s.scene, s.gpu);
+  s.upload(ctx);
   const gpu::GpuCamera camera = engine::makeGpuCamera(s.scene.cameras[0], kSize, kSize, nullptr);
   gi::ModuleDesc desc = tools::moduleDesc(ctx, s.gpu, {kSize, kSize});
   desc.framesInFlight = inFlight;
@@ -70,7 +70,7 @@ AnimatedRun runFrames(const engine::Context& ctx, const std::string& path, uint3
   run.images = tools::readModuleImages(ctx, session);
   engine::destroyFrameSlots(ctx, slots);
   tools::destroyModuleSession(ctx, session);
-  engine::destroySceneGpu(ctx, s.gpu);
+  s.release();
   return run;
 }
 

@@ -322,7 +322,6 @@ TEST_F(GBufferEncodingsTest, EveryAcceptedEncodingGivesTheSameImage) {
     EXPECT_LT(meanShift, 0.01) << variants[i].what;
   }
   tools::destroyModuleSession(ctx, native);
-  unload(s);
 }
 
 // A camera that is not finite, not invertible or not a perspective
@@ -356,7 +355,6 @@ TEST_F(GBufferEncodingsTest, BadCamerasAreNamedErrors) {
     EXPECT_NE(e.message.find(c.message), std::string::npos) << e.message;
   }
   tools::destroyModuleSession(ctx, session);
-  unload(s);
 }
 
 // Encodings that do not match their format, and formats the module does not
@@ -423,7 +421,6 @@ TEST_F(GBufferEncodingsTest, MismatchedEncodingsAreNamedErrors) {
   }
   tools::destroyModuleSession(ctx, native);
   gi::destroy(m);
-  unload(s);
 }
 
 // Motion in every convention gi::GBufferDesc accepts reprojects exactly as ours (pixels, previous −
@@ -524,7 +521,6 @@ TEST_F(GBufferEncodingsTest, MotionInEveryConventionReprojectsAsOurs) {
       EXPECT_GT(indirect, 1e-2) << runs[r].what;
     }
   }
-  unload(s);
 }
 
 // The engine's layouts (issue 35 §5): a G-buffer read in SHADER_READ_ONLY_OPTIMAL (colour and depth) and
@@ -536,7 +532,7 @@ TEST(GBufferLayouts, ReadOnlyGBufferAndOutputsInTheEnginesLayoutGiveTheSameFrame
   ASSERT_TRUE(createSyncValidatedContext(ctx, error)) << error;
   LoadedScene s;
   ASSERT_TRUE(engine::loadSceneForRendering(sharedScene("cornell-simple/cornell_simple.gltf"), s.scene, error)) << error;
-  engine::createSceneGpu(ctx, s.scene, s.gpu);
+  s.upload(ctx);
   const gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], kSize, kSize, nullptr);
   tools::ModuleSession native;
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {kSize, kSize}, gi::Settings{}, native));
@@ -588,7 +584,7 @@ TEST(GBufferLayouts, ReadOnlyGBufferAndOutputsInTheEnginesLayoutGiveTheSameFrame
   }
   for (size_t r = 1; r < std::size(runs); ++r) EXPECT_TRUE(sameBits(composites[r], composites[0])) << runs[r].what;
   EXPECT_EQ(ctx.validationMessages(), 0u) << "validation (synchronization included) reported problems";
-  engine::destroySceneGpu(ctx, s.gpu);
+  s.release();
   engine::destroyContext(ctx);
 }
 
@@ -644,5 +640,4 @@ TEST_F(GBufferEncodingsTest, WithoutAnEmissionViewTheEngineAddsTheEmission) {
   EXPECT_TRUE(sameBits(out[0].indirect, out[1].indirect));
   EXPECT_LT(worstDirect, 1e-5);
   EXPECT_LT(worstComposite, 1e-5);
-  unload(s);
 }

@@ -92,7 +92,6 @@ TEST_F(GBufferTest, DepthAndNormalMatchRayTracedPrimaryHits) {
     }
     engine::destroyGBufferPass(ctx, pass);
     engine::destroyGBuffer(ctx, gbuffer);
-    unload(s);
   }
 }
 
@@ -121,5 +120,4 @@ TEST_F(GBufferTest, JitteredAndOffAxisProjectionsMatchRayTracedPrimaryHits) {
   }
   engine::destroyGBufferPass(ctx, pass);
   engine::destroyGBuffer(ctx, gbuffer);
-  unload(s);
 }

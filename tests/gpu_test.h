@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <utility>
 
 #include "camera.h"
 #include "context.h"
@@ -13,9 +14,28 @@
 
 inline std::string sharedScene(const std::string& relative) { return std::string(GI_SHARED_SCENES) + "/" + relative; }
 
+// A scene loaded and on the device; released when it goes out of scope (a failed ASSERT included), or
+// earlier by GpuTest::unload, or when GpuTest::load fills it again.
 struct LoadedScene {
   engine::Scene scene;
   engine::SceneGpu gpu;
+  const engine::Context* context = nullptr;  // set while `gpu` holds device objects
+
+  LoadedScene() = default;
+  LoadedScene(const LoadedScene&) = delete;
+  LoadedScene& operator=(const LoadedScene&) = delete;
+  ~LoadedScene() { release(); }
+  // `scene` (loaded or built by hand) onto `c`'s device, after releasing what was there.
+  template <typename... Extra>
+  void upload(const engine::Context& c, Extra&&... extra) {
+    release();
+    engine::createSceneGpu(c, scene, gpu, std::forward<Extra>(extra)...);
+    context = &c;
+  }
+  void release() {
+    if (context) engine::destroySceneGpu(*context, gpu);
+    context = nullptr;
+  }
 };
 
 class GpuTest : public ::testing::Test {
@@ -34,12 +54,14 @@ class GpuTest : public ::testing::Test {
   // Loads (Morton-sorted) and uploads; fails the test on a load error.
   // `sky`: the light beyond the scene (black by default).
   static void load(const std::string& path, LoadedScene& out, const engine::Sky& sky = {}) {
+    out.release();
+    out.scene = engine::Scene{};
     std::string error;
     ASSERT_TRUE(engine::loadSceneForRendering(path, out.scene, error)) << error;
     out.scene.sky = sky;
-    engine::createSceneGpu(ctx, out.scene, out.gpu);
+    out.upload(ctx);
   }
-  static void unload(LoadedScene& s) { engine::destroySceneGpu(ctx, s.gpu); }
+  static void unload(LoadedScene& s) { s.release(); }
 
   static engine::ReferenceImages render(const LoadedScene& s, uint32_t width, uint32_t height,
                                         const engine::ReferenceSettings& settings, uint32_t spp) {

@@ -50,7 +50,6 @@ TEST_F(HpsfTest, ZeroAlbedoChannelLosesNothingANeighbourCouldUse) {
         EXPECT_EQ(out.final.at(x, y, 1), 0.0f);
       }
   tools::destroyModuleSession(ctx, session);
-  unload(s);
 }
 
 TEST_F(HpsfTest, TelemetryAndErrorOverFramesForBothEvictionPolicies) {
@@ -88,7 +87,6 @@ TEST_F(HpsfTest, TelemetryAndErrorOverFramesForBothEvictionPolicies) {
     EXPECT_LT(errors[1], 0.3 * errors[0]) << "sixteen frames of history";
     tools::destroyModuleSession(ctx, session);
   }
-  unload(s);
 }
 
 // gi::invalidate(All) drops the cache: the next frame starts from an empty
@@ -119,7 +117,6 @@ TEST_F(HpsfTest, InvalidateAllEmptiesTheCacheAndLightsChangedKeepsTheCells) {
   EXPECT_LE(emptied.hash.occupied, firstFrameOccupancy + firstFrameOccupancy / 4);
   for (float v : tools::readModuleImages(ctx, session).final.pixels) ASSERT_TRUE(std::isfinite(v));
   tools::destroyModuleSession(ctx, session);
-  unload(s);
 }
 
 // Strict eviction (Meijer): two tables swap every frame, and a cell touched
@@ -172,7 +169,6 @@ TEST_F(HpsfTest, StrictEvictionAccumulatesWhileACellIsTouchedEveryFrame) {
     }
     tools::destroyModuleSession(ctx, session);
   }
-  unload(s);
 }
 
 // With jitter the cells move every frame: strict eviction drops the last
@@ -209,7 +205,6 @@ TEST_F(HpsfTest, StrictEvictionDropsCellsNotFoundAgain) {
   }
   EXPECT_GT(coloured, out.final.pixels.size() / 6);
   tools::destroyModuleSession(ctx, session);
-  unload(s);
 }
 
 // Strict eviction under the default jitter, still camera, 48 frames: the
@@ -247,5 +242,4 @@ TEST_F(HpsfTest, StrictEvictionConvergesWithoutSpikes) {
   EXPECT_LT(worst, 1.3) << "frame " << worstFrame;
   EXPECT_LT(errors.back(), 0.3 * errors.front()) << "the history still accumulates";
   tools::destroyModuleSession(ctx, session);
-  unload(s);
 }

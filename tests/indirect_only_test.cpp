@@ -72,5 +72,4 @@ TEST_F(IndirectOnlyTest, NoPrimaryShadowRaysNoDirectLightAndTheSameIndirectLight
     EXPECT_LE(only.raysPerFrame, full.raysPerFrame - 0.5 * 4 * covered) << name << ": the primary hits' shadow rays";
     EXPECT_NEAR(indirectOnly, indirectFull, 0.03 * indirectFull) << name;
   }
-  unload(s);
 }

@@ -16,7 +16,7 @@ class LightFieldTest : public GpuTest {
     ASSERT_TRUE(engine::loadSceneForRendering(path, out.scene, error)) << error;
     out.scene.lightSampler = sampler;
     out.scene.lightTreeCut = treeCut;
-    engine::createSceneGpu(ctx, out.scene, out.gpu);
+    out.upload(ctx);
   }
 };
 

@@ -54,10 +54,8 @@ TEST_F(LightSamplerTest, PickedLightsHaveTheExactSumsExpectationAndOneShadowRayA
     // The primary ray, the BSDF's ray and one shadow ray a light (every light, all of which see every
     // pixel here), or one shadow ray for a picked light: 31 fewer.
     EXPECT_NEAR(perSampleAll - perSamplePicked, 31.0, 0.01) << name;
-    unload(picked);
   }
   EXPECT_LT(equalSamplesMse[1], 0.5 * equalSamplesMse[0]) << "the tree's picks are better than power's";
-  unload(exact);
 }
 
 // Spot lights aimed down, at the wall and up (lightField with spots): the tree's nodes bound the
@@ -89,9 +87,6 @@ TEST_F(LightSamplerTest, SpotsAimedAnywhereKeepTheExactSumsExpectationAndTheTree
   EXPECT_NEAR(meanTree, meanAll, 0.01 * meanAll);
   EXPECT_LT(worst, 0.03);
   EXPECT_LT(treeMse, 0.3 * powerMse) << "the tree skips the spots that cannot light a vertex";
-  unload(tree);
-  unload(power);
-  unload(exact);
 }
 
 // The tree with a cut of n subtrees: n shadow rays a vertex for the point lights, however many; with no
@@ -137,9 +132,7 @@ TEST_F(LightSamplerTest, TheTreesCutIsExactUpToItsSizeAndItsRaysStayFixed) {
     EXPECT_NEAR(perSample, 2.0 + cut, 0.01) << "the primary ray, the BSDF's and one a subtree";
     EXPECT_LT(mse, previous) << "a cut of " << cut;
     previous = mse;
-    unload(s);
   }
-  unload(all);
 }
 
 // Bad values are named errors.
@@ -151,7 +144,7 @@ TEST_F(LightSamplerTest, BadSamplersAreNamedErrors) {
     s.scene.lightSampler = sampler;
     s.scene.lightTreeCut = cut;
     try {
-      engine::createSceneGpu(ctx, s.scene, s.gpu);
+      s.upload(ctx);
       ADD_FAILURE() << "accepted: " << message;
     } catch (const std::exception& e) {
       EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
@@ -197,6 +190,4 @@ TEST_F(LightSamplerTest, TheModulesSamplerSettingActsAsTheScenesWould) {
   EXPECT_EQ(rays[0], rays[1]);
   EXPECT_EQ(rays[2], rays[3]);
   EXPECT_GT(rays[0], rays[2]) << "every light costs more rays than the tree's cut";
-  unload(tree);
-  unload(all);
 }

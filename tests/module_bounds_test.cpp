@@ -59,7 +59,6 @@ TEST_F(ModuleBoundsTest, EveryMethodOnAFullMapAndAMovingSceneStaysInBounds) {
     tools::destroyModuleSession(ctx, session);
   }
   engine::jumpScene(ctx, animation, 0.0f, s.scene, s.gpu);
-  unload(s);
 }
 
 using StressPush = gpu::HgStressPush;  // hash_stress.comp's push constants
@@ -128,7 +127,6 @@ TEST_F(ModuleBoundsTest, ATextureIndexPastTheWrittenOnesIsCounted) {
   std::memcpy(scene.constants.memory.mapped, &kept, sizeof(kept));
   EXPECT_EQ(violations(2), 0u);
   tools::destroyModuleSession(ctx, session);
-  unload(s);
 }
 
 // The reservoirs (ReservoirSettings, on by default) under a panning camera: their temporal merge reads last
@@ -140,7 +138,7 @@ TEST_F(ModuleBoundsTest, ReservoirsUnderAPanningCameraStayInBounds) {
   LoadedScene s;
   std::string error;
   ASSERT_TRUE(engine::loadSceneForRendering(lightField(64, "bounds_reservoirs", true), s.scene, error)) << error;
-  engine::createSceneGpu(ctx, s.scene, s.gpu);
+  s.upload(ctx);
   ASSERT_TRUE(gi::picksPunctualLights(s.gpu.desc));
   const VkExtent2D size{98, 66};
   gi::ModuleDesc desc = tools::moduleDesc(ctx, s.gpu, size);
@@ -166,5 +164,4 @@ TEST_F(ModuleBoundsTest, ReservoirsUnderAPanningCameraStayInBounds) {
     }
     tools::destroyModuleSession(ctx, session);
   }
-  unload(s);
 }

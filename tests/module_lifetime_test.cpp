@@ -52,7 +52,6 @@ TEST_F(ModuleLifetimeTest, FrameImagesCanBeOverwrittenBetweenFramesInEveryMethod
     EXPECT_TRUE(sameBits(kept.indirect, filled.indirect)) << info.name << ": indirect read a frame image's last contents";
     EXPECT_TRUE(sameBits(kept.final, filled.final)) << info.name << ": composite read a frame image's last contents";
   }
-  unload(s);
 }
 
 // What the stats call transient is what the list holds, and most of what the
@@ -82,5 +81,4 @@ TEST_F(ModuleLifetimeTest, TransientBytesAreTheFrameImages) {
     }
     tools::destroyModuleSession(ctx, session);
   }
-  unload(s);
 }

@@ -70,7 +70,6 @@ TEST_F(ModuleMemoryTest, EveryMethodAt1080pHoldsWhatTheMemoryTableSays) {
     EXPECT_EQ(transient, row.transient);
     gi::destroy(m);
   }
-  unload(s);
 }
 
 // The prediction equals what create holds, field by field, for every method: at 1920×1080 and at an
@@ -135,7 +134,6 @@ TEST_F(ModuleMemoryTest, ThePredictionIsWhatTheModuleHolds) {
   desc.memoryBudgetBytes = full.heldBytes;
   ASSERT_FALSE(gi::create(desc, settings, m)) << "the predicted bytes are enough";
   gi::destroy(m);
-  unload(s);
 }
 
 // With ModuleDesc::deviceMemory set the engine's allocator holds every byte the module holds, the
@@ -209,7 +207,6 @@ TEST_F(ModuleMemoryTest, AnEnginesAllocatorHoldsEveryByteAndTheModuleAllocatesNo
   EXPECT_NE(e.message.find("desc.deviceMemory.free must be set with desc.deviceMemory.allocate"), std::string::npos)
       << e.message;
   EXPECT_EQ(m, nullptr);
-  unload(s);
 }
 
 // Issue 30's host-aliased transient pool: the transient requests of ModuleDesc::deviceMemory carved from
@@ -260,5 +257,4 @@ TEST_F(ModuleMemoryTest, TransientImagesShareTheEnginesMemoryBetweenFrames) {
     EXPECT_TRUE(sameBits(images[0].final, images[1].final));
     EXPECT_TRUE(sameBits(images[0].indirect, images[1].indirect));
   }
-  unload(s);
 }

@@ -78,7 +78,6 @@ TEST_F(ModuleOutputsTest, HalfFloatOutputsMatchSingleFloatOnes) {
     EXPECT_LT(indirect, 2e-3) << name << " indirect";
     EXPECT_LT(composite, 2e-3) << name << " composite";
   }
-  unload(s);
 }
 
 // ModuleDesc::compositeFormat = B10G11R11_UFLOAT_PACK32 (an engine's HDR target): every method's
@@ -116,7 +115,6 @@ TEST_F(ModuleOutputsTest, APackedCompositeIsTheHalfFloatOneToItsSteps) {
   EXPECT_EQ(e.code, gi::ErrorCode::UnsupportedFormat);
   EXPECT_NE(e.message.find("desc.compositeFormat = R8G8B8A8Unorm"), std::string::npos) << e.message;
   EXPECT_EQ(m, nullptr);
-  unload(s);
 }
 
 // The blended light in half floats (ModuleDesc::historyFormat's default:
@@ -146,7 +144,6 @@ TEST_F(ModuleOutputsTest, HalfFloatHistoriesMatchSingleFloatOnes) {
     EXPECT_LT(indirect, 3e-3) << name << " indirect";
     EXPECT_LT(composite, 2e-3) << name << " composite";
   }
-  unload(s);
 }
 
 // A power-of-two pre-exposure scales stored light exactly; pictures (the
@@ -191,7 +188,6 @@ TEST_F(ModuleOutputsTest, PreExposureScalesLightAndLeavesPicturesAlone) {
     EXPECT_GT(lit, 0.0) << c.what << ": nothing to compare";
   }
   EXPECT_EQ(gi::outputScales([] { gi::Settings x; x.debugView = gi::DebugView::Normal; return x; }(), kScale).composite, 1.0f);
-  unload(s);
 }
 
 // Light beyond half float's range is clamped at 65504, never Inf.
@@ -212,7 +208,6 @@ TEST_F(ModuleOutputsTest, HalfFloatOutputsClampInsteadOfOverflowing) {
       }
     EXPECT_GT(atLimit, size_t(kSize)) << gi::methodName(method) << ": lit pixels sit at the limit";
   }
-  unload(s);
 }
 
 // A pre-exposure that is not a positive finite factor is a named error and records nothing.
@@ -233,5 +228,4 @@ TEST_F(ModuleOutputsTest, BadPreExposureIsANamedError) {
     EXPECT_NE(e.message.find("preExposure"), std::string::npos) << e.message;
   }
   tools::destroyModuleSession(ctx, session);
-  unload(s);
 }

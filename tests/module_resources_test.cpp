@@ -96,7 +96,6 @@ TEST_F(ModuleResourcesTest, CreateBeyondTheMemoryBudgetIsAnError) {
     EXPECT_LE(m->gpu.memory.held, desc.memoryBudgetBytes);
     gi::destroy(m);
   }
-  unload(s);
 }
 
 // The engine's host allocator failing at every point of create in turn:
@@ -141,7 +140,6 @@ TEST_F(ModuleResourcesTest, FailingHostAllocationsAreErrorsThatLeakNothing) {
   // the fixture checks.
   EXPECT_LE(ctx.validationMessages() - messagesBefore, failures);
   ctx.validation->warnings -= ctx.validationMessages() - messagesBefore;
-  unload(s);
 }
 
 // setSettings that runs out of memory returns the error and leaves the
@@ -175,7 +173,6 @@ TEST_F(ModuleResourcesTest, SetSettingsOutOfMemoryKeepsThePreviousSettings) {
   EXPECT_EQ(gi::stats(session.module).passes.front().name, "raw_trace");  // gif traces with raw_trace, then filters
   EXPECT_EQ(gi::stats(session.module).passes.back().name, "composite");
   tools::destroyModuleSession(ctx, session);
-  unload(s);
 }
 
 // Issue 17's budget: the demo's default method (hpsf) at 1080p, otherwise
@@ -200,7 +197,6 @@ TEST_F(ModuleResourcesTest, HpsfAt1080pHoldsAtMost150MB) {
   EXPECT_LE(m->gpu.memory.used, needed + (VkDeviceSize(3) << 20));
   EXPECT_LE(m->gpu.memory.held - m->gpu.memory.used, m->gpu.memory.held / 100);
   gi::destroy(m);
-  unload(s);
 }
 
 // Memory follows the method: raw holds no filter images and no hash map;
@@ -237,7 +233,6 @@ TEST_F(ModuleResourcesTest, OnlyTheActiveMethodsMemoryIsHeld) {
   EXPECT_EQ(session.module->retired.size(), 0u);
   EXPECT_EQ(gi::stats(session.module).memoryUsedBytes, rawBytes);
   tools::destroyModuleSession(ctx, session);
-  unload(s);
 }
 
 // Dynamic resolution: within the maximum size given at create, resize keeps
@@ -275,7 +270,6 @@ TEST_F(ModuleResourcesTest, ResizeWithinTheMaximumKeepsTheHashMapAndTheImages) {
   frames(5, 2);
   EXPECT_GT(gi::stats(session.module).hash.occupied, 0u);
   tools::destroyModuleSession(ctx, session);
-  unload(s);
 }
 
 // Timestamps and labels are optional: without them the frame records no
@@ -312,7 +306,6 @@ TEST_F(ModuleResourcesTest, TimestampsOffRecordsNoQueriesAndTheSameImage) {
   }
   EXPECT_EQ(names[0], names[1]);
   EXPECT_EQ(images[0], images[1]) << "the same seed and inputs give the same image with and without timing";
-  unload(s);
 }
 
 // gi.h's threading contract: modules are independent (each its own function
@@ -378,5 +371,4 @@ TEST_F(ModuleResourcesTest, TwoModulesOnTwoThreadsAtOnce) {
   });
   engine::destroyGBufferPass(ctx, pass);
   engine::destroyGBuffer(ctx, gbuffer);
-  unload(s);
 }

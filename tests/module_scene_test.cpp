@@ -68,8 +68,6 @@ TEST_F(ModuleSceneTest, EmissiveMeshAddedAfterCreateIsLit) {
     tools::destroyModuleSession(ctx, streamed);
     tools::destroyModuleSession(ctx, fresh);
   }
-  unload(dark);
-  unload(lit);
 }
 
 // A bad scene is a named error and the module goes on with the old one.
@@ -90,5 +88,4 @@ TEST_F(ModuleSceneTest, BadSceneIsANamedErrorAndKeepsTheOldOne) {
   tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, 0);
   EXPECT_GT(meanOf(tools::readModuleImages(ctx, session).final), 0.01);
   tools::destroyModuleSession(ctx, session);
-  unload(s);
 }

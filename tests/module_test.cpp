@@ -95,7 +95,6 @@ TEST_F(ModuleTest, CreateRejectsImpossibleValuesWithNamedErrors) {
   bad.maxBounces = 100;
   EXPECT_EQ(gi::setSettings(m, bad).code, gi::ErrorCode::OutOfRange);
   gi::destroy(m);
-  unload(s);
 }
 
 TEST_F(ModuleTest, RawAccumulationConvergesToTheReference) {
@@ -130,7 +129,6 @@ TEST_F(ModuleTest, RawAccumulationConvergesToTheReference) {
   engine::ReferenceImages out = tools::readModuleImages(ctx, session);
   for (uint32_t c = 0; c < 3; ++c) EXPECT_NEAR(meanOf(out.final, c), meanOf(ref.final, c), 0.02 * meanOf(ref.final, c));
   tools::destroyModuleSession(ctx, session);
-  unload(s);
 }
 
 TEST_F(ModuleTest, RayBudgetCapsTheSampleCount) {
@@ -159,7 +157,6 @@ TEST_F(ModuleTest, RayBudgetCapsTheSampleCount) {
   for (uint32_t f = 4; f < 6; ++f) tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, f);
   EXPECT_EQ(gi::stats(session.module).samplesPerPixel, 1u);
   tools::destroyModuleSession(ctx, session);
-  unload(s);
 }
 
 // A settings change restarts the history only where the catalogue says it makes it wrong
@@ -206,7 +203,6 @@ TEST_F(ModuleTest, SettingsChangesKeepTheHistoryUnlessTheyMakeItWrong) {
   ASSERT_FALSE(gi::setSettings(session.module, settings));
   EXPECT_EQ(historyAfter(3), 3u) << "a new method starts over";
   tools::destroyModuleSession(ctx, session);
-  unload(s);
 }
 
 TEST_F(ModuleTest, StatsReportPassesRaysAndMemory) {
@@ -227,7 +223,6 @@ TEST_F(ModuleTest, StatsReportPassesRaysAndMemory) {
   EXPECT_GE(st.memoryBytes, 5u * 16u * 16u * 16u);
   EXPECT_EQ(t.passes.front().name, "gbuffer");
   tools::destroyModuleSession(ctx, session);
-  unload(s);
 }
 
 // Every method and every debug view records cleanly under validation and
@@ -289,7 +284,6 @@ TEST_F(ModuleTest, EveryMethodAndDebugViewRunsAndStaysFinite) {
       ASSERT_TRUE(std::isfinite(v) && v >= 0.0f) << view.name << ": " << v;
   }
   tools::destroyModuleSession(ctx, session);
-  unload(s);
 }
 
 // Mehta et al. Fig. 10: raising μ narrows the filters and raises the sample
@@ -324,7 +318,6 @@ TEST_F(ModuleTest, AafErrorFallsAsMuGrows) {
     EXPECT_GE(spp[i], spp[i - 1]) << "mu step " << i;
   }
   tools::destroyModuleSession(ctx, session);
-  unload(s);
 }
 
 TEST_F(ModuleTest, AmbientOcclusionIsInUnitRangeAndOneOverAnOpenPlane) {
@@ -352,7 +345,6 @@ TEST_F(ModuleTest, AmbientOcclusionIsInUnitRangeAndOneOverAnOpenPlane) {
       EXPECT_LT(mean, 0.9) << "inside the box, walls occlude";
     }
     tools::destroyModuleSession(ctx, session);
-    unload(s);
   }
 }
 
@@ -404,5 +396,4 @@ TEST_F(ModuleTest, NonFiniteGBufferValuesDoNotSpread) {
     }
     tools::destroyModuleSession(ctx, session);
   }
-  unload(s);
 }

@@ -56,7 +56,6 @@ TEST_F(NhpsfTest, FurnaceReachesEveryBounceThroughTheMapAndNeverGainsEnergy) {
     }
     tools::destroyModuleSession(ctx, session);
   }
-  unload(s);
 }
 
 // On the Cornell box against the every-bounce reference: no method's mean
@@ -82,7 +81,6 @@ TEST_F(NhpsfTest, CornellMeanRadianceStaysAtOrBelowTheReference) {
     }
     tools::destroyModuleSession(ctx, session);
   }
-  unload(s);
 }
 
 // The outlier clamp must not eat the light. Conference's four small point
@@ -117,7 +115,6 @@ TEST_F(NhpsfTest, OutlierClampKeepsHeavyTailedLight) {
   // A clamp chasing its own mean loses light window after window once the cells are full.
   EXPECT_GT(window[2], window[1] - 0.02) << "the clamp drifts down over frames";
   tools::destroyModuleSession(ctx, session);
-  unload(s);
 }
 
 // The continued paths live in module memory: gi::invalidate and a resize
@@ -174,7 +171,6 @@ TEST_F(NhpsfTest, ContinuedPathsSurviveInvalidateAndResize) {
   gi::Error bad = gi::resize(session.module, 0, 20);
   EXPECT_EQ(bad.code, gi::ErrorCode::ZeroSize) << bad.message;
   tools::destroyModuleSession(ctx, session);
-  unload(s);
 }
 
 // The light and an object move once, after the cache has settled: with the
@@ -218,5 +214,4 @@ TEST_F(NhpsfTest, StaleRadianceIsDetectedWhenTheLightMoves) {
   EXPECT_GT(resets[1], 0u);
   EXPECT_LT(after[1].back(), after[0].back());
   EXPECT_LT(after[2].back(), after[0].back());
-  unload(s);
 }

@@ -61,7 +61,6 @@ TEST_F(PathFilteringFidelityTest, HpsfFiltersAtTheFirstVertexWithADiffuseLobe) {
   EXPECT_EQ(plasticFound, plastic) << "glossy plastic has a diffuse lobe: it is a filter vertex";
   EXPECT_EQ(metalFound, 0u) << "a pure metal has no diffuse lobe";
   tools::destroyModuleSession(ctx, session);
-  unload(s);
 }
 
 // sspsf follows the same rule: metal pixels keep their own sample (the same
@@ -92,7 +91,6 @@ TEST_F(PathFilteringFidelityTest, SspsfFollowsTheSameFilterVertexRule) {
   ASSERT_GT(metal, 50u);
   EXPECT_EQ(metalKept, metal) << "sspsf filtered a pixel without a diffuse lobe";
   EXPECT_GT(plasticChanged, plastic * 9 / 10) << "sspsf left glossy plastic unfiltered";
-  unload(s);
 }
 
 // continuationDepth counts segments, as pathDepth does: N = 2 continues each
@@ -120,7 +118,6 @@ TEST_F(PathFilteringFidelityTest, AnhpsfContinuationDepthCountsSegments) {
     EXPECT_GT(deepest, float(depth) - 1.0f) << "walks reach " << depth << " segments";
     tools::destroyModuleSession(ctx, session);
   }
-  unload(s);
 }
 
 // nhpsf and anhpsf take one next-event sample per path, like hpsf and raw:
@@ -147,5 +144,4 @@ TEST_F(PathFilteringFidelityTest, NhpsfDirectLightAveragesEverySample) {
     std::printf("%s direct MSE at 1 / 8 spp: %.3g / %.3g\n", gi::methodName(method), error[0], error[1]);
     EXPECT_LT(error[1], error[0] / 4.0) << gi::methodName(method) << ": direct light ignores the extra samples";
   }
-  unload(s);
 }

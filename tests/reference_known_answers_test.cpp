@@ -23,7 +23,6 @@ TEST_F(ReferenceKnownAnswers, FurnaceMatchesGeometricSeriesForEachBounceLimit) {
     // Every pixel, not just the mean, must be near the answer (no bias hiding in corners).
     for (float v : img.final.pixels) ASSERT_NEAR(v, expected, 0.25 * expected) << "B = " << bounces;
   }
-  unload(s);
 }
 
 // Point light (1 W/sr) 1 m above an albedo-0.5 plane: centre radiance = 0.5/π.
@@ -37,7 +36,6 @@ TEST_F(ReferenceKnownAnswers, PointLightOverPlaneCentrePixel) {
     engine::ReferenceImages img = render(s, 33, 33, settings, 4);
     for (uint32_t c = 0; c < 3; ++c) EXPECT_NEAR(img.final.at(16, 16, c), 0.159155, 0.01 * 0.159155);
   }
-  unload(s);
 }
 
 // Direct + indirect add up to the final image, and B = 0 has no indirect light.
@@ -64,5 +62,4 @@ TEST_F(ReferenceKnownAnswers, AovsAreConsistent) {
         indirectSum += b3.indirect.at(x, y, c);
       }
   EXPECT_GT(indirectSum, 0.0);
-  unload(s);
 }

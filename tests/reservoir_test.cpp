@@ -79,8 +79,6 @@ TEST_F(ReservoirTest, ResampledDirectLightKeepsTheExactSumsExpectation) {
     EXPECT_LT(peak, 4.0f * brightest) << name;
     EXPECT_LT(error, 0.4 * treeError) << name;
   }
-  unload(picked);
-  unload(exact);
 }
 
 // Model only what a scene requires: with no more point and spot lights than the tree's cut, NEE's sum is
@@ -106,5 +104,4 @@ TEST_F(ReservoirTest, AScenesExactSumRunsNoReservoirPass) {
   for (const gi::PassTiming& pass : stats.passes) EXPECT_EQ(std::string(pass.name).find("reservoir"), std::string::npos);
   for (const std::string& program : gi::programNames(session.module, on)) EXPECT_NE(program, "gi_reservoirs");
   tools::destroyModuleSession(ctx, session);
-  unload(s);
 }

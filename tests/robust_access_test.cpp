@@ -23,7 +23,7 @@ constexpr uint32_t kSize = 32, kFrames = 6;
 void loadOn(const engine::Context& ctx, const std::string& path, LoadedScene& out) {
   std::string error;
   ASSERT_TRUE(engine::loadSceneForRendering(path, out.scene, error)) << error;
-  engine::createSceneGpu(ctx, out.scene, out.gpu);
+  out.upload(ctx);
 }
 
 }  // namespace
@@ -59,8 +59,8 @@ TEST_F(RobustAccessTest, EveryMethodRendersTheSameBitsOnABoundsCheckedDevice) {
     EXPECT_TRUE(sameBits(a.indirect, b.indirect)) << info.name << ": indirect differs with bounds checks";
     EXPECT_TRUE(sameBits(a.final, b.final)) << info.name << ": composite differs with bounds checks";
   }
-  engine::destroySceneGpu(ctx, plain.gpu);
-  engine::destroySceneGpu(robust, checked.gpu);
+  plain.release();
+  checked.release();
   EXPECT_EQ(robust.validationMessages(), 0u);
   engine::destroyContext(robust);
 }

@@ -128,8 +128,8 @@ TEST_F(SceneApiTest, InstanceMovedThroughUpdateInstancesMatchesTheSceneLoadedInT
     const glm::mat4 pose = glm::translate(glm::mat4(1.0f), glm::vec3(0.15f, 0.0f, 0.1f)) *
                            glm::rotate(glm::mat4(1.0f), 0.4f, glm::vec3(0, 1, 0)) * moved.scene.instances[block].worldFromObject;
     posed.scene.instances[block].worldFromObject = pose;
-    engine::createSceneGpu(ctx, moved.scene, moved.gpu);
-    engine::createSceneGpu(ctx, posed.scene, posed.gpu);
+    moved.upload(ctx);
+    posed.upload(ctx);
     moved.scene.instances[block].worldFromObject = pose;
     engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
       engine::recordSceneTransformUpdate(ctx, cmd, moved.scene, moved.gpu);
@@ -160,9 +160,6 @@ TEST_F(SceneApiTest, InstanceMovedThroughUpdateInstancesMatchesTheSceneLoadedInT
     double moveDiff = 0.0;
     for (size_t i = 0; i < c.final.pixels.size(); ++i) moveDiff += std::fabs(double(c.final.pixels[i]) - b.final.pixels[i]);
     EXPECT_GT(moveDiff / sum, 0.05) << "the pose should change the picture";
-    unload(still);
-    unload(moved);
-    unload(posed);
   }
 }
 
@@ -214,12 +211,12 @@ TEST_F(SceneApiTest, RayQueryScenesBuildNoCpuBvhUnlessAskedForBoth) {
 // scene's own memory, and destroyScene frees every slice.
 TEST_F(SceneApiTest, AnEnginesAllocatorHoldsEveryByteOfTheScene) {
   const std::string path = sharedScene("cornell-box-mcguire/CornellBox-Original.gltf");
+  EngineDeviceMemory engineMemory(ctx);  // outlives the scene it holds
   LoadedScene own, engineOwned;
   ASSERT_NO_FATAL_FAILURE(load(path, own));
   std::string error;
   ASSERT_TRUE(engine::loadSceneForRendering(path, engineOwned.scene, error)) << error;
-  EngineDeviceMemory engineMemory(ctx);
-  engine::createSceneGpu(ctx, engineOwned.scene, engineOwned.gpu, engineMemory.callbacks());
+  engineOwned.upload(ctx, engineMemory.callbacks());
   const gi::vk::MemoryArena& arena = engineOwned.gpu.scene->gpu.memory;
   EXPECT_EQ(arena.allocations, 0u);
   EXPECT_GT(engineMemory.liveBytes, 0u);

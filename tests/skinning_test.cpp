@@ -111,8 +111,8 @@ TEST_F(SkinningTest, AnimatedBarRendersAsTheBarPosedOnTheCpu) {
   engine::markAnimatedInstancesMovable(engine::makeSceneAnimation(animated.scene), animated.scene);
   still.scene = animated.scene;
   ASSERT_NO_FATAL_FAILURE(poseBarOnCpu(still.scene, float(kFrames - 1) / 30.0f));
-  engine::createSceneGpu(ctx, animated.scene, animated.gpu);
-  engine::createSceneGpu(ctx, still.scene, still.gpu);
+  animated.upload(ctx);
+  still.upload(ctx);
   const Rendered a = renderBar(ctx, animated, true), b = renderBar(ctx, still, false);
   const double reference = relativeL1(a.reference.final, b.reference.final);
   std::printf("bar at %.3f s: reference relative L1 %.2e (animated against posed on the CPU)\n", float(kFrames - 1) / 30.0f,
@@ -126,8 +126,6 @@ TEST_F(SkinningTest, AnimatedBarRendersAsTheBarPosedOnTheCpu) {
     EXPECT_LT(errorAnimated, 1.5 * errorStill) << name;
     EXPECT_NEAR(meanAnimated, meanStill, 0.03 * meanStill) << name;
   }
-  unload(still);
-  unload(animated);
 }
 
 // Morph targets (a primitive's "targets", an animation's "weights" channel) are named, not dropped silently.
@@ -167,7 +165,7 @@ TEST_F(SkinningTest, DeformingSurfacesCarryTheirMotion) {
   ASSERT_TRUE(engine::loadSceneForRendering(kBar, s.scene, error)) << error;
   const engine::SceneAnimation animation = engine::makeSceneAnimation(s.scene);
   engine::markAnimatedInstancesMovable(animation, s.scene);
-  engine::createSceneGpu(ctx, s.scene, s.gpu);
+  s.upload(ctx);
   tools::ModuleSession session;
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {kSize, kSize}, gi::Settings{}, session));
   const gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], kSize, kSize, nullptr);
@@ -195,5 +193,4 @@ TEST_F(SkinningTest, DeformingSurfacesCarryTheirMotion) {
   EXPECT_LT(moving, size_t(kSize) * kSize / 10) << "the room stands still";
   EXPECT_LT(largest, 1e-3f) << "a repeated pose has no motion";
   tools::destroyModuleSession(ctx, session);
-  unload(s);
 }

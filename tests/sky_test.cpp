@@ -107,7 +107,6 @@ TEST_F(SkyTest, OpenPlaneUnderAConstantSkyIsAlbedoTimesSky) {
   check(ref, "reference", false);
   for (const gi::MethodInfo& info : gi::methodCatalogue())
     check(methodImage(ctx, s, info.method, 2), info.name, info.method == gi::Method::AafAo);
-  unload(s);
 }
 
 // An equirectangular map: a dim upper sky, a bright patch (a "sun") and
@@ -155,7 +154,6 @@ TEST_F(SkyTest, PlaneUnderASkyMapMatchesTheMapsIntegral) {
       std::printf("%-9s channel %u: %.5f, expected %.5f\n", r.what, c, mean, expected[c]);
       EXPECT_NEAR(mean, expected[c], 0.01 * expected[c]) << r.what << " channel " << c;
     }
-  unload(s);
 }
 
 // Light from the sky through a bounce: a wall behind the plane shades it and
@@ -179,5 +177,4 @@ TEST_F(SkyTest, EveryMethodMatchesTheReferenceWithABounce) {
                 100.0 * (mean / refMean - 1.0));
     EXPECT_NEAR(mean, refMean, 0.05 * refMean) << gi::methodName(m);
   }
-  unload(s);
 }

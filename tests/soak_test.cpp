@@ -60,7 +60,6 @@ TEST_P(SoakTest, TenThousandFramesStayFlat) {
               kFrames, gi::stats(session.module).hash.occupied, steadyOccupancy);
   EXPECT_LT(hostAtEnd, hostAtSteady + (8u << 20)) << "host memory grows";
   tools::destroyModuleSession(ctx, session);
-  unload(s);
 }
 
 INSTANTIATE_TEST_SUITE_P(Cached, SoakTest, ::testing::Values(gi::Method::Hpsf, gi::Method::Anhpsf),

@@ -130,5 +130,4 @@ TEST_F(SpeckleTest, NoSpeckleAfter32StillFramesWhereTheReferenceIsSmooth) {
                 smoothCount, worst);
     EXPECT_EQ(speckles, 0u) << gi::methodName(method);
   }
-  unload(s);
 }

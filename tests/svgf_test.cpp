@@ -146,7 +146,6 @@ TEST_F(SvgfTest, VarianceEstimateMatchesTheCpu) {
     }
   }
   tools::destroyModuleSession(ctx, session);
-  unload(s);
 }
 
 
@@ -194,7 +193,6 @@ TEST_F(SvgfTest, FilteringLowersDirectAndIndirectErrorUnderAPan) {
   const engine::ReferenceImages plain = render(unfilteredDirect, 12);
   EXPECT_EQ(plain.direct.pixels, accumulated.direct.pixels);
   EXPECT_EQ(plain.indirect.pixels, filtered.indirect.pixels);
-  unload(s);
 }
 
 namespace {
@@ -252,5 +250,4 @@ TEST_F(SvgfTest, IterationsLeaveWhatTheyDoNotFilterUntouched) {
     }
     EXPECT_GE(background, size_t(kSize) * kSize / 8) << "the view's top is sky";
   }
-  unload(skyScene);
 }

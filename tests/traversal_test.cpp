@@ -140,13 +140,12 @@ class TraversalTest : public GpuTest {
     std::string error;
     ASSERT_TRUE(engine::loadSceneForRendering(path, s.scene, error)) << error;
     s.scene.bothTraversals = true;
-    engine::createSceneGpu(ctx, s.scene, s.gpu);
+    s.upload(ctx);
   }
   void checkFile(const std::string& path) {
     LoadedScene s;
     ASSERT_NO_FATAL_FAILURE(loadBoth(path, s));
     checkScene(s.scene, s.gpu);
-    unload(s);
   }
 };
 
@@ -169,7 +168,6 @@ TEST_F(TraversalTest, MovedInstancesAgree) {
     if (inst.mesh == boxMesh) inst.worldFromObject = glm::translate(inst.worldFromObject, {-0.1f, 0.05f, 0.0f});
   engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { engine::recordSceneTransformUpdate(ctx, cmd, s.scene, s.gpu); });
   checkScene(s.scene, s.gpu);
-  unload(s);
 }
 
 namespace {
@@ -212,7 +210,7 @@ TEST_F(TraversalTest, DeformedMeshesAgree) {
   const uint32_t boxMesh = s.scene.instances.back().mesh;
   s.scene.meshes[boxMesh].deformable = true;
   s.scene.bothTraversals = true;
-  engine::createSceneGpu(ctx, s.scene, s.gpu);
+  s.upload(ctx);
   const std::vector<glm::vec3> restPositions = s.scene.positions, restNormals = s.scene.normals;
   for (float turns : {0.5f, 1.2f}) {
     SCOPED_TRACE(turns);
@@ -250,7 +248,7 @@ TEST_F(TraversalTest, DeformedMeshesAgree) {
   fresh.scene = s.scene;
   fresh.scene.meshes[boxMesh].deformable = false;
   fresh.scene.bothTraversals = true;
-  engine::createSceneGpu(ctx, fresh.scene, fresh.gpu);
+  fresh.upload(ctx);
   engine::ReferenceSettings settings;
   settings.maxBounces = 2;
   const engine::ReferenceImages refit = render(s, 32, 32, settings, 16), rebuilt = render(fresh, 32, 32, settings, 16);
@@ -262,8 +260,6 @@ TEST_F(TraversalTest, DeformedMeshesAgree) {
   std::printf("twisted box, refit against rebuilt: reference images' relative L1 %.2e\n", difference / sum);
   EXPECT_GT(sum, 0.0);
   EXPECT_LT(difference / sum, 1e-3);
-  unload(fresh);
-  unload(s);
 }
 
 // What gi::updateMeshVertices refuses, by name: a mesh not created deformable, a mesh index past the
@@ -276,7 +272,7 @@ TEST_F(TraversalTest, MeshVertexUpdatesNameWhatIsWrong) {
   ASSERT_NE(boxMesh, otherMesh);
   s.scene.meshes[boxMesh].deformable = true;
   s.scene.bothTraversals = true;
-  engine::createSceneGpu(ctx, s.scene, s.gpu);
+  s.upload(ctx);
   std::vector<glm::vec3> positions = s.scene.positions;
   gi::MeshVertices v;
   v.positions = &positions[0].x;
@@ -291,7 +287,6 @@ TEST_F(TraversalTest, MeshVertexUpdatesNameWhatIsWrong) {
     v.devicePositions.address = 256;
     EXPECT_NE(gi::updateMeshVertices(s.gpu.scene, cmd, boxMesh, v).message.find("both given"), std::string::npos);
   });
-  unload(s);
 }
 
 namespace {
