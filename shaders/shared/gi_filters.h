@@ -17,7 +17,7 @@ GPU_CONST FILTER_BINDING_A = 4;         // FILTER_STACK images: window statistic
 GPU_CONST FILTER_BINDING_TEMP = 5;      // ping-pong image for à-trous and AAF; the guided filter's coefficient view
 GPU_CONST FILTER_BINDING_PARAMS = 6;    // AAF: z_min, z_max (metres), samples, β (metres)
 GPU_CONST FILTER_BINDING_COUNTERS = 7;  // storage buffer: GiCounters (the module's), where the bounds-checked
-                                        // variant counts coordinates outside an image (shaders/bounds.glsl)
+                                        // variant counts coordinates outside an image (shaders/module/bounds.glsl)
 #define FILTER_STACK 8u                 // 32 channels: the 29 window moments of 4-D guidance and RGB input
 #define GIF_MAX_RADIUS 128u             // the box filter holds the r most recent originals of its line (gif.radius's range)
 #define FILTER_GROUP_SIZE 8u            // 8×8 threads for per-pixel passes

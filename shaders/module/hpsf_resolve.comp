@@ -65,6 +65,28 @@ vec3 frameMean(HgAccum a) {
   return vec3(hgFromFixed(a.r, a.count), hgFromFixed(a.g, a.count), hgFromFixed(a.b, a.count)) / pc.radianceScale;
 }
 
+// This frame's samples (a.count > 0) into the aging cell's running means: the mean and the luminance moment
+// over up to `cap` frames, the recent mean (what the map passes on) over `recentCap`, the clamp's tail over
+// HG_TAIL_HISTORY times as many; and the samples behind the mean.
+void blendFrameIntoCell(inout HgCell c, HgAccum a, float cap, float recentCap) {
+  vec3 frameMean = frameMean(a);
+  vec3 frameTail = vec3(hgFromFixed(a.tr, a.count), hgFromFixed(a.tg, a.count), hgFromFixed(a.tb, a.count)) / pc.radianceScale;
+  float frameM2 = hgFromFixed(a.lum2, a.count) / (pc.radianceScale * pc.radianceScale);
+  float w = 1.0 / (min(c.frames, cap - 1.0) + 1.0);
+  float wTail = 1.0 / (min(c.frames, cap * HG_TAIL_HISTORY - 1.0) + 1.0);
+  float wRecent = 1.0 / (min(c.frames, recentCap - 1.0) + 1.0);
+  c.mean = c.frames > 0.0 ? mix(c.mean, frameMean, w) : frameMean;
+  c.recent = c.frames > 0.0 ? mix(c.recent, frameMean, wRecent) : frameMean;
+  c.tail = c.frames > 0.0 ? mix(c.tail, frameTail, wTail) : frameTail;
+  c.lumMoment2 = c.frames > 0.0 ? mix(c.lumMoment2, frameM2, w) : frameM2;
+  c.frames = min(c.frames + 1.0, float(pc.historyCap) * HG_TAIL_HISTORY);
+  // Samples behind the mean: all of them while the mean weighs every frame
+  // equally; once the cap turns it into an exponential average, this
+  // frame's plus the (1 − w) share of the history it keeps.
+  float kept = c.frames <= cap ? 1.0 : 1.0 - w;
+  c.samples = a.count + uint(float(c.samples) * kept + 0.5);
+}
+
 // Aging eviction (SHaRC-style): a running mean capped at historyCap frames;
 // the outlier clamp's tail averaged over HG_TAIL_HISTORY times as many
 // frames; cells untouched for staleFrames are evicted. nhpsf and anhpsf build
@@ -101,22 +123,7 @@ void resolveAging(uint slot, inout uint live, inout uint evicted) {
     HG_AT(hgCells, slot) = c;
   }
   if (a.count > 0u) {
-    vec3 frameMean = frameMean(a);
-    vec3 frameTail = vec3(hgFromFixed(a.tr, a.count), hgFromFixed(a.tg, a.count), hgFromFixed(a.tb, a.count)) / pc.radianceScale;
-    float frameM2 = hgFromFixed(a.lum2, a.count) / (pc.radianceScale * pc.radianceScale);
-    float w = 1.0 / (min(c.frames, cap - 1.0) + 1.0);
-    float wTail = 1.0 / (min(c.frames, cap * HG_TAIL_HISTORY - 1.0) + 1.0);
-    float wRecent = 1.0 / (min(c.frames, recentCap - 1.0) + 1.0);
-    c.mean = c.frames > 0.0 ? mix(c.mean, frameMean, w) : frameMean;
-    c.recent = c.frames > 0.0 ? mix(c.recent, frameMean, wRecent) : frameMean;
-    c.tail = c.frames > 0.0 ? mix(c.tail, frameTail, wTail) : frameTail;
-    c.lumMoment2 = c.frames > 0.0 ? mix(c.lumMoment2, frameM2, w) : frameM2;
-    c.frames = min(c.frames + 1.0, float(pc.historyCap) * HG_TAIL_HISTORY);
-    // Samples behind the mean: all of them while the mean weighs every frame
-    // equally; once the cap turns it into an exponential average, this
-    // frame's plus the (1 − w) share of the history it keeps.
-    float kept = c.frames <= cap ? 1.0 : 1.0 - w;
-    c.samples = a.count + uint(float(c.samples) * kept + 0.5);
+    blendFrameIntoCell(c, a, cap, recentCap);
     c.lastSeen = pc.frameIndex;
     HG_AT(hgCells, slot) = c;
     hgClearAccum(slot);
