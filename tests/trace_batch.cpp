@@ -7,10 +7,12 @@
 #include "trace_batch.comp.compute.h"
 #include "trace_batch.comp.h"
 
-namespace engine {
+namespace oracle {
 
-std::vector<gpu::TraceBatchResult> traceBatch(const Context& ctx, const SceneGpu& scene, uint32_t traversal,
-                                              std::span<const gpu::TraceBatchRay> rays) {
+using namespace engine;  // the engine's resources and programs, which the oracle runs on
+
+std::vector<gpu::TraceBatchResult> traceBatch(const engine::Context& ctx, const engine::SceneGpu& scene,
+                                              uint32_t traversal, std::span<const gpu::TraceBatchRay> rays) {
   std::vector<gpu::TraceBatchResult> results(rays.size());
   if (rays.empty()) return results;
   const Binding bindings[] = {{gpu::TB_BINDING_RAYS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
@@ -25,8 +27,9 @@ std::vector<gpu::TraceBatchResult> traceBatch(const Context& ctx, const SceneGpu
       .buffer(gpu::TB_BINDING_RESULTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, output.buffer)
       .write(ctx.vk);
   VkDescriptorSetLayout layouts[] = {scene.set.layout, set.layout};
-  ComputeProgram program = createComputeProgram(ctx, GI_SCENE_SPIRV(traversal, trace_batch_comp), layouts,
-                                                sizeof(gpu::TraceBatchPush), {TB_GROUP_SIZE, 1}, scene.specialization());
+  ComputeProgram program =
+      createComputeProgram(ctx, GI_SCENE_SPIRV(traversal, trace_batch_comp), layouts, sizeof(gpu::TraceBatchPush),
+                           {TB_GROUP_SIZE, 1}, scene.specialization());
   VkDescriptorSet sets[] = {scene.set.set, set.set};
   submitAndWait(ctx, [&](VkCommandBuffer cmd) {
     dispatch(ctx, cmd, program, sets, {uint32_t(rays.size()), 1}, gpu::TraceBatchPush{uint32_t(rays.size()), 0, 0, 0});
@@ -41,4 +44,4 @@ std::vector<gpu::TraceBatchResult> traceBatch(const Context& ctx, const SceneGpu
   return results;
 }
 
-}  // namespace engine
+}  // namespace oracle

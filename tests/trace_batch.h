@@ -1,6 +1,6 @@
-// Traces a list of rays on the GPU with a chosen traversal backend
-// (trace_batch.comp): closest hit and visibility per ray. For the traversal
-// tests and tools that need hits, not images.
+// The traversal tests' GPU oracle: traces a list of rays with a chosen traversal backend
+// (shaders/tests/trace_batch.comp): closest hit and visibility per ray, for tests that need hits, not
+// images (the CPU oracle is engine/cpu_tracer.h, Embree).
 #pragma once
 #include <span>
 #include <vector>
@@ -8,10 +8,10 @@
 #include "scene_gpu.h"
 #include "shared/trace_batch.h"
 
-namespace engine {
+namespace oracle {
 
 // `traversal` is gpu::TRAVERSAL_*; ray queries need ctx.rayQuery. Waits.
-std::vector<gpu::TraceBatchResult> traceBatch(const Context& ctx, const SceneGpu& scene, uint32_t traversal,
-                                              std::span<const gpu::TraceBatchRay> rays);
+std::vector<gpu::TraceBatchResult> traceBatch(const engine::Context& ctx, const engine::SceneGpu& scene,
+                                              uint32_t traversal, std::span<const gpu::TraceBatchRay> rays);
 
-}  // namespace engine
+}  // namespace oracle
