@@ -92,7 +92,8 @@ void animateScene(const SceneAnimation& a, float seconds, Scene& scene) {
     light.direction = glm::mat3(glm::rotate(glm::mat4(1.0f), phase, glm::vec3(0, 1, 0))) * a.lightDirectionBase;
   }
   if (a.lightInstance >= 0)
-    scene.instances[size_t(a.lightInstance)].worldFromObject = glm::translate(glm::mat4(1.0f), offset) * a.lightInstanceBase;
+    scene.instances[size_t(a.lightInstance)].worldFromObject =
+        glm::translate(glm::mat4(1.0f), offset) * a.lightInstanceBase;
   // The object turns about its vertical axis, swinging ±45° back and forth.
   if (a.objectInstance >= 0) {
     float angle = 0.785f * std::sin(phase);

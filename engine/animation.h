@@ -14,10 +14,10 @@
 namespace engine {
 
 struct SceneAnimation {
-  int punctualLight = -1;   // index into scene.lights, or -1
-  int lightInstance = -1;   // index into scene.instances (emissive), or -1
-  int objectInstance = -1;  // index into scene.instances, or -1
-  glm::vec3 lightBase{0.0f};     // punctual light position at t = 0
+  int punctualLight = -1;                           // index into scene.lights, or -1
+  int lightInstance = -1;                           // index into scene.instances (emissive), or -1
+  int objectInstance = -1;                          // index into scene.instances, or -1
+  glm::vec3 lightBase{0.0f};                        // punctual light position at t = 0
   glm::vec3 lightDirectionBase{0.0f, 0.0f, -1.0f};  // its direction at t = 0 (what moves a directional light)
   glm::mat4 lightInstanceBase{1.0f}, objectBase{1.0f};
   glm::vec3 objectCenter{0.0f};  // world-space centre of the object's bounds at t = 0

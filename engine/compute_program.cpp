@@ -31,8 +31,9 @@ ComputeProgram createComputeProgram(const Context& ctx, std::span<const uint32_t
 
 void destroyComputeProgram(const Context& ctx, ComputeProgram& p) { gi::vk::destroyComputeProgram(ctx.vk, p); }
 
-void dispatch(const Context& ctx, VkCommandBuffer cmd, const ComputeProgram& program, std::span<const VkDescriptorSet> sets,
-              glm::uvec2 threads, const void* pushConstants, uint32_t pushConstantSize) {
+void dispatch(const Context& ctx, VkCommandBuffer cmd, const ComputeProgram& program,
+              std::span<const VkDescriptorSet> sets, glm::uvec2 threads, const void* pushConstants,
+              uint32_t pushConstantSize) {
   if (pushConstantSize != program.pushConstantSize) {
     std::fprintf(stderr, "dispatch: push constants are %u bytes but the program expects %u\n", pushConstantSize,
                  program.pushConstantSize);

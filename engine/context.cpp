@@ -88,7 +88,8 @@ VkResult createEngineDevice(const Context& ctx, bool swapchain, VkDevice& out) {
   vkGetPhysicalDeviceFeatures2(ctx.physicalDevice, &supported);
   // Enable exactly what we use.
   VkPhysicalDeviceRayQueryFeaturesKHR rayQueryOn{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR};
-  VkPhysicalDeviceAccelerationStructureFeaturesKHR accelOn{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
+  VkPhysicalDeviceAccelerationStructureFeaturesKHR accelOn{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
   accelOn.pNext = &rayQueryOn;
   VkPhysicalDeviceVulkan13Features f13On{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
   f13On.dynamicRendering = VK_TRUE;
@@ -100,11 +101,13 @@ VkResult createEngineDevice(const Context& ctx, bool swapchain, VkDevice& out) {
   VkPhysicalDeviceFeatures2 f2On{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
   f2On.features.shaderStorageImageReadWithoutFormat = supported.features.shaderStorageImageReadWithoutFormat;
   f2On.pNext = &f12On;
-  if (gi::enableRequiredFeatures(f2On, ctx.rayQuery)) return VK_ERROR_FEATURE_NOT_PRESENT;  // a struct the chain lacks: a bug
+  if (gi::enableRequiredFeatures(f2On, ctx.rayQuery))
+    return VK_ERROR_FEATURE_NOT_PRESENT;  // a struct the chain lacks: a bug
   // Bounds-checked access (ContextDesc::robustAccess): robustness2 where the device has it.
   VkPhysicalDeviceRobustness2FeaturesEXT robust2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ROBUSTNESS_2_FEATURES_EXT};
   const std::vector<std::string> have = deviceExtensions(ctx.physicalDevice);
-  const bool robustness2 = ctx.robustAccess && std::find(have.begin(), have.end(), VK_EXT_ROBUSTNESS_2_EXTENSION_NAME) != have.end();
+  const bool robustness2 =
+      ctx.robustAccess && std::find(have.begin(), have.end(), VK_EXT_ROBUSTNESS_2_EXTENSION_NAME) != have.end();
   if (ctx.robustAccess) {
     f2On.features.robustBufferAccess = supported.features.robustBufferAccess;
     if (robustness2) {
@@ -143,7 +146,9 @@ namespace {
 // The instance, with the validation layer and its message counter when asked for.
 bool createInstance(const ContextDesc& desc, Context& ctx, std::string& error) {
   if (volkInitialize() != VK_SUCCESS) {
-    error = "No Vulkan loader was found (libvulkan.so.1); install libvulkan1 and a Vulkan driver such as mesa-vulkan-drivers.";
+    error =
+        "No Vulkan loader was found (libvulkan.so.1); install libvulkan1 and a Vulkan driver such as "
+        "mesa-vulkan-drivers.";
     return false;
   }
   if (volkGetInstanceVersion() < VK_API_VERSION_1_3) {
@@ -156,7 +161,9 @@ bool createInstance(const ContextDesc& desc, Context& ctx, std::string& error) {
   std::vector<const char*> extensions = desc.instanceExtensions;
   if (desc.validation) {
     if (!hasLayer("VK_LAYER_KHRONOS_validation")) {
-      error = "Validation was requested but VK_LAYER_KHRONOS_validation is not installed (apt-get install vulkan-validationlayers).";
+      error =
+          "Validation was requested but VK_LAYER_KHRONOS_validation is not installed (apt-get install "
+          "vulkan-validationlayers).";
       return false;
     }
     layers.push_back("VK_LAYER_KHRONOS_validation");
@@ -246,7 +253,8 @@ bool pickPhysicalDevice(const ContextDesc& desc, Context& ctx, std::string& erro
       missing = VK_KHR_SWAPCHAIN_EXTENSION_NAME;
     // A usable device always beats an unusable one; among equals, the better type wins.
     bool better = best == VK_NULL_HANDLE || (missing.empty() && !bestMissing.empty()) ||
-                  (missing.empty() == bestMissing.empty() && deviceTypeRank(props.deviceType) < deviceTypeRank(bestProps.deviceType));
+                  (missing.empty() == bestMissing.empty() &&
+                   deviceTypeRank(props.deviceType) < deviceTypeRank(bestProps.deviceType));
     if (better) {
       best = d;
       bestProps = props;
@@ -254,7 +262,8 @@ bool pickPhysicalDevice(const ContextDesc& desc, Context& ctx, std::string& erro
     }
   }
   if (best == VK_NULL_HANDLE) {
-    error = filter.empty() ? "No Vulkan device was found." : "No Vulkan device matches the name filter '" + filter + "'.";
+    error =
+        filter.empty() ? "No Vulkan device was found." : "No Vulkan device matches the name filter '" + filter + "'.";
     return false;
   }
   if (!bestMissing.empty()) {
@@ -275,7 +284,7 @@ bool pickPhysicalDevice(const ContextDesc& desc, Context& ctx, std::string& erro
   ctx.rayQuery = traversal == Traversal::RayQuery || (traversal == Traversal::Auto && deviceHasRayQuery);
   if (traversal == Traversal::Auto)
     traversal = deviceHasRayQuery && bestProps.deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU ? Traversal::RayQuery
-                                                                                          : Traversal::Compute;
+                                                                                         : Traversal::Compute;
   ctx.traversal = traversal;
   ctx.robustAccess = desc.robustAccess;
   if (const char* env = std::getenv("GI_ROBUST")) ctx.robustAccess = std::string(env) == "1";
@@ -291,7 +300,8 @@ bool checkDeviceFeatures(const Context& ctx, std::string& error) {
   const VkPhysicalDevice best = ctx.physicalDevice;
   const VkPhysicalDeviceProperties& bestProps = ctx.properties;
   VkPhysicalDeviceRayQueryFeaturesKHR rayQuery{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR};
-  VkPhysicalDeviceAccelerationStructureFeaturesKHR accel{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
+  VkPhysicalDeviceAccelerationStructureFeaturesKHR accel{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
   accel.pNext = &rayQuery;
   VkPhysicalDeviceVulkan13Features f13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
   f13.pNext = ctx.rayQuery ? &accel : nullptr;
@@ -356,7 +366,8 @@ bool createContext(const ContextDesc& desc, Context& ctx, std::string& error) {
   }
   volkLoadDevice(ctx.device);
   vkGetDeviceQueue(ctx.device, ctx.queueFamily, 0, &ctx.queue);
-  if (gi::vk::Status s = gi::vk::openDevice(vkGetInstanceProcAddr, ctx.instance, ctx.physicalDevice, ctx.device, ctx.vk)) {
+  if (gi::vk::Status s =
+          gi::vk::openDevice(vkGetInstanceProcAddr, ctx.instance, ctx.physicalDevice, ctx.device, ctx.vk)) {
     error = std::string("the Vulkan loader returned no ") + s.call + " for '" + ctx.properties.deviceName + "'";
     return false;
   }

@@ -19,7 +19,7 @@ namespace engine {
 // measured 3× faster), otherwise ray queries. Compute creates the device
 // without the ray-tracing extensions, as on a GPU that has none.
 enum class Traversal { Auto, RayQuery, Compute };
-const char* traversalName(Traversal t);            // "auto", "rayquery", "compute"
+const char* traversalName(Traversal t);  // "auto", "rayquery", "compute"
 bool parseTraversal(const std::string& name, Traversal& out);
 
 struct ContextDesc {
@@ -54,13 +54,13 @@ struct Context {
   VkPhysicalDeviceProperties properties{};
   VkPhysicalDeviceMemoryProperties memoryProperties{};
   VkPhysicalDeviceAccelerationStructurePropertiesKHR accelerationProperties{};
-  gi::vk::Device vk;                               // the device through the GI module's Vulkan layer (its passes use it)
+  gi::vk::Device vk;                              // the device through the GI module's Vulkan layer (its passes use it)
   std::unique_ptr<ValidationCounter> validation;  // null when validation is off
-  bool debugUtils = false;                         // debug labels available
-  bool rayQuery = false;                           // ray-query and acceleration-structure extensions enabled
-  bool robustAccess = false;                       // ContextDesc::robustAccess, as the device was made
-  Traversal traversal = Traversal::Compute;        // the backend chosen: RayQuery or Compute, never Auto
-  uint32_t traversalId() const;                    // gpu::TRAVERSAL_* of `traversal`
+  bool debugUtils = false;                        // debug labels available
+  bool rayQuery = false;                          // ray-query and acceleration-structure extensions enabled
+  bool robustAccess = false;                      // ContextDesc::robustAccess, as the device was made
+  Traversal traversal = Traversal::Compute;       // the backend chosen: RayQuery or Compute, never Auto
+  uint32_t traversalId() const;                   // gpu::TRAVERSAL_* of `traversal`
 
   uint32_t validationMessages() const { return validation ? validation->errors + validation->warnings : 0; }
 };

@@ -114,7 +114,8 @@ bool cpuTraceVisible(const CpuTracer& tracer, glm::vec3 origin, glm::vec3 direct
 namespace {
 
 glm::vec3 cosineSample(glm::vec3 n, float u1, float u2) {
-  glm::vec3 t = std::abs(n.x) > 0.5f ? glm::normalize(glm::cross(n, glm::vec3(0, 1, 0))) : glm::normalize(glm::cross(n, glm::vec3(1, 0, 0)));
+  glm::vec3 t = std::abs(n.x) > 0.5f ? glm::normalize(glm::cross(n, glm::vec3(0, 1, 0)))
+                                     : glm::normalize(glm::cross(n, glm::vec3(1, 0, 0)));
   glm::vec3 b = glm::cross(n, t);
   float r = std::sqrt(u1), phi = 6.2831853f * u2;
   return glm::normalize(r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(std::max(0.0f, 1.0f - u1)) * n);

@@ -25,7 +25,7 @@ CpuTracerPtr createCpuTracer(const Scene& scene);
 struct CpuHit {
   float t = -1.0f;  // < 0: miss
   uint32_t instance = 0, geometry = 0, triangle = 0;
-  glm::vec2 barycentrics{0.0f};  // weights of v1 and v2, as ray queries report them
+  glm::vec2 barycentrics{0.0f};     // weights of v1 and v2, as ray queries report them
   glm::vec3 geometricNormal{0.0f};  // world space, unnormalised
 };
 

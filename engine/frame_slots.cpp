@@ -39,8 +39,8 @@ VkCommandBuffer beginFrameSlot(const Context& ctx, FrameSlots& f, uint32_t frame
   return f.cmd[slot];
 }
 
-void submitFrameSlot(const Context& ctx, FrameSlots& f, uint32_t frame, VkSemaphore wait, VkPipelineStageFlags waitStage,
-                     VkSemaphore signal) {
+void submitFrameSlot(const Context& ctx, FrameSlots& f, uint32_t frame, VkSemaphore wait,
+                     VkPipelineStageFlags waitStage, VkSemaphore signal) {
   const uint32_t slot = frame % f.count;
   VK_CHECK(vkEndCommandBuffer(f.cmd[slot]));
   VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};

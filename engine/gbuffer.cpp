@@ -19,10 +19,10 @@ GBuffer createGBuffer(const Context& ctx, VkExtent2D extent) {
   GBuffer g;
   g.extent = g.renderExtent = extent;
   for (uint32_t i = 0; i < gpu::GBUFFER_COLOR_COUNT; ++i)
-    g.color[i] = createImage(ctx, extent, kGBufferFormats[i],
-                             VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT |
-                                 VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT |
-                                 VK_IMAGE_USAGE_SAMPLED_BIT);
+    g.color[i] =
+        createImage(ctx, extent, kGBufferFormats[i],
+                    VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
+                        VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_SAMPLED_BIT);
   g.depth = createImage(ctx, extent, kGBufferDepthFormat,
                         VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
   // Start in the post-pass layout so recordGBuffer always transitions from GENERAL.
@@ -47,9 +47,12 @@ GBufferPass createGBufferPass(const Context& ctx, const SceneGpu& scene) {
   GBufferPass p;
   const Binding cameraBinding[] = {{gpu::GBUFFER_BINDING_CAMERA, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER}};
   p.cameraSet = createDescriptorSet(ctx, cameraBinding);
-  p.cameraBuffer = createBuffer(ctx, sizeof(gpu::GpuCamera),
-                                VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryKind::DeviceLocal);
-  DescriptorWriter(p.cameraSet.set).buffer(gpu::GBUFFER_BINDING_CAMERA, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, p.cameraBuffer.buffer).write(ctx.vk);
+  p.cameraBuffer =
+      createBuffer(ctx, sizeof(gpu::GpuCamera), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                   MemoryKind::DeviceLocal);
+  DescriptorWriter(p.cameraSet.set)
+      .buffer(gpu::GBUFFER_BINDING_CAMERA, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, p.cameraBuffer.buffer)
+      .write(ctx.vk);
 
   VkDescriptorSetLayout sets[] = {scene.set.layout, p.cameraSet.layout};
   VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(gpu::GBufferPush)};
@@ -100,8 +103,8 @@ void recordGBuffer(const Context& ctx, VkCommandBuffer cmd, GBufferPass& pass, c
   imageBarrier(cmd, g.depth.image, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
                VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_TRANSFER_BIT,
                VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_TRANSFER_READ_BIT,
-               VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT, VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT |
-                                                              VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT,
+               VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT,
+               VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT,
                VK_IMAGE_ASPECT_DEPTH_BIT);
 
   VkRenderingAttachmentInfo colors[gpu::GBUFFER_COLOR_COUNT]{};
@@ -137,16 +140,18 @@ void recordGBuffer(const Context& ctx, VkCommandBuffer cmd, GBufferPass& pass, c
     const Mesh& mesh = scene.meshes[scene.instances[i].mesh];
     for (uint32_t p = mesh.firstPrimitive; p < mesh.firstPrimitive + mesh.primitiveCount; ++p) {
       gpu::GBufferPush push{i, p};
-      vkCmdPushConstants(cmd, pass.layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(push), &push);
+      vkCmdPushConstants(cmd, pass.layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(push),
+                         &push);
       if (scene.primitives[p].indexCount > 0) vkCmdDraw(cmd, scene.primitives[p].indexCount, 1, 0, 0);
     }
   }
   vkCmdEndRendering(cmd);
   for (const Image& img : g.color)
-    imageBarrier(cmd, img.image, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
-                 VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
-                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_TRANSFER_BIT,
-                 VK_ACCESS_2_SHADER_SAMPLED_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
+    imageBarrier(
+        cmd, img.image, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
+        VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
+        VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_TRANSFER_BIT,
+        VK_ACCESS_2_SHADER_SAMPLED_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
   if (timer) endPass(ctx, cmd, *timer);
 }
 

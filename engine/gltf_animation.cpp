@@ -58,9 +58,12 @@ std::vector<glm::mat4> worldTransformsAt(const SceneAnimations& a, float seconds
     for (const AnimationChannel& c : anim.channels) {
       const glm::vec4 v = sample(anim.samplers[c.sampler], t, c.path == AnimationChannel::Path::Rotation);
       SceneNode& node = posed[size_t(c.node)];
-      if (c.path == AnimationChannel::Path::Translation) node.translation = glm::vec3(v);
-      else if (c.path == AnimationChannel::Path::Scale) node.scale = glm::vec3(v);
-      else node.rotation = glm::normalize(glm::quat(v.w, v.x, v.y, v.z));
+      if (c.path == AnimationChannel::Path::Translation)
+        node.translation = glm::vec3(v);
+      else if (c.path == AnimationChannel::Path::Scale)
+        node.scale = glm::vec3(v);
+      else
+        node.rotation = glm::normalize(glm::quat(v.w, v.x, v.y, v.z));
     }
   }
   std::vector<glm::mat4> world(a.nodes.size());
@@ -98,7 +101,8 @@ void poseGltfAnimations(Scene& scene, float seconds) {
   }
   a.jointMatrices.clear();
   for (const Skin& skin : a.skins)
-    for (size_t j = 0; j < skin.joints.size(); ++j) a.jointMatrices.push_back(world[size_t(skin.joints[j])] * skin.inverseBind[j]);
+    for (size_t j = 0; j < skin.joints.size(); ++j)
+      a.jointMatrices.push_back(world[size_t(skin.joints[j])] * skin.inverseBind[j]);
 }
 
 void markGltfAnimatedInstancesMovable(Scene& scene) {
@@ -122,7 +126,8 @@ void skinOnCpu(Scene& scene) {
     const uint32_t first = firstJoint(a, sm.skin);
     const Mesh& mesh = scene.meshes[sm.mesh];
     for (uint32_t p = mesh.firstPrimitive; p < mesh.firstPrimitive + mesh.primitiveCount; ++p)
-      for (uint32_t v = scene.primitives[p].vertexOffset; v < scene.primitives[p].vertexOffset + scene.primitives[p].vertexCount; ++v) {
+      for (uint32_t v = scene.primitives[p].vertexOffset;
+           v < scene.primitives[p].vertexOffset + scene.primitives[p].vertexCount; ++v) {
         glm::mat4 m(0.0f);
         for (int k = 0; k < 4; ++k) m += a.vertexWeights[v][k] * joints[first + a.vertexJoints[v][k]];
         scene.positions[v] = glm::vec3(m * glm::vec4(a.bindPositions[v], 1.0f));

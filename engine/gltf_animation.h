@@ -24,18 +24,18 @@ struct SceneNode {
   glm::vec3 translation{0.0f};
   glm::quat rotation{1.0f, 0.0f, 0.0f, 0.0f};
   glm::vec3 scale{1.0f};
-  bool hasMatrix = false;       // a node given by `matrix` (never animated: glTF forbids both)
+  bool hasMatrix = false;  // a node given by `matrix` (never animated: glTF forbids both)
   glm::mat4 matrix{1.0f};
-  std::vector<int> instances;   // scene.instances this node placed (not skinned ones: those stay at identity)
-  std::vector<int> lights;      // scene.lights it placed
+  std::vector<int> instances;  // scene.instances this node placed (not skinned ones: those stay at identity)
+  std::vector<int> lights;     // scene.lights it placed
 };
 
 struct AnimationSampler {
   enum class Interpolation { Linear, Step, CubicSpline };
   Interpolation interpolation = Interpolation::Linear;
-  std::vector<float> times;        // seconds, increasing
-  std::vector<glm::vec4> values;   // xyz (translation, scale) or xyzw (rotation); CUBICSPLINE: in-tangent, value,
-                                   // out-tangent per key
+  std::vector<float> times;       // seconds, increasing
+  std::vector<glm::vec4> values;  // xyz (translation, scale) or xyzw (rotation); CUBICSPLINE: in-tangent, value,
+                                  // out-tangent per key
 };
 
 struct AnimationChannel {
@@ -53,8 +53,8 @@ struct Animation {
 };
 
 struct Skin {
-  std::vector<int> joints;              // nodes
-  std::vector<glm::mat4> inverseBind;   // per joint
+  std::vector<int> joints;             // nodes
+  std::vector<glm::mat4> inverseBind;  // per joint
 };
 
 // A mesh the loader made for one skinned node: its vertices are posed by `skin`.
@@ -64,14 +64,14 @@ struct SkinnedMesh {
 };
 
 struct SceneAnimations {
-  std::vector<SceneNode> nodes;                 // the file's nodes, in its order
+  std::vector<SceneNode> nodes;  // the file's nodes, in its order
   std::vector<Animation> animations;
   std::vector<Skin> skins;
   std::vector<SkinnedMesh> skinnedMeshes;
-  std::vector<glm::uvec4> vertexJoints;         // per scene vertex (zero for vertices no skin poses)
+  std::vector<glm::uvec4> vertexJoints;  // per scene vertex (zero for vertices no skin poses)
   std::vector<glm::vec4> vertexWeights;
   std::vector<glm::vec3> bindPositions, bindNormals;  // per scene vertex: the file's, before any pose
-  std::vector<glm::mat4> jointMatrices;         // the current pose's, every skin's in turn (poseGltfAnimations)
+  std::vector<glm::mat4> jointMatrices;               // the current pose's, every skin's in turn (poseGltfAnimations)
   bool playable() const { return !animations.empty(); }
 };
 

@@ -62,10 +62,10 @@ AccessorView viewAccessor(const tinygltf::Model& model, int index, const std::st
   const tinygltf::Accessor& acc = model.accessors[index];
   std::string name = what + " (accessor " + std::to_string(index) + ")";
   if (acc.sparse.isSparse) fail(name + " is sparse, which is not supported");
-  if (acc.bufferView < 0 || size_t(acc.bufferView) >= model.bufferViews.size())
-    fail(name + " has no valid bufferView");
+  if (acc.bufferView < 0 || size_t(acc.bufferView) >= model.bufferViews.size()) fail(name + " has no valid bufferView");
   const tinygltf::BufferView& bv = model.bufferViews[acc.bufferView];
-  if (bv.buffer < 0 || size_t(bv.buffer) >= model.buffers.size()) fail(name + " uses a bufferView with no valid buffer");
+  if (bv.buffer < 0 || size_t(bv.buffer) >= model.buffers.size())
+    fail(name + " uses a bufferView with no valid buffer");
   const tinygltf::Buffer& buf = model.buffers[bv.buffer];
   size_t csize = componentSize(acc.componentType);
   int comps = componentCount(acc.type);
@@ -74,7 +74,8 @@ AccessorView viewAccessor(const tinygltf::Model& model, int index, const std::st
   size_t stride = bv.byteStride ? bv.byteStride : elementSize;
   if (stride < elementSize) fail(name + " has a byteStride smaller than its element");
   if (bv.byteOffset > buf.data.size() || bv.byteLength > buf.data.size() - bv.byteOffset)
-    fail(name + " uses a bufferView that runs past the end of its buffer (" + std::to_string(buf.data.size()) + " bytes)");
+    fail(name + " uses a bufferView that runs past the end of its buffer (" + std::to_string(buf.data.size()) +
+         " bytes)");
   if (acc.count == 0) fail(name + " has no elements");
   size_t needed = acc.byteOffset + stride * (acc.count - 1) + elementSize;
   if (acc.byteOffset > bv.byteLength || needed > bv.byteLength || acc.count > (SIZE_MAX / stride))
@@ -165,14 +166,15 @@ struct Loader {
       const std::string what = "skin " + std::to_string(k) + " ('" + in.name + "')";
       Skin out;
       for (int j : in.joints) {
-        if (j < 0 || size_t(j) >= model.nodes.size()) fail(what + " has joint node " + std::to_string(j) + ", which does not exist");
+        if (j < 0 || size_t(j) >= model.nodes.size())
+          fail(what + " has joint node " + std::to_string(j) + ", which does not exist");
         out.joints.push_back(j);
       }
       out.inverseBind.assign(out.joints.size(), glm::mat4(1.0f));
       if (in.inverseBindMatrices >= 0) {
         AccessorView m = viewAccessor(model, in.inverseBindMatrices, what + " inverseBindMatrices");
-        if (m.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT || model.accessors[size_t(in.inverseBindMatrices)].type != TINYGLTF_TYPE_MAT4 ||
-            m.count < out.joints.size())
+        if (m.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT ||
+            model.accessors[size_t(in.inverseBindMatrices)].type != TINYGLTF_TYPE_MAT4 || m.count < out.joints.size())
           fail(what + " inverseBindMatrices must be one MAT4 of FLOAT per joint");
         for (size_t j = 0; j < out.joints.size(); ++j)
           for (int c = 0; c < 16; ++c) {
@@ -187,7 +189,8 @@ struct Loader {
     for (const SkinnedMesh& sm : scene.gltf.skinnedMeshes) {
       const Mesh& mesh = scene.meshes[sm.mesh];
       for (uint32_t p = mesh.firstPrimitive; p < mesh.firstPrimitive + mesh.primitiveCount; ++p)
-        for (uint32_t v = scene.primitives[p].vertexOffset; v < scene.primitives[p].vertexOffset + scene.primitives[p].vertexCount; ++v) {
+        for (uint32_t v = scene.primitives[p].vertexOffset;
+             v < scene.primitives[p].vertexOffset + scene.primitives[p].vertexCount; ++v) {
           if (scene.gltf.vertexWeights[v] == glm::vec4(0.0f))
             fail("mesh '" + mesh.name + "' is skinned but its primitive " + std::to_string(p - mesh.firstPrimitive) +
                  " has no JOINTS_0/WEIGHTS_0");
@@ -211,13 +214,18 @@ struct Loader {
         const tinygltf::AnimationSampler& s = in.samplers[i];
         const std::string where = what + " sampler " + std::to_string(i);
         AnimationSampler sampler;
-        if (s.interpolation == "STEP") sampler.interpolation = AnimationSampler::Interpolation::Step;
-        else if (s.interpolation == "CUBICSPLINE") sampler.interpolation = AnimationSampler::Interpolation::CubicSpline;
-        else if (s.interpolation.empty() || s.interpolation == "LINEAR") sampler.interpolation = AnimationSampler::Interpolation::Linear;
-        else fail(where + " has interpolation '" + s.interpolation + "' (LINEAR, STEP or CUBICSPLINE)");
+        if (s.interpolation == "STEP")
+          sampler.interpolation = AnimationSampler::Interpolation::Step;
+        else if (s.interpolation == "CUBICSPLINE")
+          sampler.interpolation = AnimationSampler::Interpolation::CubicSpline;
+        else if (s.interpolation.empty() || s.interpolation == "LINEAR")
+          sampler.interpolation = AnimationSampler::Interpolation::Linear;
+        else
+          fail(where + " has interpolation '" + s.interpolation + "' (LINEAR, STEP or CUBICSPLINE)");
         AccessorView times = viewAccessor(model, s.input, where + " input");
         AccessorView values = viewAccessor(model, s.output, where + " output");
-        if (times.components != 1 || times.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT) fail(where + " input must be SCALAR FLOAT");
+        if (times.components != 1 || times.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
+          fail(where + " input must be SCALAR FLOAT");
         for (size_t t = 0; t < times.count; ++t) {
           const float time = readComponent(times, t, 0);
           if (!std::isfinite(time) || time < 0.0f || (t > 0 && time < sampler.times.back()))
@@ -229,7 +237,8 @@ struct Loader {
         for (size_t v = 0; v < perKey * times.count; ++v) {
           glm::vec4 value(0.0f);
           for (int c = 0; c < std::min(values.components, 4); ++c) value[c] = readComponent(values, v, c);
-          if (!std::isfinite(value.x + value.y + value.z + value.w)) fail(where + " output value " + std::to_string(v) + " is not finite");
+          if (!std::isfinite(value.x + value.y + value.z + value.w))
+            fail(where + " output value " + std::to_string(v) + " is not finite");
           sampler.values.push_back(value);
         }
         out.seconds = std::max(out.seconds, sampler.times.back());
@@ -238,15 +247,20 @@ struct Loader {
       for (size_t c = 0; c < in.channels.size(); ++c) {
         const tinygltf::AnimationChannel& ch = in.channels[c];
         const std::string where = what + " channel " + std::to_string(c);
-        if (ch.sampler < 0 || size_t(ch.sampler) >= out.samplers.size()) fail(where + " refers to a sampler that does not exist");
+        if (ch.sampler < 0 || size_t(ch.sampler) >= out.samplers.size())
+          fail(where + " refers to a sampler that does not exist");
         if (ch.target_node < 0) continue;  // no target: glTF says ignore it
-        if (size_t(ch.target_node) >= model.nodes.size()) fail(where + " targets node " + std::to_string(ch.target_node) + ", which does not exist");
+        if (size_t(ch.target_node) >= model.nodes.size())
+          fail(where + " targets node " + std::to_string(ch.target_node) + ", which does not exist");
         AnimationChannel channel;
         channel.node = ch.target_node;
         channel.sampler = ch.sampler;
-        if (ch.target_path == "translation") channel.path = AnimationChannel::Path::Translation;
-        else if (ch.target_path == "rotation") channel.path = AnimationChannel::Path::Rotation;
-        else if (ch.target_path == "scale") channel.path = AnimationChannel::Path::Scale;
+        if (ch.target_path == "translation")
+          channel.path = AnimationChannel::Path::Translation;
+        else if (ch.target_path == "rotation")
+          channel.path = AnimationChannel::Path::Rotation;
+        else if (ch.target_path == "scale")
+          channel.path = AnimationChannel::Path::Scale;
         else {
           std::fprintf(stderr, "%s: warning: %s animates '%s' (morph target weights), which is not played\n",
                        scene.sourcePath.c_str(), where.c_str(), ch.target_path.c_str());
@@ -272,7 +286,8 @@ struct Loader {
     if (img.image.empty() || img.width <= 0 || img.height <= 0)
       fail("image " + std::to_string(image) + " ('" + img.uri + "') could not be decoded");
     if (img.bits != 8 && img.bits != 16) fail("image " + std::to_string(image) + " has unsupported bit depth");
-    if (img.component < 1 || img.component > 4) fail("image " + std::to_string(image) + " has an unsupported channel count");
+    if (img.component < 1 || img.component > 4)
+      fail("image " + std::to_string(image) + " has an unsupported channel count");
     size_t expected = size_t(img.width) * img.height * img.component * (img.bits / 8);
     if (img.image.size() < expected) fail("image " + std::to_string(image) + " holds fewer texels than its size says");
     Texture tex;
@@ -322,11 +337,14 @@ struct Loader {
       out.baseColor = glm::clamp(out.baseColor, 0.0f, 1.0f);
       out.metallic = glm::clamp(out.metallic, 0.0f, 1.0f);
       out.roughness = glm::clamp(out.roughness, 0.0f, 1.0f);
-      if (m.alphaMode == "MASK") out.alphaMode = AlphaMode::Mask;
-      else if (m.alphaMode == "BLEND") out.alphaMode = AlphaMode::Blend;
+      if (m.alphaMode == "MASK")
+        out.alphaMode = AlphaMode::Mask;
+      else if (m.alphaMode == "BLEND")
+        out.alphaMode = AlphaMode::Blend;
       out.alphaCutoff = float(m.alphaCutoff);
       out.baseColorTexture = texture(pbr.baseColorTexture.index, true, what + " baseColorTexture");
-      out.metallicRoughnessTexture = texture(pbr.metallicRoughnessTexture.index, false, what + " metallicRoughnessTexture");
+      out.metallicRoughnessTexture =
+          texture(pbr.metallicRoughnessTexture.index, false, what + " metallicRoughnessTexture");
       out.emissiveTexture = texture(m.emissiveTexture.index, true, what + " emissiveTexture");
       scene.materials.push_back(std::move(out));
     }
@@ -339,8 +357,8 @@ struct Loader {
   void primitive(const tinygltf::Primitive& p, const std::string& what) {
     int mode = p.mode < 0 ? TINYGLTF_MODE_TRIANGLES : p.mode;
     if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN) {
-      std::fprintf(stderr, "%s: %s draws points or lines, which carry no surface; skipped\n",
-                   scene.sourcePath.c_str(), what.c_str());
+      std::fprintf(stderr, "%s: %s draws points or lines, which carry no surface; skipped\n", scene.sourcePath.c_str(),
+                   what.c_str());
       return;
     }
     auto posIt = p.attributes.find("POSITION");
@@ -383,10 +401,12 @@ struct Loader {
     auto uvIt = p.attributes.find("TEXCOORD_0");
     if (uvIt != p.attributes.end()) {
       AccessorView uv = viewAccessor(model, uvIt->second, what + " TEXCOORD_0");
-      if (uv.components != 2 || uv.count != pos.count) fail(what + " TEXCOORD_0 must be VEC2 with one entry per vertex");
+      if (uv.components != 2 || uv.count != pos.count)
+        fail(what + " TEXCOORD_0 must be VEC2 with one entry per vertex");
       for (size_t v = 0; v < pos.count; ++v) {
         glm::vec2 t(readComponent(uv, v, 0), readComponent(uv, v, 1));
-        if (!std::isfinite(t.x) || !std::isfinite(t.y)) fail(what + " TEXCOORD_0 " + std::to_string(v) + " is not finite");
+        if (!std::isfinite(t.x) || !std::isfinite(t.y))
+          fail(what + " TEXCOORD_0 " + std::to_string(v) + " is not finite");
         scene.uvs.push_back(t);
       }
     } else {
@@ -417,9 +437,12 @@ struct Loader {
       tris.assign(raw.begin(), raw.end() - raw.size() % 3);
     } else {
       for (size_t i = 2; i < raw.size(); ++i) {
-        if (mode == TINYGLTF_MODE_TRIANGLE_FAN) tris.insert(tris.end(), {raw[0], raw[i - 1], raw[i]});
-        else if (i % 2 == 0) tris.insert(tris.end(), {raw[i - 2], raw[i - 1], raw[i]});
-        else tris.insert(tris.end(), {raw[i - 1], raw[i - 2], raw[i]});  // keep the winding of odd strip triangles
+        if (mode == TINYGLTF_MODE_TRIANGLE_FAN)
+          tris.insert(tris.end(), {raw[0], raw[i - 1], raw[i]});
+        else if (i % 2 == 0)
+          tris.insert(tris.end(), {raw[i - 2], raw[i - 1], raw[i]});
+        else
+          tris.insert(tris.end(), {raw[i - 1], raw[i - 2], raw[i]});  // keep the winding of odd strip triangles
       }
     }
     skinInfluences(p, pos.count, what);
@@ -448,15 +471,18 @@ struct Loader {
     a.vertexWeights.resize(scene.positions.size(), glm::vec4(0.0f));
     auto joints = p.attributes.find("JOINTS_0"), weights = p.attributes.find("WEIGHTS_0");
     if (joints == p.attributes.end() && weights == p.attributes.end()) return;
-    if (joints == p.attributes.end() || weights == p.attributes.end()) fail(what + " has one of JOINTS_0 and WEIGHTS_0 without the other");
+    if (joints == p.attributes.end() || weights == p.attributes.end())
+      fail(what + " has one of JOINTS_0 and WEIGHTS_0 without the other");
     if (p.attributes.count("JOINTS_1") && !warnedExtraInfluences) {
       std::fprintf(stderr, "%s: warning: %s has JOINTS_1/WEIGHTS_1; only the first four influences are played\n",
                    scene.sourcePath.c_str(), what.c_str());
       warnedExtraInfluences = true;
     }
-    AccessorView j = viewAccessor(model, joints->second, what + " JOINTS_0"), w = viewAccessor(model, weights->second, what + " WEIGHTS_0");
+    AccessorView j = viewAccessor(model, joints->second, what + " JOINTS_0"),
+                 w = viewAccessor(model, weights->second, what + " WEIGHTS_0");
     if (j.components != 4 || j.count != vertices ||
-        (j.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && j.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT))
+        (j.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+         j.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT))
       fail(what + " JOINTS_0 must be VEC4 of unsigned bytes or shorts, one per vertex");
     if (w.components != 4 || w.count != vertices) fail(what + " WEIGHTS_0 must be VEC4, one per vertex");
     for (size_t v = 0; v < vertices; ++v) {
@@ -487,7 +513,8 @@ struct Loader {
     out.name = m.name;
     out.firstPrimitive = uint32_t(scene.primitives.size());
     for (size_t i = 0; i < m.primitives.size(); ++i)
-      primitive(m.primitives[i], "mesh " + std::to_string(index) + " ('" + m.name + "') primitive " + std::to_string(i));
+      primitive(m.primitives[i],
+                "mesh " + std::to_string(index) + " ('" + m.name + "') primitive " + std::to_string(i));
     out.primitiveCount = uint32_t(scene.primitives.size()) - out.firstPrimitive;
     scene.meshes.push_back(out);
     return int(scene.meshes.size()) - 1;
@@ -504,12 +531,13 @@ struct Loader {
     if (!n.matrix.empty()) fail(what + " has a matrix that is not 16 numbers");
     out.translation = glm::vec3(float(numberOr(n.translation, 0, 0)), float(numberOr(n.translation, 1, 0)),
                                 float(numberOr(n.translation, 2, 0)));
-    const glm::quat r(float(numberOr(n.rotation, 3, 1)), float(numberOr(n.rotation, 0, 0)), float(numberOr(n.rotation, 1, 0)),
-                      float(numberOr(n.rotation, 2, 0)));
+    const glm::quat r(float(numberOr(n.rotation, 3, 1)), float(numberOr(n.rotation, 0, 0)),
+                      float(numberOr(n.rotation, 1, 0)), float(numberOr(n.rotation, 2, 0)));
     const float rl = glm::length(r);
     if (!(rl > 0.0f)) fail(what + " has a zero rotation quaternion");
     out.rotation = r / rl;
-    out.scale = glm::vec3(float(numberOr(n.scale, 0, 1)), float(numberOr(n.scale, 1, 1)), float(numberOr(n.scale, 2, 1)));
+    out.scale =
+        glm::vec3(float(numberOr(n.scale, 0, 1)), float(numberOr(n.scale, 1, 1)), float(numberOr(n.scale, 2, 1)));
     return out;
   }
 
@@ -530,7 +558,8 @@ struct Loader {
 
     if (n.mesh >= 0 && n.skin >= 0) {
       // glTF places a skinned mesh by its joints alone: the node's own transform is ignored.
-      if (size_t(n.skin) >= model.skins.size()) fail(what + " refers to skin " + std::to_string(n.skin) + ", which does not exist");
+      if (size_t(n.skin) >= model.skins.size())
+        fail(what + " refers to skin " + std::to_string(n.skin) + ", which does not exist");
       const uint32_t m = uint32_t(mesh(n.mesh, true));
       scene.meshes[m].deformable = true;
       scene.gltf.skinnedMeshes.push_back({m, uint32_t(n.skin)});
@@ -571,10 +600,14 @@ struct Loader {
       const tinygltf::Light& l = model.lights[li];
       PunctualLight out;
       out.name = l.name;
-      if (l.type == "point") out.type = LightType::Point;
-      else if (l.type == "spot") out.type = LightType::Spot;
-      else if (l.type == "directional") out.type = LightType::Directional;
-      else fail("light " + std::to_string(li) + " has unknown type '" + l.type + "'");
+      if (l.type == "point")
+        out.type = LightType::Point;
+      else if (l.type == "spot")
+        out.type = LightType::Spot;
+      else if (l.type == "directional")
+        out.type = LightType::Directional;
+      else
+        fail("light " + std::to_string(li) + " has unknown type '" + l.type + "'");
       glm::vec3 color(float(numberOr(l.color, 0, 1)), float(numberOr(l.color, 1, 1)), float(numberOr(l.color, 2, 1)));
       out.intensity = color * float(l.intensity);
       if (!finite(out.intensity) || glm::any(glm::lessThan(out.intensity, glm::vec3(0.0f))))
@@ -609,7 +642,8 @@ bool loadGltf(const std::string& path, Scene& scene, std::string& error) {
   tinygltf::Model model;
   std::string err, warn;
   bool binary = path.size() >= 4 && path.compare(path.size() - 4, 4, ".glb") == 0;
-  bool ok = binary ? gltf.LoadBinaryFromFile(&model, &err, &warn, path) : gltf.LoadASCIIFromFile(&model, &err, &warn, path);
+  bool ok =
+      binary ? gltf.LoadBinaryFromFile(&model, &err, &warn, path) : gltf.LoadASCIIFromFile(&model, &err, &warn, path);
   if (!ok || !err.empty()) {
     while (!err.empty() && (err.back() == '\n' || err.back() == '\r')) err.pop_back();
     error = path + ": " + (err.empty() ? std::string("not a valid glTF file") : err);
@@ -619,10 +653,12 @@ bool loadGltf(const std::string& path, Scene& scene, std::string& error) {
     if (model.asset.version.rfind("2.", 0) != 0)
       fail("asset.version is '" + model.asset.version + "'; only glTF 2.x is supported");
     for (const std::string& ext : model.extensionsRequired)
-      if (std::find(std::begin(kSupportedExtensions), std::end(kSupportedExtensions), ext) == std::end(kSupportedExtensions))
+      if (std::find(std::begin(kSupportedExtensions), std::end(kSupportedExtensions), ext) ==
+          std::end(kSupportedExtensions))
         fail("requires the extension " + ext + ", which is not supported");
     for (size_t b = 0; b < model.buffers.size(); ++b)
-      if (model.buffers[b].data.empty()) fail("buffer " + std::to_string(b) + " ('" + model.buffers[b].uri + "') is missing or empty");
+      if (model.buffers[b].data.empty())
+        fail("buffer " + std::to_string(b) + " ('" + model.buffers[b].uri + "') is missing or empty");
 
     Loader loader{model, scene, std::vector<int>(model.meshes.size(), -1),
                   std::vector<std::array<int, 2>>(model.images.size(), {-1, -1})};

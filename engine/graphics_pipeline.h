@@ -12,12 +12,12 @@ namespace engine {
 struct GraphicsPipelineDesc {
   VkPipelineLayout layout = VK_NULL_HANDLE;
   std::span<const uint32_t> vertexSpirv, fragmentSpirv;
-  std::span<const VkVertexInputBindingDescription> vertexBindings;      // empty: vertices pulled from buffers
+  std::span<const VkVertexInputBindingDescription> vertexBindings;  // empty: vertices pulled from buffers
   std::span<const VkVertexInputAttributeDescription> vertexAttributes;
   std::span<const VkFormat> colorFormats;
-  std::span<const VkPipelineColorBlendAttachmentState> blends;          // one per colour format
-  VkFormat depthFormat = VK_FORMAT_UNDEFINED;                            // UNDEFINED: no depth attachment
-  VkCompareOp depthCompare = VK_COMPARE_OP_GREATER;                      // reversed Z (camera.cpp)
+  std::span<const VkPipelineColorBlendAttachmentState> blends;  // one per colour format
+  VkFormat depthFormat = VK_FORMAT_UNDEFINED;                   // UNDEFINED: no depth attachment
+  VkCompareOp depthCompare = VK_COMPARE_OP_GREATER;             // reversed Z (camera.cpp)
 };
 
 VkPipeline createGraphicsPipeline(const Context& ctx, const GraphicsPipelineDesc& desc);

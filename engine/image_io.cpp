@@ -54,8 +54,9 @@ bool readPfm(const std::string& path, FloatImage& img, std::string& error) {
   char magic[3] = {0};
   unsigned w = 0, h = 0;
   float scale = 0.0f;
-  if (std::fscanf(f.get(), "%2s %u %u %f", magic, &w, &h, &scale) != 4 || (std::strcmp(magic, "PF") && std::strcmp(magic, "Pf")) ||
-      w == 0 || h == 0 || w > 65536 || h > 65536 || scale == 0.0f) {
+  if (std::fscanf(f.get(), "%2s %u %u %f", magic, &w, &h, &scale) != 4 ||
+      (std::strcmp(magic, "PF") && std::strcmp(magic, "Pf")) || w == 0 || h == 0 || w > 65536 || h > 65536 ||
+      scale == 0.0f) {
     error = path + ": not a valid PFM header";
     return false;
   }
@@ -85,8 +86,9 @@ bool readPfm(const std::string& path, FloatImage& img, std::string& error) {
 
 float halfToFloat(uint16_t h) {
   uint32_t sign = (h >> 15) & 1, exp = (h >> 10) & 31, mant = h & 1023;
-  float v = exp == 0 ? std::ldexp(float(mant), -24)
-                     : exp == 31 ? (mant ? std::nanf("") : INFINITY) : std::ldexp(float(mant | 1024), int(exp) - 25);
+  float v = exp == 0    ? std::ldexp(float(mant), -24)
+            : exp == 31 ? (mant ? std::nanf("") : INFINITY)
+                        : std::ldexp(float(mant | 1024), int(exp) - 25);
   return sign ? -v : v;
 }
 

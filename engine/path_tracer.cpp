@@ -25,7 +25,8 @@ PathTracer createPathTracer(const Context& ctx, const SceneGpu& scene, VkExtent2
   pt.rayCounter = createBuffer(ctx, sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryKind::HostVisible);
   std::memset(pt.rayCounter.mapped, 0, sizeof(uint32_t));
   for (Image& img : pt.accum)
-    img = createImage(ctx, extent, VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+    img = createImage(ctx, extent, VK_FORMAT_R32G32B32A32_SFLOAT,
+                      VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
   submitAndWait(ctx, [&](VkCommandBuffer cmd) {
     for (Image& img : pt.accum)
       imageBarrier(cmd, img.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, 0,
@@ -41,8 +42,9 @@ PathTracer createPathTracer(const Context& ctx, const SceneGpu& scene, VkExtent2
       .buffer(gpu::PT_BINDING_RAY_COUNTER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, pt.rayCounter.buffer)
       .write(ctx.vk);
   VkDescriptorSetLayout layouts[] = {scene.set.layout, pt.set.layout};
-  pt.program = createComputeProgram(ctx, GI_SCENE_SPIRV(ctx.traversalId(), path_trace_comp), layouts, sizeof(gpu::PathTracerPush),
-                                    {PT_GROUP_SIZE, PT_GROUP_SIZE}, scene.specialization());
+  pt.program =
+      createComputeProgram(ctx, GI_SCENE_SPIRV(ctx.traversalId(), path_trace_comp), layouts,
+                           sizeof(gpu::PathTracerPush), {PT_GROUP_SIZE, PT_GROUP_SIZE}, scene.specialization());
   return pt;
 }
 
@@ -69,7 +71,8 @@ void recordPathTrace(const Context& ctx, VkCommandBuffer cmd, PathTracer& pt, co
   if (timer) beginPass(ctx, cmd, *timer, "path_trace");
   // Sums from the previous dispatch must land before this one reads them.
   memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+                VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
   VkDescriptorSet sets[] = {scene.set.set, pt.set.set};
   dispatch(ctx, cmd, pt.program, sets, {pt.extent.width, pt.extent.height}, push);
   if (timer) endPass(ctx, cmd, *timer);
@@ -125,7 +128,8 @@ ReferenceRun renderReference(const Context& ctx, const SceneGpu& scene, const gp
   for (uint32_t done = 0; done < spp;) {
     uint32_t n = std::min(samplesPerSubmit, spp - done);
     resetGpuTimer(ctx, timer);
-    submitAndWait(ctx, [&](VkCommandBuffer cmd) { recordPathTrace(ctx, cmd, pt, scene, camera, settings, done, n, &timer); });
+    submitAndWait(
+        ctx, [&](VkCommandBuffer cmd) { recordPathTrace(ctx, cmd, pt, scene, camera, settings, done, n, &timer); });
     for (const PassTime& t : readPassTimes(ctx, timer)) run.gpuMs += t.ms;
     run.rays += takeRayCount(pt);
     done += n;

@@ -1,4 +1,4 @@
-// The reference path tracer (shaders/path_trace.comp): progressive, seeded,
+// The reference path tracer (shaders/engine/path_trace.comp): progressive, seeded,
 // unbiased for a bounce limit. Every error figure in the project is measured
 // against its converged output.
 #pragma once
@@ -12,10 +12,10 @@
 namespace engine {
 
 struct ReferenceSettings {
-  uint32_t maxBounces = 4;           // B: indirect bounces (0 = direct light only)
+  uint32_t maxBounces = 4;  // B: indirect bounces (0 = direct light only)
   uint32_t seed = 1;
-  bool pixelJitter = true;           // false: rays through pixel centres (for G-buffer comparisons)
-  uint32_t russianRouletteStart = 3; // bounce from which paths may stop early (unbiased)
+  bool pixelJitter = true;            // false: rays through pixel centres (for G-buffer comparisons)
+  uint32_t russianRouletteStart = 3;  // bounce from which paths may stop early (unbiased)
 };
 
 // Accumulated outputs, already divided by the sample count.
@@ -52,9 +52,10 @@ ReferenceImages readReferenceImages(const Context& ctx, const PathTracer& pt);
 
 struct ReferenceRun {
   ReferenceImages images;
-  double gpuMs = 0.0;      // sum of path-trace pass times (the program was warmed before: no compile in them)
+  double gpuMs = 0.0;  // sum of path-trace pass times (the program was warmed before: no compile in them)
   uint64_t rays = 0;
-  double firstDispatchMs = 0.0;  // wall time of the program's warm-up: its compile, where the driver compiles at first dispatch
+  double firstDispatchMs =
+      0.0;  // wall time of the program's warm-up: its compile, where the driver compiles at first dispatch
   double wallSeconds = 0.0;
 };
 

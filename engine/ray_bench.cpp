@@ -27,8 +27,9 @@ RayBenchResult runRayBench(const Context& ctx, const SceneGpu& scene, const gpu:
       .buffer(gpu::RB_BINDING_COUNTER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, counter.buffer)
       .write(ctx.vk);
   VkDescriptorSetLayout layouts[] = {scene.set.layout, set.layout};
-  ComputeProgram program = createComputeProgram(ctx, GI_SCENE_SPIRV(traversal, ray_bench_comp), layouts, sizeof(gpu::RayBenchPush),
-                                                {RB_GROUP_SIZE, RB_GROUP_SIZE}, scene.specialization());
+  ComputeProgram program =
+      createComputeProgram(ctx, GI_SCENE_SPIRV(traversal, ray_bench_comp), layouts, sizeof(gpu::RayBenchPush),
+                           {RB_GROUP_SIZE, RB_GROUP_SIZE}, scene.specialization());
   GpuTimer timer = createGpuTimer(ctx, 2);
   RayBenchResult result;
   VkDescriptorSet sets[] = {scene.set.set, set.set};

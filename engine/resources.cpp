@@ -28,10 +28,10 @@ Buffer createBuffer(const Context& ctx, VkDeviceSize size, VkBufferUsageFlags us
   VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
   if (usage & VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT) alloc.pNext = &flags;
   alloc.allocationSize = req.size;
-  alloc.memoryTypeIndex = findMemoryType(ctx, req.memoryTypeBits,
-                                         kind == MemoryKind::HostVisible
-                                             ? VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT
-                                             : VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+  alloc.memoryTypeIndex = findMemoryType(
+      ctx, req.memoryTypeBits,
+      kind == MemoryKind::HostVisible ? VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT
+                                      : VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
   VK_CHECK(vkAllocateMemory(ctx.device, &alloc, nullptr, &b.memory));
   VK_CHECK(vkBindBufferMemory(ctx.device, b.buffer, b.memory, 0));
   if (kind == MemoryKind::HostVisible) VK_CHECK(vkMapMemory(ctx.device, b.memory, 0, VK_WHOLE_SIZE, 0, &b.mapped));
@@ -94,8 +94,9 @@ Image createImage(const Context& ctx, VkExtent2D extent, VkFormat format, VkImag
   view.image = img.image;
   view.viewType = VK_IMAGE_VIEW_TYPE_2D;
   view.format = format;
-  view.subresourceRange = {VkImageAspectFlags(isDepthFormat(format) ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT),
-                           0, mipLevels, 0, 1};
+  view.subresourceRange = {
+      VkImageAspectFlags(isDepthFormat(format) ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT), 0, mipLevels,
+      0, 1};
   VK_CHECK(vkCreateImageView(ctx.device, &view, nullptr, &img.view));
   return img;
 }
@@ -143,7 +144,8 @@ void uploadImageWithMips(const Context& ctx, Image& img, const void* texels, siz
     }
     // Every mip but the last is in TRANSFER_SRC now; the last is in TRANSFER_DST.
     for (uint32_t mip = 0; mip < img.mipLevels; ++mip) {
-      VkImageLayout from = mip + 1 < img.mipLevels ? VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL : VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+      VkImageLayout from =
+          mip + 1 < img.mipLevels ? VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL : VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
       mipBarrier(cmd, img.image, mip, from, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_2_TRANSFER_BIT,
                  VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
                  VK_ACCESS_2_SHADER_READ_BIT);
@@ -157,8 +159,8 @@ void uploadImage(const Context& ctx, Image& img, const void* texels, size_t byte
   std::memcpy(staging.mapped, texels, bytes);
   const VkImageAspectFlags aspect = isDepthFormat(img.format) ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT;
   submitAndWait(ctx, [&](VkCommandBuffer cmd) {
-    imageBarrier(cmd, img.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_PIPELINE_STAGE_2_NONE,
-                 0, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, aspect);
+    imageBarrier(cmd, img.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                 VK_PIPELINE_STAGE_2_NONE, 0, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, aspect);
     VkBufferImageCopy copy{};
     copy.imageSubresource = {aspect, 0, 0, 1};
     copy.imageExtent = {img.extent.width, img.extent.height, 1};

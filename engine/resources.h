@@ -13,8 +13,8 @@ struct Buffer {
   VkBuffer buffer = VK_NULL_HANDLE;
   VkDeviceMemory memory = VK_NULL_HANDLE;
   VkDeviceSize size = 0;
-  void* mapped = nullptr;          // non-null for host-visible buffers
-  VkDeviceAddress address = 0;     // non-zero when created with SHADER_DEVICE_ADDRESS usage
+  void* mapped = nullptr;       // non-null for host-visible buffers
+  VkDeviceAddress address = 0;  // non-zero when created with SHADER_DEVICE_ADDRESS usage
 };
 
 struct Image {
@@ -58,8 +58,8 @@ uint32_t findMemoryType(const Context& ctx, uint32_t typeBits, VkMemoryPropertyF
 // Layout transition with synchronization2: all mips by default, colour or depth aspect.
 void imageBarrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayout to,
                   VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dstStage,
-                  VkAccessFlags2 dstAccess, VkImageAspectFlags aspect = VK_IMAGE_ASPECT_COLOR_BIT,
-                  uint32_t baseMip = 0, uint32_t mipCount = VK_REMAINING_MIP_LEVELS);
+                  VkAccessFlags2 dstAccess, VkImageAspectFlags aspect = VK_IMAGE_ASPECT_COLOR_BIT, uint32_t baseMip = 0,
+                  uint32_t mipCount = VK_REMAINING_MIP_LEVELS);
 // Global memory barrier, for buffers and images that keep their layout.
 void memoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess,
                    VkPipelineStageFlags2 dstStage, VkAccessFlags2 dstAccess);

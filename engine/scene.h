@@ -25,7 +25,7 @@ struct Material {
   float roughness = 1.0f;
   AlphaMode alphaMode = AlphaMode::Opaque;  // Blend is treated as opaque for lighting
   float alphaCutoff = 0.5f;
-  int32_t baseColorTexture = -1;           // index into Scene::textures
+  int32_t baseColorTexture = -1;  // index into Scene::textures
   int32_t metallicRoughnessTexture = -1;
   int32_t emissiveTexture = -1;
 

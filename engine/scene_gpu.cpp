@@ -62,13 +62,14 @@ void throwIf(const gi::Error& e) {
 
 }  // namespace
 
-void createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu, const gi::DeviceMemoryCallbacks& deviceMemory) {
+void createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu,
+                    const gi::DeviceMemoryCallbacks& deviceMemory) {
   // Textures with full mip chains, the engine's; the module samples them.
   for (const Texture& t : scene.textures) {
     uint32_t mips = 1 + uint32_t(std::floor(std::log2(double(std::max(t.width, t.height)))));
-    Image img = createImage(ctx, {t.width, t.height}, t.srgb ? VK_FORMAT_R8G8B8A8_SRGB : VK_FORMAT_R8G8B8A8_UNORM,
-                            VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-                            mips);
+    Image img = createImage(
+        ctx, {t.width, t.height}, t.srgb ? VK_FORMAT_R8G8B8A8_SRGB : VK_FORMAT_R8G8B8A8_UNORM,
+        VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, mips);
     uploadImageWithMips(ctx, img, t.rgba8.data(), t.rgba8.size());
     gpu.textures.push_back(img);
   }
@@ -85,7 +86,8 @@ void createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu, const
   uint32_t next = 0;
   for (const Mesh& mesh : scene.meshes) {
     if (mesh.firstPrimitive != next)
-      throw std::runtime_error(scene.sourcePath + ": primitives are not numbered mesh by mesh (mesh " + mesh.name + ")");
+      throw std::runtime_error(scene.sourcePath + ": primitives are not numbered mesh by mesh (mesh " + mesh.name +
+                               ")");
     next += mesh.primitiveCount;
   }
   std::vector<gi::PrimitiveDesc> primitives;

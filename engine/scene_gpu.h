@@ -27,12 +27,12 @@ struct SkinningGpu {
 struct SceneGpu {
   std::vector<Image> textures;  // the engine's, sampled through `sampler`
   VkSampler sampler = VK_NULL_HANDLE;
-  gi::Scene* scene = nullptr;   // the module's
-  gi::SceneDesc desc;           // its facts; traversal = how the engine's users trace (ctx.traversalId())
+  gi::Scene* scene = nullptr;  // the module's
+  gi::SceneDesc desc;          // its facts; traversal = how the engine's users trace (ctx.traversalId())
   struct {
     VkDescriptorSetLayout layout = VK_NULL_HANDLE;
     VkDescriptorSet set = VK_NULL_HANDLE;
-  } set;                        // set 0
+  } set;  // set 0
   SkinningGpu skinning;
 
   bool hasEmissiveTriangles() const { return desc.hasEmissiveTriangles; }
@@ -47,7 +47,8 @@ struct SceneGpu {
 // indices are then the scene's primitive indices). Uploads and builds; waits.
 // Throws std::runtime_error with the module's message when it refuses the scene. `deviceMemory`: the
 // scene's buffers and images from an allocator of the caller's (gi::SceneCreateDesc::deviceMemory).
-void createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu, const gi::DeviceMemoryCallbacks& deviceMemory = {});
+void createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu,
+                    const gi::DeviceMemoryCallbacks& deviceMemory = {});
 void destroySceneGpu(const Context& ctx, SceneGpu& gpu);
 
 // For moving instances and lights: hands the module `scene`'s transforms and

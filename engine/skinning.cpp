@@ -9,7 +9,8 @@
 namespace engine {
 namespace {
 
-constexpr VkBufferUsageFlags kAddressed = VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+constexpr VkBufferUsageFlags kAddressed =
+    VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
 
 glm::uvec2 split(VkDeviceAddress a) { return {uint32_t(a), uint32_t(a >> 32)}; }
 
@@ -34,7 +35,8 @@ void createSkinningGpu(const Context& ctx, const Scene& scene, SkinningGpu& out)
 
 void destroySkinningGpu(const Context& ctx, SkinningGpu& s) {
   if (s.program.pipeline) destroyComputeProgram(ctx, s.program);
-  for (Buffer* b : {&s.bindPositions, &s.bindNormals, &s.joints, &s.weights, &s.jointMatrices, &s.positions, &s.normals})
+  for (Buffer* b :
+       {&s.bindPositions, &s.bindNormals, &s.joints, &s.weights, &s.jointMatrices, &s.positions, &s.normals})
     if (b->buffer) destroyBuffer(ctx, *b);
   s = SkinningGpu{};
 }
@@ -50,8 +52,8 @@ void recordSkinning(const Context& ctx, VkCommandBuffer cmd, const Scene& scene,
                 VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
   gi::vk::recordBufferWrite(ctx.vk, cmd, skinning.jointMatrices.buffer, skinning.jointMatrices.size, joints.data(),
                             joints.size() * sizeof(glm::mat4));
-  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
   for (const SkinnedMesh& sm : a.skinnedMeshes) {
     const Mesh& mesh = scene.meshes[sm.mesh];
     for (uint32_t p = mesh.firstPrimitive; p < mesh.firstPrimitive + mesh.primitiveCount; ++p) {

@@ -50,7 +50,8 @@ bool parseSky(const std::string& value, Sky& out, std::string& error) {
     if (!std::isfinite(v) || v < 0.0f) {
       size_t pixel = i / sky.map.channels;
       error = "--sky: " + value + " texel (" + std::to_string(pixel % sky.map.width) + ", " +
-              std::to_string(pixel / sky.map.width) + ") holds " + std::to_string(v) + "; radiance must be finite and ≥ 0";
+              std::to_string(pixel / sky.map.width) + ") holds " + std::to_string(v) +
+              "; radiance must be finite and ≥ 0";
       return false;
     }
   }

@@ -12,12 +12,12 @@ namespace engine {
 const char* vkResultName(VkResult result);
 }
 
-#define VK_CHECK(call)                                                                              \
-  do {                                                                                              \
-    VkResult vk_check_result_ = (call);                                                             \
-    if (vk_check_result_ != VK_SUCCESS) {                                                           \
-      std::fprintf(stderr, "%s:%d: %s failed with %s\n", __FILE__, __LINE__, #call,                 \
-                   engine::vkResultName(vk_check_result_));                                         \
-      std::abort();                                                                                 \
-    }                                                                                               \
+#define VK_CHECK(call)                                                              \
+  do {                                                                              \
+    VkResult vk_check_result_ = (call);                                             \
+    if (vk_check_result_ != VK_SUCCESS) {                                           \
+      std::fprintf(stderr, "%s:%d: %s failed with %s\n", __FILE__, __LINE__, #call, \
+                   engine::vkResultName(vk_check_result_));                         \
+      std::abort();                                                                 \
+    }                                                                               \
   } while (0)

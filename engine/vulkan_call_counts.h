@@ -8,9 +8,9 @@
 namespace engine {
 
 struct VulkanCallCounts {
-  uint64_t fenceWaits = 0;   // vkWaitForFences
-  uint64_t idleWaits = 0;    // vkQueueWaitIdle, vkDeviceWaitIdle
-  uint64_t creations = 0;    // vkAllocateMemory, vkCreateImage, vkCreateBuffer, vkCreate*Pipelines
+  uint64_t fenceWaits = 0;  // vkWaitForFences
+  uint64_t idleWaits = 0;   // vkQueueWaitIdle, vkDeviceWaitIdle
+  uint64_t creations = 0;   // vkAllocateMemory, vkCreateImage, vkCreateBuffer, vkCreate*Pipelines
 };
 
 // After the device's entry points are loaded (createContext; again after another createContext, which

@@ -25,8 +25,9 @@ void createSwapchain(const Context& ctx, Window& w) {
     if (f.format == VK_FORMAT_B8G8R8A8_SRGB || f.format == VK_FORMAT_R8G8B8A8_SRGB) chosen = f;
   int fbw = 0, fbh = 0;
   glfwGetFramebufferSize(w.handle, &fbw, &fbh);
-  w.extent = caps.currentExtent.width != UINT32_MAX ? caps.currentExtent
-                                                     : VkExtent2D{uint32_t(std::max(fbw, 1)), uint32_t(std::max(fbh, 1))};
+  w.extent = caps.currentExtent.width != UINT32_MAX
+                 ? caps.currentExtent
+                 : VkExtent2D{uint32_t(std::max(fbw, 1)), uint32_t(std::max(fbh, 1))};
   w.format = chosen.format;
   VkSwapchainCreateInfoKHR info{VK_STRUCTURE_TYPE_SWAPCHAIN_CREATE_INFO_KHR};
   info.surface = w.surface;
@@ -73,7 +74,8 @@ bool windowInstanceExtensions(std::vector<const char*>& out, std::string& error)
   return true;
 }
 
-bool createWindow(const Context& ctx, uint32_t width, uint32_t height, const char* title, Window& w, std::string& error) {
+bool createWindow(const Context& ctx, uint32_t width, uint32_t height, const char* title, Window& w,
+                  std::string& error) {
   glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
   w.handle = glfwCreateWindow(int(width), int(height), title, nullptr, nullptr);
   if (!w.handle) {
@@ -143,8 +145,8 @@ void endWindowFrame(const Context& ctx, Window& w, uint32_t imageIndex, VkImage 
   blit.dstOffsets[1] = {int32_t(w.extent.width), int32_t(w.extent.height), 1};
   vkCmdBlitImage(w.cmd, source, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, target, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1,
                  &blit, VK_FILTER_LINEAR);
-  imageBarrier(w.cmd, source, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_BLIT_BIT,
-               VK_ACCESS_2_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+  imageBarrier(w.cmd, source, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
+               VK_PIPELINE_STAGE_2_BLIT_BIT, VK_ACCESS_2_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
                VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
   imageBarrier(w.cmd, target, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
                VK_PIPELINE_STAGE_2_BLIT_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_NONE, 0);
@@ -165,6 +167,5 @@ void endWindowFrame(const Context& ctx, Window& w, uint32_t imageIndex, VkImage 
     VK_CHECK(r);
   }
 }
-
 
 }  // namespace engine

@@ -19,16 +19,17 @@ struct Window {
   VkFormat format = VK_FORMAT_UNDEFINED;  // an sRGB format: linear radiance blits encode on write
   VkExtent2D extent{};
   std::vector<VkImage> images;
-  std::vector<VkSemaphore> renderDone;    // per swapchain image: the presentation engine holds it until presented
+  std::vector<VkSemaphore> renderDone;  // per swapchain image: the presentation engine holds it until presented
   VkSemaphore imageAcquired[kFramesInFlight] = {};
-  FrameSlots slots;                       // kFramesInFlight frames recorded ahead
-  uint32_t frames = 0;                    // frames submitted; the slot is frames mod kFramesInFlight
-  VkCommandBuffer cmd = VK_NULL_HANDLE;   // this frame's command buffer, between begin and end
+  FrameSlots slots;                      // kFramesInFlight frames recorded ahead
+  uint32_t frames = 0;                   // frames submitted; the slot is frames mod kFramesInFlight
+  VkCommandBuffer cmd = VK_NULL_HANDLE;  // this frame's command buffer, between begin and end
 };
 
 // Initialises GLFW; false (with a sentence in `error`) when there is no display or no Vulkan support.
 bool windowInstanceExtensions(std::vector<const char*>& out, std::string& error);
-bool createWindow(const Context& ctx, uint32_t width, uint32_t height, const char* title, Window& window, std::string& error);
+bool createWindow(const Context& ctx, uint32_t width, uint32_t height, const char* title, Window& window,
+                  std::string& error);
 void destroyWindow(const Context& ctx, Window& window);
 bool windowShouldClose(const Window& window);  // also polls events
 

@@ -53,7 +53,7 @@ int main(int argc, char** argv) {
   desc.device = ctx.device;
   desc.width = width;
   desc.height = height;
-  desc.scene = sceneGpu.desc;  // set 0 and the scene's facts, from gi::sceneDesc
+  desc.scene = sceneGpu.desc;                  // set 0 and the scene's facts, from gi::sceneDesc
   desc.gbuffer = engine::moduleGBufferDesc();  // our G-buffer's formats, the glossy flag in albedo alpha
   gi::Settings settings;
   settings.method = gi::Method::Gif;  // guided filtering of 1-spp indirect light
@@ -63,13 +63,13 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "gi::create: %s\n", e.message.c_str());
     return 1;
   }
-  const gi::GBufferViews views{gbuffer.color[gpu::GBUFFER_NORMAL].view, gbuffer.color[gpu::GBUFFER_ALBEDO].view,
+  const gi::GBufferViews views{gbuffer.color[gpu::GBUFFER_NORMAL].view,   gbuffer.color[gpu::GBUFFER_ALBEDO].view,
                                gbuffer.color[gpu::GBUFFER_MATERIAL].view, gbuffer.color[gpu::GBUFFER_EMISSION].view,
-                               gbuffer.color[gpu::GBUFFER_MOTION].view, gbuffer.color[gpu::GBUFFER_VIEWZ].view};
+                               gbuffer.color[gpu::GBUFFER_MOTION].view,   gbuffer.color[gpu::GBUFFER_VIEWZ].view};
 
   // --- the game loop: two frames in flight -------------------------------------
   engine::FrameSlots frameSlots = engine::createFrameSlots(ctx);  // a command buffer and fence per frame in flight
-  constexpr uint32_t kFramesInFlight = engine::kFramesInFlight;      // the module's default ModuleDesc::framesInFlight
+  constexpr uint32_t kFramesInFlight = engine::kFramesInFlight;   // the module's default ModuleDesc::framesInFlight
   auto printStats = [&](uint32_t completed) {
     gi::FrameStats stats;
     if (gi::frameStats(gi, completed, stats))
@@ -92,7 +92,8 @@ int main(int argc, char** argv) {
     // Raster the G-buffer; it leaves the images in GENERAL, visible to compute (the module's contract).
     engine::recordGBuffer(ctx, cmd, gbufferPass, scene, sceneGpu, gbuffer, current, nullptr);
     // Global illumination: records passes, never submits.
-    if (gi::Error e = gi::recordFrame(gi, cmd, {views, engine::moduleCamera(current), engine::moduleCamera(frame ? previous : current), frame})) {
+    if (gi::Error e = gi::recordFrame(
+            gi, cmd, {views, engine::moduleCamera(current), engine::moduleCamera(frame ? previous : current), frame})) {
       std::fprintf(stderr, "gi::recordFrame: %s\n", e.message.c_str());
       return 1;
     }

@@ -12,12 +12,13 @@ namespace demo {
 DisplayPass createDisplayPass(const engine::Context& ctx, VkExtent2D extent, VkImageView source) {
   DisplayPass d;
   d.extent = extent;
-  d.image = engine::createImage(ctx, extent, kDisplayFormat,
-                                VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT |
-                                    VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+  d.image = engine::createImage(
+      ctx, extent, kDisplayFormat,
+      VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
   engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
-    engine::imageBarrier(cmd, d.image.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, 0,
-                         VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+    engine::imageBarrier(cmd, d.image.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
+                         VK_PIPELINE_STAGE_2_NONE, 0, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                         VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
   });
   const engine::Binding bindings[] = {{gpu::DISPLAY_BINDING_SOURCE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
                                       {gpu::DISPLAY_BINDING_TARGET, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}};

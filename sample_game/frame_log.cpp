@@ -14,8 +14,8 @@ bool openFrameLog(FrameLog& log, const std::string& path, std::string& error) {
   return true;
 }
 
-void writeFrameRow(FrameLog& log, uint32_t frame, double seconds, double cpuMs, double gbufferMs, const gi::FrameStats& stats,
-                   const FrameFacts& facts) {
+void writeFrameRow(FrameLog& log, uint32_t frame, double seconds, double cpuMs, double gbufferMs,
+                   const gi::FrameStats& stats, const FrameFacts& facts) {
   std::map<std::string, double> passMs;
   for (const gi::PassTiming& p : stats.passes) {
     if (!passMs.count(p.name) && log.rows == 0) log.passColumns.push_back(p.name);
@@ -31,11 +31,11 @@ void writeFrameRow(FrameLog& log, uint32_t frame, double seconds, double cpuMs, 
   double other = 0.0;
   for (const auto& [name, ms] : passMs)
     if (std::find(log.passColumns.begin(), log.passColumns.end(), name) == log.passColumns.end()) other += ms;
-  log.file << frame << ',' << seconds << ',' << cpuMs << ',' << gbufferMs << ',' << stats.totalMs << ',' << stats.raysTraced
-           << ',' << stats.samplesPerPixel;
+  log.file << frame << ',' << seconds << ',' << cpuMs << ',' << gbufferMs << ',' << stats.totalMs << ','
+           << stats.raysTraced << ',' << stats.samplesPerPixel;
   for (const std::string& name : log.passColumns) log.file << ',' << (passMs.count(name) ? passMs[name] : 0.0);
-  log.file << ',' << other << ',' << stats.memoryBytes << ',' << stats.hash.capacity << ',' << stats.hash.occupied << ','
-           << stats.hash.failedInserts << ',' << stats.accumulatedFrames << ',' << facts.method << ','
+  log.file << ',' << other << ',' << stats.memoryBytes << ',' << stats.hash.capacity << ',' << stats.hash.occupied
+           << ',' << stats.hash.failedInserts << ',' << stats.accumulatedFrames << ',' << facts.method << ','
            << (facts.readying ? 1 : 0) << ',' << facts.calls.fenceWaits << ',' << facts.calls.idleWaits << ','
            << facts.calls.creations << ',' << stats.deviceAllocations << '\n';
   log.file.flush();

@@ -29,7 +29,7 @@ struct FrameFacts {
   bool readying = false;
   engine::VulkanCallCounts calls;
 };
-void writeFrameRow(FrameLog& log, uint32_t frame, double seconds, double cpuMs, double gbufferMs, const gi::FrameStats& stats,
-                   const FrameFacts& facts);
+void writeFrameRow(FrameLog& log, uint32_t frame, double seconds, double cpuMs, double gbufferMs,
+                   const gi::FrameStats& stats, const FrameFacts& facts);
 
 }  // namespace demo

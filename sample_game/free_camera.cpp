@@ -9,7 +9,8 @@ namespace demo {
 namespace {
 
 glm::mat3 orientation(float yaw, float pitch) {
-  glm::mat4 m = glm::rotate(glm::mat4(1.0f), yaw, glm::vec3(0, 1, 0)) * glm::rotate(glm::mat4(1.0f), pitch, glm::vec3(1, 0, 0));
+  glm::mat4 m =
+      glm::rotate(glm::mat4(1.0f), yaw, glm::vec3(0, 1, 0)) * glm::rotate(glm::mat4(1.0f), pitch, glm::vec3(1, 0, 0));
   return glm::mat3(m);
 }
 

@@ -9,10 +9,10 @@ namespace demo {
 
 struct FreeCamera {
   glm::vec3 position{0.0f};
-  float yaw = 0.0f;    // radians about +Y; 0 looks down −Z
-  float pitch = 0.0f;  // radians, clamped to ±1.5
-  float yfov = 1.0f;   // radians
-  float znear = 0.05f; // metres
+  float yaw = 0.0f;     // radians about +Y; 0 looks down −Z
+  float pitch = 0.0f;   // radians, clamped to ±1.5
+  float yfov = 1.0f;    // radians
+  float znear = 0.05f;  // metres
 };
 
 struct CameraInput {
@@ -31,7 +31,7 @@ void updateFreeCamera(FreeCamera& camera, const CameraInput& input, float second
 // Periodic in `loopSeconds`.
 struct Walkthrough {
   FreeCamera start;
-  float extent = 1.0f;       // metres
+  float extent = 1.0f;  // metres
   float loopSeconds = 12.0f;
 };
 FreeCamera walkthroughCamera(const Walkthrough& path, float seconds);

@@ -72,7 +72,7 @@ struct Options {
   float budgetMs = 0.0f;
   fs::path out = "sample_game_out";
   engine::Traversal traversal = engine::Traversal::Auto;
-  engine::Sky sky;  // --sky; black by default
+  engine::Sky sky;                              // --sky; black by default
   uint32_t lightSampler = 2, lightTreeCut = 4;  // --light-sampler (gpu::LIGHT_SAMPLER_TREE), --light-tree-cut
   bool help = false;
   bool headless = false, animate = true, walkthrough = true, validation = false, syncValidation = false;
@@ -127,7 +127,8 @@ bool parseOptions(int argc, char** argv, Options& o, std::string& error) {
     const size_t colon = v.find(':');
     char* end = nullptr;
     const unsigned long at = std::strtoul(v.c_str(), &end, 10);
-    if (colon == std::string::npos || end != v.c_str() + colon || !gi::methodFromName(v.substr(colon + 1), o.switchTo)) {
+    if (colon == std::string::npos || end != v.c_str() + colon ||
+        !gi::methodFromName(v.substr(colon + 1), o.switchTo)) {
       error = "--switch-at '" + v + "' is not FRAME:METHOD (methods: " + tools::methodList() + ")";
       return false;
     }
@@ -237,7 +238,8 @@ int openEngine(Demo& d) {
   contextDesc.synchronizationValidation = o.syncValidation;
   contextDesc.traversal = o.traversal;
   if (!o.headless) {
-    if (engine::windowInstanceExtensions(contextDesc.instanceExtensions, error)) contextDesc.swapchain = true;
+    if (engine::windowInstanceExtensions(contextDesc.instanceExtensions, error))
+      contextDesc.swapchain = true;
     else {
       std::printf("sample_game: %s; running headless\n", error.c_str());
       o.headless = true;
@@ -245,8 +247,9 @@ int openEngine(Demo& d) {
     }
   }
   if (o.headless)
-    std::printf("sample_game: no display: running headless, writing the walkthrough's frames (PNG) and benchmark.csv to %s\n",
-                o.out.string().c_str());
+    std::printf(
+        "sample_game: no display: running headless, writing the walkthrough's frames (PNG) and benchmark.csv to %s\n",
+        o.out.string().c_str());
   if (!engine::createContext(contextDesc, d.ctx, error)) return fail(error, 1);
   d.scene.sky = o.sky;
   d.scene.lightSampler = o.lightSampler;
@@ -265,7 +268,8 @@ int openEngine(Demo& d) {
 int openPresentation(Demo& d) {
   const Options& o = d.o;
   std::string error;
-  if (!o.headless && !engine::createWindow(d.ctx, o.windowWidth, o.windowHeight, "GI module: sample game", d.window, error))
+  if (!o.headless &&
+      !engine::createWindow(d.ctx, o.windowWidth, o.windowHeight, "GI module: sample game", d.window, error))
     return fail(error, 1);
   d.displaySize = {o.windowWidth, o.windowHeight};
   for (demo::DisplayPass& display : d.displays)
@@ -374,14 +378,15 @@ gpu::GpuCamera updateCameraAndOverlay(Demo& d, float dt) {
   }
   io.DisplaySize = ImVec2(float(d.displaySize.width), float(d.displaySize.height));
   if (d.ui.walkthrough) d.freeCamera = demo::walkthroughCamera(d.path, d.seconds);
-  const gpu::GpuCamera camera = engine::makeGpuCamera(demo::toCamera(d.freeCamera), o.width, o.height,
-                                                      d.frame > 0 ? &d.previousCamera : nullptr);
+  const gpu::GpuCamera camera =
+      engine::makeGpuCamera(demo::toCamera(d.freeCamera), o.width, o.height, d.frame > 0 ? &d.previousCamera : nullptr);
 
   ImGui::NewFrame();
   gi::FrameStats shown = gi::stats(d.session.module);
   if (demo::collectReady(d.readiness)) {
     if (!d.readiness.error.empty())
-      std::printf("sample_game: readying %s: %s\n", gi::methodName(d.readiness.target.method), d.readiness.error.c_str());
+      std::printf("sample_game: readying %s: %s\n", gi::methodName(d.readiness.target.method),
+                  d.readiness.error.c_str());
     d.ui.compiling.clear();
     applySettings(d, d.settings);  // the newest wish: readied now, or readied next
   }
@@ -445,8 +450,10 @@ int runFrames(Demo& d) {
     d.seconds += dt;
     const gpu::GpuCamera camera = updateCameraAndOverlay(d, dt);
     recordDemoFrame(d, frameCmd, camera, display);
-    if (o.headless) engine::submitFrameSlot(d.ctx, d.headless, d.frame);
-    else engine::endWindowFrame(d.ctx, d.window, image, display.image.image, d.displaySize);
+    if (o.headless)
+      engine::submitFrameSlot(d.ctx, d.headless, d.frame);
+    else
+      engine::endWindowFrame(d.ctx, d.window, image, display.image.image, d.displaySize);
     if (d.screenshotPending || d.frame == o.screenshotAt) {
       // With the overlay: once this frame has completed (its display image is not redrawn until frame + 2).
       vkQueueWaitIdle(d.ctx.queue);

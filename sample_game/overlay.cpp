@@ -23,8 +23,8 @@ bool tunables(gi::Settings& settings) {
     if (key == "view" || key == "ray_budget" || key == "seed") continue;  // own widgets
     // The knob's name and unit as the label (the method is chosen above); its meaning and range on hover.
     const size_t dot = key.find('.');
-    std::string label = key.substr(dot == std::string::npos ? 0 : dot + 1) + (*k.unit ? std::string(", ") + k.unit : "") +
-                        "##" + key;
+    std::string label =
+        key.substr(dot == std::string::npos ? 0 : dot + 1) + (*k.unit ? std::string(", ") + k.unit : "") + "##" + key;
     const double value = k.get(settings);
     const bool logarithmic = k.max / std::max(k.min, 1.0) > 100.0;
     const ImGuiSliderFlags flags = logarithmic ? ImGuiSliderFlags_Logarithmic : 0;
@@ -40,8 +40,7 @@ bool tunables(gi::Settings& settings) {
       if (ImGui::SliderInt(label.c_str(), &v, int(k.min), int(k.max), "%d", flags))
         k.set(settings, double(std::max(v, 0))), changed = true;
     }
-    if (ImGui::IsItemHovered())
-      ImGui::SetTooltip("%s\n%s %s", k.meaning, k.field, gi::rangeText(k).c_str());
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s\n%s %s", k.meaning, k.field, gi::rangeText(k).c_str());
   }
   return changed;
 }
@@ -52,8 +51,10 @@ void passBar(const gi::FrameStats& stats, double gbufferMs) {
   if (gbufferMs > 0.0) passes.push_back({"gbuffer", gbufferMs});
   for (const gi::PassTiming& p : stats.passes) {
     auto it = std::find_if(passes.begin(), passes.end(), [&](const auto& q) { return q.first == p.name; });
-    if (it != passes.end()) it->second += p.ms;  // passes run several times a frame add up
-    else passes.push_back({p.name, p.ms});
+    if (it != passes.end())
+      it->second += p.ms;  // passes run several times a frame add up
+    else
+      passes.push_back({p.name, p.ms});
   }
   double total = 0.0;
   for (const auto& p : passes) total += p.second;
@@ -111,10 +112,12 @@ bool buildOverlay(OverlayState& state, gi::Settings& settings, const gi::FrameSt
   if (ImGui::CollapsingHeader("tunables", ImGuiTreeNodeFlags_DefaultOpen)) changed |= tunables(settings);
   if (!state.settingsError.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.3f, 1), "%s", state.settingsError.c_str());
   if (!state.compiling.empty())
-    ImGui::TextColored(ImVec4(1, 0.85f, 0.3f, 1), "compiling %s... (the current method renders meanwhile)", state.compiling.c_str());
+    ImGui::TextColored(ImVec4(1, 0.85f, 0.3f, 1), "compiling %s... (the current method renders meanwhile)",
+                       state.compiling.c_str());
 
   if (ImGui::CollapsingHeader("frame", ImGuiTreeNodeFlags_DefaultOpen)) {
-    ImGui::Text("module %.2f ms GPU   gbuffer %.2f ms   frame %.1f ms CPU", stats.totalMs, state.gbufferMs, state.cpuFrameMs);
+    ImGui::Text("module %.2f ms GPU   gbuffer %.2f ms   frame %.1f ms CPU", stats.totalMs, state.gbufferMs,
+                state.cpuFrameMs);
     ImGui::Text("rays %.3g   spp %u   sanitized %u   memory %.1f MiB", double(stats.raysTraced), stats.samplesPerPixel,
                 stats.sanitized, double(stats.memoryBytes) / 1048576.0);
     std::vector<float> history(state.totalMsHistory.begin(), state.totalMsHistory.end());
@@ -142,7 +145,8 @@ bool buildOverlay(OverlayState& state, gi::Settings& settings, const gi::FrameSt
     if (ImGui::InputFloat("target ms", &target, 1.0f, 10.0f, "%.1f")) state.budget.targetMs = std::max(target, 0.1f);
     if (state.budgetMode)
       ImGui::Text("achieved %.2f ms (%+.0f%%): ray budget %.3g, %u spp", stats.totalMs,
-                  100.0 * (stats.totalMs / state.budget.targetMs - 1.0), double(settings.rayBudget), stats.samplesPerPixel);
+                  100.0 * (stats.totalMs / state.budget.targetMs - 1.0), double(settings.rayBudget),
+                  stats.samplesPerPixel);
   }
   if (ImGui::CollapsingHeader("scene", ImGuiTreeNodeFlags_DefaultOpen)) {
     ImGui::Checkbox("walkthrough (P)", &state.walkthrough);

@@ -12,15 +12,15 @@ namespace demo {
 
 struct OverlayState {
   // Set by the panel, read by the frame loop.
-  bool walkthrough = true;       // scripted camera path (key P)
-  bool animate = true;           // the moving light and object
+  bool walkthrough = true;             // scripted camera path (key P)
+  bool animate = true;                 // the moving light and object
   bool tellModuleLightsMoved = false;  // gi::invalidate(LightsChanged) while the light moves
   bool budgetMode = false;
   bool screenshotRequested = false;
   float exposure = 1.0f;
   gi::BudgetController budget;
-  std::string settingsError;     // the module's answer to the last rejected change
-  std::string compiling;         // a method whose programs are being readied (the old one renders meanwhile)
+  std::string settingsError;  // the module's answer to the last rejected change
+  std::string compiling;      // a method whose programs are being readied (the old one renders meanwhile)
   // Shown by the panel.
   std::deque<float> totalMsHistory;  // module GPU ms per frame, newest last
   double gbufferMs = 0.0;

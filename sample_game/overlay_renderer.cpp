@@ -44,7 +44,8 @@ VkPipeline createPipeline(const engine::Context& ctx, VkPipelineLayout layout, V
 void ensureCapacity(const engine::Context& ctx, engine::Buffer& buffer, VkDeviceSize bytes, VkBufferUsageFlags usage) {
   if (buffer.buffer && buffer.size >= bytes) return;
   if (buffer.buffer) engine::destroyBuffer(ctx, buffer);
-  buffer = engine::createBuffer(ctx, std::max<VkDeviceSize>(bytes + bytes / 2, 4096), usage, engine::MemoryKind::HostVisible);
+  buffer = engine::createBuffer(ctx, std::max<VkDeviceSize>(bytes + bytes / 2, 4096), usage,
+                                engine::MemoryKind::HostVisible);
 }
 
 }  // namespace
@@ -56,7 +57,8 @@ OverlayRenderer createOverlayRenderer(const engine::Context& ctx, VkFormat targe
   ImGui::GetIO().Fonts->GetTexDataAsRGBA32(&pixels, &width, &height);
   r.font = engine::createImage(ctx, {uint32_t(width), uint32_t(height)}, VK_FORMAT_R8G8B8A8_UNORM,
                                VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT);
-  engine::uploadImage(ctx, r.font, pixels, size_t(width) * size_t(height) * 4, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+  engine::uploadImage(ctx, r.font, pixels, size_t(width) * size_t(height) * 4,
+                      VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
   VkSamplerCreateInfo s{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
   s.magFilter = s.minFilter = VK_FILTER_LINEAR;
   s.addressModeU = s.addressModeV = s.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
@@ -107,8 +109,9 @@ void recordOverlay(const engine::Context& ctx, VkCommandBuffer cmd, OverlayRende
   }
 
   // Whatever wrote the target (a compute pass) finishes before the overlay blends onto it.
-  engine::imageBarrier(cmd, target, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                       VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+  engine::imageBarrier(cmd, target, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL,
+                       VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                       VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
                        VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
   VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
   color.imageView = targetView;
@@ -128,8 +131,9 @@ void recordOverlay(const engine::Context& ctx, VkCommandBuffer cmd, OverlayRende
   vkCmdBindIndexBuffer(cmd, indices.buffer, 0, sizeof(ImDrawIdx) == 2 ? VK_INDEX_TYPE_UINT16 : VK_INDEX_TYPE_UINT32);
   VkViewport viewport{0.0f, 0.0f, float(extent.width), float(extent.height), 0.0f, 1.0f};
   vkCmdSetViewport(cmd, 0, 1, &viewport);
-  gpu::OverlayPush push{{2.0f / data.DisplaySize.x, 2.0f / data.DisplaySize.y},
-                        {-1.0f - data.DisplayPos.x * 2.0f / data.DisplaySize.x, -1.0f - data.DisplayPos.y * 2.0f / data.DisplaySize.y}};
+  gpu::OverlayPush push{
+      {2.0f / data.DisplaySize.x, 2.0f / data.DisplaySize.y},
+      {-1.0f - data.DisplayPos.x * 2.0f / data.DisplaySize.x, -1.0f - data.DisplayPos.y * 2.0f / data.DisplaySize.y}};
   vkCmdPushConstants(cmd, r.layout, VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(push), &push);
   int32_t vertexBase = 0;
   uint32_t indexBase = 0;
@@ -137,7 +141,8 @@ void recordOverlay(const engine::Context& ctx, VkCommandBuffer cmd, OverlayRende
     const ImDrawList* list = data.CmdLists[i];
     for (const ImDrawCmd& c : list->CmdBuffer) {
       // Clip rectangle in framebuffer pixels, clamped to the image.
-      float x0 = std::max(c.ClipRect.x - data.DisplayPos.x, 0.0f), y0 = std::max(c.ClipRect.y - data.DisplayPos.y, 0.0f);
+      float x0 = std::max(c.ClipRect.x - data.DisplayPos.x, 0.0f),
+            y0 = std::max(c.ClipRect.y - data.DisplayPos.y, 0.0f);
       float x1 = std::min(c.ClipRect.z - data.DisplayPos.x, float(extent.width));
       float y1 = std::min(c.ClipRect.w - data.DisplayPos.y, float(extent.height));
       if (x1 <= x0 || y1 <= y0) continue;

@@ -23,10 +23,10 @@ namespace demo {
 struct ProgramReadiness {
   std::thread worker;
   std::atomic<bool> finished{false};
-  bool busy = false;       // a worker runs (or finished and was not collected yet)
-  gi::Settings target;     // what it readies
-  std::string error;       // the worker's, if a step failed (the switch then compiles in the frame)
-  double seconds = 0.0;    // how long readying took
+  bool busy = false;     // a worker runs (or finished and was not collected yet)
+  gi::Settings target;   // what it readies
+  std::string error;     // the worker's, if a step failed (the switch then compiles in the frame)
+  double seconds = 0.0;  // how long readying took
 };
 
 // Whether a driver compiles programs at their first dispatch (lavapipe).

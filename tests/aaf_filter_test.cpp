@@ -87,7 +87,8 @@ TEST_F(AafFilterTest, WideFiltersReachThreeSigma) {
   upload(kInput, input);
   const float cosLimit = std::cos(10.0f * 3.14159265f / 180.0f);
   EXPECT_LT(bruteForceWorst(input, filter(cosLimit), beta, 42), 1e-4);
-  EXPECT_GT(bruteForceWorst(input, filter(cosLimit), beta, 32), 1e-4) << "the 3σ and the 32-pixel filter should differ here";
+  EXPECT_GT(bruteForceWorst(input, filter(cosLimit), beta, 32), 1e-4)
+      << "the 3σ and the 32-pixel filter should differ here";
   EXPECT_LT(bruteForceWorst(input, filter(cosLimit, 32), beta, 32), 1e-4) << "maxRadius = 32 cuts at 32 pixels";
 }
 

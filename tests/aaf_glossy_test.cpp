@@ -49,7 +49,7 @@ TEST_F(AafGlossyTest, MetalFloorReflectsTheLitWall) {
   settings.maxBounces = 2;
   settings.aaf.mu = 2.0f;
   auto render = [&](const engine::SceneGpu& scene, std::vector<std::string>* passes) {
-    tools::ModuleSession session;
+    ScopedSession session(ctx);
     std::string error;
     EXPECT_TRUE(tools::createModuleSession(ctx, scene, {W, H}, settings, session, error)) << error;
     tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, 0);
@@ -69,8 +69,8 @@ TEST_F(AafGlossyTest, MetalFloorReflectsTheLitWall) {
   double withTerm = floorMean(glossy, glossy.final), withoutTerm = floorMean(glossy, diffuseOnly.final);
   double directOnly = floorMean(glossy, glossy.direct);
   ASSERT_GT(reference, 0.0) << "no floor pixels";
-  std::printf("floor mean: reference %.4f, direct %.4f, aaf with glossy term %.4f, without %.4f\n", reference, directOnly,
-              withTerm, withoutTerm);
+  std::printf("floor mean: reference %.4f, direct %.4f, aaf with glossy term %.4f, without %.4f\n", reference,
+              directOnly, withTerm, withoutTerm);
   EXPECT_GT(reference - directOnly, 0.1 * reference) << "the wall's reflection should be a visible part of the floor";
   EXPECT_NEAR(withTerm, reference, 0.1 * reference);
   EXPECT_LT(withoutTerm, directOnly + 0.02 * reference) << "a metal floor has no diffuse indirect light";

@@ -32,12 +32,13 @@ double paperSamples(double mu, double omega, double gamma, double zMin, double z
 
 TEST(AafMath, SampleCountAndBothClamps) {
   // Between the clamps the formula shows through, for several surroundings.
-  for (auto [mu, zMin, zMax] : {std::tuple{1.0f, 0.2f, 1.0f}, std::tuple{1.0f, 0.25f, 2.0f}, std::tuple{2.0f, 0.4f, 1.0f},
-                                std::tuple{1.0f, 0.3f, 1.5f}}) {
+  for (auto [mu, zMin, zMax] : {std::tuple{1.0f, 0.2f, 1.0f}, std::tuple{1.0f, 0.25f, 2.0f},
+                                std::tuple{2.0f, 0.4f, 1.0f}, std::tuple{1.0f, 0.3f, 1.5f}}) {
     const double expected = paperSamples(mu, 2.8, 0.4, zMin, zMax, 0.3, 0.01);
     ASSERT_GT(expected, 16.0);
     ASSERT_LT(expected, 100.0 * mu);
-    EXPECT_NEAR(gpu::aafSamples(mu, 2.8f, 0.4f, zMin, zMax, 0.3f, 0.01f), expected, 1e-4 * expected) << mu << zMin << zMax;
+    EXPECT_NEAR(gpu::aafSamples(mu, 2.8f, 0.4f, zMin, zMax, 0.3f, 0.01f), expected, 1e-4 * expected)
+        << mu << zMin << zMax;
   }
   // Near reflectors ask for more than 100·μ (the formula gives 127.65 here): the upper clamp.
   ASSERT_GT(paperSamples(1.0, 2.8, 0.4, 0.1, 1.0, 0.3, 0.01), 100.0);

@@ -13,9 +13,9 @@ namespace {
 
 struct CostModel {
   double fixedMs = 3.0;
-  double msPerRay = 0.002;       // 0.5 Mrays/s, lavapipe-like
-  uint64_t maxRays = 200000;     // what the method traces unconstrained
-  uint64_t raysPerSpp = 0;       // > 0: whole paths per pixel (quantised, at least 1 spp)
+  double msPerRay = 0.002;    // 0.5 Mrays/s, lavapipe-like
+  uint64_t maxRays = 200000;  // what the method traces unconstrained
+  uint64_t raysPerSpp = 0;    // > 0: whole paths per pixel (quantised, at least 1 spp)
   uint32_t seed = 1;
 
   gi::FrameStats frame(uint64_t budget) {

@@ -30,13 +30,16 @@ TEST(Catalogue, ValidateRefusesEachFieldJustOutsideItsRangeAndNamesIt) {
     const bool whole = k.kind != gi::SettingKind::Float;
     const double above = whole ? k.max + 1 : k.max * 1.5 + 1;
     std::vector<double> outside = {above};
-    if (k.openMin) outside.push_back(k.min);
-    else if (k.min > 0) outside.push_back(whole ? k.min - 1 : k.min * 0.5);
+    if (k.openMin)
+      outside.push_back(k.min);
+    else if (k.min > 0)
+      outside.push_back(whole ? k.min - 1 : k.min * 0.5);
     if (!whole) outside.push_back(std::nan(""));
     for (double v : outside) {
       if (k.kind == gi::SettingKind::Bool) continue;  // a bool holds 0 or 1 only
       if (k.key == std::string("seed") || k.key == std::string("hpsf.capacity") || k.key == std::string("ray_budget"))
-        if (v > k.max) continue;  // seed's range is the whole uint32; capacity's and the budget's tops are exercised below
+        if (v > k.max)
+          continue;  // seed's range is the whole uint32; capacity's and the budget's tops are exercised below
       gi::Settings s;
       k.set(s, v);
       gi::Error e = gi::validate(s);
@@ -79,8 +82,8 @@ TEST(Catalogue, MethodsViewsAndPassesAreCompleteAndUnique) {
   std::set<std::string> passes;
   for (const gi::PassInfo& p : gi::passCatalogue()) passes.insert(p.name);
   EXPECT_EQ(passes.size(), size_t(gi::Pass::Count));
-  for (const char* tracing : {"raw_trace", "aaf_sample", "aaf_adaptive", "hpsf_insert", "nhpsf_paths", "anhpsf_paths",
-                              "gif_supersample"})
+  for (const char* tracing :
+       {"raw_trace", "aaf_sample", "aaf_adaptive", "hpsf_insert", "nhpsf_paths", "anhpsf_paths", "gif_supersample"})
     EXPECT_TRUE(gi::passTracesRays(tracing)) << tracing;
   EXPECT_FALSE(gi::passTracesRays("composite"));
   // Every method has settings of its own besides the global ones (aaf_ao shares aaf's).

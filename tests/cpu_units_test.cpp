@@ -149,7 +149,8 @@ TEST(DeviceNeeds, EachMissingSubgroupOperationIsNamed) {
   const VkSubgroupFeatureFlags all =
       VK_SUBGROUP_FEATURE_BASIC_BIT | VK_SUBGROUP_FEATURE_VOTE_BIT | VK_SUBGROUP_FEATURE_ARITHMETIC_BIT;
   EXPECT_EQ(gi::firstMissingSubgroupSupport(VK_SHADER_STAGE_COMPUTE_BIT, all), nullptr);
-  EXPECT_STREQ(gi::firstMissingSubgroupSupport(VK_SHADER_STAGE_FRAGMENT_BIT, all), "subgroup operations in compute shaders");
+  EXPECT_STREQ(gi::firstMissingSubgroupSupport(VK_SHADER_STAGE_FRAGMENT_BIT, all),
+               "subgroup operations in compute shaders");
   EXPECT_STREQ(gi::firstMissingSubgroupSupport(VK_SHADER_STAGE_COMPUTE_BIT, all & ~VK_SUBGROUP_FEATURE_VOTE_BIT),
                "subgroup vote operations");
   EXPECT_STREQ(gi::firstMissingSubgroupSupport(VK_SHADER_STAGE_COMPUTE_BIT, all & ~VK_SUBGROUP_FEATURE_ARITHMETIC_BIT),

@@ -32,7 +32,8 @@ TEST_F(TexturedScene, SponzaRendersUnderValidation) {
   settings.maxBounces = 1;
   engine::ReferenceImages img = render(s, 24, 16, settings, 1);
   double albedoVariation = 0.0;
-  for (size_t i = 3; i < img.albedo.pixels.size(); ++i) albedoVariation += std::abs(img.albedo.pixels[i] - img.albedo.pixels[i - 3]);
+  for (size_t i = 3; i < img.albedo.pixels.size(); ++i)
+    albedoVariation += std::abs(img.albedo.pixels[i] - img.albedo.pixels[i - 3]);
   EXPECT_GT(albedoVariation, 1.0) << "textured albedo should vary across the image";
   for (float v : img.final.pixels) ASSERT_TRUE(std::isfinite(v));
 }

@@ -13,10 +13,10 @@ constexpr VkExtent2D kLarge{64, 36}, kSmall{48, 27};
 constexpr uint32_t kFrames = 36, kBounces = 2;
 
 struct DynamicRun {
-  engine::ReferenceImages last;    // the last frame (at kLarge: frames 32–35)
+  engine::ReferenceImages last;      // the last frame (at kLarge: frames 32–35)
   uint32_t creationsAfterFirst = 0;  // the module's vkAllocateMemory, vkCreateImage, vkCreateBuffer after frame 0
-  bool sameOutputs = true;          // gi::outputs() never changed
-  bool sameGBuffer = true;          // the engine's G-buffer images never changed
+  bool sameOutputs = true;           // gi::outputs() never changed
+  bool sameGBuffer = true;           // the engine's G-buffer images never changed
 };
 
 // kFrames frames from the scene's camera; `alternate`: kLarge and kSmall in turns of 4 frames (kLarge
@@ -27,7 +27,7 @@ DynamicRun run(const engine::Context& ctx, const LoadedScene& s, const gi::Setti
   DynamicRun out;
   gi::ModuleDesc desc = tools::moduleDesc(ctx, s.gpu, kLarge);
   desc.getInstanceProcAddr = countingGetInstanceProcAddr;
-  tools::ModuleSession session;
+  ScopedSession session(ctx);
   EXPECT_NO_FATAL_FAILURE(openSession(ctx, s, kLarge, settings, session, &desc));
   if (!session.module) return out;
   const gi::Outputs outputs = gi::outputs(session.module);

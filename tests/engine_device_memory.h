@@ -31,7 +31,9 @@ struct EngineDeviceMemory {
     c.allocate = [](void* user, const gi::DeviceMemoryRequest& r, gi::DeviceMemorySlice& out) {
       return static_cast<EngineDeviceMemory*>(user)->allocate(r, out);
     };
-    c.free = [](void* user, const gi::DeviceMemorySlice& slice) { static_cast<EngineDeviceMemory*>(user)->release(slice); };
+    c.free = [](void* user, const gi::DeviceMemorySlice& slice) {
+      static_cast<EngineDeviceMemory*>(user)->release(slice);
+    };
     return c;
   }
 
@@ -80,7 +82,8 @@ struct EngineDeviceMemory {
 // through the vkGetDeviceProcAddr this returns).
 inline std::atomic<uint32_t> moduleAllocateMemoryCalls{0}, moduleCreateImageCalls{0}, moduleCreateBufferCalls{0};
 inline VKAPI_ATTR VkResult VKAPI_CALL countedAllocateMemory(VkDevice device, const VkMemoryAllocateInfo* info,
-                                                            const VkAllocationCallbacks* allocator, VkDeviceMemory* out) {
+                                                            const VkAllocationCallbacks* allocator,
+                                                            VkDeviceMemory* out) {
   moduleAllocateMemoryCalls++;
   return vkAllocateMemory(device, info, allocator, out);
 }
@@ -121,7 +124,8 @@ struct AliasedTransientPool {
   VkDeviceSize size = 0, used = 0;
   uint32_t memoryType = UINT32_MAX, slices = 0;
 
-  AliasedTransientPool(const engine::Context& ctx, EngineDeviceMemory& nonTransient, VkDeviceSize bytes) : other(&nonTransient) {
+  AliasedTransientPool(const engine::Context& ctx, EngineDeviceMemory& nonTransient, VkDeviceSize bytes)
+      : other(&nonTransient) {
     VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
     info.size = bytes;
     info.usage = VK_BUFFER_USAGE_TRANSFER_DST_BIT;

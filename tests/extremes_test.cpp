@@ -68,11 +68,11 @@ struct Room {
 testscene::Description room(const Room& r) {
   auto p = [&](float x, float y, float z) { return r.offset + r.scale * glm::vec3(x, y, z); };
   testscene::Description d;
-  d.quads.push_back({{p(-1, 0, 1), p(1, 0, 1), p(1, 0, -1), p(-1, 0, -1)}, r.floorAlbedo});    // floor
-  d.quads.push_back({{p(-1, 2, -1), p(1, 2, -1), p(1, 2, 1), p(-1, 2, 1)}, r.wallAlbedo});     // ceiling
-  d.quads.push_back({{p(-1, 0, -1), p(1, 0, -1), p(1, 2, -1), p(-1, 2, -1)}, r.wallAlbedo});   // back
-  d.quads.push_back({{p(-1, 0, 1), p(-1, 0, -1), p(-1, 2, -1), p(-1, 2, 1)}, r.wallAlbedo});   // left
-  d.quads.push_back({{p(1, 0, -1), p(1, 0, 1), p(1, 2, 1), p(1, 2, -1)}, r.wallAlbedo});       // right
+  d.quads.push_back({{p(-1, 0, 1), p(1, 0, 1), p(1, 0, -1), p(-1, 0, -1)}, r.floorAlbedo});   // floor
+  d.quads.push_back({{p(-1, 2, -1), p(1, 2, -1), p(1, 2, 1), p(-1, 2, 1)}, r.wallAlbedo});    // ceiling
+  d.quads.push_back({{p(-1, 0, -1), p(1, 0, -1), p(1, 2, -1), p(-1, 2, -1)}, r.wallAlbedo});  // back
+  d.quads.push_back({{p(-1, 0, 1), p(-1, 0, -1), p(-1, 2, -1), p(-1, 2, 1)}, r.wallAlbedo});  // left
+  d.quads.push_back({{p(1, 0, -1), p(1, 0, 1), p(1, 2, 1), p(1, 2, -1)}, r.wallAlbedo});      // right
   if (r.degenerateTriangle)  // all four corners on one line: zero area
     d.quads.push_back({{p(-0.5f, 0.5f, 0), p(0, 0.5f, 0), p(0.5f, 0.5f, 0), p(0.25f, 0.5f, 0)}, glm::vec3(0.5f)});
   if (r.light) d.lights.push_back({p(0, 1.6f, 0.2f), glm::vec3(2.0f * r.intensity * r.scale * r.scale)});
@@ -83,7 +83,9 @@ testscene::Description room(const Room& r) {
     // A closed block around the camera: it sees only the block's inside, which no light reaches.
     glm::vec3 c = p(0, 1, 2.6f);
     float h = 0.1f * r.scale;
-    auto q = [&](glm::vec3 a, glm::vec3 b, glm::vec3 cc, glm::vec3 dd) { d.quads.push_back({{c + a, c + b, c + cc, c + dd}, glm::vec3(0.5f)}); };
+    auto q = [&](glm::vec3 a, glm::vec3 b, glm::vec3 cc, glm::vec3 dd) {
+      d.quads.push_back({{c + a, c + b, c + cc, c + dd}, glm::vec3(0.5f)});
+    };
     q({-h, -h, h}, {h, -h, h}, {h, h, h}, {-h, h, h});
     q({h, -h, -h}, {-h, -h, -h}, {-h, h, -h}, {h, h, -h});
     q({-h, -h, -h}, {-h, -h, h}, {-h, h, h}, {-h, h, -h});
@@ -95,7 +97,7 @@ testscene::Description room(const Room& r) {
 }
 
 struct Outcome {
-  double relMse = 0.0;   // MSE against the case's reference / (its mean radiance)²
+  double relMse = 0.0;  // MSE against the case's reference / (its mean radiance)²
   double mean = 0.0, referenceMean = 0.0;
   bool finite = true;
 };
@@ -113,7 +115,7 @@ class ExtremesRun {
   }
   Outcome run(const gi::Settings& settings, uint32_t frames = kFrames) {
     Outcome o;
-    tools::ModuleSession session;
+    ScopedSession session(ctx_);
     std::string error;
     gi::ModuleDesc desc = tools::moduleDesc(ctx_, s_.gpu, {kSize, kSize});
     desc.checkBounds = true;
@@ -155,29 +157,30 @@ gi::Settings defaults(gi::Method m) {
 // scene changed (scale, offset, intensity, albedo) must stay within `factor`
 // of it, and its mean radiance within a factor `energy` of the reference's,
 // above and below (noise).
-#define GI_EXTREME_SCENE_VS(Name, factor, energy, normalRoom, extremeRoom)                                 \
-  TEST_F(ExtremesTest, Name) {                                                                              \
-    LoadedScene normal, extreme;                                                                            \
-    Room n, r;                                                                                              \
-    normalRoom(n);                                                                                          \
-    extremeRoom(r);                                                                                         \
-    load(testscene::write(room(n), "extremes_" #Name "_normal"), normal);                                  \
-    load(testscene::write(room(r), "extremes_" #Name), extreme);                                           \
-    ExtremesRun base(ctx, normal), changed(ctx, extreme);                                                   \
-    for (gi::Method m : radianceMethods()) {                                                                         \
-      Outcome a = base.run(defaults(m)), b = changed.run(defaults(m));                                      \
-      double ratio = b.relMse / std::max(a.relMse, 1e-12);                                                  \
-      table[#Name][gi::methodName(m)] = std::to_string(ratio).substr(0, 4) + "×";                           \
-      EXPECT_TRUE(b.finite) << gi::methodName(m);                                                           \
-      EXPECT_LE(b.mean, b.referenceMean * (energy) + 1e-30) << gi::methodName(m) << ": energy created";     \
-      EXPECT_GE(b.mean, b.referenceMean / (energy)) << gi::methodName(m) << ": energy lost";                \
-      EXPECT_LE(ratio, factor) << gi::methodName(m) << " error " << b.relMse << " vs " << a.relMse;         \
-    }                                                                                                       \
-    unload(normal);                                                                                         \
-    unload(extreme);                                                                                        \
+#define GI_EXTREME_SCENE_VS(Name, factor, energy, normalRoom, extremeRoom)                            \
+  TEST_F(ExtremesTest, Name) {                                                                        \
+    LoadedScene normal, extreme;                                                                      \
+    Room n, r;                                                                                        \
+    normalRoom(n);                                                                                    \
+    extremeRoom(r);                                                                                   \
+    load(testscene::write(room(n), "extremes_" #Name "_normal"), normal);                             \
+    load(testscene::write(room(r), "extremes_" #Name), extreme);                                      \
+    ExtremesRun base(ctx, normal), changed(ctx, extreme);                                             \
+    for (gi::Method m : radianceMethods()) {                                                          \
+      Outcome a = base.run(defaults(m)), b = changed.run(defaults(m));                                \
+      double ratio = b.relMse / std::max(a.relMse, 1e-12);                                            \
+      table[#Name][gi::methodName(m)] = std::to_string(ratio).substr(0, 4) + "×";                     \
+      EXPECT_TRUE(b.finite) << gi::methodName(m);                                                     \
+      EXPECT_LE(b.mean, b.referenceMean*(energy) + 1e-30) << gi::methodName(m) << ": energy created"; \
+      EXPECT_GE(b.mean, b.referenceMean / (energy)) << gi::methodName(m) << ": energy lost";          \
+      EXPECT_LE(ratio, factor) << gi::methodName(m) << " error " << b.relMse << " vs " << a.relMse;   \
+    }                                                                                                 \
+    unload(normal);                                                                                   \
+    unload(extreme);                                                                                  \
   }
 #define GI_EXTREME_SCENE(Name, factor, energy, extremeRoom) \
-  GI_EXTREME_SCENE_VS(Name, factor, energy, [](Room&) {}, extremeRoom)
+  GI_EXTREME_SCENE_VS(                                      \
+      Name, factor, energy, [](Room&) {}, extremeRoom)
 
 GI_EXTREME_SCENE(ScaleMillimetre, 2.0, 1.10, [](Room& x) { x.scale = 1e-3f; })
 GI_EXTREME_SCENE(ScaleHundredKilometres, 2.0, 1.10, [](Room& x) { x.scale = 1e5f; })
@@ -185,9 +188,16 @@ GI_EXTREME_SCENE(LightMillionthAsBright, 2.0, 1.10, [](Room& x) { x.intensity = 
 GI_EXTREME_SCENE(LightMillionTimesBrighter, 2.0, 1.10, [](Room& x) { x.intensity = 1e6f; })
 GI_EXTREME_SCENE(ZeroAreaTriangle, 2.0, 1.10, [](Room& x) { x.degenerateTriangle = true; })
 // Albedo exactly 0 and 1 in single channels against the same colours at 0.02 and 0.98.
-GI_EXTREME_SCENE_VS(AlbedoZeroAndOneChannels, 2.0, 1.10,
-                    [](Room& x) { x.floorAlbedo = glm::vec3(0.98f, 0.02f, 0.02f); x.wallAlbedo = glm::vec3(0.02f, 0.98f, 0.98f); },
-                    [](Room& x) { x.floorAlbedo = glm::vec3(1, 0, 0); x.wallAlbedo = glm::vec3(0, 1, 1); })
+GI_EXTREME_SCENE_VS(
+    AlbedoZeroAndOneChannels, 2.0, 1.10,
+    [](Room& x) {
+      x.floorAlbedo = glm::vec3(0.98f, 0.02f, 0.02f);
+      x.wallAlbedo = glm::vec3(0.02f, 0.98f, 0.98f);
+    },
+    [](Room& x) {
+      x.floorAlbedo = glm::vec3(1, 0, 0);
+      x.wallAlbedo = glm::vec3(0, 1, 1);
+    })
 // A 2 m room 1e5 m from the origin is past fp32 world-space ray tracing: positions
 // have 8 mm steps and every ray offset (256 ulp, the reference's too) is about 2 m.
 // The module stays finite and close in energy; the error grows (stated: 12×, +25%).
@@ -208,7 +218,8 @@ TEST_F(ExtremesTest, BlackScenesStayBlack) {
       Outcome o = run.run(defaults(m));
       EXPECT_TRUE(o.finite) << gi::methodName(m);
       EXPECT_EQ(o.mean, 0.0) << gi::methodName(m);
-      table[which == 0 ? "NoLight" : "CameraInsideGeometry"][gi::methodName(m)] = o.finite && o.mean == 0.0 ? "black" : "FAIL";
+      table[which == 0 ? "NoLight" : "CameraInsideGeometry"][gi::methodName(m)] =
+          o.finite && o.mean == 0.0 ? "black" : "FAIL";
     }
   }
 }
@@ -254,15 +265,21 @@ TEST_F(ExtremesTest, KnobsAtTheirLimits) {
   load(testscene::write(room(Room{}), "extremes_knobs"), s);
   ExtremesRun run(ctx, s);
   const KnobCase cases[] = {
-      {"GifEpsilonTiny", gi::Method::Gif, 4.0, [](gi::Settings& x) { x.gif.epsilonNormal = x.gif.epsilonDepth = 1e-9f; }},
-      {"GifEpsilonHuge", gi::Method::Gif, 8.0, [](gi::Settings& x) { x.gif.epsilonNormal = x.gif.epsilonDepth = 1e6f; }},
+      {"GifEpsilonTiny", gi::Method::Gif, 4.0,
+       [](gi::Settings& x) { x.gif.epsilonNormal = x.gif.epsilonDepth = 1e-9f; }},
+      {"GifEpsilonHuge", gi::Method::Gif, 8.0,
+       [](gi::Settings& x) { x.gif.epsilonNormal = x.gif.epsilonDepth = 1e6f; }},
       {"AafMuTiny", gi::Method::Aaf, 8.0, [](gi::Settings& x) { x.aaf.mu = 0.01f; }},
       {"AafMuHuge", gi::Method::Aaf, 4.0, [](gi::Settings& x) { x.aaf.mu = 16.0f; }},
       // Cells smaller than a pixel hold one pixel's samples: the pixel's own radiance, as raw.
       {"HpsfWidthTiny", gi::Method::Hpsf, 0.0, [](gi::Settings& x) { x.hpsf.filterWidth = 0.5f; }},
       {"HpsfWidthHuge", gi::Method::Hpsf, 8.0, [](gi::Settings& x) { x.hpsf.filterWidth = 256.0f; }},
       {"AnhpsfWidthHuge", gi::Method::Anhpsf, 8.0, [](gi::Settings& x) { x.hpsf.filterWidth = 256.0f; }},
-      {"HashMapFull", gi::Method::Hpsf, 4.0, [](gi::Settings& x) { x.hpsf.capacity = 1024; x.hpsf.probeWindow = 1; }},
+      {"HashMapFull", gi::Method::Hpsf, 4.0,
+       [](gi::Settings& x) {
+         x.hpsf.capacity = 1024;
+         x.hpsf.probeWindow = 1;
+       }},
       {"Spp64", gi::Method::Raw, 1.0, [](gi::Settings& x) { x.raw.samplesPerPixel = 64; }},
   };
   const Outcome raw = run.run(defaults(gi::Method::Raw));
@@ -316,7 +333,7 @@ TEST_F(ExtremesTest, WhiteFurnaceStaysFinite) {
   for (gi::Method m : radianceMethods()) {
     gi::Settings settings = defaults(m);
     settings.hpsf.clampSigma = 0.0f;
-    tools::ModuleSession session;
+    ScopedSession session(ctx);
     ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {16, 16}, settings, session));
     double last = 0.0, atFrame4 = 0.0;
     bool finite = true;
@@ -339,7 +356,6 @@ TEST_F(ExtremesTest, WhiteFurnaceStaysFinite) {
       EXPECT_NEAR(last, answer, 0.05 * answer) << gi::methodName(m);
     }
     table["WhiteFurnaceAlbedo1"][gi::methodName(m)] = std::to_string(last).substr(0, 4);
-    tools::destroyModuleSession(ctx, session);
   }
 }
 
@@ -358,12 +374,18 @@ TEST_F(ExtremesTest, ErrorFallsAsEachQualityKnobRises) {
     uint32_t lowFrames, highFrames;
   };
   const Knob knobs[] = {
-      {gi::Method::Raw, "spp 1 → 16", [](gi::Settings& x) { x.raw.samplesPerPixel = 1; }, [](gi::Settings& x) { x.raw.samplesPerPixel = 16; }, 1, 1},
-      {gi::Method::Gif, "spp 1 → 16", [](gi::Settings& x) { x.gif.samplesPerPixel = 1; }, [](gi::Settings& x) { x.gif.samplesPerPixel = 16; }, 1, 1},
-      {gi::Method::Bilateral, "spp 1 → 16", [](gi::Settings& x) { x.bilateral.samplesPerPixel = 1; }, [](gi::Settings& x) { x.bilateral.samplesPerPixel = 16; }, 1, 1},
-      {gi::Method::Atrous, "spp 1 → 16", [](gi::Settings& x) { x.atrous.samplesPerPixel = 1; }, [](gi::Settings& x) { x.atrous.samplesPerPixel = 16; }, 1, 1},
-      {gi::Method::Sspsf, "spp 1 → 16", [](gi::Settings& x) { x.sspsf.samplesPerPixel = 1; }, [](gi::Settings& x) { x.sspsf.samplesPerPixel = 16; }, 1, 1},
-      {gi::Method::Aaf, "μ 0.5 → 4", [](gi::Settings& x) { x.aaf.mu = 0.5f; }, [](gi::Settings& x) { x.aaf.mu = 4.0f; }, 1, 1},
+      {gi::Method::Raw, "spp 1 → 16", [](gi::Settings& x) { x.raw.samplesPerPixel = 1; },
+       [](gi::Settings& x) { x.raw.samplesPerPixel = 16; }, 1, 1},
+      {gi::Method::Gif, "spp 1 → 16", [](gi::Settings& x) { x.gif.samplesPerPixel = 1; },
+       [](gi::Settings& x) { x.gif.samplesPerPixel = 16; }, 1, 1},
+      {gi::Method::Bilateral, "spp 1 → 16", [](gi::Settings& x) { x.bilateral.samplesPerPixel = 1; },
+       [](gi::Settings& x) { x.bilateral.samplesPerPixel = 16; }, 1, 1},
+      {gi::Method::Atrous, "spp 1 → 16", [](gi::Settings& x) { x.atrous.samplesPerPixel = 1; },
+       [](gi::Settings& x) { x.atrous.samplesPerPixel = 16; }, 1, 1},
+      {gi::Method::Sspsf, "spp 1 → 16", [](gi::Settings& x) { x.sspsf.samplesPerPixel = 1; },
+       [](gi::Settings& x) { x.sspsf.samplesPerPixel = 16; }, 1, 1},
+      {gi::Method::Aaf, "μ 0.5 → 4", [](gi::Settings& x) { x.aaf.mu = 0.5f; }, [](gi::Settings& x) { x.aaf.mu = 4.0f; },
+       1, 1},
       {gi::Method::Hpsf, "frames 1 → 16", [](gi::Settings&) {}, [](gi::Settings&) {}, 1, 16},
       {gi::Method::Nhpsf, "frames 1 → 16", [](gi::Settings&) {}, [](gi::Settings&) {}, 1, 16},
       {gi::Method::Anhpsf, "frames 1 → 16", [](gi::Settings&) {}, [](gi::Settings&) {}, 1, 16},
@@ -375,7 +397,8 @@ TEST_F(ExtremesTest, ErrorFallsAsEachQualityKnobRises) {
     k.low(low);
     k.high(high);
     Outcome a = run.run(low, k.lowFrames), b = run.run(high, k.highFrames);
-    table[std::string("consistency: ") + k.knob][gi::methodName(k.method)] = std::to_string(b.relMse / a.relMse).substr(0, 4) + "×";
+    table[std::string("consistency: ") + k.knob][gi::methodName(k.method)] =
+        std::to_string(b.relMse / a.relMse).substr(0, 4) + "×";
     EXPECT_LT(b.relMse, a.relMse) << gi::methodName(k.method) << " " << k.knob;
   }
 }

@@ -54,9 +54,10 @@ TEST(ForeignEngine, MeanIndirectMatchesGiRenderOnTheCornellBox) {
   std::string foreignOut, renderOut;
   ASSERT_EQ(runProcess(GI_FOREIGN_ENGINE_BINARY, "--method raw --frames 32" + common, foreignOut), 0) << foreignOut;
   EXPECT_NE(foreignOut.find("validation messages: 0"), std::string::npos) << foreignOut;
-  ASSERT_EQ(runProcess(GI_RENDER_BINARY,
-                       "--method raw --spp 1 --frames 32 --aov indirect --out " + dir + "/indirect.pfm" + common, renderOut),
-            0)
+  ASSERT_EQ(
+      runProcess(GI_RENDER_BINARY,
+                 "--method raw --spp 1 --frames 32 --aov indirect --out " + dir + "/indirect.pfm" + common, renderOut),
+      0)
       << renderOut;
   double foreign[3], error[3], render[3];
   ASSERT_TRUE(readTriple(foreignOut, "mean indirect", foreign)) << foreignOut;
@@ -83,7 +84,8 @@ TEST(ForeignEngine, DeviceBufferMeshesRenderAsCpuArrays) {
   std::filesystem::create_directories(dir);
   const std::string common = " --method raw --frames 4 --size 48x48 --validation --scene " + kCornell;
   std::string device, cpu;
-  ASSERT_EQ(runProcess(GI_FOREIGN_ENGINE_BINARY, "--meshes device --out " + dir + "/device.pfm" + common, device), 0) << device;
+  ASSERT_EQ(runProcess(GI_FOREIGN_ENGINE_BINARY, "--meshes device --out " + dir + "/device.pfm" + common, device), 0)
+      << device;
   ASSERT_EQ(runProcess(GI_FOREIGN_ENGINE_BINARY, "--meshes cpu --out " + dir + "/cpu.pfm" + common, cpu), 0) << cpu;
   EXPECT_NE(device.find("from the G-buffer's device buffers"), std::string::npos) << device;
   EXPECT_NE(device.find("validation messages: 0"), std::string::npos) << device;
@@ -109,10 +111,11 @@ TEST(ForeignEngine, BadInputIsANamedError) {
 TEST(ForeignEngine, OutputsSampledInAFragmentShaderForAHundredFramesThreeInFlight) {
   for (const char* method : {"svgf", "hpsf"}) {
     std::string out;
-    ASSERT_EQ(runProcess(GI_FOREIGN_ENGINE_BINARY, std::string("--method ") + method +
-                                                       " --frames 100 --size 32x32 --validation --scene " + kCornell,
-                         out),
-              0)
+    ASSERT_EQ(
+        runProcess(GI_FOREIGN_ENGINE_BINARY,
+                   std::string("--method ") + method + " --frames 100 --size 32x32 --validation --scene " + kCornell,
+                   out),
+        0)
         << out;
     EXPECT_NE(out.find("100 frames (jittered, 3 in flight)"), std::string::npos) << out;
     EXPECT_NE(out.find("validation messages: 0"), std::string::npos) << out;

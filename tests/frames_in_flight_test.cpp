@@ -39,7 +39,7 @@ AnimatedRun runFrames(const engine::Context& ctx, const std::string& path, uint3
   desc.outputFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
   gi::Settings settings;
   settings.method = gi::Method::Svgf;
-  tools::ModuleSession session;
+  ScopedSession session(ctx);
   EXPECT_TRUE(tools::createModuleSession(ctx, s.gpu, {kSize, kSize}, settings, session, error, &desc)) << error;
   engine::FrameSlots slots = engine::createFrameSlots(ctx, inFlight);
   AnimatedRun run;
@@ -84,12 +84,13 @@ void expectFramesInFlightClean(const std::string& path) {
   const AnimatedRun overlapped = runFrames(ctx, path, kInFlight, true, &steady);
   const AnimatedRun alone = runFrames(ctx, path, kInFlight, false, nullptr);
   const uint64_t steadyFrames = kFrames - (kInFlight + 2);
-  std::printf("%llu steady frames, %u in flight: %llu fence waits, %llu idle waits, %llu creations; module "
-              "allocations %llu then %llu\n",
-              (unsigned long long)steadyFrames, kInFlight, (unsigned long long)steady.fenceWaits,
-              (unsigned long long)steady.idleWaits, (unsigned long long)steady.creations,
-              (unsigned long long)overlapped.moduleAllocationsAfterWarmup,
-              (unsigned long long)overlapped.moduleAllocationsAtEnd);
+  std::printf(
+      "%llu steady frames, %u in flight: %llu fence waits, %llu idle waits, %llu creations; module "
+      "allocations %llu then %llu\n",
+      (unsigned long long)steadyFrames, kInFlight, (unsigned long long)steady.fenceWaits,
+      (unsigned long long)steady.idleWaits, (unsigned long long)steady.creations,
+      (unsigned long long)overlapped.moduleAllocationsAfterWarmup,
+      (unsigned long long)overlapped.moduleAllocationsAtEnd);
   EXPECT_EQ(steady.fenceWaits, steadyFrames) << "one fence a frame: its slot's";
   EXPECT_EQ(steady.idleWaits, 0u);
   EXPECT_EQ(steady.creations, 0u);

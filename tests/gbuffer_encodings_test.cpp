@@ -41,15 +41,18 @@ CpuGBuffer readGBuffer(const engine::Context& ctx, const engine::GBuffer& g) {
   };
   std::vector<float> normal = halves(gpu::GBUFFER_NORMAL, 4), motion = halves(gpu::GBUFFER_MOTION, 2);
   std::vector<std::byte> albedo = engine::readbackImage(ctx, g.color[gpu::GBUFFER_ALBEDO], VK_IMAGE_LAYOUT_GENERAL, 4);
-  std::vector<std::byte> material = engine::readbackImage(ctx, g.color[gpu::GBUFFER_MATERIAL], VK_IMAGE_LAYOUT_GENERAL, 2);
-  std::vector<std::byte> emission = engine::readbackImage(ctx, g.color[gpu::GBUFFER_EMISSION], VK_IMAGE_LAYOUT_GENERAL, 16);
+  std::vector<std::byte> material =
+      engine::readbackImage(ctx, g.color[gpu::GBUFFER_MATERIAL], VK_IMAGE_LAYOUT_GENERAL, 2);
+  std::vector<std::byte> emission =
+      engine::readbackImage(ctx, g.color[gpu::GBUFFER_EMISSION], VK_IMAGE_LAYOUT_GENERAL, 16);
   std::vector<std::byte> viewZ = engine::readbackImage(ctx, g.color[gpu::GBUFFER_VIEWZ], VK_IMAGE_LAYOUT_GENERAL, 4);
   for (size_t p = 0; p < n; ++p) {
     c.normal.push_back({normal[4 * p], normal[4 * p + 1], normal[4 * p + 2], normal[4 * p + 3]});
     glm::vec4 a;
     for (int k = 0; k < 4; ++k) a[k] = float(uint8_t(albedo[4 * p + k])) / 255.0f;
     c.albedo.push_back(a);
-    c.material.push_back({float(uint8_t(material[2 * p])) / 255.0f, float(uint8_t(material[2 * p + 1])) / 255.0f, 0, 0});
+    c.material.push_back(
+        {float(uint8_t(material[2 * p])) / 255.0f, float(uint8_t(material[2 * p + 1])) / 255.0f, 0, 0});
     glm::vec4 e;
     std::memcpy(&e, &emission[16 * p], 16);
     c.emission.push_back(e);
@@ -151,7 +154,7 @@ TEST_F(GBufferEncodingsTest, EveryAcceptedEncodingGivesTheSameImage) {
   }
 
   // Our own G-buffer, rendered once.
-  tools::ModuleSession native;
+  ScopedSession native(ctx);
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {kSize, kSize}, gi::Settings{}, native));
   engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
     engine::recordGBuffer(ctx, cmd, native.gbufferPass, s.scene, s.gpu, native.gbuffer, reversed, nullptr);
@@ -160,7 +163,7 @@ TEST_F(GBufferEncodingsTest, EveryAcceptedEncodingGivesTheSameImage) {
   const size_t n = size_t(kSize) * kSize;
 
   // Each encoding writes the images in their order: normal, albedo, material, emission, motion, depth.
-  auto ours = [&](Encoded (&e)[6]) { encodeOurs(g, e); };
+  auto ours = [&](Encoded(&e)[6]) { encodeOurs(g, e); };
   auto hardwareDepth = [&](Encoded& e, const glm::mat4& proj, bool reversedZ) {
     e.format = VK_FORMAT_D32_SFLOAT;
     e.bytes.clear();
@@ -172,19 +175,22 @@ TEST_F(GBufferEncodingsTest, EveryAcceptedEncodingGivesTheSameImage) {
   };
 
   std::vector<Variant> variants;
-  variants.push_back({"ours", engine::moduleGBufferDesc(), [&](const CpuGBuffer&, const glm::mat4&, Encoded (&e)[6]) { ours(e); }});
+  variants.push_back(
+      {"ours", engine::moduleGBufferDesc(), [&](const CpuGBuffer&, const glm::mat4&, Encoded(&e)[6]) { ours(e); }});
   for (bool isSigned : {false, true}) {
     Variant v{isSigned ? "octahedral RG16 snorm normals" : "octahedral RG16 unorm normals", {}, nullptr};
     v.desc.normalFormat = isSigned ? VK_FORMAT_R16G16_SNORM : VK_FORMAT_R16G16_UNORM;
     v.desc.normalEncoding = isSigned ? gi::NormalEncoding::OctahedralSigned : gi::NormalEncoding::Octahedral;
-    v.encode = [&, isSigned, format = v.desc.normalFormat](const CpuGBuffer& c, const glm::mat4&, Encoded (&e)[6]) {
+    v.encode = [&, isSigned, format = v.desc.normalFormat](const CpuGBuffer& c, const glm::mat4&, Encoded(&e)[6]) {
       ours(e);
       e[0] = {format, {}};
       for (size_t p = 0; p < n; ++p) {
         glm::vec2 o = c.normal[p].w > 0.5f ? octahedralEncode(glm::vec3(c.normal[p])) : glm::vec2(0.0f);
         for (int k = 0; k < 2; ++k) {
-          if (isSigned) put(e[0].bytes, int16_t(std::lround(o[k] * 32767.0f)));
-          else put(e[0].bytes, uint16_t(std::lround((o[k] * 0.5f + 0.5f) * 65535.0f)));
+          if (isSigned)
+            put(e[0].bytes, int16_t(std::lround(o[k] * 32767.0f)));
+          else
+            put(e[0].bytes, uint16_t(std::lround((o[k] * 0.5f + 0.5f) * 65535.0f)));
         }
       }
     };
@@ -194,7 +200,7 @@ TEST_F(GBufferEncodingsTest, EveryAcceptedEncodingGivesTheSameImage) {
     Variant v{"RGB10A2 normals", {}, nullptr};
     v.desc.normalFormat = VK_FORMAT_A2B10G10R10_UNORM_PACK32;
     v.desc.normalEncoding = gi::NormalEncoding::XyzUnorm;
-    v.encode = [&](const CpuGBuffer& c, const glm::mat4&, Encoded (&e)[6]) {
+    v.encode = [&](const CpuGBuffer& c, const glm::mat4&, Encoded(&e)[6]) {
       ours(e);
       e[0] = {VK_FORMAT_A2B10G10R10_UNORM_PACK32, {}};
       for (size_t p = 0; p < n; ++p) {
@@ -211,7 +217,7 @@ TEST_F(GBufferEncodingsTest, EveryAcceptedEncodingGivesTheSameImage) {
     // sets nothing gets the image of our flag.
     Variant v{"sRGB albedo with opacity in alpha, the default glossy rule", {}, nullptr};
     v.desc.albedoFormat = VK_FORMAT_R8G8B8A8_SRGB;
-    v.encode = [&](const CpuGBuffer& c, const glm::mat4&, Encoded (&e)[6]) {
+    v.encode = [&](const CpuGBuffer& c, const glm::mat4&, Encoded(&e)[6]) {
       ours(e);
       e[1] = {VK_FORMAT_R8G8B8A8_SRGB, {}};
       for (size_t p = 0; p < n; ++p) {
@@ -225,7 +231,7 @@ TEST_F(GBufferEncodingsTest, EveryAcceptedEncodingGivesTheSameImage) {
     Variant v{"hardware depth, reversed Z", {}, nullptr};
     v.desc.depthFormat = VK_FORMAT_D32_SFLOAT;
     v.desc.depthEncoding = gi::DepthEncoding::HardwareReversed;
-    v.encode = [&](const CpuGBuffer&, const glm::mat4& proj, Encoded (&e)[6]) {
+    v.encode = [&](const CpuGBuffer&, const glm::mat4& proj, Encoded(&e)[6]) {
       ours(e);
       hardwareDepth(e[5], proj, true);
     };
@@ -237,7 +243,7 @@ TEST_F(GBufferEncodingsTest, EveryAcceptedEncodingGivesTheSameImage) {
     v.desc.depthEncoding = gi::DepthEncoding::Hardware;
     v.desc.motion = gi::MotionUnits::Uv;
     v.forwardZ = true;
-    v.encode = [&](const CpuGBuffer& c, const glm::mat4& proj, Encoded (&e)[6]) {
+    v.encode = [&](const CpuGBuffer& c, const glm::mat4& proj, Encoded(&e)[6]) {
       ours(e);
       hardwareDepth(e[5], proj, false);
       e[4].bytes.clear();
@@ -252,7 +258,7 @@ TEST_F(GBufferEncodingsTest, EveryAcceptedEncodingGivesTheSameImage) {
     // from lavapipe's by up to 2e-4 of the distance on walls at grazing angles (scripts/device/diag-depth), and points
     // reconstructed behind their surface had every ray blocked (the walls and floor rendered black).
     Variant v{"view depth 2e-4 too far (a GPU rasterizer's error)", {}, nullptr};
-    v.encode = [&](const CpuGBuffer& c, const glm::mat4&, Encoded (&e)[6]) {
+    v.encode = [&](const CpuGBuffer& c, const glm::mat4&, Encoded(&e)[6]) {
       ours(e);
       e[5].bytes.clear();
       for (size_t p = 0; p < n; ++p) put(e[5].bytes, c.viewZ[p] * (1.0f + 2e-4f));
@@ -261,7 +267,7 @@ TEST_F(GBufferEncodingsTest, EveryAcceptedEncodingGivesTheSameImage) {
   }
   {
     Variant v{"a y-up projection (negative-height viewport)", {}, nullptr};
-    v.encode = [&](const CpuGBuffer&, const glm::mat4&, Encoded (&e)[6]) { ours(e); };
+    v.encode = [&](const CpuGBuffer&, const glm::mat4&, Encoded(&e)[6]) { ours(e); };
     v.yUp = true;
     variants.push_back(v);
   }
@@ -283,7 +289,8 @@ TEST_F(GBufferEncodingsTest, EveryAcceptedEncodingGivesTheSameImage) {
     in.gbuffer = uploaded.views();
     in.camera = in.previousCamera = engine::moduleCamera(cam);
     if (v.yUp)
-      for (int c = 0; c < 4; ++c) in.camera.clipFromView[c * 4 + 1] = in.previousCamera.clipFromView[c * 4 + 1] *= -1.0f;
+      for (int c = 0; c < 4; ++c)
+        in.camera.clipFromView[c * 4 + 1] = in.previousCamera.clipFromView[c * 4 + 1] *= -1.0f;
     engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { ASSERT_FALSE(gi::recordFrame(module, cmd, in)); });
     const gi::Outputs o = gi::outputs(module);
     engine::ReferenceImages out;
@@ -315,13 +322,13 @@ TEST_F(GBufferEncodingsTest, EveryAcceptedEncodingGivesTheSameImage) {
     }
     const double meanShift = std::fabs(meanOf(images[i].final) / finalMean - 1.0);
     const size_t p = worstAt / 3;
-    std::printf("%-45s direct: relative L1 %.2e (worst at %zu: %.4f vs %.4f, n %.4f %.4f %.4f z %.4f); final mean %+.2e\n",
-                variants[i].what, diff / sum, p, images[i].direct.pixels[worstAt], images[0].direct.pixels[worstAt],
-                g.normal[p].x, g.normal[p].y, g.normal[p].z, g.viewZ[p], meanShift);
+    std::printf(
+        "%-45s direct: relative L1 %.2e (worst at %zu: %.4f vs %.4f, n %.4f %.4f %.4f z %.4f); final mean %+.2e\n",
+        variants[i].what, diff / sum, p, images[i].direct.pixels[worstAt], images[0].direct.pixels[worstAt],
+        g.normal[p].x, g.normal[p].y, g.normal[p].z, g.viewZ[p], meanShift);
     EXPECT_LT(diff / sum, 0.01) << variants[i].what;
     EXPECT_LT(meanShift, 0.01) << variants[i].what;
   }
-  tools::destroyModuleSession(ctx, native);
 }
 
 // A camera that is not finite, not invertible or not a perspective
@@ -329,7 +336,7 @@ TEST_F(GBufferEncodingsTest, EveryAcceptedEncodingGivesTheSameImage) {
 TEST_F(GBufferEncodingsTest, BadCamerasAreNamedErrors) {
   LoadedScene s;
   ASSERT_NO_FATAL_FAILURE(load(sharedScene("cornell-simple/cornell_simple.gltf"), s));
-  tools::ModuleSession session;
+  ScopedSession session(ctx);
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {kSize, kSize}, gi::Settings{}, session));
   const gi::CameraDesc good = engine::moduleCamera(engine::makeGpuCamera(s.scene.cameras[0], kSize, kSize, nullptr));
   struct Case {
@@ -340,7 +347,11 @@ TEST_F(GBufferEncodingsTest, BadCamerasAreNamedErrors) {
   const Case cases[] = {
       {"NaN in the view", [](gi::CameraDesc& c) { c.viewFromWorld[12] = std::nanf(""); }, "not finite"},
       {"a flattened view", [](gi::CameraDesc& c) { c.viewFromWorld[0] = c.viewFromWorld[5] = 0.0f; }, "not invertible"},
-      {"an orthographic projection", [](gi::CameraDesc& c) { c.clipFromView[11] = 0.0f; c.clipFromView[15] = 1.0f; },
+      {"an orthographic projection",
+       [](gi::CameraDesc& c) {
+         c.clipFromView[11] = 0.0f;
+         c.clipFromView[15] = 1.0f;
+       },
        "not a perspective projection"},
   };
   for (const Case& c : cases) {
@@ -354,7 +365,6 @@ TEST_F(GBufferEncodingsTest, BadCamerasAreNamedErrors) {
     EXPECT_NE(e.message.find("inputs.camera"), std::string::npos) << e.message;
     EXPECT_NE(e.message.find(c.message), std::string::npos) << e.message;
   }
-  tools::destroyModuleSession(ctx, session);
 }
 
 // Encodings that do not match their format, and formats the module does not
@@ -368,16 +378,21 @@ TEST_F(GBufferEncodingsTest, MismatchedEncodingsAreNamedErrors) {
     std::vector<const char*> mentions;  // the field, and the names a person needs to fix it
   };
   const Case cases[] = {
-      {"octahedral in rgba16f", [](gi::GBufferDesc& d) { d.normalEncoding = gi::NormalEncoding::Octahedral; },
-       {"desc.gbuffer.normalFormat", "R16G16B16A16Sfloat (VkFormat 97)", "NormalEncoding::Octahedral",
-        "R16G16Unorm", "R8G8Unorm"}},
-      {"hardware depth in r32f", [](gi::GBufferDesc& d) { d.depthEncoding = gi::DepthEncoding::Hardware; },
+      {"octahedral in rgba16f",
+       [](gi::GBufferDesc& d) { d.normalEncoding = gi::NormalEncoding::Octahedral; },
+       {"desc.gbuffer.normalFormat", "R16G16B16A16Sfloat (VkFormat 97)", "NormalEncoding::Octahedral", "R16G16Unorm",
+        "R8G8Unorm"}},
+      {"hardware depth in r32f",
+       [](gi::GBufferDesc& d) { d.depthEncoding = gi::DepthEncoding::Hardware; },
        {"desc.gbuffer.depthFormat", "R32Sfloat", "DepthEncoding::Hardware", "D32Sfloat"}},
-      {"linear depth in d32", [](gi::GBufferDesc& d) { d.depthFormat = VK_FORMAT_D32_SFLOAT; },
+      {"linear depth in d32",
+       [](gi::GBufferDesc& d) { d.depthFormat = VK_FORMAT_D32_SFLOAT; },
        {"desc.gbuffer.depthFormat", "D32Sfloat", "DepthEncoding::LinearViewZ", "R32Sfloat", "R16Sfloat"}},
-      {"rgb565 albedo", [](gi::GBufferDesc& d) { d.albedoFormat = VK_FORMAT_R5G6B5_UNORM_PACK16; },
+      {"rgb565 albedo",
+       [](gi::GBufferDesc& d) { d.albedoFormat = VK_FORMAT_R5G6B5_UNORM_PACK16; },
        {"desc.gbuffer.albedoFormat", "R5G6B5UnormPack16", "R8G8B8A8Srgb"}},
-      {"unknown normal encoding", [](gi::GBufferDesc& d) { d.normalEncoding = gi::NormalEncoding(9); },
+      {"unknown normal encoding",
+       [](gi::GBufferDesc& d) { d.normalEncoding = gi::NormalEncoding(9); },
        {"desc.gbuffer.normalEncoding = 9"}},
       {"depth in an attachment layout",
        [](gi::GBufferDesc& d) { d.depthLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL; },
@@ -385,9 +400,13 @@ TEST_F(GBufferEncodingsTest, MismatchedEncodingsAreNamedErrors) {
       {"colour views in an attachment layout",
        [](gi::GBufferDesc& d) { d.colorLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL; },
        {"desc.gbuffer.colorLayout", "ColorAttachmentOptimal"}},
-      {"unknown motion units", [](gi::GBufferDesc& d) { d.motion = gi::MotionUnits(3); }, {"desc.gbuffer.motion = 3", "Ndc"}},
+      {"unknown motion units",
+       [](gi::GBufferDesc& d) { d.motion = gi::MotionUnits(3); },
+       {"desc.gbuffer.motion = 3", "Ndc"}},
       {"zero motion scale", [](gi::GBufferDesc& d) { d.motionScale[1] = 0.0f; }, {"desc.gbuffer.motionScale[1]"}},
-      {"NaN motion scale", [](gi::GBufferDesc& d) { d.motionScale[0] = std::nanf(""); }, {"desc.gbuffer.motionScale[0]"}},
+      {"NaN motion scale",
+       [](gi::GBufferDesc& d) { d.motionScale[0] = std::nanf(""); },
+       {"desc.gbuffer.motionScale[0]"}},
   };
   for (const Case& c : cases) {
     gi::ModuleDesc desc = tools::moduleDesc(ctx, s.gpu, {16, 16});
@@ -402,7 +421,7 @@ TEST_F(GBufferEncodingsTest, MismatchedEncodingsAreNamedErrors) {
   // A frame without one of the six views names it.
   gi::Module* m = nullptr;
   ASSERT_FALSE(gi::create(tools::moduleDesc(ctx, s.gpu, {16, 16}), gi::Settings{}, m));
-  tools::ModuleSession native;
+  ScopedSession native(ctx);
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {16, 16}, gi::Settings{}, native));
   const char* names[] = {"normal", "albedo", "material", "emission", "motion", "depth"};
   for (int missing = 0; missing < 6; ++missing) {
@@ -439,7 +458,7 @@ TEST_F(GBufferEncodingsTest, MotionInEveryConventionReprojectsAsOurs) {
   const float n = float(kSize);
   const gpu::GpuCamera a = engine::makeGpuCamera(s.scene.cameras[0], kSize, kSize, nullptr, 2.0f * jitterA / n);
   const gpu::GpuCamera b = engine::makeGpuCamera(moved, kSize, kSize, &a, 2.0f * jitterB / n);
-  tools::ModuleSession native;
+  ScopedSession native(ctx);
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {kSize, kSize}, gi::Settings{}, native));
   CpuGBuffer frames[2];
   for (int f = 0; f < 2; ++f) {
@@ -531,10 +550,11 @@ TEST(GBufferLayouts, ReadOnlyGBufferAndOutputsInTheEnginesLayoutGiveTheSameFrame
   std::string error;
   ASSERT_TRUE(createSyncValidatedContext(ctx, error)) << error;
   LoadedScene s;
-  ASSERT_TRUE(engine::loadSceneForRendering(sharedScene("cornell-simple/cornell_simple.gltf"), s.scene, error)) << error;
+  ASSERT_TRUE(engine::loadSceneForRendering(sharedScene("cornell-simple/cornell_simple.gltf"), s.scene, error))
+      << error;
   s.upload(ctx);
   const gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], kSize, kSize, nullptr);
-  tools::ModuleSession native;
+  ScopedSession native(ctx);
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {kSize, kSize}, gi::Settings{}, native));
   engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
     engine::recordGBuffer(ctx, cmd, native.gbufferPass, s.scene, s.gpu, native.gbuffer, cam, nullptr);
@@ -596,7 +616,7 @@ TEST_F(GBufferEncodingsTest, WithoutAnEmissionViewTheEngineAddsTheEmission) {
   LoadedScene s;
   ASSERT_NO_FATAL_FAILURE(load(sharedScene("cornell-box-mcguire/CornellBox-Original.gltf"), s));
   const gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], kSize, kSize, nullptr);
-  tools::ModuleSession native;
+  ScopedSession native(ctx);
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {kSize, kSize}, gi::Settings{}, native));
   engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
     engine::recordGBuffer(ctx, cmd, native.gbufferPass, s.scene, s.gpu, native.gbuffer, cam, nullptr);
@@ -632,7 +652,8 @@ TEST_F(GBufferEncodingsTest, WithoutAnEmissionViewTheEngineAddsTheEmission) {
       const double e = g.emission[p][c];
       emitted += e;
       worstDirect = std::max(worstDirect, std::fabs(out[1].direct.pixels[k] - out[0].direct.pixels[k] - e) / (e + 1.0));
-      worstComposite = std::max(worstComposite, std::fabs(out[1].final.pixels[k] - out[0].final.pixels[k] - e) / (e + 1.0));
+      worstComposite =
+          std::max(worstComposite, std::fabs(out[1].final.pixels[k] - out[0].final.pixels[k] - e) / (e + 1.0));
     }
   std::printf("emission summed over the image %.1f; direct and composite differ from it by at most %.2e and %.2e\n",
               emitted, worstDirect, worstComposite);

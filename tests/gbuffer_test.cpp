@@ -26,7 +26,8 @@ class GBufferTest : public GpuTest {
   double rasterAgreesWithRays(const LoadedScene& s, const engine::GBuffer& gbuffer, const gpu::GpuCamera& cam) {
     const uint32_t W = gbuffer.extent.width, H = gbuffer.extent.height;
     std::vector<float> viewZ = readFloats(ctx, gbuffer.color[gpu::GBUFFER_VIEWZ], 4);
-    std::vector<std::byte> normalRaw = engine::readbackImage(ctx, gbuffer.color[gpu::GBUFFER_NORMAL], VK_IMAGE_LAYOUT_GENERAL, 8);
+    std::vector<std::byte> normalRaw =
+        engine::readbackImage(ctx, gbuffer.color[gpu::GBUFFER_NORMAL], VK_IMAGE_LAYOUT_GENERAL, 8);
 
     engine::ReferenceSettings settings;
     settings.pixelJitter = false;
@@ -60,7 +61,8 @@ class GBufferTest : public GpuTest {
 // Raster and ray tracing must agree: same surfaces, depths and normals, also
 // after an instance moves and the TLAS is rebuilt (which also yields motion).
 TEST_F(GBufferTest, DepthAndNormalMatchRayTracedPrimaryHits) {
-  for (const char* scenePath : {"cornell-box-mcguire/CornellBox-Original.gltf", "cornell-simple/cornell_simple.gltf", "moved"}) {
+  for (const char* scenePath :
+       {"cornell-box-mcguire/CornellBox-Original.gltf", "cornell-simple/cornell_simple.gltf", "moved"}) {
     LoadedScene s;
     bool moved = std::string(scenePath) == "moved";
     load(sharedScene(moved ? "cornell-simple/cornell_simple.gltf" : scenePath), s);
@@ -69,19 +71,23 @@ TEST_F(GBufferTest, DepthAndNormalMatchRayTracedPrimaryHits) {
       uint32_t boxMesh = s.scene.instances.back().mesh;
       for (engine::Instance& inst : s.scene.instances)
         if (inst.mesh == boxMesh) inst.worldFromObject[3] += glm::vec4(0.2f, 0.0f, 0.0f, 0.0f);
-      engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { engine::recordSceneTransformUpdate(ctx, cmd, s.scene, s.gpu); });
+      engine::submitAndWait(ctx,
+                            [&](VkCommandBuffer cmd) { engine::recordSceneTransformUpdate(ctx, cmd, s.scene, s.gpu); });
     }
     const uint32_t W = 64, H = 48;
     gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], W, H, nullptr);
     engine::GBuffer gbuffer = engine::createGBuffer(ctx, {W, H});
     engine::GBufferPass pass = engine::createGBufferPass(ctx, s.gpu);
-    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { engine::recordGBuffer(ctx, cmd, pass, s.scene, s.gpu, gbuffer, cam, nullptr); });
+    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+      engine::recordGBuffer(ctx, cmd, pass, s.scene, s.gpu, gbuffer, cam, nullptr);
+    });
     const double agreement = rasterAgreesWithRays(s, gbuffer, cam);
     // Only pixels whose centre sits on an edge may disagree.
     EXPECT_GE(agreement, 0.98) << scenePath;
     if (moved) {
       // The moved instances carry motion: some pixels point back to where they were.
-      std::vector<std::byte> motion = engine::readbackImage(ctx, gbuffer.color[gpu::GBUFFER_MOTION], VK_IMAGE_LAYOUT_GENERAL, 4);
+      std::vector<std::byte> motion =
+          engine::readbackImage(ctx, gbuffer.color[gpu::GBUFFER_MOTION], VK_IMAGE_LAYOUT_GENERAL, 4);
       uint32_t moving = 0;
       for (size_t i = 0; i < size_t(W) * H; ++i) {
         uint16_t h[2];
@@ -104,17 +110,20 @@ TEST_F(GBufferTest, JitteredAndOffAxisProjectionsMatchRayTracedPrimaryHits) {
   engine::GBuffer gbuffer = engine::createGBuffer(ctx, {W, H});
   engine::GBufferPass pass = engine::createGBufferPass(ctx, s.gpu);
   auto depthOf = [&](const gpu::GpuCamera& cam) {
-    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { engine::recordGBuffer(ctx, cmd, pass, s.scene, s.gpu, gbuffer, cam, nullptr); });
+    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+      engine::recordGBuffer(ctx, cmd, pass, s.scene, s.gpu, gbuffer, cam, nullptr);
+    });
     return readFloats(ctx, gbuffer.color[gpu::GBUFFER_VIEWZ], 4);
   };
   const std::vector<float> centred = depthOf(engine::makeGpuCamera(s.scene.cameras[0], W, H, nullptr));
   const glm::vec2 shifts[] = {{2.0f * 0.37f / W, -2.0f * 0.29f / H},  // a sub-pixel jitter
-                              {0.3f, -0.2f}};                          // an off-axis projection
+                              {0.3f, -0.2f}};                         // an off-axis projection
   for (glm::vec2 shift : shifts) {
     gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], W, H, nullptr, shift);
     const std::vector<float> shifted = depthOf(cam);
     uint32_t moved = 0;
-    for (size_t i = 0; i < shifted.size(); ++i) moved += std::abs(shifted[i] - centred[i]) > 1e-4f * std::max(centred[i], 1.0f);
+    for (size_t i = 0; i < shifted.size(); ++i)
+      moved += std::abs(shifted[i] - centred[i]) > 1e-4f * std::max(centred[i], 1.0f);
     EXPECT_GT(moved, 20u) << "the shift moves the image";
     EXPECT_GE(rasterAgreesWithRays(s, gbuffer, cam), 0.98) << "shift " << shift.x << ", " << shift.y;
   }

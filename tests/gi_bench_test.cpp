@@ -21,10 +21,13 @@ TEST(GiBenchTool, WritesResultsPlotsAndReport) {
   std::filesystem::path dir = std::filesystem::temp_directory_path() / "gi_bench_test";
   std::filesystem::remove_all(dir);
   std::string out;
-  int rc = runBench("--scene " + std::string(GI_SHARED_SCENES) + "/cornell-box-mcguire/CornellBox-Original.gltf"
-                    " --size 32x24 --methods raw --spp 1,2 --set raw.accumulate=0 --frames 3 --warmup 0 --max-bounces 2"
-                    " --reference-spp 32 --camera-path --path-reference-spp 8 --validation --out " + dir.string(),
-                    out);
+  int rc =
+      runBench("--scene " + std::string(GI_SHARED_SCENES) +
+                   "/cornell-box-mcguire/CornellBox-Original.gltf"
+                   " --size 32x24 --methods raw --spp 1,2 --set raw.accumulate=0 --frames 3 --warmup 0 --max-bounces 2"
+                   " --reference-spp 32 --camera-path --path-reference-spp 8 --validation --out " +
+                   dir.string(),
+               out);
   ASSERT_EQ(rc, 0) << out;
   std::ifstream csv(dir / "results.csv");
   std::string header, line;
@@ -45,28 +48,38 @@ TEST(GiBenchTool, WritesResultsPlotsAndReport) {
   for (const char* f : {"tradeoff.png", "insets.png", "report.md", "run.txt", "images/reference.pfm"})
     EXPECT_TRUE(std::filesystem::exists(dir / f)) << f;
   // The reference is cached: a second run renders none.
-  rc = runBench("--scene " + std::string(GI_SHARED_SCENES) + "/cornell-box-mcguire/CornellBox-Original.gltf"
-                " --size 32x24 --methods raw --spp 1 --frames 1 --warmup 0 --max-bounces 2 --reference-spp 32 --no-plots"
-                " --out " + dir.string(),
-                out);
+  rc = runBench(
+      "--scene " + std::string(GI_SHARED_SCENES) +
+          "/cornell-box-mcguire/CornellBox-Original.gltf"
+          " --size 32x24 --methods raw --spp 1 --frames 1 --warmup 0 --max-bounces 2 --reference-spp 32 --no-plots"
+          " --out " +
+          dir.string(),
+      out);
   ASSERT_EQ(rc, 0) << out;
   EXPECT_EQ(out.find("rendering reference"), std::string::npos) << out;
   // Under a sky the light differs: its own reference, not the cached one.
-  rc = runBench("--scene " + std::string(GI_SHARED_SCENES) + "/cornell-box-mcguire/CornellBox-Original.gltf"
-                " --size 32x24 --methods raw --spp 1 --frames 1 --warmup 0 --max-bounces 2 --reference-spp 32 --no-plots"
-                " --sky 0.5,0.5,0.5 --validation --out " + dir.string(),
-                out);
+  rc = runBench(
+      "--scene " + std::string(GI_SHARED_SCENES) +
+          "/cornell-box-mcguire/CornellBox-Original.gltf"
+          " --size 32x24 --methods raw --spp 1 --frames 1 --warmup 0 --max-bounces 2 --reference-spp 32 --no-plots"
+          " --sky 0.5,0.5,0.5 --validation --out " +
+          dir.string(),
+      out);
   ASSERT_EQ(rc, 0) << out;
   EXPECT_NE(out.find("rendering reference"), std::string::npos) << out;
   EXPECT_NE(out.find("_sky0.5-0.5-0.5"), std::string::npos) << out;
   // References from the G-buffer's hits are their own (…_gb), and raw's error against one of
   // many samples is about raw's noise: relMSE well above 0, finite.
-  rc = runBench("--scene " + std::string(GI_SHARED_SCENES) + "/cornell-box-mcguire/CornellBox-Original.gltf"
-                " --size 32x24 --methods raw --spp 1 --frames 1 --warmup 0 --max-bounces 2 --reference-spp 64 --no-plots"
-                " --reference-primary gbuffer --validation --out " + dir.string(),
-                out);
+  rc = runBench(
+      "--scene " + std::string(GI_SHARED_SCENES) +
+          "/cornell-box-mcguire/CornellBox-Original.gltf"
+          " --size 32x24 --methods raw --spp 1 --frames 1 --warmup 0 --max-bounces 2 --reference-spp 64 --no-plots"
+          " --reference-primary gbuffer --validation --out " +
+          dir.string(),
+      out);
   ASSERT_EQ(rc, 0) << out;
-  EXPECT_NE(out.find("rendering reference CornellBox-Original_cam0_32x24_b2_s64_gb (64 spp)"), std::string::npos) << out;
+  EXPECT_NE(out.find("rendering reference CornellBox-Original_cam0_32x24_b2_s64_gb (64 spp)"), std::string::npos)
+      << out;
   EXPECT_TRUE(std::filesystem::exists(dir / "ref_CornellBox-Original_cam0_32x24_b2_s64_gb_final.exr"));
 }
 
@@ -94,10 +107,13 @@ TEST(GiBenchTool, MovingLightExperiment) {
   const std::filesystem::path dir = std::filesystem::temp_directory_path() / "gi_bench_move_test";
   std::filesystem::remove_all(dir);
   std::string out;
-  int rc = runBench("--scene " + std::string(GI_SHARED_SCENES) + "/cornell-box-mcguire/CornellBox-Original.gltf"
-                    " --size 16x16 --methods hpsf --spp 1 --frames 8 --warmup 0 --move-at 2 --invalidate-at-move lights"
-                    " --series --max-bounces 2 --reference-spp 16 --no-plots --validation --out " + dir.string(),
-                    out);
+  int rc =
+      runBench("--scene " + std::string(GI_SHARED_SCENES) +
+                   "/cornell-box-mcguire/CornellBox-Original.gltf"
+                   " --size 16x16 --methods hpsf --spp 1 --frames 8 --warmup 0 --move-at 2 --invalidate-at-move lights"
+                   " --series --max-bounces 2 --reference-spp 16 --no-plots --validation --out " +
+                   dir.string(),
+               out);
   ASSERT_EQ(rc, 0) << out;
   std::ifstream series(dir / "series.csv");
   std::string header, line;

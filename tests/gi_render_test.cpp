@@ -46,7 +46,8 @@ TEST(GiRenderTool, SkyRunsWithoutValidationMessages) {
   for (const char* method : {"reference", "hpsf"}) {
     int rc = runTool("--scene " + std::string(GI_SHARED_SCENES) +
                          "/cornell-box-mcguire/CornellBox-Original.gltf --size 16x16 --spp 2 --validation --sky 2,2,2"
-                         " --method " + method + " --stats " + dir + "/s.json",
+                         " --method " +
+                         method + " --stats " + dir + "/s.json",
                      out);
     ASSERT_EQ(rc, 0) << out;
     std::ifstream f(dir + "/s.json");
@@ -65,7 +66,8 @@ TEST(GiRenderTool, RendersWithValidationAndWritesStats) {
   std::string out;
   int rc = runTool("--scene " + std::string(GI_SHARED_SCENES) +
                        "/cornell-box-mcguire/CornellBox-Original.gltf --size 16x16 --spp 2 --max-bounces 2 --validation"
-                       " --aov indirect --out " + dir + "/i.pfm --stats " + dir + "/s.json",
+                       " --aov indirect --out " +
+                       dir + "/i.pfm --stats " + dir + "/s.json",
                    out);
   ASSERT_EQ(rc, 0) << out;
   EXPECT_TRUE(std::filesystem::exists(dir + "/i.pfm"));
@@ -91,7 +93,8 @@ TEST(GiRenderTool, MethodsUseTheirOwnSamplesAndTheChosenTraversal) {
     std::string out;
     int rc = runTool("--scene " + std::string(GI_SHARED_SCENES) +
                          "/cornell-box-mcguire/CornellBox-Original.gltf --size 16x16 --method hpsf --validation"
-                         " --traversal " + traversal + " --out " + dir + "/h.pfm --stats " + dir + "/s.json",
+                         " --traversal " +
+                         traversal + " --out " + dir + "/h.pfm --stats " + dir + "/s.json",
                      out);
     ASSERT_EQ(rc, 0) << out;
     std::ifstream f(dir + "/s.json");

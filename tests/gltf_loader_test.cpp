@@ -88,12 +88,14 @@ TEST(GltfLoader, FillsInNormalsCameraStripsAndHierarchy) {
 TEST(GltfLoader, SharedScenesLoadWithLightsAndCameras) {
   engine::Scene scene;
   std::string error;
-  ASSERT_TRUE(engine::loadGltf(std::string(GI_SHARED_SCENES) + "/conference-ward/conference-ward.gltf", scene, error)) << error;
+  ASSERT_TRUE(engine::loadGltf(std::string(GI_SHARED_SCENES) + "/conference-ward/conference-ward.gltf", scene, error))
+      << error;
   EXPECT_EQ(scene.lights.size(), 4u);
   EXPECT_EQ(scene.lights[0].type, engine::LightType::Point);
   EXPECT_NEAR(scene.lights[0].intensity.y, 4.0f * 0.93f, 1e-5f);  // colour × intensity, W/sr as-is
   EXPECT_FALSE(scene.hasEmissiveGeometry());
-  ASSERT_TRUE(engine::loadGltf(std::string(GI_SHARED_SCENES) + "/cornell-simple/cornell_simple.gltf", scene, error)) << error;
+  ASSERT_TRUE(engine::loadGltf(std::string(GI_SHARED_SCENES) + "/cornell-simple/cornell_simple.gltf", scene, error))
+      << error;
   EXPECT_TRUE(scene.hasEmissiveGeometry());
   EXPECT_TRUE(scene.lights.empty());
   bool found = false;

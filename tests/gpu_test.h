@@ -8,6 +8,7 @@
 
 #include "camera.h"
 #include "context.h"
+#include "module_session.h"
 #include "path_tracer.h"
 #include "scene_gpu.h"
 #include "scene_loading.h"
@@ -35,6 +36,18 @@ struct LoadedScene {
   void release() {
     if (context) engine::destroySceneGpu(*context, gpu);
     context = nullptr;
+  }
+};
+
+// A module session (tools/module_session.h) released when it goes out of scope, after a failed ASSERT
+// too. Declared after the scene it renders, it goes first.
+struct ScopedSession : tools::ModuleSession {
+  const engine::Context* context;
+  explicit ScopedSession(const engine::Context& c) : context(&c) {}
+  ScopedSession(const ScopedSession&) = delete;
+  ScopedSession& operator=(const ScopedSession&) = delete;
+  ~ScopedSession() {
+    if (module) tools::destroyModuleSession(*context, *this);  // a session destroyed by hand has no module
   }
 };
 

@@ -53,8 +53,8 @@ class HashGridTest : public GpuTest {
   }
   // The keys and sums as the GPU holds them.
   void read(std::vector<uint32_t>& keys, std::vector<gpu::HgAccum>& accum) {
-    engine::Buffer staging = engine::createBuffer(ctx, grid.keys.size + grid.accum.size, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                                  engine::MemoryKind::HostVisible);
+    engine::Buffer staging = engine::createBuffer(ctx, grid.keys.size + grid.accum.size,
+                                                  VK_BUFFER_USAGE_TRANSFER_DST_BIT, engine::MemoryKind::HostVisible);
     engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
       VkBufferCopy a{0, 0, grid.keys.size}, b{0, grid.keys.size, grid.accum.size};
       vkCmdCopyBuffer(cmd, grid.keys.buffer, staging.buffer, 1, &a);

@@ -16,9 +16,9 @@ class HpsfTest : public GpuTest {};
 // could use.
 TEST_F(HpsfTest, ZeroAlbedoChannelLosesNothingANeighbourCouldUse) {
   testscene::Description d;
-  d.quads.push_back({{{-1, 0, 1}, {0, 0, 1}, {0, 0, -1}, {-1, 0, -1}}, glm::vec3(1, 0, 0)});      // red floor half
-  d.quads.push_back({{{0, 0, 1}, {1, 0, 1}, {1, 0, -1}, {0, 0, -1}}, glm::vec3(0.8f)});          // grey floor half
-  d.quads.push_back({{{-1, 0, -1}, {1, 0, -1}, {1, 2, -1}, {-1, 2, -1}}, glm::vec3(0.8f)});      // grey back wall
+  d.quads.push_back({{{-1, 0, 1}, {0, 0, 1}, {0, 0, -1}, {-1, 0, -1}}, glm::vec3(1, 0, 0)});  // red floor half
+  d.quads.push_back({{{0, 0, 1}, {1, 0, 1}, {1, 0, -1}, {0, 0, -1}}, glm::vec3(0.8f)});       // grey floor half
+  d.quads.push_back({{{-1, 0, -1}, {1, 0, -1}, {1, 2, -1}, {-1, 2, -1}}, glm::vec3(0.8f)});   // grey back wall
   d.lights.push_back({{0, 1.5f, 0.5f}, glm::vec3(2.0f)});
   d.eye = {0, 1.2f, 2.2f};
   d.target = {0, 0, -0.3f};
@@ -28,7 +28,7 @@ TEST_F(HpsfTest, ZeroAlbedoChannelLosesNothingANeighbourCouldUse) {
   gi::Settings settings;
   settings.method = gi::Method::Hpsf;
   settings.hpsf.samplesPerPixel = 4;
-  tools::ModuleSession session;
+  ScopedSession session(ctx);
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {32, 32}, settings, session));
   for (uint32_t f = 0; f < 4; ++f) tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, f);
   engine::ReferenceImages out = tools::readModuleImages(ctx, session);
@@ -49,7 +49,6 @@ TEST_F(HpsfTest, ZeroAlbedoChannelLosesNothingANeighbourCouldUse) {
       if (out.albedo.at(x, y, 1) < 0.01f && out.albedo.at(x, y, 0) > 0.9f) {
         EXPECT_EQ(out.final.at(x, y, 1), 0.0f);
       }
-  tools::destroyModuleSession(ctx, session);
 }
 
 TEST_F(HpsfTest, TelemetryAndErrorOverFramesForBothEvictionPolicies) {
@@ -64,12 +63,13 @@ TEST_F(HpsfTest, TelemetryAndErrorOverFramesForBothEvictionPolicies) {
     settings.maxBounces = 2;
     settings.hpsf.eviction = policy;
     settings.hpsf.filterWidth = 8.0f;  // at 32 × 32 the default 16-pixel cells would span half the image: all bias
-    tools::ModuleSession session;
+    ScopedSession session(ctx);
     ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {W, H}, settings, session));
     std::vector<double> errors;
     for (uint32_t f = 0; f < 16; ++f) {
       tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, f);
-      if (f == 0 || f == 15) errors.push_back(metrics::mse(tools::readModuleImages(ctx, session).indirect, ref.indirect));
+      if (f == 0 || f == 15)
+        errors.push_back(metrics::mse(tools::readModuleImages(ctx, session).indirect, ref.indirect));
     }
     gi::FrameStats st = gi::stats(session.module);
     EXPECT_EQ(st.hash.capacity, 1024u);  // the floor, 2^10: 32 × 32 / 4 is below it
@@ -85,7 +85,6 @@ TEST_F(HpsfTest, TelemetryAndErrorOverFramesForBothEvictionPolicies) {
     // Both policies keep the cells' history over the 16 frames (measured 0.19× frame 0's error with
     // strict eviction, 0.13× with aging; a history lost every frame would stay near 1×).
     EXPECT_LT(errors[1], 0.3 * errors[0]) << "sixteen frames of history";
-    tools::destroyModuleSession(ctx, session);
   }
 }
 
@@ -98,7 +97,7 @@ TEST_F(HpsfTest, InvalidateAllEmptiesTheCacheAndLightsChangedKeepsTheCells) {
   gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], 24, 24, nullptr);
   gi::Settings settings;
   settings.method = gi::Method::Hpsf;
-  tools::ModuleSession session;
+  ScopedSession session(ctx);
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {24, 24}, settings, session));
   tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, 0);
   uint32_t firstFrameOccupancy = gi::stats(session.module).hash.occupied;
@@ -116,7 +115,6 @@ TEST_F(HpsfTest, InvalidateAllEmptiesTheCacheAndLightsChangedKeepsTheCells) {
   gi::FrameStats emptied = gi::stats(session.module);
   EXPECT_LE(emptied.hash.occupied, firstFrameOccupancy + firstFrameOccupancy / 4);
   for (float v : tools::readModuleImages(ctx, session).final.pixels) ASSERT_TRUE(std::isfinite(v));
-  tools::destroyModuleSession(ctx, session);
 }
 
 // Strict eviction (Meijer): two tables swap every frame, and a cell touched
@@ -139,7 +137,7 @@ TEST_F(HpsfTest, StrictEvictionAccumulatesWhileACellIsTouchedEveryFrame) {
     // Single-float outputs: the counts are compared exactly (a half float holds 0.99 to 5e-4).
     gi::ModuleDesc desc = tools::moduleDesc(ctx, s.gpu, {W, H});
     desc.outputFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
-    tools::ModuleSession session;
+    ScopedSession session(ctx);
     ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {W, H}, settings, session, &desc));
     std::vector<engine::FloatImage> samples;
     std::vector<gi::FrameStats> stats;
@@ -160,14 +158,14 @@ TEST_F(HpsfTest, StrictEvictionAccumulatesWhileACellIsTouchedEveryFrame) {
       grew += samples[3].pixels[i] > 2.0f * first;
     }
     ASSERT_GT(cells, size_t(W * H / 2));
-    EXPECT_EQ(grew, cells) << gi::methodName(settings.method) << (strict ? " strict" : " aging") << " keeps more than two frames";
+    EXPECT_EQ(grew, cells) << gi::methodName(settings.method) << (strict ? " strict" : " aging")
+                           << " keeps more than two frames";
     if (strict) {
       for (uint32_t f = 1; f < 4; ++f) {
         EXPECT_EQ(stats[f].hash.occupied, stats[0].hash.occupied);
         EXPECT_EQ(stats[f].hash.evicted, 0u);
       }
     }
-    tools::destroyModuleSession(ctx, session);
   }
 }
 
@@ -181,7 +179,7 @@ TEST_F(HpsfTest, StrictEvictionDropsCellsNotFoundAgain) {
   settings.method = gi::Method::Hpsf;
   settings.hpsf.eviction = gi::EvictionPolicy::Strict;
   settings.debugView = gi::DebugView::HashOccupancy;
-  tools::ModuleSession session;
+  ScopedSession session(ctx);
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {24, 24}, settings, session));
   uint32_t evicted = 0;
   for (uint32_t f = 0; f < 6; ++f) {
@@ -204,7 +202,6 @@ TEST_F(HpsfTest, StrictEvictionDropsCellsNotFoundAgain) {
     }
   }
   EXPECT_GT(coloured, out.final.pixels.size() / 6);
-  tools::destroyModuleSession(ctx, session);
 }
 
 // Strict eviction under the default jitter, still camera, 48 frames: the
@@ -224,7 +221,7 @@ TEST_F(HpsfTest, StrictEvictionConvergesWithoutSpikes) {
   settings.maxBounces = 2;
   settings.hpsf.eviction = gi::EvictionPolicy::Strict;
   engine::ReferenceImages ref = pixelCentreReference(ctx, s, cam, settings.maxBounces, 1024);
-  tools::ModuleSession session;
+  ScopedSession session(ctx);
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {W, H}, settings, session));
   std::vector<double> errors;
   for (uint32_t f = 0; f < kFrames; ++f) {
@@ -241,5 +238,4 @@ TEST_F(HpsfTest, StrictEvictionConvergesWithoutSpikes) {
               worstFrame, worst, errors.front(), errors.back());
   EXPECT_LT(worst, 1.3) << "frame " << worstFrame;
   EXPECT_LT(errors.back(), 0.3 * errors.front()) << "the history still accumulates";
-  tools::destroyModuleSession(ctx, session);
 }

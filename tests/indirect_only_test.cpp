@@ -24,9 +24,10 @@ ModeRun runMode(const engine::Context& ctx, const LoadedScene& s, gi::Method met
   settings.method = method;
   settings.indirectOnly = indirectOnly;
   gi::setTracedSamplesPerPixel(settings, 4);
-  settings.raw.temporalAccumulation = true;  // raw: the mean of every frame (the still camera), not the last one's noise
+  settings.raw.temporalAccumulation =
+      true;  // raw: the mean of every frame (the still camera), not the last one's noise
   const gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], kSize, kSize, nullptr);
-  tools::ModuleSession session;
+  ScopedSession session(ctx);
   std::string error;
   EXPECT_TRUE(tools::createModuleSession(ctx, s.gpu, {kSize, kSize}, settings, session, error)) << error;
   ModeRun run;
@@ -58,14 +59,16 @@ TEST_F(IndirectOnlyTest, NoPrimaryShadowRaysNoDirectLightAndTheSameIndirectLight
         const size_t k = 3 * p + size_t(c);
         directSum += std::fabs(only.images.direct.pixels[k]);
         const double expected = double(only.images.albedo.pixels[k]) * std::max(0.0f, only.images.indirect.pixels[k]);
-        worstComposite = std::max(worstComposite, std::fabs(only.images.final.pixels[k] - expected) / (expected + 1e-3));
+        worstComposite =
+            std::max(worstComposite, std::fabs(only.images.final.pixels[k] - expected) / (expected + 1e-3));
       }
     }
     const double indirectFull = meanOf(full.images.indirect), indirectOnly = meanOf(only.images.indirect);
-    std::printf("%s: rays a frame %.0f, indirect-only %.0f (%u covered pixels); mean indirect %.5f and %.5f (%+.2f%%); "
-                "composite against albedo x indirect: worst %.2e\n",
-                name, full.raysPerFrame, only.raysPerFrame, covered, indirectFull, indirectOnly,
-                100.0 * (indirectOnly - indirectFull) / indirectFull, worstComposite);
+    std::printf(
+        "%s: rays a frame %.0f, indirect-only %.0f (%u covered pixels); mean indirect %.5f and %.5f (%+.2f%%); "
+        "composite against albedo x indirect: worst %.2e\n",
+        name, full.raysPerFrame, only.raysPerFrame, covered, indirectFull, indirectOnly,
+        100.0 * (indirectOnly - indirectFull) / indirectFull, worstComposite);
     EXPECT_EQ(directSum, 0.0) << name;
     EXPECT_LT(worstComposite, 0.01) << name;  // half-float outputs
     // Not every covered pixel traces one (a surface facing away from every light: none), most do.

@@ -34,8 +34,10 @@ inline double worstBlockDifference(const engine::FloatImage& image, const engine
             a += truth.at(x, y, c);
             b += image.at(x, y, c);
           }
-      if (a > 0.0) worst = std::max(worst, std::abs(b - a) / a);
-      else if (unlit) ++*unlit;
+      if (a > 0.0)
+        worst = std::max(worst, std::abs(b - a) / a);
+      else if (unlit)
+        ++*unlit;
     }
   return worst;
 }
@@ -49,7 +51,8 @@ inline std::string lightField(uint32_t count, const std::string& name, bool bloc
   d.quads.push_back({{{-4, 0, 4}, {4, 0, 4}, {4, 0, -4}, {-4, 0, -4}}, glm::vec3(0.6f)});
   d.quads.push_back({{{-4, 0, -2}, {4, 0, -2}, {4, 3, -2}, {-4, 3, -2}}, glm::vec3(0.5f, 0.6f, 0.7f)});
   if (block)
-    d.quads.push_back({{{-0.5f, 0.8f, 0.5f}, {0.5f, 0.8f, 0.5f}, {0.5f, 0.8f, -0.5f}, {-0.5f, 0.8f, -0.5f}}, glm::vec3(0.4f)});
+    d.quads.push_back(
+        {{{-0.5f, 0.8f, 0.5f}, {0.5f, 0.8f, 0.5f}, {0.5f, 0.8f, -0.5f}, {-0.5f, 0.8f, -0.5f}}, glm::vec3(0.4f)});
   const float rows = float(std::max((count - 1) / 8, 1u));
   for (uint32_t i = 0; i < count; ++i) {
     const float x = -2.0f + 4.0f * float(i % 8) / 7.0f, z = -1.5f + 3.0f * float(i / 8) / rows;

@@ -47,7 +47,8 @@ TEST(LightGrid, SpreadsThePointLightsTotalIntensityOverTheCount) {
       EXPECT_GT(l.position.z, bounds.min.z);
       EXPECT_LT(l.position.z, bounds.max.z);
     }
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(after[c], before[c], 1e-4f * before[c]) << count << " lights, channel " << c;
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(after[c], before[c], 1e-4f * before[c]) << count << " lights, channel " << c;
     // No two lights at one place.
     for (size_t i = 1; i < spread.lights.size(); ++i)
       EXPECT_NE(spread.lights[i].position, spread.lights[i - 1].position) << count << " lights";

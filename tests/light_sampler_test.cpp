@@ -45,10 +45,11 @@ TEST_F(LightSamplerTest, PickedLightsHaveTheExactSumsExpectationAndOneShadowRayA
     const double meanAll = meanOf(all.images.final), meanPicked = meanOf(many.images.final);
     const double perSampleAll = double(all.rays) / (64.0 * kSize * kSize);
     const double perSamplePicked = double(many.rays) / (2048.0 * kSize * kSize);
-    std::printf("%s: image mean %.5f against every light's %.5f (%+.2f%%), worst 8x8 block %.2f%%; MSE at 64 spp "
-                "%.3e; rays a sample %.2f against %.2f\n",
-                name, meanPicked, meanAll, 100.0 * (meanPicked - meanAll) / meanAll, 100.0 * worst, mse, perSamplePicked,
-                perSampleAll);
+    std::printf(
+        "%s: image mean %.5f against every light's %.5f (%+.2f%%), worst 8x8 block %.2f%%; MSE at 64 spp "
+        "%.3e; rays a sample %.2f against %.2f\n",
+        name, meanPicked, meanAll, 100.0 * (meanPicked - meanAll) / meanAll, 100.0 * worst, mse, perSamplePicked,
+        perSampleAll);
     EXPECT_NEAR(meanPicked, meanAll, 0.01 * meanAll) << name;
     EXPECT_LT(worst, 0.03) << name;
     // The primary ray, the BSDF's ray and one shadow ray a light (every light, all of which see every
@@ -73,16 +74,17 @@ TEST_F(LightSamplerTest, SpotsAimedAnywhereKeepTheExactSumsExpectationAndTheTree
   const gpu::GpuCamera cam = engine::makeGpuCamera(exact.scene.cameras[0], kSize, kSize, nullptr);
   const engine::ReferenceRun all = engine::renderReference(ctx, exact.gpu, cam, settings, 64, 16);
   const engine::ReferenceRun many = engine::renderReference(ctx, tree.gpu, cam, settings, 2048, 64);
-  const double treeMse = metrics::mse(engine::renderReference(ctx, tree.gpu, cam, settings, 64, 16).images.final,
-                                      all.images.final);
-  const double powerMse = metrics::mse(engine::renderReference(ctx, power.gpu, cam, settings, 64, 16).images.final,
-                                       all.images.final);
+  const double treeMse =
+      metrics::mse(engine::renderReference(ctx, tree.gpu, cam, settings, 64, 16).images.final, all.images.final);
+  const double powerMse =
+      metrics::mse(engine::renderReference(ctx, power.gpu, cam, settings, 64, 16).images.final, all.images.final);
   uint32_t unlit = 0;
   const double worst = worstBlockDifference(many.images.final, all.images.final, kSize, &unlit);
   const double meanAll = meanOf(all.images.final), meanTree = meanOf(many.images.final);
-  std::printf("spots, tree: image mean %.5f against every light's %.5f (%+.2f%%), worst 8x8 block %.2f%% (%u blocks "
-              "unlit); MSE at 64 spp %.3e against power's %.3e\n",
-              meanTree, meanAll, 100.0 * (meanTree - meanAll) / meanAll, 100.0 * worst, unlit, treeMse, powerMse);
+  std::printf(
+      "spots, tree: image mean %.5f against every light's %.5f (%+.2f%%), worst 8x8 block %.2f%% (%u blocks "
+      "unlit); MSE at 64 spp %.3e against power's %.3e\n",
+      meanTree, meanAll, 100.0 * (meanTree - meanAll) / meanAll, 100.0 * worst, unlit, treeMse, powerMse);
   EXPECT_LT(unlit, 8u) << "most blocks are lit";
   EXPECT_NEAR(meanTree, meanAll, 0.01 * meanAll);
   EXPECT_LT(worst, 0.03);

@@ -24,7 +24,8 @@ std::vector<gi::LightDesc> randomLights(uint32_t count, uint32_t blackEvery) {
       l.intensity[k] = i % blackEvery == 0 ? 0.0f : 5.0f * u(rng);
     }
     // Spots aimed anywhere, from pencil beams to more than a hemisphere; most downwards, as lamps are.
-    const glm::vec3 aim = glm::normalize(glm::vec3(u(rng) - 0.5f, u(rng) < 0.8f ? -2.0f : 2.0f * u(rng) - 1.0f, u(rng) - 0.5f));
+    const glm::vec3 aim =
+        glm::normalize(glm::vec3(u(rng) - 0.5f, u(rng) < 0.8f ? -2.0f : 2.0f * u(rng) - 1.0f, u(rng) - 0.5f));
     for (int k = 0; k < 3; ++k) l.direction[k] = aim[k];
     l.outerConeAngle = 0.05f + 2.0f * u(rng);
     l.innerConeAngle = 0.5f * l.outerConeAngle;
@@ -33,10 +34,14 @@ std::vector<gi::LightDesc> randomLights(uint32_t count, uint32_t blackEvery) {
 }
 
 // The node's sphere holds the point (metres of slack: float rounding).
-bool sphereHolds(const gpu::GpuLightNode& n, glm::vec3 p) { return glm::length(p - n.centre) <= n.radius * (1.0f + 1e-5f) + 1e-6f; }
+bool sphereHolds(const gpu::GpuLightNode& n, glm::vec3 p) {
+  return glm::length(p - n.centre) <= n.radius * (1.0f + 1e-5f) + 1e-6f;
+}
 
 // The node's aim cone holds the direction (unit).
-bool coneHolds(const gpu::GpuLightNode& n, glm::vec3 direction) { return glm::dot(n.axis, direction) >= n.cosAim - 1e-6f; }
+bool coneHolds(const gpu::GpuLightNode& n, glm::vec3 direction) {
+  return glm::dot(n.axis, direction) >= n.cosAim - 1e-6f;
+}
 
 // Whether the light brings anything to a surface at x facing ng, as giPreparePunctual decides: in front
 // of the surface and, for a spot, strictly inside its outer cone; not black.
@@ -62,8 +67,10 @@ TEST(LightTable, DirectionalLightsComeFirstAndTheCdfFollowsThePower) {
   for (size_t i = 0; i < t.lights.size(); ++i) {
     const float step = t.lights[i].cdf - previous;
     EXPECT_GE(step, 0.0f) << "light " << i;
-    if (t.lights[i].intensity == glm::vec3(0.0f)) EXPECT_EQ(step, 0.0f) << "black light " << i;
-    else EXPECT_GT(step, 0.0f) << "light " << i;
+    if (t.lights[i].intensity == glm::vec3(0.0f))
+      EXPECT_EQ(step, 0.0f) << "black light " << i;
+    else
+      EXPECT_GT(step, 0.0f) << "light " << i;
     previous = t.lights[i].cdf;
   }
   EXPECT_EQ(t.lights.back().cdf, 1.0f);
@@ -108,8 +115,8 @@ TEST(LightTable, TheTreeHoldsEveryPointAndSpotLightOnceWithBoundsAndPowerOfItsCh
   for (size_t i = t.directionalCount; i < t.lights.size(); ++i) EXPECT_EQ(seen[i], 1) << "light " << i;
   // The words the shaders read: the lights, the nodes, the cut, within the buffer's capacity.
   const std::vector<uint32_t> words = gi::lightTableWords(t);
-  const size_t used = (t.lights.size() * sizeof(gpu::GpuPunctualLight) + t.nodes.size() * sizeof(gpu::GpuLightNode)) / 4 +
-                      t.cut.size();
+  const size_t used =
+      (t.lights.size() * sizeof(gpu::GpuPunctualLight) + t.nodes.size() * sizeof(gpu::GpuLightNode)) / 4 + t.cut.size();
   EXPECT_EQ(words.size(), (used + 3) / 4 * 4) << "whole 16-byte texels: the shaders read the cut four words at a time";
   EXPECT_EQ(words[used - 1], t.cut.back());
   EXPECT_LE(words.size(), gi::lightTableCapacityWords(lights.size()));
@@ -136,7 +143,8 @@ TEST(LightTable, TheCutsSubtreesHoldEveryLightOnce) {
         stack.push_back(n.child + 1);
       }
     }
-    for (size_t i = t.directionalCount; i < t.lights.size(); ++i) EXPECT_EQ(seen[i], 1) << "cut " << size << ", light " << i;
+    for (size_t i = t.directionalCount; i < t.lights.size(); ++i)
+      EXPECT_EQ(seen[i], 1) << "cut " << size << ", light " << i;
     if (size >= positional) {
       for (uint32_t node : t.cut) EXPECT_TRUE(t.nodes[node].child & gpu::LIGHT_NODE_LEAF) << "cut " << size;
     }

@@ -33,7 +33,8 @@ TEST(Metrics, SsimByHand) {
   EXPECT_NEAR(metrics::ssim(a, b), expected, 1e-9);
   // Noise lowers it; values above 1 clamp (HDR pixels count as white).
   engine::FloatImage noisy = a;
-  for (size_t i = 0; i < noisy.pixels.size(); i += 3) noisy.pixels[i] = noisy.pixels[i + 1] = noisy.pixels[i + 2] = (i / 3) % 2 ? 0.0f : 0.5f;
+  for (size_t i = 0; i < noisy.pixels.size(); i += 3)
+    noisy.pixels[i] = noisy.pixels[i + 1] = noisy.pixels[i + 2] = (i / 3) % 2 ? 0.0f : 0.5f;
   EXPECT_LT(metrics::ssim(noisy, a), 0.5);
   EXPECT_NEAR(metrics::ssim(constant(8, 8, 5.0f), constant(8, 8, 1.0f)), 1.0, 1e-12);
 }

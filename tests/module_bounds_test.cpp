@@ -1,4 +1,4 @@
-// gi::ModuleDesc::checkBounds (shaders/bounds.glsl): every hash-map index and
+// gi::ModuleDesc::checkBounds (shaders/module/bounds.glsl): every hash-map index and
 // every image coordinate of set 1 checked against its size, a violation
 // counted in FrameStats::boundsViolations. Every method under what strains
 // indices most (a full map, a moving scene, a panning camera, an image whose
@@ -37,13 +37,15 @@ TEST_F(ModuleBoundsTest, EveryMethodOnAFullMapAndAMovingSceneStaysInBounds) {
     settings.hpsf.capacity = 1024;
     settings.hpsf.filterWidth = 0.5f;  // cells of half a pixel: far more than the map holds
     settings.hpsf.normalBits = 6;
-    tools::ModuleSession session;
+    ScopedSession session(ctx);
     ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, size, settings, session, &desc));
     gpu::GpuCamera previous{};
     uint32_t failedInserts = 0;
     for (uint32_t f = 0; f < 8; ++f) {
-      if (f == 0) engine::jumpScene(ctx, animation, 0.0f, s.scene, s.gpu);
-      else engine::poseScene(ctx, animation, float(f) / 30.0f, s.scene, s.gpu);
+      if (f == 0)
+        engine::jumpScene(ctx, animation, 0.0f, s.scene, s.gpu);
+      else
+        engine::poseScene(ctx, animation, float(f) / 30.0f, s.scene, s.gpu);
       const engine::Camera c = panned(s.scene.cameras[0], 0.02f * float(7 - f));
       const gpu::GpuCamera cam = engine::makeGpuCamera(c, size.width, size.height, f > 0 ? &previous : nullptr);
       tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, f > 0 ? previous : cam, f);
@@ -56,7 +58,6 @@ TEST_F(ModuleBoundsTest, EveryMethodOnAFullMapAndAMovingSceneStaysInBounds) {
     if (gi::usesHashGrid(info.method)) {
       EXPECT_GT(failedInserts, 0u) << info.name << ": the map was meant to be full";
     }
-    tools::destroyModuleSession(ctx, session);
   }
   engine::jumpScene(ctx, animation, 0.0f, s.scene, s.gpu);
 }
@@ -76,7 +77,8 @@ TEST_F(ModuleBoundsTest, AnIndexPastTheMapIsCounted) {
   VkDescriptorSetLayout all[] = {empty.layout, empty.layout, gridLayout};
   uint32_t spec[GI_SPEC_COUNT] = {};
   spec[GI_SPEC_CHECK_BOUNDS] = 1;
-  engine::ComputeProgram stress = engine::createComputeProgram(ctx, spv_hash_stress_comp, all, sizeof(StressPush), {64, 1}, spec);
+  engine::ComputeProgram stress =
+      engine::createComputeProgram(ctx, spv_hash_stress_comp, all, sizeof(StressPush), {64, 1}, spec);
   const StressPush told4096{4096, 8, 4096, 1, 0, 1, 0, 1};  // insert 4,096 keys, one sample each
   VkDescriptorSet sets[] = {empty.set, empty.set, grid.set[0]};
   engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
@@ -107,7 +109,7 @@ TEST_F(ModuleBoundsTest, ATextureIndexPastTheWrittenOnesIsCounted) {
   desc.checkBounds = true;
   gi::Settings settings;
   settings.method = gi::Method::Raw;
-  tools::ModuleSession session;
+  ScopedSession session(ctx);
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, size, settings, session, &desc));
   const gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], size.width, size.height, nullptr);
   auto violations = [&](uint32_t frame) {
@@ -126,7 +128,6 @@ TEST_F(ModuleBoundsTest, ATextureIndexPastTheWrittenOnesIsCounted) {
   EXPECT_GT(counted, 1000u);
   std::memcpy(scene.constants.memory.mapped, &kept, sizeof(kept));
   EXPECT_EQ(violations(2), 0u);
-  tools::destroyModuleSession(ctx, session);
 }
 
 // The reservoirs (ReservoirSettings, on by default) under a panning camera: their temporal merge reads last
@@ -148,7 +149,7 @@ TEST_F(ModuleBoundsTest, ReservoirsUnderAPanningCameraStayInBounds) {
     settings.method = method;
     settings.reservoirs.neighbours = 8;
     settings.reservoirs.radius = 32.0f;
-    tools::ModuleSession session;
+    ScopedSession session(ctx);
     ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, size, settings, session, &desc));
     const std::vector<std::string> programs = gi::programNames(session.module, settings);
     EXPECT_NE(std::find(programs.begin(), programs.end(), "gi_reservoirs"), programs.end()) << gi::methodName(method);
@@ -162,6 +163,5 @@ TEST_F(ModuleBoundsTest, ReservoirsUnderAPanningCameraStayInBounds) {
       ASSERT_TRUE(gi::frameStats(session.module, f, stats));
       EXPECT_EQ(stats.boundsViolations, 0u) << gi::methodName(method) << " frame " << f;
     }
-    tools::destroyModuleSession(ctx, session);
   }
 }

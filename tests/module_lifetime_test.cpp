@@ -49,7 +49,8 @@ TEST_F(ModuleLifetimeTest, FrameImagesCanBeOverwrittenBetweenFramesInEveryMethod
                              [&](tools::ModuleSession& session) { fillFrameImagesWithNan(ctx, *session.module); });
     ASSERT_FALSE(kept.final.pixels.empty()) << info.name;
     EXPECT_TRUE(sameBits(kept.direct, filled.direct)) << info.name << ": direct read a frame image's last contents";
-    EXPECT_TRUE(sameBits(kept.indirect, filled.indirect)) << info.name << ": indirect read a frame image's last contents";
+    EXPECT_TRUE(sameBits(kept.indirect, filled.indirect))
+        << info.name << ": indirect read a frame image's last contents";
     EXPECT_TRUE(sameBits(kept.final, filled.final)) << info.name << ": composite read a frame image's last contents";
   }
 }
@@ -64,7 +65,7 @@ TEST_F(ModuleLifetimeTest, TransientBytesAreTheFrameImages) {
   for (gi::Method method : {gi::Method::Raw, gi::Method::Gif, gi::Method::Hpsf}) {
     gi::Settings settings;
     settings.method = method;
-    tools::ModuleSession session;
+    ScopedSession session(ctx);
     ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {64, 64}, settings, session));
     tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, 0);
     const gi::FrameStats st = gi::stats(session.module);
@@ -73,12 +74,11 @@ TEST_F(ModuleLifetimeTest, TransientBytesAreTheFrameImages) {
     EXPECT_EQ(st.memoryTransientBytes, listed) << gi::methodName(method);
     EXPECT_LT(st.memoryTransientBytes, st.memoryUsedBytes) << gi::methodName(method);
     const uint64_t image = 64 * 64 * 16;  // one rgba32f image
-    if (method == gi::Method::Gif) {  // the 8 statistics images, noisy, guidance and position (half floats)
+    if (method == gi::Method::Gif) {      // the 8 statistics images, noisy, guidance and position (half floats)
       EXPECT_GE(st.memoryTransientBytes, FILTER_STACK * image + 3 * image / 2) << "gif";
     }
     if (method == gi::Method::Hpsf) {  // the sample goes into the output; the direct history persists
       EXPECT_LT(st.memoryTransientBytes, image) << "hpsf";
     }
-    tools::destroyModuleSession(ctx, session);
   }
 }

@@ -40,7 +40,8 @@ std::map<std::string, MemoryRow> fullHdRows(const std::string& path) {
     std::getline(fields, held, ',');
     std::getline(fields, used, ',');
     std::getline(fields, transient, ',');
-    if (width == "1920" && height == "1080") out[method] = {std::stoull(held), std::stoull(used), std::stoull(transient)};
+    if (width == "1920" && height == "1080")
+      out[method] = {std::stoull(held), std::stoull(used), std::stoull(transient)};
   }
   return out;
 }
@@ -85,11 +86,12 @@ TEST_F(ModuleMemoryTest, ThePredictionIsWhatTheModuleHolds) {
     uint32_t framesInFlight;
     bool engineAllocator;
   };
-  const Case cases[] = {{{1920, 1080}, {0, 0}, 2, false}, {{97, 61}, {300, 200}, 3, false}, {{97, 61}, {0, 0}, 2, true}};
+  const Case cases[] = {
+      {{1920, 1080}, {0, 0}, 2, false}, {{97, 61}, {300, 200}, 3, false}, {{97, 61}, {0, 0}, 2, true}};
   for (const Case& c : cases)
     for (const gi::MethodInfo& info : gi::methodCatalogue()) {
-      SCOPED_TRACE(std::string(info.name) + " at " + std::to_string(c.size.width) + "x" + std::to_string(c.size.height) +
-                   (c.engineAllocator ? " from the engine's allocator" : ""));
+      SCOPED_TRACE(std::string(info.name) + " at " + std::to_string(c.size.width) + "x" +
+                   std::to_string(c.size.height) + (c.engineAllocator ? " from the engine's allocator" : ""));
       gi::ModuleDesc desc = tools::moduleDesc(ctx, s.gpu, c.size);
       desc.maxWidth = c.maximum.width;
       desc.maxHeight = c.maximum.height;
@@ -109,7 +111,8 @@ TEST_F(ModuleMemoryTest, ThePredictionIsWhatTheModuleHolds) {
       EXPECT_EQ(predicted.deviceAllocations, m->gpu.memory.allocations);
       if (c.engineAllocator) {
         EXPECT_EQ(predicted.heldBytes, engineMemory.liveBytes);
-        EXPECT_EQ(predicted.transientBytes, engineMemory.transientBytes) << "the requests say which images are transient";
+        EXPECT_EQ(predicted.transientBytes, engineMemory.transientBytes)
+            << "the requests say which images are transient";
         EXPECT_EQ(predicted.deviceAllocations, 0u);
       }
       gi::destroy(m);
@@ -158,7 +161,7 @@ TEST_F(ModuleMemoryTest, AnEnginesAllocatorHoldsEveryByteAndTheModuleAllocatesNo
       desc.getInstanceProcAddr = countingGetInstanceProcAddr;
       if (engineOwned) desc.deviceMemory = engineMemory.callbacks();
       moduleAllocateMemoryCalls = 0;
-      tools::ModuleSession session;
+      ScopedSession session(ctx);
       ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, size, settings, session, &desc));
       for (uint32_t f = 0; f < 3; ++f) tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, f);
       const gi::FrameStats stats = gi::stats(session.module);
@@ -172,7 +175,6 @@ TEST_F(ModuleMemoryTest, AnEnginesAllocatorHoldsEveryByteAndTheModuleAllocatesNo
         EXPECT_GT(moduleAllocateMemoryCalls, 0u) << "the counter sees the module's own blocks";
       }
       images[engineOwned] = tools::readModuleImages(ctx, session);
-      tools::destroyModuleSession(ctx, session);
     }
     EXPECT_EQ(engineMemory.liveBytes, 0u) << "destroy frees every slice";
     EXPECT_TRUE(sameBits(images[0].final, images[1].final));
@@ -185,7 +187,7 @@ TEST_F(ModuleMemoryTest, AnEnginesAllocatorHoldsEveryByteAndTheModuleAllocatesNo
     gi::Settings hpsf, svgf;
     hpsf.method = gi::Method::Hpsf;
     svgf.method = gi::Method::Svgf;
-    tools::ModuleSession session;
+    ScopedSession session(ctx);
     ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, size, hpsf, session, &desc));
     tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, 0);
     ASSERT_FALSE(gi::setSettings(session.module, svgf));
@@ -236,14 +238,14 @@ TEST_F(ModuleMemoryTest, TransientImagesShareTheEnginesMemoryBetweenFrames) {
       ASSERT_GT(predicted.transientBytes, 0u);
       AliasedTransientPool pool(ctx, engineMemory, predicted.transientBytes + (VkDeviceSize(1) << 20));
       if (aliased) desc.deviceMemory = pool.callbacks();
-      tools::ModuleSession session;
+      ScopedSession session(ctx);
       ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, size, settings, session, &desc));
       for (uint32_t f = 0; f < 4; ++f) {
         tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, f);
         engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {  // the engine's own use of the pool's bytes
           engine::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
-                                VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_TRANSFER_BIT,
-                                VK_ACCESS_2_TRANSFER_WRITE_BIT);
+                                VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT,
+                                VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
           vkCmdFillBuffer(cmd, pool.alias, 0, VK_WHOLE_SIZE, 0x7fc00000u);  // quiet NaN in every float
         });
       }
@@ -252,7 +254,6 @@ TEST_F(ModuleMemoryTest, TransientImagesShareTheEnginesMemoryBetweenFrames) {
         EXPECT_EQ(engineMemory.transientBytes, 0u) << "every transient request came from the pool";
       }
       images[aliased] = tools::readModuleImages(ctx, session);
-      tools::destroyModuleSession(ctx, session);
     }
     EXPECT_TRUE(sameBits(images[0].final, images[1].final));
     EXPECT_TRUE(sameBits(images[0].indirect, images[1].indirect));

@@ -29,7 +29,7 @@ void renderOutputs(const engine::Context& ctx, LoadedScene& s, const gi::Setting
   desc.outputFormat = format;
   desc.compositeFormat = composite;
   desc.historyFormat = history;
-  tools::ModuleSession session;
+  ScopedSession session(ctx);
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {kSize, kSize}, settings, session, &desc));
   session.preExposure = preExposure;
   const gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], kSize, kSize, nullptr);
@@ -40,7 +40,6 @@ void renderOutputs(const engine::Context& ctx, LoadedScene& s, const gi::Setting
   out.direct = engine::readbackRgb(ctx, o.direct, o.format, {kSize, kSize});
   out.indirect = engine::readbackRgb(ctx, o.indirect, o.format, {kSize, kSize});
   out.composite = engine::readbackRgb(ctx, o.composite, o.compositeFormat, {kSize, kSize});
-  tools::destroyModuleSession(ctx, session);
 }
 
 // Σ|a − b| / Σ|b|.
@@ -72,8 +71,8 @@ TEST_F(ModuleOutputsTest, HalfFloatOutputsMatchSingleFloatOnes) {
     const char* name = gi::methodName(settings.method);
     const double direct = relativeL1(half.direct, single.direct), indirect = relativeL1(half.indirect, single.indirect),
                  composite = relativeL1(half.composite, single.composite);
-    std::printf("%-9s half vs single, relative L1: direct %.2e, indirect %.2e, composite %.2e\n", name, direct, indirect,
-                composite);
+    std::printf("%-9s half vs single, relative L1: direct %.2e, indirect %.2e, composite %.2e\n", name, direct,
+                indirect, composite);
     EXPECT_LT(direct, 2e-3) << name << " direct";
     EXPECT_LT(indirect, 2e-3) << name << " indirect";
     EXPECT_LT(composite, 2e-3) << name << " composite";
@@ -105,7 +104,8 @@ TEST_F(ModuleOutputsTest, APackedCompositeIsTheHalfFloatOneToItsSteps) {
       outside += !(std::fabs(a - b) <= b / 16.0f + 1e-4f);
     }
     EXPECT_EQ(outside, 0u) << name;
-    std::printf("%-9s packed composite vs half, relative L1 %.2e\n", name, relativeL1(packed.composite, half.composite));
+    std::printf("%-9s packed composite vs half, relative L1 %.2e\n", name,
+                relativeL1(packed.composite, half.composite));
     EXPECT_LT(relativeL1(packed.composite, half.composite), 1e-2) << name;
   }
   gi::ModuleDesc desc = tools::moduleDesc(ctx, s.gpu, {kSize, kSize});
@@ -136,8 +136,8 @@ TEST_F(ModuleOutputsTest, HalfFloatHistoriesMatchSingleFloatOnes) {
     const char* name = gi::methodName(settings.method);
     const double direct = relativeL1(half.direct, single.direct), indirect = relativeL1(half.indirect, single.indirect),
                  composite = relativeL1(half.composite, single.composite);
-    std::printf("%-9s half vs single histories, relative L1: direct %.2e, indirect %.2e, composite %.2e\n", name, direct,
-                indirect, composite);
+    std::printf("%-9s half vs single histories, relative L1: direct %.2e, indirect %.2e, composite %.2e\n", name,
+                direct, indirect, composite);
     // Measured: at most 6.4e-4 direct, 2.3e-3 indirect (the noisy image and the history
     // each round every frame), 8.7e-4 composite.
     EXPECT_LT(direct, 2e-3) << name << " direct";
@@ -187,7 +187,15 @@ TEST_F(ModuleOutputsTest, PreExposureScalesLightAndLeavesPicturesAlone) {
     }
     EXPECT_GT(lit, 0.0) << c.what << ": nothing to compare";
   }
-  EXPECT_EQ(gi::outputScales([] { gi::Settings x; x.debugView = gi::DebugView::Normal; return x; }(), kScale).composite, 1.0f);
+  EXPECT_EQ(gi::outputScales(
+                [] {
+                  gi::Settings x;
+                  x.debugView = gi::DebugView::Normal;
+                  return x;
+                }(),
+                kScale)
+                .composite,
+            1.0f);
 }
 
 // Light beyond half float's range is clamped at 65504, never Inf.
@@ -198,7 +206,8 @@ TEST_F(ModuleOutputsTest, HalfFloatOutputsClampInsteadOfOverflowing) {
     gi::Settings settings;
     settings.method = method;
     Stored out;
-    ASSERT_NO_FATAL_FAILURE(renderOutputs(ctx, s, settings, VK_FORMAT_R16G16B16A16_SFLOAT, 1e9f / s.gpu.desc.typicalRadiance, out));
+    ASSERT_NO_FATAL_FAILURE(
+        renderOutputs(ctx, s, settings, VK_FORMAT_R16G16B16A16_SFLOAT, 1e9f / s.gpu.desc.typicalRadiance, out));
     size_t atLimit = 0;
     for (const engine::FloatImage* img : {&out.direct, &out.indirect, &out.composite})
       for (float v : img->pixels) {
@@ -214,7 +223,7 @@ TEST_F(ModuleOutputsTest, HalfFloatOutputsClampInsteadOfOverflowing) {
 TEST_F(ModuleOutputsTest, BadPreExposureIsANamedError) {
   LoadedScene s;
   load(sharedScene("cornell-simple/cornell_simple.gltf"), s);
-  tools::ModuleSession session;
+  ScopedSession session(ctx);
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {kSize, kSize}, gi::Settings{}, session));
   const gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], kSize, kSize, nullptr);
   for (float bad : {0.0f, -1.0f, std::nanf(""), INFINITY}) {
@@ -227,5 +236,4 @@ TEST_F(ModuleOutputsTest, BadPreExposureIsANamedError) {
     EXPECT_EQ(e.code, gi::ErrorCode::OutOfRange) << bad;
     EXPECT_NE(e.message.find("preExposure"), std::string::npos) << e.message;
   }
-  tools::destroyModuleSession(ctx, session);
 }

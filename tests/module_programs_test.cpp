@@ -102,7 +102,7 @@ class ModuleProgramsTest : public GpuTest {
 
 TEST_F(ModuleProgramsTest, EveryPipelineGoesThroughTheEnginesCache) {
   const gi::ModuleDesc desc = countedDesc();
-  tools::ModuleSession session;
+  ScopedSession session(ctx);
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, scene, kSize, gi::Settings{}, session, &desc));
   for (gi::Method method : {gi::Method::Gif, gi::Method::Aaf, gi::Method::Hpsf, gi::Method::Anhpsf, gi::Method::Svgf}) {
     gi::Settings s;
@@ -117,7 +117,7 @@ TEST_F(ModuleProgramsTest, EveryPipelineGoesThroughTheEnginesCache) {
 
 TEST_F(ModuleProgramsTest, ProgramsReadiedOnAnotherThreadLeaveTheSwitchNothingToCreate) {
   const gi::ModuleDesc desc = countedDesc();
-  tools::ModuleSession session;
+  ScopedSession session(ctx);
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, scene, kSize, gi::Settings{}, session, &desc));
   const gi::Settings hpsf = hpsfSettings();
   const std::vector<std::string> names = gi::programNames(session.module, hpsf);
@@ -176,13 +176,14 @@ TEST_F(ModuleProgramsTest, ProgramsReadiedOnAnotherThreadLeaveTheSwitchNothingTo
 }
 
 TEST_F(ModuleProgramsTest, AWarmUpNamesItsProgramAndIsFinishedBeforeTheNext) {
-  tools::ModuleSession session;
+  ScopedSession session(ctx);
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, scene, kSize, gi::Settings{}, session));
   const gi::Settings hpsf = hpsfSettings();
   engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
     gi::Error unknown = gi::recordProgramWarmup(session.module, hpsf, cmd, "gi_raw_trace");
     EXPECT_EQ(unknown.code, gi::ErrorCode::OutOfRange);
-    EXPECT_NE(unknown.message.find("\"gi_raw_trace\" is not one these settings run"), std::string::npos) << unknown.message;
+    EXPECT_NE(unknown.message.find("\"gi_raw_trace\" is not one these settings run"), std::string::npos)
+        << unknown.message;
     EXPECT_FALSE(gi::recordProgramWarmup(session.module, hpsf, cmd, "hpsf_resolve"));
     gi::Error twice = gi::recordProgramWarmup(session.module, hpsf, cmd);
     EXPECT_NE(twice.message.find("gi::finishProgramWarmup"), std::string::npos) << twice.message;
@@ -193,8 +194,8 @@ TEST_F(ModuleProgramsTest, AWarmUpNamesItsProgramAndIsFinishedBeforeTheNext) {
                             gi::Method::Sspsf, gi::Method::Nhpsf, gi::Method::Anhpsf, gi::Method::Svgf}) {
     gi::Settings s;
     s.method = method;
-    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { EXPECT_FALSE(gi::recordProgramWarmup(session.module, s, cmd)); });
+    engine::submitAndWait(ctx,
+                          [&](VkCommandBuffer cmd) { EXPECT_FALSE(gi::recordProgramWarmup(session.module, s, cmd)); });
     gi::finishProgramWarmup(session.module);
   }
-  tools::destroyModuleSession(ctx, session);
 }

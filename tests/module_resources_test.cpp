@@ -150,7 +150,7 @@ TEST_F(ModuleResourcesTest, SetSettingsOutOfMemoryKeepsThePreviousSettings) {
   const VkExtent2D size{48, 32};
   gi::ModuleDesc desc = tools::moduleDesc(ctx, s.gpu, size);
   gi::Settings settings;  // raw: a few small images
-  tools::ModuleSession session;
+  ScopedSession session(ctx);
   desc.memoryBudgetBytes = 3 << 20;  // raw fits; gif's 16 statistics images (16 × 24 KiB) and the rest do not double it
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, size, settings, session, &desc));
   gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], size.width, size.height, nullptr);
@@ -172,7 +172,6 @@ TEST_F(ModuleResourcesTest, SetSettingsOutOfMemoryKeepsThePreviousSettings) {
   tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, 2);
   EXPECT_EQ(gi::stats(session.module).passes.front().name, "raw_trace");  // gif traces with raw_trace, then filters
   EXPECT_EQ(gi::stats(session.module).passes.back().name, "composite");
-  tools::destroyModuleSession(ctx, session);
 }
 
 // Issue 17's budget: the demo's default method (hpsf) at 1080p, otherwise
@@ -192,7 +191,8 @@ TEST_F(ModuleResourcesTest, HpsfAt1080pHoldsAtMost150MB) {
   // cells) and the packed direct history (8 bytes a pixel), with under 3 MB of anything else (lavapipe:
   // under 2 MB; an NVIDIA H200's image padding: 2.3 MB) and under 1% of the blocks unused.
   const VkDeviceSize pixels = 1920 * 1080, cells = VkDeviceSize(1) << 19;
-  const VkDeviceSize needed = 3 * 8 * pixels + cells * (sizeof(uint32_t) + sizeof(gpu::HgAccum) + sizeof(gpu::HgCell)) + 8 * pixels;
+  const VkDeviceSize needed =
+      3 * 8 * pixels + cells * (sizeof(uint32_t) + sizeof(gpu::HgAccum) + sizeof(gpu::HgCell)) + 8 * pixels;
   EXPECT_GE(m->gpu.memory.used, needed);
   EXPECT_LE(m->gpu.memory.used, needed + (VkDeviceSize(3) << 20));
   EXPECT_LE(m->gpu.memory.held - m->gpu.memory.used, m->gpu.memory.held / 100);
@@ -207,7 +207,7 @@ TEST_F(ModuleResourcesTest, OnlyTheActiveMethodsMemoryIsHeld) {
   load(sharedScene("cornell-simple/cornell_simple.gltf"), s);
   const VkExtent2D size{64, 64};
   gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], size.width, size.height, nullptr);
-  tools::ModuleSession session;
+  ScopedSession session(ctx);
   gi::Settings raw;
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, size, raw, session));
   tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, 0);
@@ -232,7 +232,6 @@ TEST_F(ModuleResourcesTest, OnlyTheActiveMethodsMemoryIsHeld) {
   for (uint32_t f = 2; f < 4; ++f) tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, f);
   EXPECT_EQ(session.module->retired.size(), 0u);
   EXPECT_EQ(gi::stats(session.module).memoryUsedBytes, rawBytes);
-  tools::destroyModuleSession(ctx, session);
 }
 
 // Dynamic resolution: within the maximum size given at create, resize keeps
@@ -245,11 +244,13 @@ TEST_F(ModuleResourcesTest, ResizeWithinTheMaximumKeepsTheHashMapAndTheImages) {
   desc.maxHeight = 48;
   gi::Settings settings;
   settings.method = gi::Method::Anhpsf;
-  tools::ModuleSession session;
+  ScopedSession session(ctx);
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {48, 32}, settings, session, &desc));
   auto frames = [&](uint32_t first, uint32_t count) {
-    gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], session.extent.width, session.extent.height, nullptr);
-    for (uint32_t f = first; f < first + count; ++f) tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, f);
+    gpu::GpuCamera cam =
+        engine::makeGpuCamera(s.scene.cameras[0], session.extent.width, session.extent.height, nullptr);
+    for (uint32_t f = first; f < first + count; ++f)
+      tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, f);
   };
   frames(0, 4);
   const VkBuffer cells = session.module->hash.cells.buffer;
@@ -269,7 +270,6 @@ TEST_F(ModuleResourcesTest, ResizeWithinTheMaximumKeepsTheHashMapAndTheImages) {
   EXPECT_NE(gi::outputs(session.module).composite, composite) << "and the images, at the new maximum";
   frames(5, 2);
   EXPECT_GT(gi::stats(session.module).hash.occupied, 0u);
-  tools::destroyModuleSession(ctx, session);
 }
 
 // Timestamps and labels are optional: without them the frame records no
@@ -287,7 +287,7 @@ TEST_F(ModuleResourcesTest, TimestampsOffRecordsNoQueriesAndTheSameImage) {
     gi::ModuleDesc desc = tools::moduleDesc(ctx, s.gpu, size);
     desc.timestamps = timed == 1;
     desc.debugLabels = false;
-    tools::ModuleSession session;
+    ScopedSession session(ctx);
     ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, size, settings, session, &desc));
     EXPECT_EQ(session.module->timestamps != VK_NULL_HANDLE, timed == 1);
     tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, 0);
@@ -302,7 +302,6 @@ TEST_F(ModuleResourcesTest, TimestampsOffRecordsNoQueriesAndTheSameImage) {
       EXPECT_GT(st.totalMs, 0.0);
     }
     images[timed] = tools::readModuleImages(ctx, session).final.pixels;
-    tools::destroyModuleSession(ctx, session);
   }
   EXPECT_EQ(names[0], names[1]);
   EXPECT_EQ(images[0], images[1]) << "the same seed and inputs give the same image with and without timing";
@@ -319,7 +318,8 @@ TEST_F(ModuleResourcesTest, TwoModulesOnTwoThreadsAtOnce) {
   gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], size.width, size.height, nullptr);
   engine::GBuffer gbuffer = engine::createGBuffer(ctx, size);
   engine::GBufferPass pass = engine::createGBufferPass(ctx, s.gpu);
-  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { engine::recordGBuffer(ctx, cmd, pass, s.scene, s.gpu, gbuffer, cam, nullptr); });
+  engine::submitAndWait(
+      ctx, [&](VkCommandBuffer cmd) { engine::recordGBuffer(ctx, cmd, pass, s.scene, s.gpu, gbuffer, cam, nullptr); });
   const gi::GBufferViews views = tools::gbufferViews(gbuffer);
   struct Worker {
     gi::Method method;

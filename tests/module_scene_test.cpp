@@ -13,9 +13,9 @@ constexpr uint32_t kSize = 32;
 // panel under the ceiling. Without it nothing in the room emits.
 std::string room(bool lamp, const std::string& name) {
   testscene::Description d;
-  d.quads.push_back({{{-1, 0, 1}, {1, 0, 1}, {1, 0, -1}, {-1, 0, -1}}, glm::vec3(0.6f)});   // floor
-  d.quads.push_back({{{-1, 2, -1}, {1, 2, -1}, {1, 2, 1}, {-1, 2, 1}}, glm::vec3(0.6f)});   // ceiling
-  d.quads.push_back({{{-1, 0, -1}, {1, 0, -1}, {1, 2, -1}, {-1, 2, -1}}, glm::vec3(0.6f)}); // back
+  d.quads.push_back({{{-1, 0, 1}, {1, 0, 1}, {1, 0, -1}, {-1, 0, -1}}, glm::vec3(0.6f)});    // floor
+  d.quads.push_back({{{-1, 2, -1}, {1, 2, -1}, {1, 2, 1}, {-1, 2, 1}}, glm::vec3(0.6f)});    // ceiling
+  d.quads.push_back({{{-1, 0, -1}, {1, 0, -1}, {1, 2, -1}, {-1, 2, -1}}, glm::vec3(0.6f)});  // back
   d.quads.push_back({{{-1, 0, 1}, {-1, 0, -1}, {-1, 2, -1}, {-1, 2, 1}}, glm::vec3(0.7f, 0.2f, 0.2f)});
   d.quads.push_back({{{1, 0, -1}, {1, 0, 1}, {1, 2, 1}, {1, 2, -1}}, glm::vec3(0.2f, 0.7f, 0.2f)});
   if (lamp) {
@@ -46,10 +46,11 @@ TEST_F(ModuleSceneTest, EmissiveMeshAddedAfterCreateIsLit) {
   for (gi::Method method : {gi::Method::Raw, gi::Method::Atrous, gi::Method::Hpsf}) {
     gi::Settings settings;
     settings.method = method;
-    tools::ModuleSession streamed, fresh;
+    ScopedSession streamed(ctx), fresh(ctx);
     ASSERT_NO_FATAL_FAILURE(openSession(ctx, dark, {kSize, kSize}, settings, streamed));
     for (uint32_t f = 0; f < 2; ++f) tools::renderModuleFrame(ctx, streamed, dark.scene, dark.gpu, cam, cam, f);
-    EXPECT_EQ(meanOf(tools::readModuleImages(ctx, streamed).final), 0.0) << gi::methodName(method) << ": nothing emits yet";
+    EXPECT_EQ(meanOf(tools::readModuleImages(ctx, streamed).final), 0.0)
+        << gi::methodName(method) << ": nothing emits yet";
     // The lamp streams in: the engine's new set 0 and its facts.
     ASSERT_FALSE(gi::setScene(streamed.module, tools::sceneDesc(lit.gpu)));
     gi::invalidate(streamed.module, gi::Invalidate::All);
@@ -65,8 +66,6 @@ TEST_F(ModuleSceneTest, EmissiveMeshAddedAfterCreateIsLit) {
     size_t differ = 0;
     for (size_t i = 0; i < a.pixels.size(); ++i) differ += a.pixels[i] != b.pixels[i];
     EXPECT_EQ(differ, 0u) << gi::methodName(method) << ": the streamed module's frame differs from a fresh one's";
-    tools::destroyModuleSession(ctx, streamed);
-    tools::destroyModuleSession(ctx, fresh);
   }
 }
 
@@ -74,7 +73,7 @@ TEST_F(ModuleSceneTest, EmissiveMeshAddedAfterCreateIsLit) {
 TEST_F(ModuleSceneTest, BadSceneIsANamedErrorAndKeepsTheOldOne) {
   LoadedScene s;
   ASSERT_NO_FATAL_FAILURE(load(room(true, "scene_bad_update"), s));
-  tools::ModuleSession session;
+  ScopedSession session(ctx);
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {kSize, kSize}, gi::Settings{}, session));
   gi::SceneDesc bad = tools::sceneDesc(s.gpu);
   bad.set = VK_NULL_HANDLE;
@@ -87,5 +86,4 @@ TEST_F(ModuleSceneTest, BadSceneIsANamedErrorAndKeepsTheOldOne) {
   const gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], kSize, kSize, nullptr);
   tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, 0);
   EXPECT_GT(meanOf(tools::readModuleImages(ctx, session).final), 0.01);
-  tools::destroyModuleSession(ctx, session);
 }

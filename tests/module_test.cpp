@@ -27,36 +27,73 @@ TEST_F(ModuleTest, CreateRejectsImpossibleValuesWithNamedErrors) {
     cases.push_back(c);
   };
   auto same = [](auto&) {};
-  add("zero width", [](gi::ModuleDesc& d) { d.width = 0; }, same, gi::ErrorCode::ZeroSize, "desc.width");
-  add("huge height", [](gi::ModuleDesc& d) { d.height = 20000; }, same, gi::ErrorCode::SizeTooLarge, "desc.width");
-  add("no device", [](gi::ModuleDesc& d) { d.device = VK_NULL_HANDLE; }, same, gi::ErrorCode::MissingHandle, "desc.device");
-  add("no scene", [](gi::ModuleDesc& d) { d.scene.set = VK_NULL_HANDLE; }, same, gi::ErrorCode::MissingHandle, "desc.scene");
-  add("0 spp", same, [](gi::Settings& st) { st.raw.samplesPerPixel = 0; }, gi::ErrorCode::OutOfRange, "settings.raw.samplesPerPixel = 0");
-  add("65 spp", same, [](gi::Settings& st) { st.raw.samplesPerPixel = 65; }, gi::ErrorCode::OutOfRange, "settings.raw.samplesPerPixel = 65");
-  add("0 bounces", same, [](gi::Settings& st) { st.maxBounces = 0; }, gi::ErrorCode::OutOfRange, "settings.maxBounces = 0");
-  add("0 history", same, [](gi::Settings& st) { st.raw.maxAccumulatedFrames = 0; }, gi::ErrorCode::OutOfRange, "settings.raw.maxAccumulatedFrames");
-  add("bad method", same, [](gi::Settings& st) { st.method = gi::Method(77); }, gi::ErrorCode::UnknownMethod, "settings.method");
-  add("capacity 3000", same, [](gi::Settings& st) { st.hpsf.capacity = 3000; }, gi::ErrorCode::NotPowerOfTwo, "settings.hpsf.capacity = 3000");
-  add("capacity 2^22", same, [](gi::Settings& st) { st.hpsf.capacity = 1u << 22; }, gi::ErrorCode::OutOfRange, "settings.hpsf.capacity");
-  add("negative width", same, [](gi::Settings& st) { st.hpsf.filterWidth = -4.0f; }, gi::ErrorCode::OutOfRange, "settings.hpsf.filterWidth");
-  add("NaN epsilon", same, [](gi::Settings& st) { st.gif.epsilonNormal = std::nanf(""); }, gi::ErrorCode::OutOfRange, "settings.gif.epsilonNormal");
-  add("even window", same, [](gi::Settings& st) { st.sspsf.window = 8; }, gi::ErrorCode::OutOfRange, "settings.sspsf.window");
-  add("bad view", same, [](gi::Settings& st) { st.debugView = gi::DebugView(99); }, gi::ErrorCode::OutOfRange, "settings.debugView");
-  add("another gi.h", [](gi::ModuleDesc& d) { d.structSize = 8; }, same, gi::ErrorCode::VersionMismatch, "desc.structSize");
-  add("no loader", [](gi::ModuleDesc& d) { d.getInstanceProcAddr = nullptr; }, same, gi::ErrorCode::MissingHandle,
+  add(
+      "zero width", [](gi::ModuleDesc& d) { d.width = 0; }, same, gi::ErrorCode::ZeroSize, "desc.width");
+  add(
+      "huge height", [](gi::ModuleDesc& d) { d.height = 20000; }, same, gi::ErrorCode::SizeTooLarge, "desc.width");
+  add(
+      "no device", [](gi::ModuleDesc& d) { d.device = VK_NULL_HANDLE; }, same, gi::ErrorCode::MissingHandle,
+      "desc.device");
+  add(
+      "no scene", [](gi::ModuleDesc& d) { d.scene.set = VK_NULL_HANDLE; }, same, gi::ErrorCode::MissingHandle,
+      "desc.scene");
+  add(
+      "0 spp", same, [](gi::Settings& st) { st.raw.samplesPerPixel = 0; }, gi::ErrorCode::OutOfRange,
+      "settings.raw.samplesPerPixel = 0");
+  add(
+      "65 spp", same, [](gi::Settings& st) { st.raw.samplesPerPixel = 65; }, gi::ErrorCode::OutOfRange,
+      "settings.raw.samplesPerPixel = 65");
+  add(
+      "0 bounces", same, [](gi::Settings& st) { st.maxBounces = 0; }, gi::ErrorCode::OutOfRange,
+      "settings.maxBounces = 0");
+  add(
+      "0 history", same, [](gi::Settings& st) { st.raw.maxAccumulatedFrames = 0; }, gi::ErrorCode::OutOfRange,
+      "settings.raw.maxAccumulatedFrames");
+  add(
+      "bad method", same, [](gi::Settings& st) { st.method = gi::Method(77); }, gi::ErrorCode::UnknownMethod,
+      "settings.method");
+  add(
+      "capacity 3000", same, [](gi::Settings& st) { st.hpsf.capacity = 3000; }, gi::ErrorCode::NotPowerOfTwo,
+      "settings.hpsf.capacity = 3000");
+  add(
+      "capacity 2^22", same, [](gi::Settings& st) { st.hpsf.capacity = 1u << 22; }, gi::ErrorCode::OutOfRange,
+      "settings.hpsf.capacity");
+  add(
+      "negative width", same, [](gi::Settings& st) { st.hpsf.filterWidth = -4.0f; }, gi::ErrorCode::OutOfRange,
+      "settings.hpsf.filterWidth");
+  add(
+      "NaN epsilon", same, [](gi::Settings& st) { st.gif.epsilonNormal = std::nanf(""); }, gi::ErrorCode::OutOfRange,
+      "settings.gif.epsilonNormal");
+  add(
+      "even window", same, [](gi::Settings& st) { st.sspsf.window = 8; }, gi::ErrorCode::OutOfRange,
+      "settings.sspsf.window");
+  add(
+      "bad view", same, [](gi::Settings& st) { st.debugView = gi::DebugView(99); }, gi::ErrorCode::OutOfRange,
+      "settings.debugView");
+  add(
+      "another gi.h", [](gi::ModuleDesc& d) { d.structSize = 8; }, same, gi::ErrorCode::VersionMismatch,
+      "desc.structSize");
+  add(
+      "no loader", [](gi::ModuleDesc& d) { d.getInstanceProcAddr = nullptr; }, same, gi::ErrorCode::MissingHandle,
       "desc.getInstanceProcAddr");
-  add("0 frames in flight", [](gi::ModuleDesc& d) { d.framesInFlight = 0; }, same, gi::ErrorCode::OutOfRange,
+  add(
+      "0 frames in flight", [](gi::ModuleDesc& d) { d.framesInFlight = 0; }, same, gi::ErrorCode::OutOfRange,
       "desc.framesInFlight = 0");
-  add("5 frames in flight", [](gi::ModuleDesc& d) { d.framesInFlight = 5; }, same, gi::ErrorCode::OutOfRange,
+  add(
+      "5 frames in flight", [](gi::ModuleDesc& d) { d.framesInFlight = 5; }, same, gi::ErrorCode::OutOfRange,
       "desc.framesInFlight = 5");
-  add("max below size", [](gi::ModuleDesc& d) { d.maxWidth = d.maxHeight = 8; }, same, gi::ErrorCode::OutOfRange,
+  add(
+      "max below size", [](gi::ModuleDesc& d) { d.maxWidth = d.maxHeight = 8; }, same, gi::ErrorCode::OutOfRange,
       "desc.maxWidth");
-  add("outputs in an attachment layout",
+  add(
+      "outputs in an attachment layout",
       [](gi::ModuleDesc& d) { d.outputLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL; }, same,
       gi::ErrorCode::OutOfRange, "desc.outputLayout = ColorAttachmentOptimal");
-  add("8-bit outputs", [](gi::ModuleDesc& d) { d.outputFormat = VK_FORMAT_R8G8B8A8_UNORM; }, same,
+  add(
+      "8-bit outputs", [](gi::ModuleDesc& d) { d.outputFormat = VK_FORMAT_R8G8B8A8_UNORM; }, same,
       gi::ErrorCode::UnsupportedFormat, "desc.outputFormat");
-  add("8-bit histories", [](gi::ModuleDesc& d) { d.historyFormat = VK_FORMAT_R8G8B8A8_UNORM; }, same,
+  add(
+      "8-bit histories", [](gi::ModuleDesc& d) { d.historyFormat = VK_FORMAT_R8G8B8A8_UNORM; }, same,
       gi::ErrorCode::UnsupportedFormat, "desc.historyFormat");
   // The engine says what it enabled: a chain filled by gi/device.h, less one feature.
   VkPhysicalDeviceVulkan13Features f13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
@@ -65,18 +102,23 @@ TEST_F(ModuleTest, CreateRejectsImpossibleValuesWithNamedErrors) {
   VkPhysicalDeviceFeatures2 enabled{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
   enabled.pNext = &f12;
   ASSERT_EQ(gi::enableRequiredFeatures(enabled, false), nullptr);
-  add("all enabled", [&](gi::ModuleDesc& d) { d.enabledFeatures = &enabled; }, same, gi::ErrorCode::None, "");
+  add(
+      "all enabled", [&](gi::ModuleDesc& d) { d.enabledFeatures = &enabled; }, same, gi::ErrorCode::None, "");
   VkPhysicalDeviceVulkan12Features f12NoAtomics = f12;
   f12NoAtomics.shaderBufferInt64Atomics = VK_FALSE;
   VkPhysicalDeviceFeatures2 noAtomics = enabled;
   noAtomics.pNext = &f12NoAtomics;
-  add("no 64-bit atomics", [&](gi::ModuleDesc& d) { d.enabledFeatures = &noAtomics; }, same, gi::ErrorCode::MissingFeature,
-      "shaderBufferInt64Atomics");
+  add(
+      "no 64-bit atomics", [&](gi::ModuleDesc& d) { d.enabledFeatures = &noAtomics; }, same,
+      gi::ErrorCode::MissingFeature, "shaderBufferInt64Atomics");
   // Ray-query traversal needs the ray-tracing features this chain does not have.
-  add("no ray queries", [&](gi::ModuleDesc& d) {
+  add(
+      "no ray queries",
+      [&](gi::ModuleDesc& d) {
         d.enabledFeatures = &enabled;
         d.scene.traversal = gi::Traversal::RayQuery;
-      }, same, gi::ErrorCode::MissingFeature, "ray-query");
+      },
+      same, gi::ErrorCode::MissingFeature, "ray-query");
   for (const Case& c : cases) {
     gi::Error e = gi::create(c.desc, c.settings, m);
     EXPECT_EQ(e.code, c.code) << c.what << ": " << e.message;
@@ -108,7 +150,7 @@ TEST_F(ModuleTest, RawAccumulationConvergesToTheReference) {
   settings.maxBounces = 2;
   settings.raw.samplesPerPixel = 1;
   settings.raw.temporalAccumulation = true;
-  tools::ModuleSession session;
+  ScopedSession session(ctx);
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {W, H}, settings, session));
   std::vector<double> relMse;
   uint32_t frame = 0;
@@ -128,7 +170,6 @@ TEST_F(ModuleTest, RawAccumulationConvergesToTheReference) {
   // And the mean is unbiased.
   engine::ReferenceImages out = tools::readModuleImages(ctx, session);
   for (uint32_t c = 0; c < 3; ++c) EXPECT_NEAR(meanOf(out.final, c), meanOf(ref.final, c), 0.02 * meanOf(ref.final, c));
-  tools::destroyModuleSession(ctx, session);
 }
 
 TEST_F(ModuleTest, RayBudgetCapsTheSampleCount) {
@@ -138,7 +179,7 @@ TEST_F(ModuleTest, RayBudgetCapsTheSampleCount) {
   gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], W, H, nullptr);
   gi::Settings settings;
   settings.raw.samplesPerPixel = 16;
-  tools::ModuleSession session;
+  ScopedSession session(ctx);
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {W, H}, settings, session));
   tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, 0);
   gi::FrameStats unlimited = gi::stats(session.module);
@@ -156,7 +197,6 @@ TEST_F(ModuleTest, RayBudgetCapsTheSampleCount) {
   ASSERT_FALSE(gi::setSettings(session.module, settings));
   for (uint32_t f = 4; f < 6; ++f) tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, f);
   EXPECT_EQ(gi::stats(session.module).samplesPerPixel, 1u);
-  tools::destroyModuleSession(ctx, session);
 }
 
 // A settings change restarts the history only where the catalogue says it makes it wrong
@@ -169,11 +209,12 @@ TEST_F(ModuleTest, SettingsChangesKeepTheHistoryUnlessTheyMakeItWrong) {
   const gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], 16, 16, nullptr);
   gi::Settings settings;
   settings.method = gi::Method::Svgf;
-  tools::ModuleSession session;
+  ScopedSession session(ctx);
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {16, 16}, settings, session));
   uint32_t frame = 0;
   auto historyAfter = [&](uint32_t frames) {
-    for (uint32_t f = 0; f < frames; ++f, ++frame) tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, frame);
+    for (uint32_t f = 0; f < frames; ++f, ++frame)
+      tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, frame);
     return gi::stats(session.module).accumulatedFrames;
   };
   EXPECT_EQ(historyAfter(6), 6u);
@@ -182,9 +223,15 @@ TEST_F(ModuleTest, SettingsChangesKeepTheHistoryUnlessTheyMakeItWrong) {
     double value;
     bool restarts;
   };
-  const Change changes[] = {{"ray_budget", 2000, false},       {"svgf.spp", 2, false},   {"svgf.sigma_luminance", 8, false},
-                            {"temporal.min_blend", 0.1, false}, {"view", 1, false},       {"view", 0, false},
-                            {"seed", 7, false},                 {"bounces", 2, true},     {"temporal.gradients", 1, true},
+  const Change changes[] = {{"ray_budget", 2000, false},
+                            {"svgf.spp", 2, false},
+                            {"svgf.sigma_luminance", 8, false},
+                            {"temporal.min_blend", 0.1, false},
+                            {"view", 1, false},
+                            {"view", 0, false},
+                            {"seed", 7, false},
+                            {"bounces", 2, true},
+                            {"temporal.gradients", 1, true},
                             {"temporal.gradients", 0, true}};
   uint32_t expected = 6;
   for (const Change& c : changes) {
@@ -202,7 +249,6 @@ TEST_F(ModuleTest, SettingsChangesKeepTheHistoryUnlessTheyMakeItWrong) {
   settings.sspsf.temporalReprojection = true;
   ASSERT_FALSE(gi::setSettings(session.module, settings));
   EXPECT_EQ(historyAfter(3), 3u) << "a new method starts over";
-  tools::destroyModuleSession(ctx, session);
 }
 
 TEST_F(ModuleTest, StatsReportPassesRaysAndMemory) {
@@ -211,7 +257,7 @@ TEST_F(ModuleTest, StatsReportPassesRaysAndMemory) {
   gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], 16, 16, nullptr);
   gi::Settings settings;
   settings.raw.samplesPerPixel = 2;
-  tools::ModuleSession session;
+  ScopedSession session(ctx);
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {16, 16}, settings, session));
   tools::FrameTiming t = tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, 0);
   gi::FrameStats st = gi::stats(session.module);
@@ -222,7 +268,6 @@ TEST_F(ModuleTest, StatsReportPassesRaysAndMemory) {
   EXPECT_GE(st.raysTraced, 16u * 16u * 2u);  // at least the shadow ray of every path
   EXPECT_GE(st.memoryBytes, 5u * 16u * 16u * 16u);
   EXPECT_EQ(t.passes.front().name, "gbuffer");
-  tools::destroyModuleSession(ctx, session);
 }
 
 // Every method and every debug view records cleanly under validation and
@@ -233,7 +278,7 @@ TEST_F(ModuleTest, EveryMethodAndDebugViewRunsAndStaysFinite) {
   const uint32_t W = 24, H = 16;
   gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], W, H, nullptr);
   gi::Settings settings;
-  tools::ModuleSession session;
+  ScopedSession session(ctx);
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {W, H}, settings, session));
   uint32_t frame = 0;
   auto check = [&](const char* what) {
@@ -283,7 +328,6 @@ TEST_F(ModuleTest, EveryMethodAndDebugViewRunsAndStaysFinite) {
     for (float v : tools::readModuleImages(ctx, session).final.pixels)
       ASSERT_TRUE(std::isfinite(v) && v >= 0.0f) << view.name << ": " << v;
   }
-  tools::destroyModuleSession(ctx, session);
 }
 
 // Mehta et al. Fig. 10: raising μ narrows the filters and raises the sample
@@ -297,7 +341,7 @@ TEST_F(ModuleTest, AafErrorFallsAsMuGrows) {
   gi::Settings settings;
   settings.method = gi::Method::Aaf;
   settings.maxBounces = 2;
-  tools::ModuleSession session;
+  ScopedSession session(ctx);
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {W, H}, settings, session));
   std::vector<double> errors;
   std::vector<uint32_t> spp;
@@ -317,7 +361,6 @@ TEST_F(ModuleTest, AafErrorFallsAsMuGrows) {
     EXPECT_LT(errors[i], errors[i - 1]) << "mu step " << i;
     EXPECT_GE(spp[i], spp[i - 1]) << "mu step " << i;
   }
-  tools::destroyModuleSession(ctx, session);
 }
 
 TEST_F(ModuleTest, AmbientOcclusionIsInUnitRangeAndOneOverAnOpenPlane) {
@@ -327,7 +370,7 @@ TEST_F(ModuleTest, AmbientOcclusionIsInUnitRangeAndOneOverAnOpenPlane) {
     gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], 24, 24, nullptr);
     gi::Settings settings;
     settings.method = gi::Method::AafAo;
-    tools::ModuleSession session;
+    ScopedSession session(ctx);
     ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {24, 24}, settings, session));
     tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, 0);
     engine::ReferenceImages out = tools::readModuleImages(ctx, session);
@@ -344,7 +387,6 @@ TEST_F(ModuleTest, AmbientOcclusionIsInUnitRangeAndOneOverAnOpenPlane) {
     if (!open) {
       EXPECT_LT(mean, 0.9) << "inside the box, walls occlude";
     }
-    tools::destroyModuleSession(ctx, session);
   }
 }
 
@@ -361,7 +403,7 @@ TEST_F(ModuleTest, NonFiniteGBufferValuesDoNotSpread) {
     gi::Settings settings;
     settings.method = method;
     settings.raw.temporalAccumulation = true;
-    tools::ModuleSession session;
+    ScopedSession session(ctx);
     ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {W, H}, settings, session));
     const engine::GBuffer& g = session.gbuffer;
     const gi::GBufferViews views = tools::gbufferViews(g);
@@ -394,6 +436,5 @@ TEST_F(ModuleTest, NonFiniteGBufferValuesDoNotSpread) {
         EXPECT_GT(sum, 0.0) << gi::methodName(method) << " frame " << frame << " recovers";
       }
     }
-    tools::destroyModuleSession(ctx, session);
   }
 }

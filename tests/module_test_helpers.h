@@ -36,7 +36,7 @@ inline engine::Camera panned(const engine::Camera& camera, float offset) {
 // the last frame's images.
 inline engine::ReferenceImages renderPan(const engine::Context& ctx, const LoadedScene& s, VkExtent2D size,
                                          const gi::Settings& settings, uint32_t frames, float step) {
-  tools::ModuleSession session;
+  ScopedSession session(ctx);
   EXPECT_NO_FATAL_FAILURE(openSession(ctx, s, size, settings, session));
   gpu::GpuCamera previous{};
   for (uint32_t i = 0; i < frames; ++i) {
@@ -56,17 +56,20 @@ inline engine::ReferenceImages renderPan(const engine::Context& ctx, const Loade
 // from the scene as loaded); without, the scene stays at that start.
 // `afterFrame` runs after each frame has completed.
 inline engine::ReferenceImages renderAnimatedFrames(const engine::Context& ctx, LoadedScene& s,
-                                                    const engine::SceneAnimation& animation, const gi::Settings& settings,
-                                                    uint32_t size, uint32_t frames, bool moving,
+                                                    const engine::SceneAnimation& animation,
+                                                    const gi::Settings& settings, uint32_t size, uint32_t frames,
+                                                    bool moving,
                                                     const std::function<void(tools::ModuleSession&)>& afterFrame = {}) {
   const gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], size, size, nullptr);
-  tools::ModuleSession session;
+  ScopedSession session(ctx);
   EXPECT_NO_FATAL_FAILURE(openSession(ctx, s, {size, size}, settings, session));
   if (!session.module) return {};
   for (uint32_t f = 0; f < frames; ++f) {
     // Frame 0 jumps to the start: no motion from whatever pose the last run left.
-    if (f == 0) engine::jumpScene(ctx, animation, 0.0f, s.scene, s.gpu);
-    else if (moving) engine::poseScene(ctx, animation, float(f) / 30.0f, s.scene, s.gpu);
+    if (f == 0)
+      engine::jumpScene(ctx, animation, 0.0f, s.scene, s.gpu);
+    else if (moving)
+      engine::poseScene(ctx, animation, float(f) / 30.0f, s.scene, s.gpu);
     tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, f);
     if (afterFrame) afterFrame(session);
   }

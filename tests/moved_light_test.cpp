@@ -1,6 +1,6 @@
 // The light jumps while the camera stays: what the temporal pass keeps of the
 // old light. A-SVGF's temporal gradients (temporal.gradients,
-// shaders/temporal.glsl): with nothing moving, a gradient sample repeats last
+// shaders/module/temporal.glsl): with nothing moving, a gradient sample repeats last
 // frame's sample bit for bit, so no history is dropped; when the light moves,
 // the gradients see it and the accumulated light catches up with the moved
 // scene sooner. The history clamp (temporal.historyClamp) holds the
@@ -43,7 +43,8 @@ struct Jump {
 
 class LightJump {
  public:
-  LightJump(const engine::Context& ctx, LoadedScene& s) : ctx_(ctx), s_(s), animation_(engine::makeSceneAnimation(s.scene)) {
+  LightJump(const engine::Context& ctx, LoadedScene& s)
+      : ctx_(ctx), s_(s), animation_(engine::makeSceneAnimation(s.scene)) {
     cam_ = engine::makeGpuCamera(s.scene.cameras[0], kSize, kSize, nullptr);
     pose(0.0f);
     unmoved_ = pixelCentreReference(ctx, s, cam_, 1, 1024);
@@ -57,7 +58,7 @@ class LightJump {
     Jump j;
     pose(0.0f);
     settings.debugView = gi::DebugView::TemporalGradient;
-    tools::ModuleSession session;
+    ScopedSession session(ctx_);
     EXPECT_NO_FATAL_FAILURE(openSession(ctx_, s_, {kSize, kSize}, settings, session));
     uint32_t frame = 0;
     for (; frame < kStill; ++frame) {
@@ -89,10 +90,11 @@ class LightJump {
 };
 
 void print(const char* what, const Jump& j) {
-  std::printf("%s: still max lambda %.3g; first frame after the move mean lambda %.3f; last still frame direct MSE "
-              "%.3e; after the move direct MSE after 1/2/4/8 frames %.3e %.3e %.3e %.3e, indirect %.3e %.3e %.3e %.3e\n",
-              what, j.still.max, j.afterMove.mean, j.stillDirect, j.direct[0], j.direct[1], j.direct[3], j.direct[7],
-              j.indirect[0], j.indirect[1], j.indirect[3], j.indirect[7]);
+  std::printf(
+      "%s: still max lambda %.3g; first frame after the move mean lambda %.3f; last still frame direct MSE "
+      "%.3e; after the move direct MSE after 1/2/4/8 frames %.3e %.3e %.3e %.3e, indirect %.3e %.3e %.3e %.3e\n",
+      what, j.still.max, j.afterMove.mean, j.stillDirect, j.direct[0], j.direct[1], j.direct[3], j.direct[7],
+      j.indirect[0], j.indirect[1], j.indirect[3], j.indirect[7]);
 }
 
 struct OffAndOn {
@@ -146,7 +148,8 @@ TEST_F(MovedLightTest, GradientsDropNothingWhileStillAndCatchTheMovedLightSooner
 // 1.5× after 24 still frames): why it is off by default (RESULTS, "The
 // history clamp").
 TEST_F(MovedLightTest, HistoryClampLetsTheOldLightGoSooner) {
-  const auto [off, on] = offAndOn(gi::Method::Gif, "history clamp", [](gi::Settings& x) { x.temporal.historyClamp = 1.0f; });
+  const auto [off, on] =
+      offAndOn(gi::Method::Gif, "history clamp", [](gi::Settings& x) { x.temporal.historyClamp = 1.0f; });
   for (uint32_t k : {0u, 1u}) EXPECT_LT(on.direct[k], 0.7 * off.direct[k]) << k + 1 << " frames after the move";
   EXPECT_GT(on.stillDirect, off.stillDirect) << "held near nine samples' band, the still history is noisier";
 }

@@ -31,10 +31,10 @@ TEST_F(NhpsfTest, FurnaceReachesEveryBounceThroughTheMapAndNeverGainsEnergy) {
   for (gi::Method method : {gi::Method::Hpsf, gi::Method::Nhpsf, gi::Method::Anhpsf}) {
     gi::Settings settings;
     settings.method = method;
-    settings.maxBounces = 2;       // hpsf's per-frame depth
-    settings.hpsf.pathDepth = 2;   // nhpsf: two segments per frame, like hpsf's two bounces
+    settings.maxBounces = 2;      // hpsf's per-frame depth
+    settings.hpsf.pathDepth = 2;  // nhpsf: two segments per frame, like hpsf's two bounces
     settings.hpsf.clampSigma = 0.0f;
-    tools::ModuleSession session;
+    ScopedSession session(ctx);
     ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {16, 16}, settings, session));
     std::vector<double> means;
     for (uint32_t f = 0; f < 96; ++f) {
@@ -45,8 +45,9 @@ TEST_F(NhpsfTest, FurnaceReachesEveryBounceThroughTheMapAndNeverGainsEnergy) {
     }
     double late = 0.0;  // the mean over the last 32 frames: noise averaged out
     for (size_t f = 64; f < 96; ++f) late += means[f] / 32.0;
-    std::printf("%s: mean radiance after 8, 32 frames %.4f %.4f, over frames 65–96 %.4f (every bounce: 2, two: 1.875)\n",
-                gi::methodName(method), means[7], means[31], late);
+    std::printf(
+        "%s: mean radiance after 8, 32 frames %.4f %.4f, over frames 65–96 %.4f (every bounce: 2, two: 1.875)\n",
+        gi::methodName(method), means[7], means[31], late);
     EXPECT_LE(late, 2.0 * 1.02) << gi::methodName(method) << ": energy created";
     if (method == gi::Method::Hpsf) {
       EXPECT_NEAR(late, 1.875, 0.03);
@@ -54,7 +55,6 @@ TEST_F(NhpsfTest, FurnaceReachesEveryBounceThroughTheMapAndNeverGainsEnergy) {
       EXPECT_GT(late, 1.95) << gi::methodName(method);
       EXPECT_GT(late, means[7]) << gi::methodName(method) << ": converging towards every bounce";
     }
-    tools::destroyModuleSession(ctx, session);
   }
 }
 
@@ -69,7 +69,7 @@ TEST_F(NhpsfTest, CornellMeanRadianceStaysAtOrBelowTheReference) {
     gi::Settings settings;
     settings.method = method;
     settings.maxBounces = 31;
-    tools::ModuleSession session;
+    ScopedSession session(ctx);
     ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {32, 32}, settings, session));
     for (uint32_t f = 0; f < 24; ++f) {
       tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, f);
@@ -79,7 +79,6 @@ TEST_F(NhpsfTest, CornellMeanRadianceStaysAtOrBelowTheReference) {
         EXPECT_GT(mean, reference * 0.85) << gi::methodName(method) << ": most of the light arrives";
       }
     }
-    tools::destroyModuleSession(ctx, session);
   }
 }
 
@@ -99,7 +98,7 @@ TEST_F(NhpsfTest, OutlierClampKeepsHeavyTailedLight) {
   settings.method = gi::Method::Hpsf;
   settings.maxBounces = 31;
   settings.hpsf.samplesPerPixel = 4;
-  tools::ModuleSession session;
+  ScopedSession session(ctx);
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {32, 32}, settings, session));
   // Frames 1–16 (the map filling: young cells pass their samples unclamped), 17–32 and 33–48.
   double window[3] = {0.0, 0.0, 0.0};
@@ -114,7 +113,6 @@ TEST_F(NhpsfTest, OutlierClampKeepsHeavyTailedLight) {
   EXPECT_LT(late, 1.05) << "energy created";
   // A clamp chasing its own mean loses light window after window once the cells are full.
   EXPECT_GT(window[2], window[1] - 0.02) << "the clamp drifts down over frames";
-  tools::destroyModuleSession(ctx, session);
 }
 
 // The continued paths live in module memory: gi::invalidate and a resize
@@ -125,7 +123,7 @@ TEST_F(NhpsfTest, ContinuedPathsSurviveInvalidateAndResize) {
   gi::Settings settings;
   settings.method = gi::Method::Anhpsf;
   settings.debugView = gi::DebugView::ContinuationDepth;
-  tools::ModuleSession session;
+  ScopedSession session(ctx);
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {24, 24}, settings, session));
   gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], 24, 24, nullptr);
   uint32_t frame = 0;
@@ -156,7 +154,8 @@ TEST_F(NhpsfTest, ContinuedPathsSurviveInvalidateAndResize) {
   gi::invalidate(session.module, gi::Invalidate::LightsChanged);
   tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, frame++);
   const float depthAfter = gi::stats(session.module).hash.meanContinuationDepth;
-  std::printf("mean continuation depth before / after invalidate(LightsChanged): %.2f / %.2f\n", depthBefore, depthAfter);
+  std::printf("mean continuation depth before / after invalidate(LightsChanged): %.2f / %.2f\n", depthBefore,
+              depthAfter);
   EXPECT_GT(depthAfter, 3.0f) << "LightsChanged keeps the walks";
   EXPECT_TRUE(allFinite(tools::readModuleImages(ctx, session).final));
 
@@ -170,7 +169,6 @@ TEST_F(NhpsfTest, ContinuedPathsSurviveInvalidateAndResize) {
   EXPECT_GT(meanOf(out.final), 0.01);
   gi::Error bad = gi::resize(session.module, 0, 20);
   EXPECT_EQ(bad.code, gi::ErrorCode::ZeroSize) << bad.message;
-  tools::destroyModuleSession(ctx, session);
 }
 
 // The light and an object move once, after the cache has settled: with the
@@ -195,7 +193,7 @@ TEST_F(NhpsfTest, StaleRadianceIsDetectedWhenTheLightMoves) {
     settings.method = gi::Method::Anhpsf;
     settings.maxBounces = 31;
     settings.hpsf.validationInterval = check == 1 ? 4u : 0u;
-    tools::ModuleSession session;
+    ScopedSession session(ctx);
     ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {32, 32}, settings, session));
     uint32_t frame = 0;
     for (; frame < 24; ++frame) tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, frame);
@@ -206,10 +204,10 @@ TEST_F(NhpsfTest, StaleRadianceIsDetectedWhenTheLightMoves) {
       resets[check] += gi::stats(session.module).hash.staleResets;
       after[check].push_back(metrics::mse(tools::readModuleImages(ctx, session).final, moved.final));
     }
-    tools::destroyModuleSession(ctx, session);
   }
-  std::printf("after the move: histories cut %u (sentinels off) / %u (on); MSE frame 8: %.3e / %.3e / %.3e (invalidate)\n",
-              resets[0], resets[1], after[0].back(), after[1].back(), after[2].back());
+  std::printf(
+      "after the move: histories cut %u (sentinels off) / %u (on); MSE frame 8: %.3e / %.3e / %.3e (invalidate)\n",
+      resets[0], resets[1], after[0].back(), after[1].back(), after[2].back());
   EXPECT_EQ(resets[0], 0u);
   EXPECT_GT(resets[1], 0u);
   EXPECT_LT(after[1].back(), after[0].back());

@@ -45,7 +45,7 @@ TEST_F(PathFilteringFidelityTest, HpsfFiltersAtTheFirstVertexWithADiffuseLobe) {
   gi::Settings settings;
   settings.method = gi::Method::Hpsf;
   settings.debugView = gi::DebugView::HashFound;
-  tools::ModuleSession session;
+  ScopedSession session(ctx);
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {W, H}, settings, session));
   for (uint32_t f = 0; f < 2; ++f) tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, f);
   engine::ReferenceImages out = tools::readModuleImages(ctx, session);
@@ -60,7 +60,6 @@ TEST_F(PathFilteringFidelityTest, HpsfFiltersAtTheFirstVertexWithADiffuseLobe) {
   ASSERT_GT(metal, 50u);
   EXPECT_EQ(plasticFound, plastic) << "glossy plastic has a diffuse lobe: it is a filter vertex";
   EXPECT_EQ(metalFound, 0u) << "a pure metal has no diffuse lobe";
-  tools::destroyModuleSession(ctx, session);
 }
 
 // sspsf follows the same rule: metal pixels keep their own sample (the same
@@ -74,11 +73,10 @@ TEST_F(PathFilteringFidelityTest, SspsfFollowsTheSameFilterVertexRule) {
   for (gi::Method method : {gi::Method::Raw, gi::Method::Sspsf}) {
     gi::Settings settings;
     settings.method = method;
-    tools::ModuleSession session;
+    ScopedSession session(ctx);
     ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {W, H}, settings, session));
     tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, 0);
     images[method == gi::Method::Sspsf] = tools::readModuleImages(ctx, session);
-    tools::destroyModuleSession(ctx, session);
   }
   size_t metal = 0, metalKept = 0, plastic = 0, plasticChanged = 0;
   for (uint32_t y = 0; y < H; ++y)
@@ -103,7 +101,7 @@ TEST_F(PathFilteringFidelityTest, AnhpsfContinuationDepthCountsSegments) {
     gi::Settings settings;
     settings.method = gi::Method::Anhpsf;
     settings.hpsf.continuationDepth = depth;
-    tools::ModuleSession session;
+    ScopedSession session(ctx);
     ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {24, 24}, settings, session));
     double transported = 0.0;
     float deepest = 0.0f;
@@ -116,7 +114,6 @@ TEST_F(PathFilteringFidelityTest, AnhpsfContinuationDepthCountsSegments) {
     }
     EXPECT_GT(transported, 0.0) << "continuationDepth = " << depth << " never continued a walk";
     EXPECT_GT(deepest, float(depth) - 1.0f) << "walks reach " << depth << " segments";
-    tools::destroyModuleSession(ctx, session);
   }
 }
 
@@ -135,11 +132,10 @@ TEST_F(PathFilteringFidelityTest, NhpsfDirectLightAveragesEverySample) {
       gi::Settings settings;
       settings.method = method;
       settings.hpsf.samplesPerPixel = spp;
-      tools::ModuleSession session;
+      ScopedSession session(ctx);
       ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {W, H}, settings, session));
       tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, 0);
       error[spp == 8] = metrics::mse(tools::readModuleImages(ctx, session).direct, reference);
-      tools::destroyModuleSession(ctx, session);
     }
     std::printf("%s direct MSE at 1 / 8 spp: %.3g / %.3g\n", gi::methodName(method), error[0], error[1]);
     EXPECT_LT(error[1], error[0] / 4.0) << gi::methodName(method) << ": direct light ignores the extra samples";

@@ -23,8 +23,8 @@ struct Quad {
 
 struct Light {
   glm::vec3 position;
-  glm::vec3 intensity;  // W/sr
-  float outerCone = 0.0f;  // radians: a spot with this outer and half of it as inner cone angle; 0: a point light
+  glm::vec3 intensity;      // W/sr
+  float outerCone = 0.0f;   // radians: a spot with this outer and half of it as inner cone angle; 0: a point light
   glm::vec3 aim{0, -1, 0};  // a spot's direction (unit)
 };
 
@@ -66,7 +66,8 @@ inline std::string write(const Description& d, const std::string& name) {
                  accessors = nlohmann::json::array(), views = nlohmann::json::array();
   for (const Quad& q : d.quads) {
     glm::vec3 across = glm::cross(q.corner[1] - q.corner[0], q.corner[2] - q.corner[0]);
-    glm::vec3 n = glm::dot(across, across) > 0.0f ? glm::normalize(across) : glm::vec3(0, 1, 0);  // zero-area quads still get a normal
+    glm::vec3 n = glm::dot(across, across) > 0.0f ? glm::normalize(across)
+                                                  : glm::vec3(0, 1, 0);  // zero-area quads still get a normal
     float pos[12], nrm[12];
     for (int k = 0; k < 4; ++k)
       for (int c = 0; c < 3; ++c) {
@@ -84,15 +85,19 @@ inline std::string write(const Description& d, const std::string& name) {
     accessors.push_back({{"bufferView", v0 + 1}, {"componentType", 5126}, {"count", 4}, {"type", "VEC3"}});
     accessors.push_back({{"bufferView", v0 + 2}, {"componentType", 5125}, {"count", 6}, {"type", "SCALAR"}});
     nlohmann::json mat = {{"pbrMetallicRoughness",
-                           {{"baseColorFactor", {q.albedo.x, q.albedo.y, q.albedo.z, 1.0}}, {"metallicFactor", q.metallic}, {"roughnessFactor", q.roughness}}}};
+                           {{"baseColorFactor", {q.albedo.x, q.albedo.y, q.albedo.z, 1.0}},
+                            {"metallicFactor", q.metallic},
+                            {"roughnessFactor", q.roughness}}}};
     float e = std::max(q.emission.x, std::max(q.emission.y, q.emission.z));
     if (e > 0.0f) {
       mat["emissiveFactor"] = {q.emission.x / e, q.emission.y / e, q.emission.z / e};
       mat["extensions"] = {{"KHR_materials_emissive_strength", {{"emissiveStrength", e}}}};
     }
     materials.push_back(mat);
-    meshes.push_back({{"primitives", {{{"attributes", {{"POSITION", a0}, {"NORMAL", a0 + 1}}}, {"indices", a0 + 2},
-                                       {"material", materials.size() - 1}}}}});
+    meshes.push_back({{"primitives",
+                       {{{"attributes", {{"POSITION", a0}, {"NORMAL", a0 + 1}}},
+                         {"indices", a0 + 2},
+                         {"material", materials.size() - 1}}}}});
     nodes.push_back({{"mesh", meshes.size() - 1}});
   }
   nlohmann::json lights = nlohmann::json::array();

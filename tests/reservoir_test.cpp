@@ -1,4 +1,4 @@
-// gi::ReservoirSettings (shaders/gi_reservoirs.comp): the primary hits' point
+// gi::ReservoirSettings (shaders/module/gi_reservoirs.comp): the primary hits' point
 // and spot lights resampled through reservoirs. Against the exact sum over
 // every light (the same scene with the `all` sampler): the direct light keeps
 // its expectation, a frame with temporal reuse is far closer to it than the
@@ -19,7 +19,8 @@ constexpr uint32_t kSize = 48;
 
 double mseOf(const engine::FloatImage& a, const engine::FloatImage& b) {
   double sum = 0.0;
-  for (size_t i = 0; i < a.pixels.size(); ++i) sum += (double(a.pixels[i]) - b.pixels[i]) * (double(a.pixels[i]) - b.pixels[i]);
+  for (size_t i = 0; i < a.pixels.size(); ++i)
+    sum += (double(a.pixels[i]) - b.pixels[i]) * (double(a.pixels[i]) - b.pixels[i]);
   return sum / double(a.pixels.size());
 }
 
@@ -50,7 +51,7 @@ TEST_F(ReservoirTest, ResampledDirectLightKeepsTheExactSumsExpectation) {
   ASSERT_TRUE(gi::picksPunctualLights(picked.gpu.desc));
   gi::Settings base;
   base.maxBounces = 1;
-  base.reservoirs.enabled = false;  // the tree's own picks
+  base.reservoirs.enabled = false;                                          // the tree's own picks
   const engine::FloatImage truth = directAfter(ctx, exact, base, 4, true);  // exact: no noise from the lights
   const float brightest = *std::max_element(truth.pixels.begin(), truth.pixels.end());
   ASSERT_GT(meanOf(truth), 0.0);
@@ -68,9 +69,10 @@ TEST_F(ReservoirTest, ResampledDirectLightKeepsTheExactSumsExpectation) {
     const engine::FloatImage frame = directAfter(ctx, picked, *s, 16, false);
     const float peak = *std::max_element(frame.pixels.begin(), frame.pixels.end());
     const double error = mseOf(frame, truth);
-    std::printf("%s: mean %+.2f%%, worst 8x8 block %.2f%%, a frame's brightest pixel %.2f of the exact image's, "
-                "a frame's MSE %.3e against the tree's %.3e (%.2fx)\n",
-                name, 100.0 * relative, 100.0 * worst, peak / brightest, error, treeError, error / treeError);
+    std::printf(
+        "%s: mean %+.2f%%, worst 8x8 block %.2f%%, a frame's brightest pixel %.2f of the exact image's, "
+        "a frame's MSE %.3e against the tree's %.3e (%.2fx)\n",
+        name, 100.0 * relative, 100.0 * worst, peak / brightest, error, treeError, error / treeError);
     EXPECT_LT(std::abs(relative), 0.01) << name;
     // 7%, not the 6% this bound was: the worst block carries a bias that more frames do not average away
     // (64 and 128 frames: 5.7% and 6.4% with temporal and spatial reuse before the G-buffer's depth
@@ -95,13 +97,13 @@ TEST_F(ReservoirTest, AScenesExactSumRunsNoReservoirPass) {
   const engine::FloatImage without = directAfter(ctx, s, off, 2, false);
   const engine::FloatImage with = directAfter(ctx, s, on, 2, false);
   EXPECT_TRUE(sameBits(without, with));
-  tools::ModuleSession session;
+  ScopedSession session(ctx);
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {kSize, kSize}, on, session));
   const gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], kSize, kSize, nullptr);
   tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, 0);
   gi::FrameStats stats;
   ASSERT_TRUE(gi::frameStats(session.module, 0, stats));
-  for (const gi::PassTiming& pass : stats.passes) EXPECT_EQ(std::string(pass.name).find("reservoir"), std::string::npos);
+  for (const gi::PassTiming& pass : stats.passes)
+    EXPECT_EQ(std::string(pass.name).find("reservoir"), std::string::npos);
   for (const std::string& program : gi::programNames(session.module, on)) EXPECT_NE(program, "gi_reservoirs");
-  tools::destroyModuleSession(ctx, session);
 }

@@ -53,7 +53,8 @@ TEST_F(RobustAccessTest, EveryMethodRendersTheSameBitsOnABoundsCheckedDevice) {
     // depends on the order the invocations run in; the sentinels then cut different histories).
     const bool moving = !gi::usesHashGrid(info.method);
     const engine::ReferenceImages a = renderAnimatedFrames(ctx, plain, animation, settings, kSize, kFrames, moving);
-    const engine::ReferenceImages b = renderAnimatedFrames(robust, checked, animation, settings, kSize, kFrames, moving);
+    const engine::ReferenceImages b =
+        renderAnimatedFrames(robust, checked, animation, settings, kSize, kFrames, moving);
     ASSERT_FALSE(a.final.pixels.empty()) << info.name;
     EXPECT_TRUE(sameBits(a.direct, b.direct)) << info.name << ": direct differs with bounds checks";
     EXPECT_TRUE(sameBits(a.indirect, b.indirect)) << info.name << ": indirect differs with bounds checks";

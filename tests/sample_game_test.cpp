@@ -57,7 +57,12 @@ TEST(SampleGame, HeadlessWritesTheWalkthroughFramesAndTheCsv) {
   std::vector<std::string> lines = csvLines(out / "benchmark.csv");
   ASSERT_EQ(lines.size(), 4u) << "a header and one row per frame";
   // The default method, svgf: its passes are the columns.
-  EXPECT_EQ(lines[0].rfind("frame,seconds,cpu_ms,gbuffer_ms,module_ms,rays,spp,raw_trace_ms,temporal_ms,svgf_variance_ms,svgf_atrous_ms", 0), 0u) << lines[0];
+  EXPECT_EQ(
+      lines[0].rfind(
+          "frame,seconds,cpu_ms,gbuffer_ms,module_ms,rays,spp,raw_trace_ms,temporal_ms,svgf_variance_ms,svgf_atrous_ms",
+          0),
+      0u)
+      << lines[0];
 }
 
 // Budget mode on a static scene: the controller's convergence is asserted in
@@ -66,8 +71,11 @@ TEST(SampleGame, BudgetModeReportsTheAchievedTimeOnAStaticScene) {
   fs::path out = fs::temp_directory_path() / "gi_sample_game_budget";
   fs::remove_all(out);
   std::string output;
-  int rc = runGame("--frames 16 --still --method aaf --set aaf.mu=4 --size 64x36 --window-size 320x180 --budget-ms 30 "
-                   "--benchmark 16 --out " + out.string(), output);
+  int rc = runGame(
+      "--frames 16 --still --method aaf --set aaf.mu=4 --size 64x36 --window-size 320x180 --budget-ms 30 "
+      "--benchmark 16 --out " +
+          out.string(),
+      output);
   ASSERT_EQ(rc, 0) << output;
   size_t at = output.find("budget mode: target 30.0 ms, last frame ");
   ASSERT_NE(at, std::string::npos) << output;
@@ -95,7 +103,8 @@ TEST(SampleGame, BudgetModeKeepsTheHistory) {
     fs::remove_all(out);
     std::string output;
     int rc = runGame(std::string("--still --method svgf --size 64x36 --window-size 320x180 --benchmark 40 ") +
-                         (budget ? "--budget-ms 5 " : "") + "--out " + out.string(), output);
+                         (budget ? "--budget-ms 5 " : "") + "--out " + out.string(),
+                     output);
     ASSERT_EQ(rc, 0) << output;
     const auto rows = csvRows(out / "benchmark.csv");
     ASSERT_EQ(rows.size(), 40u);
@@ -117,7 +126,8 @@ TEST(SampleGame, AnimatedFramesWaitOnOneFenceAndCreateNothing) {
   fs::path out = fs::temp_directory_path() / "gi_sample_game_in_flight";
   fs::remove_all(out);
   std::string output;
-  int rc = runGame("--size 64x36 --window-size 320x180 --benchmark 100 --sync-validation --out " + out.string(), output);
+  int rc =
+      runGame("--size 64x36 --window-size 320x180 --benchmark 100 --sync-validation --out " + out.string(), output);
   ASSERT_EQ(rc, 0) << output;  // 3: validation reported something
   const auto rows = csvRows(out / "benchmark.csv");
   ASSERT_EQ(rows.size(), 100u);
@@ -165,10 +175,10 @@ TEST(SampleGame, AMethodSwitchKeepsTheFramesComingWhileItsProgramsAreReadied) {
   fs::remove_all(out);
   fs::remove_all(cache);
   std::string output;
-  const int rc = runProcess("env -u DISPLAY MESA_SHADER_CACHE_DIR=" + cache.string() + " " GI_SAMPLE_GAME_BINARY,
-                            "--benchmark 300 --size 64x36 --window-size 320x180 --switch-at 3:gif --validation --out " +
-                                out.string(),
-                            output);
+  const int rc = runProcess(
+      "env -u DISPLAY MESA_SHADER_CACHE_DIR=" + cache.string() + " " GI_SAMPLE_GAME_BINARY,
+      "--benchmark 300 --size 64x36 --window-size 320x180 --switch-at 3:gif --validation --out " + out.string(),
+      output);
   ASSERT_EQ(rc, 0) << output;
   const auto rows = csvRows(out / "benchmark.csv");
   ASSERT_EQ(rows.size(), 300u);

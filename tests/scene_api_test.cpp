@@ -53,7 +53,8 @@ TEST_F(SceneApiTest, GoodContentsBuildAndBadOnesAreNamedErrors) {
     EXPECT_NE(e.message.find("2 instances given, the scene has 1"), std::string::npos) << e.message;
     gi::InstanceDesc otherMesh = q.instance;
     otherMesh.mesh = 1;
-    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { e = gi::updateInstances(scene, cmd, std::span(&otherMesh, 1)); });
+    engine::submitAndWait(ctx,
+                          [&](VkCommandBuffer cmd) { e = gi::updateInstances(scene, cmd, std::span(&otherMesh, 1)); });
     EXPECT_NE(e.message.find("instances[0].mesh"), std::string::npos) << e.message;
     engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { e = gi::updateLights(scene, cmd, {}); });
     EXPECT_NE(e.message.find("0 lights given, the scene has 1"), std::string::npos) << e.message;
@@ -75,11 +76,13 @@ TEST_F(SceneApiTest, GoodContentsBuildAndBadOnesAreNamedErrors) {
       {"indices past the array", [](Quad& q) { q.primitive.firstIndex = 3; }, "run past indexCount 6"},
       {"material out of range", [](Quad& q) { q.primitive.material = 3; }, "primitives[0].material = 3"},
       {"no normals", [](Quad& q) { q.mesh.normals = nullptr; }, "positions and normals are required"},
-      {"texture that does not exist", [](Quad& q) { q.material.baseColorTexture = 0; }, "materials[0].baseColorTexture = 0"},
+      {"texture that does not exist", [](Quad& q) { q.material.baseColorTexture = 0; },
+       "materials[0].baseColorTexture = 0"},
       {"negative emission", [](Quad& q) { q.material.emissive[0] = -1.0f; }, "materials[0]: emissive"},
       {"roughness above 1", [](Quad& q) { q.material.roughness = 2.0f; }, "materials[0].roughness"},
       {"instance of a missing mesh", [](Quad& q) { q.instance.mesh = 4; }, "instances[0].mesh = 4"},
-      {"non-finite transform", [](Quad& q) { q.instance.worldFromObject[13] = INFINITY; }, "instances[0].worldFromObject"},
+      {"non-finite transform", [](Quad& q) { q.instance.worldFromObject[13] = INFINITY; },
+       "instances[0].worldFromObject"},
       {"NaN vertex", [](Quad& q) { q.positions[4] = NAN; }, "vertex position is not finite"},
       {"light with a NaN direction", [](Quad& q) { q.light.direction[0] = NAN; }, "lights[0]: position and direction"},
   };
@@ -126,14 +129,14 @@ TEST_F(SceneApiTest, InstanceMovedThroughUpdateInstancesMatchesTheSceneLoadedInT
     moved.scene.instances[block].movable = movable;
     posed.scene = moved.scene;
     const glm::mat4 pose = glm::translate(glm::mat4(1.0f), glm::vec3(0.15f, 0.0f, 0.1f)) *
-                           glm::rotate(glm::mat4(1.0f), 0.4f, glm::vec3(0, 1, 0)) * moved.scene.instances[block].worldFromObject;
+                           glm::rotate(glm::mat4(1.0f), 0.4f, glm::vec3(0, 1, 0)) *
+                           moved.scene.instances[block].worldFromObject;
     posed.scene.instances[block].worldFromObject = pose;
     moved.upload(ctx);
     posed.upload(ctx);
     moved.scene.instances[block].worldFromObject = pose;
-    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
-      engine::recordSceneTransformUpdate(ctx, cmd, moved.scene, moved.gpu);
-    });
+    engine::submitAndWait(
+        ctx, [&](VkCommandBuffer cmd) { engine::recordSceneTransformUpdate(ctx, cmd, moved.scene, moved.gpu); });
     engine::ReferenceSettings settings;
     settings.seed = 7;
     const engine::ReferenceImages a = render(moved, kSize, kSize, settings, 8);
@@ -158,7 +161,8 @@ TEST_F(SceneApiTest, InstanceMovedThroughUpdateInstancesMatchesTheSceneLoadedInT
     ASSERT_NO_FATAL_FAILURE(load(path, still));
     const engine::ReferenceImages c = render(still, kSize, kSize, settings, 8);
     double moveDiff = 0.0;
-    for (size_t i = 0; i < c.final.pixels.size(); ++i) moveDiff += std::fabs(double(c.final.pixels[i]) - b.final.pixels[i]);
+    for (size_t i = 0; i < c.final.pixels.size(); ++i)
+      moveDiff += std::fabs(double(c.final.pixels[i]) - b.final.pixels[i]);
     EXPECT_GT(moveDiff / sum, 0.05) << "the pose should change the picture";
   }
 }
@@ -328,7 +332,8 @@ gi::SceneContents cornellContents(PackedCornell& p, bool device) {
 TEST_F(SceneApiTest, DeviceBufferMeshesDecodeAsTheirCpuValues) {
   LoadedScene loaded;
   std::string error;
-  ASSERT_TRUE(engine::loadSceneForRendering(sharedScene("cornell-box-mcguire/CornellBox-Original.gltf"), loaded.scene, error))
+  ASSERT_TRUE(
+      engine::loadSceneForRendering(sharedScene("cornell-box-mcguire/CornellBox-Original.gltf"), loaded.scene, error))
       << error;
   PackedCornell p;
   ASSERT_NO_FATAL_FAILURE(packCornell(ctx, loaded.scene, p));
@@ -371,7 +376,8 @@ TEST_F(SceneApiTest, DeviceBufferMeshesDecodeAsTheirCpuValues) {
   const Case cases[] = {
       {"unlisted format", [](gi::MeshDesc& m) { m.device.normals.format = VK_FORMAT_R8G8B8A8_UNORM; },
        "contents.meshes[0].device.normals.format"},
-      {"stride below the format", [](gi::MeshDesc& m) { m.device.positions.stride = 4; }, "device.positions.stride = 4"},
+      {"stride below the format", [](gi::MeshDesc& m) { m.device.positions.stride = 4; },
+       "device.positions.stride = 4"},
       {"misaligned address", [](gi::MeshDesc& m) { m.device.uvs.address += 2; }, "multiples of 4 bytes"},
       {"CPU arrays as well", [](gi::MeshDesc& m) { m.normals = reinterpret_cast<const float*>(&m); }, "both given"},
       {"no index address", [](gi::MeshDesc& m) { m.device.indices = 0; }, "device.indices"},
@@ -398,7 +404,8 @@ TEST_F(SceneApiTest, DeviceBufferMeshesDecodeAsTheirCpuValues) {
   ASSERT_FALSE(create(contents, scene));
   engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { e = gi::finishSceneUpload(scene, cmd); });
   EXPECT_EQ(e.code, gi::ErrorCode::OutOfRange);
-  EXPECT_NE(e.message.find("gi::finishSceneUpload: contents.meshes[0].primitives[0]: index"), std::string::npos) << e.message;
+  EXPECT_NE(e.message.find("gi::finishSceneUpload: contents.meshes[0].primitives[0]: index"), std::string::npos)
+      << e.message;
   EXPECT_FALSE(gi::sceneBuilt(scene));
   gi::destroyScene(scene);
   for (engine::Buffer* buffer : {&p.positions, &p.attributes, &p.indices}) engine::destroyBuffer(ctx, *buffer);

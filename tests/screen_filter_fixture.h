@@ -23,8 +23,9 @@ class ScreenFilterTest : public GpuTest {
   void SetUp() override {
     dev = openModuleDevice(ctx);
     for (engine::Image& img : images)
-      img = engine::createImage(ctx, {W, H}, VK_FORMAT_R32G32B32A32_SFLOAT,
-                                VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+      img = engine::createImage(
+          ctx, {W, H}, VK_FORMAT_R32G32B32A32_SFLOAT,
+          VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
     ASSERT_FALSE(gi::createFilterPrograms(dev, programs));
     ASSERT_FALSE(gi::createScreenFilters(dev, programs, W, H,
                                          {images[kGuidance].view, images[kPosition].view, images[kInput].view,

@@ -35,12 +35,14 @@ float smoothstep(float a, float b, float x) {
 // posed from its bind pose and made a static mesh.
 void poseBarOnCpu(engine::Scene& scene, float seconds) {
   const float angle = glm::radians(90.0f) * glm::clamp(seconds, 0.0f, 1.0f);
-  const glm::mat4 bend = glm::translate(glm::mat4(1.0f), {0, kBendY, 0}) * glm::rotate(glm::mat4(1.0f), angle, {0, 0, 1}) *
+  const glm::mat4 bend = glm::translate(glm::mat4(1.0f), {0, kBendY, 0}) *
+                         glm::rotate(glm::mat4(1.0f), angle, {0, 0, 1}) *
                          glm::translate(glm::mat4(1.0f), {0, -kBendY, 0});
   ASSERT_EQ(scene.gltf.skinnedMeshes.size(), 1u);
   engine::Mesh& mesh = scene.meshes[scene.gltf.skinnedMeshes[0].mesh];
   for (uint32_t p = mesh.firstPrimitive; p < mesh.firstPrimitive + mesh.primitiveCount; ++p)
-    for (uint32_t v = scene.primitives[p].vertexOffset; v < scene.primitives[p].vertexOffset + scene.primitives[p].vertexCount; ++v) {
+    for (uint32_t v = scene.primitives[p].vertexOffset;
+         v < scene.primitives[p].vertexOffset + scene.primitives[p].vertexCount; ++v) {
       const glm::vec3 bind = scene.gltf.bindPositions[v];
       const float w = smoothstep(kBlendFrom, kBlendTo, bind.y);
       const glm::mat4 m = (1.0f - w) * glm::mat4(1.0f) + w * bend;
@@ -64,7 +66,7 @@ Rendered renderBar(const engine::Context& ctx, LoadedScene& s, bool animated) {
   for (gi::Method method : {gi::Method::Raw, gi::Method::Hpsf}) {
     gi::Settings settings;
     settings.method = method;
-    tools::ModuleSession session;
+    ScopedSession session(ctx);
     EXPECT_NO_FATAL_FAILURE(openSession(ctx, s, {kSize, kSize}, settings, session));
     if (!session.module) return out;
     for (uint32_t f = 0; f < kFrames; ++f) {
@@ -72,7 +74,6 @@ Rendered renderBar(const engine::Context& ctx, LoadedScene& s, bool animated) {
       tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, f);
     }
     (method == gi::Method::Raw ? out.raw : out.hpsf) = tools::readModuleImages(ctx, session);
-    tools::destroyModuleSession(ctx, session);
   }
   out.reference = pixelCentreReference(ctx, s, cam, 4, 256);
   return out;
@@ -115,11 +116,12 @@ TEST_F(SkinningTest, AnimatedBarRendersAsTheBarPosedOnTheCpu) {
   still.upload(ctx);
   const Rendered a = renderBar(ctx, animated, true), b = renderBar(ctx, still, false);
   const double reference = relativeL1(a.reference.final, b.reference.final);
-  std::printf("bar at %.3f s: reference relative L1 %.2e (animated against posed on the CPU)\n", float(kFrames - 1) / 30.0f,
-              reference);
+  std::printf("bar at %.3f s: reference relative L1 %.2e (animated against posed on the CPU)\n",
+              float(kFrames - 1) / 30.0f, reference);
   EXPECT_LT(reference, 2e-3) << "the device's pose is the CPU's, to the rounding of a few edge pixels";
   for (auto [name, x, y] : {std::tuple{"raw", &a.raw, &b.raw}, std::tuple{"hpsf", &a.hpsf, &b.hpsf}}) {
-    const double errorAnimated = metrics::mse(x->final, b.reference.final), errorStill = metrics::mse(y->final, b.reference.final);
+    const double errorAnimated = metrics::mse(x->final, b.reference.final),
+                 errorStill = metrics::mse(y->final, b.reference.final);
     const double meanAnimated = meanOf(x->final), meanStill = meanOf(y->final);
     std::printf("%s: MSE against the posed bar's reference, animated %.3e, still %.3e; means %.4f, %.4f\n", name,
                 errorAnimated, errorStill, meanAnimated, meanStill);
@@ -166,7 +168,7 @@ TEST_F(SkinningTest, DeformingSurfacesCarryTheirMotion) {
   const engine::SceneAnimation animation = engine::makeSceneAnimation(s.scene);
   engine::markAnimatedInstancesMovable(animation, s.scene);
   s.upload(ctx);
-  tools::ModuleSession session;
+  ScopedSession session(ctx);
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {kSize, kSize}, gi::Settings{}, session));
   const gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], kSize, kSize, nullptr);
   auto motionAt = [&](float seconds, uint32_t frame) {
@@ -192,5 +194,4 @@ TEST_F(SkinningTest, DeformingSurfacesCarryTheirMotion) {
   EXPECT_GE(moving, 10u) << "the bar's top half moves on screen";
   EXPECT_LT(moving, size_t(kSize) * kSize / 10) << "the room stands still";
   EXPECT_LT(largest, 1e-3f) << "a repeated pose has no motion";
-  tools::destroyModuleSession(ctx, session);
 }

@@ -45,7 +45,7 @@ engine::ReferenceImages methodImage(const engine::Context& ctx, LoadedScene& s, 
   settings.method = method;
   settings.maxBounces = 2;
   settings.raw.temporalAccumulation = true;
-  tools::ModuleSession session;
+  ScopedSession session(ctx);
   std::string error;
   EXPECT_TRUE(tools::createModuleSession(ctx, s.gpu, {kSize, kSize}, settings, session, error)) << error;
   if (!session.module) return {};
@@ -75,7 +75,6 @@ double maskedMean(const engine::FloatImage& img, const engine::FloatImage& depth
     }
   return n ? sum / double(n) : 0.0;
 }
-
 
 }  // namespace
 

@@ -28,7 +28,7 @@ TEST_P(SoakTest, TenThousandFramesStayFlat) {
   gi::Settings settings;
   settings.method = GetParam();
   settings.maxBounces = 1;
-  tools::ModuleSession session;
+  ScopedSession session(ctx);
   gi::ModuleDesc desc = tools::moduleDesc(ctx, s.gpu, {64, 64});
   desc.checkBounds = true;
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {64, 64}, settings, session, &desc));
@@ -59,7 +59,6 @@ TEST_P(SoakTest, TenThousandFramesStayFlat) {
               gi::methodName(GetParam()), double(hostAtSteady) / 1048576.0, kSteadyFrom, double(hostAtEnd) / 1048576.0,
               kFrames, gi::stats(session.module).hash.occupied, steadyOccupancy);
   EXPECT_LT(hostAtEnd, hostAtSteady + (8u << 20)) << "host memory grows";
-  tools::destroyModuleSession(ctx, session);
 }
 
 INSTANTIATE_TEST_SUITE_P(Cached, SoakTest, ::testing::Values(gi::Method::Hpsf, gi::Method::Anhpsf),

@@ -36,7 +36,7 @@ double luminance(const engine::FloatImage& img, size_t p) {
 
 engine::FloatImage lastOfStillFrames(const engine::Context& ctx, const LoadedScene& s, const gi::Settings& settings,
                                      uint32_t frames, std::vector<engine::FloatImage>* each = nullptr) {
-  tools::ModuleSession session;
+  ScopedSession session(ctx);
   EXPECT_NO_FATAL_FAILURE(openSession(ctx, s, {kSize, kSize}, settings, session));
   const gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], kSize, kSize, nullptr);
   engine::FloatImage last;
@@ -122,7 +122,8 @@ TEST_F(SpeckleTest, NoSpeckleAfter32StillFramesWhereTheReferenceIsSmooth) {
     double worst = 0.0;
     for (size_t p = 0; p < pixels; ++p) {
       if (!smooth[p]) continue;
-      const double deviation = std::abs(luminance(image, p) - luminance(reference.final, p)) / (sigma[p] / std::sqrt(double(kFrames)));
+      const double deviation =
+          std::abs(luminance(image, p) - luminance(reference.final, p)) / (sigma[p] / std::sqrt(double(kFrames)));
       worst = std::max(worst, deviation);
       speckles += deviation > 3.0;
     }

@@ -40,8 +40,8 @@ double asTheGuideHoldsIt(float depth, float depthScale) {
 // The 7×7 estimate of svgf_variance.comp for pixel (x, y): moments of the
 // neighbourhood weighted by max(0, n·n')^σn · exp(−|Δz| / (σz |∇z·offset| + 1e-3 z)), with the
 // normals and depths of the history guide the pass reads.
-double spatialVariance(const engine::ReferenceImages& g, float depthScale, const std::vector<glm::dvec2>& moments, int x,
-                       int y, const gi::SvgfSettings& v) {
+double spatialVariance(const engine::ReferenceImages& g, float depthScale, const std::vector<glm::dvec2>& moments,
+                       int x, int y, const gi::SvgfSettings& v) {
   auto depth = [&](int i, int j) -> double {
     if (i < 0 || j < 0 || i >= int(kSize) || j >= int(kSize)) return 0.0;
     return asTheGuideHoldsIt(g.depth.pixels[size_t(j) * kSize + size_t(i)], depthScale);
@@ -93,9 +93,9 @@ TEST_F(SvgfTest, VarianceEstimateMatchesTheCpu) {
   settings.svgf.iterations = 0;
   settings.debugView = gi::DebugView::SvgfVariance;
   gi::ModuleDesc desc = tools::moduleDesc(ctx, s.gpu, {kSize, kSize});
-  desc.outputFormat = VK_FORMAT_R32G32B32A32_SFLOAT;  // the sample is recovered from the outputs and
+  desc.outputFormat = VK_FORMAT_R32G32B32A32_SFLOAT;   // the sample is recovered from the outputs and
   desc.historyFormat = VK_FORMAT_R32G32B32A32_SFLOAT;  // the history they blended: no half floats
-  tools::ModuleSession session;
+  ScopedSession session(ctx);
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {kSize, kSize}, settings, session, &desc));
   const gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], kSize, kSize, nullptr);
   const size_t pixels = size_t(kSize) * kSize;
@@ -136,8 +136,9 @@ TEST_F(SvgfTest, VarianceEstimateMatchesTheCpu) {
       far += error > 3e-3;  // lavapipe: under 1e-3; an NVIDIA H200 (fused multiply-adds): up to 1.8e-3
       EXPECT_FLOAT_EQ(img.final.pixels[3 * p + 2], float(frame) / 32.0f) << "history frames at pixel " << p;
     }
-    std::printf("frame %u (%s): %zu covered pixels, mean variance %.4e, worst relative difference %.2e, %zu beyond 3e-3\n",
-                frame, frame < 4 ? "spatial" : "temporal", covered, meanVariance, worst, far);
+    std::printf(
+        "frame %u (%s): %zu covered pixels, mean variance %.4e, worst relative difference %.2e, %zu beyond 3e-3\n",
+        frame, frame < 4 ? "spatial" : "temporal", covered, meanVariance, worst, far);
     EXPECT_GT(covered, pixels / 2);
     EXPECT_EQ(far, 0u) << "frame " << frame;
     // One sample per pixel has no variance of its own: the first frame's is its neighbourhood's.
@@ -145,9 +146,7 @@ TEST_F(SvgfTest, VarianceEstimateMatchesTheCpu) {
       EXPECT_GT(positive, covered * 9 / 10);
     }
   }
-  tools::destroyModuleSession(ctx, session);
 }
-
 
 // Twelve frames of a sideways pan onto the scene's camera at 1 spp, the
 // last frame's light against a converged reference. SVGF's indirect light is
@@ -171,15 +170,18 @@ TEST_F(SvgfTest, FilteringLowersDirectAndIndirectErrorUnderAPan) {
   svgf.method = gi::Method::Svgf;
   gi::Settings accumulationOnly = svgf;
   accumulationOnly.svgf.iterations = 0;
-  const engine::ReferenceImages one = render(svgf, 1), filtered = render(svgf, 12), accumulated = render(accumulationOnly, 12);
+  const engine::ReferenceImages one = render(svgf, 1), filtered = render(svgf, 12),
+                                accumulated = render(accumulationOnly, 12);
   gi::Settings raw;
   const engine::ReferenceImages noisy = render(raw, 1);
-  const double direct[3] = {metrics::mse(noisy.direct, reference.direct), metrics::mse(accumulated.direct, reference.direct),
+  const double direct[3] = {metrics::mse(noisy.direct, reference.direct),
+                            metrics::mse(accumulated.direct, reference.direct),
                             metrics::mse(filtered.direct, reference.direct)};
-  const double indirect[3] = {metrics::mse(noisy.indirect, reference.indirect), metrics::mse(accumulated.indirect, reference.indirect),
+  const double indirect[3] = {metrics::mse(noisy.indirect, reference.indirect),
+                              metrics::mse(accumulated.indirect, reference.indirect),
                               metrics::mse(filtered.indirect, reference.indirect)};
-  std::printf("direct MSE: one raw frame %.3e, 12 frames accumulated %.3e, filtered %.3e (one svgf frame %.3e)\n", direct[0],
-              direct[1], direct[2], metrics::mse(one.direct, reference.direct));
+  std::printf("direct MSE: one raw frame %.3e, 12 frames accumulated %.3e, filtered %.3e (one svgf frame %.3e)\n",
+              direct[0], direct[1], direct[2], metrics::mse(one.direct, reference.direct));
   std::printf("indirect MSE: one raw frame %.3e, 12 frames accumulated %.3e, filtered %.3e (one svgf frame %.3e)\n",
               indirect[0], indirect[1], indirect[2], metrics::mse(one.indirect, reference.indirect));
   EXPECT_LT(indirect[2], 0.7 * indirect[1]);

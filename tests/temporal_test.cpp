@@ -56,7 +56,10 @@ TEST_F(TemporalTest, ReprojectedHistoryLowersTheErrorAsItGrows) {
     hpsfDirect[run] = metrics::mse(img.direct, reference.direct);
     hpsfIndirect[run] = metrics::mse(img.indirect, reference.indirect);
     std::printf("hpsf, hpsf.temporal %s, 16 frames: indirect MSE %.3e, direct MSE %.3e\n",
-                run == 0 ? "off" : run == 1 ? "on" : "on, own indirect too", hpsfIndirect[run], hpsfDirect[run]);
+                run == 0   ? "off"
+                : run == 1 ? "on"
+                           : "on, own indirect too",
+                hpsfIndirect[run], hpsfDirect[run]);
   }
   EXPECT_LT(hpsfDirect[1], 0.25 * hpsfDirect[0]);
   EXPECT_LT(hpsfDirect[2], 0.25 * hpsfDirect[0]);
@@ -64,7 +67,8 @@ TEST_F(TemporalTest, ReprojectedHistoryLowersTheErrorAsItGrows) {
   // Alone, the direct history is the packed image (RGB9E5 light, 9 bits of mantissa); with the
   // pixels' own indirect samples it is the fp32 images the screen methods use: the same light, to
   // the packing's rounding (measured 48², pan: direct MSE 1.306e-5 packed, 1.309e-5 in fp32).
-  EXPECT_NEAR(hpsfDirect[2], hpsfDirect[1], 0.05 * hpsfDirect[1]) << "the clamp holds the map's light, not the direct light";
+  EXPECT_NEAR(hpsfDirect[2], hpsfDirect[1], 0.05 * hpsfDirect[1])
+      << "the clamp holds the map's light, not the direct light";
   // Measured (48², pan): 4.19e-5 against 8.77e-5 unclamped.
   EXPECT_LT(hpsfIndirect[2], 0.75 * hpsfIndirect[1]) << "held near the pixels' own samples";
 }
@@ -81,7 +85,7 @@ TEST_F(TemporalTest, DisoccludedPixelsStartOver) {
   settings.method = gi::Method::Raw;
   settings.raw.temporalReprojection = true;
   auto run = [&](const gi::Settings& st, bool stillFrames) {
-    tools::ModuleSession session;
+    ScopedSession session(ctx);
     EXPECT_NO_FATAL_FAILURE(openSession(ctx, s, {kSize, kSize}, st, session));
     const gpu::GpuCamera a = engine::makeGpuCamera(before, kSize, kSize, nullptr);
     if (stillFrames)
@@ -130,8 +134,10 @@ TEST_F(TemporalTest, DisoccludedPixelsStartOver) {
         stale += temporal.indirect.pixels[3 * p + c] != fresh.indirect.pixels[3 * p + c] ||
                  temporal.direct.pixels[3 * p + c] != fresh.direct.pixels[3 * p + c];
     }
-  std::printf("%zu covered pixels: %zu started over, %zu came into view (%zu of them kept a history), %zu values differ "
-              "from a fresh frame\n", covered, restarted, cameIn, cameInKept, stale);
+  std::printf(
+      "%zu covered pixels: %zu started over, %zu came into view (%zu of them kept a history), %zu values differ "
+      "from a fresh frame\n",
+      covered, restarted, cameIn, cameInKept, stale);
   EXPECT_EQ(stale, 0u) << "a pixel without history shows only this frame's light";
   EXPECT_GT(cameIn, size_t(kSize)) << "the jump should bring a strip into view";
   EXPECT_EQ(cameInKept, 0u) << "what came into view has no history";

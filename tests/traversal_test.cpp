@@ -83,13 +83,16 @@ Agreement compare(const std::vector<gpu::TraceBatchResult>& a, const std::vector
     }
     if (!hitA) continue;
     ++g.hits;
-    if (!closeT(a[i].t, b[i].t, scale[i])) ++g.tDiffer;
-    else if (a[i].instance != b[i].instance || a[i].triangle != b[i].triangle || a[i].geometry != b[i].geometry) ++g.tieDiffer;
+    if (!closeT(a[i].t, b[i].t, scale[i]))
+      ++g.tDiffer;
+    else if (a[i].instance != b[i].instance || a[i].triangle != b[i].triangle || a[i].geometry != b[i].geometry)
+      ++g.tieDiffer;
   }
   return g;
 }
 
-std::vector<gpu::TraceBatchResult> embreeResults(const engine::CpuTracer& tracer, const std::vector<gpu::TraceBatchRay>& rays) {
+std::vector<gpu::TraceBatchResult> embreeResults(const engine::CpuTracer& tracer,
+                                                 const std::vector<gpu::TraceBatchRay>& rays) {
   std::vector<gpu::TraceBatchResult> out;
   for (const gpu::TraceBatchRay& r : rays) {
     engine::CpuHit hit = engine::cpuTraceClosest(tracer, r.origin, r.direction, r.tMin, r.tMax);
@@ -114,8 +117,10 @@ void expectAgree(const Agreement& g, const char* what) {
               g.hitMissDiffer, g.tDiffer, g.tieDiffer, g.visibleDiffer);
   ASSERT_GT(g.rays, 0u);
   EXPECT_GT(g.hits, g.rays / 4) << "too few hits for the comparison to mean anything";
-  EXPECT_LE(double(g.hitMissDiffer), 0.002 * double(g.rays)) << g.hitMissDiffer << " of " << g.rays << " rays hit in one only";
-  EXPECT_LE(double(g.tDiffer), 0.002 * double(g.rays)) << g.tDiffer << " of " << g.hits << " hits differ in t beyond 1e-5";
+  EXPECT_LE(double(g.hitMissDiffer), 0.002 * double(g.rays))
+      << g.hitMissDiffer << " of " << g.rays << " rays hit in one only";
+  EXPECT_LE(double(g.tDiffer), 0.002 * double(g.rays))
+      << g.tDiffer << " of " << g.hits << " hits differ in t beyond 1e-5";
   EXPECT_LE(double(g.tieDiffer), 0.01 * double(g.rays)) << g.tieDiffer << " hits at equal t name another triangle";
   EXPECT_LE(double(g.visibleDiffer), 0.002 * double(g.rays)) << g.visibleDiffer << " rays differ in visibility";
 }
@@ -128,10 +133,10 @@ class TraversalTest : public GpuTest {
   void checkScene(const engine::Scene& scene, const engine::SceneGpu& gpu, uint32_t w = 64, uint32_t h = 48) {
     engine::CpuTracerPtr tracer = engine::createCpuTracer(scene);
     std::vector<gpu::TraceBatchRay> rays = makeRays(scene, *tracer, w, h);
-    std::vector<gpu::TraceBatchResult> compute = engine::traceBatch(ctx, gpu, gpu::TRAVERSAL_COMPUTE, rays);
+    std::vector<gpu::TraceBatchResult> compute = oracle::traceBatch(ctx, gpu, gpu::TRAVERSAL_COMPUTE, rays);
     expectAgree(compare(compute, embreeResults(*tracer, rays), rays), "compute vs Embree");
     if (ctx.rayQuery) {
-      std::vector<gpu::TraceBatchResult> rayQuery = engine::traceBatch(ctx, gpu, gpu::TRAVERSAL_RAY_QUERY, rays);
+      std::vector<gpu::TraceBatchResult> rayQuery = oracle::traceBatch(ctx, gpu, gpu::TRAVERSAL_RAY_QUERY, rays);
       expectAgree(compare(compute, rayQuery, rays), "compute vs ray queries");
     }
   }
@@ -160,13 +165,16 @@ TEST_F(TraversalTest, MovedInstancesAgree) {
   ASSERT_NO_FATAL_FAILURE(loadBoth(sharedScene("cornell-simple/cornell_simple.gltf"), s));
   uint32_t boxMesh = s.scene.instances.back().mesh;
   for (engine::Instance& inst : s.scene.instances)
-    if (inst.mesh == boxMesh) inst.worldFromObject = glm::rotate(glm::translate(inst.worldFromObject, {0.2f, 0.0f, 0.1f}), 0.3f, {0, 1, 0});
-  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { engine::recordSceneTransformUpdate(ctx, cmd, s.scene, s.gpu); });
+    if (inst.mesh == boxMesh)
+      inst.worldFromObject = glm::rotate(glm::translate(inst.worldFromObject, {0.2f, 0.0f, 0.1f}), 0.3f, {0, 1, 0});
+  engine::submitAndWait(ctx,
+                        [&](VkCommandBuffer cmd) { engine::recordSceneTransformUpdate(ctx, cmd, s.scene, s.gpu); });
   checkScene(s.scene, s.gpu);
   // Moving again only rebuilds the top level.
   for (engine::Instance& inst : s.scene.instances)
     if (inst.mesh == boxMesh) inst.worldFromObject = glm::translate(inst.worldFromObject, {-0.1f, 0.05f, 0.0f});
-  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { engine::recordSceneTransformUpdate(ctx, cmd, s.scene, s.gpu); });
+  engine::submitAndWait(ctx,
+                        [&](VkCommandBuffer cmd) { engine::recordSceneTransformUpdate(ctx, cmd, s.scene, s.gpu); });
   checkScene(s.scene, s.gpu);
 }
 
@@ -180,7 +188,8 @@ void twistMesh(engine::Scene& scene, uint32_t mesh, const std::vector<glm::vec3>
   const engine::Mesh& m = scene.meshes[mesh];
   auto forEachVertex = [&](auto&& f) {
     for (uint32_t p = m.firstPrimitive; p < m.firstPrimitive + m.primitiveCount; ++p)
-      for (uint32_t v = scene.primitives[p].vertexOffset; v < scene.primitives[p].vertexOffset + scene.primitives[p].vertexCount; ++v)
+      for (uint32_t v = scene.primitives[p].vertexOffset;
+           v < scene.primitives[p].vertexOffset + scene.primitives[p].vertexCount; ++v)
         f(v);
   };
   forEachVertex([&](uint32_t v) {
@@ -206,7 +215,8 @@ void twistMesh(engine::Scene& scene, uint32_t mesh, const std::vector<glm::vec3>
 TEST_F(TraversalTest, DeformedMeshesAgree) {
   LoadedScene s;
   std::string error;
-  ASSERT_TRUE(engine::loadSceneForRendering(sharedScene("cornell-simple/cornell_simple.gltf"), s.scene, error)) << error;
+  ASSERT_TRUE(engine::loadSceneForRendering(sharedScene("cornell-simple/cornell_simple.gltf"), s.scene, error))
+      << error;
   const uint32_t boxMesh = s.scene.instances.back().mesh;
   s.scene.meshes[boxMesh].deformable = true;
   s.scene.bothTraversals = true;
@@ -215,16 +225,18 @@ TEST_F(TraversalTest, DeformedMeshesAgree) {
   for (float turns : {0.5f, 1.2f}) {
     SCOPED_TRACE(turns);
     twistMesh(s.scene, boxMesh, restPositions, restNormals, turns);
-    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { engine::recordMeshVertexUpdate(cmd, s.scene, s.gpu, boxMesh); });
+    engine::submitAndWait(ctx,
+                          [&](VkCommandBuffer cmd) { engine::recordMeshVertexUpdate(cmd, s.scene, s.gpu, boxMesh); });
     checkScene(s.scene, s.gpu);
   }
   engine::CpuTracerPtr tracer = engine::createCpuTracer(s.scene);
   const std::vector<gpu::TraceBatchRay> rays = makeRays(s.scene, *tracer, 32, 24);
-  const std::vector<gpu::TraceBatchResult> fromArrays = engine::traceBatch(ctx, s.gpu, gpu::TRAVERSAL_COMPUTE, rays);
+  const std::vector<gpu::TraceBatchResult> fromArrays = oracle::traceBatch(ctx, s.gpu, gpu::TRAVERSAL_COMPUTE, rays);
 
   // The same vertices from device buffers, after a different pose in between.
   twistMesh(s.scene, boxMesh, restPositions, restNormals, -0.3f);
-  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { engine::recordMeshVertexUpdate(cmd, s.scene, s.gpu, boxMesh); });
+  engine::submitAndWait(ctx,
+                        [&](VkCommandBuffer cmd) { engine::recordMeshVertexUpdate(cmd, s.scene, s.gpu, boxMesh); });
   twistMesh(s.scene, boxMesh, restPositions, restNormals, 1.2f);
   const VkBufferUsageFlags usage = VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
   engine::Buffer positions = engine::createBufferFrom(ctx, std::span<const glm::vec3>(s.scene.positions), usage);
@@ -232,8 +244,9 @@ TEST_F(TraversalTest, DeformedMeshesAgree) {
   gi::MeshVertices streams;
   streams.devicePositions = {positions.address, VK_FORMAT_R32G32B32_SFLOAT, 0};
   streams.deviceNormals = {normals.address, VK_FORMAT_R32G32B32_SFLOAT, 0};
-  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { ASSERT_FALSE(gi::updateMeshVertices(s.gpu.scene, cmd, boxMesh, streams)); });
-  const std::vector<gpu::TraceBatchResult> fromStreams = engine::traceBatch(ctx, s.gpu, gpu::TRAVERSAL_COMPUTE, rays);
+  engine::submitAndWait(
+      ctx, [&](VkCommandBuffer cmd) { ASSERT_FALSE(gi::updateMeshVertices(s.gpu.scene, cmd, boxMesh, streams)); });
+  const std::vector<gpu::TraceBatchResult> fromStreams = oracle::traceBatch(ctx, s.gpu, gpu::TRAVERSAL_COMPUTE, rays);
   ASSERT_EQ(fromStreams.size(), fromArrays.size());
   for (size_t i = 0; i < rays.size(); ++i) {
     EXPECT_EQ(fromStreams[i].t, fromArrays[i].t) << "ray " << i;
@@ -267,7 +280,8 @@ TEST_F(TraversalTest, DeformedMeshesAgree) {
 TEST_F(TraversalTest, MeshVertexUpdatesNameWhatIsWrong) {
   LoadedScene s;
   std::string error;
-  ASSERT_TRUE(engine::loadSceneForRendering(sharedScene("cornell-simple/cornell_simple.gltf"), s.scene, error)) << error;
+  ASSERT_TRUE(engine::loadSceneForRendering(sharedScene("cornell-simple/cornell_simple.gltf"), s.scene, error))
+      << error;
   const uint32_t boxMesh = s.scene.instances.back().mesh, otherMesh = s.scene.instances.front().mesh;
   ASSERT_NE(boxMesh, otherMesh);
   s.scene.meshes[boxMesh].deformable = true;
@@ -278,11 +292,14 @@ TEST_F(TraversalTest, MeshVertexUpdatesNameWhatIsWrong) {
   v.positions = &positions[0].x;
   v.normals = &s.scene.normals[0].x;
   engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
-    EXPECT_NE(gi::updateMeshVertices(s.gpu.scene, cmd, otherMesh, v).message.find("was not created deformable"), std::string::npos);
-    EXPECT_NE(gi::updateMeshVertices(s.gpu.scene, cmd, 1000, v).message.find("is not below the scene's"), std::string::npos);
+    EXPECT_NE(gi::updateMeshVertices(s.gpu.scene, cmd, otherMesh, v).message.find("was not created deformable"),
+              std::string::npos);
+    EXPECT_NE(gi::updateMeshVertices(s.gpu.scene, cmd, 1000, v).message.find("is not below the scene's"),
+              std::string::npos);
     const engine::Primitive& p = s.scene.primitives[s.scene.meshes[boxMesh].firstPrimitive];
     positions[p.vertexOffset + 1].y = std::nanf("");
-    EXPECT_NE(gi::updateMeshVertices(s.gpu.scene, cmd, boxMesh, v).message.find("positions[" + std::to_string(p.vertexOffset + 1) + "] is not finite"),
+    EXPECT_NE(gi::updateMeshVertices(s.gpu.scene, cmd, boxMesh, v)
+                  .message.find("positions[" + std::to_string(p.vertexOffset + 1) + "] is not finite"),
               std::string::npos);
     v.devicePositions.address = 256;
     EXPECT_NE(gi::updateMeshVertices(s.gpu.scene, cmd, boxMesh, v).message.find("both given"), std::string::npos);
@@ -333,11 +350,12 @@ TEST_F(TraversalTest, AlphaMaskedGeometryIsAHoleOnlyBelowTheCutoff) {
     engine::createSceneGpu(ctx, scene, gpu);
     ASSERT_TRUE(gpu.desc.hasAlphaMask);
     std::vector<gpu::TraceBatchRay> rays;
-    for (int i = 0; i < 64; ++i) rays.push_back({{0.02f * float(i % 8) - 0.07f, 0.02f * float(i / 8) - 0.07f, 3.0f}, 0.0f, {0, 0, -1}, 1e30f});
+    for (int i = 0; i < 64; ++i)
+      rays.push_back({{0.02f * float(i % 8) - 0.07f, 0.02f * float(i / 8) - 0.07f, 3.0f}, 0.0f, {0, 0, -1}, 1e30f});
     std::vector<uint32_t> traversals = {gpu::TRAVERSAL_COMPUTE};
     if (ctx.rayQuery) traversals.push_back(gpu::TRAVERSAL_RAY_QUERY);
     for (uint32_t traversal : traversals) {
-      std::vector<gpu::TraceBatchResult> hits = engine::traceBatch(ctx, gpu, traversal, rays);
+      std::vector<gpu::TraceBatchResult> hits = oracle::traceBatch(ctx, gpu, traversal, rays);
       for (const gpu::TraceBatchResult& h : hits) {
         EXPECT_EQ(h.instance, alpha < 0.5f ? 1u : 0u) << "traversal " << traversal;
         EXPECT_NEAR(h.t, alpha < 0.5f ? 4.0f : 3.0f, 1e-5f);
@@ -355,7 +373,8 @@ namespace {
 engine::Scene scaledCornell(const engine::Scene& source, float scale, bool degenerate) {
   engine::Scene scene = source;
   for (glm::vec3& p : scene.positions) p *= scale;
-  for (engine::Instance& inst : scene.instances) inst.worldFromObject[3] = glm::vec4(glm::vec3(inst.worldFromObject[3]) * scale, 1.0f);
+  for (engine::Instance& inst : scene.instances)
+    inst.worldFromObject[3] = glm::vec4(glm::vec3(inst.worldFromObject[3]) * scale, 1.0f);
   for (engine::Camera& c : scene.cameras) c.worldFromView[3] = glm::vec4(glm::vec3(c.worldFromView[3]) * scale, 1.0f);
   if (degenerate) {
     engine::Bounds b = scene.worldBounds();
@@ -380,7 +399,9 @@ engine::Scene scaledCornell(const engine::Scene& source, float scale, bool degen
 TEST_F(TraversalTest, ExtremeScalesAndDegenerateTrianglesAgree) {
   engine::Scene cornell;
   std::string error;
-  ASSERT_TRUE(engine::loadSceneForRendering(sharedScene("cornell-box-mcguire/CornellBox-Original.gltf"), cornell, error)) << error;
+  ASSERT_TRUE(
+      engine::loadSceneForRendering(sharedScene("cornell-box-mcguire/CornellBox-Original.gltf"), cornell, error))
+      << error;
   for (auto [scale, degenerate] : {std::pair{1e-3f, false}, std::pair{1e5f, false}, std::pair{1.0f, true}}) {
     SCOPED_TRACE(scale);
     engine::Scene scene = scaledCornell(cornell, scale, degenerate);
@@ -392,7 +413,7 @@ TEST_F(TraversalTest, ExtremeScalesAndDegenerateTrianglesAgree) {
       engine::CpuTracerPtr tracer = engine::createCpuTracer(scene);
       std::vector<gpu::TraceBatchRay> rays = makeRays(scene, *tracer, 32, 24);
       uint32_t degenerateInstance = uint32_t(scene.instances.size() - 1);
-      for (const gpu::TraceBatchResult& r : engine::traceBatch(ctx, gpu, gpu::TRAVERSAL_COMPUTE, rays))
+      for (const gpu::TraceBatchResult& r : oracle::traceBatch(ctx, gpu, gpu::TRAVERSAL_COMPUTE, rays))
         if (r.t >= 0.0f) {
           EXPECT_NE(r.instance, degenerateInstance);
         }
@@ -408,13 +429,15 @@ TEST_F(TraversalTest, ExtremeScalesAndDegenerateTrianglesAgree) {
 TEST(BvhBuilder, EveryTriangleOnceAndChildBoxesEncloseTheirSubtrees) {
   engine::Scene scene;
   std::string error;
-  ASSERT_TRUE(engine::loadSceneForRendering(sharedScene("cornell-box-mcguire/CornellBox-Original.gltf"), scene, error)) << error;
+  ASSERT_TRUE(engine::loadSceneForRendering(sharedScene("cornell-box-mcguire/CornellBox-Original.gltf"), scene, error))
+      << error;
   std::vector<gi::BvhMesh> meshes(scene.meshes.size());
   size_t triangles = 0;
   for (size_t m = 0; m < scene.meshes.size(); ++m)
     for (uint32_t p = 0; p < scene.meshes[m].primitiveCount; ++p) {
       const engine::Primitive& prim = scene.primitives[scene.meshes[m].firstPrimitive + p];
-      meshes[m].geometries.push_back({prim.firstIndex, prim.indexCount / 3, prim.vertexOffset, scene.meshes[m].firstPrimitive + p});
+      meshes[m].geometries.push_back(
+          {prim.firstIndex, prim.indexCount / 3, prim.vertexOffset, scene.meshes[m].firstPrimitive + p});
     }
   std::vector<gi::BvhInstance> instances;
   for (const engine::Instance& inst : scene.instances) {

@@ -11,15 +11,18 @@ void setSamplesPerPixel(gi::Settings& settings, uint32_t spp) { gi::setTracedSam
 
 uint32_t samplesPerPixel(const gi::Settings& settings) { return std::max(1u, gi::tracedSamplesPerPixel(settings)); }
 
-bool expandConfigs(const std::vector<std::string>& methods, const std::vector<uint32_t>& spps, const std::string& sweeps,
-                   const gi::Settings& base, std::vector<BenchConfig>& out, std::string& error) {
+bool expandConfigs(const std::vector<std::string>& methods, const std::vector<uint32_t>& spps,
+                   const std::string& sweeps, const gi::Settings& base, std::vector<BenchConfig>& out,
+                   std::string& error) {
   // Parse "k=v1,v2,k2=v3" into (key, values).
   std::vector<std::pair<std::string, std::vector<std::string>>> keys;
   if (!sweeps.empty())
     for (const std::string& token : cli::splitList(sweeps)) {
       size_t eq = token.find('=');
-      if (eq != std::string::npos) keys.push_back({token.substr(0, eq), {token.substr(eq + 1)}});
-      else if (!keys.empty() && !token.empty()) keys.back().second.push_back(token);
+      if (eq != std::string::npos)
+        keys.push_back({token.substr(0, eq), {token.substr(eq + 1)}});
+      else if (!keys.empty() && !token.empty())
+        keys.back().second.push_back(token);
       else {
         error = "--set: '" + token + "' is not KEY=VALUE";
         return false;

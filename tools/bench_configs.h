@@ -9,7 +9,7 @@
 namespace tools {
 
 struct BenchConfig {
-  std::string label;     // unique, file-name safe after sanitising
+  std::string label;         // unique, file-name safe after sanitising
   std::string settingsText;  // the swept assignments, "bounces=2 raw.accumulate=0"
   uint32_t spp = 1;
   gi::Settings settings;

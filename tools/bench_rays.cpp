@@ -24,7 +24,8 @@ bool benchRays(const engine::Context& ctx, const engine::Scene& scene, const eng
   rows.push_back({"compute", c.primary, c.diffuse, c.shadow});
   auto buildStart = std::chrono::steady_clock::now();
   engine::CpuTracerPtr tracer = engine::createCpuTracer(scene);
-  double embreeBuildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - buildStart).count();
+  double embreeBuildMs =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - buildStart).count();
   // 8 paths per pixel on the CPU: its passes are short, and the rates of the
   // extra rays come from differences of two timings.
   engine::CpuRayRates e = engine::measureCpuRayRates(*tracer, scene, camera, 8);
@@ -48,15 +49,15 @@ bool benchRays(const engine::Context& ctx, const engine::Scene& scene, const eng
   const gi::SceneInfo info = gi::sceneInfo(sceneGpu.scene);  // the compute BVH's build times
   for (const Row& r : rows) {
     auto of = [](double v, double ceiling) { return ceiling > 0.0 ? v / ceiling : 0.0; };
-    double buildMs = r.backend == "compute" ? info.bvhBottomBuildMs + info.bvhTopBuildMs
+    double buildMs = r.backend == "compute"      ? info.bvhBottomBuildMs + info.bvhTopBuildMs
                      : r.backend == "embree_cpu" ? embreeBuildMs
                                                  : 0.0;
-    std::printf("  %-11s %8.3f (%4.2f) %8.3f (%4.2f) %8.3f (%4.2f)\n", r.backend.c_str(), r.primary, of(r.primary, e.primary),
-                r.diffuse, of(r.diffuse, e.diffuse), r.shadow, of(r.shadow, e.shadow));
-    csv << name << ',' << uint32_t(camera.imageSize.x) << ',' << uint32_t(camera.imageSize.y) << ',' << scene.triangleCount()
-        << ",\"" << ctx.properties.deviceName << "\"," << r.backend << ',' << r.primary << ',' << r.diffuse << ',' << r.shadow
-        << ',' << of(r.primary, e.primary) << ',' << of(r.diffuse, e.diffuse) << ',' << of(r.shadow, e.shadow) << ','
-        << buildMs << '\n';
+    std::printf("  %-11s %8.3f (%4.2f) %8.3f (%4.2f) %8.3f (%4.2f)\n", r.backend.c_str(), r.primary,
+                of(r.primary, e.primary), r.diffuse, of(r.diffuse, e.diffuse), r.shadow, of(r.shadow, e.shadow));
+    csv << name << ',' << uint32_t(camera.imageSize.x) << ',' << uint32_t(camera.imageSize.y) << ','
+        << scene.triangleCount() << ",\"" << ctx.properties.deviceName << "\"," << r.backend << ',' << r.primary << ','
+        << r.diffuse << ',' << r.shadow << ',' << of(r.primary, e.primary) << ',' << of(r.diffuse, e.diffuse) << ','
+        << of(r.shadow, e.shadow) << ',' << buildMs << '\n';
   }
   std::printf("  compute BVH build: %.1f ms bottom levels (once), %.2f ms top level (per transform change)\n",
               info.bvhBottomBuildMs, info.bvhTopBuildMs);

@@ -17,7 +17,9 @@ namespace tools {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point start) { return std::chrono::duration<double, std::milli>(Clock::now() - start).count(); }
+double msSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
 
 // A square grid of at least `triangles` triangles in the xz plane, 1 m wide, facing up.
 struct Grid {
@@ -94,8 +96,9 @@ bool benchRefit(const engine::Context& ctx, std::span<const uint32_t> triangleCo
   std::vector<uint32_t> backends{gpu::TRAVERSAL_COMPUTE};
   if (ctx.rayQuery) backends.push_back(gpu::TRAVERSAL_RAY_QUERY);
   engine::GpuTimer timer = engine::createGpuTimer(ctx, 4);
-  std::printf("gi-bench: a deforming grid on %s: ms a frame, refit (updateMeshVertices) against rebuild (createScene)\n",
-              ctx.properties.deviceName);
+  std::printf(
+      "gi-bench: a deforming grid on %s: ms a frame, refit (updateMeshVertices) against rebuild (createScene)\n",
+      ctx.properties.deviceName);
   std::printf("  %-9s %10s %12s %12s %14s %14s\n", "backend", "triangles", "refit CPU", "refit GPU", "rebuild CPU",
               "rebuild GPU");
   gi::MaterialDesc material;
@@ -136,7 +139,8 @@ bool benchRefit(const engine::Context& ctx, std::span<const uint32_t> triangleCo
         wave(grid, float(i));
         gi::Scene* scene = nullptr;
         gi::Error created;
-        const Timed t = timed(ctx, timer, [&](VkCommandBuffer cmd) { created = gi::createScene(desc, contents, cmd, scene); });
+        const Timed t =
+            timed(ctx, timer, [&](VkCommandBuffer cmd) { created = gi::createScene(desc, contents, cmd, scene); });
         check(created);
         check(gi::finishSceneUpload(scene));
         rebuildCpu.push_back(t.cpuMs);
@@ -154,7 +158,8 @@ bool benchRefit(const engine::Context& ctx, std::span<const uint32_t> triangleCo
         gi::MeshVertices vertices;
         vertices.positions = &grid.positions[0].x;
         vertices.normals = &grid.normals[0].x;
-        const Timed t = timed(ctx, timer, [&](VkCommandBuffer cmd) { check(gi::updateMeshVertices(scene, cmd, 0, vertices)); });
+        const Timed t =
+            timed(ctx, timer, [&](VkCommandBuffer cmd) { check(gi::updateMeshVertices(scene, cmd, 0, vertices)); });
         if (i < 2) continue;
         refitCpu.push_back(t.cpuMs);
         refitGpu.push_back(t.gpuMs);

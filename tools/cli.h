@@ -19,8 +19,8 @@ struct SceneDesc;
 namespace cli {
 
 struct Option {
-  const char* name;      // without the leading dashes
-  const char* valueHint; // nullptr for a flag
+  const char* name;       // without the leading dashes
+  const char* valueHint;  // nullptr for a flag
   const char* help;
 };
 

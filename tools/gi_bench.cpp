@@ -40,28 +40,37 @@ const cli::Option kOptions[] = {
     {"max-bounces", "B", "indirect bounces for methods and reference (default 4)"},
     {"reference", "REF.exr", "use this reference image instead of rendering one"},
     {"reference-spp", "N", "samples per pixel of a rendered reference (default 4096)"},
-    {"reference-primary", "traced|gbuffer", "rendered references trace from the camera (default), or start from the "
-                                            "raster G-buffer's hits (the module's raw paths accumulated: errors are the "
-                                            "filters' alone, with the G-buffer's seams, near plane and texture mips)"},
-    {"camera-path", nullptr, "the timed frames walk a scripted camera move (a sideways dolly with a yaw), each compared "
-                             "with a reference of its own pose: the error columns are the walk's means (per frame: "
-                             "series.csv), flicker_ratio its frame-to-frame change against the references'"},
-    {"path-reference-spp", "N", "samples per pixel of each per-frame reference, --camera-path and --animate (default "
-                                "reference-spp / 4)"},
+    {"reference-primary", "traced|gbuffer",
+     "rendered references trace from the camera (default), or start from the "
+     "raster G-buffer's hits (the module's raw paths accumulated: errors are the "
+     "filters' alone, with the G-buffer's seams, near plane and texture mips)"},
+    {"camera-path", nullptr,
+     "the timed frames walk a scripted camera move (a sideways dolly with a yaw), each compared "
+     "with a reference of its own pose: the error columns are the walk's means (per frame: "
+     "series.csv), flicker_ratio its frame-to-frame change against the references'"},
+    {"path-reference-spp", "N",
+     "samples per pixel of each per-frame reference, --camera-path and --animate (default "
+     "reference-spp / 4)"},
     {"series", nullptr, "also write series.csv: the error after every timed frame (for temporal methods)"},
-    {"animate", nullptr, "the light and an object move (engine/animation.h, 30 frames a second); each timed frame is "
-                         "compared with a reference of its own pose (path-reference-spp)"},
-    {"move-at", "F", "the light and an object jump half their loop before frame F (warm-up frames count); the reference "
-                     "shows the moved scene; results get the frames to recover"},
-    {"invalidate-at-move", "WHAT", "with --move-at: the engine tells the module at the jump, gi::invalidate(all) or "
-                                   "(lights)"},
-    {"refit", "N,N,...", "only the deforming-mesh microbenchmark: a grid of each triangle count handed over every frame "
-                         "(gi::updateMeshVertices) against its scene created anew, for each traversal backend; appends "
-                         "to DIR/refit.csv (no --scene or --methods needed)"},
-    {"rays", nullptr, "only the bare-ray microbenchmark: primary, diffuse and shadow Mrays/s for each traversal backend "
-                      "and for Embree on the CPU; appends to DIR/rays.csv (no --methods needed)"},
-    {"history-format", "half|single", "the light the temporal passes blend: radiance histories and noisy indirect "
-                                      "(ModuleDesc::historyFormat; default half)"},
+    {"animate", nullptr,
+     "the light and an object move (engine/animation.h, 30 frames a second); each timed frame is "
+     "compared with a reference of its own pose (path-reference-spp)"},
+    {"move-at", "F",
+     "the light and an object jump half their loop before frame F (warm-up frames count); the reference "
+     "shows the moved scene; results get the frames to recover"},
+    {"invalidate-at-move", "WHAT",
+     "with --move-at: the engine tells the module at the jump, gi::invalidate(all) or "
+     "(lights)"},
+    {"refit", "N,N,...",
+     "only the deforming-mesh microbenchmark: a grid of each triangle count handed over every frame "
+     "(gi::updateMeshVertices) against its scene created anew, for each traversal backend; appends "
+     "to DIR/refit.csv (no --scene or --methods needed)"},
+    {"rays", nullptr,
+     "only the bare-ray microbenchmark: primary, diffuse and shadow Mrays/s for each traversal backend "
+     "and for Embree on the CPU; appends to DIR/rays.csv (no --methods needed)"},
+    {"history-format", "half|single",
+     "the light the temporal passes blend: radiance histories and noisy indirect "
+     "(ModuleDesc::historyFormat; default half)"},
     cli::kTraversalOption,
     cli::kSkyOption,
     cli::kPointLightsOption,
@@ -121,7 +130,6 @@ engine::Camera pathCamera(const engine::Camera& start, float sceneExtent, uint32
   return c;
 }
 
-
 struct Reference {
   engine::FloatImage final, indirect;
 };
@@ -132,7 +140,8 @@ struct Reference {
 // alone: same first surface (seams and the near plane as the raster sees
 // them), same textures at the same mip level.
 bool gbufferReference(const engine::Context& ctx, const engine::Scene& scene, const engine::SceneGpu& sceneGpu,
-                      const gpu::GpuCamera& camera, uint32_t bounces, uint32_t spp, Reference& out, std::string& error) {
+                      const gpu::GpuCamera& camera, uint32_t bounces, uint32_t spp, Reference& out,
+                      std::string& error) {
   const VkExtent2D extent{uint32_t(camera.imageSize.x), uint32_t(camera.imageSize.y)};
   gi::Settings settings;
   settings.method = gi::Method::Raw;
@@ -200,9 +209,9 @@ struct Row {
   double speedupIndirect = 0.0;  // equal indirect MSE (the papers compare indirect light alone)
   double flickerRatio = -1.0;
   gi::FrameStats::Hash hash;  // telemetry of the last timed frame
-  uint32_t tracedSpp = 0;      // paths per pixel the module traced (AAF: its adaptive mean)
-  int recoveryFrames = -1;     // --move-at: frames after the move until the indirect error is below 2× its steady state
-  double steadyMse = 0.0;      // --move-at: mean indirect error over the last quarter of the frames after the move
+  uint32_t tracedSpp = 0;     // paths per pixel the module traced (AAF: its adaptive mean)
+  int recoveryFrames = -1;    // --move-at: frames after the move until the indirect error is below 2× its steady state
+  double steadyMse = 0.0;     // --move-at: mean indirect error over the last quarter of the frames after the move
 };
 
 // --move-at: the steady state is the mean error over the last quarter of the
@@ -316,9 +325,12 @@ bool parseExperiment(cli::Args& args, BenchOptions& o, std::string& error) {
   if (args.has("invalidate-at-move")) {
     const std::string& what = args.values["invalidate-at-move"];
     if (!o.move) return refuse("--invalidate-at-move needs --move-at");
-    if (what == "all") o.invalidateAtMove = gi::Invalidate::All;
-    else if (what == "lights") o.invalidateAtMove = gi::Invalidate::LightsChanged;
-    else return refuse("--invalidate-at-move: '" + what + "' is neither all nor lights");
+    if (what == "all")
+      o.invalidateAtMove = gi::Invalidate::All;
+    else if (what == "lights")
+      o.invalidateAtMove = gi::Invalidate::LightsChanged;
+    else
+      return refuse("--invalidate-at-move: '" + what + "' is neither all nor lights");
   }
   return true;
 }
@@ -427,7 +439,8 @@ bool readGivenReference(const BenchOptions& o, Reference& ref, std::string& erro
   if (at != std::string::npos && at + 10 == indirectPath.size()) {
     indirectPath.replace(at, 10, "_indirect.exr");
     std::string ignored;
-    if (fs::exists(indirectPath) && !engine::readImage(indirectPath, ref.indirect, ignored)) ref.indirect = engine::FloatImage();
+    if (fs::exists(indirectPath) && !engine::readImage(indirectPath, ref.indirect, ignored))
+      ref.indirect = engine::FloatImage();
   }
   if (ref.final.width != o.width || ref.final.height != o.height) {
     error = o.referenceFile + ": the reference is " + std::to_string(ref.final.width) + "x" +
@@ -440,10 +453,9 @@ bool readGivenReference(const BenchOptions& o, Reference& ref, std::string& erro
 // The references: the run's (given or cached), one per timed frame's pose with --animate, one per camera of
 // the walk with --camera-path (cached like the main one). False with `error`.
 bool loadReferences(const BenchOptions& o, Bench& b, std::string& error) {
-  const bool loaded = o.referenceFile.empty()
-                          ? reference(b.ctx, b.scene, b.sceneGpu, b.camera, o.bounces, o.refSpp, o.gbufferPrimary, o.dir,
-                                      b.key, b.ref, error)
-                          : readGivenReference(o, b.ref, error);
+  const bool loaded = o.referenceFile.empty() ? reference(b.ctx, b.scene, b.sceneGpu, b.camera, o.bounces, o.refSpp,
+                                                          o.gbufferPrimary, o.dir, b.key, b.ref, error)
+                                              : readGivenReference(o, b.ref, error);
   if (!loaded) return false;
   engine::writeImage((o.dir / "images" / "reference.pfm").string(), b.ref.final, error);
   const std::string perFrameSpp = "_s" + std::to_string(o.pathRefSpp);
@@ -491,7 +503,8 @@ struct FrameSamples {
 // The scene's pose for a frame: moving with --animate, before and after the jump with --move-at; and the
 // engine's word to the module at the jump.
 void poseFrame(const BenchOptions& o, Bench& b, tools::ModuleSession& session, uint32_t frame) {
-  if (o.animate) b.pose(float(frame) * kFrameSeconds);
+  if (o.animate)
+    b.pose(float(frame) * kFrameSeconds);
   else if (o.move && (frame == 0 || frame == o.moveAt))
     engine::jumpScene(b.ctx, b.animation, frame < o.moveAt ? 0.0f : b.movedSeconds, b.scene, b.sceneGpu);
   if (o.invalidateAtMove && o.move && frame == o.moveAt) gi::invalidate(session.module, *o.invalidateAtMove);
@@ -504,7 +517,8 @@ void measureFrame(const BenchOptions& o, Bench& b, tools::ModuleSession& session
   poseFrame(o, b, session, frame);
   const Reference& frameRef = o.animate ? b.animationRefs[f] : o.cameraPath ? b.pathRefs[f] : b.ref;
   const gpu::GpuCamera frameCamera = o.cameraPath ? walkCamera(o, b, f, &previousCamera) : b.camera;
-  tools::FrameTiming t = tools::renderModuleFrame(b.ctx, session, b.scene, b.sceneGpu, frameCamera, previousCamera, frame);
+  tools::FrameTiming t =
+      tools::renderModuleFrame(b.ctx, session, b.scene, b.sceneGpu, frameCamera, previousCamera, frame);
   previousCamera = frameCamera;
   // A pass that runs several times a frame (à-trous iterations, the guided filter's two box
   // passes) counts with its frame total.
@@ -525,7 +539,8 @@ void measureFrame(const BenchOptions& o, Bench& b, tools::ModuleSession& session
   s.finals.push_back(metrics::compare(s.last.final, frameRef.final));
   if (!frameRef.indirect.pixels.empty()) s.indirects.push_back(metrics::compare(s.last.indirect, frameRef.indirect));
   // The caches hold indirect light: recovery is judged on it (on the final image without an indirect reference).
-  if (o.move && frame >= o.moveAt) s.afterMove.push_back(s.indirects.empty() ? s.finals.back().mse : s.indirects.back().mse);
+  if (o.move && frame >= o.moveAt)
+    s.afterMove.push_back(s.indirects.empty() ? s.finals.back().mse : s.indirects.back().mse);
   if (series.is_open())
     series << '"' << config.label << "\"," << frame + 1 << ',' << s.finals.back().mse << ',' << s.finals.back().relMse
            << ',' << (s.indirects.empty() ? 0.0 : s.indirects.back().mse) << ','
@@ -543,7 +558,8 @@ bool measureConfig(const BenchOptions& o, Bench& b, const tools::BenchConfig& co
   tools::ModuleSession session;
   gi::ModuleDesc moduleDesc = tools::moduleDesc(b.ctx, b.sceneGpu, {o.width, o.height});
   moduleDesc.historyFormat = o.historyFormat;
-  if (!tools::createModuleSession(b.ctx, b.sceneGpu, {o.width, o.height}, config.settings, session, error, &moduleDesc)) {
+  if (!tools::createModuleSession(b.ctx, b.sceneGpu, {o.width, o.height}, config.settings, session, error,
+                                  &moduleDesc)) {
     error = config.label + ": " + error;
     return false;
   }
@@ -639,7 +655,9 @@ const Column kColumns[] = {
     {"rays", [](const Row& r, const RunFacts&) { return format("%.0f", r.rays); }},
     {"mrays_per_s", [](const Row& r, const RunFacts&) { return format("%.4f", mraysPerSecond(r)); }},
     {"ray_efficiency",
-     [](const Row& r, const RunFacts& f) { return format("%.4f", f.bareMrays > 0 ? mraysPerSecond(r) / f.bareMrays : 0.0); }},
+     [](const Row& r, const RunFacts& f) {
+       return format("%.4f", f.bareMrays > 0 ? mraysPerSecond(r) / f.bareMrays : 0.0);
+     }},
     {"mse", [](const Row& r, const RunFacts&) { return format("%.6e", r.final.mse); }},
     {"relmse", [](const Row& r, const RunFacts&) { return format("%.6e", r.final.relMse); }},
     {"psnr", [](const Row& r, const RunFacts&) { return format("%.4f", r.final.psnr); }},
@@ -650,7 +668,8 @@ const Column kColumns[] = {
     {"ssim_indirect", [](const Row& r, const RunFacts&) { return format("%.6f", r.indirect.ssim); }},
     {"memory_bytes", [](const Row& r, const RunFacts&) { return format("%llu", (unsigned long long)r.memory); }},
     {"equal_error_speedup", [](const Row& r, const RunFacts&) { return format("%.4f", r.speedup); }},
-    {"flicker_ratio", [](const Row& r, const RunFacts&) { return r.flickerRatio >= 0.0 ? std::to_string(r.flickerRatio) : ""; }},
+    {"flicker_ratio",
+     [](const Row& r, const RunFacts&) { return r.flickerRatio >= 0.0 ? std::to_string(r.flickerRatio) : ""; }},
     {"hash_occupancy", [](const Row& r, const RunFacts&) { return format("%.4f", double(r.hash.occupancy())); }},
     {"hash_failed_inserts", [](const Row& r, const RunFacts&) { return format("%u", r.hash.failedInserts); }},
     {"hash_mean_probe", [](const Row& r, const RunFacts&) { return format("%.3f", double(r.hash.meanProbe)); }},
@@ -703,7 +722,8 @@ bool measureAll(const BenchOptions& o, Bench& b, std::string& error) {
   std::ofstream series;
   if (o.series) {
     series.open(o.dir / "series.csv");
-    series << "label,frame,mse,relmse,mse_indirect,energy_indirect,hash_occupancy,hash_stale_resets,hash_read_misses,hash_evicted\n";
+    series << "label,frame,mse,relmse,mse_indirect,energy_indirect,hash_occupancy,hash_stale_resets,hash_read_misses,"
+              "hash_evicted\n";
   }
   std::vector<std::string> programsWarmed;  // per configuration: its programs' first dispatches, summed
   bool ok = true;
@@ -755,7 +775,8 @@ int runBench(const BenchOptions& o, cli::Args& args) {
   if (o.plots) {
     std::string python = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
     std::string cmd = python + " \"" GI_SOURCE_DIR "/tools/plot_bench.py\" \"" + o.dir.string() + "\"";
-    if (std::system(cmd.c_str()) != 0) std::fprintf(stderr, "gi-bench: plot_bench.py failed; results.csv is complete\n");
+    if (std::system(cmd.c_str()) != 0)
+      std::fprintf(stderr, "gi-bench: plot_bench.py failed; results.csv is complete\n");
   }
   if (messages > 0) {
     std::fprintf(stderr, "gi-bench: %u Vulkan validation message(s)\n", messages);

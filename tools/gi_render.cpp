@@ -27,34 +27,40 @@ const std::string kMethodHelp = "reference (default) or a GI module method: " + 
 const cli::Option kOptions[] = {
     {"scene", "FILE.gltf", "scene to render (required)"},
     {"size", "WxH", "image size in pixels (default 320x180)"},
-    {"dynamic-resolution", "WxH", "module methods: the render size alternates between --size and this one every "
-                                  "4 frames (starting at --size), in the same images (gi::resize within "
-                                  "ModuleDesc::maxWidth x maxHeight); the last frame is written at its size"},
+    {"dynamic-resolution", "WxH",
+     "module methods: the render size alternates between --size and this one every "
+     "4 frames (starting at --size), in the same images (gi::resize within "
+     "ModuleDesc::maxWidth x maxHeight); the last frame is written at its size"},
     {"camera", "N", "glTF camera index (default 0; a default camera is made when the file has none)"},
     {"method", "NAME", kMethodHelp.c_str()},
     {"set", "KEY=V", "a GI module setting, repeatable (keys: see --help)"},
-    {"spp", "N", "samples per pixel per frame (default: 64 for the reference, the method's own default for a module method)"},
+    {"spp", "N",
+     "samples per pixel per frame (default: 64 for the reference, the method's own default for a module method)"},
     {"frames", "N", "frames to accumulate (default 1); total samples = spp × frames"},
     {"max-bounces", "B", "indirect bounces, 0 = direct light only (default 4)"},
     {"seed", "S", "random seed (default 1); the same seed gives the same image"},
     {"aov", "NAME", "final|direct|indirect|albedo|normal|depth (default final)"},
     {"out", "FILE", "output image: .exr or .pfm (linear) or .png (sRGB)"},
     {"stats", "FILE.json", "write device, timings (each program's first dispatch apart), rays and wall time as JSON"},
-    {"compare", "REF.exr", "the written image's MSE against this one (same size), printed and in --stats as "
-                           "mse_vs_reference"},
-    {"pixel-centres", nullptr, "the reference traces through pixel centres, as the module's G-buffer sees them "
-                               "(default: jittered within each pixel)"},
+    {"compare", "REF.exr",
+     "the written image's MSE against this one (same size), printed and in --stats as "
+     "mse_vs_reference"},
+    {"pixel-centres", nullptr,
+     "the reference traces through pixel centres, as the module's G-buffer sees them "
+     "(default: jittered within each pixel)"},
     {"validation", nullptr, "enable Vulkan validation; any message makes the run fail"},
-    {"check-bounds", nullptr, "module methods: check every hash-map index and image coordinate the module's "
-                              "passes use (gi::ModuleDesc::checkBounds); any outside makes the run fail"},
+    {"check-bounds", nullptr,
+     "module methods: check every hash-map index and image coordinate the module's "
+     "passes use (gi::ModuleDesc::checkBounds); any outside makes the run fail"},
     cli::kTraversalOption,
     cli::kSkyOption,
     cli::kPointLightsOption,
     cli::kLightSamplerOption,
     cli::kLightTreeCutOption,
     {"window", nullptr, "show the frames in a GLFW window (module methods; needs a display)"},
-    {"animate", nullptr, "the light and an object move, 30 frames a second (engine/animation.h); the reference "
-                         "renders the last frame's pose"},
+    {"animate", nullptr,
+     "the light and an object move, 30 frames a second (engine/animation.h); the reference "
+     "renders the last frame's pose"},
     {"help", nullptr, "show this message"},
 };
 const char* const kAovs[] = {"final", "direct", "indirect", "albedo", "normal", "depth"};
@@ -101,7 +107,8 @@ bool parseOptions(cli::Args& args, Options& o, std::string& error) {
   if (uint64_t(o.spp) * o.frames > (1u << 24)) return error = "spp × frames must not exceed 16777216", false;
   o.windowed = args.has("window");
   o.animate = args.has("animate");
-  if (o.windowed && !o.module()) return error = "--window shows module methods (raw, gif, ...), not the reference", false;
+  if (o.windowed && !o.module())
+    return error = "--window shows module methods (raw, gif, ...), not the reference", false;
   if (args.has("dynamic-resolution")) {
     if (!cli::getSize(args, "dynamic-resolution", 0, 0, o.alternateWidth, o.alternateHeight, error)) return false;
     if (!o.module() || o.windowed) return error = "--dynamic-resolution is for module methods without --window", false;
@@ -126,11 +133,11 @@ struct Run {
   engine::ReferenceRun run;
   std::map<std::string, double> passMs;           // summed over frames
   std::map<std::string, double> firstDispatchMs;  // each program's first dispatch, before any timed frame
-  gi::FrameStats last;                  // module methods: the last frame's numbers
-  gi::MemoryPrediction predicted;       // module methods: gi::predictMemory before the module was created
-  uint64_t firstFrameMemoryBytes = 0;   // module methods: held after the first frame (dynamic resolution: constant)
-  uint64_t boundsViolations = 0;        // module methods with --check-bounds: summed over the frames
-  VkExtent2D lastSize{};                // the last frame's size (--dynamic-resolution)
+  gi::FrameStats last;                            // module methods: the last frame's numbers
+  gi::MemoryPrediction predicted;                 // module methods: gi::predictMemory before the module was created
+  uint64_t firstFrameMemoryBytes = 0;  // module methods: held after the first frame (dynamic resolution: constant)
+  uint64_t boundsViolations = 0;       // module methods with --check-bounds: summed over the frames
+  VkExtent2D lastSize{};               // the last frame's size (--dynamic-resolution)
 };
 
 // The scene and its animation on the device.
@@ -153,7 +160,8 @@ int renderModule(const engine::Context& ctx, LoadedScene& l, const Options& o, c
     return std::fprintf(stderr, "gi-render: %s\n", e.message.c_str()), 2;
   if (!tools::createModuleSession(ctx, l.gpu, {o.width, o.height}, o.moduleSettings, session, error, &desc))
     return std::fprintf(stderr, "gi-render: %s\n", error.c_str()), 2;
-  for (const tools::ProgramWarmup& w : tools::warmModulePrograms(ctx, session, o.moduleSettings, l.scene, l.gpu, camera))
+  for (const tools::ProgramWarmup& w :
+       tools::warmModulePrograms(ctx, session, o.moduleSettings, l.scene, l.gpu, camera))
     out.firstDispatchMs[w.name] = w.ms;
   engine::Window window;
   if (o.windowed && !engine::createWindow(ctx, o.width, o.height, "gi-render", window, error)) {
@@ -177,7 +185,8 @@ int renderModule(const engine::Context& ctx, LoadedScene& l, const Options& o, c
       continue;
     }
     if (o.animate) engine::poseScene(ctx, l.animation, float(f) / 30.0f, l.scene, l.gpu);
-    if (const VkExtent2D size = o.renderSize(f); size.width != session.extent.width || size.height != session.extent.height) {
+    if (const VkExtent2D size = o.renderSize(f);
+        size.width != session.extent.width || size.height != session.extent.height) {
       if (!tools::resizeModuleSession(ctx, session, size, error)) {
         std::fprintf(stderr, "gi-render: %s\n", error.c_str());
         status = 1;
@@ -206,7 +215,8 @@ int renderModule(const engine::Context& ctx, LoadedScene& l, const Options& o, c
 }
 
 // The reference path tracer: spp × frames samples of the last frame's pose.
-void renderReferenceImage(const engine::Context& ctx, LoadedScene& l, const Options& o, const cli::Args& args, Run& out) {
+void renderReferenceImage(const engine::Context& ctx, LoadedScene& l, const Options& o, const cli::Args& args,
+                          Run& out) {
   engine::ReferenceSettings settings;
   settings.maxBounces = o.bounces;
   settings.seed = o.seed;
@@ -252,8 +262,8 @@ bool writeImageAndCompare(cli::Args& args, const Options& o, const Run& r, doubl
 }
 
 // --stats: the run as JSON. False when the file cannot be written.
-bool writeStats(const std::string& path, const engine::Context& ctx, const LoadedScene& l, const Options& o, const Run& r,
-                double mraysPerSecond, double wallSeconds, double mseVsReference, bool checkBounds) {
+bool writeStats(const std::string& path, const engine::Context& ctx, const LoadedScene& l, const Options& o,
+                const Run& r, double mraysPerSecond, double wallSeconds, double mseVsReference, bool checkBounds) {
   nlohmann::json j;
   j["device"] = ctx.properties.deviceName;
   j["traversal"] = engine::traversalName(ctx.traversal);
@@ -284,11 +294,16 @@ bool writeStats(const std::string& path, const engine::Context& ctx, const Loade
   }
   const gi::FrameStats::Hash& h = r.last.hash;
   if (h.capacity)
-    j["hash_last_frame"] = {{"capacity", h.capacity},       {"occupied", h.occupied},
-                            {"inserts", h.inserts},         {"failed_inserts", h.failedInserts},
-                            {"evicted", h.evicted},         {"stale_resets", h.staleResets},
-                            {"reads", h.reads},             {"read_misses", h.readMisses},
-                            {"transported", h.transported}, {"mean_continuation_depth", h.meanContinuationDepth}};
+    j["hash_last_frame"] = {{"capacity", h.capacity},
+                            {"occupied", h.occupied},
+                            {"inserts", h.inserts},
+                            {"failed_inserts", h.failedInserts},
+                            {"evicted", h.evicted},
+                            {"stale_resets", h.staleResets},
+                            {"reads", h.reads},
+                            {"read_misses", h.readMisses},
+                            {"transported", h.transported},
+                            {"mean_continuation_depth", h.meanContinuationDepth}};
   j["gpu_ms_total"] = r.run.gpuMs;
   j["rays"] = r.run.rays;
   j["mrays_per_second"] = mraysPerSecond;
@@ -303,7 +318,8 @@ bool writeStats(const std::string& path, const engine::Context& ctx, const Loade
 
 // The scene as --scene, --point-lights, the light sampler and --sky say; false with `error`.
 bool loadScene(cli::Args& args, Options& o, LoadedScene& l, std::string& error) {
-  if (!engine::loadSceneForRendering(o.scene, l.scene, error) || !cli::applyPointLights(args, l.scene, error)) return false;
+  if (!engine::loadSceneForRendering(o.scene, l.scene, error) || !cli::applyPointLights(args, l.scene, error))
+    return false;
   l.scene.lightSampler = o.lightSampler;
   l.scene.lightTreeCut = o.lightTreeCut;
   if (o.cameraIndex >= l.scene.cameras.size()) {
@@ -356,8 +372,10 @@ int main(int argc, char** argv) {
 
   Run r;
   int status = 0;
-  if (o.module()) status = renderModule(ctx, l, o, args, r);
-  else renderReferenceImage(ctx, l, o, args, r);
+  if (o.module())
+    status = renderModule(ctx, l, o, args, r);
+  else
+    renderReferenceImage(ctx, l, o, args, r);
   if (r.lastSize.width) {  // frames ran (not: no module, or no window)
     double mseVsReference = -1.0;
     if (!writeImageAndCompare(args, o, r, mseVsReference)) status = 1;
@@ -367,8 +385,8 @@ int main(int argc, char** argv) {
                 l.scene.sourcePath.c_str(), r.lastSize.width, r.lastSize.height, o.spp * o.frames, o.bounces,
                 ctx.properties.deviceName, engine::traversalName(ctx.traversal), r.run.gpuMs,
                 (unsigned long long)r.run.rays, mraysPerSecond, wall);
-    if (args.has("stats") && !writeStats(args.values["stats"], ctx, l, o, r, mraysPerSecond, wall, mseVsReference,
-                                         args.has("check-bounds")))
+    if (args.has("stats") &&
+        !writeStats(args.values["stats"], ctx, l, o, r, mraysPerSecond, wall, mseVsReference, args.has("check-bounds")))
       status = 1;
   }
   engine::destroySceneGpu(ctx, l.gpu);

@@ -73,8 +73,7 @@ double energyRatio(const engine::FloatImage& image, const engine::FloatImage& re
   auto meanLuminance = [](const engine::FloatImage& img) {
     double sum = 0.0;
     for (uint32_t y = 0; y < img.height; ++y)
-      for (uint32_t x = 0; x < img.width; ++x)
-        sum += luminance(img, x, y);
+      for (uint32_t x = 0; x < img.width; ++x) sum += luminance(img, x, y);
     return sum;
   };
   double a = meanLuminance(image), b = meanLuminance(reference);
@@ -93,7 +92,8 @@ double ssim(const engine::FloatImage& a, const engine::FloatImage& b) {
     yy[i] = y[i] * y[i];
     xy[i] = x[i] * y[i];
   }
-  std::vector<double> mx = blur(x, w, h), my = blur(y, w, h), sxx = blur(xx, w, h), syy = blur(yy, w, h), sxy = blur(xy, w, h);
+  std::vector<double> mx = blur(x, w, h), my = blur(y, w, h), sxx = blur(xx, w, h), syy = blur(yy, w, h),
+                      sxy = blur(xy, w, h);
   double sum = 0.0;
   for (size_t i = 0; i < x.size(); ++i) {
     double vx = sxx[i] - mx[i] * mx[i], vy = syy[i] - my[i] * my[i], cxy = sxy[i] - mx[i] * my[i];

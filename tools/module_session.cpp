@@ -18,7 +18,6 @@ gi::GBufferViews gbufferViews(const engine::GBuffer& g) {
 
 gi::SceneDesc sceneDesc(const engine::SceneGpu& scene) { return scene.desc; }
 
-
 gi::ModuleDesc moduleDesc(const engine::Context& ctx, const engine::SceneGpu& scene, VkExtent2D extent) {
   gi::ModuleDesc desc;
   desc.getInstanceProcAddr = vkGetInstanceProcAddr;  // volk's: the module loads its own table through it
@@ -34,7 +33,8 @@ gi::ModuleDesc moduleDesc(const engine::Context& ctx, const engine::SceneGpu& sc
 }
 
 bool createModuleSession(const engine::Context& ctx, const engine::SceneGpu& scene, VkExtent2D extent,
-                         const gi::Settings& settings, ModuleSession& s, std::string& error, const gi::ModuleDesc* desc) {
+                         const gi::Settings& settings, ModuleSession& s, std::string& error,
+                         const gi::ModuleDesc* desc) {
   const gi::ModuleDesc created = desc ? *desc : moduleDesc(ctx, scene, extent);
   if (gi::Error e = gi::create(created, settings, s.module)) {
     error = e.message;
@@ -44,7 +44,8 @@ bool createModuleSession(const engine::Context& ctx, const engine::SceneGpu& sce
   s.extent = extent;
   s.preExposure = 1.0f / scene.desc.typicalRadiance;
   // At the largest render size (ModuleDesc::maxWidth × maxHeight): a smaller one renders into its top left.
-  s.gbuffer = engine::createGBuffer(ctx, {std::max(extent.width, created.maxWidth), std::max(extent.height, created.maxHeight)});
+  s.gbuffer = engine::createGBuffer(
+      ctx, {std::max(extent.width, created.maxWidth), std::max(extent.height, created.maxHeight)});
   s.gbuffer.renderExtent = extent;
   s.gbufferPass = engine::createGBufferPass(ctx, scene);
   for (uint32_t slot = 0; slot < s.framesInFlight; ++slot) s.timers[slot] = engine::createGpuTimer(ctx, 4);
@@ -60,15 +61,16 @@ void destroyModuleSession(const engine::Context& ctx, ModuleSession& s) {
   s = ModuleSession{};
 }
 
-std::vector<ProgramWarmup> warmModulePrograms(const engine::Context& ctx, ModuleSession& s, const gi::Settings& settings,
-                                              const engine::Scene& scene, const engine::SceneGpu& sceneGpu,
-                                              const gpu::GpuCamera& camera) {
+std::vector<ProgramWarmup> warmModulePrograms(const engine::Context& ctx, ModuleSession& s,
+                                              const gi::Settings& settings, const engine::Scene& scene,
+                                              const engine::SceneGpu& sceneGpu, const gpu::GpuCamera& camera) {
   std::vector<ProgramWarmup> out;
   const auto rasterStart = std::chrono::steady_clock::now();  // every frame rasters its G-buffer anew
   engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
     engine::recordGBuffer(ctx, cmd, s.gbufferPass, scene, sceneGpu, s.gbuffer, camera, nullptr);
   });
-  out.push_back({"gbuffer", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - rasterStart).count()});
+  out.push_back(
+      {"gbuffer", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - rasterStart).count()});
   for (const std::string& name : gi::programNames(s.module, settings)) {
     const auto start = std::chrono::steady_clock::now();
     engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
@@ -100,8 +102,8 @@ bool resizeModuleSession(const engine::Context& ctx, ModuleSession& s, VkExtent2
 }
 
 void recordModuleFrame(const engine::Context& ctx, VkCommandBuffer cmd, ModuleSession& s, const engine::Scene& scene,
-                       const engine::SceneGpu& sceneGpu, const gpu::GpuCamera& camera, const gpu::GpuCamera& previousCamera,
-                       uint32_t frameIndex) {
+                       const engine::SceneGpu& sceneGpu, const gpu::GpuCamera& camera,
+                       const gpu::GpuCamera& previousCamera, uint32_t frameIndex) {
   engine::GpuTimer& timer = s.timers[frameIndex % s.framesInFlight];
   engine::resetGpuTimer(ctx, timer);
   gi::FrameInputs in;
@@ -128,7 +130,8 @@ FrameTiming renderModuleFrame(const engine::Context& ctx, ModuleSession& s, cons
     recordModuleFrame(ctx, cmd, s, scene, sceneGpu, camera, previousCamera, frameIndex);
   });
   FrameTiming t;
-  for (const engine::PassTime& p : engine::readPassTimes(ctx, gbufferTimer(s, frameIndex))) t.passes.push_back({p.name, p.ms});
+  for (const engine::PassTime& p : engine::readPassTimes(ctx, gbufferTimer(s, frameIndex)))
+    t.passes.push_back({p.name, p.ms});
   gi::FrameStats st = gi::stats(s.module);
   t.passes.insert(t.passes.end(), st.passes.begin(), st.passes.end());
   for (const gi::PassTiming& p : t.passes) t.totalMs += p.ms;

@@ -62,9 +62,9 @@ std::vector<ProgramWarmup> warmModulePrograms(const engine::Context& ctx, Module
 // Records one frame (G-buffer raster, then the module) into `cmd`; submits
 // nothing. The frame recorded framesInFlight before it must have completed.
 
-void recordModuleFrame(const engine::Context& ctx, VkCommandBuffer cmd, ModuleSession& session, const engine::Scene& scene,
-                       const engine::SceneGpu& sceneGpu, const gpu::GpuCamera& camera, const gpu::GpuCamera& previousCamera,
-                       uint32_t frameIndex);
+void recordModuleFrame(const engine::Context& ctx, VkCommandBuffer cmd, ModuleSession& session,
+                       const engine::Scene& scene, const engine::SceneGpu& sceneGpu, const gpu::GpuCamera& camera,
+                       const gpu::GpuCamera& previousCamera, uint32_t frameIndex);
 
 // The G-buffer timer of frame `frameIndex` (read once that frame has completed).
 inline const engine::GpuTimer& gbufferTimer(const ModuleSession& s, uint32_t frameIndex) {

@@ -26,7 +26,8 @@ bool applySetting(gi::Settings& settings, const std::string& assignment, std::st
   const bool integer = k->kind != gi::SettingKind::Float;
   const bool whole = v >= 0.0 && v <= 1.8e19 && std::floor(v) == v;
   if (value.empty() || *end != '\0' || errno != 0 || !std::isfinite(v) || (integer && !whole)) {
-    error = "setting '" + name + "' must be " + (integer ? "a whole number" : "a finite number") + ", not '" + value + "'";
+    error =
+        "setting '" + name + "' must be " + (integer ? "a whole number" : "a finite number") + ", not '" + value + "'";
     return false;
   }
   k->set(settings, v);

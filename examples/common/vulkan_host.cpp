@@ -8,7 +8,8 @@
 namespace example {
 namespace {
 
-VKAPI_ATTR VkBool32 VKAPI_CALL onMessage(VkDebugUtilsMessageSeverityFlagBitsEXT severity, VkDebugUtilsMessageTypeFlagsEXT,
+VKAPI_ATTR VkBool32 VKAPI_CALL onMessage(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                         VkDebugUtilsMessageTypeFlagsEXT,
                                          const VkDebugUtilsMessengerCallbackDataEXT* data, void* user) {
   if (severity & (VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT)) {
     static_cast<Host*>(user)->validationMessages++;
@@ -145,8 +146,10 @@ Buffer createBuffer(const Host& h, VkDeviceSize size, VkBufferUsageFlags usage, 
   EXAMPLE_CHECK(vkAllocateMemory(h.device, &alloc, nullptr, &b.memory));
   EXAMPLE_CHECK(vkBindBufferMemory(h.device, b.buffer, b.memory, 0));
   EXAMPLE_CHECK(vkMapMemory(h.device, b.memory, 0, VK_WHOLE_SIZE, 0, &b.mapped));
-  if (data) std::memcpy(b.mapped, data, size);
-  else std::memset(b.mapped, 0, size);
+  if (data)
+    std::memcpy(b.mapped, data, size);
+  else
+    std::memset(b.mapped, 0, size);
   return b;
 }
 
@@ -156,7 +159,8 @@ void destroyBuffer(const Host& h, Buffer& b) {
   b = Buffer{};
 }
 
-Image createImage(const Host& h, VkFormat format, VkExtent2D extent, VkImageUsageFlags usage, VkImageAspectFlags aspect) {
+Image createImage(const Host& h, VkFormat format, VkExtent2D extent, VkImageUsageFlags usage,
+                  VkImageAspectFlags aspect) {
   Image img;
   img.format = format;
   VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};

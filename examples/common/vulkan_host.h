@@ -14,12 +14,12 @@
 
 namespace example {
 
-#define EXAMPLE_CHECK(call)                                                          \
-  do {                                                                               \
-    if (VkResult r_ = (call); r_ != VK_SUCCESS) {                                    \
-      std::fprintf(stderr, "%s failed with %s\n", #call, gi::resultName(r_));           \
-      std::exit(2);                                                                  \
-    }                                                                                \
+#define EXAMPLE_CHECK(call)                                                   \
+  do {                                                                        \
+    if (VkResult r_ = (call); r_ != VK_SUCCESS) {                             \
+      std::fprintf(stderr, "%s failed with %s\n", #call, gi::resultName(r_)); \
+      std::exit(2);                                                           \
+    }                                                                         \
   } while (0)
 
 struct Host {
@@ -54,7 +54,8 @@ void destroyHost(Host& h);
 
 Buffer createBuffer(const Host& h, VkDeviceSize size, VkBufferUsageFlags usage, const void* data = nullptr);
 void destroyBuffer(const Host& h, Buffer& b);
-Image createImage(const Host& h, VkFormat format, VkExtent2D extent, VkImageUsageFlags usage, VkImageAspectFlags aspect);
+Image createImage(const Host& h, VkFormat format, VkExtent2D extent, VkImageUsageFlags usage,
+                  VkImageAspectFlags aspect);
 VkShaderModule createShaderModule(const Host& h, const uint32_t* words, size_t bytes);
 void destroyImage(const Host& h, Image& img);
 

@@ -90,10 +90,12 @@ gi::GBufferDesc gbufferDesc() {
 void createGBufferPass(const example::Host& h, const SceneFile& scene, VkExtent2D extent, GBufferPass& p) {
   p.extent = extent;
   for (uint32_t t = 0; t < kTargetCount; ++t)
-    p.targets[t] = example::createImage(h, kTargetFormats[t], extent, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
-                               VK_IMAGE_ASPECT_COLOR_BIT);
-  p.depth = example::createImage(h, kDepthFormat, extent, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
-                        VK_IMAGE_ASPECT_DEPTH_BIT);
+    p.targets[t] = example::createImage(h, kTargetFormats[t], extent,
+                                        VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+                                        VK_IMAGE_ASPECT_COLOR_BIT);
+  p.depth = example::createImage(h, kDepthFormat, extent,
+                                 VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+                                 VK_IMAGE_ASPECT_DEPTH_BIT);
   // One interleaved vertex buffer and one index buffer for every mesh.
   std::vector<float> vertices;
   std::vector<uint32_t> indices;
@@ -105,7 +107,8 @@ void createGBufferPass(const example::Host& h, const SceneFile& scene, VkExtent2
     range.vertexCount = uint32_t(mesh.positions.size());
     range.firstIndex = uint32_t(indices.size());
     for (size_t v = 0; v < mesh.positions.size(); ++v)
-      for (const glm::vec3* a : {&mesh.positions[v], &mesh.normals[v]}) vertices.insert(vertices.end(), {a->x, a->y, a->z});
+      for (const glm::vec3* a : {&mesh.positions[v], &mesh.normals[v]})
+        vertices.insert(vertices.end(), {a->x, a->y, a->z});
     std::vector<Draw>& draws = meshDraws.emplace_back();
     for (const gi::PrimitiveDesc& prim : mesh.primitives) {
       draws.push_back({uint32_t(indices.size()), prim.indexCount, base + int32_t(prim.firstVertex), prim.material, {}});
@@ -125,10 +128,13 @@ void createGBufferPass(const example::Host& h, const SceneFile& scene, VkExtent2
   p.materials = scene.materials;
   // Device addresses: the module reads its scene from these same buffers.
   p.vertices = example::createBuffer(h, vertices.size() * sizeof(float),
-                                     VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT, vertices.data());
+                                     VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
+                                     vertices.data());
   p.indices = example::createBuffer(h, indices.size() * sizeof(uint32_t),
-                                    VK_BUFFER_USAGE_INDEX_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT, indices.data());
-  for (example::Buffer& u : p.uniforms) u = example::createBuffer(h, sizeof(FrameUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
+                                    VK_BUFFER_USAGE_INDEX_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
+                                    indices.data());
+  for (example::Buffer& u : p.uniforms)
+    u = example::createBuffer(h, sizeof(FrameUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
   createPipeline(h, p);
 }
 
@@ -145,18 +151,18 @@ void destroyGBufferPass(const example::Host& h, GBufferPass& p) {
 }
 
 void recordGBuffer(VkCommandBuffer cmd, GBufferPass& p, uint32_t slot, const FrameUniforms& uniforms) {
-  std::memcpy(p.uniforms[slot].mapped, &uniforms, sizeof(uniforms));  // the slot's fence was waited on
+  std::memcpy(p.uniforms[slot].mapped, &uniforms, sizeof(uniforms));           // the slot's fence was waited on
   const VkPipelineStageFlags2 reads = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;  // the module read them last frame
   for (example::Image& t : p.targets)
     example::imageBarrier(cmd, t.image, VK_IMAGE_ASPECT_COLOR_BIT,
                           p.initialised ? VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL : VK_IMAGE_LAYOUT_UNDEFINED,
-                 VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, reads, 0, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
-                 VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+                          VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, reads, 0,
+                          VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
   example::imageBarrier(cmd, p.depth.image, VK_IMAGE_ASPECT_DEPTH_BIT,
-               p.initialised ? VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL : VK_IMAGE_LAYOUT_UNDEFINED,
-               VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, reads, 0,
-               VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
-               VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT);
+                        p.initialised ? VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL : VK_IMAGE_LAYOUT_UNDEFINED,
+                        VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, reads, 0,
+                        VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
+                        VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT);
   p.initialised = true;
 
   VkRenderingAttachmentInfo colors[kTargetCount]{};
@@ -194,23 +200,24 @@ void recordGBuffer(VkCommandBuffer cmd, GBufferPass& p, uint32_t slot, const Fra
     DrawPush push{d.worldFromObject, glm::vec4(m.baseColor[0], m.baseColor[1], m.baseColor[2], m.baseColor[3]),
                   glm::vec4(glm::vec3(m.emissive[0], m.emissive[1], m.emissive[2]) * m.emissiveStrength, m.roughness),
                   glm::vec4(m.metallic, 0.0f, 0.0f, 0.0f)};
-    vkCmdPushConstants(cmd, p.layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(push), &push);
+    vkCmdPushConstants(cmd, p.layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(push),
+                       &push);
     vkCmdDrawIndexed(cmd, d.indexCount, 1, d.firstIndex, d.vertexOffset, 0);
   }
   vkCmdEndRendering(cmd);
   for (example::Image& t : p.targets)
     example::imageBarrier(cmd, t.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
-                          VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
-                 VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
-                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+                          VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+                          VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                          VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
   example::imageBarrier(cmd, p.depth.image, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
-               VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
-               VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-               VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+                        VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
+                        VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                        VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
 }
 
 gi::GBufferViews gbufferViews(const GBufferPass& p) {
-  return {p.targets[kNormal].view, p.targets[kAlbedo].view, p.targets[kMaterial].view,
+  return {p.targets[kNormal].view,   p.targets[kAlbedo].view, p.targets[kMaterial].view,
           p.targets[kEmission].view, p.targets[kMotion].view, p.depth.view};
 }
 

@@ -49,8 +49,8 @@ struct GBufferPass {
   VkExtent2D extent{};
   example::Image targets[kTargetCount];
   example::Image depth;
-  example::Buffer vertices, indices;          // interleaved position, normal; uint32 (with device addresses)
-  std::vector<MeshRange> meshes;              // per mesh of the scene file
+  example::Buffer vertices, indices;  // interleaved position, normal; uint32 (with device addresses)
+  std::vector<MeshRange> meshes;      // per mesh of the scene file
   std::vector<Draw> draws;
   std::vector<gi::MaterialDesc> materials;
   example::Buffer uniforms[kFramesInFlight];  // per frame slot
@@ -59,7 +59,7 @@ struct GBufferPass {
   VkDescriptorSet sets[kFramesInFlight]{};
   VkPipelineLayout layout = VK_NULL_HANDLE;
   VkPipeline pipeline = VK_NULL_HANDLE;
-  bool initialised = false;          // targets left in their sampled layouts at least once
+  bool initialised = false;  // targets left in their sampled layouts at least once
 };
 
 void createGBufferPass(const example::Host& h, const SceneFile& scene, VkExtent2D extent, GBufferPass& pass);

@@ -19,7 +19,8 @@ struct Failure : std::runtime_error {
 
 // The bytes of element i of an accessor.
 const unsigned char* element(const tinygltf::Model& model, const tinygltf::Accessor& a, size_t i, size_t size) {
-  if (a.bufferView < 0 || size_t(a.bufferView) >= model.bufferViews.size()) throw Failure("an accessor has no buffer view");
+  if (a.bufferView < 0 || size_t(a.bufferView) >= model.bufferViews.size())
+    throw Failure("an accessor has no buffer view");
   const tinygltf::BufferView& view = model.bufferViews[size_t(a.bufferView)];
   const tinygltf::Buffer& buffer = model.buffers[size_t(view.buffer)];
   const size_t stride = view.byteStride ? view.byteStride : size;
@@ -73,16 +74,19 @@ glm::mat4 localTransform(const tinygltf::Node& n) {
     return m;
   }
   glm::mat4 t(1.0f), r(1.0f), s(1.0f);
-  if (n.translation.size() == 3) t[3] = glm::vec4(float(n.translation[0]), float(n.translation[1]), float(n.translation[2]), 1.0f);
+  if (n.translation.size() == 3)
+    t[3] = glm::vec4(float(n.translation[0]), float(n.translation[1]), float(n.translation[2]), 1.0f);
   if (n.rotation.size() == 4)
-    r = glm::mat4_cast(glm::quat(float(n.rotation[3]), float(n.rotation[0]), float(n.rotation[1]), float(n.rotation[2])));
-  if (n.scale.size() == 3) s = glm::scale(glm::mat4(1.0f), glm::vec3(float(n.scale[0]), float(n.scale[1]), float(n.scale[2])));
+    r = glm::mat4_cast(
+        glm::quat(float(n.rotation[3]), float(n.rotation[0]), float(n.rotation[1]), float(n.rotation[2])));
+  if (n.scale.size() == 3)
+    s = glm::scale(glm::mat4(1.0f), glm::vec3(float(n.scale[0]), float(n.scale[1]), float(n.scale[2])));
   return t * r * s;
 }
 
 gi::MaterialDesc material(const tinygltf::Material& m) {
-  if (m.pbrMetallicRoughness.baseColorTexture.index >= 0 || m.pbrMetallicRoughness.metallicRoughnessTexture.index >= 0 ||
-      m.emissiveTexture.index >= 0)
+  if (m.pbrMetallicRoughness.baseColorTexture.index >= 0 ||
+      m.pbrMetallicRoughness.metallicRoughnessTexture.index >= 0 || m.emissiveTexture.index >= 0)
     throw Failure("material '" + m.name + "' is textured, which this example does not handle");
   gi::MaterialDesc d;
   for (int k = 0; k < 4; ++k) d.baseColor[k] = float(m.pbrMetallicRoughness.baseColorFactor[size_t(k)]);
@@ -91,7 +95,9 @@ gi::MaterialDesc material(const tinygltf::Material& m) {
   for (int k = 0; k < 3; ++k) d.emissive[k] = float(m.emissiveFactor[size_t(k)]);
   if (auto ext = m.extensions.find("KHR_materials_emissive_strength"); ext != m.extensions.end())
     d.emissiveStrength = float(ext->second.Get("emissiveStrength").GetNumberAsDouble());
-  d.alphaMode = m.alphaMode == "MASK" ? gi::AlphaMode::Mask : m.alphaMode == "BLEND" ? gi::AlphaMode::Blend : gi::AlphaMode::Opaque;
+  d.alphaMode = m.alphaMode == "MASK"    ? gi::AlphaMode::Mask
+                : m.alphaMode == "BLEND" ? gi::AlphaMode::Blend
+                                         : gi::AlphaMode::Opaque;
   d.alphaCutoff = float(m.alphaCutoff);
   return d;
 }
@@ -116,14 +122,16 @@ struct Loader {
   uint32_t loadMesh(const tinygltf::Mesh& gm) {
     Mesh mesh;
     for (const tinygltf::Primitive& p : gm.primitives) {
-      if (p.mode != TINYGLTF_MODE_TRIANGLES && p.mode != -1) throw Failure("mesh '" + gm.name + "' has non-triangle primitives");
+      if (p.mode != TINYGLTF_MODE_TRIANGLES && p.mode != -1)
+        throw Failure("mesh '" + gm.name + "' has non-triangle primitives");
       auto position = p.attributes.find("POSITION"), normal = p.attributes.find("NORMAL");
       if (position == p.attributes.end() || normal == p.attributes.end())
         throw Failure("mesh '" + gm.name + "' has a primitive without POSITION and NORMAL");
       std::vector<glm::vec3> positions = readVec3(model, position->second, "POSITION");
       std::vector<glm::vec3> normals = readVec3(model, normal->second, "NORMAL");
       std::vector<uint32_t> indices = readIndices(model, p.indices, positions.size());
-      if (normals.size() != positions.size()) throw Failure("mesh '" + gm.name + "': NORMAL and POSITION differ in count");
+      if (normals.size() != positions.size())
+        throw Failure("mesh '" + gm.name + "': NORMAL and POSITION differ in count");
       gi::PrimitiveDesc prim;
       prim.firstIndex = uint32_t(mesh.indices.size());
       prim.indexCount = uint32_t(indices.size());
@@ -149,7 +157,8 @@ struct Loader {
     }
     if (n.camera >= 0 && !haveCamera && model.cameras.at(size_t(n.camera)).type == "perspective") {
       const tinygltf::PerspectiveCamera& p = model.cameras[size_t(n.camera)].perspective;
-      glm::vec3 x = glm::normalize(glm::vec3(world[0])), z = glm::normalize(glm::cross(glm::vec3(world[0]), glm::vec3(world[1])));
+      glm::vec3 x = glm::normalize(glm::vec3(world[0])),
+                z = glm::normalize(glm::cross(glm::vec3(world[0]), glm::vec3(world[1])));
       glm::vec3 y = glm::cross(z, x);
       out.camera = {glm::mat4(glm::vec4(x, 0.0f), glm::vec4(y, 0.0f), glm::vec4(z, 0.0f), world[3]), float(p.yfov),
                     float(p.znear)};
@@ -158,7 +167,9 @@ struct Loader {
     if (auto ext = n.extensions.find("KHR_lights_punctual"); ext != n.extensions.end()) {
       const tinygltf::Light& l = model.lights.at(size_t(ext->second.Get("light").GetNumberAsInt()));
       gi::LightDesc d;
-      d.type = l.type == "spot" ? gi::LightType::Spot : l.type == "directional" ? gi::LightType::Directional : gi::LightType::Point;
+      d.type = l.type == "spot"          ? gi::LightType::Spot
+               : l.type == "directional" ? gi::LightType::Directional
+                                         : gi::LightType::Point;
       const glm::vec3 position(world[3]), direction = glm::normalize(-glm::vec3(world[2]));
       for (int k = 0; k < 3; ++k) {
         d.position[k] = position[k];

@@ -20,7 +20,6 @@
 #include <gi/gi.h>
 #include <gi/scene.h>
 
-
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -40,7 +39,7 @@ struct Options {
   bool validation = false;
   std::string out;  // the frames' mean indirect light (or debug view) as a .pfm, if given
   gi::DebugView view = gi::DebugView::None;
-  uint32_t maxBounces = 0;  // 0: gi::Settings' default
+  uint32_t maxBounces = 0;   // 0: gi::Settings' default
   bool deviceMeshes = true;  // the G-buffer's own vertex/index buffers (false: the loaded CPU arrays)
 };
 
@@ -63,16 +62,20 @@ bool parseOptions(int argc, char** argv, Options& o) {
     } else if (arg == "--scene" && value) {
       o.scene = argv[++i];
     } else if (arg == "--method" && value) {
-      if (!gi::methodFromName(value, o.method)) return std::fprintf(stderr, "foreign_engine: unknown method %s\n", value), false;
+      if (!gi::methodFromName(value, o.method))
+        return std::fprintf(stderr, "foreign_engine: unknown method %s\n", value), false;
       ++i;
-    } else if (arg == "--size" && value && std::sscanf(value, "%ux%u", &o.width, &o.height) == 2 && o.width && o.height) {
+    } else if (arg == "--size" && value && std::sscanf(value, "%ux%u", &o.width, &o.height) == 2 && o.width &&
+               o.height) {
       ++i;
     } else if (arg == "--max-bounces" && value && std::sscanf(value, "%u", &o.maxBounces) == 1 && o.maxBounces > 0) {
       ++i;
     } else if (arg == "--frames" && value && std::sscanf(value, "%u", &o.frames) == 1 && o.frames > 0) {
       ++i;
     } else {
-      std::fprintf(stderr, "usage: foreign_engine --scene FILE.gltf [--method NAME] [--size WxH] [--frames N] [--max-bounces B] [--view NAME] [--meshes device|cpu] [--out FILE.pfm] [--validation]\n");
+      std::fprintf(stderr,
+                   "usage: foreign_engine --scene FILE.gltf [--method NAME] [--size WxH] [--frames N] [--max-bounces "
+                   "B] [--view NAME] [--meshes device|cpu] [--out FILE.pfm] [--validation]\n");
       return false;
     }
   }
@@ -106,7 +109,7 @@ FrameCamera frameCamera(const foreign::Camera& camera, VkExtent2D extent, uint32
   p[3][2] = camera.znear;     // depth = znear / −z_view: 1 at the near plane, 0 at infinity
   c.unjitteredClipFromView = p;
   const glm::vec2 jitter(halton(frame + 1, 2) - 0.5f, halton(frame + 1, 3) - 0.5f);  // pixels
-  p[2][0] = -2.0f * jitter.x / float(extent.width);  // ndc += 2 · jitter / size
+  p[2][0] = -2.0f * jitter.x / float(extent.width);                                  // ndc += 2 · jitter / size
   p[2][1] = -2.0f * jitter.y / float(extent.height);
   c.clipFromView = p;
   return c;
@@ -131,7 +134,8 @@ bool writePfm(const std::string& path, VkExtent2D extent, const std::vector<floa
   FILE* f = std::fopen(path.c_str(), "wb");
   if (!f) return false;
   std::fprintf(f, "PF\n%u %u\n-1.0\n", extent.width, extent.height);
-  for (uint32_t y = extent.height; y-- > 0;) std::fwrite(&rgb[size_t(y) * extent.width * 3], sizeof(float), extent.width * 3, f);
+  for (uint32_t y = extent.height; y-- > 0;)
+    std::fwrite(&rgb[size_t(y) * extent.width * 3], sizeof(float), extent.width * 3, f);
   return std::fclose(f) == 0;
 }
 
@@ -226,8 +230,8 @@ int main(int argc, char** argv) {
   const float scale = options.view == gi::DebugView::None ? scales.indirect : scales.composite;
   const gi::Outputs outputs = gi::outputs(module);  // a debug view is shown in the composite
   foreign::PresentPass present;
-  foreign::createPresentPass(h, extent, options.view == gi::DebugView::None ? outputs.indirectView : outputs.compositeView,
-                             present);
+  foreign::createPresentPass(
+      h, extent, options.view == gi::DebugView::None ? outputs.indirectView : outputs.compositeView, present);
 
   VkCommandBuffer cmds[kFramesInFlight];
   VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
@@ -247,7 +251,7 @@ int main(int argc, char** argv) {
 
   // --- frames ----------------------------------------------------------------------
   std::vector<glm::dvec3> frameMeans;
-  std::vector<float> meanImage;  // rgb, W/(sr·m²), rows top to bottom: the frames' mean
+  std::vector<float> meanImage;        // rgb, W/(sr·m²), rows top to bottom: the frames' mean
   auto collect = [&](uint32_t slot) {  // the mean indirect light of the frame that used `slot`
     const float* texels = static_cast<const float*>(readback[slot].mapped);  // radiance: the present pass divided
     glm::dvec3 sum(0.0);
@@ -298,17 +302,20 @@ int main(int argc, char** argv) {
     collect(f % kFramesInFlight);
 
   const gi::FrameStats stats = gi::stats(module);
-  std::printf("last frame: %llu rays, %u sanitized pixels, %.2f ms\n", (unsigned long long)stats.raysTraced, stats.sanitized,
-              stats.totalMs);
+  std::printf("last frame: %llu rays, %u sanitized pixels, %.2f ms\n", (unsigned long long)stats.raysTraced,
+              stats.sanitized, stats.totalMs);
   glm::dvec3 mean(0.0), variance(0.0);
   for (const glm::dvec3& m : frameMeans) mean += m / double(frameMeans.size());
-  for (const glm::dvec3& m : frameMeans) variance += (m - mean) * (m - mean) / double(std::max<size_t>(frameMeans.size() - 1, 1));
+  for (const glm::dvec3& m : frameMeans)
+    variance += (m - mean) * (m - mean) / double(std::max<size_t>(frameMeans.size() - 1, 1));
   const glm::dvec3 standardError = glm::sqrt(variance / double(frameMeans.size()));
-  std::printf("%s: %s, %ux%u, %u frames (jittered, %u in flight), %zu triangles' scene through gi::createScene from %s\n",
-              options.scene.c_str(), gi::methodCatalogue()[size_t(options.method)].name, extent.width, extent.height,
-              options.frames, kFramesInFlight, size_t(gi::sceneInfo(scene).triangles),
-              options.deviceMeshes ? "the G-buffer's device buffers" : "CPU arrays");
-  std::printf("mean %s: %.6f %.6f %.6f\n", options.view == gi::DebugView::None ? "indirect" : "composite", mean.x, mean.y, mean.z);
+  std::printf(
+      "%s: %s, %ux%u, %u frames (jittered, %u in flight), %zu triangles' scene through gi::createScene from %s\n",
+      options.scene.c_str(), gi::methodCatalogue()[size_t(options.method)].name, extent.width, extent.height,
+      options.frames, kFramesInFlight, size_t(gi::sceneInfo(scene).triangles),
+      options.deviceMeshes ? "the G-buffer's device buffers" : "CPU arrays");
+  std::printf("mean %s: %.6f %.6f %.6f\n", options.view == gi::DebugView::None ? "indirect" : "composite", mean.x,
+              mean.y, mean.z);
   std::printf("standard error: %.6f %.6f %.6f\n", standardError.x, standardError.y, standardError.z);
 
   if (!options.out.empty() && !writePfm(options.out, extent, meanImage)) {

@@ -58,7 +58,8 @@ void createPipeline(const example::Host& h, PresentPass& p) {
 void createPresentPass(const example::Host& h, VkExtent2D extent, VkImageView output, PresentPass& p) {
   p.extent = extent;
   for (example::Image& t : p.targets)
-    t = example::createImage(h, kPresentFormat, extent, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+    t = example::createImage(h, kPresentFormat, extent,
+                             VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                              VK_IMAGE_ASPECT_COLOR_BIT);
   createSet(h, output, p);
   createPipeline(h, p);
@@ -74,7 +75,8 @@ void destroyPresentPass(const example::Host& h, PresentPass& p) {
   p = PresentPass{};
 }
 
-void recordPresent(VkCommandBuffer cmd, const PresentPass& p, uint32_t slot, float scale, const example::Buffer& readback) {
+void recordPresent(VkCommandBuffer cmd, const PresentPass& p, uint32_t slot, float scale,
+                   const example::Buffer& readback) {
   const example::Image& target = p.targets[slot];
   // The slot's last copy completed before its fence signalled: its contents may go.
   example::imageBarrier(cmd, target.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
@@ -103,13 +105,14 @@ void recordPresent(VkCommandBuffer cmd, const PresentPass& p, uint32_t slot, flo
   vkCmdEndRendering(cmd);
   example::imageBarrier(cmd, target.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
                         VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
-                        VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+                        VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
+                        VK_ACCESS_2_TRANSFER_READ_BIT);
   VkBufferImageCopy region{};
   region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
   region.imageExtent = {p.extent.width, p.extent.height, 1};
   vkCmdCopyImageToBuffer(cmd, target.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback.buffer, 1, &region);
-  example::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
-                         VK_ACCESS_2_HOST_READ_BIT);
+  example::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                         VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
 }
 
 }  // namespace foreign

@@ -27,6 +27,7 @@ void createPresentPass(const example::Host& h, VkExtent2D extent, VkImageView ou
 void destroyPresentPass(const example::Host& h, PresentPass& pass);
 // Draws the output divided by `scale` into the slot's target and copies the target into `readback`
 // (rgba32f), readable on the host once `cmd` completes.
-void recordPresent(VkCommandBuffer cmd, const PresentPass& pass, uint32_t slot, float scale, const example::Buffer& readback);
+void recordPresent(VkCommandBuffer cmd, const PresentPass& pass, uint32_t slot, float scale,
+                   const example::Buffer& readback);
 
 }  // namespace foreign

@@ -9,10 +9,10 @@ namespace foreign {
 
 struct RasterPipelineDesc {
   VkPipelineLayout layout = VK_NULL_HANDLE;
-  std::span<const uint32_t> vertexCode, fragmentCode;  // SPIR-V words
+  std::span<const uint32_t> vertexCode, fragmentCode;                 // SPIR-V words
   const VkPipelineVertexInputStateCreateInfo* vertexInput = nullptr;  // null: no vertex buffers
   std::span<const VkFormat> colorFormats;
-  VkFormat depthFormat = VK_FORMAT_UNDEFINED;  // set: depth tested with depthCompare and written
+  VkFormat depthFormat = VK_FORMAT_UNDEFINED;        // set: depth tested with depthCompare and written
   VkCompareOp depthCompare = VK_COMPARE_OP_GREATER;  // reversed Z: 1 near, 0 infinitely far
 };
 

@@ -71,7 +71,6 @@ gi::CameraDesc camera(uint32_t width, uint32_t height) {
 constexpr float kEmission[3] = {1.0f, 2.0f, 3.0f};
 constexpr float kPreExposure = 0.25f;  // the outputs hold light × this (half floats by default)
 
-
 }  // namespace
 
 int main() {
@@ -88,14 +87,18 @@ int main() {
                                                       VK_FORMAT_R16G16_SFLOAT,       VK_FORMAT_R32_SFLOAT};
   // The G-buffer: what a plane one metre wide per metre of depth, 2 m away and facing the camera, writes.
   const VkClearColorValue clears[gpu::GBUFFER_COLOR_COUNT] = {
-      {.float32 = {0, 0, 1, 1}}, {.float32 = {0.5f, 0.5f, 0.5f, 0}}, {.float32 = {1, 0, 0, 0}},
-      {.float32 = {kEmission[0], kEmission[1], kEmission[2], 0}}, {.float32 = {0, 0, 0, 0}}, {.float32 = {2, 0, 0, 0}}};
+      {.float32 = {0, 0, 1, 1}}, {.float32 = {0.5f, 0.5f, 0.5f, 0}},
+      {.float32 = {1, 0, 0, 0}}, {.float32 = {kEmission[0], kEmission[1], kEmission[2], 0}},
+      {.float32 = {0, 0, 0, 0}}, {.float32 = {2, 0, 0, 0}}};
   example::Image gbuffer[gpu::GBUFFER_COLOR_COUNT];
-  for (uint32_t i = 0; i < gpu::GBUFFER_COLOR_COUNT; ++i) gbuffer[i] = example::createImage(h, formats[i], {kMaxW, kMaxH}, VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT,
-                                     VK_IMAGE_ASPECT_COLOR_BIT);
-  const gi::GBufferViews views{gbuffer[gpu::GBUFFER_NORMAL].view,   gbuffer[gpu::GBUFFER_ALBEDO].view,
-                               gbuffer[gpu::GBUFFER_MATERIAL].view, gbuffer[gpu::GBUFFER_EMISSION].view,
-                               gbuffer[gpu::GBUFFER_MOTION].view,   gbuffer[gpu::GBUFFER_VIEWZ].view};  // depth: linear view Z
+  for (uint32_t i = 0; i < gpu::GBUFFER_COLOR_COUNT; ++i)
+    gbuffer[i] =
+        example::createImage(h, formats[i], {kMaxW, kMaxH},
+                             VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT, VK_IMAGE_ASPECT_COLOR_BIT);
+  const gi::GBufferViews views{
+      gbuffer[gpu::GBUFFER_NORMAL].view,   gbuffer[gpu::GBUFFER_ALBEDO].view,
+      gbuffer[gpu::GBUFFER_MATERIAL].view, gbuffer[gpu::GBUFFER_EMISSION].view,
+      gbuffer[gpu::GBUFFER_MOTION].view,   gbuffer[gpu::GBUFFER_VIEWZ].view};  // depth: linear view Z
 
   gi::ModuleDesc desc;
   desc.getInstanceProcAddr = vkGetInstanceProcAddr;  // the loader's: the module loads its own table through it
@@ -185,8 +188,8 @@ int main() {
       vkCmdPipelineBarrier2(cmd, &dep);
       vkCmdClearColorImage(cmd, gbuffer[i].image, VK_IMAGE_LAYOUT_GENERAL, &clears[i], 1, &all);
     }
-    example::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-            VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+    example::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                           VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
     const gi::CameraDesc cam = camera(width, height);
     gi::FrameInputs inputs{views, cam, cam, frame};
     inputs.preExposure = kPreExposure;
@@ -208,7 +211,8 @@ int main() {
 
   // The known answer: every ray misses and there are no lights, so the composite is the emission.
   expect(gi::outputs(module).format == VK_FORMAT_R16G16B16A16_SFLOAT, "half-float outputs by default");
-  example::Buffer readback = example::createBuffer(h, VkDeviceSize(width) * height * 8, VK_BUFFER_USAGE_TRANSFER_DST_BIT);
+  example::Buffer readback =
+      example::createBuffer(h, VkDeviceSize(width) * height * 8, VK_BUFFER_USAGE_TRANSFER_DST_BIT);
   example::submitOnce(h, [&](VkCommandBuffer cmd) {
     example::recordReadback(cmd, gi::outputs(module).composite, {width, height}, readback);
   });
@@ -216,12 +220,14 @@ int main() {
   double worst = 0.0;  // relative
   for (size_t p = 0; p < size_t(width) * height; ++p)
     for (int c = 0; c < 3; ++c)
-      worst = std::max(worst, double(std::fabs(glm::unpackHalf1x16(texels[4 * p + c]) / kPreExposure - kEmission[c]) / kEmission[c]));
+      worst = std::max(worst, double(std::fabs(glm::unpackHalf1x16(texels[4 * p + c]) / kPreExposure - kEmission[c]) /
+                                     kEmission[c]));
   expect(worst < 1e-3, "the composite equals the emission (to half-float rounding, pre-exposure divided out)");
-  std::printf("%u frames, %u in flight, hpsf then gif, %ux%u then %ux%u: %llu rays, composite within %.2g (relative) of the "
-              "emission, %.1f MiB in %u device allocations, %u validation messages\n",
-              kFrames, kFramesInFlight, kMaxW, kMaxH, width, height, (unsigned long long)rays, worst,
-              double(last.memoryBytes) / 1048576.0, last.deviceAllocations, h.validationMessages);
+  std::printf(
+      "%u frames, %u in flight, hpsf then gif, %ux%u then %ux%u: %llu rays, composite within %.2g (relative) of the "
+      "emission, %.1f MiB in %u device allocations, %u validation messages\n",
+      kFrames, kFramesInFlight, kMaxW, kMaxH, width, height, (unsigned long long)rays, worst,
+      double(last.memoryBytes) / 1048576.0, last.deviceAllocations, h.validationMessages);
 
   example::destroyBuffer(h, readback);
   gi::destroy(module);

@@ -42,8 +42,9 @@ Error checkCamera(const CameraDesc& c, const char* what) {
   // A perspective projection: clip w = −z_view (to rounding: engines may hand
   // over clipFromWorld × worldFromView).
   constexpr float kTolerance = 1e-4f;
-  if (std::fabs(proj[0][3]) > kTolerance || std::fabs(proj[1][3]) > kTolerance || std::fabs(proj[2][3] + 1.0f) > kTolerance ||
-      std::fabs(proj[3][3]) > kTolerance || proj[0][0] == 0.0f || proj[1][1] == 0.0f)
+  if (std::fabs(proj[0][3]) > kTolerance || std::fabs(proj[1][3]) > kTolerance ||
+      std::fabs(proj[2][3] + 1.0f) > kTolerance || std::fabs(proj[3][3]) > kTolerance || proj[0][0] == 0.0f ||
+      proj[1][1] == 0.0f)
     return {ErrorCode::OutOfRange, std::string("gi::recordFrame: ") + what +
                                        ".clipFromView is not a perspective projection with clip w = −z_view"};
   return {};

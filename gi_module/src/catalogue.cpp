@@ -15,26 +15,27 @@ constexpr uint32_t bit(Method m) { return 1u << uint32_t(m); }
 constexpr uint32_t kRaw = bit(Method::Raw), kGif = bit(Method::Gif), kBilateral = bit(Method::Bilateral),
                    kAtrous = bit(Method::Atrous), kAaf = bit(Method::Aaf) | bit(Method::AafAo),
                    kSspsf = bit(Method::Sspsf), kNhpsf = bit(Method::Nhpsf), kAnhpsf = bit(Method::Anhpsf),
-                   kHash = bit(Method::Hpsf) | kNhpsf | kAnhpsf, kTemporal = kRaw | kGif | kBilateral | kAtrous | kSspsf | kHash,
-                   kSvgf = bit(Method::Svgf), kEvery = kTemporal | kAaf | kSvgf;
+                   kHash = bit(Method::Hpsf) | kNhpsf | kAnhpsf,
+                   kTemporal = kRaw | kGif | kBilateral | kAtrous | kSspsf | kHash, kSvgf = bit(Method::Svgf),
+                   kEvery = kTemporal | kAaf | kSvgf;
 
 // One row per field: the key, the field's path (for errors), unit, meaning, range and the methods reading it.
-#define GI_SETTING(key, member, unit, meaning, kind, lo, hi, openMin, methods)                                     \
-  SettingInfo {                                                                                                    \
-    key, "settings." #member, unit, meaning, SettingKind::kind, lo, hi, openMin, methods,                          \
-        [](const Settings& s) { return double(s.member); },                                                        \
-        [](Settings& s, double v) { s.member = decltype(s.member)(v); }                                            \
+#define GI_SETTING(key, member, unit, meaning, kind, lo, hi, openMin, methods)            \
+  SettingInfo {                                                                           \
+    key, "settings." #member, unit, meaning, SettingKind::kind, lo, hi, openMin, methods, \
+        [](const Settings& s) { return double(s.member); },                               \
+        [](Settings& s, double v) { s.member = decltype(s.member)(v); }                   \
   }
 #define GI_BOOL(key, member, meaning, methods)                                                                     \
   SettingInfo {                                                                                                    \
     key, "settings." #member, "", meaning, SettingKind::Bool, 0, 1, false, methods,                                \
         [](const Settings& s) { return s.member ? 1.0 : 0.0; }, [](Settings& s, double v) { s.member = v != 0.0; } \
   }
-#define GI_CHOICE(key, member, meaning, hi, methods)                                                               \
-  SettingInfo {                                                                                                    \
-    key, "settings." #member, "", meaning, SettingKind::Choice, 0, hi, false, methods,                             \
-        [](const Settings& s) { return double(uint32_t(s.member)); },                                              \
-        [](Settings& s, double v) { s.member = decltype(s.member)(uint32_t(v)); }                                  \
+#define GI_CHOICE(key, member, meaning, hi, methods)                                   \
+  SettingInfo {                                                                        \
+    key, "settings." #member, "", meaning, SettingKind::Choice, 0, hi, false, methods, \
+        [](const Settings& s) { return double(uint32_t(s.member)); },                  \
+        [](Settings& s, double v) { s.member = decltype(s.member)(uint32_t(v)); }      \
   }
 
 // Marks a row whose change restarts the histories (SettingInfo::restartsHistory).
@@ -44,170 +45,180 @@ SettingInfo restartsHistory(SettingInfo s) {
 }
 
 constexpr double kLastView = double(kDebugViewCount - 1);
-constexpr const char* kTemporalMeaning = "blend in last frame's light, reprojected through the motion vectors (temporal.*)";
+constexpr const char* kTemporalMeaning =
+    "blend in last frame's light, reprojected through the motion vectors (temporal.*)";
 
 const SettingInfo kSettings[] = {
     restartsHistory(GI_SETTING("bounces", maxBounces, "", "indirect bounces B (0 would be direct light only)", Uint, 1,
                                32, false, 0)),
     GI_SETTING("rr_start", russianRouletteStart, "", "bounce from which paths may stop early (Russian roulette)", Uint,
                1, 64, false, 0),
-    GI_SETTING("ray_budget", rayBudget, "rays per frame", "the module lowers its sample count to stay within it; 0 = unlimited",
-               Uint, 0, 1e12, false, 0),
-    GI_SETTING("seed", seed, "", "random sequence: the same seed and inputs give the same frames", Uint, 0, 4294967295.0,
-               false, 0),
+    GI_SETTING("ray_budget", rayBudget, "rays per frame",
+               "the module lowers its sample count to stay within it; 0 = unlimited", Uint, 0, 1e12, false, 0),
+    GI_SETTING("seed", seed, "", "random sequence: the same seed and inputs give the same frames", Uint, 0,
+               4294967295.0, false, 0),
     restartsHistory(GI_BOOL("indirect_only", indirectOnly,
                             "the engine lights the primary hits: no primary shadow rays, direct output 0", 0)),
     GI_CHOICE("view", debugView, "debug view (gi::debugViewCatalogue; 0 = the lit image)", kLastView, 0),
 
-    GI_SETTING("raw.spp", raw.samplesPerPixel, "paths per pixel", "paths traced per pixel per frame", Uint, 1, 64, false, kRaw),
+    GI_SETTING("raw.spp", raw.samplesPerPixel, "paths per pixel", "paths traced per pixel per frame", Uint, 1, 64,
+               false, kRaw),
     GI_BOOL("raw.accumulate", raw.temporalAccumulation, "average frames while the camera and settings stay", kRaw),
     restartsHistory(GI_BOOL("raw.temporal", raw.temporalReprojection, kTemporalMeaning, kRaw)),
-    GI_SETTING("raw.history", raw.maxAccumulatedFrames, "frames", "accumulation cap; older frames fade out past it", Uint,
-               1, 1 << 20, false, kRaw),
+    GI_SETTING("raw.history", raw.maxAccumulatedFrames, "frames", "accumulation cap; older frames fade out past it",
+               Uint, 1, 1 << 20, false, kRaw),
 
-    GI_SETTING("gif.spp", gif.samplesPerPixel, "paths per pixel", "indirect paths per guide ray", Uint, 1, 64, false, kGif),
-    GI_SETTING("gif.radius", gif.radius, "pixels", "window radius (cost does not depend on it)", Uint, 1, GIF_MAX_RADIUS,
-               false, kGif),
-    GI_SETTING("gif.eps_normal", gif.epsilonNormal, "", "ridge term of the normal channels (guidance in [0, 1])", Float, 0,
-               1e6, false, kGif),
+    GI_SETTING("gif.spp", gif.samplesPerPixel, "paths per pixel", "indirect paths per guide ray", Uint, 1, 64, false,
+               kGif),
+    GI_SETTING("gif.radius", gif.radius, "pixels", "window radius (cost does not depend on it)", Uint, 1,
+               GIF_MAX_RADIUS, false, kGif),
+    GI_SETTING("gif.eps_normal", gif.epsilonNormal, "", "ridge term of the normal channels (guidance in [0, 1])", Float,
+               0, 1e6, false, kGif),
     GI_SETTING("gif.eps_depth", gif.epsilonDepth, "", "ridge term of the depth channel", Float, 0, 1e6, false, kGif),
-    GI_SETTING("gif.dims", gif.guidanceDimensions, "", "guidance: 1 grey normal, 3 normal, 4 normal + depth", Uint, 1, 4,
-               false, kGif),
-    GI_SETTING("gif.supersamples", gif.supersamples, "rays per pixel", "extra eye rays with geometry-aware lookup", Uint, 0,
-               16, false, kGif),
+    GI_SETTING("gif.dims", gif.guidanceDimensions, "", "guidance: 1 grey normal, 3 normal, 4 normal + depth", Uint, 1,
+               4, false, kGif),
+    GI_SETTING("gif.supersamples", gif.supersamples, "rays per pixel", "extra eye rays with geometry-aware lookup",
+               Uint, 0, 16, false, kGif),
     restartsHistory(GI_BOOL("gif.temporal", gif.temporalReprojection, kTemporalMeaning, kGif)),
 
-    GI_SETTING("bilateral.spp", bilateral.samplesPerPixel, "paths per pixel", "paths traced per pixel per frame", Uint, 1,
+    GI_SETTING("bilateral.spp", bilateral.samplesPerPixel, "paths per pixel", "paths traced per pixel per frame", Uint,
+               1, 64, false, kBilateral),
+    GI_SETTING("bilateral.radius", bilateral.radius, "pixels", "filter radius (cost grows with its square)", Uint, 1,
                64, false, kBilateral),
-    GI_SETTING("bilateral.radius", bilateral.radius, "pixels", "filter radius (cost grows with its square)", Uint, 1, 64,
-               false, kBilateral),
     GI_SETTING("bilateral.sigma_spatial", bilateral.sigmaSpatial, "pixels", "spatial sigma", Float, 0, 1e4, true,
                kBilateral),
     GI_SETTING("bilateral.sigma_normal", bilateral.sigmaNormal, "", "normal sigma (on normal·0.5+0.5)", Float, 0, 1e4,
                true, kBilateral),
-    GI_SETTING("bilateral.sigma_depth", bilateral.sigmaDepth, "", "depth sigma, relative to the centre's depth", Float, 0,
-               1e4, true, kBilateral),
+    GI_SETTING("bilateral.sigma_depth", bilateral.sigmaDepth, "", "depth sigma, relative to the centre's depth", Float,
+               0, 1e4, true, kBilateral),
     restartsHistory(GI_BOOL("bilateral.temporal", bilateral.temporalReprojection, kTemporalMeaning, kBilateral)),
 
     GI_SETTING("atrous.spp", atrous.samplesPerPixel, "paths per pixel", "paths traced per pixel per frame", Uint, 1, 64,
                false, kAtrous),
-    GI_SETTING("atrous.iterations", atrous.iterations, "", "wavelet iterations (taps up to 2^(n+1) pixels away)", Uint, 1,
-               8, false, kAtrous),
+    GI_SETTING("atrous.iterations", atrous.iterations, "", "wavelet iterations (taps up to 2^(n+1) pixels away)", Uint,
+               1, 8, false, kAtrous),
     GI_SETTING("atrous.sigma_color", atrous.sigmaColor, "", "colour stop in demodulated radiance, halved per iteration",
                Float, 0, 1e6, true, kAtrous),
     GI_SETTING("atrous.sigma_normal", atrous.sigmaNormal, "", "normal stop (on normal·0.5+0.5)", Float, 0, 1e4, true,
                kAtrous),
-    GI_SETTING("atrous.sigma_position", atrous.sigmaPosition, "", "position stop, a fraction of the centre's view depth",
-               Float, 0, 1e4, true, kAtrous),
+    GI_SETTING("atrous.sigma_position", atrous.sigmaPosition, "",
+               "position stop, a fraction of the centre's view depth", Float, 0, 1e4, true, kAtrous),
     restartsHistory(GI_BOOL("atrous.temporal", atrous.temporalReprojection, kTemporalMeaning, kAtrous)),
 
-    GI_SETTING("aaf.mu", aaf.mu, "", "filter scale mu (> 1 narrows filters and raises sample counts)", Float, 0, 16, true,
-               kAaf),
+    GI_SETTING("aaf.mu", aaf.mu, "", "filter scale mu (> 1 narrows filters and raises sample counts)", Float, 0, 16,
+               true, kAaf),
     GI_SETTING("aaf.alpha", aaf.alpha, "", "pixel-space band limit alpha", Float, 0, 1, true, kAaf),
-    GI_SETTING("aaf.normal_limit", aaf.normalLimitDegrees, "degrees", "neighbours whose normals differ more are not filtered in",
-               Float, 0, 180, false, kAaf),
+    GI_SETTING("aaf.normal_limit", aaf.normalLimitDegrees, "degrees",
+               "neighbours whose normals differ more are not filtered in", Float, 0, 180, false, kAaf),
     GI_SETTING("aaf.uniform", aaf.uniformSamples, "samples per pixel",
-               "0 = adaptive; N >= 16 = N samples in every pixel (Fig. 10's filtered uniform)", Uint, 0, 1024, false, kAaf),
+               "0 = adaptive; N >= 16 = N samples in every pixel (Fig. 10's filtered uniform)", Uint, 0, 1024, false,
+               kAaf),
     GI_SETTING("aaf.max_radius", aaf.maxRadius, "pixels", "filter radius cap (0 = 3 sigma, the paper's)", Uint, 0, 1024,
                false, kAaf),
 
-    GI_SETTING("sspsf.spp", sspsf.samplesPerPixel, "paths per pixel", "paths traced per pixel per frame", Uint, 1, 64, false,
-               kSspsf),
-    GI_SETTING("sspsf.window", sspsf.window, "pixels", "odd window side", Uint, 1, 31, false, kSspsf),
-    GI_SETTING("sspsf.width", sspsf.filterWidth, "pixels", "filter width (the HPSF cell of this width)", Float, 0.5, 256,
+    GI_SETTING("sspsf.spp", sspsf.samplesPerPixel, "paths per pixel", "paths traced per pixel per frame", Uint, 1, 64,
                false, kSspsf),
-    GI_SETTING("sspsf.normal_limit", sspsf.normalLimitDegrees, "degrees", "normal rejection angle", Float, 0, 180, false,
-               kSspsf),
+    GI_SETTING("sspsf.window", sspsf.window, "pixels", "odd window side", Uint, 1, 31, false, kSspsf),
+    GI_SETTING("sspsf.width", sspsf.filterWidth, "pixels", "filter width (the HPSF cell of this width)", Float, 0.5,
+               256, false, kSspsf),
+    GI_SETTING("sspsf.normal_limit", sspsf.normalLimitDegrees, "degrees", "normal rejection angle", Float, 0, 180,
+               false, kSspsf),
     restartsHistory(GI_BOOL("sspsf.temporal", sspsf.temporalReprojection, kTemporalMeaning, kSspsf)),
 
-    GI_SETTING("temporal.min_blend", temporal.minBlend, "", "smallest weight of the new frame (history about 2/x - 1 frames)",
-               Float, 0, 1, true, kTemporal),
-    GI_SETTING("temporal.depth_tolerance", temporal.depthTolerance, "", "relative depth difference a history tap may have",
-               Float, 0, 10, true, kTemporal | kSvgf),
-    GI_SETTING("temporal.normal_limit", temporal.normalLimitDegrees, "degrees", "largest normal change a history tap may have",
-               Float, 0, 180, false, kTemporal | kSvgf),
+    GI_SETTING("temporal.min_blend", temporal.minBlend, "",
+               "smallest weight of the new frame (history about 2/x - 1 frames)", Float, 0, 1, true, kTemporal),
+    GI_SETTING("temporal.depth_tolerance", temporal.depthTolerance, "",
+               "relative depth difference a history tap may have", Float, 0, 10, true, kTemporal | kSvgf),
+    GI_SETTING("temporal.normal_limit", temporal.normalLimitDegrees, "degrees",
+               "largest normal change a history tap may have", Float, 0, 180, false, kTemporal | kSvgf),
     GI_SETTING("temporal.filter_clamp", temporal.filterClamp, "standard deviations",
                "the filtered light stays within this many local sigma of the accumulated light (0 = off)", Float, 0, 10,
                false, kGif | kBilateral | kAtrous | kSspsf | kSvgf | kHash),
     GI_SETTING("temporal.history_clamp", temporal.historyClamp, "standard deviations",
-               "the reprojected history stays within this many local sigma of this frame's samples (0 = off)", Float,
-               0, 10, false, kTemporal | kSvgf),
+               "the reprojected history stays within this many local sigma of this frame's samples (0 = off)", Float, 0,
+               10, false, kTemporal | kSvgf),
     restartsHistory(GI_BOOL("temporal.gradients", temporal.gradients,
-            "A-SVGF temporal gradients: drop history where a re-traced sample says the light changed",
-            (kTemporal & ~kHash) | kSvgf)),
+                            "A-SVGF temporal gradients: drop history where a re-traced sample says the light changed",
+                            (kTemporal & ~kHash) | kSvgf)),
 
     GI_CHOICE("lights.sampler", lights.sampler,
               "NEE's light sampler: 0 the scene's, 1 every light, 2 one by power, 3 the tree's cut", 3, kEvery),
     restartsHistory(GI_BOOL("reservoirs.enabled", reservoirs.enabled,
-            "resample the primary hits' picked point and spot lights through reservoirs (ReSTIR DI)", kEvery)),
-    GI_SETTING("reservoirs.candidates", reservoirs.candidates, "lights", "lights drawn per pixel and frame", Uint, 1, 64,
-               false, kEvery),
-    GI_BOOL("reservoirs.temporal", reservoirs.temporal, "merge last frame's reservoir through the motion vectors", kEvery),
+                            "resample the primary hits' picked point and spot lights through reservoirs (ReSTIR DI)",
+                            kEvery)),
+    GI_SETTING("reservoirs.candidates", reservoirs.candidates, "lights", "lights drawn per pixel and frame", Uint, 1,
+               64, false, kEvery),
+    GI_BOOL("reservoirs.temporal", reservoirs.temporal, "merge last frame's reservoir through the motion vectors",
+            kEvery),
     GI_SETTING("reservoirs.neighbours", reservoirs.neighbours, "reservoirs", "neighbours merged (0 = no spatial reuse)",
                Uint, 0, 8, false, kEvery),
-    GI_SETTING("reservoirs.radius", reservoirs.radius, "pixels", "the disc the neighbours come from", Float, 1, 64, false,
-               kEvery),
+    GI_SETTING("reservoirs.radius", reservoirs.radius, "pixels", "the disc the neighbours come from", Float, 1, 64,
+               false, kEvery),
     GI_SETTING("reservoirs.max_history", reservoirs.maxHistory, "x candidates",
                "last frame's reservoir counts at most this many times the candidates", Float, 1, 1000, false, kEvery),
     GI_BOOL("reservoirs.unbiased", reservoirs.unbiased,
             "spatial weights by the balance heuristic over the neighbours' surfaces (else the biased 1/M)", kEvery),
 
-    GI_SETTING("svgf.spp", svgf.samplesPerPixel, "paths per pixel", "paths traced per pixel per frame", Uint, 1, 64, false,
-               kSvgf),
-    GI_SETTING("svgf.alpha", svgf.alpha, "", "smallest weight of the new frame's colour (the paper's alpha)", Float, 0, 1,
-               true, kSvgf),
-    GI_SETTING("svgf.moments_alpha", svgf.momentsAlpha, "", "smallest weight of the new frame's luminance moments", Float, 0,
+    GI_SETTING("svgf.spp", svgf.samplesPerPixel, "paths per pixel", "paths traced per pixel per frame", Uint, 1, 64,
+               false, kSvgf),
+    GI_SETTING("svgf.alpha", svgf.alpha, "", "smallest weight of the new frame's colour (the paper's alpha)", Float, 0,
                1, true, kSvgf),
-    GI_SETTING("svgf.iterations", svgf.iterations, "", "a-trous iterations (0: accumulation only)", Uint, 0, 8, false, kSvgf),
+    GI_SETTING("svgf.moments_alpha", svgf.momentsAlpha, "", "smallest weight of the new frame's luminance moments",
+               Float, 0, 1, true, kSvgf),
+    GI_SETTING("svgf.iterations", svgf.iterations, "", "a-trous iterations (0: accumulation only)", Uint, 0, 8, false,
+               kSvgf),
     GI_SETTING("svgf.sigma_luminance", svgf.sigmaLuminance, "standard deviations", "luminance edge stop", Float, 0, 1e4,
                true, kSvgf),
-    GI_SETTING("svgf.sigma_normal", svgf.sigmaNormal, "", "normal edge stop: the exponent on max(0, n.n')", Float, 0, 1e4,
-               true, kSvgf),
+    GI_SETTING("svgf.sigma_normal", svgf.sigmaNormal, "", "normal edge stop: the exponent on max(0, n.n')", Float, 0,
+               1e4, true, kSvgf),
     GI_SETTING("svgf.sigma_depth", svgf.sigmaDepth, "depth gradients", "depth edge stop", Float, 0, 1e4, true, kSvgf),
     GI_BOOL("svgf.filter_direct", svgf.filterDirect, "filter the area lights' direct light too (off: accumulated only)",
             kSvgf),
 
-    GI_SETTING("hpsf.spp", hpsf.samplesPerPixel, "paths per pixel", "paths traced per pixel per frame", Uint, 1, 64, false,
-               kHash),
-    GI_SETTING("hpsf.capacity", hpsf.capacity, "cells", "hash map size, a power of two >= 1024 (0 = from the render size)",
-               Uint, 0, 1 << 21, false, kHash),
+    GI_SETTING("hpsf.spp", hpsf.samplesPerPixel, "paths per pixel", "paths traced per pixel per frame", Uint, 1, 64,
+               false, kHash),
+    GI_SETTING("hpsf.capacity", hpsf.capacity, "cells",
+               "hash map size, a power of two >= 1024 (0 = from the render size)", Uint, 0, 1 << 21, false, kHash),
     GI_SETTING("hpsf.probe_window", hpsf.probeWindow, "slots", "linear-probing limit", Uint, 1, 64, false, kHash),
     GI_SETTING("hpsf.width", hpsf.filterWidth, "pixels", "filter width: cell size = width x pixel footprint x distance",
                Float, 0.5, 256, false, kHash),
-    GI_SETTING("hpsf.jitter", hpsf.jitter, "cells", "tangent-plane jitter, +- cells (0 = off)", Float, 0, 2, false, kHash),
+    GI_SETTING("hpsf.jitter", hpsf.jitter, "cells", "tangent-plane jitter, +- cells (0 = off)", Float, 0, 2, false,
+               kHash),
     GI_SETTING("hpsf.normal_bits", hpsf.normalBits, "", "normal bins 2^b in all (0 = normals ignored)", Uint, 0,
                HG_MAX_NORMAL_BITS, false, kHash),
     GI_SETTING("hpsf.normal_jitter", hpsf.normalJitter, "bins", "normal jitter, +- bins (0 = off)", Float, 0, 2, false,
                kHash),
-    GI_CHOICE("hpsf.secondary_lod", hpsf.secondaryLod, "LOD travel after the first vertex: 0 segment (thesis), 1 path, 2 camera",
-              double(SecondaryLod::Camera), kNhpsf | kAnhpsf),
+    GI_CHOICE("hpsf.secondary_lod", hpsf.secondaryLod,
+              "LOD travel after the first vertex: 0 segment (thesis), 1 path, 2 camera", double(SecondaryLod::Camera),
+              kNhpsf | kAnhpsf),
     GI_BOOL("hpsf.stochastic_lod", hpsf.stochasticLod, "pick between the two nearest levels at random", kHash),
-    GI_SETTING("hpsf.clamp_sigma", hpsf.clampSigma, "sigma", "clamp samples above mean + k sigma of the cell (0 = off)", Float, 0,
-               100, false, kHash),
+    GI_SETTING("hpsf.clamp_sigma", hpsf.clampSigma, "sigma", "clamp samples above mean + k sigma of the cell (0 = off)",
+               Float, 0, 100, false, kHash),
     GI_CHOICE("hpsf.eviction", hpsf.eviction, "eviction: 0 strict (the thesis's two tables), 1 aging",
               double(EvictionPolicy::Aging), kHash),
     GI_SETTING("hpsf.history", hpsf.historyFrames, "frames", "aging: history kept", Uint, 2, 10000, false, kHash),
     GI_SETTING("hpsf.history_samples", hpsf.historySamples, "samples",
                "aging: the mean a cell passes on to earlier vertices (0 = the pixel's mean)", Uint, 0, 1e6, false,
                kNhpsf | kAnhpsf),
-    GI_SETTING("hpsf.stale", hpsf.staleFrames, "frames", "aging: untouched this long, a cell is evicted", Uint, 1, 100000,
-               false, kHash),
-    GI_SETTING("hpsf.min_samples", hpsf.minSamples, "samples", "fewer in the cell: the pixel keeps its own", Uint, 1, 1e6,
-               false, kHash),
-    GI_SETTING("hpsf.validation", hpsf.validationInterval, "frames", "aging: re-trace each cell's sentinel ray this often (0 = off)",
-               Uint, 0, 1000, false, kHash),
-    GI_SETTING("hpsf.path_depth", hpsf.pathDepth, "segments", "nhpsf: path segments per pixel and frame", Uint, 1, 16, false,
-               kNhpsf),
-    GI_SETTING("hpsf.continuation_depth", hpsf.continuationDepth, "segments", "anhpsf: the longest path continued over frames",
-               Uint, 2, 16, false, kAnhpsf),
+    GI_SETTING("hpsf.stale", hpsf.staleFrames, "frames", "aging: untouched this long, a cell is evicted", Uint, 1,
+               100000, false, kHash),
+    GI_SETTING("hpsf.min_samples", hpsf.minSamples, "samples", "fewer in the cell: the pixel keeps its own", Uint, 1,
+               1e6, false, kHash),
+    GI_SETTING("hpsf.validation", hpsf.validationInterval, "frames",
+               "aging: re-trace each cell's sentinel ray this often (0 = off)", Uint, 0, 1000, false, kHash),
+    GI_SETTING("hpsf.path_depth", hpsf.pathDepth, "segments", "nhpsf: path segments per pixel and frame", Uint, 1, 16,
+               false, kNhpsf),
+    GI_SETTING("hpsf.continuation_depth", hpsf.continuationDepth, "segments",
+               "anhpsf: the longest path continued over frames", Uint, 2, 16, false, kAnhpsf),
     GI_SETTING("hpsf.secondary_width", hpsf.secondaryWidthScale, "", "cells after the first vertex are this much wider",
                Float, 1, 16, false, kNhpsf | kAnhpsf),
-    restartsHistory(GI_BOOL("hpsf.temporal", hpsf.temporalDirect, "blend in last frame's direct light, reprojected (the map holds the indirect)",
-            kHash)),
-    restartsHistory(GI_BOOL("hpsf.temporal_indirect", hpsf.temporalIndirect,
-            "with hpsf.temporal: accumulate the pixels' own indirect samples and hold the map's light near them "
-            "(temporal.filter_clamp)",
-            kHash)),
+    restartsHistory(GI_BOOL("hpsf.temporal", hpsf.temporalDirect,
+                            "blend in last frame's direct light, reprojected (the map holds the indirect)", kHash)),
+    restartsHistory(
+        GI_BOOL("hpsf.temporal_indirect", hpsf.temporalIndirect,
+                "with hpsf.temporal: accumulate the pixels' own indirect samples and hold the map's light near them "
+                "(temporal.filter_clamp)",
+                kHash)),
 };
 
 #undef GI_SETTING
@@ -254,10 +265,14 @@ constexpr DebugViewInfo kViews[] = {
     {DebugView::HashSamples, "hash samples per cell", "HPSF: samples behind the cell's mean / 100", false},
     {DebugView::HashFound, "hash cell found", "HPSF: green used, yellow too few samples, red no cell", false},
     {DebugView::HashOccupancy, "hash occupancy", "HPSF: how full the probe window at the pixel's cell is", false},
-    {DebugView::ContinuationDepth, "continuation depth", "A-nHPSF: the pixel's continued path / the maximum depth", false},
-    {DebugView::TemporalHistory, "temporal history", "temporal reprojection: frames of history behind the pixel / 32", false},
-    {DebugView::SvgfVariance, "svgf variance", "svgf: luminance variance of direct (red) and indirect (green), history frames / 32 (blue)", false},
-    {DebugView::TemporalGradient, "temporal gradient", "temporal gradients: share of the history dropped, direct (red) and indirect (green)", false},
+    {DebugView::ContinuationDepth, "continuation depth", "A-nHPSF: the pixel's continued path / the maximum depth",
+     false},
+    {DebugView::TemporalHistory, "temporal history", "temporal reprojection: frames of history behind the pixel / 32",
+     false},
+    {DebugView::SvgfVariance, "svgf variance",
+     "svgf: luminance variance of direct (red) and indirect (green), history frames / 32 (blue)", false},
+    {DebugView::TemporalGradient, "temporal gradient",
+     "temporal gradients: share of the history dropped, direct (red) and indirect (green)", false},
 };
 static_assert(std::size(kViews) == kDebugViewCount);
 constexpr bool viewsInOrder() {
@@ -322,8 +337,10 @@ const SettingInfo* findSetting(std::string_view key) {
 
 std::string rangeText(const SettingInfo& k) {
   char text[96];
-  if (k.kind == SettingKind::Float) std::snprintf(text, sizeof(text), "%s%g, %g]", k.openMin ? "(" : "[", k.min, k.max);
-  else std::snprintf(text, sizeof(text), "[%.0f, %.0f]", k.min, k.max);
+  if (k.kind == SettingKind::Float)
+    std::snprintf(text, sizeof(text), "%s%g, %g]", k.openMin ? "(" : "[", k.min, k.max);
+  else
+    std::snprintf(text, sizeof(text), "[%.0f, %.0f]", k.min, k.max);
   return text;
 }
 

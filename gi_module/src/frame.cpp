@@ -52,7 +52,7 @@ float radianceScale(const Module& m) { return 1.0f / m.desc.scene.typicalRadianc
 
 // The largest finite value an image of `format` holds: stores clamp to it (a half float overflows to Inf).
 float largestFinite(VkFormat format) {
-  return format == VK_FORMAT_R16G16B16A16_SFLOAT     ? 65504.0f
+  return format == VK_FORMAT_R16G16B16A16_SFLOAT       ? 65504.0f
          : format == VK_FORMAT_B10G11R11_UFLOAT_PACK32 ? 65024.0f  // the 10-bit blue channel's (11-bit: 65024 too)
                                                        : FLT_MAX;
 }
@@ -102,7 +102,8 @@ void beginFrame(Module& m, VkCommandBuffer cmd, uint32_t slot, const FrameInputs
         .texture(gpu::GI_BINDING_GB_ALBEDO, in.gbuffer.albedo, color)
         .texture(gpu::GI_BINDING_GB_MATERIAL, in.gbuffer.material, color)
         // Without an emission view another view fills the binding; the shaders never read it then.
-        .texture(gpu::GI_BINDING_GB_EMISSION, m.desc.gbuffer.hasEmission ? in.gbuffer.emission : in.gbuffer.albedo, color)
+        .texture(gpu::GI_BINDING_GB_EMISSION, m.desc.gbuffer.hasEmission ? in.gbuffer.emission : in.gbuffer.albedo,
+                 color)
         .texture(gpu::GI_BINDING_GB_MOTION, in.gbuffer.motion, color)
         .texture(gpu::GI_BINDING_GB_DEPTH, in.gbuffer.depth, m.desc.gbuffer.depthLayout)
         .write(g);
@@ -115,8 +116,8 @@ void beginFrame(Module& m, VkCommandBuffer cmd, uint32_t slot, const FrameInputs
                         VK_ACCESS_2_TRANSFER_READ_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT);
   // The outputs come back from the engine's layout (its reads of the last frame's done first).
   if (m.outputs.initialised)
-    moveOutputs(m, cmd, m.desc.outputLayout, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_NONE,
-                VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+    moveOutputs(m, cmd, m.desc.outputLayout, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                 VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
   recordFirstUse(g, cmd, m.outputs, r);
   recordTransientReset(g, cmd, r);
@@ -170,7 +171,8 @@ void recordHashPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const gpu::
   } else {
     // Pass: path segments from the G-buffer (nhpsf: pathDepth of them; anhpsf: the primary one and
     // one of each pixel's continued path); each diffuse vertex's cell gets what its segment brings.
-    runPass(m, cmd, slot, s.method == Method::Nhpsf ? Pass::NhpsfPaths : Pass::AnhpsfPaths, m.hashPaths, sets, size, push);
+    runPass(m, cmd, slot, s.method == Method::Nhpsf ? Pass::NhpsfPaths : Pass::AnhpsfPaths, m.hashPaths, sets, size,
+            push);
   }
   if (m.plan.validatesHashCells) {
     // Pass: re-trace the sentinel rays due this frame; cut histories whose light changed.
@@ -244,22 +246,29 @@ void recordFilterPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const gpu
   const float positionScale = frame.depthScale;
   if (s.method == Method::Sspsf) {
     const SspsfSettings& ss = s.sspsf;
-    recordSspsf(g, cmd, f, {ss.window, ss.filterWidth, pixelScale(frame.camera), cosDegrees(ss.normalLimitDegrees), toIndirect},
+    recordSspsf(g, cmd, f,
+                {ss.window, ss.filterWidth, pixelScale(frame.camera), cosDegrees(ss.normalLimitDegrees), toIndirect},
                 hooks);
   } else if (m.plan.aaf) {
     float cosLimit = cosDegrees(s.aaf.normalLimitDegrees);
     const uint32_t maxRadius = s.aaf.maxRadius;
-    recordAafFilter(g, cmd, f, f.set[0], toIndirect, Pass::AafFilterDiffuseRows, Pass::AafFilterDiffuseColumns, cosLimit, pixelScale(frame.camera), maxRadius,
-                    positionScale, hooks);
+    recordAafFilter(g, cmd, f, f.set[0], toIndirect, Pass::AafFilterDiffuseRows, Pass::AafFilterDiffuseColumns,
+                    cosLimit, pixelScale(frame.camera), maxRadius, positionScale, hooks);
     if (m.plan.aafSpecular) {  // glossy receivers: their specular terms, with the glossy β
-      recordAafFilter(g, cmd, f, f.aafGlossySets[0], kPlainOutput, Pass::AafFilterGlossyRows, Pass::AafFilterGlossyColumns, cosLimit, pixelScale(frame.camera), maxRadius,
-                    positionScale, hooks);
-      recordAafFilter(g, cmd, f, f.aafGlossySets[1], kPlainOutput, Pass::AafFilterGlossyEdgeRows, Pass::AafFilterGlossyEdgeColumns, cosLimit, pixelScale(frame.camera), maxRadius,
-                    positionScale, hooks);
+      recordAafFilter(g, cmd, f, f.aafGlossySets[0], kPlainOutput, Pass::AafFilterGlossyRows,
+                      Pass::AafFilterGlossyColumns, cosLimit, pixelScale(frame.camera), maxRadius, positionScale,
+                      hooks);
+      recordAafFilter(g, cmd, f, f.aafGlossySets[1], kPlainOutput, Pass::AafFilterGlossyEdgeRows,
+                      Pass::AafFilterGlossyEdgeColumns, cosLimit, pixelScale(frame.camera), maxRadius, positionScale,
+                      hooks);
     }
   } else if (s.method == Method::Gif) {
-    GuidedFilterParams gif{s.gif.radius, s.gif.epsilonNormal, s.gif.epsilonDepth, s.gif.guidanceDimensions,
-                           s.debugView == DebugView::GifCoefficients, toIndirect};
+    GuidedFilterParams gif{s.gif.radius,
+                           s.gif.epsilonNormal,
+                           s.gif.epsilonDepth,
+                           s.gif.guidanceDimensions,
+                           s.debugView == DebugView::GifCoefficients,
+                           toIndirect};
     recordGuidedFilter(g, cmd, f, gif, hooks);
   } else if (s.method == Method::Bilateral) {
     const BilateralSettings& b = s.bilateral;
@@ -275,7 +284,9 @@ void recordFilterPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const gpu
 // What turns the G-buffer's stored motion into pixels: GBufferDesc::motionScale times its units' pixels.
 glm::vec2 motionPixelsPerUnit(const GBufferDesc& g, uint32_t width, uint32_t height) {
   const glm::vec2 size{float(width), float(height)};
-  const glm::vec2 units = g.motion == MotionUnits::Uv ? size : g.motion == MotionUnits::Ndc ? 0.5f * size : glm::vec2(1.0f);
+  const glm::vec2 units = g.motion == MotionUnits::Uv    ? size
+                          : g.motion == MotionUnits::Ndc ? 0.5f * size
+                                                         : glm::vec2(1.0f);
   return units * glm::vec2(g.motionScale[0], g.motionScale[1]);
 }
 
@@ -283,7 +294,8 @@ glm::vec2 motionPixelsPerUnit(const GBufferDesc& g, uint32_t width, uint32_t hei
 
 gpu::GiCounters slotCounters(const Module& m, uint32_t slot) {
   gpu::GiCounters c;
-  std::memcpy(&c, static_cast<const std::byte*>(m.counters.memory.mapped) + sizeof(gpu::GiCounters) * (1 + slot), sizeof(c));
+  std::memcpy(&c, static_cast<const std::byte*>(m.counters.memory.mapped) + sizeof(gpu::GiCounters) * (1 + slot),
+              sizeof(c));
   return c;
 }
 
@@ -315,7 +327,8 @@ void endPass(Module& m, VkCommandBuffer cmd, uint32_t slot) {
   const vk::Device& g = m.gpu;
   uint32_t index = uint32_t(m.slots[slot].passes.size()) - 1;
   if (m.timestamps && index < kMaxPasses)
-    g.fn.vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, m.timestamps, (slot * kMaxPasses + index) * 2 + 1);
+    g.fn.vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, m.timestamps,
+                              (slot * kMaxPasses + index) * 2 + 1);
   if (m.desc.debugLabels && g.fn.vkCmdEndDebugUtilsLabelEXT) g.fn.vkCmdEndDebugUtilsLabelEXT(cmd);
 }
 
@@ -326,9 +339,10 @@ Error checkFrameInputs(const Module& m, VkCommandBuffer cmd, const FrameInputs& 
   const GBufferViews& gb = in.gbuffer;
   if (!cmd) return {ErrorCode::MissingHandle, "gi::recordFrame: the command buffer is VK_NULL_HANDLE"};
   const bool emissionView = m.desc.gbuffer.hasEmission;
-  const std::pair<VkImageView, const char*> views[] = {{gb.normal, "normal"},     {gb.albedo, "albedo"},
-                                                       {gb.material, "material"}, {emissionView ? gb.emission : gb.albedo, "emission"},
-                                                       {gb.motion, "motion"},     {gb.depth, "depth"}};
+  const std::pair<VkImageView, const char*> views[] = {
+      {gb.normal, "normal"},     {gb.albedo, "albedo"},
+      {gb.material, "material"}, {emissionView ? gb.emission : gb.albedo, "emission"},
+      {gb.motion, "motion"},     {gb.depth, "depth"}};
   for (const auto& [view, name] : views)
     if (!view)
       return {ErrorCode::MissingHandle, std::string("gi::recordFrame: inputs.gbuffer.") + name +
@@ -349,7 +363,8 @@ gpu::GiFrameConstants frameConstants(const Module& m, const FrameInputs& in, con
   const float outputMax = largestFinite(m.desc.outputFormat);
   const bool noisyIsOutput = noisyAliasesIndirect(m.sized);
   const VkFormat noisyFormat = m.sized.noisyIndirect.format, historyFormat = m.sized.historyDirectA.format;
-  const gpu::GpuCamera previousCamera = gpuCamera(in.previousCamera, in.previousCamera, m.previousWidth, m.previousHeight);
+  const gpu::GpuCamera previousCamera =
+      gpuCamera(in.previousCamera, in.previousCamera, m.previousWidth, m.previousHeight);
   const glm::vec2 halfSize = 0.5f * glm::vec2(float(m.width), float(m.height));
   return {camera,
           previousCamera,
@@ -362,9 +377,9 @@ gpu::GiFrameConstants frameConstants(const Module& m, const FrameInputs& in, con
           noisyIsOutput ? outputMax : largestFinite(noisyFormat),
           lightScale(m, historyFormat),
           largestFinite(historyFormat),
-          s.indirectOnly          ? gpu::GI_PRIMARY_DIRECT_NONE
+          s.indirectOnly      ? gpu::GI_PRIMARY_DIRECT_NONE
           : m.plan.reservoirs ? gpu::GI_PRIMARY_DIRECT_RESERVOIRS
-                                 : gpu::GI_PRIMARY_DIRECT_NEE,
+                              : gpu::GI_PRIMARY_DIRECT_NEE,
           m.plan.lightSampler,
           glm::inverse(clipFromView(in.camera)),
           motionPixelsPerUnit(m.desc.gbuffer, m.width, m.height),
@@ -376,10 +391,10 @@ gpu::GiFrameConstants frameConstants(const Module& m, const FrameInputs& in, con
 // This frame's own facts beside the method's plan (Module::plan), decided once before its passes.
 struct FrameSetup {
   uint32_t slot = 0;
-  uint32_t spp = 0;        // paths per pixel within the ray budget (0 for AAF, which adapts its own)
-  uint32_t aafBudget = 0;  // AAF's samples within the ray budget (0: none)
-  bool accumulate = false;       // raw's running mean
-  bool gradientsTraced = false;  // temporal gradients, which need last frame's samples
+  uint32_t spp = 0;                       // paths per pixel within the ray budget (0 for AAF, which adapts its own)
+  uint32_t aafBudget = 0;                 // AAF's samples within the ray budget (0: none)
+  bool accumulate = false;                // raw's running mean
+  bool gradientsTraced = false;           // temporal gradients, which need last frame's samples
   std::array<VkDescriptorSet, 2> sets{};  // scene, frame
 };
 
@@ -459,7 +474,8 @@ void recordCompositePasses(Module& m, VkCommandBuffer cmd, const FrameSetup& set
   // the light the temporal pass accumulated.
   uint32_t clampLight = 0;
   if (m.plan.temporalPass && m.plan.screenFilters) clampLight = gpu::GI_CLAMP_INDIRECT;
-  if (m.plan.temporalPass && (s.method == Method::Sspsf || m.plan.clampsHashIndirect))  // they filter filter vertices only
+  if (m.plan.temporalPass &&
+      (s.method == Method::Sspsf || m.plan.clampsHashIndirect))  // they filter filter vertices only
     clampLight = gpu::GI_CLAMP_INDIRECT | gpu::GI_CLAMP_FILTER_VERTICES;
   if (s.method == Method::Svgf && s.svgf.iterations > 0)
     clampLight = gpu::GI_CLAMP_INDIRECT | gpu::GI_CLAMP_FROM_MOMENTS |

@@ -45,8 +45,8 @@ vk::Status createHashGrid(vk::Device& d, VkDescriptorSetLayout layout, uint32_t 
     destroyHashGrid(d, g);
     return s;
   }
-  g.memoryBytes = g.keys.memory.size + g.accum.memory.size + g.cells.memory.size + g.telemetry.memory.size +
-                  g.walks.memory.size;
+  g.memoryBytes =
+      g.keys.memory.size + g.accum.memory.size + g.cells.memory.size + g.telemetry.memory.size + g.walks.memory.size;
   vk::DescriptorWriter(g.set[0])
       .buffer(gpu::HG_BINDING_KEYS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.keys.buffer)
       .buffer(gpu::HG_BINDING_ACCUM, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.accum.buffer)
@@ -65,7 +65,9 @@ void destroyHashGrid(vk::Device& d, HashGrid& g) {
 }
 
 uint32_t hashTableBase(const HashGrid& g, uint32_t frameIndex) { return (frameIndex % g.tables) * g.capacity; }
-uint32_t previousHashTableBase(const HashGrid& g, uint32_t frameIndex) { return ((frameIndex + 1) % g.tables) * g.capacity; }
+uint32_t previousHashTableBase(const HashGrid& g, uint32_t frameIndex) {
+  return ((frameIndex + 1) % g.tables) * g.capacity;
+}
 
 void recordHashGridFrameStart(const vk::Device& d, VkCommandBuffer cmd, HashGrid& g, uint32_t frameIndex) {
   if (g.cleared && g.tables == 2) {  // strict: the table written this frame starts empty
@@ -87,13 +89,13 @@ void recordHashGridFrameStart(const vk::Device& d, VkCommandBuffer cmd, HashGrid
   }
   d.fn.vkCmdFillBuffer(cmd, g.telemetry.buffer, 0, sizeof(gpu::HgTelemetry), 0);
   vk::memoryBarrier(d, cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                        VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                        VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+                    VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                    VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
 }
 
 void recordHashGridTelemetryCopy(const vk::Device& d, VkCommandBuffer cmd, HashGrid& g, uint32_t slot) {
   vk::memoryBarrier(d, cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                        VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+                    VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
   VkBufferCopy copy{0, sizeof(gpu::HgTelemetry) * (1 + slot), sizeof(gpu::HgTelemetry)};
   d.fn.vkCmdCopyBuffer(cmd, g.telemetry.buffer, g.telemetry.buffer, 1, &copy);
 }
@@ -101,7 +103,8 @@ void recordHashGridTelemetryCopy(const vk::Device& d, VkCommandBuffer cmd, HashG
 gpu::HgTelemetry readHashGridTelemetry(const HashGrid& g, uint32_t slot) {
   gpu::HgTelemetry t{};
   if (g.telemetry.memory.mapped)
-    std::memcpy(&t, static_cast<const std::byte*>(g.telemetry.memory.mapped) + sizeof(gpu::HgTelemetry) * (1 + slot), sizeof(t));
+    std::memcpy(&t, static_cast<const std::byte*>(g.telemetry.memory.mapped) + sizeof(gpu::HgTelemetry) * (1 + slot),
+                sizeof(t));
   return t;
 }
 

@@ -11,17 +11,17 @@
 namespace gi {
 
 struct HashGrid {
-  uint32_t capacity = 0;     // slots per table
-  uint32_t tables = 1;       // 2 for strict eviction (swapped every frame), 1 for aging
+  uint32_t capacity = 0;  // slots per table
+  uint32_t tables = 1;    // 2 for strict eviction (swapped every frame), 1 for aging
   vk::Buffer keys, accum, cells;
-  vk::Buffer telemetry;      // host-visible HgTelemetry[1 + slots]: [0] is live, the rest per-frame copies
-  vk::Buffer walks;          // HgWalk per pixel of the largest render size (anhpsf), else one placeholder
-  uint32_t walkPixels = 0;   // pixels with a walk slot (0: the placeholder)
-  vk::DescriptorSets set;    // one set, of the module's set-2 layout
+  vk::Buffer telemetry;     // host-visible HgTelemetry[1 + slots]: [0] is live, the rest per-frame copies
+  vk::Buffer walks;         // HgWalk per pixel of the largest render size (anhpsf), else one placeholder
+  uint32_t walkPixels = 0;  // pixels with a walk slot (0: the placeholder)
+  vk::DescriptorSets set;   // one set, of the module's set-2 layout
   uint64_t memoryBytes = 0;
-  bool cleared = false;      // buffers zeroed on the GPU
-  bool walksCleared = false; // continued paths reset (a new render size restarts them)
-  bool forgetLight = false;  // gi::invalidate(LightsChanged): the next resolve restarts every cell's mean
+  bool cleared = false;       // buffers zeroed on the GPU
+  bool walksCleared = false;  // continued paths reset (a new render size restarts them)
+  bool forgetLight = false;   // gi::invalidate(LightsChanged): the next resolve restarts every cell's mean
 };
 
 // Set 2's layout (one per module: every grid's set has it).

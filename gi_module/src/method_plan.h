@@ -14,13 +14,13 @@ namespace gi {
 
 struct MethodPlan {
   Method method = Method::Raw;
-  bool hashGrid = false;       // the persistent world-space hash map's passes (hpsf, nhpsf, anhpsf)
-  bool screenFilters = false;  // a screen-space filter after the trace (gif, bilateral, à-trous, aaf, sspsf)
-  bool aaf = false;            // AAF's adaptive sample passes (aaf, aaf_ao)
-  bool aafSpecular = false;    // AAF with glossy receivers in the scene: their specular terms filtered apart
-  bool svgf = false;           // svgf's variance and à-trous passes
-  bool gifSupersamples = false;  // gif's extra eye rays after the composite
-  uint32_t lightSampler = 0;     // NEE's light sampler (gpu::LIGHT_SAMPLER_*): the setting's, or the scene's
+  bool hashGrid = false;             // the persistent world-space hash map's passes (hpsf, nhpsf, anhpsf)
+  bool screenFilters = false;        // a screen-space filter after the trace (gif, bilateral, à-trous, aaf, sspsf)
+  bool aaf = false;                  // AAF's adaptive sample passes (aaf, aaf_ao)
+  bool aafSpecular = false;          // AAF with glossy receivers in the scene: their specular terms filtered apart
+  bool svgf = false;                 // svgf's variance and à-trous passes
+  bool gifSupersamples = false;      // gif's extra eye rays after the composite
+  uint32_t lightSampler = 0;         // NEE's light sampler (gpu::LIGHT_SAMPLER_*): the setting's, or the scene's
   bool picksPunctualLights = false;  // NEE picks one of several punctual lights (noise the temporal pass averages)
   // Direct light has noise to average only from area lights (emissive triangles, a sky) and from punctual
   // lights NEE picks one of.
@@ -38,8 +38,8 @@ struct MethodPlan {
   // Temporal gradients are traced (raw's trace pass) when the temporal pass runs for a method whose paths
   // start there (not the hash methods, not AAF).
   bool temporalGradients = false;
-  bool historyClamp = false;  // the temporal pass clamps the history to this frame's samples
-  bool reservoirs = false;    // the reservoir passes: asked for, and NEE picks among point and spot lights
+  bool historyClamp = false;        // the temporal pass clamps the history to this frame's samples
+  bool reservoirs = false;          // the reservoir passes: asked for, and NEE picks among point and spot lights
   bool validatesHashCells = false;  // the hash map's sentinel rays are re-traced (aging with hpsf.validation > 0)
 };
 

@@ -37,8 +37,9 @@ Error checkScene(const SceneDesc& scene, const std::string& what) {
     return {ErrorCode::OutOfRange, what + ".traversal = " + std::to_string(uint32_t(scene.traversal)) +
                                        " is neither Traversal::RayQuery nor Traversal::Compute"};
   if (scene.traversal == Traversal::Compute && !scene.hasComputeBvh)
-    return {ErrorCode::OutOfRange, what + ".traversal = Traversal::Compute, but the scene was built for ray queries "
-                                          "alone (gi::SceneCreateDesc::bothTraversals builds the compute BVH too)"};
+    return {ErrorCode::OutOfRange, what +
+                                       ".traversal = Traversal::Compute, but the scene was built for ray queries "
+                                       "alone (gi::SceneCreateDesc::bothTraversals builds the compute BVH too)"};
   return {};
 }
 
@@ -56,7 +57,8 @@ constexpr VkFormat kXyzNormalFormats[] = {VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORM
 constexpr VkFormat kXyzUnormNormalFormats[] = {VK_FORMAT_A2B10G10R10_UNORM_PACK32, VK_FORMAT_A2R10G10B10_UNORM_PACK32,
                                                VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_R16G16B16A16_UNORM};
 constexpr VkFormat kOctahedralFormats[] = {VK_FORMAT_R16G16_UNORM, VK_FORMAT_R8G8_UNORM};
-constexpr VkFormat kOctahedralSignedFormats[] = {VK_FORMAT_R16G16_SNORM, VK_FORMAT_R16G16_SFLOAT, VK_FORMAT_R32G32_SFLOAT};
+constexpr VkFormat kOctahedralSignedFormats[] = {VK_FORMAT_R16G16_SNORM, VK_FORMAT_R16G16_SFLOAT,
+                                                 VK_FORMAT_R32G32_SFLOAT};
 const AcceptedFormats kNormalFormats[] = {
     {uint32_t(NormalEncoding::Xyz), kXyzNormalFormats},
     {uint32_t(NormalEncoding::XyzUnorm), kXyzUnormNormalFormats},
@@ -86,7 +88,8 @@ constexpr const char* kDepthEncodingNames[] = {"DepthEncoding::LinearViewZ", "De
                                                "DepthEncoding::HardwareReversed"};
 
 static_assert(std::size(kNormalEncodingNames) == std::size(kNormalFormats) &&
-              std::size(kDepthEncodingNames) == std::size(kDepthFormats), "a name for every encoding");
+                  std::size(kDepthEncodingNames) == std::size(kDepthFormats),
+              "a name for every encoding");
 
 std::string formatList(std::span<const VkFormat> formats) {
   std::string list;
@@ -101,8 +104,8 @@ Error checkEncoding(std::span<const AcceptedFormats> table, std::span<const char
     if (a.encoding == encoding) {
       if (std::find(a.formats.begin(), a.formats.end(), format) != a.formats.end()) return {};
       return {ErrorCode::UnsupportedFormat, std::string(formatField) + " = " + vk::formatName(format) + " is not one " +
-                                                encodingField + " = " + names[encoding] + " accepts: " +
-                                                formatList(a.formats)};
+                                                encodingField + " = " + names[encoding] +
+                                                " accepts: " + formatList(a.formats)};
     }
   return {ErrorCode::OutOfRange, std::string(encodingField) + " = " + std::to_string(encoding) + " is not one of " +
                                      std::to_string(names.size()) + " encodings (" + names[0] + " …)"};
@@ -125,8 +128,8 @@ Error checkGBuffer(const GBufferDesc& g) {
     return {ErrorCode::OutOfRange, "desc.gbuffer.depthLayout = " + vk::layoutName(g.depthLayout) +
                                        " is not GENERAL or a read-only depth or shader layout"};
   if (uint32_t(g.motion) > uint32_t(MotionUnits::Ndc))
-    return {ErrorCode::OutOfRange, "desc.gbuffer.motion = " + std::to_string(uint32_t(g.motion)) +
-                                       " is not a MotionUnits (Pixels, Uv, Ndc)"};
+    return {ErrorCode::OutOfRange,
+            "desc.gbuffer.motion = " + std::to_string(uint32_t(g.motion)) + " is not a MotionUnits (Pixels, Uv, Ndc)"};
   for (int k = 0; k < 2; ++k)
     if (!std::isfinite(g.motionScale[k]) || g.motionScale[k] == 0.0f)
       return {ErrorCode::OutOfRange, "desc.gbuffer.motionScale[" + std::to_string(k) + "] = " +
@@ -140,15 +143,15 @@ Error checkGBuffer(const GBufferDesc& g) {
 // The device samples every G-buffer format the engine named.
 Error checkGBufferFormats(const Module& m) {
   const GBufferDesc& g = m.desc.gbuffer;
-  const std::pair<VkFormat, const char*> formats[] = {
-      {g.normalFormat, "desc.gbuffer.normalFormat"}, {g.albedoFormat, "desc.gbuffer.albedoFormat"},
-      {g.depthFormat, "desc.gbuffer.depthFormat"}};
+  const std::pair<VkFormat, const char*> formats[] = {{g.normalFormat, "desc.gbuffer.normalFormat"},
+                                                      {g.albedoFormat, "desc.gbuffer.albedoFormat"},
+                                                      {g.depthFormat, "desc.gbuffer.depthFormat"}};
   for (const auto& [format, field] : formats) {
     VkFormatProperties p{};
     m.gpu.fn.vkGetPhysicalDeviceFormatProperties(m.desc.physicalDevice, format, &p);
     if (!(p.optimalTilingFeatures & VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT))
-      return {ErrorCode::UnsupportedFormat, std::string(field) + " = " + vk::formatName(format) +
-                                                ": the device cannot sample it"};
+      return {ErrorCode::UnsupportedFormat,
+              std::string(field) + " = " + vk::formatName(format) + ": the device cannot sample it"};
   }
   return {};
 }
@@ -159,25 +162,28 @@ Error checkOutputFormats(const Module& m) {
   const VkFormat composite = compositeFormat(m.desc);
   m.gpu.fn.vkGetPhysicalDeviceFormatProperties(m.desc.physicalDevice, composite, &p);
   if (!(p.optimalTilingFeatures & VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT))
-    return {ErrorCode::UnsupportedFormat,
-            "desc.compositeFormat = " + vk::formatName(composite) + ": the device cannot store to it (a storage image)"};
+    return {ErrorCode::UnsupportedFormat, "desc.compositeFormat = " + vk::formatName(composite) +
+                                              ": the device cannot store to it (a storage image)"};
   return {};
 }
 
 Error checkDesc(const ModuleDesc& d) {
   if (d.structSize != sizeof(ModuleDesc))
-    return {ErrorCode::VersionMismatch, "desc.structSize = " + std::to_string(d.structSize) + " is not this library's " +
-                                            std::to_string(sizeof(ModuleDesc)) + ": built against another gi.h"};
+    return {ErrorCode::VersionMismatch, "desc.structSize = " + std::to_string(d.structSize) +
+                                            " is not this library's " + std::to_string(sizeof(ModuleDesc)) +
+                                            ": built against another gi.h"};
   if (!d.getInstanceProcAddr)
     return {ErrorCode::MissingHandle, "desc.getInstanceProcAddr must be set (the engine's vkGetInstanceProcAddr)"};
-  if (!d.instance || !d.physicalDevice || !d.device) return {ErrorCode::MissingHandle, "desc.instance, desc.physicalDevice and desc.device must be set"};
+  if (!d.instance || !d.physicalDevice || !d.device)
+    return {ErrorCode::MissingHandle, "desc.instance, desc.physicalDevice and desc.device must be set"};
   if (Error e = checkScene(d.scene, "desc.scene")) return e;
   if (Error e = checkSize("desc.width × desc.height", d.width, d.height)) return e;
   if (d.maxWidth || d.maxHeight) {
     if (Error e = checkSize("desc.maxWidth × desc.maxHeight", d.maxWidth, d.maxHeight)) return e;
     if (d.width > d.maxWidth || d.height > d.maxHeight)
-      return {ErrorCode::OutOfRange, "desc.width × desc.height = " + sizeText(d.width, d.height) +
-                                         " exceeds desc.maxWidth × desc.maxHeight = " + sizeText(d.maxWidth, d.maxHeight)};
+      return {ErrorCode::OutOfRange,
+              "desc.width × desc.height = " + sizeText(d.width, d.height) +
+                  " exceeds desc.maxWidth × desc.maxHeight = " + sizeText(d.maxWidth, d.maxHeight)};
   }
   if (d.framesInFlight < 1 || d.framesInFlight > kMaxFramesInFlight)
     return {ErrorCode::OutOfRange, "desc.framesInFlight = " + std::to_string(d.framesInFlight) + " is outside [1, " +
@@ -212,7 +218,8 @@ Error checkFeatures(const Module& m) {
     missing = firstMissingFeature(*d.enabledFeatures, rayQuery);
   } else {
     VkPhysicalDeviceRayQueryFeaturesKHR rq{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR};
-    VkPhysicalDeviceAccelerationStructureFeaturesKHR as{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
+    VkPhysicalDeviceAccelerationStructureFeaturesKHR as{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
     as.pNext = &rq;
     VkPhysicalDeviceVulkan13Features f13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
     f13.pNext = rayQuery ? &as : nullptr;
@@ -265,12 +272,12 @@ vk::Status createHashGridFor(Module& m, const Settings& s, uint32_t width, uint3
 vk::Status createFrameBuffers(Module& m) {
   VkDeviceSize align = std::max<VkDeviceSize>(m.gpu.properties.limits.minUniformBufferOffsetAlignment, 16);
   m.frameConstantsStride = (sizeof(gpu::GiFrameConstants) + align - 1) / align * align;
-  GI_TRY(vk::createBuffer(m.gpu, m.frameConstantsStride * m.desc.framesInFlight, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true,
-                          m.frameConstants));
-  GI_TRY(vk::createBuffer(m.gpu, sizeof(gpu::GiCounters) * (1 + m.desc.framesInFlight),
-                          VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
-                              VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
-                          true, m.counters));
+  GI_TRY(vk::createBuffer(m.gpu, m.frameConstantsStride * m.desc.framesInFlight, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                          true, m.frameConstants));
+  GI_TRY(vk::createBuffer(
+      m.gpu, sizeof(gpu::GiCounters) * (1 + m.desc.framesInFlight),
+      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true,
+      m.counters));
   if (m.counters.memory.mapped) std::memset(m.counters.memory.mapped, 0, m.counters.size);  // null: a prediction
   return {};
 }
@@ -346,32 +353,41 @@ std::array<uint32_t, GI_SPEC_COUNT> moduleSpecialization(const Module& m) {
   static_assert(SCENE_SPEC_COUNT == GI_SPEC_NORMAL_ENCODING, "the G-buffer's constants follow the scene's");
   const auto scene = sceneSpecialization(m.desc.scene);
   const GBufferDesc& g = m.desc.gbuffer;
-  return {scene[0], scene[1], scene[2], scene[3], uint32_t(g.normalEncoding), uint32_t(g.depthEncoding),
-          uint32_t(g.glossy), m.desc.checkBounds ? 1u : 0u, g.hasEmission ? 1u : 0u};
+  return {scene[0],
+          scene[1],
+          scene[2],
+          scene[3],
+          uint32_t(g.normalEncoding),
+          uint32_t(g.depthEncoding),
+          uint32_t(g.glossy),
+          m.desc.checkBounds ? 1u : 0u,
+          g.hasEmission ? 1u : 0u};
 }
 
 uint32_t hashMode(Method method) {
-  return method == Method::Nhpsf ? gpu::HG_MODE_NHPSF : method == Method::Anhpsf ? gpu::HG_MODE_ANHPSF : gpu::HG_MODE_HPSF;
+  return method == Method::Nhpsf    ? gpu::HG_MODE_NHPSF
+         : method == Method::Anhpsf ? gpu::HG_MODE_ANHPSF
+                                    : gpu::HG_MODE_HPSF;
 }
 
 Error vulkanError(const char* what, const vk::Status& status) {
   return {ErrorCode::VulkanCall,
-          std::string(what) + ": " + (status.call ? status.call : "a Vulkan call") + " failed with " + resultName(status.result),
+          std::string(what) + ": " + (status.call ? status.call : "a Vulkan call") + " failed with " +
+              resultName(status.result),
           status.result};
 }
 
 Error checkDeviceMemory(const DeviceMemoryCallbacks& c, const char* field) {
   if ((c.allocate == nullptr) != (c.free == nullptr))
-    return {ErrorCode::MissingHandle, std::string(field) + (c.allocate ? ".free" : ".allocate") +
-                                          " must be set with " + field + (c.allocate ? ".allocate" : ".free")};
+    return {ErrorCode::MissingHandle, std::string(field) + (c.allocate ? ".free" : ".allocate") + " must be set with " +
+                                          field + (c.allocate ? ".allocate" : ".free")};
   return {};
 }
 
 const char* resultName(VkResult result) {
   switch (result) {
 #define GI_RESULT_CASE(r) \
-  case r:                 \
-    return #r;
+  case r: return #r;
     GI_RESULT_CASE(VK_SUCCESS)
     GI_RESULT_CASE(VK_NOT_READY)
     GI_RESULT_CASE(VK_TIMEOUT)
@@ -394,8 +410,7 @@ const char* resultName(VkResult result) {
     GI_RESULT_CASE(VK_SUBOPTIMAL_KHR)
     GI_RESULT_CASE(VK_ERROR_SURFACE_LOST_KHR)
 #undef GI_RESULT_CASE
-    default:
-      return "VkResult(unknown)";
+    default: return "VkResult(unknown)";
   }
 }
 
@@ -577,8 +592,10 @@ Error resize(Module* m, uint32_t width, uint32_t height) {
 
 void invalidate(Module* m, Invalidate what) {
   dropHistory(*m);
-  if (what == Invalidate::All) m->hash.cleared = false;  // re-zeroed at the start of the next frame
-  else if (what == Invalidate::LightsChanged) m->hash.forgetLight = true;  // cells, sentinels and paths stay, their light goes
+  if (what == Invalidate::All)
+    m->hash.cleared = false;  // re-zeroed at the start of the next frame
+  else if (what == Invalidate::LightsChanged)
+    m->hash.forgetLight = true;  // cells, sentinels and paths stay, their light goes
 }
 
 const Settings& settings(const Module* m) { return m->settings; }
@@ -591,8 +608,8 @@ OutputScales outputScales(const Settings& s, float preExposure) {
 
 Outputs outputs(const Module* m) {
   const OutputImages& o = m->outputs;
-  return {o.direct.image, o.indirect.image, o.composite.image, o.direct.view, o.indirect.view, o.composite.view,
-          m->desc.outputFormat, compositeFormat(m->desc)};
+  return {o.direct.image,  o.indirect.image, o.composite.image,    o.direct.view,
+          o.indirect.view, o.composite.view, m->desc.outputFormat, compositeFormat(m->desc)};
 }
 
 }  // namespace gi

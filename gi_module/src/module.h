@@ -38,26 +38,26 @@ struct OutputImages {
 // method does not use are 1×1 placeholders.
 struct SizedResources {
   uint32_t width = 0, height = 0;
-  uint32_t needs = 0;                             // sizedResourcesNeeded() it was built for
-  uint64_t frameBytes = 0;                        // the bytes of frameImages(), counted once they exist
-  vk::Image historyDirectA, historyIndirectA;       // raw's still-camera mean; temporal reprojection's set A
-  vk::Image historyDirectB, historyIndirectB;     // temporal reprojection's set B
-  vk::Image historyGuideA, historyGuideB;         // temporal reprojection: each frame's normal and view depth
-  vk::Image svgfMomentsA, svgfMomentsB;           // svgf: luminance moments' history (sets A and B)
-  vk::Image gradientSamplesA, gradientSamplesB;   // temporal gradients: each pixel's first sample (sets A and B)
-  vk::Image temporalGradient;                     // temporal gradients: one texel per tile
-  vk::Image temporalSpread;                       // history clamp: this frame's 3×3 luminance mean and σ
-  vk::Image historyPacked;                        // the hash methods' direct history, 8 bytes a pixel
-  vk::Image reservoirsA, reservoirsB;             // ReservoirSettings: the temporal pass's, one set a frame
-  vk::Image reservoirPick;                        // ReservoirSettings: the spatial pass's light and W a pixel
-  vk::Image noisyIndirect;                        // demodulated indirect before filtering
-  vk::Image guidance, position, debug;            // filter guidance, world position, filter debug/temp
-  vk::Image aafParams, aafSum;                    // AAF per-pixel z_min, z_max, samples, β; sample sums
-  vk::Image aafGlossy, aafGlossyEdge;             // AAF specular terms
-  ScreenFilters filters;                          // methods with a screen-space filter
-  vk::DescriptorSets frameSets;                   // set 1, one per frame slot
-  GBufferViews bound[kMaxFramesInFlight]{};       // G-buffer views written into each slot's set
-  bool initialised = false;                       // images moved to GENERAL layout
+  uint32_t needs = 0;                            // sizedResourcesNeeded() it was built for
+  uint64_t frameBytes = 0;                       // the bytes of frameImages(), counted once they exist
+  vk::Image historyDirectA, historyIndirectA;    // raw's still-camera mean; temporal reprojection's set A
+  vk::Image historyDirectB, historyIndirectB;    // temporal reprojection's set B
+  vk::Image historyGuideA, historyGuideB;        // temporal reprojection: each frame's normal and view depth
+  vk::Image svgfMomentsA, svgfMomentsB;          // svgf: luminance moments' history (sets A and B)
+  vk::Image gradientSamplesA, gradientSamplesB;  // temporal gradients: each pixel's first sample (sets A and B)
+  vk::Image temporalGradient;                    // temporal gradients: one texel per tile
+  vk::Image temporalSpread;                      // history clamp: this frame's 3×3 luminance mean and σ
+  vk::Image historyPacked;                       // the hash methods' direct history, 8 bytes a pixel
+  vk::Image reservoirsA, reservoirsB;            // ReservoirSettings: the temporal pass's, one set a frame
+  vk::Image reservoirPick;                       // ReservoirSettings: the spatial pass's light and W a pixel
+  vk::Image noisyIndirect;                       // demodulated indirect before filtering
+  vk::Image guidance, position, debug;           // filter guidance, world position, filter debug/temp
+  vk::Image aafParams, aafSum;                   // AAF per-pixel z_min, z_max, samples, β; sample sums
+  vk::Image aafGlossy, aafGlossyEdge;            // AAF specular terms
+  ScreenFilters filters;                         // methods with a screen-space filter
+  vk::DescriptorSets frameSets;                  // set 1, one per frame slot
+  GBufferViews bound[kMaxFramesInFlight]{};      // G-buffer views written into each slot's set
+  bool initialised = false;                      // images moved to GENERAL layout
 };
 
 // Placeholders that gi::recordProgramWarmup binds to its empty dispatches
@@ -82,13 +82,13 @@ struct Retired {
 struct FrameSlot {
   uint32_t frameIndex = 0;
   bool recorded = false;
-  std::vector<Pass> passes;                        // recorded, in order (timestamps for the first kMaxPasses)
+  std::vector<Pass> passes;  // recorded, in order (timestamps for the first kMaxPasses)
   uint32_t history = 0, spp = 0;
   Method method = Method::Raw;
 };
 
 struct Module {
-  vk::Device gpu;                                  // the engine's device through the module's own function table
+  vk::Device gpu;  // the engine's device through the module's own function table
   ModuleDesc desc;
   Settings settings;
   MethodPlan plan;                                 // planMethod(desc.scene, settings): what the frame runs
@@ -96,11 +96,11 @@ struct Module {
   uint32_t previousWidth = 0, previousHeight = 0;  // the last recorded frame's: what its histories cover
 
   OutputImages outputs;
-  SizedResources sized;                            // built over `outputs`
-  HashGrid hash;                                   // created on first use of a hash method; persists across frames
-  vk::Buffer frameConstants;                       // host-visible GiFrameConstants, one per slot
+  SizedResources sized;       // built over `outputs`
+  HashGrid hash;              // created on first use of a hash method; persists across frames
+  vk::Buffer frameConstants;  // host-visible GiFrameConstants, one per slot
   VkDeviceSize frameConstantsStride = 0;
-  vk::Buffer counters;                             // host-visible GiCounters[1 + slots]: live, then per-slot copies
+  vk::Buffer counters;                                 // host-visible GiCounters[1 + slots]: live, then per-slot copies
   VkDescriptorSetLayout frameLayout = VK_NULL_HANDLE;  // set 1
 
   // Programs (programs.h), each created when settings first need it and kept;
@@ -108,20 +108,20 @@ struct Module {
   vk::ComputeProgram rawTrace, composite, guidancePass, supersample, aafSample, aafAdaptive, temporal;
   vk::ComputeProgram svgfVariance, svgfAtrous, temporalGradient, temporalSpread, reservoirs;
   vk::ComputeProgram hashInsert, hashPaths, hashValidate, hashResolve, hashLookup;  // hashPaths: nhpsf/anhpsf
-  FilterPrograms filterPrograms;                   // the screen-space filters' (their own set layout)
+  FilterPrograms filterPrograms;                      // the screen-space filters' (their own set layout)
   VkDescriptorSetLayout hashLayout = VK_NULL_HANDLE;  // set 2 of the hash methods' programs
   std::mutex programsMutex;
-  WarmupResources warmup;                          // what gi::recordProgramWarmup binds
+  WarmupResources warmup;  // what gi::recordProgramWarmup binds
 
-  VkQueryPool timestamps = VK_NULL_HANDLE;         // 2 per pass per slot (null when desc.timestamps is off)
+  VkQueryPool timestamps = VK_NULL_HANDLE;  // 2 per pass per slot (null when desc.timestamps is off)
   FrameSlot slots[kMaxFramesInFlight];
-  uint64_t recordedFrames = 0;                     // recordFrame calls so far
+  uint64_t recordedFrames = 0;  // recordFrame calls so far
   std::vector<Retired> retired;
 
-  uint32_t historyLength = 0;                      // frames in the history images (raw.accumulate)
-  uint32_t reservoirFrames = 0;                   // frames the reservoirs have been resampled since they started
-  uint32_t temporalFrames = 0;                     // frames the temporal reprojection has run since its history started
-  gpu::GpuCamera historyCamera{};                  // camera the history was gathered with
+  uint32_t historyLength = 0;      // frames in the history images (raw.accumulate)
+  uint32_t reservoirFrames = 0;    // frames the reservoirs have been resampled since they started
+  uint32_t temporalFrames = 0;     // frames the temporal reprojection has run since its history started
+  gpu::GpuCamera historyCamera{};  // camera the history was gathered with
   FrameStats lastStats;
 };
 
@@ -140,7 +140,8 @@ void recordFirstUse(const vk::Device& gpu, VkCommandBuffer cmd, OutputImages& ou
 // last frame (the transient requests of ModuleDesc::deviceMemory, which an engine may alias).
 void recordTransientReset(const vk::Device& gpu, VkCommandBuffer cmd, const SizedResources& r);
 // The three outputs: direct and indirect in desc.outputFormat, the composite in compositeFormat(desc).
-vk::Status createOutputImages(vk::Device& gpu, uint32_t width, uint32_t height, const ModuleDesc& desc, OutputImages& out);
+vk::Status createOutputImages(vk::Device& gpu, uint32_t width, uint32_t height, const ModuleDesc& desc,
+                              OutputImages& out);
 VkFormat compositeFormat(const ModuleDesc& desc);
 // The hash methods trace their noisy indirect straight into the indirect output (no image of its own).
 bool noisyAliasesIndirect(const SizedResources& r);
@@ -176,7 +177,6 @@ std::array<uint32_t, GI_SPEC_COUNT> moduleSpecialization(const Module& m);
 
 // Frame stats (frame_stats.cpp).
 bool readFrameStats(Module& m, uint32_t slot, FrameStats& out);
-
 
 // The engine's camera (camera.cpp): checked (finite, invertible view, a
 // perspective projection; `what` names it), then as the passes see it.

@@ -109,8 +109,9 @@ void destroyWarmup(vk::Device& g, WarmupResources& w) {
 void recordWarmupFirstUse(const vk::Device& g, VkCommandBuffer cmd, WarmupResources& w) {
   recordFirstUse(g, cmd, w.outputs, w.sized);
   recordScreenFiltersFirstUse(g, cmd, w.sized.filters);
-  vk::imageBarrier(g, cmd, w.gbuffer.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE,
-                   0, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+  vk::imageBarrier(g, cmd, w.gbuffer.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
+                   VK_PIPELINE_STAGE_2_NONE, 0, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                   VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
 }
 
 }  // namespace
@@ -141,10 +142,12 @@ std::vector<ProgramUse> programsFor(Module& m, const Settings& s) {
   } else {
     add("gi_raw_trace", m.rawTrace, GI_SCENE_SPIRV(t, gi_raw_trace_comp), sizeof(gpu::GiRawPush));
     if (plan.temporalGradients)
-      add("gi_temporal_gradient", m.temporalGradient, GI_SCENE_SPIRV(t, gi_temporal_gradient_comp), sizeof(gpu::GiRawPush));
+      add("gi_temporal_gradient", m.temporalGradient, GI_SCENE_SPIRV(t, gi_temporal_gradient_comp),
+          sizeof(gpu::GiRawPush));
   }
   if (plan.historyClamp)
-    add("gi_temporal_spread", m.temporalSpread, GI_SCENE_SPIRV(t, gi_temporal_spread_comp), sizeof(gpu::GiTemporalPush));
+    add("gi_temporal_spread", m.temporalSpread, GI_SCENE_SPIRV(t, gi_temporal_spread_comp),
+        sizeof(gpu::GiTemporalPush));
   if (plan.temporalPass)
     add("gi_temporal", m.temporal, GI_SCENE_SPIRV(t, gi_temporal_comp), sizeof(gpu::GiTemporalPush));
   if (plan.svgf) {
@@ -172,10 +175,9 @@ vk::Status ensurePrograms(Module& m, const Settings& s) {
 }
 
 std::vector<vk::ComputeProgram*> scenePrograms(Module& m) {
-  return {&m.rawTrace,         &m.composite,      &m.guidancePass, &m.supersample,   &m.aafSample,
-          &m.aafAdaptive,      &m.temporal,       &m.svgfVariance, &m.svgfAtrous,    &m.temporalGradient,
-          &m.temporalSpread,   &m.hashInsert,     &m.hashPaths,    &m.hashValidate,  &m.hashResolve,
-          &m.hashLookup,       &m.reservoirs};
+  return {&m.rawTrace,  &m.composite,    &m.guidancePass, &m.supersample,      &m.aafSample,      &m.aafAdaptive,
+          &m.temporal,  &m.svgfVariance, &m.svgfAtrous,   &m.temporalGradient, &m.temporalSpread, &m.hashInsert,
+          &m.hashPaths, &m.hashValidate, &m.hashResolve,  &m.hashLookup,       &m.reservoirs};
 }
 
 void destroyPrograms(Module& m) {
@@ -233,8 +235,9 @@ Error recordProgramWarmup(Module* m, const Settings& settings, VkCommandBuffer c
     const VkDescriptorSet frameSets[] = {m->desc.scene.set, w.sized.frameSets[0],
                                          w.hash.set.sets.empty() ? VK_NULL_HANDLE : w.hash.set[0]};
     const std::span<const VkDescriptorSet> sets =
-        p.sets == ProgramSets::Filter ? std::span<const VkDescriptorSet>(&w.sized.filters.set.sets[0], 1)
-                                      : std::span<const VkDescriptorSet>(frameSets, p.sets == ProgramSets::FrameAndHash ? 3 : 2);
+        p.sets == ProgramSets::Filter
+            ? std::span<const VkDescriptorSet>(&w.sized.filters.set.sets[0], 1)
+            : std::span<const VkDescriptorSet>(frameSets, p.sets == ProgramSets::FrameAndHash ? 3 : 2);
     vk::warmUp(g, cmd, *p.program, sets);
   }
   return {};

@@ -21,8 +21,8 @@ namespace {
 // One pass: hooks around a dispatch and the barrier that publishes it. The push constants get the
 // render rectangle (every filter push has `size`).
 template <typename Push>
-void passOn(const vk::Device& d, VkCommandBuffer cmd, VkDescriptorSet set, const ScreenFilters& f, const PassHooks& hooks,
-            Pass name, const vk::ComputeProgram& program, glm::uvec2 threads, Push push) {
+void passOn(const vk::Device& d, VkCommandBuffer cmd, VkDescriptorSet set, const ScreenFilters& f,
+            const PassHooks& hooks, Pass name, const vk::ComputeProgram& program, glm::uvec2 threads, Push push) {
   push.size = {f.width, f.height};
   if (hooks.begin) hooks.begin(cmd, name);
   vk::dispatch(d, cmd, program, std::span(&set, 1), threads, push);
@@ -41,8 +41,8 @@ void pass(const vk::Device& d, VkCommandBuffer cmd, const ScreenFilters& f, cons
 void recordScreenFiltersFirstUse(const vk::Device& d, VkCommandBuffer cmd, ScreenFilters& f) {
   if (f.initialised || !f.a[0].image) return;
   for (uint32_t i = 0; i < FILTER_STACK; ++i)
-    vk::imageBarrier(d, cmd, f.a[i].image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, 0,
-                     VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+    vk::imageBarrier(d, cmd, f.a[i].image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE,
+                     0, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                      VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
   f.initialised = true;
 }
@@ -62,7 +62,8 @@ constexpr glm::uvec2 kTile{FILTER_GROUP_SIZE, FILTER_GROUP_SIZE}, kLine{FILTER_L
 const FilterProgramInfo kFilterPrograms[] = {
     {&FilterPrograms::moments, "gif_moments", spv_gif_moments_comp, sizeof(gpu::GuidedMomentsPush), kTile},
     {&FilterPrograms::box, "gif_box", spv_gif_box_comp, sizeof(gpu::BoxPush), kLine},
-    {&FilterPrograms::coefficients, "gif_coefficients", spv_gif_coefficients_comp, sizeof(gpu::GuidedCoefficientsPush), kTile},
+    {&FilterPrograms::coefficients, "gif_coefficients", spv_gif_coefficients_comp, sizeof(gpu::GuidedCoefficientsPush),
+     kTile},
     {&FilterPrograms::output, "gif_output", spv_gif_output_comp, sizeof(gpu::GuidedMomentsPush), kTile},
     {&FilterPrograms::bilateral, "bilateral", spv_bilateral_comp, sizeof(gpu::BilateralPush), kTile},
     {&FilterPrograms::atrous, "atrous", spv_atrous_comp, sizeof(gpu::AtrousPush), kTile},
@@ -133,11 +134,13 @@ vk::Status createScreenFilters(vk::Device& d, const FilterPrograms& programs, ui
   FilterTargets targets = t;
   // (A prediction's buffers have no handles; the module always names its counters.)
   if (!targets.counters && !d.memory.simulate) {
-    if (vk::Status s = vk::createBuffer(d, sizeof(gpu::GiCounters), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, f.ownCounters)) {
+    if (vk::Status s =
+            vk::createBuffer(d, sizeof(gpu::GiCounters), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, f.ownCounters)) {
       destroyScreenFilters(d, f);
       return s;
     }
-    if (f.ownCounters.memory.mapped) std::memset(f.ownCounters.memory.mapped, 0, sizeof(gpu::GiCounters));  // null: a prediction
+    if (f.ownCounters.memory.mapped)
+      std::memset(f.ownCounters.memory.mapped, 0, sizeof(gpu::GiCounters));  // null: a prediction
     targets.counters = f.ownCounters.buffer;
   }
   if (vk::Status s = createFilterSets(d, programs, std::span(&targets, 1), f.set)) {
@@ -152,8 +155,7 @@ vk::Status ensureGuidedStack(vk::Device& d, ScreenFilters& f) {
   if (f.a[0].image) return {};
   for (vk::Image& img : f.a)
     if (vk::Status s = vk::createImage(d, {f.imageWidth, f.imageHeight}, VK_FORMAT_R32G32B32A32_SFLOAT,
-                                           VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT, img,
-                                           true)) {
+                                       VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT, img, true)) {
       for (vk::Image& made : f.a) vk::destroyImage(d, made);
       return s;
     }
@@ -181,12 +183,17 @@ void recordGuidedFilter(const vk::Device& d, VkCommandBuffer cmd, ScreenFilters&
   const gpu::GuidedMomentsPush dims{p.guidanceDimensions, p.writeCoefficientView ? 1u : 0u, p.output};
   // Window statistics: per-pixel products, then their box means (rows, then columns).
   pass(d, cmd, f, hooks, Pass::GifMoments, f.programs->moments, size, dims);
-  pass(d, cmd, f, hooks, Pass::GifBoxRows, f.programs->box, {f.height, 1}, gpu::BoxPush{p.radius, 0, GIF_MOMENT_IMAGES, 0});
-  pass(d, cmd, f, hooks, Pass::GifBoxColumns, f.programs->box, {f.width, 1}, gpu::BoxPush{p.radius, 1, GIF_MOMENT_IMAGES, 0});
+  pass(d, cmd, f, hooks, Pass::GifBoxRows, f.programs->box, {f.height, 1},
+       gpu::BoxPush{p.radius, 0, GIF_MOMENT_IMAGES, 0});
+  pass(d, cmd, f, hooks, Pass::GifBoxColumns, f.programs->box, {f.width, 1},
+       gpu::BoxPush{p.radius, 1, GIF_MOMENT_IMAGES, 0});
   // Per-window ridge regression, then the mean of the coefficients over the windows covering each pixel.
-  pass(d, cmd, f, hooks, Pass::GifCoefficients, f.programs->coefficients, size, gpu::GuidedCoefficientsPush{p.epsilonNormal, p.epsilonDepth, 0, 0});
-  pass(d, cmd, f, hooks, Pass::GifBoxRows, f.programs->box, {f.height, 1}, gpu::BoxPush{p.radius, 0, GIF_COEFF_IMAGES, 0});
-  pass(d, cmd, f, hooks, Pass::GifBoxColumns, f.programs->box, {f.width, 1}, gpu::BoxPush{p.radius, 1, GIF_COEFF_IMAGES, 0});
+  pass(d, cmd, f, hooks, Pass::GifCoefficients, f.programs->coefficients, size,
+       gpu::GuidedCoefficientsPush{p.epsilonNormal, p.epsilonDepth, 0, 0});
+  pass(d, cmd, f, hooks, Pass::GifBoxRows, f.programs->box, {f.height, 1},
+       gpu::BoxPush{p.radius, 0, GIF_COEFF_IMAGES, 0});
+  pass(d, cmd, f, hooks, Pass::GifBoxColumns, f.programs->box, {f.width, 1},
+       gpu::BoxPush{p.radius, 1, GIF_COEFF_IMAGES, 0});
   pass(d, cmd, f, hooks, Pass::GifOutput, f.programs->output, size, dims);
 }
 
@@ -210,8 +217,8 @@ void recordBilateral(const vk::Device& d, VkCommandBuffer cmd, ScreenFilters& f,
 }
 
 void recordAtrous(const vk::Device& d, VkCommandBuffer cmd, ScreenFilters& f, const gpu::FilterOutputEncoding& output,
-                  uint32_t iterations, float sigmaColor,
-                  float sigmaNormal, float sigmaPosition, const PassHooks& hooks) {
+                  uint32_t iterations, float sigmaColor, float sigmaNormal, float sigmaPosition,
+                  const PassHooks& hooks) {
   // Ping-pong between temp and output so the last iteration lands in output.
   uint32_t source = 0;
   for (uint32_t i = 0; i < iterations; ++i) {

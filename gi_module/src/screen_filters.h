@@ -53,10 +53,10 @@ void destroyFilterPrograms(const vk::Device& device, FilterPrograms& programs);
 
 struct ScreenFilters {
   const FilterPrograms* programs = nullptr;
-  vk::Image a[FILTER_STACK];        // the guided filter's window statistics (created on its first use)
-  vk::DescriptorSets set;           // one set over the module's targets
-  vk::DescriptorSets aafGlossySets;  // two: AAF's specular terms filtered in place (glossy scenes)
-  vk::Buffer ownCounters;           // where the targets named no counters (the filters on their own, in tests)
+  vk::Image a[FILTER_STACK];                 // the guided filter's window statistics (created on its first use)
+  vk::DescriptorSets set;                    // one set over the module's targets
+  vk::DescriptorSets aafGlossySets;          // two: AAF's specular terms filtered in place (glossy scenes)
+  vk::Buffer ownCounters;                    // where the targets named no counters (the filters on their own, in tests)
   uint32_t imageWidth = 0, imageHeight = 0;  // the images' size (the largest render size)
   uint32_t width = 0, height = 0;            // the render rectangle the passes filter, within the images
   uint64_t memoryBytes = 0;
@@ -67,7 +67,7 @@ struct GuidedFilterParams {
   uint32_t radius = 24;
   float epsilonNormal = 0.01f, epsilonDepth = 0.02f;
   uint32_t guidanceDimensions = 4;
-  bool writeCoefficientView = false;  // also write |a|, |b| to the temp image (debug view)
+  bool writeCoefficientView = false;                // also write |a|, |b| to the temp image (debug view)
   gpu::FilterOutputEncoding output = kPlainOutput;  // how the output image holds light
 };
 
@@ -86,15 +86,16 @@ void recordScreenFiltersFirstUse(const vk::Device& device, VkCommandBuffer cmd, 
 // Each reads the targets' input and writes their output (and temp as noted),
 // ending with a barrier that makes the output visible to compute shaders.
 // The guided filter needs ensureGuidedStack first.
-void recordGuidedFilter(const vk::Device& device, VkCommandBuffer cmd, ScreenFilters& f, const GuidedFilterParams& params,
-                        const PassHooks& hooks);
+void recordGuidedFilter(const vk::Device& device, VkCommandBuffer cmd, ScreenFilters& f,
+                        const GuidedFilterParams& params, const PassHooks& hooks);
 void recordBilateral(const vk::Device& device, VkCommandBuffer cmd, ScreenFilters& f, const gpu::BilateralPush& params,
                      const PassHooks& hooks);
-void recordAtrous(const vk::Device& device, VkCommandBuffer cmd, ScreenFilters& f, const gpu::FilterOutputEncoding& output,
-                  uint32_t iterations, float sigmaColor,
-                  float sigmaNormal, float sigmaPosition, const PassHooks& hooks);
+void recordAtrous(const vk::Device& device, VkCommandBuffer cmd, ScreenFilters& f,
+                  const gpu::FilterOutputEncoding& output, uint32_t iterations, float sigmaColor, float sigmaNormal,
+                  float sigmaPosition, const PassHooks& hooks);
 // Screen-space path filtering over a window (Meijer §4.1).
-void recordSspsf(const vk::Device& device, VkCommandBuffer cmd, ScreenFilters& f, const gpu::SspsfPush& params, const PassHooks& hooks);
+void recordSspsf(const vk::Device& device, VkCommandBuffer cmd, ScreenFilters& f, const gpu::SspsfPush& params,
+                 const PassHooks& hooks);
 // Axis-aligned filtering's separable Gaussian (β per pixel from the params
 // image's alpha; pixels with β = 0 neither filter nor contribute); uses temp.
 // `targets` is f.set or a set from createFilterSet.

@@ -31,15 +31,19 @@ Error validate(const Settings& s) {
     return {ErrorCode::OutOfRange, "settings.aaf.uniformSamples = " + std::to_string(s.aaf.uniformSamples) +
                                        " is neither 0 nor in [16, 1024]"};
   if (s.sspsf.window % 2 == 0)
-    return {ErrorCode::OutOfRange, "settings.sspsf.window = " + std::to_string(s.sspsf.window) + " is not an odd number in [1, 31]"};
+    return {ErrorCode::OutOfRange,
+            "settings.sspsf.window = " + std::to_string(s.sspsf.window) + " is not an odd number in [1, 31]"};
   const HpsfSettings& h = s.hpsf;
   if (h.capacity != 0 && (h.capacity & (h.capacity - 1)) != 0)
-    return {ErrorCode::NotPowerOfTwo, "settings.hpsf.capacity = " + std::to_string(h.capacity) + " is not a power of two"};
+    return {ErrorCode::NotPowerOfTwo,
+            "settings.hpsf.capacity = " + std::to_string(h.capacity) + " is not a power of two"};
   if (h.capacity != 0 && h.capacity < (1u << 10))
-    return {ErrorCode::OutOfRange, "settings.hpsf.capacity = " + std::to_string(h.capacity) + " is neither 0 nor in [1024, 2097152]"};
+    return {ErrorCode::OutOfRange,
+            "settings.hpsf.capacity = " + std::to_string(h.capacity) + " is neither 0 nor in [1024, 2097152]"};
   if (s.method == Method::Anhpsf && h.eviction == EvictionPolicy::Strict)
     return {ErrorCode::OutOfRange,
-            "settings.hpsf.eviction = strict keeps cells for two frames, too short for anhpsf's transport over frames; use aging"};
+            "settings.hpsf.eviction = strict keeps cells for two frames, too short for anhpsf's transport over frames; "
+            "use aging"};
   return {};
 }
 
@@ -99,8 +103,8 @@ bool usesTemporalReprojection(const Settings& s) {
     case Method::Hpsf:
     case Method::Nhpsf:
     case Method::Anhpsf: return s.hpsf.temporalDirect;  // direct light only: the map caches the indirect
-    case Method::Svgf: return true;                      // its first half
-    default: return false;  // AAF samples adaptively per frame
+    case Method::Svgf: return true;                     // its first half
+    default: return false;                              // AAF samples adaptively per frame
   }
 }
 

@@ -120,7 +120,8 @@ uint32_t sizedResourcesNeeded(const MethodPlan& plan, const Settings& s) {
   const bool noisyReadAfterOutput = s.debugView == DebugView::FilterInOut;
   if (!noisyReadAfterOutput && ((plan.hashGrid && !plan.clampsHashIndirect) || plan.svgf))
     need |= kNoisyIsIndirect;
-  else need |= bit(&SizedResources::noisyIndirect);
+  else
+    need |= bit(&SizedResources::noisyIndirect);
   if (s.method == Method::Raw && s.raw.temporalAccumulation)
     need |= bit(&SizedResources::historyDirectA) | bit(&SizedResources::historyIndirectA) | kFullPrecisionHistory;
   if (plan.packedHistory) {
@@ -138,8 +139,7 @@ uint32_t sizedResourcesNeeded(const MethodPlan& plan, const Settings& s) {
   if (s.method == Method::Atrous || plan.aaf) need |= bit(&SizedResources::debug) | kHalfFilterTemp;
   // The hash lookup leaves its data for any debug view (the hash views read it).
   if (plan.hashGrid && s.debugView != DebugView::None) need |= bit(&SizedResources::debug);
-  if (plan.svgf)
-    need |= bit(&SizedResources::svgfMomentsA) | bit(&SizedResources::svgfMomentsB);
+  if (plan.svgf) need |= bit(&SizedResources::svgfMomentsA) | bit(&SizedResources::svgfMomentsB);
   if (plan.temporalGradients)
     need |= bit(&SizedResources::gradientSamplesA) | bit(&SizedResources::gradientSamplesB) |
             bit(&SizedResources::temporalGradient);
@@ -189,16 +189,15 @@ VkFormat imageFormat(const Module& m, const SizedImage& image, uint32_t needs) {
 vk::Status createFilters(Module& m, const OutputImages& outputs, SizedResources& r) {
   if (!(r.needs & kNeedsFilters)) return {};
   GI_TRY(createScreenFilters(m.gpu, m.filterPrograms, r.width, r.height,
-                             {r.guidance.view, r.position.view, r.noisyIndirect.view, outputs.indirect.view, r.debug.view,
-                              r.aafParams.view, m.counters.buffer},
+                             {r.guidance.view, r.position.view, r.noisyIndirect.view, outputs.indirect.view,
+                              r.debug.view, r.aafParams.view, m.counters.buffer},
                              r.filters));
   if (r.needs & kNeedsGlossySets) {
     // The glossy terms are filtered in place: β in their alpha, the filter's temp image shared.
-    const FilterTargets glossy[] = {
-        {r.guidance.view, r.position.view, r.aafGlossy.view, r.aafGlossy.view, r.debug.view, r.aafGlossy.view,
-         m.counters.buffer},
-        {r.guidance.view, r.position.view, r.aafGlossyEdge.view, r.aafGlossyEdge.view, r.debug.view, r.aafGlossyEdge.view,
-         m.counters.buffer}};
+    const FilterTargets glossy[] = {{r.guidance.view, r.position.view, r.aafGlossy.view, r.aafGlossy.view, r.debug.view,
+                                     r.aafGlossy.view, m.counters.buffer},
+                                    {r.guidance.view, r.position.view, r.aafGlossyEdge.view, r.aafGlossyEdge.view,
+                                     r.debug.view, r.aafGlossyEdge.view, m.counters.buffer}};
     GI_TRY(createFilterSets(m.gpu, m.filterPrograms, glossy, r.filters.aafGlossySets));
   }
   if (r.needs & kNeedsGuidedStack) GI_TRY(ensureGuidedStack(m.gpu, r.filters));
@@ -208,7 +207,6 @@ vk::Status createFilters(Module& m, const OutputImages& outputs, SizedResources&
 }  // namespace
 
 bool noisyAliasesIndirect(const SizedResources& r) { return (r.needs & kNoisyIsIndirect) != 0; }
-
 
 namespace {
 // Calls `visit` for each image whose contents live within one frame: the sized images of frame lifetime,
@@ -232,9 +230,11 @@ VkFormat compositeFormat(const ModuleDesc& desc) {
   return desc.compositeFormat == VK_FORMAT_UNDEFINED ? desc.outputFormat : desc.compositeFormat;
 }
 
-vk::Status createOutputImages(vk::Device& gpu, uint32_t width, uint32_t height, const ModuleDesc& desc, OutputImages& out) {
+vk::Status createOutputImages(vk::Device& gpu, uint32_t width, uint32_t height, const ModuleDesc& desc,
+                              OutputImages& out) {
   OutputImages o;
-  const VkImageUsageFlags usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
+  const VkImageUsageFlags usage =
+      VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
   const std::pair<vk::Image*, VkFormat> images[] = {
       {&o.direct, desc.outputFormat}, {&o.indirect, desc.outputFormat}, {&o.composite, compositeFormat(desc)}};
   for (const auto& [img, format] : images)
@@ -260,11 +260,11 @@ vk::Status createSizedResources(Module& m, const Settings& settings, uint32_t wi
   auto build = [&]() -> vk::Status {
     for (uint32_t i = 0; i < std::size(kSizedImages); ++i) {
       const uint32_t tile = kSizedImages[i].tile;
-      VkExtent2D extent = (r.needs >> i) & 1u ? VkExtent2D{(width + tile - 1) / tile, (height + tile - 1) / tile}
-                                               : VkExtent2D{1, 1};
+      VkExtent2D extent =
+          (r.needs >> i) & 1u ? VkExtent2D{(width + tile - 1) / tile, (height + tile - 1) / tile} : VkExtent2D{1, 1};
       GI_TRY(vk::createImage(m.gpu, extent, imageFormat(m, kSizedImages[i], r.needs),
-                             VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT |
-                                 VK_IMAGE_USAGE_SAMPLED_BIT,
+                             VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
+                                 VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
                              r.*kSizedImages[i].image, kSizedImages[i].lifetime == Lifetime::Frame));
     }
     GI_TRY(vk::createDescriptorSets(m.gpu, kFrameBindings, m.desc.framesInFlight, r.frameSets, m.frameLayout));
@@ -273,7 +273,8 @@ vk::Status createSizedResources(Module& m, const Settings& settings, uint32_t wi
       w.buffer(gpu::GI_BINDING_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, m.frameConstants.buffer,
                slot * m.frameConstantsStride, sizeof(gpu::GiFrameConstants));
       // The shaders' live counter is the first GiCounters; the others are per-slot copies for readback.
-      w.buffer(gpu::GI_BINDING_COUNTERS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, m.counters.buffer, 0, sizeof(gpu::GiCounters));
+      w.buffer(gpu::GI_BINDING_COUNTERS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, m.counters.buffer, 0,
+               sizeof(gpu::GiCounters));
       w.storageImage(gpu::GI_BINDING_OUT_DIRECT, outputs.direct.view);
       w.storageImage(gpu::GI_BINDING_OUT_INDIRECT, outputs.indirect.view);
       w.storageImage(gpu::GI_BINDING_OUT_COMPOSITE, outputs.composite.view);
@@ -297,8 +298,8 @@ vk::Status createSizedResources(Module& m, const Settings& settings, uint32_t wi
 
 void recordFirstUse(const vk::Device& gpu, VkCommandBuffer cmd, OutputImages& o, SizedResources& r) {
   auto toGeneral = [&](const vk::Image& img) {
-    vk::imageBarrier(gpu, cmd, img.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, 0,
-                     VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+    vk::imageBarrier(gpu, cmd, img.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE,
+                     0, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                      VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
   };
   if (!o.initialised)
@@ -313,10 +314,10 @@ void recordTransientReset(const vk::Device& gpu, VkCommandBuffer cmd, const Size
   std::array<VkImageMemoryBarrier2, std::size(kSizedImages) + FILTER_STACK> barriers;
   uint32_t count = 0;
   forEachFrameImage(r, [&](const vk::Image& image) {
-    barriers[count++] = vk::imageBarrierInfo(image.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
-                                             VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT,
-                                             VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                                             VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+    barriers[count++] = vk::imageBarrierInfo(
+        image.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+        VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+        VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
   });
   if (count == 0) return;
   VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};

@@ -11,11 +11,11 @@
 namespace gi {
 
 struct BudgetController {
-  double targetMs = 16.0;          // the module's GPU time to hold per frame, ms (> 0)
-  double damping = 0.6;            // exponent of each correction, (0, 1]: 1 jumps straight to the estimate
-  uint64_t minRays = 1u << 10;     // never ask for fewer rays per frame than this
+  double targetMs = 16.0;       // the module's GPU time to hold per frame, ms (> 0)
+  double damping = 0.6;         // exponent of each correction, (0, 1]: 1 jumps straight to the estimate
+  uint64_t minRays = 1u << 10;  // never ask for fewer rays per frame than this
   uint64_t maxRays = 1ull << 34;
-  uint64_t rayBudget = 0;          // the budget last returned (0 = not started: unlimited)
+  uint64_t rayBudget = 0;  // the budget last returned (0 = not started: unlimited)
 };
 
 // From the stats of the last completed frame: the ray budget for the next

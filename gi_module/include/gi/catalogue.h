@@ -27,9 +27,9 @@ struct SettingInfo {
   const char* unit;     // "pixels", "frames", ... ("" for pure numbers)
   const char* meaning;  // one line, without the unit
   SettingKind kind;
-  double min, max;      // the valid range: validate() refuses anything else (NaN included)
-  bool openMin;         // min itself is not valid
-  uint32_t methods;     // bit (1 << Method) per method that reads it; 0 = every method
+  double min, max;   // the valid range: validate() refuses anything else (NaN included)
+  bool openMin;      // min itself is not valid
+  uint32_t methods;  // bit (1 << Method) per method that reads it; 0 = every method
   double (*get)(const Settings&);
   void (*set)(Settings&, double);  // stores the value as the field's type (no range check: validate does)
   // A change makes the accumulated light wrong (its expectation changes, or it turns on a history that was
@@ -61,18 +61,45 @@ std::span<const DebugViewInfo> debugViewCatalogue();  // in gi::DebugView's orde
 // Every pass the frame can record. FrameStats::passes name them; the frame
 // script records them by this enum.
 enum class Pass : uint32_t {
-  ReservoirTemporal, ReservoirSpatial, RawTrace, AafSample, AafAdaptive, HpsfInsert, NhpsfPaths, AnhpsfPaths, HpsfValidate, HpsfResolve, HpsfLookup,
-  TemporalGradient, TemporalSpread, Temporal, SvgfVariance, SvgfAtrous, Guidance, Sspsf, Bilateral, Atrous,
-  GifMoments, GifBoxRows, GifBoxColumns, GifCoefficients, GifOutput,
-  AafFilterDiffuseRows, AafFilterDiffuseColumns, AafFilterGlossyRows, AafFilterGlossyColumns,
-  AafFilterGlossyEdgeRows, AafFilterGlossyEdgeColumns,
-  Composite, GifSupersample,
+  ReservoirTemporal,
+  ReservoirSpatial,
+  RawTrace,
+  AafSample,
+  AafAdaptive,
+  HpsfInsert,
+  NhpsfPaths,
+  AnhpsfPaths,
+  HpsfValidate,
+  HpsfResolve,
+  HpsfLookup,
+  TemporalGradient,
+  TemporalSpread,
+  Temporal,
+  SvgfVariance,
+  SvgfAtrous,
+  Guidance,
+  Sspsf,
+  Bilateral,
+  Atrous,
+  GifMoments,
+  GifBoxRows,
+  GifBoxColumns,
+  GifCoefficients,
+  GifOutput,
+  AafFilterDiffuseRows,
+  AafFilterDiffuseColumns,
+  AafFilterGlossyRows,
+  AafFilterGlossyColumns,
+  AafFilterGlossyEdgeRows,
+  AafFilterGlossyEdgeColumns,
+  Composite,
+  GifSupersample,
   Count
 };
 struct PassInfo {
   Pass pass;
-  const char* name;   // "hpsf_insert"
-  bool tracesRays;    // a path-tracing pass: its time is what Mrays/s divide by
+  const char* name;  // "hpsf_insert"
+  bool tracesRays;   // a path-tracing pass: its time is what Mrays/s divide by
 };
 std::span<const PassInfo> passCatalogue();  // in Pass's order
 inline const PassInfo& passInfo(Pass p) { return passCatalogue()[uint32_t(p)]; }

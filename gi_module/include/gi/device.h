@@ -20,14 +20,15 @@
 namespace gi {
 
 struct DeviceFeature {
-  const char* name;         // the VkBool32 member's name
-  VkStructureType sType;    // the struct it lives in
-  size_t offset;            // of the VkBool32 within that struct
-  bool rayQueryOnly;        // needed only by the ray-query traversal
+  const char* name;       // the VkBool32 member's name
+  VkStructureType sType;  // the struct it lives in
+  size_t offset;          // of the VkBool32 within that struct
+  bool rayQueryOnly;      // needed only by the ray-query traversal
 };
 
 inline constexpr DeviceFeature kRequiredFeatures[] = {
-    {"shaderInt64", VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, offsetof(VkPhysicalDeviceFeatures2, features.shaderInt64), false},
+    {"shaderInt64", VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2,
+     offsetof(VkPhysicalDeviceFeatures2, features.shaderInt64), false},
     {"shaderStorageImageWriteWithoutFormat", VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2,
      offsetof(VkPhysicalDeviceFeatures2, features.shaderStorageImageWriteWithoutFormat), false},
     // The outputs are half or single floats as the engine picks, read and written without a format qualifier.
@@ -69,7 +70,8 @@ inline constexpr const char* kRayQueryExtensions[] = {
 // (counters sum over a subgroup) and vote (the path programs keep a
 // subgroup's lanes in step), in compute shaders. The name of the first one
 // the device lacks, or null.
-inline const char* firstMissingSubgroupSupport(VkShaderStageFlags supportedStages, VkSubgroupFeatureFlags supportedOperations) {
+inline const char* firstMissingSubgroupSupport(VkShaderStageFlags supportedStages,
+                                               VkSubgroupFeatureFlags supportedOperations) {
   if (!(supportedStages & VK_SHADER_STAGE_COMPUTE_BIT)) return "subgroup operations in compute shaders";
   if (!(supportedOperations & VK_SUBGROUP_FEATURE_BASIC_BIT)) return "basic subgroup operations";
   if (!(supportedOperations & VK_SUBGROUP_FEATURE_VOTE_BIT)) return "subgroup vote operations";

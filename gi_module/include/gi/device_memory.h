@@ -10,14 +10,14 @@
 namespace gi {
 
 struct DeviceMemoryRequest {
-  VkMemoryRequirements requirements;    // size, alignment and the memory types allowed, as Vulkan reports them
+  VkMemoryRequirements requirements;  // size, alignment and the memory types allowed, as Vulkan reports them
   // DEVICE_LOCAL, or HOST_VISIBLE | HOST_COHERENT: then the module writes it from the host through
   // DeviceMemorySlice::mapped, for as long as the resource lives.
   VkMemoryPropertyFlags properties;
   // DEVICE_ADDRESS where the module reads the resource by its device address (acceleration-structure
   // inputs and storage); the memory must have been allocated with these flags.
   VkMemoryAllocateFlags allocateFlags;
-  bool linear;     // a buffer (true) or an optimal-tiling image: bufferImageGranularity keeps them apart
+  bool linear;  // a buffer (true) or an optimal-tiling image: bufferImageGranularity keeps them apart
   // Contents live within one frame (NRD's transient pool): memory the engine may alias with its own
   // resources between the module's frames. recordFrame starts each such image from UNDEFINED after every
   // earlier command's writes; the engine's use of the memory after a frame waits for that frame's

@@ -64,17 +64,21 @@
 #include "gi/settings.h"
 #include "shared/scene_modes.h"
 
+// The API's version (gi::version(); find_package(gi 0.10)):
+//   0.10: device memory from the engine (ModuleDesc/SceneCreateDesc::deviceMemory), predictMemory, dynamic
+//         resolution within maxWidth × maxHeight, compositeFormat
+//   0.9: deformable meshes (MeshDesc::deformable, updateMeshVertices)
+//   0.8: GBufferDesc::motionScale, motionHasJitter, MotionUnits::Ndc; defaults a host that sets nothing expects
+//        (GlossyFlag::FromMaterial, MaterialDesc::metallic 0)
+//   0.7: Settings::reservoirs (ReSTIR DI for the primary hits), Settings::lights (NEE's sampler at run time)
+//   0.6: light samplers, checkBounds
+//   0.5: programs readied ahead of a switch (preparePrograms, recordProgramWarmup); set 0's arrays as texel
+//        buffers
+//   0.4: the scene API (gi/scene.h), the G-buffer adapter, the camera as matrices
+//   0.3: half-float outputs with pre-exposure
+//   0.2: own function table, frames in flight, returned Vulkan errors, catalogues
 #define GI_VERSION_MAJOR 0
-#define GI_VERSION_MINOR 10 // 0.10: device memory from the engine (ModuleDesc/SceneCreateDesc::deviceMemory),
-                            // predictMemory, dynamic resolution within maxWidth × maxHeight, compositeFormat; 0.9: deformable meshes (MeshDesc::deformable, updateMeshVertices);
-                            // 0.8: GBufferDesc::motionScale, motionHasJitter, MotionUnits::Ndc; defaults a host that
-                            // sets nothing expects (GlossyFlag::FromMaterial, MaterialDesc::metallic 0);
-                            // 0.7: Settings::reservoirs (ReSTIR DI for the primary hits), Settings::lights (NEE's sampler
-                            // at run time); 0.6: light samplers, checkBounds
-                            // 0.5: programs readied ahead of a switch (preparePrograms, recordProgramWarmup); set 0's arrays as texel buffers
-                            // 0.4: the scene API (gi/scene.h), the G-buffer adapter, the camera as matrices
-                            // 0.3: half-float outputs with pre-exposure
-                            // 0.2: own function table, frames in flight, returned Vulkan errors, catalogues
+#define GI_VERSION_MINOR 10
 
 namespace gi {
 
@@ -89,25 +93,25 @@ enum class Traversal : uint32_t {
 struct SceneDesc {
   VkDescriptorSetLayout layout = VK_NULL_HANDLE;  // set 0 per shaders/shared/gpu_scene.h
   VkDescriptorSet set = VK_NULL_HANDLE;
-  bool hasEmissiveTriangles = false;              // skips emissive-light sampling when false
-  bool hasPunctualLights = false;                 // skips the punctual-light loop when false
-  bool hasAlphaMask = true;                       // false: every hit is opaque (faster traversal)
-  float extent = 1.0f;                            // largest side of the scene bounds, metres: scales depth guidance
-  bool hasGlossyMaterials = false;                // some material has a glossy lobe: AAF filters its specular term separately
-  float typicalRadiance = 1.0f;                   // W/(sr·m²) of lit surfaces, to within ×1000: the hash map's fixed-point
-                                                  // sums resolve 2^-16 of it and hold 1e9 times it
-  bool hasSky = false;                            // rays that leave the scene see the sky (GpuSceneConstants' sky
-                                                  // fields): every pass compiles the sky's NEE and misses in
-  Traversal traversal = Traversal::RayQuery;      // how set 0 is traced: RayQuery (binding 0 is the TLAS) or Compute
-                                                  // (the BVH bindings; the device needs no ray queries)
-  bool hasComputeBvh = true;                      // set 0's BVH bindings hold the scene (false: a scene built for ray
-                                                  // queries alone, SceneCreateDesc::bothTraversals off; then
-                                                  // Traversal::Compute is an error)
+  bool hasEmissiveTriangles = false;  // skips emissive-light sampling when false
+  bool hasPunctualLights = false;     // skips the punctual-light loop when false
+  bool hasAlphaMask = true;           // false: every hit is opaque (faster traversal)
+  float extent = 1.0f;                // largest side of the scene bounds, metres: scales depth guidance
+  bool hasGlossyMaterials = false;    // some material has a glossy lobe: AAF filters its specular term separately
+  float typicalRadiance = 1.0f;       // W/(sr·m²) of lit surfaces, to within ×1000: the hash map's fixed-point
+                                      // sums resolve 2^-16 of it and hold 1e9 times it
+  bool hasSky = false;                // rays that leave the scene see the sky (GpuSceneConstants' sky
+                                      // fields): every pass compiles the sky's NEE and misses in
+  Traversal traversal = Traversal::RayQuery;        // how set 0 is traced: RayQuery (binding 0 is the TLAS) or Compute
+                                                    // (the BVH bindings; the device needs no ray queries)
+  bool hasComputeBvh = true;                        // set 0's BVH bindings hold the scene (false: a scene built for ray
+                                                    // queries alone, SceneCreateDesc::bothTraversals off; then
+                                                    // Traversal::Compute is an error)
   uint32_t lightSampler = gpu::LIGHT_SAMPLER_TREE;  // the scene's (gi::SceneCreateDesc::lightSampler)
-  bool picksPunctualLightsWith[3] = {};           // under each gpu::LIGHT_SAMPLER_*, NEE picks one of several punctual
-                                                  // lights (power, or the tree beyond its cut): their direct light is
-                                                  // noisy, and the temporal passes and svgf accumulate and filter it as
-                                                  // area lights' (picksPunctualLights: under the scene's own sampler)
+  bool picksPunctualLightsWith[3] = {};  // under each gpu::LIGHT_SAMPLER_*, NEE picks one of several punctual
+                                         // lights (power, or the tree beyond its cut): their direct light is
+                                         // noisy, and the temporal passes and svgf accumulate and filter it as
+                                         // area lights' (picksPunctualLights: under the scene's own sampler)
 };
 
 // The values of the SCENE_SPEC_* specialisation constants (shared/scene_modes.h) for `scene`: what every
@@ -145,15 +149,15 @@ enum class DepthEncoding : uint32_t {
 // Motion vectors, after GBufferDesc::motionScale: where the surface in a pixel was last frame, less
 // where it is now (previous − current; x right, y down the image, as pixels are), in one of these units.
 enum class MotionUnits : uint32_t {
-  Pixels = 0,        // pixels (ours)
-  Uv,                // [0,1] texture coordinates: pixels / the render size
-  Ndc,               // Vulkan NDC, [−1,1] across the image: pixels / half the render size
+  Pixels = 0,  // pixels (ours)
+  Uv,          // [0,1] texture coordinates: pixels / the render size
+  Ndc,         // Vulkan NDC, [−1,1] across the image: pixels / half the render size
 };
 // Which G-buffer pixels have a glossy (GGX) lobe, for AAF's glossy receivers.
 enum class GlossyFlag : uint32_t {
-  AlbedoAlpha = 0,   // albedo.a ≥ 0.5 (our engine's G-buffer writes the flag there)
-  FromMaterial,      // metallic > 0 or roughness < 0.9 in the material image (the default: the images a host
-                     // already writes; an alpha of opacity is never read as a flag)
+  AlbedoAlpha = 0,  // albedo.a ≥ 0.5 (our engine's G-buffer writes the flag there)
+  FromMaterial,     // metallic > 0 or roughness < 0.9 in the material image (the default: the images a host
+                    // already writes; an alpha of opacity is never read as a flag)
 };
 struct GBufferDesc {
   VkFormat normalFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
@@ -196,21 +200,21 @@ struct ModuleDesc {
   // included) and the hash methods' per-pixel buffers are allocated at this size, and resize() within
   // it allocates nothing and keeps the history; the render size is the top-left width × height of them.
   uint32_t maxWidth = 0, maxHeight = 0;
-  uint32_t framesInFlight = 2;       // [1, 4]: frames the engine records before waiting on the oldest
+  uint32_t framesInFlight = 2;  // [1, 4]: frames the engine records before waiting on the oldest
   SceneDesc scene;
-  bool debugLabels = false;          // VK_EXT_debug_utils is enabled on the instance: label every pass
-  bool timestamps = true;            // time every pass (FrameStats::passes); off: no query pool, no timing barriers
-  bool checkBounds = false;          // every hash-map index, image coordinate, scene-array index and texture index
-                                     // checked against its size, one outside counted (FrameStats::boundsViolations) and kept inside: for tests and
-                                     // bug hunts (shaders/bounds.glsl); off, the checks are compiled away
-  uint64_t memoryBudgetBytes = 0;    // device memory the module may hold; 0 = no limit. Beyond it calls fail
-                                     // with VK_ERROR_OUT_OF_DEVICE_MEMORY, as a full heap would
+  bool debugLabels = false;  // VK_EXT_debug_utils is enabled on the instance: label every pass
+  bool timestamps = true;    // time every pass (FrameStats::passes); off: no query pool, no timing barriers
+  bool checkBounds = false;  // every hash-map index, image coordinate, scene-array index and texture index
+      // checked against its size, one outside counted (FrameStats::boundsViolations) and kept inside: for tests and
+      // bug hunts (shaders/module/bounds.glsl); off, the checks are compiled away
+  uint64_t memoryBudgetBytes = 0;  // device memory the module may hold; 0 = no limit. Beyond it calls fail
+                                   // with VK_ERROR_OUT_OF_DEVICE_MEMORY, as a full heap would
   const VkAllocationCallbacks* allocationCallbacks = nullptr;  // passed to every vkCreate*/vkAllocateMemory
   // Set (allocate and free): every buffer and image takes its memory from the engine (gi/device_memory.h),
   // one request per resource; the module allocates no device memory of its own. memoryBudgetBytes still
   // applies, to the sum of the requests.
   DeviceMemoryCallbacks deviceMemory;
-  VkPipelineCache pipelineCache = VK_NULL_HANDLE;              // the engine's; used for every pipeline
+  VkPipelineCache pipelineCache = VK_NULL_HANDLE;  // the engine's; used for every pipeline
   // The feature chain the engine passed to vkCreateDevice (gi/device.h fills
   // it). When given, create checks that it enables what the module needs;
   // when null, create checks what the device supports.
@@ -263,7 +267,7 @@ struct FrameInputs {
   GBufferViews gbuffer;
   CameraDesc camera;          // this frame's
   CameraDesc previousCamera;  // last frame's; equal to `camera` on the first frame
-  uint32_t frameIndex = 0;        // increases by one per frame
+  uint32_t frameIndex = 0;    // increases by one per frame
   // The outputs hold radiance × preExposure, (0, ∞) finite. With half-float
   // outputs pass the exposure the engine will apply (its last frame's, as
   // engines do for TAA and upscalers), so radiance maps near 1: stored values
@@ -297,35 +301,35 @@ struct PassTiming {
 };
 
 struct FrameStats {
-  uint32_t frameIndex = 0;          // the completed frame these numbers describe
-  std::vector<PassTiming> passes;   // GPU time per pass, in recording order
+  uint32_t frameIndex = 0;         // the completed frame these numbers describe
+  std::vector<PassTiming> passes;  // GPU time per pass, in recording order
   double totalMs = 0.0;
   uint64_t raysTraced = 0;
-  uint32_t accumulatedFrames = 0;   // frames of history behind the median pixel, this one included: raw's running
-                                    // mean, or the temporal passes' per-pixel history (63 reads "63 or more"); 0
-                                    // where the method keeps none (aaf, a hash method's indirect light)
-  uint32_t samplesPerPixel = 0;     // paths per pixel actually traced (after the ray budget; AAF: the mean)
-  uint32_t sanitized = 0;           // non-finite G-buffer pixels and path samples dropped (treated as background)
-  uint32_t boundsViolations = 0;    // ModuleDesc::checkBounds: accesses outside a buffer or image (0 unless a bug)
-  uint64_t memoryBytes = 0;         // device memory the module holds (its blocks), bytes
-  uint64_t memoryUsedBytes = 0;     // of that, bytes its buffers and images occupy
+  uint32_t accumulatedFrames = 0;     // frames of history behind the median pixel, this one included: raw's running
+                                      // mean, or the temporal passes' per-pixel history (63 reads "63 or more"); 0
+                                      // where the method keeps none (aaf, a hash method's indirect light)
+  uint32_t samplesPerPixel = 0;       // paths per pixel actually traced (after the ray budget; AAF: the mean)
+  uint32_t sanitized = 0;             // non-finite G-buffer pixels and path samples dropped (treated as background)
+  uint32_t boundsViolations = 0;      // ModuleDesc::checkBounds: accesses outside a buffer or image (0 unless a bug)
+  uint64_t memoryBytes = 0;           // device memory the module holds (its blocks), bytes
+  uint64_t memoryUsedBytes = 0;       // of that, bytes its buffers and images occupy
   uint64_t memoryTransientBytes = 0;  // of those, images whose contents live within one frame (NRD's transient
                                       // pool); the rest carries history, the hash map, or is an output
-  uint32_t deviceAllocations = 0;   // vkAllocateMemory blocks behind memoryBytes
-  struct Hash {                     // HPSF hash map telemetry (zero for other methods)
-    uint32_t capacity = 0;          // cells
-    uint32_t occupied = 0;          // live cells after this frame's resolve
-    uint32_t inserts = 0;           // samples stored
-    uint32_t failedInserts = 0;     // samples that found no slot within the probe window
-    float meanProbe = 0.0f;         // slots probed per successful insert
+  uint32_t deviceAllocations = 0;     // vkAllocateMemory blocks behind memoryBytes
+  struct Hash {                       // HPSF hash map telemetry (zero for other methods)
+    uint32_t capacity = 0;            // cells
+    uint32_t occupied = 0;            // live cells after this frame's resolve
+    uint32_t inserts = 0;             // samples stored
+    uint32_t failedInserts = 0;       // samples that found no slot within the probe window
+    float meanProbe = 0.0f;           // slots probed per successful insert
     uint32_t maxProbe = 0;
-    uint32_t evicted = 0;           // cells removed this frame
-    uint32_t overflows = 0;         // samples clamped to the fixed-point range
-    uint32_t staleResets = 0;       // cells whose history the stale-radiance check cut short this frame
-    double transported = 0.0;       // anhpsf: Σ luminance carried by continuation segments this frame
+    uint32_t evicted = 0;                // cells removed this frame
+    uint32_t overflows = 0;              // samples clamped to the fixed-point range
+    uint32_t staleResets = 0;            // cells whose history the stale-radiance check cut short this frame
+    double transported = 0.0;            // anhpsf: Σ luminance carried by continuation segments this frame
     float meanContinuationDepth = 0.0f;  // anhpsf: mean segments of the pixels' continued paths
-    uint32_t reads = 0;             // nhpsf/anhpsf: map reads at scatter vertices
-    uint32_t readMisses = 0;        // of those, reads that found no usable cell (their light is missing)
+    uint32_t reads = 0;                  // nhpsf/anhpsf: map reads at scatter vertices
+    uint32_t readMisses = 0;             // of those, reads that found no usable cell (their light is missing)
     float occupancy() const { return capacity ? float(occupied) / float(capacity) : 0.0f; }
   } hash;
 };
@@ -338,10 +342,10 @@ enum class ErrorCode : uint32_t {
   OutOfRange,
   UnknownMethod,
   NotPowerOfTwo,
-  MissingFeature,   // the device lacks (or the engine did not enable) a feature in gi/device.h; the message names it
-  VersionMismatch,  // a desc built against another version of gi.h
-  VulkanCall,       // a Vulkan call failed: Error::result says how (VK_ERROR_OUT_OF_DEVICE_MEMORY, ...)
-  UnsupportedFormat,// a format the module does not accept; the message names the field
+  MissingFeature,     // the device lacks (or the engine did not enable) a feature in gi/device.h; the message names it
+  VersionMismatch,    // a desc built against another version of gi.h
+  VulkanCall,         // a Vulkan call failed: Error::result says how (VK_ERROR_OUT_OF_DEVICE_MEMORY, ...)
+  UnsupportedFormat,  // a format the module does not accept; the message names the field
 };
 struct Error {
   ErrorCode code = ErrorCode::None;
@@ -369,10 +373,10 @@ Error create(const ModuleDesc& desc, const Settings& settings, Module*& out);
 // memoryUsedBytes, transientBytes = memoryTransientBytes, deviceAllocations. With desc.deviceMemory set,
 // held = used = the sum of the requests the engine will see. Not counted: the scene (gi/scene.h).
 struct MemoryPrediction {
-  uint64_t heldBytes = 0;       // blocks the module allocates (with deviceMemory: the engine's slices)
-  uint64_t usedBytes = 0;       // what its buffers and images occupy
-  uint64_t transientBytes = 0;  // of that, images whose contents live within one frame (aliasable)
-  uint64_t permanentBytes = 0;  // usedBytes − transientBytes: history, the hash map, the outputs, constants
+  uint64_t heldBytes = 0;          // blocks the module allocates (with deviceMemory: the engine's slices)
+  uint64_t usedBytes = 0;          // what its buffers and images occupy
+  uint64_t transientBytes = 0;     // of that, images whose contents live within one frame (aliasable)
+  uint64_t permanentBytes = 0;     // usedBytes − transientBytes: history, the hash map, the outputs, constants
   uint32_t deviceAllocations = 0;  // vkAllocateMemory calls (0 with deviceMemory)
 };
 Error predictMemory(const ModuleDesc& desc, const Settings& settings, MemoryPrediction& out);

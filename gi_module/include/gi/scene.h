@@ -40,7 +40,7 @@ struct PrimitiveDesc {
 struct DeviceStream {
   VkDeviceAddress address = 0;  // of vertex 0 (0: absent, for uvs only)
   VkFormat format = VK_FORMAT_UNDEFINED;
-  uint32_t stride = 0;          // bytes between vertices; 0 = the format's size
+  uint32_t stride = 0;  // bytes between vertices; 0 = the format's size
 };
 
 // Formats accepted for each stream (xyz of a 4-component normal or position
@@ -79,7 +79,7 @@ struct MeshDesc {
   const uint32_t* indices = nullptr;
   uint32_t indexCount = 0;
   std::span<const PrimitiveDesc> primitives;
-  DeviceMeshDesc device;             // instead of the arrays above (vertexCount, indexCount, primitives apply)
+  DeviceMeshDesc device;  // instead of the arrays above (vertexCount, indexCount, primitives apply)
   // Its vertices change through updateMeshVertices (a skinned or morphing mesh): its instances stay out of
   // the BVH's merged static level, and with ray queries its BLAS is built to be updated.
   bool deformable = false;
@@ -96,9 +96,9 @@ struct MaterialDesc {
   float emissive[3] = {0.0f, 0.0f, 0.0f};         // emissiveFactor, [0,1]
   float emissiveStrength = 1.0f;                  // emission = emissive × this, W/(sr·m²)
   AlphaMode alphaMode = AlphaMode::Opaque;
-  float alphaCutoff = 0.5f;                       // Mask: base colour alpha below it is a hole
-  int32_t baseColorTexture = -1;                  // into SceneContents::textures, or −1
-  int32_t metallicRoughnessTexture = -1;          // g = roughness, b = metallic
+  float alphaCutoff = 0.5f;               // Mask: base colour alpha below it is a hole
+  int32_t baseColorTexture = -1;          // into SceneContents::textures, or −1
+  int32_t metallicRoughnessTexture = -1;  // g = roughness, b = metallic
   int32_t emissiveTexture = -1;
 };
 
@@ -124,9 +124,9 @@ struct LightDesc {
 };
 
 struct InstanceDesc {
-  uint32_t mesh = 0;               // into SceneContents::meshes
+  uint32_t mesh = 0;                                                             // into SceneContents::meshes
   float worldFromObject[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};  // column-major, affine
-  bool movable = false;            // may move through updateInstances (kept out of the static BVH level)
+  bool movable = false;  // may move through updateInstances (kept out of the static BVH level)
 };
 
 // Radiance of rays that leave the scene: a constant, or an equirectangular
@@ -136,7 +136,7 @@ struct SkyDesc {
   float radiance[3] = {0.0f, 0.0f, 0.0f};  // W/(sr·m²), or the map's scale
   const float* map = nullptr;              // linear rgb(a) texels, row-major; null: constant sky
   uint32_t width = 0, height = 0;
-  uint32_t channels = 3;                   // 3 or 4 (alpha ignored)
+  uint32_t channels = 3;  // 3 or 4 (alpha ignored)
 };
 
 struct SceneContents {
@@ -180,8 +180,9 @@ struct SceneCreateDesc {
   uint32_t lightSampler = gpu::LIGHT_SAMPLER_TREE;  // kLightSamplerNames names them
   uint32_t lightTreeCut = 4;  // [1, 64]: LIGHT_SAMPLER_TREE's subtrees (shadow rays a vertex for its lights)
   const VkAllocationCallbacks* allocationCallbacks = nullptr;
-  uint64_t memoryBudgetBytes = 0;    // 0 = no limit
-  DeviceMemoryCallbacks deviceMemory;  // set: every buffer and image takes its memory from the engine (gi/device_memory.h)
+  uint64_t memoryBudgetBytes = 0;  // 0 = no limit
+  DeviceMemoryCallbacks
+      deviceMemory;  // set: every buffer and image takes its memory from the engine (gi/device_memory.h)
 };
 
 // Validates `contents` (indices within their vertex ranges, material,
@@ -235,10 +236,10 @@ Error updateLights(Scene* scene, VkCommandBuffer cmd, std::span<const LightDesc>
 // command buffer), or streams in the engine's device buffers (decoded on the device, no read-back), in
 // DeviceMeshDesc's position and normal formats. The module's positions, normals and BVH follow.
 struct MeshVertices {
-  const float* positions = nullptr;  // xyz per vertex, object space, metres
-  uint32_t positionStride = 0;       // 0 = 12
-  const float* normals = nullptr;    // xyz, unit length
-  uint32_t normalStride = 0;         // 0 = 12
+  const float* positions = nullptr;             // xyz per vertex, object space, metres
+  uint32_t positionStride = 0;                  // 0 = 12
+  const float* normals = nullptr;               // xyz, unit length
+  uint32_t normalStride = 0;                    // 0 = 12
   DeviceStream devicePositions, deviceNormals;  // instead of the arrays (both, or neither)
 };
 
@@ -253,11 +254,11 @@ struct MeshVertices {
 Error updateMeshVertices(Scene* scene, VkCommandBuffer cmd, uint32_t mesh, const MeshVertices& vertices);
 
 struct SceneInfo {
-  uint32_t triangles = 0;            // instanced
-  uint32_t emissiveTriangles = 0;    // entries of the emission CDF
-  double bvhBottomBuildMs = 0.0;     // CPU time of the BVH's bottom levels (paid at create)
-  double bvhTopBuildMs = 0.0;        // of its last top-level build
-  uint64_t memoryBytes = 0;          // device memory the scene holds
+  uint32_t triangles = 0;                                    // instanced
+  uint32_t emissiveTriangles = 0;                            // entries of the emission CDF
+  double bvhBottomBuildMs = 0.0;                             // CPU time of the BVH's bottom levels (paid at create)
+  double bvhTopBuildMs = 0.0;                                // of its last top-level build
+  uint64_t memoryBytes = 0;                                  // device memory the scene holds
   float boundsMin[3] = {0, 0, 0}, boundsMax[3] = {0, 0, 0};  // world, metres
 };
 SceneInfo sceneInfo(const Scene* scene);

@@ -28,83 +28,88 @@ const char* methodName(Method method);
 bool methodFromName(const std::string& name, Method& out);  // false for unknown names
 
 enum class DebugView : uint32_t {
-  None = gpu::GI_DEBUG_NONE,                             // composite = direct + diffuse albedo × indirect
-  Direct = gpu::GI_DEBUG_DIRECT,                         // direct light only (emission + first reflection)
-  Indirect = gpu::GI_DEBUG_INDIRECT,                     // demodulated indirect light
-  Albedo = gpu::GI_DEBUG_ALBEDO,                         // G-buffer base colour
-  Normal = gpu::GI_DEBUG_NORMAL,                         // G-buffer normal, mapped to [0,1]
-  Guidance = gpu::GI_DEBUG_GUIDANCE,                     // filter guidance: normal (rgb) as the guided filter sees it
-  GuidanceDepth = gpu::GI_DEBUG_GUIDANCE_DEPTH,          // filter guidance: depth channel
-  FilterInOut = gpu::GI_DEBUG_FILTER_IN_OUT,             // left half: noisy indirect; right half: filtered
-  GifCoefficients = gpu::GI_DEBUG_GIF_COEFFICIENTS,      // guided filter: |a| (r), |b| (g) per pixel
-  AafZMin = gpu::GI_DEBUG_AAF_ZMIN,                      // AAF: nearest reflector distance / scene extent
-  AafZMax = gpu::GI_DEBUG_AAF_ZMAX,                      // AAF: farthest reflector distance / scene extent
-  AafSamples = gpu::GI_DEBUG_AAF_SAMPLES,                // AAF: samples per pixel / 100
-  AafFilterWidth = gpu::GI_DEBUG_AAF_FILTER_WIDTH,       // AAF: filter σ in pixels / 32
-  HashCells = gpu::GI_DEBUG_HASH_CELLS,                  // HPSF: each pixel's cell, coloured by its key
-  HashLod = gpu::GI_DEBUG_HASH_LOD,                      // HPSF: the cell's level of detail
-  HashSamples = gpu::GI_DEBUG_HASH_SAMPLES,              // HPSF: samples behind the cell's mean / 100
-  HashFound = gpu::GI_DEBUG_HASH_FOUND,                  // HPSF: green = cell used, yellow = too few samples, red = no cell (fallback)
-  HashOccupancy = gpu::GI_DEBUG_HASH_OCCUPANCY,          // HPSF: how full the probe window around the pixel's cell is, green (empty) → red (full; red also = no cell)
-  ContinuationDepth = gpu::GI_DEBUG_CONTINUATION_DEPTH,  // A-nHPSF: depth of the pixel's continued path / the maximum depth
-  TemporalHistory = gpu::GI_DEBUG_TEMPORAL_HISTORY,      // temporal reprojection: frames of history behind the pixel / 32 (1/32: it started over)
-  SvgfVariance = gpu::GI_DEBUG_SVGF_VARIANCE,            // svgf: the luminance variance estimate of direct (r) and indirect (g) light, history frames / 32 (b)
-  TemporalGradient = gpu::GI_DEBUG_TEMPORAL_GRADIENT,    // temporal gradients: how much of the history the pixel drops, direct (r) and indirect (g)
+  None = gpu::GI_DEBUG_NONE,                         // composite = direct + diffuse albedo × indirect
+  Direct = gpu::GI_DEBUG_DIRECT,                     // direct light only (emission + first reflection)
+  Indirect = gpu::GI_DEBUG_INDIRECT,                 // demodulated indirect light
+  Albedo = gpu::GI_DEBUG_ALBEDO,                     // G-buffer base colour
+  Normal = gpu::GI_DEBUG_NORMAL,                     // G-buffer normal, mapped to [0,1]
+  Guidance = gpu::GI_DEBUG_GUIDANCE,                 // filter guidance: normal (rgb) as the guided filter sees it
+  GuidanceDepth = gpu::GI_DEBUG_GUIDANCE_DEPTH,      // filter guidance: depth channel
+  FilterInOut = gpu::GI_DEBUG_FILTER_IN_OUT,         // left half: noisy indirect; right half: filtered
+  GifCoefficients = gpu::GI_DEBUG_GIF_COEFFICIENTS,  // guided filter: |a| (r), |b| (g) per pixel
+  AafZMin = gpu::GI_DEBUG_AAF_ZMIN,                  // AAF: nearest reflector distance / scene extent
+  AafZMax = gpu::GI_DEBUG_AAF_ZMAX,                  // AAF: farthest reflector distance / scene extent
+  AafSamples = gpu::GI_DEBUG_AAF_SAMPLES,            // AAF: samples per pixel / 100
+  AafFilterWidth = gpu::GI_DEBUG_AAF_FILTER_WIDTH,   // AAF: filter σ in pixels / 32
+  HashCells = gpu::GI_DEBUG_HASH_CELLS,              // HPSF: each pixel's cell, coloured by its key
+  HashLod = gpu::GI_DEBUG_HASH_LOD,                  // HPSF: the cell's level of detail
+  HashSamples = gpu::GI_DEBUG_HASH_SAMPLES,          // HPSF: samples behind the cell's mean / 100
+  HashFound = gpu::GI_DEBUG_HASH_FOUND,  // HPSF: green = cell used, yellow = too few samples, red = no cell (fallback)
+  HashOccupancy = gpu::
+      GI_DEBUG_HASH_OCCUPANCY,  // HPSF: how full the probe window around the pixel's cell is, green (empty) → red (full; red also = no cell)
+  ContinuationDepth =
+      gpu::GI_DEBUG_CONTINUATION_DEPTH,  // A-nHPSF: depth of the pixel's continued path / the maximum depth
+  TemporalHistory = gpu::
+      GI_DEBUG_TEMPORAL_HISTORY,  // temporal reprojection: frames of history behind the pixel / 32 (1/32: it started over)
+  SvgfVariance = gpu::
+      GI_DEBUG_SVGF_VARIANCE,  // svgf: the luminance variance estimate of direct (r) and indirect (g) light, history frames / 32 (b)
+  TemporalGradient = gpu::
+      GI_DEBUG_TEMPORAL_GRADIENT,  // temporal gradients: how much of the history the pixel drops, direct (r) and indirect (g)
 };
 inline constexpr uint32_t kDebugViewCount = uint32_t(DebugView::TemporalGradient) + 1;  // keep after the last view
 
 struct RawSettings {
-  uint32_t samplesPerPixel = 1;        // paths per pixel per frame, [1, 64]
-  bool temporalAccumulation = false;   // average frames while the camera and settings stay unchanged
-  bool temporalReprojection = false;   // blend in last frame's reprojected light (TemporalSettings); off: raw stays
-                                       // the per-frame Monte Carlo baseline
-  uint32_t maxAccumulatedFrames = 4096;// history cap, [1, 1<<20]; older frames fade out past it
+  uint32_t samplesPerPixel = 1;          // paths per pixel per frame, [1, 64]
+  bool temporalAccumulation = false;     // average frames while the camera and settings stay unchanged
+  bool temporalReprojection = false;     // blend in last frame's reprojected light (TemporalSettings); off: raw stays
+                                         // the per-frame Monte Carlo baseline
+  uint32_t maxAccumulatedFrames = 4096;  // history cap, [1, 1<<20]; older frames fade out past it
 };
 
 struct GifSettings {
-  uint32_t samplesPerPixel = 1;     // indirect paths per guide ray, [1, 64]
-  uint32_t radius = 24;             // window radius in pixels, [1, 128]; cost does not depend on it
-  float epsilonNormal = 0.01f;      // ridge term for normal channels, [0, 1e6] (guidance in [0,1])
-  float epsilonDepth = 0.02f;       // ridge term for the depth channel, [0, 1e6]
-  uint32_t guidanceDimensions = 4;  // 1 = grey normal, 3 = normal, 4 = normal + depth
-  uint32_t supersamples = 0;        // extra eye rays per pixel with geometry-aware lookup, [0, 16]
-  bool temporalReprojection = true; // blend in last frame's reprojected light before filtering (TemporalSettings)
+  uint32_t samplesPerPixel = 1;      // indirect paths per guide ray, [1, 64]
+  uint32_t radius = 24;              // window radius in pixels, [1, 128]; cost does not depend on it
+  float epsilonNormal = 0.01f;       // ridge term for normal channels, [0, 1e6] (guidance in [0,1])
+  float epsilonDepth = 0.02f;        // ridge term for the depth channel, [0, 1e6]
+  uint32_t guidanceDimensions = 4;   // 1 = grey normal, 3 = normal, 4 = normal + depth
+  uint32_t supersamples = 0;         // extra eye rays per pixel with geometry-aware lookup, [0, 16]
+  bool temporalReprojection = true;  // blend in last frame's reprojected light before filtering (TemporalSettings)
 };
 
 struct BilateralSettings {
-  uint32_t samplesPerPixel = 1;  // [1, 64]
-  uint32_t radius = 16;          // pixels, [1, 64]; cost grows with radius²
-  float sigmaSpatial = 8.0f;     // pixels, (0, 1e4]
-  float sigmaNormal = 0.1f;      // on the difference of normal·0.5+0.5, (0, 1e4]
-  float sigmaDepth = 0.05f;      // on the depth difference relative to the centre's depth, (0, 1e4]
-  bool temporalReprojection = true; // blend in last frame's reprojected light before filtering (TemporalSettings)
+  uint32_t samplesPerPixel = 1;      // [1, 64]
+  uint32_t radius = 16;              // pixels, [1, 64]; cost grows with radius²
+  float sigmaSpatial = 8.0f;         // pixels, (0, 1e4]
+  float sigmaNormal = 0.1f;          // on the difference of normal·0.5+0.5, (0, 1e4]
+  float sigmaDepth = 0.05f;          // on the depth difference relative to the centre's depth, (0, 1e4]
+  bool temporalReprojection = true;  // blend in last frame's reprojected light before filtering (TemporalSettings)
 };
 
 struct AtrousSettings {
-  uint32_t samplesPerPixel = 1;  // [1, 64]
-  uint32_t iterations = 5;       // [1, 8]: taps up to 2^(iterations+1) pixels away
-  float sigmaColor = 0.5f;       // colour stop in demodulated radiance, halved per iteration, (0, 1e6]
-  float sigmaNormal = 0.1f;      // on the difference of normal·0.5+0.5, (0, 1e4]
-  float sigmaPosition = 0.05f;   // world distance as a fraction of the centre's view depth, (0, 1e4]
-  bool temporalReprojection = true; // blend in last frame's reprojected light before filtering (TemporalSettings)
+  uint32_t samplesPerPixel = 1;      // [1, 64]
+  uint32_t iterations = 5;           // [1, 8]: taps up to 2^(iterations+1) pixels away
+  float sigmaColor = 0.5f;           // colour stop in demodulated radiance, halved per iteration, (0, 1e6]
+  float sigmaNormal = 0.1f;          // on the difference of normal·0.5+0.5, (0, 1e4]
+  float sigmaPosition = 0.05f;       // world distance as a fraction of the centre's view depth, (0, 1e4]
+  bool temporalReprojection = true;  // blend in last frame's reprojected light before filtering (TemporalSettings)
 };
 
 struct AafSettings {
-  float mu = 0.9f;                  // filter scale μ, (0, 16]: > 1 narrows filters and raises sample counts
-  float alpha = 0.3f;               // pixel-space band limit α, (0, 1]
-  float normalLimitDegrees = 10.0f; // neighbours whose normals differ more are not filtered in, [0, 180]
-  uint32_t uniformSamples = 0;      // 0 = adaptive (eq. 21); N ≥ 16 = N samples in every pixel (Fig. 10's
-                                    // "filtered uniform" curve), [0, 1024]
-  uint32_t maxRadius = 0;           // pixels, [0, 1024]: the screen-space Gaussian reaches 3σ (the paper), cut
-                                    // here when not 0 (cheaper; the result then depends on the resolution)
+  float mu = 0.9f;                   // filter scale μ, (0, 16]: > 1 narrows filters and raises sample counts
+  float alpha = 0.3f;                // pixel-space band limit α, (0, 1]
+  float normalLimitDegrees = 10.0f;  // neighbours whose normals differ more are not filtered in, [0, 180]
+  uint32_t uniformSamples = 0;       // 0 = adaptive (eq. 21); N ≥ 16 = N samples in every pixel (Fig. 10's
+                                     // "filtered uniform" curve), [0, 1024]
+  uint32_t maxRadius = 0;            // pixels, [0, 1024]: the screen-space Gaussian reaches 3σ (the paper), cut
+                                     // here when not 0 (cheaper; the result then depends on the resolution)
 };
 
 struct SspsfSettings {
-  uint32_t samplesPerPixel = 1;   // [1, 64]
-  uint32_t window = 9;            // odd window side in pixels, [1, 31]
-  float filterWidth = 16.0f;      // pixels, [0.5, 256]: the position kernel matches the HPSF cell of this width
+  uint32_t samplesPerPixel = 1;      // [1, 64]
+  uint32_t window = 9;               // odd window side in pixels, [1, 31]
+  float filterWidth = 16.0f;         // pixels, [0.5, 256]: the position kernel matches the HPSF cell of this width
   float normalLimitDegrees = 25.0f;  // [0, 180]
-  bool temporalReprojection = true; // blend in last frame's reprojected light before filtering (TemporalSettings)
+  bool temporalReprojection = true;  // blend in last frame's reprojected light before filtering (TemporalSettings)
 };
 
 // SVGF (Schied et al. 2017) as published: temporal accumulation of the
@@ -116,15 +121,15 @@ struct SspsfSettings {
 // history. Direct light is filtered where it has noise (area lights: emissive
 // triangles, a sky); punctual lights' direct light is exact and left alone.
 struct SvgfSettings {
-  uint32_t samplesPerPixel = 1;   // [1, 64]
-  float alpha = 0.2f;             // (0, 1]: the smallest weight of the new frame's colour (the paper's α)
-  float momentsAlpha = 0.2f;      // (0, 1]: the same for the luminance moments (the paper's α for moments)
-  uint32_t iterations = 5;        // [0, 8]: à-trous iterations (taps up to 2^(iterations+1) pixels away); 0 =
-                                  // accumulation only
-  float sigmaLuminance = 4.0f;    // (0, 1e4]: σ_l, the luminance stop in standard deviations
-  float sigmaNormal = 128.0f;     // (0, 1e4]: σ_n, the exponent on max(0, n·n')
-  float sigmaDepth = 1.0f;        // (0, 1e4]: σ_z, the depth stop in units of the local depth gradient
-  bool filterDirect = true;       // filter the area lights' direct light too (the paper); off: accumulated only
+  uint32_t samplesPerPixel = 1;  // [1, 64]
+  float alpha = 0.2f;            // (0, 1]: the smallest weight of the new frame's colour (the paper's α)
+  float momentsAlpha = 0.2f;     // (0, 1]: the same for the luminance moments (the paper's α for moments)
+  uint32_t iterations = 5;       // [0, 8]: à-trous iterations (taps up to 2^(iterations+1) pixels away); 0 =
+                                 // accumulation only
+  float sigmaLuminance = 4.0f;   // (0, 1e4]: σ_l, the luminance stop in standard deviations
+  float sigmaNormal = 128.0f;    // (0, 1e4]: σ_n, the exponent on max(0, n·n')
+  float sigmaDepth = 1.0f;       // (0, 1e4]: σ_z, the depth stop in units of the local depth gradient
+  bool filterDirect = true;      // filter the area lights' direct light too (the paper); off: accumulated only
 };
 
 // Temporal reprojection, for the screen-space methods that turn it on
@@ -135,22 +140,22 @@ struct SvgfSettings {
 // normal disagree) start over. The filter's result is then held near the
 // accumulated light (filterClamp). These are its tunables, shared by the methods.
 struct TemporalSettings {
-  float minBlend = 0.1f;            // (0, 1]: the smallest weight of the new frame; history ≈ 2/minBlend − 1 frames
-  float depthTolerance = 0.1f;      // (0, 10]: relative view-depth difference a history tap may have
-  float normalLimitDegrees = 25.0f; // [0, 180]: the largest normal change a history tap may have
-  float filterClamp = 0.5f;         // [0, 10]: γ, the filtered light may lie at most γ standard deviations from
-                                    // the mean of the accumulated light around the pixel (3×3, luminance); 0 = off.
-                                    // As the history grows the filter can no longer leave a bias its input
-                                    // disproves (RESULTS: 0.5 removes the speckles; 1 keeps a few of svgf's)
-  float historyClamp = 0.0f;        // [0, 10]: γ_h, the reprojected history may lie at most γ_h standard
-                                    // deviations from the mean of this frame's samples around the pixel (3×3,
-                                    // luminance) before it is blended in (TAA's clamp, Salvi 2016); 0 = off.
-                                    // Off by default: measured over the walk, the demo's scene and a moved
-                                    // light (docs/RESULTS.md, "The history clamp")
-  bool gradients = false;           // A-SVGF's temporal gradients (Schied et al. 2018): one pixel per 3×3 tile
-                                    // re-traces last frame's random numbers; where its light changed, the
-                                    // new frame weighs more. For the methods whose paths start in raw's
-                                    // trace (not the hash methods, whose map has its sentinel rays)
+  float minBlend = 0.1f;        // (0, 1]: the smallest weight of the new frame; history ≈ 2/minBlend − 1 frames
+  float depthTolerance = 0.1f;  // (0, 10]: relative view-depth difference a history tap may have
+  float normalLimitDegrees = 25.0f;  // [0, 180]: the largest normal change a history tap may have
+  float filterClamp = 0.5f;          // [0, 10]: γ, the filtered light may lie at most γ standard deviations from
+                                     // the mean of the accumulated light around the pixel (3×3, luminance); 0 = off.
+                                     // As the history grows the filter can no longer leave a bias its input
+                                     // disproves (RESULTS: 0.5 removes the speckles; 1 keeps a few of svgf's)
+  float historyClamp = 0.0f;         // [0, 10]: γ_h, the reprojected history may lie at most γ_h standard
+                                     // deviations from the mean of this frame's samples around the pixel (3×3,
+                                     // luminance) before it is blended in (TAA's clamp, Salvi 2016); 0 = off.
+                                     // Off by default: measured over the walk, the demo's scene and a moved
+                                     // light (docs/RESULTS.md, "The history clamp")
+  bool gradients = false;            // A-SVGF's temporal gradients (Schied et al. 2018): one pixel per 3×3 tile
+                                     // re-traces last frame's random numbers; where its light changed, the
+                                     // new frame weighs more. For the methods whose paths start in raw's
+                                     // trace (not the hash methods, whose map has its sentinel rays)
 };
 
 enum class EvictionPolicy : uint32_t {
@@ -169,34 +174,34 @@ enum class SecondaryLod : uint32_t {
 };
 
 struct HpsfSettings {
-  uint32_t samplesPerPixel = 1;   // [1, 64]
-  uint32_t capacity = 0;          // cells, a power of two in [2^10, 2^21]; 0 = the next power of two ≥ pixels / 4
-  uint32_t probeWindow = 16;      // linear-probing limit in slots, [1, 64]
-  float filterWidth = 16.0f;      // pixels, [0.5, 256]: cell size = width × pixel footprint × distance, to a power of two
-  float jitter = 0.3f;            // tangent-plane jitter, ± cells (Meijer Alg. 3's δ ∈ [−1, 1]³), [0, 2]; 0 = off.
-                                  // Meijer shows 0.6; 0.3 has 10–33% less indirect error on every scene (RESULTS)
-  uint32_t normalBits = 2;        // normal bins: 2^b in all (Meijer §4.2.2, his 2), [0, 6]; 0 = normals ignored
-  float normalJitter = 0.0f;      // normal jitter, ± bins (Meijer Figs. 11c, 14c), [0, 2]; 0 = off
-  bool stochasticLod = false;     // pick between the two nearest levels at random (hides LOD seams, costs error)
-  float clampSigma = 10.0f;       // clamp samples above mean + k·σ of the cell, [0 = off, 100]; RESULTS: bias per k
+  uint32_t samplesPerPixel = 1;  // [1, 64]
+  uint32_t capacity = 0;         // cells, a power of two in [2^10, 2^21]; 0 = the next power of two ≥ pixels / 4
+  uint32_t probeWindow = 16;     // linear-probing limit in slots, [1, 64]
+  float filterWidth = 16.0f;  // pixels, [0.5, 256]: cell size = width × pixel footprint × distance, to a power of two
+  float jitter = 0.3f;        // tangent-plane jitter, ± cells (Meijer Alg. 3's δ ∈ [−1, 1]³), [0, 2]; 0 = off.
+                              // Meijer shows 0.6; 0.3 has 10–33% less indirect error on every scene (RESULTS)
+  uint32_t normalBits = 2;    // normal bins: 2^b in all (Meijer §4.2.2, his 2), [0, 6]; 0 = normals ignored
+  float normalJitter = 0.0f;  // normal jitter, ± bins (Meijer Figs. 11c, 14c), [0, 2]; 0 = off
+  bool stochasticLod = false;  // pick between the two nearest levels at random (hides LOD seams, costs error)
+  float clampSigma = 10.0f;    // clamp samples above mean + k·σ of the cell, [0 = off, 100]; RESULTS: bias per k
   EvictionPolicy eviction = EvictionPolicy::Aging;
-  uint32_t historyFrames = 20;    // aging: frames of history kept, [2, 10000]
-  uint32_t historySamples = 8;    // aging, nhpsf/anhpsf: what a cell passes on to the vertices before it is its
-                                  // mean over this many samples (a cell that gets n a frame: historySamples / n
-                                  // frames), so the deep bounces the map builds frame by frame arrive sooner;
-                                  // the pixel still shows the historyFrames mean. [0 = the same mean, 1e6]
-  uint32_t staleFrames = 60;      // aging: frames untouched before eviction, [1, 100000]
-  uint32_t minSamples = 1;        // fewer samples in the cell: the pixel keeps its own, [1, 1e6]
+  uint32_t historyFrames = 20;      // aging: frames of history kept, [2, 10000]
+  uint32_t historySamples = 8;      // aging, nhpsf/anhpsf: what a cell passes on to the vertices before it is its
+                                    // mean over this many samples (a cell that gets n a frame: historySamples / n
+                                    // frames), so the deep bounces the map builds frame by frame arrive sooner;
+                                    // the pixel still shows the historyFrames mean. [0 = the same mean, 1e6]
+  uint32_t staleFrames = 60;        // aging: frames untouched before eviction, [1, 100000]
+  uint32_t minSamples = 1;          // fewer samples in the cell: the pixel keeps its own, [1, 1e6]
   uint32_t validationInterval = 4;  // aging: every N frames each cell re-traces its sentinel ray (stored when the
                                     // cell was made); if the answer changed by more than the cell's noise, the
                                     // history is cut to match (docs/RESULTS.md, "stale radiance"). A static
                                     // scene answers bit-exactly the same. 0 = off, [0, 1000]
   // nhpsf and anhpsf (hpsf, nhpsf and anhpsf share the map and the settings above):
-  uint32_t pathDepth = 3;         // nhpsf: path segments per pixel and frame, each vertex filtered, [1, 16]
-  uint32_t continuationDepth = 4; // anhpsf: the longest path continued over frames, in segments, [2, 16]
+  uint32_t pathDepth = 3;          // nhpsf: path segments per pixel and frame, each vertex filtered, [1, 16]
+  uint32_t continuationDepth = 4;  // anhpsf: the longest path continued over frames, in segments, [2, 16]
   SecondaryLod secondaryLod = SecondaryLod::Camera;  // nhpsf/anhpsf: the travel behind later vertices' cells
                                                      // (Meijer's Segment makes them small: noisier, the map fills)
-  float secondaryWidthScale = 1.0f;  // cells at vertices after the first are this much wider, [1, 16]
+  float secondaryWidthScale = 1.0f;                  // cells at vertices after the first are this much wider, [1, 16]
   bool temporalDirect = true;     // blend in last frame's direct light, reprojected (TemporalSettings): the map
                                   // holds the indirect light in world space, the direct light has no cache, and
                                   // without this it is one frame's samples (speckles at 1 spp). Runs only where
@@ -209,26 +214,26 @@ struct HpsfSettings {
 };
 
 // Reservoir resampling of the primary hits' point and spot lights (ReSTIR DI, Bitterli et al. 2020), for
-// every method (shaders/gi_reservoirs.comp): candidates from the scene's light sampler resampled by their
+// every method (shaders/module/gi_reservoirs.comp): candidates from the scene's light sampler resampled by their
 // unshadowed light, last frame's reservoir merged through the motion vectors, the survivor's visibility
 // tested, neighbours merged; the pixel's primary hit then takes the reservoir's light with one shadow ray
 // instead of one a subtree of the light tree's cut. Runs only where NEE picks among the point and spot
 // lights (gi::picksPunctualLights, under the sampler in use); with no more than the cut has subtrees NEE's sum is exact and
 // nothing runs. Vertices after the primary hit keep the light sampler.
 struct ReservoirSettings {
-  bool enabled = true;            // on: measured better for raw, svgf and hpsf from 64 lights on (RESULTS, "Reservoirs")
-  uint32_t candidates = 8;        // [1, 64]: lights drawn per pixel and frame
-  bool temporal = true;           // merge last frame's reservoir (TemporalSettings' depth and normal tests)
-  uint32_t neighbours = 3;        // [0, 8]: reservoirs merged from around the pixel for its pick (0 = no spatial
-                                  // reuse); the next frame reuses the pixel's own (docs/RESULTS.md, "Reservoirs")
-  float radius = 4.0f;            // pixels, [1, 64]: the disc the neighbours come from
-  float maxHistory = 20.0f;       // [1, 1000]: last frame's reservoir counts at most this many times `candidates`
-  bool unbiased = true;           // spatial weights: the balance heuristic over the reservoirs' surfaces' targets
-                                  // (no fireflies where a light is bright here and dim where it was drawn);
-                                  // off, the biased 1/M. Neither traces a shadow ray per neighbour
+  bool enabled = true;       // on: measured better for raw, svgf and hpsf from 64 lights on (RESULTS, "Reservoirs")
+  uint32_t candidates = 8;   // [1, 64]: lights drawn per pixel and frame
+  bool temporal = true;      // merge last frame's reservoir (TemporalSettings' depth and normal tests)
+  uint32_t neighbours = 3;   // [0, 8]: reservoirs merged from around the pixel for its pick (0 = no spatial
+                             // reuse); the next frame reuses the pixel's own (docs/RESULTS.md, "Reservoirs")
+  float radius = 4.0f;       // pixels, [1, 64]: the disc the neighbours come from
+  float maxHistory = 20.0f;  // [1, 1000]: last frame's reservoir counts at most this many times `candidates`
+  bool unbiased = true;      // spatial weights: the balance heuristic over the reservoirs' surfaces' targets
+                             // (no fireflies where a light is bright here and dim where it was drawn);
+                             // off, the biased 1/M. Neither traces a shadow ray per neighbour
 };
 
-// The light sampler of next-event estimation in the module's passes (shaders/lights.glsl): the scene's
+// The light sampler of next-event estimation in the module's passes (shaders/module/lights.glsl): the scene's
 // (gi::SceneCreateDesc::lightSampler, which the reference path tracer uses too) or one of the three, over
 // the same tables (the scene always builds the power table and the tree with its cut).
 enum class LightSampling : uint32_t {
@@ -247,21 +252,21 @@ struct Settings {
   GifSettings gif;
   BilateralSettings bilateral;
   AtrousSettings atrous;
-  AafSettings aaf;                     // also used by aaf_ao
+  AafSettings aaf;  // also used by aaf_ao
   SspsfSettings sspsf;
   HpsfSettings hpsf;
   SvgfSettings svgf;
   TemporalSettings temporal;
-  LightSettings lights;                // next-event estimation's light sampler
-  ReservoirSettings reservoirs;        // every method's primary direct light from picked point and spot lights
-  uint32_t maxBounces = 1;             // indirect bounces B, [1, 32] (B = 0 would be direct light only).
-                                       // nhpsf and anhpsf gather every bounce through the map (each cell
-                                       // reads the next vertex's, over frames) whatever B says
-  uint32_t russianRouletteStart = 3;   // bounce from which paths may stop early (unbiased), [1, 64]
-  uint64_t rayBudget = 0;              // rays per frame; 0 = unlimited. The module lowers its sample
-                                       // count (never below 1 spp) from the rays per path it last measured
+  LightSettings lights;               // next-event estimation's light sampler
+  ReservoirSettings reservoirs;       // every method's primary direct light from picked point and spot lights
+  uint32_t maxBounces = 1;            // indirect bounces B, [1, 32] (B = 0 would be direct light only).
+                                      // nhpsf and anhpsf gather every bounce through the map (each cell
+                                      // reads the next vertex's, over frames) whatever B says
+  uint32_t russianRouletteStart = 3;  // bounce from which paths may stop early (unbiased), [1, 64]
+  uint64_t rayBudget = 0;             // rays per frame; 0 = unlimited. The module lowers its sample
+                                      // count (never below 1 spp) from the rays per path it last measured
   DebugView debugView = DebugView::None;
-  uint32_t seed = 1;                   // random sequence; the same seed and inputs give the same frames
+  uint32_t seed = 1;  // random sequence; the same seed and inputs give the same frames
   // The engine lights the primary hits itself (its own shadow maps): no next-event estimation and no
   // reservoirs at the primary hits (FrameStats::raysTraced lower by their shadow rays), the direct output
   // 0 and the composite diffuse albedo × indirect (emission, sky and direct light are the engine's).
@@ -269,13 +274,14 @@ struct Settings {
 };
 
 // The knob --spp and the ray budget act on: the active method's paths per pixel.
-uint32_t tracedSamplesPerPixel(const Settings& settings);           // 0 for AAF (adaptive)
+uint32_t tracedSamplesPerPixel(const Settings& settings);         // 0 for AAF (adaptive)
 void setTracedSamplesPerPixel(Settings& settings, uint32_t spp);  // no effect for AAF
 // The hash map capacity in cells for a render size (settings.hpsf.capacity, or its default).
 uint32_t hashCapacity(const HpsfSettings& settings, uint32_t width, uint32_t height);
-bool usesScreenFilters(Method method);  // the filters of screen_filters (every method but raw, the hash methods and svgf)
-bool isAaf(Method method);              // aaf, aaf_ao: adaptive sample counts (tracedSamplesPerPixel is 0)
-bool usesHashGrid(Method method);       // hpsf, nhpsf, anhpsf: the persistent world-space hash map
+bool usesScreenFilters(
+    Method method);                // the filters of screen_filters (every method but raw, the hash methods and svgf)
+bool isAaf(Method method);         // aaf, aaf_ao: adaptive sample counts (tracedSamplesPerPixel is 0)
+bool usesHashGrid(Method method);  // hpsf, nhpsf, anhpsf: the persistent world-space hash map
 bool usesTemporalReprojection(const Settings& settings);  // the method reprojects last frame's light (TemporalSettings)
 
 }  // namespace gi

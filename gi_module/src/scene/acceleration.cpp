@@ -11,7 +11,8 @@ constexpr VkAccessFlags2 kAsReadWrite =
     VK_ACCESS_2_ACCELERATION_STRUCTURE_WRITE_BIT_KHR | VK_ACCESS_2_ACCELERATION_STRUCTURE_READ_BIT_KHR;
 
 vk::Status createAs(vk::Device& d, VkAccelerationStructureTypeKHR type, VkDeviceSize size, AccelerationStructure& as) {
-  GI_TRY(vk::createBuffer(d, size, VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_STORAGE_BIT_KHR | kAddressable, false, as.storage));
+  GI_TRY(vk::createBuffer(d, size, VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_STORAGE_BIT_KHR | kAddressable, false,
+                          as.storage));
   VkAccelerationStructureCreateInfoKHR info{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_CREATE_INFO_KHR};
   info.buffer = as.storage.buffer;
   info.size = size;
@@ -150,7 +151,8 @@ vk::Status buildSceneAcceleration(vk::Device& d, VkCommandBuffer cmd, const vk::
   accel.blas.resize(meshes.size());
   for (size_t m = 0; m < meshes.size(); ++m) {
     Pending& p = pending[m];
-    GI_TRY(createAs(d, VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, p.sizes.accelerationStructureSize, accel.blas[m]));
+    GI_TRY(
+        createAs(d, VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, p.sizes.accelerationStructureSize, accel.blas[m]));
     VkAccelerationStructureBuildGeometryInfoKHR build =
         buildInfo(VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, p.geometries, meshes[m].updatable);
     build.dstAccelerationStructure = accel.blas[m].handle;
@@ -178,7 +180,8 @@ vk::Status buildSceneAcceleration(vk::Device& d, VkCommandBuffer cmd, const vk::
   GI_TRY(vk::createBuffer(d, sizes.buildScratchSize + accel.scratchAlignment,
                           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | kAddressable, false, accel.tlasScratch));
   const std::vector<VkAccelerationStructureInstanceKHR> placed = tlasInstances(instances, accel);
-  std::memcpy(accel.instanceBuffer.memory.mapped, placed.data(), placed.size() * sizeof(placed[0]));  // before any frame
+  std::memcpy(accel.instanceBuffer.memory.mapped, placed.data(),
+              placed.size() * sizeof(placed[0]));  // before any frame
   recordTlasRebuild(d, cmd, accel);
   return {};
 }

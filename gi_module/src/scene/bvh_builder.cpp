@@ -16,7 +16,7 @@ namespace {
 // about the same; 2, 4 and 8 measured within noise (docs/RESULTS.md).
 constexpr uint32_t kLeafSize = 4;
 constexpr size_t kSplitCapacity = 2;  // spatial splits may make up to this many fragments per triangle in all
-constexpr uint32_t kMaxDepth = 40;  // per level; with a top level under 20 deep the stack holds both
+constexpr uint32_t kMaxDepth = 40;    // per level; with a top level under 20 deep the stack holds both
 static_assert(kLeafSize <= gpu::BVH_MAX_LEAF_SIZE);
 static_assert(kMaxDepth + 20 < gpu::BVH_STACK_SIZE);
 
@@ -58,8 +58,8 @@ void* createLeaf(RTCThreadLocalAllocator alloc, const RTCBuildPrimitive* primiti
   return node;
 }
 
-const gpu::GpuBvhNode kEmptyNode{glm::vec4(INFINITY), glm::vec4(INFINITY), glm::vec4(INFINITY),
-                                 glm::vec4(-INFINITY), glm::vec4(-INFINITY), glm::vec4(-INFINITY),
+const gpu::GpuBvhNode kEmptyNode{glm::vec4(INFINITY),          glm::vec4(INFINITY),  glm::vec4(INFINITY),
+                                 glm::vec4(-INFINITY),         glm::vec4(-INFINITY), glm::vec4(-INFINITY),
                                  glm::uvec4(gpu::BVH_NO_CHILD)};
 
 void setChild(gpu::GpuBvhNode& node, uint32_t slot, glm::vec3 lo, glm::vec3 hi, uint32_t ref) {
@@ -80,7 +80,8 @@ struct Flattener {
   uint32_t emit(const TreeNode* n) {
     if (n->leaf) {
       uint32_t first = itemBase + uint32_t(order.size());
-      if (first > gpu::BVH_LEAF_FIRST_MASK) throw std::runtime_error("BVH: more primitives than a leaf reference can address");
+      if (first > gpu::BVH_LEAF_FIRST_MASK)
+        throw std::runtime_error("BVH: more primitives than a leaf reference can address");
       for (uint32_t i = 0; i < n->count; ++i) order.push_back(n->primitives[i]);
       return gpu::BVH_LEAF_BIT | ((n->count - 1u) << gpu::BVH_LEAF_COUNT_SHIFT) | first;
     }
@@ -296,7 +297,8 @@ SceneBvh buildSceneBvh(const BvhInput& input) {
   std::vector<uint8_t> meshUsed(input.meshes.size(), 0);
   for (size_t i = 0; i < input.instances.size(); ++i) {
     const BvhInstance& inst = input.instances[i];
-    if (inst.mesh >= input.meshes.size()) throw std::runtime_error("BVH: instance " + std::to_string(i) + " names a missing mesh");
+    if (inst.mesh >= input.meshes.size())
+      throw std::runtime_error("BVH: instance " + std::to_string(i) + " names a missing mesh");
     if (!inst.movable && isIdentity(inst.worldFromObject)) {
       bvh.merged[i] = 1;
       bvh.mergedTransforms[i] = inst.worldFromObject;
@@ -305,7 +307,8 @@ SceneBvh buildSceneBvh(const BvhInput& input) {
       meshUsed[inst.mesh] = 1;
     }
   }
-  if (!mergedParts.empty()) bvh.mergedRoot = buildBottom(embree.device, input, mergedParts, bvh, bvh.mergedMin, bvh.mergedMax);
+  if (!mergedParts.empty())
+    bvh.mergedRoot = buildBottom(embree.device, input, mergedParts, bvh, bvh.mergedMin, bvh.mergedMax);
   for (size_t m = 0; m < input.meshes.size(); ++m) {
     if (!meshUsed[m]) continue;
     Part own{&input.meshes[m], glm::mat4(1.0f), gpu::BVH_FROM_TOP_LEVEL};
@@ -345,10 +348,12 @@ void rebuildTopLevel(std::span<const BvhInstance> instances, SceneBvh& bvh) {
   bvh.topNodes.clear();
   std::vector<uint32_t> order;
   glm::vec3 lo, hi;
-  buildTree(embree.device, std::move(boxes), 1, 0, bvh.topNodes, order, lo, hi);  // one instance per leaf (trace_bvh.glsl)
+  buildTree(embree.device, std::move(boxes), 1, 0, bvh.topNodes, order, lo,
+            hi);  // one instance per leaf (trace_bvh.glsl)
   bvh.topInstances.clear();
   for (uint32_t id : order) bvh.topInstances.push_back(items[id]);
-  if (bvh.topInstances.empty()) bvh.topInstances.push_back(gpu::GpuBvhInstance{});  // never referenced; keeps the buffer non-empty
+  if (bvh.topInstances.empty())
+    bvh.topInstances.push_back(gpu::GpuBvhInstance{});  // never referenced; keeps the buffer non-empty
   bvh.topBuildMs = millisecondsSince(start);
 }
 

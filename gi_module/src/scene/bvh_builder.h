@@ -21,7 +21,7 @@
 namespace gi {
 
 struct BvhGeometry {
-  uint32_t firstIndex = 0;    // into the index pool
+  uint32_t firstIndex = 0;  // into the index pool
   uint32_t triangleCount = 0;
   uint32_t vertexOffset = 0;  // added to every index
   uint32_t id = 0;            // the absolute geometry index hits report
@@ -45,18 +45,18 @@ struct BvhInput {
 };
 
 struct SceneBvh {
-  std::vector<gpu::GpuBvhNode> bottomNodes;       // every bottom level; node 0.. of each is its root
+  std::vector<gpu::GpuBvhNode> bottomNodes;  // every bottom level; node 0.. of each is its root
   std::vector<gpu::GpuBvhTriangle> triangles;
-  std::vector<uint32_t> meshRoot;                 // per mesh: root node, or BVH_NO_CHILD when no unmerged instance uses it
-  std::vector<glm::vec3> meshMin, meshMax;        // per mesh: object-space bounds of its bottom level
-  uint32_t mergedRoot = gpu::BVH_NO_CHILD;        // the merged static level's root node
+  std::vector<uint32_t> meshRoot;           // per mesh: root node, or BVH_NO_CHILD when no unmerged instance uses it
+  std::vector<glm::vec3> meshMin, meshMax;  // per mesh: object-space bounds of its bottom level
+  uint32_t mergedRoot = gpu::BVH_NO_CHILD;  // the merged static level's root node
   glm::vec3 mergedMin{0.0f}, mergedMax{0.0f};
-  std::vector<uint8_t> merged;                    // per instance: 1 if in the merged level
-  std::vector<glm::mat4> mergedTransforms;        // per instance: the transform it was merged with
-  std::vector<gpu::GpuBvhNode> topNodes;          // node 0 is the root
+  std::vector<uint8_t> merged;              // per instance: 1 if in the merged level
+  std::vector<glm::mat4> mergedTransforms;  // per instance: the transform it was merged with
+  std::vector<gpu::GpuBvhNode> topNodes;    // node 0 is the root
   std::vector<gpu::GpuBvhInstance> topInstances;
-  double bottomBuildMs = 0.0;                     // wall time of the bottom levels (paid once)
-  double topBuildMs = 0.0;                        // wall time of the last top-level build
+  double bottomBuildMs = 0.0;  // wall time of the bottom levels (paid once)
+  double topBuildMs = 0.0;     // wall time of the last top-level build
 };
 
 // Builds both levels. Triangles with non-finite vertices are left out (ray

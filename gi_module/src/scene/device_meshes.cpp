@@ -23,7 +23,7 @@ constexpr StreamFormat kPositionFormats[] = {
     {VK_FORMAT_R16G16B16A16_SFLOAT, gpu::GATHER_F16, 8},
 };
 constexpr StreamFormat kNormalFormats[] = {
-    {VK_FORMAT_R32G32B32_SFLOAT, gpu::GATHER_F32, 12},  {VK_FORMAT_R32G32B32A32_SFLOAT, gpu::GATHER_F32, 16},
+    {VK_FORMAT_R32G32B32_SFLOAT, gpu::GATHER_F32, 12},   {VK_FORMAT_R32G32B32A32_SFLOAT, gpu::GATHER_F32, 16},
     {VK_FORMAT_R16G16B16A16_SFLOAT, gpu::GATHER_F16, 8}, {VK_FORMAT_R16G16B16A16_SNORM, gpu::GATHER_SNORM16, 8},
     {VK_FORMAT_R8G8B8A8_SNORM, gpu::GATHER_SNORM8, 4},
 };
@@ -47,7 +47,8 @@ std::string checkStream(const DeviceStream& s, std::span<const StreamFormat> for
   if (s.address % 4 != 0 || s.stride % 4 != 0)
     return field + ": address and stride must be multiples of 4 bytes (stride " + std::to_string(s.stride) + ")";
   if (s.stride != 0 && s.stride < f->bytes)
-    return field + ".stride = " + std::to_string(s.stride) + " is below the format's " + std::to_string(f->bytes) + " bytes";
+    return field + ".stride = " + std::to_string(s.stride) + " is below the format's " + std::to_string(f->bytes) +
+           " bytes";
   if (uint64_t(vertexCount) * (s.stride ? s.stride : f->bytes) >= (uint64_t(1) << 32))
     return field + ": the stream spans 4 GiB or more";
   return {};
@@ -58,7 +59,8 @@ uint32_t strideOf(const DeviceStream& s, std::span<const StreamFormat> formats) 
 }
 
 template <typename T>
-std::vector<float> packedCopy(const T* base, uint32_t stride, uint32_t packedBytes, uint32_t count, uint32_t components) {
+std::vector<float> packedCopy(const T* base, uint32_t stride, uint32_t packedBytes, uint32_t count,
+                              uint32_t components) {
   std::vector<float> out;
   if (!base) return out;
   out.reserve(size_t(count) * components);
@@ -72,11 +74,17 @@ std::vector<float> packedCopy(const T* base, uint32_t stride, uint32_t packedByt
 
 // Decodes `count` elements from `source` into 32-bit words at `destination`.
 void dispatchGather(const vk::Device& d, VkCommandBuffer cmd, const vk::ComputeProgram& gather, VkDeviceAddress source,
-                    uint32_t stride, uint32_t encoding, uint32_t count, uint32_t components, VkDeviceAddress destination) {
+                    uint32_t stride, uint32_t encoding, uint32_t count, uint32_t components,
+                    VkDeviceAddress destination) {
   if (count == 0) return;
-  gpu::GatherPush push{{uint32_t(source), uint32_t(source >> 32)}, {uint32_t(destination), uint32_t(destination >> 32)},
-                       stride, encoding, count, components};
-  const uint32_t groups = std::min<uint32_t>((count + GATHER_GROUP_SIZE - 1) / GATHER_GROUP_SIZE, gpu::GATHER_MAX_GROUPS);
+  gpu::GatherPush push{{uint32_t(source), uint32_t(source >> 32)},
+                       {uint32_t(destination), uint32_t(destination >> 32)},
+                       stride,
+                       encoding,
+                       count,
+                       components};
+  const uint32_t groups =
+      std::min<uint32_t>((count + GATHER_GROUP_SIZE - 1) / GATHER_GROUP_SIZE, gpu::GATHER_MAX_GROUPS);
   vk::dispatch(d, cmd, gather, {}, {groups * GATHER_GROUP_SIZE, 1}, push);
 }
 
@@ -109,7 +117,8 @@ std::string checkDeviceMesh(const MeshDesc& mesh, const std::string& where) {
   if (mesh.positions || mesh.normals || mesh.uvs || mesh.indices)
     return where + ": device streams and CPU arrays both given (leave the CPU pointers null)";
   const DeviceMeshDesc& d = mesh.device;
-  if (std::string e = checkStream(d.positions, kPositionFormats, mesh.vertexCount, where + ".device.positions"); !e.empty())
+  if (std::string e = checkStream(d.positions, kPositionFormats, mesh.vertexCount, where + ".device.positions");
+      !e.empty())
     return e;
   if (std::string e = checkStream(d.normals, kNormalFormats, mesh.vertexCount, where + ".device.normals"); !e.empty())
     return e;
@@ -131,7 +140,8 @@ void holdContents(const SceneContents& c, HeldContents& out) {
     out.positions.push_back(packedCopy(m.positions, m.positionStride, 12, m.vertexCount, 3));
     out.normals.push_back(packedCopy(m.normals, m.normalStride, 12, m.vertexCount, 3));
     out.uvs.push_back(packedCopy(m.uvs, m.uvStride, 8, m.vertexCount, 2));
-    out.indices.emplace_back(m.indices ? std::vector<uint32_t>(m.indices, m.indices + m.indexCount) : std::vector<uint32_t>{});
+    out.indices.emplace_back(m.indices ? std::vector<uint32_t>(m.indices, m.indices + m.indexCount)
+                                       : std::vector<uint32_t>{});
   }
   out.materials.assign(c.materials.begin(), c.materials.end());
   out.textures.assign(c.textures.begin(), c.textures.end());
@@ -163,7 +173,8 @@ SceneContents heldView(HeldContents& held) {
   return c;
 }
 
-vk::Status recordDeviceMeshReadback(vk::Device& d, VkCommandBuffer cmd, const HeldContents& held, DeviceMeshReadback& out) {
+vk::Status recordDeviceMeshReadback(vk::Device& d, VkCommandBuffer cmd, const HeldContents& held,
+                                    DeviceMeshReadback& out) {
   size_t words = 0;
   out.meshes.assign(held.meshes.size(), {});
   for (size_t m = 0; m < held.meshes.size(); ++m) {
@@ -178,11 +189,13 @@ vk::Status recordDeviceMeshReadback(vk::Device& d, VkCommandBuffer cmd, const He
   }
   GI_TRY(createGatherProgram(d, out.gather));
   GI_TRY(vk::createBuffer(d, std::max<size_t>(words, 4) * 4,
-                          VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT, true, out.words));
+                          VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT, true,
+                          out.words));
   const VkDeviceAddress base = deviceAddress(d, out.words);
   auto gather = [&](VkDeviceAddress source, uint32_t stride, uint32_t encoding, uint32_t count, uint32_t components,
                     size_t wordOffset) {
-    dispatchGather(d, cmd, out.gather, source, stride, encoding, count, components, base + VkDeviceAddress(wordOffset) * 4);
+    dispatchGather(d, cmd, out.gather, source, stride, encoding, count, components,
+                   base + VkDeviceAddress(wordOffset) * 4);
   };
   for (size_t m = 0; m < held.meshes.size(); ++m) {
     const MeshDesc& mesh = held.meshes[m];
@@ -191,8 +204,8 @@ vk::Status recordDeviceMeshReadback(vk::Device& d, VkCommandBuffer cmd, const He
     const DeviceMeshReadback::Streams& s = out.meshes[m];
     gather(dev.positions.address, strideOf(dev.positions, kPositionFormats),
            findFormat(kPositionFormats, dev.positions.format)->encoding, mesh.vertexCount, 3, s.positions);
-    gather(dev.normals.address, strideOf(dev.normals, kNormalFormats), findFormat(kNormalFormats, dev.normals.format)->encoding,
-           mesh.vertexCount, 3, s.normals);
+    gather(dev.normals.address, strideOf(dev.normals, kNormalFormats),
+           findFormat(kNormalFormats, dev.normals.format)->encoding, mesh.vertexCount, 3, s.normals);
     if (dev.uvs.address)
       gather(dev.uvs.address, strideOf(dev.uvs, kUvFormats), findFormat(kUvFormats, dev.uvs.format)->encoding,
              mesh.vertexCount, 2, s.uvs);

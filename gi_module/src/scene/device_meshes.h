@@ -22,7 +22,8 @@ std::string checkDeviceMesh(const MeshDesc& mesh, const std::string& where);
 struct HeldContents {
   std::vector<MeshDesc> meshes;
   std::vector<std::vector<PrimitiveDesc>> primitives;
-  std::vector<std::vector<float>> positions, normals, uvs;  // per mesh, packed (CPU meshes copied; device meshes read back)
+  std::vector<std::vector<float>> positions, normals,
+      uvs;  // per mesh, packed (CPU meshes copied; device meshes read back)
   std::vector<std::vector<uint32_t>> indices;
   std::vector<MaterialDesc> materials;
   std::vector<TextureDesc> textures;

@@ -53,7 +53,8 @@ void mortonSortTriangles(std::span<const glm::vec3> positions, std::span<uint32_
 
 void mortonSortTriangles(std::span<const float> positionsXyz, std::span<uint32_t> indices) {
   static_assert(sizeof(glm::vec3) == 3 * sizeof(float), "glm::vec3 is three packed floats");
-  mortonSortTriangles(std::span(reinterpret_cast<const glm::vec3*>(positionsXyz.data()), positionsXyz.size() / 3), indices);
+  mortonSortTriangles(std::span(reinterpret_cast<const glm::vec3*>(positionsXyz.data()), positionsXyz.size() / 3),
+                      indices);
 }
 
 }  // namespace gi

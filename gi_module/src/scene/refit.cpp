@@ -28,7 +28,8 @@ gpu::RefitPush push(const RefitBuffers& b, uint32_t mode, uint32_t first, uint32
 // The refit's writes before every later reader of set 0's BVH views (traversal in any stage).
 void afterRefit(const vk::Device& d, VkCommandBuffer cmd) {
   vk::memoryBarrier(d, cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                    VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+                    VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                    VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
 }
 
 void dispatch(const vk::Device& d, VkCommandBuffer cmd, const vk::ComputeProgram& program, const gpu::RefitPush& p,
@@ -50,11 +51,12 @@ RefitPlan refitPlan(const SceneBvh& bvh, std::span<const uint8_t> deformable) {
     for (size_t level = 0; level < depths.size(); ++level) {
       std::vector<uint32_t> next;
       for (uint32_t node : depths[level])
-        for (uint32_t ref : {bvh.bottomNodes[node].child.x, bvh.bottomNodes[node].child.y, bvh.bottomNodes[node].child.z,
-                             bvh.bottomNodes[node].child.w}) {
+        for (uint32_t ref : {bvh.bottomNodes[node].child.x, bvh.bottomNodes[node].child.y,
+                             bvh.bottomNodes[node].child.z, bvh.bottomNodes[node].child.w}) {
           if (ref == gpu::BVH_NO_CHILD) continue;
           if (ref & gpu::BVH_LEAF_BIT) {
-            const uint32_t first = ref & gpu::BVH_LEAF_FIRST_MASK, count = ((ref >> gpu::BVH_LEAF_COUNT_SHIFT) & 0xfu) + 1u;
+            const uint32_t first = ref & gpu::BVH_LEAF_FIRST_MASK,
+                           count = ((ref >> gpu::BVH_LEAF_COUNT_SHIFT) & 0xfu) + 1u;
             firstTriangle = std::min(firstTriangle, first);
             endTriangle = std::max(endTriangle, first + count);
           } else {

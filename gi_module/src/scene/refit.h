@@ -17,8 +17,8 @@
 namespace gi {
 
 struct MeshRefit {
-  uint32_t firstTriangle = 0, triangleCount = 0;            // the bottom level's triangle slots
-  std::vector<std::pair<uint32_t, uint32_t>> levels;         // (first, count) into RefitPlan::order, deepest first
+  uint32_t firstTriangle = 0, triangleCount = 0;      // the bottom level's triangle slots
+  std::vector<std::pair<uint32_t, uint32_t>> levels;  // (first, count) into RefitPlan::order, deepest first
 };
 
 struct RefitPlan {

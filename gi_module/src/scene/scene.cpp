@@ -19,9 +19,10 @@ namespace gi {
 namespace {
 
 constexpr VkBufferUsageFlags kTexels = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
-constexpr VkBufferUsageFlags kBuildInput = VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR |
-                                           VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
-constexpr VkBufferUsageFlags kAddressed = VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;  // read and written by bvh_refit.comp
+constexpr VkBufferUsageFlags kBuildInput =
+    VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
+constexpr VkBufferUsageFlags kAddressed =
+    VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;  // read and written by bvh_refit.comp
 
 const vk::Binding kSceneBindings[] = {
     {gpu::SCENE_BINDING_TLAS, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR},  // first: left out without ray queries
@@ -70,7 +71,8 @@ std::vector<AccelerationInstance> placedInstances(Scene& s) {
 
 // A device-local buffer filled through a staging buffer copied in `cmd`.
 template <typename T>
-vk::Status upload(Scene& s, VkCommandBuffer cmd, const std::vector<T>& data, VkBufferUsageFlags usage, vk::Buffer& out) {
+vk::Status upload(Scene& s, VkCommandBuffer cmd, const std::vector<T>& data, VkBufferUsageFlags usage,
+                  vk::Buffer& out) {
   const size_t bytes = data.size() * sizeof(T), size = std::max<size_t>(bytes, 16);  // a buffer may not be empty
   GI_TRY(vk::createBuffer(s.gpu, size, usage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, false, out));
   vk::Buffer& staging = s.staging.emplace_back();
@@ -85,7 +87,8 @@ vk::Status upload(Scene& s, VkCommandBuffer cmd, const std::vector<T>& data, VkB
 // A host-visible buffer of `capacity` elements (at least 16 bytes), holding `data`; later writes are
 // recorded into command buffers (writeInCommands).
 template <typename T>
-vk::Status hostBuffer(Scene& s, const std::vector<T>& data, size_t capacity, VkBufferUsageFlags usage, vk::Buffer& out) {
+vk::Status hostBuffer(Scene& s, const std::vector<T>& data, size_t capacity, VkBufferUsageFlags usage,
+                      vk::Buffer& out) {
   const size_t size = std::max<size_t>(capacity * sizeof(T), 16);
   GI_TRY(vk::createBuffer(s.gpu, size, usage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, true, out));
   std::memset(out.memory.mapped, 0, size);
@@ -165,7 +168,8 @@ vk::Status buildBvhBuffers(Scene& s, VkCommandBuffer cmd, std::span<const uint8_
     GI_TRY(hostBuffer(s, s.refit.order, s.refit.order.size(), kAddressed, s.refitOrder));
   }
   const vk::Buffer* buffers[] = {&s.bvhNodes, &s.bvhTriangles, &s.bvhTopNodes, &s.bvhInstances};
-  for (int i = 0; i < 4; ++i) GI_TRY(rowView(s, *buffers[i], "vkCreateBufferView (the BVH exceeds maxTexelBufferElements)", s.bvhViews[i]));
+  for (int i = 0; i < 4; ++i)
+    GI_TRY(rowView(s, *buffers[i], "vkCreateBufferView (the BVH exceeds maxTexelBufferElements)", s.bvhViews[i]));
   return {};
 }
 
@@ -223,7 +227,8 @@ vk::Status uploadSky(Scene& s, VkCommandBuffer cmd, const SkyDesc& sky, uint32_t
     VkBufferImageCopy region{};
     region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
     region.imageExtent = {sky.width, sky.height, 1};
-    s.gpu.fn.vkCmdCopyBufferToImage(cmd, staging.buffer, s.skyMap.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+    s.gpu.fn.vkCmdCopyBufferToImage(cmd, staging.buffer, s.skyMap.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1,
+                                    &region);
     vk::imageBarrier(s.gpu, cmd, s.skyMap.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
                      VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_2_COPY_BIT,
                      VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_SHADER_READ_BIT);
@@ -235,17 +240,109 @@ vk::Status uploadSky(Scene& s, VkCommandBuffer cmd, const SkyDesc& sky, uint32_t
   return hostBuffer(s, tables, tables.size(), kTexels, s.skyDistribution);
 }
 
+// Ray queries: a BLAS per mesh (updatable where it deforms) and the TLAS over the placed instances.
+vk::Status buildAccelerationStructures(Scene& s, VkCommandBuffer cmd) {
+  const PackedScene& p = s.packed;
+  for (size_t m = 0; m < p.meshFirstGeometry.size(); ++m) {
+    AccelerationMesh mesh;
+    mesh.updatable = p.meshDeformable[m] != 0;
+    for (uint32_t id = p.meshFirstGeometry[m]; id < p.meshFirstGeometry[m] + p.meshGeometryCount[m]; ++id) {
+      const gpu::GpuGeometry& g = p.geometries[id];
+      mesh.geometries.push_back({g.firstIndex, g.triangleCount, g.vertexOffset, p.geometryVertexCount[id],
+                                 (p.materials[g.material].flags & gpu::MATERIAL_FLAG_ALPHA_MASK) == 0});
+    }
+    s.accelMeshes.push_back(std::move(mesh));
+  }
+  GI_TRY(buildSceneAcceleration(s.gpu, cmd, s.positions, s.indices, s.accelMeshes, placedInstances(s), s.accel,
+                                s.staging.emplace_back()));
+  return {};
+}
+
+// Set 0: the BVH, the scene's arrays as texel buffers, the textures and the sky's map.
+vk::Status writeSceneDescriptors(Scene& s, const SceneContents& contents) {
+  const uint32_t textureCount = uint32_t(contents.textures.size());
+  const bool skyMap = s.skyMap.image != VK_NULL_HANDLE;
+  GI_TRY(vk::createDescriptorSets(s.gpu, sceneBindings(rayQuery(s)), 1, s.set, VK_NULL_HANDLE,
+                                  textureCount + (skyMap ? 1u : 0u)));
+  writeBvhDescriptors(s);
+  vk::DescriptorWriter w(s.set[0]);
+  if (rayQuery(s)) w.accelerationStructure(gpu::SCENE_BINDING_TLAS, &s.accel.tlas.handle);
+  const struct {
+    uint32_t binding;
+    const vk::Buffer* buffer;
+    VkFormat format;
+    uint32_t texelBytes;
+    const char* tooLarge;
+  } arrays[] = {
+      {gpu::SCENE_BINDING_POSITIONS, &s.positions, VK_FORMAT_R32_SFLOAT, 4,
+       "vkCreateBufferView (the positions exceed maxTexelBufferElements)"},
+      {gpu::SCENE_BINDING_PREVIOUS_POSITIONS, s.previousPositions.buffer ? &s.previousPositions : &s.positions,
+       VK_FORMAT_R32_SFLOAT, 4, "vkCreateBufferView (the positions exceed maxTexelBufferElements)"},
+      {gpu::SCENE_BINDING_NORMALS, &s.normals, VK_FORMAT_R32_SFLOAT, 4,
+       "vkCreateBufferView (the normals exceed maxTexelBufferElements)"},
+      {gpu::SCENE_BINDING_UVS, &s.uvs, VK_FORMAT_R32G32_SFLOAT, 8,
+       "vkCreateBufferView (the texture coordinates exceed maxTexelBufferElements)"},
+      {gpu::SCENE_BINDING_INDICES, &s.indices, VK_FORMAT_R32_UINT, 4,
+       "vkCreateBufferView (the indices exceed maxTexelBufferElements)"},
+      {gpu::SCENE_BINDING_GEOMETRIES, &s.geometries, VK_FORMAT_R32G32B32A32_UINT, 16,
+       "vkCreateBufferView (the geometry table exceeds maxTexelBufferElements)"},
+      {gpu::SCENE_BINDING_INSTANCES, &s.instanceTable, VK_FORMAT_R32G32B32A32_UINT, 16,
+       "vkCreateBufferView (the instance table exceeds maxTexelBufferElements)"},
+      {gpu::SCENE_BINDING_MATERIALS, &s.materials, VK_FORMAT_R32G32B32A32_UINT, 16,
+       "vkCreateBufferView (the material table exceeds maxTexelBufferElements)"},
+      {gpu::SCENE_BINDING_EMISSIVE_TRIANGLES, &s.emissiveTriangles, VK_FORMAT_R32G32B32A32_UINT, 16,
+       "vkCreateBufferView (the emission table exceeds maxTexelBufferElements)"},
+      {gpu::SCENE_BINDING_PUNCTUAL_LIGHTS, &s.punctualLights, VK_FORMAT_R32G32B32A32_UINT, 16,
+       "vkCreateBufferView (the light table exceeds maxTexelBufferElements)"},
+      {gpu::SCENE_BINDING_SKY_DISTRIBUTION, &s.skyDistribution, VK_FORMAT_R32_SFLOAT, 4,
+       "vkCreateBufferView (the sky's tables exceed maxTexelBufferElements)"},
+      // A texel buffer, not a uniform buffer: lavapipe compiles a variant of every program for the values of
+      // the uniforms its branches and loops test (the light counts), so a uniform buffer would give each
+      // scene programs of its own, compiled anew at their first dispatch.
+      {gpu::SCENE_BINDING_CONSTANTS, &s.constants, VK_FORMAT_R32G32B32A32_UINT, 16,
+       "vkCreateBufferView (the scene's constants)"}};
+  static_assert(std::size(arrays) == std::size(Scene{}.arrayViews));
+  for (size_t i = 0; i < std::size(arrays); ++i) {
+    GI_TRY(
+        texelView(s, *arrays[i].buffer, arrays[i].format, arrays[i].texelBytes, arrays[i].tooLarge, s.arrayViews[i]));
+    w.uniformTexelBuffer(arrays[i].binding, s.arrayViews[i]);
+  }
+  for (uint32_t t = 0; t < textureCount; ++t)
+    w.sampledImage(gpu::SCENE_BINDING_TEXTURES, contents.textures[t].view, contents.textures[t].sampler, t);
+  if (skyMap) w.sampledImage(gpu::SCENE_BINDING_TEXTURES, s.skyMap.view, s.skySampler, textureCount);
+  w.write(s.gpu);
+  return {};
+}
+
+// What the module needs to know about the scene (SceneDesc), from what was built.
+void setSceneFacts(Scene& s, const SceneContents& contents) {
+  const PackedScene& p = s.packed;
+  const gpu::GpuSceneConstants& c = s.sceneConstants;
+  s.facts.layout = s.set.layout;
+  s.facts.set = s.set[0];
+  s.facts.hasEmissiveTriangles = c.emissiveTriangleCount > 0;
+  s.facts.hasPunctualLights = c.punctualLightCount > 0;
+  setLightFacts(c, s.facts);
+  s.facts.hasAlphaMask = p.hasAlphaMask;
+  s.facts.hasGlossyMaterials = p.hasGlossyMaterials;
+  s.facts.extent = c.sceneExtent;
+  s.facts.typicalRadiance = typicalRadiance(p, contents.lights, contents.sky, c.sceneExtent);
+  s.facts.traversal = s.desc.traversal;
+  s.facts.hasComputeBvh = computeBvh(s);
+}
+
 vk::Status buildScene(Scene& s, VkCommandBuffer cmd, const SceneContents& contents) {
   const PackedScene& p = s.packed;
   const VkBufferUsageFlags geometryUsage = kTexels | (rayQuery(s) ? kBuildInput : 0) | refitUsage(s);
-  GI_TRY(upload(s, cmd, p.positions, geometryUsage | (hasDeformable(p) ? VK_BUFFER_USAGE_TRANSFER_SRC_BIT : 0), s.positions));
+  GI_TRY(upload(s, cmd, p.positions, geometryUsage | (hasDeformable(p) ? VK_BUFFER_USAGE_TRANSFER_SRC_BIT : 0),
+                s.positions));
   if (hasDeformable(p)) GI_TRY(upload(s, cmd, p.positions, kTexels, s.previousPositions));
   GI_TRY(upload(s, cmd, p.normals, kTexels | refitUsage(s), s.normals));
   GI_TRY(upload(s, cmd, p.uvs, kTexels, s.uvs));
   GI_TRY(upload(s, cmd, p.indices, geometryUsage, s.indices));
   GI_TRY(upload(s, cmd, p.geometries, kTexels | refitUsage(s), s.geometries));
   if (hasDeformable(p) && computeBvh(s)) GI_TRY(createRefitProgram(s.gpu, s.refitProgram));  // the compute BVH's
-  if (hasDeformable(p)) GI_TRY(createGatherProgram(s.gpu, s.gatherProgram));                  // device streams
+  if (hasDeformable(p)) GI_TRY(createGatherProgram(s.gpu, s.gatherProgram));                 // device streams
   GI_TRY(upload(s, cmd, p.materials, kTexels, s.materials));
 
   GI_TRY(hostBuffer(s, gpuInstances(p, s.instances, {}), s.instances.size(), kTexels, s.instanceTable));
@@ -264,7 +361,8 @@ vk::Status buildScene(Scene& s, VkCommandBuffer cmd, const SceneContents& conten
   c.boundsMin = empty ? glm::vec3(0.0f) : lo;
   c.boundsMax = empty ? glm::vec3(0.0f) : hi;
   const LightTable lights = lightTable(contents.lights, c.sceneExtent, s.desc.lightTreeCut);
-  GI_TRY(hostBuffer(s, lightTableWords(lights), lightTableCapacityWords(lights.lights.size()), kTexels, s.punctualLights));
+  GI_TRY(
+      hostBuffer(s, lightTableWords(lights), lightTableCapacityWords(lights.lights.size()), kTexels, s.punctualLights));
   c.punctualLightCount = uint32_t(lights.lights.size());
   c.directionalLightCount = lights.directionalCount;
   c.lightCutSize = uint32_t(lights.cut.size());
@@ -280,74 +378,13 @@ vk::Status buildScene(Scene& s, VkCommandBuffer cmd, const SceneContents& conten
                     VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_UNIFORM_READ_BIT |
                         (rayQuery(s) ? VK_ACCESS_2_ACCELERATION_STRUCTURE_READ_BIT_KHR : 0));
   GI_TRY(buildBvhBuffers(s, cmd, {}));
-  if (rayQuery(s)) {
-    for (size_t m = 0; m < p.meshFirstGeometry.size(); ++m) {
-      AccelerationMesh mesh;
-      mesh.updatable = p.meshDeformable[m] != 0;
-      for (uint32_t id = p.meshFirstGeometry[m]; id < p.meshFirstGeometry[m] + p.meshGeometryCount[m]; ++id) {
-        const gpu::GpuGeometry& g = p.geometries[id];
-        mesh.geometries.push_back({g.firstIndex, g.triangleCount, g.vertexOffset, p.geometryVertexCount[id],
-                                   (p.materials[g.material].flags & gpu::MATERIAL_FLAG_ALPHA_MASK) == 0});
-      }
-      s.accelMeshes.push_back(std::move(mesh));
-    }
-    GI_TRY(buildSceneAcceleration(s.gpu, cmd, s.positions, s.indices, s.accelMeshes, placedInstances(s), s.accel,
-                                  s.staging.emplace_back()));
-  }
+  if (rayQuery(s)) GI_TRY(buildAccelerationStructures(s, cmd));
   // The BVH's bottom levels were copied after the first barrier.
   vk::memoryBarrier(s.gpu, cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                     VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_SHADER_READ_BIT);
 
-  const bool skyMap = s.skyMap.image != VK_NULL_HANDLE;
-  GI_TRY(vk::createDescriptorSets(s.gpu, sceneBindings(rayQuery(s)), 1, s.set, VK_NULL_HANDLE,
-                                  textureCount + (skyMap ? 1u : 0u)));
-  writeBvhDescriptors(s);
-  vk::DescriptorWriter w(s.set[0]);
-  if (rayQuery(s)) w.accelerationStructure(gpu::SCENE_BINDING_TLAS, &s.accel.tlas.handle);
-  const struct {
-    uint32_t binding;
-    const vk::Buffer* buffer;
-    VkFormat format;
-    uint32_t texelBytes;
-    const char* tooLarge;
-  } arrays[] = {
-      {gpu::SCENE_BINDING_POSITIONS, &s.positions, VK_FORMAT_R32_SFLOAT, 4, "vkCreateBufferView (the positions exceed maxTexelBufferElements)"},
-      {gpu::SCENE_BINDING_PREVIOUS_POSITIONS, s.previousPositions.buffer ? &s.previousPositions : &s.positions, VK_FORMAT_R32_SFLOAT, 4,
-       "vkCreateBufferView (the positions exceed maxTexelBufferElements)"},
-      {gpu::SCENE_BINDING_NORMALS, &s.normals, VK_FORMAT_R32_SFLOAT, 4, "vkCreateBufferView (the normals exceed maxTexelBufferElements)"},
-      {gpu::SCENE_BINDING_UVS, &s.uvs, VK_FORMAT_R32G32_SFLOAT, 8, "vkCreateBufferView (the texture coordinates exceed maxTexelBufferElements)"},
-      {gpu::SCENE_BINDING_INDICES, &s.indices, VK_FORMAT_R32_UINT, 4, "vkCreateBufferView (the indices exceed maxTexelBufferElements)"},
-      {gpu::SCENE_BINDING_GEOMETRIES, &s.geometries, VK_FORMAT_R32G32B32A32_UINT, 16, "vkCreateBufferView (the geometry table exceeds maxTexelBufferElements)"},
-      {gpu::SCENE_BINDING_INSTANCES, &s.instanceTable, VK_FORMAT_R32G32B32A32_UINT, 16, "vkCreateBufferView (the instance table exceeds maxTexelBufferElements)"},
-      {gpu::SCENE_BINDING_MATERIALS, &s.materials, VK_FORMAT_R32G32B32A32_UINT, 16, "vkCreateBufferView (the material table exceeds maxTexelBufferElements)"},
-      {gpu::SCENE_BINDING_EMISSIVE_TRIANGLES, &s.emissiveTriangles, VK_FORMAT_R32G32B32A32_UINT, 16, "vkCreateBufferView (the emission table exceeds maxTexelBufferElements)"},
-      {gpu::SCENE_BINDING_PUNCTUAL_LIGHTS, &s.punctualLights, VK_FORMAT_R32G32B32A32_UINT, 16, "vkCreateBufferView (the light table exceeds maxTexelBufferElements)"},
-      {gpu::SCENE_BINDING_SKY_DISTRIBUTION, &s.skyDistribution, VK_FORMAT_R32_SFLOAT, 4, "vkCreateBufferView (the sky's tables exceed maxTexelBufferElements)"},
-      // A texel buffer, not a uniform buffer: lavapipe compiles a variant of every program for the values of
-      // the uniforms its branches and loops test (the light counts), so a uniform buffer would give each
-      // scene programs of its own, compiled anew at their first dispatch.
-      {gpu::SCENE_BINDING_CONSTANTS, &s.constants, VK_FORMAT_R32G32B32A32_UINT, 16, "vkCreateBufferView (the scene's constants)"}};
-  static_assert(std::size(arrays) == std::size(Scene{}.arrayViews));
-  for (size_t i = 0; i < std::size(arrays); ++i) {
-    GI_TRY(texelView(s, *arrays[i].buffer, arrays[i].format, arrays[i].texelBytes, arrays[i].tooLarge, s.arrayViews[i]));
-    w.uniformTexelBuffer(arrays[i].binding, s.arrayViews[i]);
-  }
-  for (uint32_t t = 0; t < textureCount; ++t)
-    w.sampledImage(gpu::SCENE_BINDING_TEXTURES, contents.textures[t].view, contents.textures[t].sampler, t);
-  if (skyMap) w.sampledImage(gpu::SCENE_BINDING_TEXTURES, s.skyMap.view, s.skySampler, textureCount);
-  w.write(s.gpu);
-
-  s.facts.layout = s.set.layout;
-  s.facts.set = s.set[0];
-  s.facts.hasEmissiveTriangles = c.emissiveTriangleCount > 0;
-  s.facts.hasPunctualLights = c.punctualLightCount > 0;
-  setLightFacts(c, s.facts);
-  s.facts.hasAlphaMask = p.hasAlphaMask;
-  s.facts.hasGlossyMaterials = p.hasGlossyMaterials;
-  s.facts.extent = c.sceneExtent;
-  s.facts.typicalRadiance = typicalRadiance(p, contents.lights, contents.sky, c.sceneExtent);
-  s.facts.traversal = s.desc.traversal;
-  s.facts.hasComputeBvh = computeBvh(s);
+  GI_TRY(writeSceneDescriptors(s, contents));
+  setSceneFacts(s, contents);
   return {};
 }
 
@@ -366,8 +403,9 @@ void destroySceneResources(Scene& s) {
   vk::destroyImage(s.gpu, s.skyMap);
   if (s.skySampler) s.gpu.fn.vkDestroySampler(s.gpu.device, s.skySampler, s.gpu.allocator);
   s.skySampler = VK_NULL_HANDLE;
-  for (vk::Buffer* b : {&s.positions, &s.previousPositions, &s.normals, &s.uvs, &s.indices, &s.geometries, &s.materials, &s.instanceTable,
-                        &s.emissiveTriangles, &s.punctualLights, &s.constants, &s.skyDistribution, &s.refitOrder})
+  for (vk::Buffer* b :
+       {&s.positions, &s.previousPositions, &s.normals, &s.uvs, &s.indices, &s.geometries, &s.materials,
+        &s.instanceTable, &s.emissiveTriangles, &s.punctualLights, &s.constants, &s.skyDistribution, &s.refitOrder})
     vk::destroyBuffer(s.gpu, *b);
   vk::destroyComputeProgram(s.gpu, s.refitProgram);
   vk::destroyComputeProgram(s.gpu, s.gatherProgram);
@@ -393,17 +431,20 @@ std::string prepare(Scene& s, const SceneContents& contents) {
 }  // namespace
 
 std::span<const vk::Binding> sceneBindings(bool rayQuery) {
-  return rayQuery ? std::span<const vk::Binding>(kSceneBindings) : std::span<const vk::Binding>(kSceneBindings).subspan(1);
+  return rayQuery ? std::span<const vk::Binding>(kSceneBindings)
+                  : std::span<const vk::Binding>(kSceneBindings).subspan(1);
 }
 
 Error createScene(const SceneCreateDesc& desc, const SceneContents& contents, VkCommandBuffer cmd, Scene*& out) {
   out = nullptr;
   if (desc.structSize != sizeof(SceneCreateDesc))
     return {ErrorCode::VersionMismatch, "gi::createScene: desc.structSize = " + std::to_string(desc.structSize) +
-                                            ", this library's SceneCreateDesc is " + std::to_string(sizeof(SceneCreateDesc))};
+                                            ", this library's SceneCreateDesc is " +
+                                            std::to_string(sizeof(SceneCreateDesc))};
   if (!desc.instance || !desc.physicalDevice || !desc.device || !desc.getInstanceProcAddr || !cmd)
-    return {ErrorCode::MissingHandle, "gi::createScene: instance, physicalDevice, device, getInstanceProcAddr and cmd "
-                                      "are required"};
+    return {ErrorCode::MissingHandle,
+            "gi::createScene: instance, physicalDevice, device, getInstanceProcAddr and cmd "
+            "are required"};
   if (desc.traversal != Traversal::RayQuery && desc.traversal != Traversal::Compute)
     return sceneError("gi::createScene: desc.traversal = " + std::to_string(uint32_t(desc.traversal)) +
                       " is not Traversal::RayQuery or Traversal::Compute");
@@ -433,20 +474,22 @@ Error createScene(const SceneCreateDesc& desc, const SceneContents& contents, Vk
   s->gpu.memory.budget = desc.memoryBudgetBytes;
   s->gpu.memory.engine = desc.deviceMemory;
   // Acceleration-structure inputs and the device meshes' read-back are used through device addresses.
-  const bool deformable = std::any_of(contents.meshes.begin(), contents.meshes.end(),
-                                      [](const MeshDesc& m) { return m.deformable; });
+  const bool deformable =
+      std::any_of(contents.meshes.begin(), contents.meshes.end(), [](const MeshDesc& m) { return m.deformable; });
   s->gpu.deviceAddressMemory = desc.traversal == Traversal::RayQuery || deviceMeshes || deformable;
   if (vk::Status st = vk::openDevice(desc.getInstanceProcAddr, desc.instance, desc.physicalDevice, desc.device, s->gpu))
     return {ErrorCode::MissingHandle, std::string("gi::createScene: desc.getInstanceProcAddr returned no ") + st.call,
             st.result};
   if (rayQuery(*s) && !s->gpu.fn.vkCmdBuildAccelerationStructuresKHR) {
     vk::closeDevice(s->gpu);
-    return {ErrorCode::MissingFeature, "gi::createScene: Traversal::RayQuery needs VK_KHR_acceleration_structure, "
-                                       "which the device was created without"};
+    return {ErrorCode::MissingFeature,
+            "gi::createScene: Traversal::RayQuery needs VK_KHR_acceleration_structure, "
+            "which the device was created without"};
   }
   if ((deviceMeshes || deformable) && !s->gpu.fn.vkGetBufferDeviceAddress) {
     vk::closeDevice(s->gpu);
-    return {ErrorCode::MissingFeature, "gi::createScene: device and deformable meshes need bufferDeviceAddress (Vulkan 1.2)"};
+    return {ErrorCode::MissingFeature,
+            "gi::createScene: device and deformable meshes need bufferDeviceAddress (Vulkan 1.2)"};
   }
   vk::Status st;
   if (deviceMeshes) {
@@ -469,7 +512,9 @@ Error finishSceneUpload(Scene* s, VkCommandBuffer cmd) {
   if (!s) return {};
   freeStaging(*s);
   if (!s->awaitingGeometry) return {};
-  if (!cmd) return {ErrorCode::MissingHandle, "gi::finishSceneUpload: cmd is required (the scene's device meshes are built now)"};
+  if (!cmd)
+    return {ErrorCode::MissingHandle,
+            "gi::finishSceneUpload: cmd is required (the scene's device meshes are built now)"};
   s->awaitingGeometry = false;  // one attempt: a failed build leaves the scene unbuilt, for destroyScene
   takeDeviceMeshes(s->readback, s->held);
   destroyDeviceMeshReadback(s->gpu, s->readback);
@@ -494,16 +539,19 @@ void destroyScene(Scene* s) {
 SceneDesc sceneDesc(const Scene* s) { return s->facts; }
 
 Error updateInstances(Scene* s, VkCommandBuffer cmd, std::span<const InstanceDesc> instances) {
-  if (!sceneBuilt(s)) return {ErrorCode::MissingHandle, "gi::updateInstances: the scene is not built (finishSceneUpload)"};
+  if (!sceneBuilt(s))
+    return {ErrorCode::MissingHandle, "gi::updateInstances: the scene is not built (finishSceneUpload)"};
   if (instances.size() != s->instances.size())
     return sceneError("gi::updateInstances: " + std::to_string(instances.size()) + " instances given, the scene has " +
                       std::to_string(s->instances.size()));
-  if (std::string e = checkInstances(s->packed, instances, "instances"); !e.empty()) return sceneError("gi::updateInstances: " + e);
+  if (std::string e = checkInstances(s->packed, instances, "instances"); !e.empty())
+    return sceneError("gi::updateInstances: " + e);
   for (size_t i = 0; i < instances.size(); ++i)
     if (instances[i].mesh != s->instances[i].mesh)
       return sceneError("gi::updateInstances: instances[" + std::to_string(i) + "].mesh changed from " +
                         std::to_string(s->instances[i].mesh) + " to " + std::to_string(instances[i].mesh));
-  if (!cmd) return {ErrorCode::MissingHandle, "gi::updateInstances: cmd is VK_NULL_HANDLE (the tables are written in it)"};
+  if (!cmd)
+    return {ErrorCode::MissingHandle, "gi::updateInstances: cmd is VK_NULL_HANDLE (the tables are written in it)"};
   // Last update's transforms become the previous ones (motion vectors).
   for (size_t i = 0; i < instances.size(); ++i) s->previousTransforms[i] = toMat4(s->instances[i].worldFromObject);
   std::vector<uint8_t> moved(instances.size(), 0);
@@ -548,8 +596,10 @@ Error updateInstances(Scene* s, VkCommandBuffer cmd, std::span<const InstanceDes
 }
 
 Error updateMeshVertices(Scene* s, VkCommandBuffer cmd, uint32_t mesh, const MeshVertices& v) {
-  if (!sceneBuilt(s)) return {ErrorCode::MissingHandle, "gi::updateMeshVertices: the scene is not built (finishSceneUpload)"};
-  if (!cmd) return {ErrorCode::MissingHandle, "gi::updateMeshVertices: cmd is VK_NULL_HANDLE (the vertices are written in it)"};
+  if (!sceneBuilt(s))
+    return {ErrorCode::MissingHandle, "gi::updateMeshVertices: the scene is not built (finishSceneUpload)"};
+  if (!cmd)
+    return {ErrorCode::MissingHandle, "gi::updateMeshVertices: cmd is VK_NULL_HANDLE (the vertices are written in it)"};
   PackedScene& p = s->packed;
   if (mesh >= p.meshDeformable.size())
     return sceneError("gi::updateMeshVertices: mesh " + std::to_string(mesh) + " is not below the scene's " +
@@ -571,11 +621,13 @@ Error updateMeshVertices(Scene* s, VkCommandBuffer cmd, uint32_t mesh, const Mes
     if (std::string e = checkVertexStreams(v.devicePositions, v.deviceNormals, vertexCount, "vertices"); !e.empty())
       return sceneError("gi::updateMeshVertices: " + e);
     if (emissive)
-      return sceneError("gi::updateMeshVertices: mesh " + std::to_string(mesh) + " emits light: its emission is "
+      return sceneError("gi::updateMeshVertices: mesh " + std::to_string(mesh) +
+                        " emits light: its emission is "
                         "sampled by triangle areas the CPU computes, so give its vertices as CPU arrays");
   } else {
     if (!v.positions || !v.normals)
-      return sceneError("gi::updateMeshVertices: vertices.positions and vertices.normals are required (or device streams)");
+      return sceneError(
+          "gi::updateMeshVertices: vertices.positions and vertices.normals are required (or device streams)");
     for (uint32_t i = 0; i < vertexCount; ++i) {
       const float* pos = element(v.positions, v.positionStride, 12, i);
       if (!std::isfinite(pos[0]) || !std::isfinite(pos[1]) || !std::isfinite(pos[2]))
@@ -584,22 +636,26 @@ Error updateMeshVertices(Scene* s, VkCommandBuffer cmd, uint32_t mesh, const Mes
   }
   // Every earlier command's reads of the vertices and the BVH (frames in flight) before the writes, and the
   // last update's writes of the positions before the copy reads them.
-  vk::memoryBarrier(s->gpu, cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                    VK_PIPELINE_STAGE_2_TRANSFER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                    VK_ACCESS_2_TRANSFER_READ_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+  vk::memoryBarrier(
+      s->gpu, cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+      VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+      VK_PIPELINE_STAGE_2_TRANSFER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+      VK_ACCESS_2_TRANSFER_READ_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
   // This pose's positions become the previous ones (the G-buffer's motion vectors), then the new ones follow.
   std::vector<VkBufferCopy> previous;
   for (uint32_t id = firstGeometry; id < geometryEnd; ++id) {
     const VkDeviceSize at = VkDeviceSize(p.geometries[id].vertexOffset) * 12;
     previous.push_back({at, at, VkDeviceSize(p.geometryVertexCount[id]) * 12});
   }
-  s->gpu.fn.vkCmdCopyBuffer(cmd, s->positions.buffer, s->previousPositions.buffer, uint32_t(previous.size()), previous.data());
+  s->gpu.fn.vkCmdCopyBuffer(cmd, s->positions.buffer, s->previousPositions.buffer, uint32_t(previous.size()),
+                            previous.data());
   vk::memoryBarrier(s->gpu, cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT,
                     VK_PIPELINE_STAGE_2_TRANSFER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                     VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
   const VkDeviceAddress positions = deviceAddress(s->gpu, s->positions), normals = deviceAddress(s->gpu, s->normals);
   for (uint32_t id = firstGeometry; id < geometryEnd; ++id) {
-    const uint32_t first = p.geometryFirstVertex[id], count = p.geometryVertexCount[id], at = p.geometries[id].vertexOffset;
+    const uint32_t first = p.geometryFirstVertex[id], count = p.geometryVertexCount[id],
+                   at = p.geometries[id].vertexOffset;
     if (device) {
       recordVertexGather(s->gpu, cmd, s->gatherProgram, v.devicePositions, false, first, count, positions + 12ull * at);
       recordVertexGather(s->gpu, cmd, s->gatherProgram, v.deviceNormals, true, first, count, normals + 12ull * at);

@@ -19,33 +19,33 @@ struct Scene {
   vk::Device gpu;
   SceneCreateDesc desc;
   PackedScene packed;
-  std::vector<InstanceDesc> instances;          // as given, with the latest transforms
-  std::vector<glm::mat4> previousTransforms;    // per instance: last update's, for motion vectors
+  std::vector<InstanceDesc> instances;        // as given, with the latest transforms
+  std::vector<glm::mat4> previousTransforms;  // per instance: last update's, for motion vectors
   size_t lightCount = 0;
-  uint32_t emissiveCapacity = 0;                // entries the emission table's buffer holds
+  uint32_t emissiveCapacity = 0;  // entries the emission table's buffer holds
 
   vk::Buffer positions, normals, uvs, indices, geometries, materials;  // device-local, uploaded once
   vk::Buffer instanceTable, emissiveTriangles, punctualLights, constants, skyDistribution;  // host-visible: written
-                                                // at create, then by commands in the engine's frames (updates)
-  vk::Buffer previousPositions;                 // deformable meshes: last frame's positions (else set 0 binds `positions`)
-  VkBufferView arrayViews[12]{};                // texel views of the arrays above and the constants (bindings 1–10, 15, 16)
-  vk::Image skyMap;                             // rgba32f equirectangular map (none for a constant sky)
+      // at create, then by commands in the engine's frames (updates)
+  vk::Buffer previousPositions;   // deformable meshes: last frame's positions (else set 0 binds `positions`)
+  VkBufferView arrayViews[12]{};  // texel views of the arrays above and the constants (bindings 1–10, 15, 16)
+  vk::Image skyMap;               // rgba32f equirectangular map (none for a constant sky)
   VkSampler skySampler = VK_NULL_HANDLE;
-  SceneBvh bvh;                                 // the compute traversal's two levels
+  SceneBvh bvh;  // the compute traversal's two levels
   vk::Buffer bvhNodes, bvhTriangles, bvhTopNodes, bvhInstances;
-  VkBufferView bvhViews[4]{};                   // RGBA32UI texel views of the four, in that order
-  RefitPlan refit;                              // deformable meshes: their bottom levels' refit order
-  vk::Buffer refitOrder;                        // RefitPlan::order on the device
+  VkBufferView bvhViews[4]{};                      // RGBA32UI texel views of the four, in that order
+  RefitPlan refit;                                 // deformable meshes: their bottom levels' refit order
+  vk::Buffer refitOrder;                           // RefitPlan::order on the device
   vk::ComputeProgram refitProgram, gatherProgram;  // deformable meshes only
-  SceneAcceleration accel;                      // ray queries only
+  SceneAcceleration accel;                         // ray queries only
   std::vector<AccelerationMesh> accelMeshes;
-  std::vector<uint32_t> tlasOrder;              // instance indices in the TLAS's (Morton) order, fixed at create
-  vk::DescriptorSets set;                       // set 0, one set
+  std::vector<uint32_t> tlasOrder;  // instance indices in the TLAS's (Morton) order, fixed at create
+  vk::DescriptorSets set;           // set 0, one set
   gpu::GpuSceneConstants sceneConstants{};
-  SceneDesc facts;                              // what sceneDesc() returns
-  std::vector<vk::Buffer> staging;              // freed by finishSceneUpload
-  bool awaitingGeometry = false;                // device meshes: built by finishSceneUpload
-  HeldContents held;                            // the contents meanwhile
+  SceneDesc facts;                  // what sceneDesc() returns
+  std::vector<vk::Buffer> staging;  // freed by finishSceneUpload
+  bool awaitingGeometry = false;    // device meshes: built by finishSceneUpload
+  HeldContents held;                // the contents meanwhile
   DeviceMeshReadback readback;
 };
 

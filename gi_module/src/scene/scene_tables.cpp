@@ -30,7 +30,8 @@ std::string checkTexture(int32_t texture, size_t count, const std::string& field
 
 std::string checkMaterial(const MaterialDesc& m, size_t textures, const std::string& where) {
   if (!finiteNonNegative(m.baseColor)) return where + ".baseColor must be finite and ≥ 0";
-  if (!(m.metallic >= 0.0f && m.metallic <= 1.0f)) return where + ".metallic = " + std::to_string(m.metallic) + " is outside [0, 1]";
+  if (!(m.metallic >= 0.0f && m.metallic <= 1.0f))
+    return where + ".metallic = " + std::to_string(m.metallic) + " is outside [0, 1]";
   if (!(m.roughness >= 0.0f && m.roughness <= 1.0f))
     return where + ".roughness = " + std::to_string(m.roughness) + " is outside [0, 1]";
   if (!finiteNonNegative(m.emissive) || !std::isfinite(m.emissiveStrength) || m.emissiveStrength < 0.0f)
@@ -60,7 +61,8 @@ gpu::GpuMaterial gpuMaterial(const MaterialDesc& m, glm::vec3& emission) {
   g.baseColorTexture = texture(m.baseColorTexture);
   g.metallicRoughnessTexture = texture(m.metallicRoughnessTexture);
   g.emissiveTexture = texture(m.emissiveTexture);
-  g.flags = (glossy ? gpu::MATERIAL_FLAG_GLOSSY : 0u) | (m.alphaMode == AlphaMode::Mask ? gpu::MATERIAL_FLAG_ALPHA_MASK : 0u) |
+  g.flags = (glossy ? gpu::MATERIAL_FLAG_GLOSSY : 0u) |
+            (m.alphaMode == AlphaMode::Mask ? gpu::MATERIAL_FLAG_ALPHA_MASK : 0u) |
             (emissive ? gpu::MATERIAL_FLAG_EMISSIVE : 0u);
   return g;
 }
@@ -68,8 +70,8 @@ gpu::GpuMaterial gpuMaterial(const MaterialDesc& m, glm::vec3& emission) {
 std::string checkSky(const SkyDesc& sky) {
   if (!finiteNonNegative(sky.radiance)) return "contents.sky.radiance must be finite and ≥ 0";
   if (!sky.map) return {};
-  if (sky.width == 0 || sky.height == 0) return "contents.sky: a map of " + std::to_string(sky.width) + "×" +
-                                                std::to_string(sky.height) + " texels";
+  if (sky.width == 0 || sky.height == 0)
+    return "contents.sky: a map of " + std::to_string(sky.width) + "×" + std::to_string(sky.height) + " texels";
   if (sky.channels != 3 && sky.channels != 4)
     return "contents.sky.channels = " + std::to_string(sky.channels) + " (3 or 4 expected)";
   for (size_t i = 0; i < size_t(sky.width) * sky.height; ++i)
@@ -83,11 +85,13 @@ std::string checkSky(const SkyDesc& sky) {
 std::string packMesh(const MeshDesc& mesh, size_t materialCount, const std::string& where, PackedScene& out) {
   if (mesh.vertexCount > 0 && (!mesh.positions || !mesh.normals))
     return where + ": positions and normals are required (" + std::to_string(mesh.vertexCount) + " vertices)";
-  if (mesh.indexCount > 0 && !mesh.indices) return where + ".indices is null with indexCount " + std::to_string(mesh.indexCount);
+  if (mesh.indexCount > 0 && !mesh.indices)
+    return where + ".indices is null with indexCount " + std::to_string(mesh.indexCount);
   for (size_t p = 0; p < mesh.primitives.size(); ++p) {
     const PrimitiveDesc& prim = mesh.primitives[p];
     const std::string field = where + at(".primitives", p);
-    if (prim.indexCount % 3 != 0) return field + ".indexCount = " + std::to_string(prim.indexCount) + " is not a multiple of 3";
+    if (prim.indexCount % 3 != 0)
+      return field + ".indexCount = " + std::to_string(prim.indexCount) + " is not a multiple of 3";
     if (uint64_t(prim.firstIndex) + prim.indexCount > mesh.indexCount)
       return field + ": indices [" + std::to_string(prim.firstIndex) + ", +" + std::to_string(prim.indexCount) +
              ") run past indexCount " + std::to_string(mesh.indexCount);
@@ -101,11 +105,13 @@ std::string packMesh(const MeshDesc& mesh, size_t materialCount, const std::stri
       if (mesh.indices[prim.firstIndex + i] >= prim.vertexCount)
         return field + ": index " + std::to_string(mesh.indices[prim.firstIndex + i]) + " is not below vertexCount " +
                std::to_string(prim.vertexCount);
-    gpu::GpuGeometry g{uint32_t(out.indices.size()), uint32_t(out.positions.size()), prim.material, prim.indexCount / 3};
+    gpu::GpuGeometry g{uint32_t(out.indices.size()), uint32_t(out.positions.size()), prim.material,
+                       prim.indexCount / 3};
     out.geometries.push_back(g);
     out.geometryVertexCount.push_back(prim.vertexCount);
     out.geometryFirstVertex.push_back(prim.firstVertex);
-    out.indices.insert(out.indices.end(), mesh.indices + prim.firstIndex, mesh.indices + prim.firstIndex + prim.indexCount);
+    out.indices.insert(out.indices.end(), mesh.indices + prim.firstIndex,
+                       mesh.indices + prim.firstIndex + prim.indexCount);
     for (uint32_t v = prim.firstVertex; v < prim.firstVertex + prim.vertexCount; ++v) {
       const float* pos = element(mesh.positions, mesh.positionStride, 12, v);
       const float* nrm = element(mesh.normals, mesh.normalStride, 12, v);
@@ -154,7 +160,8 @@ std::string packScene(const SceneContents& contents, PackedScene& out) {
     out.meshFirstGeometry.push_back(uint32_t(out.geometries.size()));
     out.meshGeometryCount.push_back(uint32_t(contents.meshes[m].primitives.size()));
     out.meshDeformable.push_back(contents.meshes[m].deformable ? 1 : 0);
-    if (std::string e = packMesh(contents.meshes[m], contents.materials.size(), at("contents.meshes", m), out); !e.empty())
+    if (std::string e = packMesh(contents.meshes[m], contents.materials.size(), at("contents.meshes", m), out);
+        !e.empty())
       return e;
   }
   if (!finite(std::span(reinterpret_cast<const float*>(out.positions.data()), out.positions.size() * 3)))
@@ -175,7 +182,8 @@ std::string packScene(const SceneContents& contents, PackedScene& out) {
   }
   if (std::string e = checkSky(contents.sky); !e.empty()) return e;
   out.skyMeanLuminance =
-      contents.sky.map ? meanLuminance(contents.sky.map, contents.sky.width, contents.sky.height, contents.sky.channels) : 1.0f;
+      contents.sky.map ? meanLuminance(contents.sky.map, contents.sky.width, contents.sky.height, contents.sky.channels)
+                       : 1.0f;
   return {};
 }
 
@@ -192,7 +200,8 @@ std::string checkInstances(const PackedScene& packed, std::span<const InstanceDe
 std::string checkLights(std::span<const LightDesc> lights, const char* what) {
   for (size_t i = 0; i < lights.size(); ++i) {
     const LightDesc& l = lights[i];
-    if (uint32_t(l.type) > uint32_t(LightType::Directional)) return at(what, i) + ".type is not Point, Spot or Directional";
+    if (uint32_t(l.type) > uint32_t(LightType::Directional))
+      return at(what, i) + ".type is not Point, Spot or Directional";
     if (!finite(l.position) || !finite(l.direction)) return at(what, i) + ": position and direction must be finite";
     if (!finiteNonNegative(l.intensity) || !std::isfinite(l.range) || l.range < 0.0f)
       return at(what, i) + ": intensity and range must be finite and ≥ 0";
@@ -216,7 +225,8 @@ std::vector<gpu::GpuEmissiveTriangle> emissiveTable(const PackedScene& packed, s
       for (uint32_t t = 0; t < geo.triangleCount; ++t) {
         glm::vec3 v[3];
         for (int k = 0; k < 3; ++k)
-          v[k] = glm::vec3(world * glm::vec4(packed.positions[geo.vertexOffset + packed.indices[geo.firstIndex + 3 * t + k]], 1.0f));
+          v[k] = glm::vec3(
+              world * glm::vec4(packed.positions[geo.vertexOffset + packed.indices[geo.firstIndex + 3 * t + k]], 1.0f));
         double area = 0.5 * double(glm::length(glm::cross(v[1] - v[0], v[2] - v[0])));
         double w = area * double(luminance(emission));
         if (!(w > 0.0) || !std::isfinite(w)) continue;  // zero-area triangles can never be hit nor sampled
@@ -438,7 +448,8 @@ std::vector<gpu::GpuInstance> gpuInstances(const PackedScene& packed, std::span<
 std::vector<BvhMesh> bvhMeshes(const PackedScene& packed) {
   std::vector<BvhMesh> meshes(packed.meshFirstGeometry.size());
   for (size_t m = 0; m < meshes.size(); ++m)
-    for (uint32_t id = packed.meshFirstGeometry[m]; id < packed.meshFirstGeometry[m] + packed.meshGeometryCount[m]; ++id) {
+    for (uint32_t id = packed.meshFirstGeometry[m]; id < packed.meshFirstGeometry[m] + packed.meshGeometryCount[m];
+         ++id) {
       const gpu::GpuGeometry& g = packed.geometries[id];
       meshes[m].geometries.push_back({g.firstIndex, g.triangleCount, g.vertexOffset, id});
     }
@@ -478,7 +489,8 @@ float typicalRadiance(const PackedScene& packed, std::span<const LightDesc> ligh
     typical = std::max(typical, gi::luminance(l.intensity[0], l.intensity[1], l.intensity[2]) / (quarter * quarter) *
                                     0.5f / 3.14159265f);
   for (const glm::vec3& e : packed.materialEmission) typical = std::max(typical, 0.1f * luminance(e));
-  typical = std::max(typical, 0.5f * gi::luminance(sky.radiance[0], sky.radiance[1], sky.radiance[2]) * packed.skyMeanLuminance);
+  typical = std::max(typical,
+                     0.5f * gi::luminance(sky.radiance[0], sky.radiance[1], sky.radiance[2]) * packed.skyMeanLuminance);
   return typical > 0.0f && std::isfinite(typical) ? typical : 1.0f;
 }
 

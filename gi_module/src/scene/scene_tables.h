@@ -16,17 +16,18 @@ namespace gi {
 struct PackedScene {
   std::vector<glm::vec3> positions, normals;  // object space
   std::vector<glm::vec2> uvs;
-  std::vector<uint32_t> indices;              // relative to their geometry's vertexOffset, Morton-sorted per geometry
-  std::vector<gpu::GpuGeometry> geometries;   // every mesh's primitives, mesh by mesh
+  std::vector<uint32_t> indices;             // relative to their geometry's vertexOffset, Morton-sorted per geometry
+  std::vector<gpu::GpuGeometry> geometries;  // every mesh's primitives, mesh by mesh
   std::vector<uint32_t> geometryVertexCount;
-  std::vector<uint32_t> geometryFirstVertex;  // the primitive's firstVertex in its mesh's arrays (updates copy from there)
-  std::vector<uint8_t> meshDeformable;        // per mesh: MeshDesc::deformable
+  std::vector<uint32_t>
+      geometryFirstVertex;              // the primitive's firstVertex in its mesh's arrays (updates copy from there)
+  std::vector<uint8_t> meshDeformable;  // per mesh: MeshDesc::deformable
   std::vector<uint32_t> meshFirstGeometry, meshGeometryCount;
-  std::vector<glm::vec3> meshCentres;         // centre of each mesh's object-space bounds
+  std::vector<glm::vec3> meshCentres;  // centre of each mesh's object-space bounds
   std::vector<gpu::GpuMaterial> materials;
-  std::vector<glm::vec3> materialEmission;    // per material, W/(sr·m²)
+  std::vector<glm::vec3> materialEmission;                // per material, W/(sr·m²)
   bool hasAlphaMask = false, hasGlossyMaterials = false;  // among materials some primitive uses
-  float skyMeanLuminance = 0.0f;              // of the map's texels (1 for a constant sky)
+  float skyMeanLuminance = 0.0f;                          // of the map's texels (1 for a constant sky)
 };
 
 // Checks and packs the geometry and materials. The error names the field.
@@ -63,7 +64,8 @@ std::vector<uint32_t> lightTableWords(const LightTable& table);
 // The words that buffer needs for `lights` lights of any types (their tree and cut are largest when none
 // is directional), in whole 16-byte texels: the shaders read the cut's words four at a time.
 inline size_t lightTableCapacityWords(size_t lights) {
-  const size_t words = (lights * sizeof(gpu::GpuPunctualLight) + (lights ? 2 * lights - 1 : 0) * sizeof(gpu::GpuLightNode)) / 4 + lights;
+  const size_t words =
+      (lights * sizeof(gpu::GpuPunctualLight) + (lights ? 2 * lights - 1 : 0) * sizeof(gpu::GpuLightNode)) / 4 + lights;
   return (words + 3) / 4 * 4;
 }
 std::vector<gpu::GpuInstance> gpuInstances(const PackedScene& packed, std::span<const InstanceDesc> instances,

@@ -1,4 +1,4 @@
-// The sky map's importance-sampling tables (shaders/sky.glsl reads them).
+// The sky map's importance-sampling tables (shaders/module/sky.glsl reads them).
 #pragma once
 #include <cstdint>
 #include <vector>

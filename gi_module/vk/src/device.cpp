@@ -7,7 +7,8 @@ Status openDevice(PFN_vkGetInstanceProcAddr getInstanceProcAddr, VkInstance inst
   out.instance = instance;
   out.physicalDevice = physicalDevice;
   out.device = device;
-  if (!getInstanceProcAddr) return {VK_ERROR_INITIALIZATION_FAILED, "vkGetInstanceProcAddr (desc.getInstanceProcAddr is null)"};
+  if (!getInstanceProcAddr)
+    return {VK_ERROR_INITIALIZATION_FAILED, "vkGetInstanceProcAddr (desc.getInstanceProcAddr is null)"};
   if (const char* missing = loadFunctions(getInstanceProcAddr, instance, device, out.fn))
     return {VK_ERROR_INITIALIZATION_FAILED, missing};
   out.fn.vkGetPhysicalDeviceProperties(physicalDevice, &out.properties);

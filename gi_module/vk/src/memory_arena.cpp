@@ -45,7 +45,8 @@ VkDeviceSize sharedBlockSize(const MemoryArena& a, uint32_t type, bool linear, b
 
 // `size` more bytes held within the budget, or the error a full heap gives.
 Status withinBudget(const MemoryArena& a, VkDeviceSize size) {
-  if (a.budget && a.held + size > a.budget) return {VK_ERROR_OUT_OF_DEVICE_MEMORY, "an allocation within ModuleDesc::memoryBudgetBytes"};
+  if (a.budget && a.held + size > a.budget)
+    return {VK_ERROR_OUT_OF_DEVICE_MEMORY, "an allocation within ModuleDesc::memoryBudgetBytes"};
   return {};
 }
 
@@ -65,8 +66,10 @@ Status newBlock(Device& d, uint32_t type, VkDeviceSize size, bool shared, bool h
   if (d.deviceAddressMemory) info.pNext = &flags;
   info.allocationSize = size;
   info.memoryTypeIndex = type;
-  if (a.simulate) b.memory = reinterpret_cast<VkDeviceMemory>(a.nextPlaceholder++);
-  else GI_VK(d.fn.vkAllocateMemory(d.device, &info, d.allocator, &b.memory));
+  if (a.simulate)
+    b.memory = reinterpret_cast<VkDeviceMemory>(a.nextPlaceholder++);
+  else
+    GI_VK(d.fn.vkAllocateMemory(d.device, &info, d.allocator, &b.memory));
   if (hostVisible && !a.simulate) {
     if (VkResult r = d.fn.vkMapMemory(d.device, b.memory, 0, VK_WHOLE_SIZE, 0, &b.mapped); r != VK_SUCCESS) {
       d.fn.vkFreeMemory(d.device, b.memory, d.allocator);
@@ -76,8 +79,10 @@ Status newBlock(Device& d, uint32_t type, VkDeviceSize size, bool shared, bool h
   b.free.push_back({0, size});
   auto slot = std::find_if(a.blocks.begin(), a.blocks.end(), [](const MemoryArena::Block& x) { return !x.memory; });
   index = uint32_t(slot - a.blocks.begin());
-  if (slot == a.blocks.end()) a.blocks.push_back(std::move(b));
-  else *slot = std::move(b);
+  if (slot == a.blocks.end())
+    a.blocks.push_back(std::move(b));
+  else
+    *slot = std::move(b);
   a.held += size;
   a.allocations++;
   return {};
@@ -96,10 +101,12 @@ Status engineAllocate(Device& d, const DeviceMemoryRequest& request, Allocation&
       return {r, "DeviceMemoryCallbacks::allocate"};
     const VkDeviceSize alignment = std::max<VkDeviceSize>(request.requirements.alignment, 1);
     const bool hostVisible = request.properties & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT;
-    const char* wrong = !slice.memory                          ? "DeviceMemoryCallbacks::allocate returned no memory"
-                        : slice.offset % alignment != 0        ? "DeviceMemoryCallbacks::allocate returned an offset off the alignment"
-                        : hostVisible && slice.mapped == nullptr ? "DeviceMemoryCallbacks::allocate returned no mapped pointer for host-visible memory"
-                                                                 : nullptr;
+    const char* wrong = !slice.memory ? "DeviceMemoryCallbacks::allocate returned no memory"
+                        : slice.offset % alignment != 0
+                            ? "DeviceMemoryCallbacks::allocate returned an offset off the alignment"
+                        : hostVisible && slice.mapped == nullptr
+                            ? "DeviceMemoryCallbacks::allocate returned no mapped pointer for host-visible memory"
+                            : nullptr;
     if (wrong) {
       slice.size = size;
       if (slice.memory && a.engine.free) a.engine.free(a.engine.userData, slice);
@@ -122,15 +129,17 @@ Status allocate(Device& d, const VkMemoryRequirements& req, bool hostVisible, bo
                 Allocation& out) {
   MemoryArena& a = d.memory;
   const std::lock_guard<std::mutex> guard(a.lock.mutex);
-  const VkMemoryPropertyFlags flags = hostVisible ? VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT
-                                                  : VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
+  const VkMemoryPropertyFlags flags = hostVisible
+                                          ? VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT
+                                          : VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
   if (a.engine.enabled()) {
     const VkMemoryAllocateFlags allocateFlags = d.deviceAddressMemory ? VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT : 0;
     return engineAllocate(d, {req, flags, allocateFlags, linear, transient}, out);
   }
   uint32_t type = 0;
   if (!findMemoryType(d, req.memoryTypeBits, flags, type))
-    return {VK_ERROR_FEATURE_NOT_PRESENT, hostVisible ? "a host-visible coherent memory type" : "a device-local memory type"};
+    return {VK_ERROR_FEATURE_NOT_PRESENT,
+            hostVisible ? "a host-visible coherent memory type" : "a device-local memory type"};
   uint32_t index = UINT32_MAX;
   VkDeviceSize offset = 0;
   const VkDeviceSize blockSize = sharedBlockSize(a, type, linear, hostVisible);

@@ -18,7 +18,8 @@ Status createComputeProgram(const Device& d, std::span<const uint32_t> spirv,
 
   std::vector<VkSpecializationMapEntry> entries;
   for (uint32_t i = 0; i < specialization.size(); ++i) entries.push_back({i, i * 4u, 4});
-  VkSpecializationInfo spec{uint32_t(entries.size()), entries.data(), specialization.size_bytes(), specialization.data()};
+  VkSpecializationInfo spec{uint32_t(entries.size()), entries.data(), specialization.size_bytes(),
+                            specialization.data()};
   VkShaderModuleCreateInfo moduleInfo{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
   moduleInfo.codeSize = spirv.size_bytes();
   moduleInfo.pCode = spirv.data();
@@ -50,8 +51,9 @@ void destroyComputeProgram(const Device& d, ComputeProgram& p) {
   p = ComputeProgram{};
 }
 
-void dispatch(const Device& d, VkCommandBuffer cmd, const ComputeProgram& program, std::span<const VkDescriptorSet> sets,
-              glm::uvec2 threads, const void* pushConstants, uint32_t pushConstantSize) {
+void dispatch(const Device& d, VkCommandBuffer cmd, const ComputeProgram& program,
+              std::span<const VkDescriptorSet> sets, glm::uvec2 threads, const void* pushConstants,
+              uint32_t pushConstantSize) {
   d.fn.vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, program.pipeline);
   if (!sets.empty())
     d.fn.vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, program.layout, 0, uint32_t(sets.size()),
@@ -62,7 +64,8 @@ void dispatch(const Device& d, VkCommandBuffer cmd, const ComputeProgram& progra
   if (groups.x > 0 && groups.y > 0) d.fn.vkCmdDispatch(cmd, groups.x, groups.y, 1);
 }
 
-void warmUp(const Device& d, VkCommandBuffer cmd, const ComputeProgram& program, std::span<const VkDescriptorSet> sets) {
+void warmUp(const Device& d, VkCommandBuffer cmd, const ComputeProgram& program,
+            std::span<const VkDescriptorSet> sets) {
   static constexpr uint8_t kZeros[256] = {};  // every push struct is far smaller (maxPushConstantsSize >= 128)
   d.fn.vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, program.pipeline);
   if (!sets.empty())
@@ -82,7 +85,8 @@ Status createDescriptorLayout(const Device& d, std::span<const Binding> bindings
                                           VK_DESCRIPTOR_BINDING_PARTIALLY_BOUND_BIT
                                     : 0);
   }
-  VkDescriptorSetLayoutBindingFlagsCreateInfo flagInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_BINDING_FLAGS_CREATE_INFO};
+  VkDescriptorSetLayoutBindingFlagsCreateInfo flagInfo{
+      VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_BINDING_FLAGS_CREATE_INFO};
   flagInfo.bindingCount = uint32_t(flags.size());
   flagInfo.pBindingFlags = flags.data();
   VkDescriptorSetLayoutCreateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
@@ -160,8 +164,8 @@ VkWriteDescriptorSet& DescriptorWriter::add(uint32_t binding, VkDescriptorType t
   return writes_.back();
 }
 
-DescriptorWriter& DescriptorWriter::buffer(uint32_t binding, VkDescriptorType type, VkBuffer buffer, VkDeviceSize offset,
-                                           VkDeviceSize range) {
+DescriptorWriter& DescriptorWriter::buffer(uint32_t binding, VkDescriptorType type, VkBuffer buffer,
+                                           VkDeviceSize offset, VkDeviceSize range) {
   buffers_.push_back({buffer, offset, range});
   add(binding, type).pBufferInfo = &buffers_.back();
   return *this;
@@ -186,7 +190,8 @@ DescriptorWriter& DescriptorWriter::texture(uint32_t binding, VkImageView view, 
   return *this;
 }
 
-DescriptorWriter& DescriptorWriter::accelerationStructure(uint32_t binding, const VkAccelerationStructureKHR* structure) {
+DescriptorWriter& DescriptorWriter::accelerationStructure(uint32_t binding,
+                                                          const VkAccelerationStructureKHR* structure) {
   VkWriteDescriptorSetAccelerationStructureKHR a{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET_ACCELERATION_STRUCTURE_KHR};
   a.accelerationStructureCount = 1;
   a.pAccelerationStructures = structure;
@@ -202,7 +207,8 @@ DescriptorWriter& DescriptorWriter::uniformTexelBuffer(uint32_t binding, VkBuffe
 }
 
 void DescriptorWriter::write(const Device& d) {
-  if (!writes_.empty() && !d.memory.simulate) d.fn.vkUpdateDescriptorSets(d.device, uint32_t(writes_.size()), writes_.data(), 0, nullptr);
+  if (!writes_.empty() && !d.memory.simulate)
+    d.fn.vkUpdateDescriptorSets(d.device, uint32_t(writes_.size()), writes_.data(), 0, nullptr);
   writes_.clear();
 }
 

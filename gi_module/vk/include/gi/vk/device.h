@@ -18,7 +18,7 @@ struct Device {
   const VkAllocationCallbacks* allocator = nullptr;  // the engine's, for every vkCreate*/vkAllocate* (may be null)
   VkPipelineCache pipelineCache = VK_NULL_HANDLE;    // the engine's (may be null)
   MemoryArena memory;                                // every buffer and image the module owns lives here
-  bool deviceAddressMemory = false;                  // blocks allocated with DEVICE_ADDRESS (acceleration-structure inputs)
+  bool deviceAddressMemory = false;  // blocks allocated with DEVICE_ADDRESS (acceleration-structure inputs)
 };
 
 // Loads the function table and the device's properties. A loader that lacks a

@@ -9,72 +9,72 @@
 namespace gi::vk {
 
 // Instance-level functions (vkGetInstanceProcAddr with the engine's instance).
-#define GI_VK_INSTANCE_FUNCTIONS(X)     \
-  X(vkGetDeviceProcAddr)                \
-  X(vkGetPhysicalDeviceProperties)      \
+#define GI_VK_INSTANCE_FUNCTIONS(X)      \
+  X(vkGetDeviceProcAddr)                 \
+  X(vkGetPhysicalDeviceProperties)       \
   X(vkGetPhysicalDeviceMemoryProperties) \
-  X(vkGetPhysicalDeviceProperties2)     \
-  X(vkGetPhysicalDeviceFeatures2)       \
+  X(vkGetPhysicalDeviceProperties2)      \
+  X(vkGetPhysicalDeviceFeatures2)        \
   X(vkGetPhysicalDeviceFormatProperties)
 
 // Device-level functions (vkGetDeviceProcAddr with the engine's device); Vulkan 1.3 core.
-#define GI_VK_DEVICE_FUNCTIONS(X)  \
-  X(vkAllocateDescriptorSets)      \
-  X(vkAllocateMemory)              \
-  X(vkBindBufferMemory)            \
-  X(vkBindImageMemory)             \
-  X(vkCmdBindDescriptorSets)       \
-  X(vkCmdBindPipeline)             \
-  X(vkCmdCopyBuffer)               \
-  X(vkCmdCopyBufferToImage)        \
-  X(vkCmdDispatch)                 \
-  X(vkCmdFillBuffer)               \
-  X(vkCmdPipelineBarrier2)         \
-  X(vkCmdPushConstants)            \
-  X(vkCmdUpdateBuffer)             \
-  X(vkCmdResetQueryPool)           \
-  X(vkCmdWriteTimestamp2)          \
-  X(vkCreateBuffer)                \
-  X(vkCreateBufferView)            \
-  X(vkCreateComputePipelines)      \
-  X(vkCreateDescriptorPool)        \
-  X(vkCreateDescriptorSetLayout)   \
-  X(vkCreateImage)                 \
-  X(vkCreateImageView)             \
-  X(vkCreatePipelineLayout)        \
-  X(vkCreateQueryPool)             \
-  X(vkCreateSampler)               \
-  X(vkCreateShaderModule)          \
-  X(vkDestroyBuffer)               \
-  X(vkDestroyBufferView)           \
-  X(vkDestroyDescriptorPool)       \
-  X(vkDestroyDescriptorSetLayout)  \
-  X(vkDestroyImage)                \
-  X(vkDestroyImageView)            \
-  X(vkDestroyPipeline)             \
-  X(vkDestroyPipelineLayout)       \
-  X(vkDestroyQueryPool)            \
-  X(vkDestroySampler)              \
-  X(vkDestroyShaderModule)         \
-  X(vkFreeMemory)                  \
-  X(vkGetBufferDeviceAddress)      \
-  X(vkGetBufferMemoryRequirements) \
+#define GI_VK_DEVICE_FUNCTIONS(X)        \
+  X(vkAllocateDescriptorSets)            \
+  X(vkAllocateMemory)                    \
+  X(vkBindBufferMemory)                  \
+  X(vkBindImageMemory)                   \
+  X(vkCmdBindDescriptorSets)             \
+  X(vkCmdBindPipeline)                   \
+  X(vkCmdCopyBuffer)                     \
+  X(vkCmdCopyBufferToImage)              \
+  X(vkCmdDispatch)                       \
+  X(vkCmdFillBuffer)                     \
+  X(vkCmdPipelineBarrier2)               \
+  X(vkCmdPushConstants)                  \
+  X(vkCmdUpdateBuffer)                   \
+  X(vkCmdResetQueryPool)                 \
+  X(vkCmdWriteTimestamp2)                \
+  X(vkCreateBuffer)                      \
+  X(vkCreateBufferView)                  \
+  X(vkCreateComputePipelines)            \
+  X(vkCreateDescriptorPool)              \
+  X(vkCreateDescriptorSetLayout)         \
+  X(vkCreateImage)                       \
+  X(vkCreateImageView)                   \
+  X(vkCreatePipelineLayout)              \
+  X(vkCreateQueryPool)                   \
+  X(vkCreateSampler)                     \
+  X(vkCreateShaderModule)                \
+  X(vkDestroyBuffer)                     \
+  X(vkDestroyBufferView)                 \
+  X(vkDestroyDescriptorPool)             \
+  X(vkDestroyDescriptorSetLayout)        \
+  X(vkDestroyImage)                      \
+  X(vkDestroyImageView)                  \
+  X(vkDestroyPipeline)                   \
+  X(vkDestroyPipelineLayout)             \
+  X(vkDestroyQueryPool)                  \
+  X(vkDestroySampler)                    \
+  X(vkDestroyShaderModule)               \
+  X(vkFreeMemory)                        \
+  X(vkGetBufferDeviceAddress)            \
+  X(vkGetBufferMemoryRequirements)       \
   X(vkGetDeviceBufferMemoryRequirements) \
   X(vkGetDeviceImageMemoryRequirements)  \
-  X(vkGetImageMemoryRequirements)  \
-  X(vkGetQueryPoolResults)         \
-  X(vkMapMemory)                   \
+  X(vkGetImageMemoryRequirements)        \
+  X(vkGetQueryPoolResults)               \
+  X(vkMapMemory)                         \
   X(vkUpdateDescriptorSets)
 
 // Optional: present only when the instance enabled VK_EXT_debug_utils, or
 // the device VK_KHR_acceleration_structure (scenes traced with ray queries).
-#define GI_VK_OPTIONAL_DEVICE_FUNCTIONS(X)       \
-  X(vkCmdBeginDebugUtilsLabelEXT)                \
-  X(vkCmdEndDebugUtilsLabelEXT)                  \
-  X(vkCmdBuildAccelerationStructuresKHR)         \
-  X(vkCreateAccelerationStructureKHR)            \
-  X(vkDestroyAccelerationStructureKHR)           \
-  X(vkGetAccelerationStructureBuildSizesKHR)     \
+#define GI_VK_OPTIONAL_DEVICE_FUNCTIONS(X)   \
+  X(vkCmdBeginDebugUtilsLabelEXT)            \
+  X(vkCmdEndDebugUtilsLabelEXT)              \
+  X(vkCmdBuildAccelerationStructuresKHR)     \
+  X(vkCreateAccelerationStructureKHR)        \
+  X(vkDestroyAccelerationStructureKHR)       \
+  X(vkGetAccelerationStructureBuildSizesKHR) \
   X(vkGetAccelerationStructureDeviceAddressKHR)
 
 struct Functions {

@@ -20,7 +20,7 @@ struct Device;
 struct Allocation {
   VkDeviceMemory memory = VK_NULL_HANDLE;
   VkDeviceSize offset = 0, size = 0;
-  void* mapped = nullptr;    // host-visible allocations: mapped for their lifetime
+  void* mapped = nullptr;       // host-visible allocations: mapped for their lifetime
   uint32_t block = UINT32_MAX;  // the arena's block, or kEngineMemory
 };
 constexpr uint32_t kEngineMemory = UINT32_MAX - 1;  // an Allocation the engine's callbacks supplied
@@ -41,18 +41,19 @@ struct MemoryArena {
     VkDeviceMemory memory = VK_NULL_HANDLE;  // null: a freed block whose slot is reusable
     VkDeviceSize size = 0, used = 0;
     uint32_t memoryType = 0;
-    bool shared = false;        // suballocated (false: one resource's own block)
-    bool linear = false;        // buffers and optimal-tiling images never share a block (bufferImageGranularity)
-    bool hostVisible = false;   // mapped whole (but on a simulated arena); device-local blocks never hold host-visible resources
+    bool shared = false;  // suballocated (false: one resource's own block)
+    bool linear = false;  // buffers and optimal-tiling images never share a block (bufferImageGranularity)
+    bool hostVisible =
+        false;  // mapped whole (but on a simulated arena); device-local blocks never hold host-visible resources
     void* mapped = nullptr;
-    std::vector<Range> free;    // sorted by offset, neighbours merged
+    std::vector<Range> free;  // sorted by offset, neighbours merged
   };
   std::vector<Block> blocks;
   VkDeviceSize firstBlockSize = VkDeviceSize(256) << 10, maxBlockSize = VkDeviceSize(64) << 20;
-  VkDeviceSize budget = 0;      // bytes the module may hold; 0: as many as the device gives
-  VkDeviceSize held = 0;        // bytes allocated from the device
-  VkDeviceSize used = 0;        // bytes handed to resources
-  uint32_t allocations = 0;     // live vkAllocateMemory blocks
+  VkDeviceSize budget = 0;       // bytes the module may hold; 0: as many as the device gives
+  VkDeviceSize held = 0;         // bytes allocated from the device
+  VkDeviceSize used = 0;         // bytes handed to resources
+  uint32_t allocations = 0;      // live vkAllocateMemory blocks
   DeviceMemoryCallbacks engine;  // set: every allocation is the engine's (held = used = what it was asked for)
   bool simulate = false;         // no Vulkan or engine call: blocks and slices get placeholder handles
   uint64_t nextPlaceholder = 1;  // simulate: the next placeholder VkDeviceMemory

@@ -54,8 +54,8 @@ inline std::span<const uint32_t> traversalVariant(uint32_t traversal, std::span<
 struct Binding {
   uint32_t binding;
   VkDescriptorType type;
-  uint32_t count = 1;           // upper bound when variableCount
-  bool variableCount = false;   // last binding only: a runtime-sized, partially bound array
+  uint32_t count = 1;          // upper bound when variableCount
+  bool variableCount = false;  // last binding only: a runtime-sized, partially bound array
 };
 
 // `count` sets of one layout, from a pool of their own.
@@ -69,8 +69,9 @@ struct DescriptorSets {
 Status createDescriptorLayout(const Device& device, std::span<const Binding> bindings, VkDescriptorSetLayout& out);
 // With `layout` given (made from the same bindings) the sets use it and do
 // not own it. `variableCount`: the size of the variable-count binding, if any.
-Status createDescriptorSets(const Device& device, std::span<const Binding> bindings, uint32_t count, DescriptorSets& out,
-                            VkDescriptorSetLayout layout = VK_NULL_HANDLE, uint32_t variableCount = 0);
+Status createDescriptorSets(const Device& device, std::span<const Binding> bindings, uint32_t count,
+                            DescriptorSets& out, VkDescriptorSetLayout layout = VK_NULL_HANDLE,
+                            uint32_t variableCount = 0);
 void destroyDescriptorSets(const Device& device, DescriptorSets& sets);
 
 class DescriptorWriter {

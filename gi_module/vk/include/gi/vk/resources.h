@@ -8,7 +8,7 @@ namespace gi::vk {
 
 struct Buffer {
   VkBuffer buffer = VK_NULL_HANDLE;
-  Allocation memory;       // memory.mapped: the host pointer of a host-visible buffer
+  Allocation memory;  // memory.mapped: the host pointer of a host-visible buffer
   VkDeviceSize size = 0;
 };
 

@@ -14,15 +14,14 @@ struct Status {
 };
 
 // Returns a Status from the enclosing function when a Vulkan call fails.
-#define GI_VK(call)                                                            \
-  do {                                                                         \
-    if (VkResult gi_vk_result_ = (call); gi_vk_result_ != VK_SUCCESS)          \
-      return ::gi::vk::Status{gi_vk_result_, #call};                           \
+#define GI_VK(call)                                                                                                  \
+  do {                                                                                                               \
+    if (VkResult gi_vk_result_ = (call); gi_vk_result_ != VK_SUCCESS) return ::gi::vk::Status{gi_vk_result_, #call}; \
   } while (0)
 // Passes on the Status of a module function that failed.
-#define GI_TRY(expr)                                                           \
-  do {                                                                         \
-    if (::gi::vk::Status gi_try_status_ = (expr)) return gi_try_status_;       \
+#define GI_TRY(expr)                                                     \
+  do {                                                                   \
+    if (::gi::vk::Status gi_try_status_ = (expr)) return gi_try_status_; \
   } while (0)
 
 }  // namespace gi::vk
