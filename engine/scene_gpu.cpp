@@ -156,6 +156,12 @@ void recordSceneTransformUpdate(const Context& ctx, VkCommandBuffer cmd, const S
   recordSkinning(ctx, cmd, scene, gpu);
 }
 
+void recordSceneHold(VkCommandBuffer cmd, const Scene& scene, SceneGpu& gpu) {
+  throwIf(gi::updateInstances(gpu.scene, cmd, instanceDescs(scene)));
+  for (uint32_t mesh = 0; mesh < scene.meshes.size(); ++mesh)
+    if (scene.meshes[mesh].deformable) throwIf(gi::holdMeshVertices(gpu.scene, cmd, mesh));
+}
+
 void recordMeshVertexUpdate(VkCommandBuffer cmd, const Scene& scene, SceneGpu& gpu, uint32_t mesh) {
   gi::MeshVertices vertices;
   vertices.positions = &scene.positions[0].x;

@@ -56,6 +56,11 @@ void destroySceneGpu(const Context& ctx, SceneGpu& gpu);
 // tables' writes and the TLAS rebuild into `cmd`, and skins the skinned meshes
 // with scene.gltf.jointMatrices (engine/skinning.h): frames in flight keep theirs.
 void recordSceneTransformUpdate(const Context& ctx, VkCommandBuffer cmd, const Scene& scene, SceneGpu& gpu);
+// The first frame the scene stands still after moving (an animation paused): its instances' previous
+// transforms and its deformable meshes' previous positions become the current ones
+// (gi::updateInstances with the same transforms, gi::holdMeshVertices), so the G-buffer's motion vectors
+// read no motion; nothing is skinned or refit.
+void recordSceneHold(VkCommandBuffer cmd, const Scene& scene, SceneGpu& gpu);
 // For a deformable mesh (Mesh::deformable): hands the module `scene`'s vertices of mesh `mesh`
 // (gi::updateMeshVertices), which records their write, the BVH's refit and the BLAS update into `cmd`.
 void recordMeshVertexUpdate(VkCommandBuffer cmd, const Scene& scene, SceneGpu& gpu, uint32_t mesh);

@@ -208,6 +208,7 @@ struct Demo {
   demo::FrameFacts factsOfFrame[engine::kFramesInFlight];  // what each frame in flight ran, for its CSV row
   demo::FrameLog log;
   bool logging = false;
+  bool sceneMoved = false;  // last frame's scene moved: a pause holds it once (engine::recordSceneHold)
   // Input.
   Keys keys;
   bool previousP = false, previousF12 = false, screenshotPending = false;
@@ -413,7 +414,10 @@ void recordDemoFrame(Demo& d, VkCommandBuffer cmd, const gpu::GpuCamera& camera,
     engine::animateScene(d.animation, d.seconds, d.scene);
     engine::recordSceneTransformUpdate(d.ctx, cmd, d.scene, d.sceneGpu);
     if (d.ui.tellModuleLightsMoved) gi::invalidate(d.session.module, gi::Invalidate::LightsChanged);
+  } else if (d.sceneMoved) {
+    engine::recordSceneHold(cmd, d.scene, d.sceneGpu);  // paused: the last motion stops here
   }
+  d.sceneMoved = d.ui.animate;
   // The module pre-exposes its light with the demo's exposure, as an engine keeps half floats in
   // range; the display applies what is left (nothing) and clamps.
   d.session.preExposure = d.ui.exposure;

@@ -160,7 +160,8 @@ TEST_F(SkinningTest, MorphTargetsAreNamedInAWarning) {
 
 // The G-buffer's motion on a deforming surface: the module's scene keeps last frame's positions
 // (gi::updateMeshVertices copies them before writing the new pose), so the bar's bending pixels carry
-// their motion, and a pose repeated carries none.
+// their motion, and a pose repeated carries none. A frame without an update keeps the last motion; a
+// paused animation's hold (engine::recordSceneHold: gi::holdMeshVertices, updateInstances) ends it.
 TEST_F(SkinningTest, DeformingSurfacesCarryTheirMotion) {
   LoadedScene s;
   std::string error;
@@ -171,8 +172,7 @@ TEST_F(SkinningTest, DeformingSurfacesCarryTheirMotion) {
   ScopedSession session(ctx);
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {kSize, kSize}, gi::Settings{}, session));
   const gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], kSize, kSize, nullptr);
-  auto motionAt = [&](float seconds, uint32_t frame) {
-    engine::poseScene(ctx, animation, seconds, s.scene, s.gpu);
+  auto motionOf = [&](uint32_t frame) {
     tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, frame);
     const std::vector<std::byte> raw =
         engine::readbackImage(ctx, session.gbuffer.color[gpu::GBUFFER_MOTION], VK_IMAGE_LAYOUT_GENERAL, 4);
@@ -184,14 +184,29 @@ TEST_F(SkinningTest, DeformingSurfacesCarryTheirMotion) {
     }
     return lengths;
   };
+  auto motionAt = [&](float seconds, uint32_t frame) {
+    engine::poseScene(ctx, animation, seconds, s.scene, s.gpu);
+    return motionOf(frame);
+  };
+  auto movingPixels = [](const std::vector<float>& lengths) {
+    return size_t(std::count_if(lengths.begin(), lengths.end(), [](float l) { return l > 0.5f; }));
+  };
+  auto largestOf = [](const std::vector<float>& lengths) { return *std::max_element(lengths.begin(), lengths.end()); };
   motionAt(0.3f, 0);
   const std::vector<float> bending = motionAt(0.4f, 1);  // 9 degrees further
-  const std::vector<float> still = motionAt(0.4f, 2);    // the same pose again
-  const size_t moving = size_t(std::count_if(bending.begin(), bending.end(), [](float l) { return l > 0.5f; }));
-  const float largest = *std::max_element(still.begin(), still.end());
-  std::printf("bending: %zu pixels move more than half a pixel (largest %.2f px); the pose repeated: largest %.2e px\n",
-              moving, *std::max_element(bending.begin(), bending.end()), largest);
+  const std::vector<float> unheld = motionOf(2);         // no update: the last motion stays
+  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { engine::recordSceneHold(cmd, s.scene, s.gpu); });
+  const std::vector<float> held = motionOf(3);
+  motionAt(0.3f, 4);
+  const std::vector<float> still = motionAt(0.3f, 5);  // the same pose again
+  const size_t moving = movingPixels(bending);
+  std::printf(
+      "bending: %zu pixels move more than half a pixel (largest %.2f px); no update: %zu; held: largest "
+      "%.2e px; the pose repeated: largest %.2e px\n",
+      moving, largestOf(bending), movingPixels(unheld), largestOf(held), largestOf(still));
   EXPECT_GE(moving, 10u) << "the bar's top half moves on screen";
   EXPECT_LT(moving, size_t(kSize) * kSize / 10) << "the room stands still";
-  EXPECT_LT(largest, 1e-3f) << "a repeated pose has no motion";
+  EXPECT_EQ(movingPixels(unheld), moving) << "without an update the last motion stays (what the hold is for)";
+  EXPECT_LT(largestOf(held), 1e-3f) << "a held mesh has no motion";
+  EXPECT_LT(largestOf(still), 1e-3f) << "a repeated pose has no motion";
 }

@@ -303,6 +303,14 @@ TEST_F(TraversalTest, MeshVertexUpdatesNameWhatIsWrong) {
               std::string::npos);
     v.devicePositions.address = 256;
     EXPECT_NE(gi::updateMeshVertices(s.gpu.scene, cmd, boxMesh, v).message.find("both given"), std::string::npos);
+    EXPECT_NE(
+        gi::holdMeshVertices(s.gpu.scene, cmd, otherMesh)
+            .message.find("gi::holdMeshVertices: mesh " + std::to_string(otherMesh) + " was not created deformable"),
+        std::string::npos);
+    EXPECT_NE(gi::holdMeshVertices(s.gpu.scene, cmd, 1000).message.find("is not below the scene's"), std::string::npos);
+    EXPECT_NE(gi::holdMeshVertices(s.gpu.scene, VK_NULL_HANDLE, boxMesh).message.find("cmd is VK_NULL_HANDLE"),
+              std::string::npos);
+    EXPECT_FALSE(gi::holdMeshVertices(s.gpu.scene, cmd, boxMesh));
   });
 }
 

@@ -64,7 +64,8 @@
 #include "gi/settings.h"
 #include "shared/scene_modes.h"
 
-// The API's version (gi::version(); find_package(gi 0.10)):
+// The API's version (gi::version(); find_package(gi 0.11)):
+//   0.11: holdMeshVertices (a deforming mesh at rest reads no motion)
 //   0.10: device memory from the engine (ModuleDesc/SceneCreateDesc::deviceMemory), predictMemory, dynamic
 //         resolution within maxWidth × maxHeight, compositeFormat
 //   0.9: deformable meshes (MeshDesc::deformable, updateMeshVertices)
@@ -78,7 +79,7 @@
 //   0.3: half-float outputs with pre-exposure
 //   0.2: own function table, frames in flight, returned Vulkan errors, catalogues
 #define GI_VERSION_MAJOR 0
-#define GI_VERSION_MINOR 10
+#define GI_VERSION_MINOR 11
 
 namespace gi {
 

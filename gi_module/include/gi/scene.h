@@ -252,6 +252,12 @@ struct MeshVertices {
 // weights at their last CPU-known areas. The G-buffer's motion vectors of deforming surfaces are the
 // engine's (previous positions): the module's temporal passes see them as moving geometry.
 Error updateMeshVertices(Scene* scene, VkCommandBuffer cmd, uint32_t mesh, const MeshVertices& vertices);
+// A frame in which deformable mesh `mesh` holds still (its animation paused, its character at rest): its
+// previous positions become its current ones, so the G-buffer's motion vectors read no motion there;
+// nothing is written, refit or rebuilt. Without it the last update's motion stays (set 0's previous
+// positions are those the last update replaced). One call after the last update is enough; recorded into
+// `cmd` like updateMeshVertices.
+Error holdMeshVertices(Scene* scene, VkCommandBuffer cmd, uint32_t mesh);
 
 struct SceneInfo {
   uint32_t triangles = 0;                                    // instanced

@@ -595,18 +595,43 @@ Error updateInstances(Scene* s, VkCommandBuffer cmd, std::span<const InstanceDes
   return {};
 }
 
-Error updateMeshVertices(Scene* s, VkCommandBuffer cmd, uint32_t mesh, const MeshVertices& v) {
+// Deformable mesh `mesh`'s current positions copied to its previous ones (set 0's, which the G-buffer's
+// motion vectors read), after every earlier command's reads and writes of the vertices, before every later
+// transfer or compute write.
+void recordPreviousPositions(Scene& s, VkCommandBuffer cmd, uint32_t mesh) {
+  const PackedScene& p = s.packed;
+  std::vector<VkBufferCopy> previous;
+  for (uint32_t id = p.meshFirstGeometry[mesh]; id < p.meshFirstGeometry[mesh] + p.meshGeometryCount[mesh]; ++id) {
+    const VkDeviceSize at = VkDeviceSize(p.geometries[id].vertexOffset) * 12;
+    previous.push_back({at, at, VkDeviceSize(p.geometryVertexCount[id]) * 12});
+  }
+  s.gpu.fn.vkCmdCopyBuffer(cmd, s.positions.buffer, s.previousPositions.buffer, uint32_t(previous.size()),
+                           previous.data());
+  vk::memoryBarrier(
+      s.gpu, cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT,
+      VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+      VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_MEMORY_READ_BIT);
+}
+
+// The checks both vertex calls make: a built scene, a command buffer, a deformable mesh.
+Error checkDeformableMesh(const Scene* s, VkCommandBuffer cmd, uint32_t mesh, const char* caller) {
   if (!sceneBuilt(s))
-    return {ErrorCode::MissingHandle, "gi::updateMeshVertices: the scene is not built (finishSceneUpload)"};
+    return {ErrorCode::MissingHandle, std::string(caller) + ": the scene is not built (finishSceneUpload)"};
   if (!cmd)
-    return {ErrorCode::MissingHandle, "gi::updateMeshVertices: cmd is VK_NULL_HANDLE (the vertices are written in it)"};
-  PackedScene& p = s->packed;
+    return {ErrorCode::MissingHandle, std::string(caller) + ": cmd is VK_NULL_HANDLE (the vertices are written in it)"};
+  const PackedScene& p = s->packed;
   if (mesh >= p.meshDeformable.size())
-    return sceneError("gi::updateMeshVertices: mesh " + std::to_string(mesh) + " is not below the scene's " +
+    return sceneError(std::string(caller) + ": mesh " + std::to_string(mesh) + " is not below the scene's " +
                       std::to_string(p.meshDeformable.size()) + " meshes");
   if (!p.meshDeformable[mesh])
-    return sceneError("gi::updateMeshVertices: mesh " + std::to_string(mesh) +
+    return sceneError(std::string(caller) + ": mesh " + std::to_string(mesh) +
                       " was not created deformable (MeshDesc::deformable)");
+  return {};
+}
+
+Error updateMeshVertices(Scene* s, VkCommandBuffer cmd, uint32_t mesh, const MeshVertices& v) {
+  if (Error e = checkDeformableMesh(s, cmd, mesh, "gi::updateMeshVertices")) return e;
+  PackedScene& p = s->packed;
   const uint32_t firstGeometry = p.meshFirstGeometry[mesh], geometryEnd = firstGeometry + p.meshGeometryCount[mesh];
   uint32_t vertexCount = 0;  // the mesh's arrays reach this far
   bool emissive = false;
@@ -642,16 +667,7 @@ Error updateMeshVertices(Scene* s, VkCommandBuffer cmd, uint32_t mesh, const Mes
       VK_PIPELINE_STAGE_2_TRANSFER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
       VK_ACCESS_2_TRANSFER_READ_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
   // This pose's positions become the previous ones (the G-buffer's motion vectors), then the new ones follow.
-  std::vector<VkBufferCopy> previous;
-  for (uint32_t id = firstGeometry; id < geometryEnd; ++id) {
-    const VkDeviceSize at = VkDeviceSize(p.geometries[id].vertexOffset) * 12;
-    previous.push_back({at, at, VkDeviceSize(p.geometryVertexCount[id]) * 12});
-  }
-  s->gpu.fn.vkCmdCopyBuffer(cmd, s->positions.buffer, s->previousPositions.buffer, uint32_t(previous.size()),
-                            previous.data());
-  vk::memoryBarrier(s->gpu, cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT,
-                    VK_PIPELINE_STAGE_2_TRANSFER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                    VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+  recordPreviousPositions(*s, cmd, mesh);
   const VkDeviceAddress positions = deviceAddress(s->gpu, s->positions), normals = deviceAddress(s->gpu, s->normals);
   for (uint32_t id = firstGeometry; id < geometryEnd; ++id) {
     const uint32_t first = p.geometryFirstVertex[id], count = p.geometryVertexCount[id],
@@ -685,6 +701,16 @@ Error updateMeshVertices(Scene* s, VkCommandBuffer cmd, uint32_t mesh, const Mes
     recordBlasUpdate(s->gpu, cmd, s->positions, s->indices, s->accelMeshes[mesh], s->accel, mesh);
     recordTlasRebuild(s->gpu, cmd, s->accel);
   }
+  return {};
+}
+
+Error holdMeshVertices(Scene* s, VkCommandBuffer cmd, uint32_t mesh) {
+  if (Error e = checkDeformableMesh(s, cmd, mesh, "gi::holdMeshVertices")) return e;
+  // Every earlier command's reads and writes of the positions (frames in flight, the last update) first.
+  vk::memoryBarrier(s->gpu, cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                    VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                    VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT);
+  recordPreviousPositions(*s, cmd, mesh);
   return {};
 }
 
