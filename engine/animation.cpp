@@ -110,14 +110,17 @@ void markAnimatedInstancesMovable(const SceneAnimation& animation, Scene& scene)
     if (instance >= 0 && size_t(instance) < scene.instances.size()) scene.instances[size_t(instance)].movable = true;
 }
 
-void poseScene(const Context& ctx, const SceneAnimation& animation, float seconds, Scene& scene, SceneGpu& gpu) {
+bool poseScene(const Context& ctx, const SceneAnimation& animation, float seconds, Scene& scene, SceneGpu& gpu,
+               std::string& error) {
   animateScene(animation, seconds, scene);
-  submitAndWait(ctx, [&](VkCommandBuffer cmd) { recordSceneTransformUpdate(ctx, cmd, scene, gpu); });
+  bool recorded = false;
+  submitAndWait(ctx, [&](VkCommandBuffer cmd) { recorded = recordSceneTransformUpdate(ctx, cmd, scene, gpu, error); });
+  return recorded;
 }
 
-void jumpScene(const Context& ctx, const SceneAnimation& animation, float seconds, Scene& scene, SceneGpu& gpu) {
-  poseScene(ctx, animation, seconds, scene, gpu);
-  poseScene(ctx, animation, seconds, scene, gpu);
+bool jumpScene(const Context& ctx, const SceneAnimation& animation, float seconds, Scene& scene, SceneGpu& gpu,
+               std::string& error) {
+  return poseScene(ctx, animation, seconds, scene, gpu, error) && poseScene(ctx, animation, seconds, scene, gpu, error);
 }
 
 }  // namespace engine

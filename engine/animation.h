@@ -6,6 +6,8 @@
 // instance with the most power; the object is the instance named like a
 // "block" or "box", otherwise the smallest non-emissive instance.
 #pragma once
+#include <string>
+
 #include <glm/glm.hpp>
 
 #include "scene.h"
@@ -36,11 +38,14 @@ void markAnimatedInstancesMovable(const SceneAnimation& animation, Scene& scene)
 // Sets the moving light and object to their pose at `seconds` (periodic).
 // Upload with recordSceneTransformUpdate.
 void animateScene(const SceneAnimation& animation, float seconds, Scene& scene);
-// animateScene, then uploads the pose and rebuilds the TLAS in a submission of its own; waits.
-void poseScene(const Context& ctx, const SceneAnimation& animation, float seconds, Scene& scene, SceneGpu& gpu);
+// animateScene, then uploads the pose and rebuilds the TLAS in a submission of its own; waits. False with
+// the module's error when it refuses the pose.
+bool poseScene(const Context& ctx, const SceneAnimation& animation, float seconds, Scene& scene, SceneGpu& gpu,
+               std::string& error);
 // poseScene for a jump: the pose is uploaded twice, so the instances' previous transforms (what
 // the motion vectors come from) are this pose too; a jump has no motion, and without this every
 // later frame would reproject the moved instances from where they were before it.
-void jumpScene(const Context& ctx, const SceneAnimation& animation, float seconds, Scene& scene, SceneGpu& gpu);
+bool jumpScene(const Context& ctx, const SceneAnimation& animation, float seconds, Scene& scene, SceneGpu& gpu,
+               std::string& error);
 
 }  // namespace engine

@@ -30,10 +30,13 @@ void CpuTracerDeleter::operator()(CpuTracer* t) const {
   delete t;
 }
 
-CpuTracerPtr createCpuTracer(const Scene& scene) {
+CpuTracerPtr createCpuTracer(const Scene& scene, std::string& error) {
   CpuTracerPtr tracer(new CpuTracer);
   tracer->device = rtcNewDevice(nullptr);
-  if (!tracer->device) throw std::runtime_error("Embree: could not create a device");
+  if (!tracer->device) {
+    error = "Embree: could not create a device";
+    return nullptr;
+  }
   tracer->scene = rtcNewScene(tracer->device);
   rtcSetSceneFlags(tracer->scene, RTC_SCENE_FLAG_ROBUST);
   rtcSetSceneBuildQuality(tracer->scene, RTC_BUILD_QUALITY_HIGH);
@@ -63,7 +66,10 @@ CpuTracerPtr createCpuTracer(const Scene& scene) {
     }
   }
   rtcCommitScene(tracer->scene);
-  if (rtcGetDeviceError(tracer->device) != RTC_ERROR_NONE) throw std::runtime_error("Embree: the scene build failed");
+  if (rtcGetDeviceError(tracer->device) != RTC_ERROR_NONE) {
+    error = scene.sourcePath + ": Embree's scene build failed";
+    return nullptr;
+  }
   return tracer;
 }
 

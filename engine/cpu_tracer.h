@@ -20,7 +20,7 @@ struct CpuTracerDeleter {
 using CpuTracerPtr = std::unique_ptr<CpuTracer, CpuTracerDeleter>;
 
 // Throws std::runtime_error if Embree fails.
-CpuTracerPtr createCpuTracer(const Scene& scene);
+CpuTracerPtr createCpuTracer(const Scene& scene, std::string& error);  // null with `error` on failure
 
 struct CpuHit {
   float t = -1.0f;  // < 0: miss

@@ -56,13 +56,16 @@ gi::MaterialDesc materialDesc(const Material& m) {
   return d;
 }
 
-void throwIf(const gi::Error& e) {
-  if (e) throw std::runtime_error(e.message);
+// A module error as the engine returns it: false, with the scene's file before the message.
+bool failed(const gi::Error& e, const Scene& scene, std::string& error) {
+  if (!e) return false;
+  error = scene.sourcePath + ": " + e.message;
+  return true;
 }
 
 }  // namespace
 
-void createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu,
+bool createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu, std::string& error,
                     const gi::DeviceMemoryCallbacks& deviceMemory) {
   // Textures with full mip chains, the engine's; the module samples them.
   for (const Texture& t : scene.textures) {
@@ -85,9 +88,11 @@ void createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu,
   std::vector<gi::MeshDesc> meshes;
   uint32_t next = 0;
   for (const Mesh& mesh : scene.meshes) {
-    if (mesh.firstPrimitive != next)
-      throw std::runtime_error(scene.sourcePath + ": primitives are not numbered mesh by mesh (mesh " + mesh.name +
-                               ")");
+    if (mesh.firstPrimitive != next) {
+      error = scene.sourcePath + ": primitives are not numbered mesh by mesh (mesh " + mesh.name + ")";
+      destroySceneGpu(ctx, gpu);
+      return false;
+    }
     next += mesh.primitiveCount;
   }
   std::vector<gi::PrimitiveDesc> primitives;
@@ -136,37 +141,40 @@ void createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu,
   desc.lightSampler = scene.lightSampler;
   desc.lightTreeCut = scene.lightTreeCut;
   desc.deviceMemory = deviceMemory;
-  gi::Error error;
-  submitAndWait(ctx, [&](VkCommandBuffer cmd) { error = gi::createScene(desc, contents, cmd, gpu.scene); });
-  if (error) {
+  gi::Error created;
+  submitAndWait(ctx, [&](VkCommandBuffer cmd) { created = gi::createScene(desc, contents, cmd, gpu.scene); });
+  // CPU meshes: finishing frees the staging and builds nothing.
+  if (failed(created, scene, error) || failed(gi::finishSceneUpload(gpu.scene), scene, error)) {
     destroySceneGpu(ctx, gpu);
-    throw std::runtime_error(scene.sourcePath + ": " + error.message);
+    return false;
   }
-  throwIf(gi::finishSceneUpload(gpu.scene));  // CPU meshes: frees the staging, builds nothing
   gpu.desc = gi::sceneDesc(gpu.scene);
   gpu.desc.traversal = gi::Traversal(ctx.traversalId());
   gpu.set.layout = gpu.desc.layout;
   gpu.set.set = gpu.desc.set;
   createSkinningGpu(ctx, scene, gpu.skinning);
+  return true;
 }
 
-void recordSceneTransformUpdate(const Context& ctx, VkCommandBuffer cmd, const Scene& scene, SceneGpu& gpu) {
-  throwIf(gi::updateInstances(gpu.scene, cmd, instanceDescs(scene)));
-  throwIf(gi::updateLights(gpu.scene, cmd, lightDescs(scene)));
-  recordSkinning(ctx, cmd, scene, gpu);
+bool recordSceneTransformUpdate(const Context& ctx, VkCommandBuffer cmd, const Scene& scene, SceneGpu& gpu,
+                                std::string& error) {
+  return !failed(gi::updateInstances(gpu.scene, cmd, instanceDescs(scene)), scene, error) &&
+         !failed(gi::updateLights(gpu.scene, cmd, lightDescs(scene)), scene, error) &&
+         !failed(recordSkinning(ctx, cmd, scene, gpu), scene, error);
 }
 
-void recordSceneHold(VkCommandBuffer cmd, const Scene& scene, SceneGpu& gpu) {
-  throwIf(gi::updateInstances(gpu.scene, cmd, instanceDescs(scene)));
+bool recordSceneHold(VkCommandBuffer cmd, const Scene& scene, SceneGpu& gpu, std::string& error) {
+  if (failed(gi::updateInstances(gpu.scene, cmd, instanceDescs(scene)), scene, error)) return false;
   for (uint32_t mesh = 0; mesh < scene.meshes.size(); ++mesh)
-    if (scene.meshes[mesh].deformable) throwIf(gi::holdMeshVertices(gpu.scene, cmd, mesh));
+    if (scene.meshes[mesh].deformable && failed(gi::holdMeshVertices(gpu.scene, cmd, mesh), scene, error)) return false;
+  return true;
 }
 
-void recordMeshVertexUpdate(VkCommandBuffer cmd, const Scene& scene, SceneGpu& gpu, uint32_t mesh) {
+bool recordMeshVertexUpdate(VkCommandBuffer cmd, const Scene& scene, SceneGpu& gpu, uint32_t mesh, std::string& error) {
   gi::MeshVertices vertices;
   vertices.positions = &scene.positions[0].x;
   vertices.normals = &scene.normals[0].x;
-  throwIf(gi::updateMeshVertices(gpu.scene, cmd, mesh, vertices));
+  return !failed(gi::updateMeshVertices(gpu.scene, cmd, mesh, vertices), scene, error);
 }
 
 void destroySceneGpu(const Context& ctx, SceneGpu& gpu) {

@@ -5,6 +5,7 @@
 // G-buffer, the reference path tracer) bind too.
 #pragma once
 #include <array>
+#include <string>
 
 #include "compute_program.h"
 #include "descriptors.h"
@@ -47,7 +48,8 @@ struct SceneGpu {
 // indices are then the scene's primitive indices). Uploads and builds; waits.
 // Throws std::runtime_error with the module's message when it refuses the scene. `deviceMemory`: the
 // scene's buffers and images from an allocator of the caller's (gi::SceneCreateDesc::deviceMemory).
-void createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu,
+// False with a sentence naming the file and the problem (the module's error) when the scene cannot be made.
+bool createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu, std::string& error,
                     const gi::DeviceMemoryCallbacks& deviceMemory = {});
 void destroySceneGpu(const Context& ctx, SceneGpu& gpu);
 
@@ -55,14 +57,16 @@ void destroySceneGpu(const Context& ctx, SceneGpu& gpu);
 // punctual lights (gi::updateInstances, gi::updateLights), which record the
 // tables' writes and the TLAS rebuild into `cmd`, and skins the skinned meshes
 // with scene.gltf.jointMatrices (engine/skinning.h): frames in flight keep theirs.
-void recordSceneTransformUpdate(const Context& ctx, VkCommandBuffer cmd, const Scene& scene, SceneGpu& gpu);
+// False with the module's error (the scene's file first) when an update is refused.
+bool recordSceneTransformUpdate(const Context& ctx, VkCommandBuffer cmd, const Scene& scene, SceneGpu& gpu,
+                                std::string& error);
 // The first frame the scene stands still after moving (an animation paused): its instances' previous
 // transforms and its deformable meshes' previous positions become the current ones
 // (gi::updateInstances with the same transforms, gi::holdMeshVertices), so the G-buffer's motion vectors
 // read no motion; nothing is skinned or refit.
-void recordSceneHold(VkCommandBuffer cmd, const Scene& scene, SceneGpu& gpu);
+bool recordSceneHold(VkCommandBuffer cmd, const Scene& scene, SceneGpu& gpu, std::string& error);
 // For a deformable mesh (Mesh::deformable): hands the module `scene`'s vertices of mesh `mesh`
 // (gi::updateMeshVertices), which records their write, the BVH's refit and the BLAS update into `cmd`.
-void recordMeshVertexUpdate(VkCommandBuffer cmd, const Scene& scene, SceneGpu& gpu, uint32_t mesh);
+bool recordMeshVertexUpdate(VkCommandBuffer cmd, const Scene& scene, SceneGpu& gpu, uint32_t mesh, std::string& error);
 
 }  // namespace engine

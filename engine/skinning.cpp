@@ -41,9 +41,9 @@ void destroySkinningGpu(const Context& ctx, SkinningGpu& s) {
   s = SkinningGpu{};
 }
 
-void recordSkinning(const Context& ctx, VkCommandBuffer cmd, const Scene& scene, SceneGpu& gpu) {
+gi::Error recordSkinning(const Context& ctx, VkCommandBuffer cmd, const Scene& scene, SceneGpu& gpu) {
   const SceneAnimations& a = scene.gltf;
-  if (a.skinnedMeshes.empty()) return;
+  if (a.skinnedMeshes.empty()) return {};
   SkinningGpu& skinning = gpu.skinning;
   const std::vector<glm::mat4>& joints = a.jointMatrices;
   // Earlier frames' reads of the matrices and the posed vertices before this frame's writes.
@@ -78,8 +78,8 @@ void recordSkinning(const Context& ctx, VkCommandBuffer cmd, const Scene& scene,
   vertices.devicePositions = {skinning.positions.address, VK_FORMAT_R32G32B32_SFLOAT, 0};
   vertices.deviceNormals = {skinning.normals.address, VK_FORMAT_R32G32B32_SFLOAT, 0};
   for (const SkinnedMesh& sm : a.skinnedMeshes)
-    if (gi::Error e = gi::updateMeshVertices(gpu.scene, cmd, sm.mesh, vertices))
-      throw std::runtime_error(scene.sourcePath + ": " + e.message);
+    if (gi::Error e = gi::updateMeshVertices(gpu.scene, cmd, sm.mesh, vertices)) return e;
+  return {};
 }
 
 }  // namespace engine

@@ -17,6 +17,6 @@ void destroySkinningGpu(const Context& ctx, SkinningGpu& skinning);
 
 // Records into `cmd` the write of scene.gltf.jointMatrices, every skinned mesh posed by them and handed to
 // the module (gi::updateMeshVertices); recordSceneTransformUpdate calls it. Frames in flight keep theirs.
-void recordSkinning(const Context& ctx, VkCommandBuffer cmd, const Scene& scene, SceneGpu& gpu);
+gi::Error recordSkinning(const Context& ctx, VkCommandBuffer cmd, const Scene& scene, SceneGpu& gpu);
 
 }  // namespace engine

@@ -41,7 +41,11 @@ int main(int argc, char** argv) {
     return 1;
   }
   engine::SceneGpu sceneGpu;
-  engine::createSceneGpu(ctx, scene, sceneGpu);  // set 0: what the module traces against
+  if (!engine::createSceneGpu(ctx, scene, sceneGpu, error)) {  // set 0: what the module traces against
+    std::fprintf(stderr, "%s\n", error.c_str());
+    engine::destroyContext(ctx);
+    return 1;
+  }
   engine::GBuffer gbuffer = engine::createGBuffer(ctx, {width, height});
   engine::GBufferPass gbufferPass = engine::createGBufferPass(ctx, sceneGpu);
 

@@ -257,7 +257,7 @@ int openEngine(Demo& d) {
   d.scene.lightTreeCut = o.lightTreeCut;
   d.animation = engine::makeSceneAnimation(d.scene);
   engine::markAnimatedInstancesMovable(d.animation, d.scene);  // the overlay may start the animation at any time
-  engine::createSceneGpu(d.ctx, d.scene, d.sceneGpu);
+  if (!engine::createSceneGpu(d.ctx, d.scene, d.sceneGpu, error)) return fail(error, 1);
   if (!tools::createModuleSession(d.ctx, d.sceneGpu, {o.width, o.height}, o.settings, d.session, error))
     return fail(error, 2);
   d.moduleDesc = tools::moduleDesc(d.ctx, d.sceneGpu, {o.width, o.height});
@@ -407,15 +407,17 @@ gpu::GpuCamera updateCameraAndOverlay(Demo& d, float dt) {
   return camera;
 }
 
-// The frame's commands: the moving scene, the G-buffer and the module, the display and the overlay.
-void recordDemoFrame(Demo& d, VkCommandBuffer cmd, const gpu::GpuCamera& camera, demo::DisplayPass& display) {
+// The frame's commands: the moving scene, the G-buffer and the module, the display and the overlay. False
+// with `error` when the module refuses the scene's update.
+bool recordDemoFrame(Demo& d, VkCommandBuffer cmd, const gpu::GpuCamera& camera, demo::DisplayPass& display,
+                     std::string& error) {
   if (d.ui.animate) {
     // The scene's tables are written in this frame's command buffer: the frame in flight keeps its own.
     engine::animateScene(d.animation, d.seconds, d.scene);
-    engine::recordSceneTransformUpdate(d.ctx, cmd, d.scene, d.sceneGpu);
+    if (!engine::recordSceneTransformUpdate(d.ctx, cmd, d.scene, d.sceneGpu, error)) return false;
     if (d.ui.tellModuleLightsMoved) gi::invalidate(d.session.module, gi::Invalidate::LightsChanged);
-  } else if (d.sceneMoved) {
-    engine::recordSceneHold(cmd, d.scene, d.sceneGpu);  // paused: the last motion stops here
+  } else if (d.sceneMoved && !engine::recordSceneHold(cmd, d.scene, d.sceneGpu, error)) {  // paused: motion stops
+    return false;
   }
   d.sceneMoved = d.ui.animate;
   // The module pre-exposes its light with the demo's exposure, as an engine keeps half floats in
@@ -426,6 +428,7 @@ void recordDemoFrame(Demo& d, VkCommandBuffer cmd, const gpu::GpuCamera& camera,
   demo::recordDisplay(d.ctx, cmd, display, d.ui.exposure / d.session.preExposure, d.session.extent);
   demo::recordOverlay(d.ctx, cmd, d.overlay, d.frame, *ImGui::GetDrawData(), display.image.image, display.image.view,
                       d.displaySize);
+  return true;
 }
 
 // The frames, until the window closes or the count is reached. 0, or the exit status.
@@ -453,7 +456,7 @@ int runFrames(Demo& d) {
     const float dt = fixedStep ? 1.0f / 30.0f : float(d.cpuMs * 1e-3);
     d.seconds += dt;
     const gpu::GpuCamera camera = updateCameraAndOverlay(d, dt);
-    recordDemoFrame(d, frameCmd, camera, display);
+    if (std::string error; !recordDemoFrame(d, frameCmd, camera, display, error)) return fail(error, 1);
     if (o.headless)
       engine::submitFrameSlot(d.ctx, d.headless, d.frame);
     else

@@ -54,12 +54,12 @@ AnimatedRun runFrames(const engine::Context& ctx, const std::string& path, uint3
     if (overlapped) {
       engine::waitFrameSlot(ctx, slots, f);  // the frame inFlight back
       VkCommandBuffer cmd = engine::beginFrameSlot(ctx, slots, f);
-      engine::recordSceneTransformUpdate(ctx, cmd, s.scene, s.gpu);
+      recordUpdateOrFail(ctx, cmd, s.scene, s.gpu);
       tools::recordModuleFrame(ctx, cmd, session, s.scene, s.gpu, camera, camera, f);
       engine::submitFrameSlot(ctx, slots, f);
     } else {
       engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
-        engine::recordSceneTransformUpdate(ctx, cmd, s.scene, s.gpu);
+        recordUpdateOrFail(ctx, cmd, s.scene, s.gpu);
         tools::recordModuleFrame(ctx, cmd, session, s.scene, s.gpu, camera, camera, f);
       });
     }

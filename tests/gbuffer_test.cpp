@@ -71,8 +71,7 @@ TEST_F(GBufferTest, DepthAndNormalMatchRayTracedPrimaryHits) {
       uint32_t boxMesh = s.scene.instances.back().mesh;
       for (engine::Instance& inst : s.scene.instances)
         if (inst.mesh == boxMesh) inst.worldFromObject[3] += glm::vec4(0.2f, 0.0f, 0.0f, 0.0f);
-      engine::submitAndWait(ctx,
-                            [&](VkCommandBuffer cmd) { engine::recordSceneTransformUpdate(ctx, cmd, s.scene, s.gpu); });
+      engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { recordUpdateOrFail(ctx, cmd, s.scene, s.gpu); });
     }
     const uint32_t W = 64, H = 48;
     gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], W, H, nullptr);

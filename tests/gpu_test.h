@@ -6,6 +6,7 @@
 #include <string>
 #include <utility>
 
+#include "animation.h"
 #include "camera.h"
 #include "context.h"
 #include "module_session.h"
@@ -30,7 +31,8 @@ struct LoadedScene {
   template <typename... Extra>
   void upload(const engine::Context& c, Extra&&... extra) {
     release();
-    engine::createSceneGpu(c, scene, gpu, std::forward<Extra>(extra)...);
+    std::string error;
+    ASSERT_TRUE(engine::createSceneGpu(c, scene, gpu, error, std::forward<Extra>(extra)...)) << error;
     context = &c;
   }
   void release() {
@@ -38,6 +40,27 @@ struct LoadedScene {
     context = nullptr;
   }
 };
+
+// The engine's scene updates in tests: a refused update fails the test (the module's error in the message).
+inline void poseOrFail(const engine::Context& c, const engine::SceneAnimation& animation, float seconds,
+                       engine::Scene& scene, engine::SceneGpu& gpu) {
+  std::string error;
+  if (!engine::poseScene(c, animation, seconds, scene, gpu, error)) ADD_FAILURE() << error;
+}
+inline void jumpOrFail(const engine::Context& c, const engine::SceneAnimation& animation, float seconds,
+                       engine::Scene& scene, engine::SceneGpu& gpu) {
+  std::string error;
+  if (!engine::jumpScene(c, animation, seconds, scene, gpu, error)) ADD_FAILURE() << error;
+}
+inline void recordUpdateOrFail(const engine::Context& c, VkCommandBuffer cmd, const engine::Scene& scene,
+                               engine::SceneGpu& gpu) {
+  std::string error;
+  if (!engine::recordSceneTransformUpdate(c, cmd, scene, gpu, error)) ADD_FAILURE() << error;
+}
+inline void recordHoldOrFail(VkCommandBuffer cmd, const engine::Scene& scene, engine::SceneGpu& gpu) {
+  std::string error;
+  if (!engine::recordSceneHold(cmd, scene, gpu, error)) ADD_FAILURE() << error;
+}
 
 // A module session (tools/module_session.h) released when it goes out of scope, after a failed ASSERT
 // too. Declared after the scene it renders, it goes first.

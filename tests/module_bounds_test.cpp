@@ -43,9 +43,9 @@ TEST_F(ModuleBoundsTest, EveryMethodOnAFullMapAndAMovingSceneStaysInBounds) {
     uint32_t failedInserts = 0;
     for (uint32_t f = 0; f < 8; ++f) {
       if (f == 0)
-        engine::jumpScene(ctx, animation, 0.0f, s.scene, s.gpu);
+        jumpOrFail(ctx, animation, 0.0f, s.scene, s.gpu);
       else
-        engine::poseScene(ctx, animation, float(f) / 30.0f, s.scene, s.gpu);
+        poseOrFail(ctx, animation, float(f) / 30.0f, s.scene, s.gpu);
       const engine::Camera c = panned(s.scene.cameras[0], 0.02f * float(7 - f));
       const gpu::GpuCamera cam = engine::makeGpuCamera(c, size.width, size.height, f > 0 ? &previous : nullptr);
       tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, f > 0 ? previous : cam, f);
@@ -59,7 +59,7 @@ TEST_F(ModuleBoundsTest, EveryMethodOnAFullMapAndAMovingSceneStaysInBounds) {
       EXPECT_GT(failedInserts, 0u) << info.name << ": the map was meant to be full";
     }
   }
-  engine::jumpScene(ctx, animation, 0.0f, s.scene, s.gpu);
+  jumpOrFail(ctx, animation, 0.0f, s.scene, s.gpu);
 }
 
 using StressPush = gpu::HgStressPush;  // hash_stress.comp's push constants

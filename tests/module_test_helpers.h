@@ -67,9 +67,9 @@ inline engine::ReferenceImages renderAnimatedFrames(const engine::Context& ctx, 
   for (uint32_t f = 0; f < frames; ++f) {
     // Frame 0 jumps to the start: no motion from whatever pose the last run left.
     if (f == 0)
-      engine::jumpScene(ctx, animation, 0.0f, s.scene, s.gpu);
+      jumpOrFail(ctx, animation, 0.0f, s.scene, s.gpu);
     else if (moving)
-      engine::poseScene(ctx, animation, float(f) / 30.0f, s.scene, s.gpu);
+      poseOrFail(ctx, animation, float(f) / 30.0f, s.scene, s.gpu);
     tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, f);
     if (afterFrame) afterFrame(session);
   }

@@ -80,7 +80,7 @@ class LightJump {
   }
 
  private:
-  void pose(float seconds) { engine::jumpScene(ctx_, animation_, seconds, s_.scene, s_.gpu); }  // the light jumps
+  void pose(float seconds) { jumpOrFail(ctx_, animation_, seconds, s_.scene, s_.gpu); }  // the light jumps
 
   const engine::Context& ctx_;
   LoadedScene& s_;

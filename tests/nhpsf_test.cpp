@@ -182,7 +182,7 @@ TEST_F(NhpsfTest, StaleRadianceIsDetectedWhenTheLightMoves) {
   engine::SceneAnimation animation = engine::makeSceneAnimation(s.scene);
   ASSERT_GE(animation.lightInstance, 0);
   gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], 32, 32, nullptr);
-  auto pose = [&](float seconds) { engine::poseScene(ctx, animation, seconds, s.scene, s.gpu); };
+  auto pose = [&](float seconds) { poseOrFail(ctx, animation, seconds, s.scene, s.gpu); };
   pose(0.5f * animation.periodSeconds);  // the light half a circle away
   engine::ReferenceImages moved = pixelCentreReference(ctx, s, cam, 31, 512);
   std::vector<double> after[3];

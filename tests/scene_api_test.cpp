@@ -135,8 +135,7 @@ TEST_F(SceneApiTest, InstanceMovedThroughUpdateInstancesMatchesTheSceneLoadedInT
     moved.upload(ctx);
     posed.upload(ctx);
     moved.scene.instances[block].worldFromObject = pose;
-    engine::submitAndWait(
-        ctx, [&](VkCommandBuffer cmd) { engine::recordSceneTransformUpdate(ctx, cmd, moved.scene, moved.gpu); });
+    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { recordUpdateOrFail(ctx, cmd, moved.scene, moved.gpu); });
     engine::ReferenceSettings settings;
     settings.seed = 7;
     const engine::ReferenceImages a = render(moved, kSize, kSize, settings, 8);

@@ -70,7 +70,7 @@ Rendered renderBar(const engine::Context& ctx, LoadedScene& s, bool animated) {
     EXPECT_NO_FATAL_FAILURE(openSession(ctx, s, {kSize, kSize}, settings, session));
     if (!session.module) return out;
     for (uint32_t f = 0; f < kFrames; ++f) {
-      if (animated) engine::poseScene(ctx, animation, float(f) / 30.0f, s.scene, s.gpu);
+      if (animated) poseOrFail(ctx, animation, float(f) / 30.0f, s.scene, s.gpu);
       tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, f);
     }
     (method == gi::Method::Raw ? out.raw : out.hpsf) = tools::readModuleImages(ctx, session);
@@ -185,7 +185,7 @@ TEST_F(SkinningTest, DeformingSurfacesCarryTheirMotion) {
     return lengths;
   };
   auto motionAt = [&](float seconds, uint32_t frame) {
-    engine::poseScene(ctx, animation, seconds, s.scene, s.gpu);
+    poseOrFail(ctx, animation, seconds, s.scene, s.gpu);
     return motionOf(frame);
   };
   auto movingPixels = [](const std::vector<float>& lengths) {
@@ -195,7 +195,7 @@ TEST_F(SkinningTest, DeformingSurfacesCarryTheirMotion) {
   motionAt(0.3f, 0);
   const std::vector<float> bending = motionAt(0.4f, 1);  // 9 degrees further
   const std::vector<float> unheld = motionOf(2);         // no update: the last motion stays
-  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { engine::recordSceneHold(cmd, s.scene, s.gpu); });
+  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { recordHoldOrFail(cmd, s.scene, s.gpu); });
   const std::vector<float> held = motionOf(3);
   motionAt(0.3f, 4);
   const std::vector<float> still = motionAt(0.3f, 5);  // the same pose again

@@ -131,7 +131,9 @@ class TraversalTest : public GpuTest {
  protected:
   // Compares compute with ray queries (where the device has them) and with Embree.
   void checkScene(const engine::Scene& scene, const engine::SceneGpu& gpu, uint32_t w = 64, uint32_t h = 48) {
-    engine::CpuTracerPtr tracer = engine::createCpuTracer(scene);
+    std::string tracerError;
+    engine::CpuTracerPtr tracer = engine::createCpuTracer(scene, tracerError);
+    ASSERT_TRUE(tracer) << tracerError;
     std::vector<gpu::TraceBatchRay> rays = makeRays(scene, *tracer, w, h);
     std::vector<gpu::TraceBatchResult> compute = oracle::traceBatch(ctx, gpu, gpu::TRAVERSAL_COMPUTE, rays);
     expectAgree(compare(compute, embreeResults(*tracer, rays), rays), "compute vs Embree");
@@ -167,14 +169,12 @@ TEST_F(TraversalTest, MovedInstancesAgree) {
   for (engine::Instance& inst : s.scene.instances)
     if (inst.mesh == boxMesh)
       inst.worldFromObject = glm::rotate(glm::translate(inst.worldFromObject, {0.2f, 0.0f, 0.1f}), 0.3f, {0, 1, 0});
-  engine::submitAndWait(ctx,
-                        [&](VkCommandBuffer cmd) { engine::recordSceneTransformUpdate(ctx, cmd, s.scene, s.gpu); });
+  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { recordUpdateOrFail(ctx, cmd, s.scene, s.gpu); });
   checkScene(s.scene, s.gpu);
   // Moving again only rebuilds the top level.
   for (engine::Instance& inst : s.scene.instances)
     if (inst.mesh == boxMesh) inst.worldFromObject = glm::translate(inst.worldFromObject, {-0.1f, 0.05f, 0.0f});
-  engine::submitAndWait(ctx,
-                        [&](VkCommandBuffer cmd) { engine::recordSceneTransformUpdate(ctx, cmd, s.scene, s.gpu); });
+  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { recordUpdateOrFail(ctx, cmd, s.scene, s.gpu); });
   checkScene(s.scene, s.gpu);
 }
 
@@ -225,18 +225,24 @@ TEST_F(TraversalTest, DeformedMeshesAgree) {
   for (float turns : {0.5f, 1.2f}) {
     SCOPED_TRACE(turns);
     twistMesh(s.scene, boxMesh, restPositions, restNormals, turns);
-    engine::submitAndWait(ctx,
-                          [&](VkCommandBuffer cmd) { engine::recordMeshVertexUpdate(cmd, s.scene, s.gpu, boxMesh); });
+    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+      std::string e;
+      EXPECT_TRUE(engine::recordMeshVertexUpdate(cmd, s.scene, s.gpu, boxMesh, e)) << e;
+    });
     checkScene(s.scene, s.gpu);
   }
-  engine::CpuTracerPtr tracer = engine::createCpuTracer(s.scene);
+  std::string tracerError;
+  engine::CpuTracerPtr tracer = engine::createCpuTracer(s.scene, tracerError);
+  ASSERT_TRUE(tracer) << tracerError;
   const std::vector<gpu::TraceBatchRay> rays = makeRays(s.scene, *tracer, 32, 24);
   const std::vector<gpu::TraceBatchResult> fromArrays = oracle::traceBatch(ctx, s.gpu, gpu::TRAVERSAL_COMPUTE, rays);
 
   // The same vertices from device buffers, after a different pose in between.
   twistMesh(s.scene, boxMesh, restPositions, restNormals, -0.3f);
-  engine::submitAndWait(ctx,
-                        [&](VkCommandBuffer cmd) { engine::recordMeshVertexUpdate(cmd, s.scene, s.gpu, boxMesh); });
+  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+    std::string e;
+    EXPECT_TRUE(engine::recordMeshVertexUpdate(cmd, s.scene, s.gpu, boxMesh, e)) << e;
+  });
   twistMesh(s.scene, boxMesh, restPositions, restNormals, 1.2f);
   const VkBufferUsageFlags usage = VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
   engine::Buffer positions = engine::createBufferFrom(ctx, std::span<const glm::vec3>(s.scene.positions), usage);
@@ -355,7 +361,8 @@ TEST_F(TraversalTest, AlphaMaskedGeometryIsAHoleOnlyBelowTheCutoff) {
     engine::Scene scene = maskedQuads(alpha);
     engine::SceneGpu gpu;
     scene.bothTraversals = true;
-    engine::createSceneGpu(ctx, scene, gpu);
+    std::string sceneError;
+    ASSERT_TRUE(engine::createSceneGpu(ctx, scene, gpu, sceneError)) << sceneError;
     ASSERT_TRUE(gpu.desc.hasAlphaMask);
     std::vector<gpu::TraceBatchRay> rays;
     for (int i = 0; i < 64; ++i)
@@ -415,10 +422,13 @@ TEST_F(TraversalTest, ExtremeScalesAndDegenerateTrianglesAgree) {
     engine::Scene scene = scaledCornell(cornell, scale, degenerate);
     engine::SceneGpu gpu;
     scene.bothTraversals = true;
-    engine::createSceneGpu(ctx, scene, gpu);
+    std::string sceneError;
+    ASSERT_TRUE(engine::createSceneGpu(ctx, scene, gpu, sceneError)) << sceneError;
     checkScene(scene, gpu);
     if (degenerate) {  // nothing ever reports the degenerate triangles
-      engine::CpuTracerPtr tracer = engine::createCpuTracer(scene);
+      std::string tracerError;
+      engine::CpuTracerPtr tracer = engine::createCpuTracer(scene, tracerError);
+      ASSERT_TRUE(tracer) << tracerError;
       std::vector<gpu::TraceBatchRay> rays = makeRays(scene, *tracer, 32, 24);
       uint32_t degenerateInstance = uint32_t(scene.instances.size() - 1);
       for (const gpu::TraceBatchResult& r : oracle::traceBatch(ctx, gpu, gpu::TRAVERSAL_COMPUTE, rays))

@@ -23,7 +23,8 @@ bool benchRays(const engine::Context& ctx, const engine::Scene& scene, const eng
   engine::RayRates c = engine::measureRayRates(ctx, sceneGpu, camera, gpu::TRAVERSAL_COMPUTE);
   rows.push_back({"compute", c.primary, c.diffuse, c.shadow});
   auto buildStart = std::chrono::steady_clock::now();
-  engine::CpuTracerPtr tracer = engine::createCpuTracer(scene);
+  engine::CpuTracerPtr tracer = engine::createCpuTracer(scene, error);
+  if (!tracer) return false;
   double embreeBuildMs =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - buildStart).count();
   // 8 paths per pixel on the CPU: its passes are short, and the rates of the

@@ -384,7 +384,10 @@ struct Bench {
     if (sceneOnDevice) engine::destroySceneGpu(ctx, sceneGpu);
     engine::destroyContext(ctx);
   }
-  void pose(float seconds) { engine::poseScene(ctx, animation, seconds, scene, sceneGpu); }
+  // The scene at `seconds` of its animation; false with `error` when the module refuses the pose.
+  bool pose(float seconds, std::string& error) {
+    return engine::poseScene(ctx, animation, seconds, scene, sceneGpu, error);
+  }
 };
 
 constexpr float kFrameSeconds = 1.0f / 30.0f;
@@ -408,7 +411,7 @@ bool openBench(const BenchOptions& o, cli::Args& args, Bench& b, std::string& er
   if (!engine::createContext(o.context, b.ctx, error)) return false;
   b.scene.sky = o.sky;
   b.scene.bothTraversals = o.raysOnly;  // --rays measures both backends on one scene
-  engine::createSceneGpu(b.ctx, b.scene, b.sceneGpu);
+  if (!engine::createSceneGpu(b.ctx, b.scene, b.sceneGpu, error)) return false;
   b.sceneOnDevice = true;
   b.startCamera = b.scene.cameras[o.cameraIndex];
   b.camera = engine::makeGpuCamera(b.startCamera, o.width, o.height, nullptr);
@@ -420,7 +423,7 @@ bool openBench(const BenchOptions& o, cli::Args& args, Bench& b, std::string& er
   b.animation = engine::makeSceneAnimation(b.scene);
   b.movedSeconds = 0.5f * b.animation.periodSeconds;
   if (o.move) {
-    b.pose(b.movedSeconds);
+    if (!b.pose(b.movedSeconds, error)) return false;
     b.key += "_moved";
   }
   return true;
@@ -460,7 +463,7 @@ bool loadReferences(const BenchOptions& o, Bench& b, std::string& error) {
   engine::writeImage((o.dir / "images" / "reference.pfm").string(), b.ref.final, error);
   const std::string perFrameSpp = "_s" + std::to_string(o.pathRefSpp);
   for (uint32_t f = 0; o.animate && f < o.frames; ++f) {
-    b.pose(float(o.warmup + f) * kFrameSeconds);
+    if (!b.pose(float(o.warmup + f) * kFrameSeconds, error)) return false;
     Reference r;
     if (!reference(b.ctx, b.scene, b.sceneGpu, b.camera, o.bounces, o.pathRefSpp, o.gbufferPrimary, o.dir,
                    b.key + "_anim" + std::to_string(o.warmup + f) + perFrameSpp, r, error))
@@ -502,19 +505,20 @@ struct FrameSamples {
 
 // The scene's pose for a frame: moving with --animate, before and after the jump with --move-at; and the
 // engine's word to the module at the jump.
-void poseFrame(const BenchOptions& o, Bench& b, tools::ModuleSession& session, uint32_t frame) {
-  if (o.animate)
-    b.pose(float(frame) * kFrameSeconds);
-  else if (o.move && (frame == 0 || frame == o.moveAt))
-    engine::jumpScene(b.ctx, b.animation, frame < o.moveAt ? 0.0f : b.movedSeconds, b.scene, b.sceneGpu);
+bool poseFrame(const BenchOptions& o, Bench& b, tools::ModuleSession& session, uint32_t frame, std::string& error) {
+  if (o.animate && !b.pose(float(frame) * kFrameSeconds, error)) return false;
+  if (!o.animate && o.move && (frame == 0 || frame == o.moveAt) &&
+      !engine::jumpScene(b.ctx, b.animation, frame < o.moveAt ? 0.0f : b.movedSeconds, b.scene, b.sceneGpu, error))
+    return false;
   if (o.invalidateAtMove && o.move && frame == o.moveAt) gi::invalidate(session.module, *o.invalidateAtMove);
+  return true;
 }
 
 // Timed frame f (frame `frame` of the run): rendered, timed, read back and compared with its reference.
-void measureFrame(const BenchOptions& o, Bench& b, tools::ModuleSession& session, const tools::BenchConfig& config,
+bool measureFrame(const BenchOptions& o, Bench& b, tools::ModuleSession& session, const tools::BenchConfig& config,
                   uint32_t f, uint32_t frame, gpu::GpuCamera& previousCamera, Row& row, FrameSamples& s,
-                  std::ofstream& series) {
-  poseFrame(o, b, session, frame);
+                  std::ofstream& series, std::string& error) {
+  if (!poseFrame(o, b, session, frame, error)) return false;
   const Reference& frameRef = o.animate ? b.animationRefs[f] : o.cameraPath ? b.pathRefs[f] : b.ref;
   const gpu::GpuCamera frameCamera = o.cameraPath ? walkCamera(o, b, f, &previousCamera) : b.camera;
   tools::FrameTiming t =
@@ -548,21 +552,15 @@ void measureFrame(const BenchOptions& o, Bench& b, tools::ModuleSession& session
            << frameStats.hash.staleResets << ','
            << (frameStats.hash.reads ? double(frameStats.hash.readMisses) / frameStats.hash.reads : 0.0) << ','
            << frameStats.hash.evicted << "\n";
+  return true;
 }
 
 // One configuration: a module session, its programs warmed, the warm-up frames, the timed frames, and the
 // row of medians and mean errors. False with `error` when the session cannot be made.
-bool measureConfig(const BenchOptions& o, Bench& b, const tools::BenchConfig& config, std::ofstream& series, Row& row,
-                   std::string& warmed, std::string& error) {
-  row.config = config;
-  tools::ModuleSession session;
-  gi::ModuleDesc moduleDesc = tools::moduleDesc(b.ctx, b.sceneGpu, {o.width, o.height});
-  moduleDesc.historyFormat = o.historyFormat;
-  if (!tools::createModuleSession(b.ctx, b.sceneGpu, {o.width, o.height}, config.settings, session, error,
-                                  &moduleDesc)) {
-    error = config.label + ": " + error;
-    return false;
-  }
+// A configuration's session: its programs warmed, the warm-up frames, the timed frames, and the row of
+// medians and mean errors. False with `error` when a pose is refused.
+bool runConfig(const BenchOptions& o, Bench& b, const tools::BenchConfig& config, tools::ModuleSession& session,
+               std::ofstream& series, Row& row, std::string& warmed, std::string& error) {
   // Every program's first dispatch before any frame: no frame, timed or not, times a compiler.
   double warmMs = 0.0;
   for (const tools::ProgramWarmup& w :
@@ -571,13 +569,13 @@ bool measureConfig(const BenchOptions& o, Bench& b, const tools::BenchConfig& co
   warmed = config.label + " " + std::to_string(int(warmMs + 0.5)) + " ms";
   uint32_t frame = 0;
   for (; frame < o.warmup; ++frame) {
-    poseFrame(o, b, session, frame);
+    if (!poseFrame(o, b, session, frame, error)) return false;
     tools::renderModuleFrame(b.ctx, session, b.scene, b.sceneGpu, b.camera, b.camera, frame);
   }
   FrameSamples s;
   gpu::GpuCamera previousCamera = b.camera;  // the walk starts where the warm-up stood
   for (uint32_t f = 0; f < o.frames; ++f, ++frame)
-    measureFrame(o, b, session, config, f, frame, previousCamera, row, s, series);
+    if (!measureFrame(o, b, session, config, f, frame, previousCamera, row, s, series, error)) return false;
 
   for (const auto& [name, samples] : s.passMs) {
     row.passMs[name] = median(samples);
@@ -593,10 +591,27 @@ bool measureConfig(const BenchOptions& o, Bench& b, const tools::BenchConfig& co
   row.hash.staleResets = s.staleResets;
   row.tracedSpp = finalStats.samplesPerPixel;
   if (o.move) recovery(s.afterMove, row.recoveryFrames, row.steadyMse);
-  if (o.move || o.animate) b.pose(0.0f);  // the next configuration starts before the move
+  if ((o.move || o.animate) && !b.pose(0.0f, error)) return false;  // the next configuration starts before the move
   engine::writeImage((o.dir / imagePath(config.label)).string(), s.last.final, error);
   if (o.cameraPath) row.flickerRatio = b.refFlicker > 0.0 ? s.flicker / b.refFlicker : 0.0;
+  return true;
+}
+
+// One configuration: a module session for it, measured (runConfig), then released. False with `error`.
+bool measureConfig(const BenchOptions& o, Bench& b, const tools::BenchConfig& config, std::ofstream& series, Row& row,
+                   std::string& warmed, std::string& error) {
+  row.config = config;
+  tools::ModuleSession session;
+  gi::ModuleDesc moduleDesc = tools::moduleDesc(b.ctx, b.sceneGpu, {o.width, o.height});
+  moduleDesc.historyFormat = o.historyFormat;
+  if (!tools::createModuleSession(b.ctx, b.sceneGpu, {o.width, o.height}, config.settings, session, error,
+                                  &moduleDesc)) {
+    error = config.label + ": " + error;
+    return false;
+  }
+  const bool measured = runConfig(o, b, config, session, series, row, warmed, error);
   tools::destroyModuleSession(b.ctx, session);
+  if (!measured) return false;
   std::printf("gi-bench: %-40s %9.2f ms  MSE %.4e  relMSE %.4e  SSIM %.4f\n", config.label.c_str(), row.totalMs,
               row.final.mse, row.final.relMse, row.final.ssim);
   std::fflush(stdout);

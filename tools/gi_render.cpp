@@ -178,13 +178,21 @@ int renderModule(const engine::Context& ctx, LoadedScene& l, const Options& o, c
       if (!engine::beginWindowFrame(ctx, window, image)) continue;
       if (o.animate) {
         engine::animateScene(l.animation, float(f) / 30.0f, l.scene);
-        engine::recordSceneTransformUpdate(ctx, window.cmd, l.scene, l.gpu);
+        if (!engine::recordSceneTransformUpdate(ctx, window.cmd, l.scene, l.gpu, error)) {
+          std::fprintf(stderr, "gi-render: %s\n", error.c_str());
+          status = 1;
+          break;
+        }
       }
       tools::recordModuleFrame(ctx, window.cmd, session, l.scene, l.gpu, camera, camera, f);
       engine::endWindowFrame(ctx, window, image, gi::outputs(session.module).composite, {o.width, o.height});
       continue;
     }
-    if (o.animate) engine::poseScene(ctx, l.animation, float(f) / 30.0f, l.scene, l.gpu);
+    if (o.animate && !engine::poseScene(ctx, l.animation, float(f) / 30.0f, l.scene, l.gpu, error)) {
+      std::fprintf(stderr, "gi-render: %s\n", error.c_str());
+      status = 1;
+      break;
+    }
     if (const VkExtent2D size = o.renderSize(f);
         size.width != session.extent.width || size.height != session.extent.height) {
       if (!tools::resizeModuleSession(ctx, session, size, error)) {
@@ -214,19 +222,24 @@ int renderModule(const engine::Context& ctx, LoadedScene& l, const Options& o, c
   return status;
 }
 
-// The reference path tracer: spp × frames samples of the last frame's pose.
-void renderReferenceImage(const engine::Context& ctx, LoadedScene& l, const Options& o, const cli::Args& args,
-                          Run& out) {
+// The reference path tracer: spp × frames samples of the last frame's pose. 0, or 1 when the pose is refused.
+int renderReferenceImage(const engine::Context& ctx, LoadedScene& l, const Options& o, const cli::Args& args,
+                         Run& out) {
   engine::ReferenceSettings settings;
   settings.maxBounces = o.bounces;
   settings.seed = o.seed;
   settings.pixelJitter = !args.has("pixel-centres");
-  if (o.animate) engine::poseScene(ctx, l.animation, float(o.frames - 1) / 30.0f, l.scene, l.gpu);
+  std::string error;
+  if (o.animate && !engine::poseScene(ctx, l.animation, float(o.frames - 1) / 30.0f, l.scene, l.gpu, error)) {
+    std::fprintf(stderr, "gi-render: %s\n", error.c_str());
+    return 1;
+  }
   const gpu::GpuCamera camera = engine::makeGpuCamera(l.scene.cameras[o.cameraIndex], o.width, o.height, nullptr);
   out.run = engine::renderReference(ctx, l.gpu, camera, settings, o.spp * o.frames);
   out.lastSize = {o.width, o.height};
   out.passMs["path_trace"] = out.run.gpuMs;
   out.firstDispatchMs["path_trace"] = out.run.firstDispatchMs;
+  return 0;
 }
 
 // --out: the AOV written; --compare: its MSE against a reference (−1 without). False on a failure, printed.
@@ -368,14 +381,14 @@ int main(int argc, char** argv) {
   // --animate: the scene's pose for frame f, uploaded before the frame is recorded.
   l.animation = engine::makeSceneAnimation(l.scene);
   if (o.animate) engine::markAnimatedInstancesMovable(l.animation, l.scene);
-  engine::createSceneGpu(ctx, l.scene, l.gpu);
+  if (!engine::createSceneGpu(ctx, l.scene, l.gpu, error)) {
+    std::fprintf(stderr, "gi-render: %s\n", error.c_str());
+    engine::destroyContext(ctx);
+    return 1;
+  }
 
   Run r;
-  int status = 0;
-  if (o.module())
-    status = renderModule(ctx, l, o, args, r);
-  else
-    renderReferenceImage(ctx, l, o, args, r);
+  int status = o.module() ? renderModule(ctx, l, o, args, r) : renderReferenceImage(ctx, l, o, args, r);
   if (r.lastSize.width) {  // frames ran (not: no module, or no window)
     double mseVsReference = -1.0;
     if (!writeImageAndCompare(args, o, r, mseVsReference)) status = 1;
