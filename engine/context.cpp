@@ -214,7 +214,14 @@ bool createInstance(const ContextDesc& desc, Context& ctx, std::string& error) {
     return false;
   }
   volkLoadInstanceOnly(ctx.instance);
-  if (desc.validation) VK_CHECK(vkCreateDebugUtilsMessengerEXT(ctx.instance, &messengerInfo, nullptr, &ctx.messenger));
+  if (desc.validation) {
+    if (VkResult made = vkCreateDebugUtilsMessengerEXT(ctx.instance, &messengerInfo, nullptr, &ctx.messenger);
+        made != VK_SUCCESS) {
+      error = std::string("vkCreateDebugUtilsMessengerEXT failed (") + vkResultName(made) +
+              "): validation messages could not be counted";
+      return false;
+    }
+  }
   return true;
 }
 
@@ -382,7 +389,11 @@ bool createContext(const ContextDesc& desc, Context& ctx, std::string& error) {
   VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
   poolInfo.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
   poolInfo.queueFamilyIndex = ctx.queueFamily;
-  VK_CHECK(vkCreateCommandPool(ctx.device, &poolInfo, nullptr, &ctx.commandPool));
+  if (VkResult made = vkCreateCommandPool(ctx.device, &poolInfo, nullptr, &ctx.commandPool); made != VK_SUCCESS) {
+    error =
+        std::string("vkCreateCommandPool failed on '") + ctx.properties.deviceName + "' (" + vkResultName(made) + ").";
+    return false;
+  }
   return true;
 }
 
