@@ -14,8 +14,8 @@ layout(local_size_x = GI_GROUP_SIZE, local_size_y = GI_GROUP_SIZE) in;
 layout(push_constant, scalar) uniform Push { GiRawPush pc; };
 
 // Temporal gradients: this frame's first samples go to the set the temporal pass writes.
-void giStoreGradientSample(ivec2 p, vec2 luminance, uint state) {
-  const uvec4 v = uvec4(floatBitsToUint(luminance), state, 0u);
+void giStoreGradientSample(ivec2 p, vec2 luminance, uint state, uvec2 pick) {
+  const uvec4 v = uvec4(floatBitsToUint(luminance), state, giPackGradientPick(pick));
   if (pc.readSet == 0u) imageStore(giGradientSamplesB, p, v);
   else imageStore(giGradientSamplesA, p, v);
 }
@@ -36,15 +36,19 @@ void main() {
     // Temporal gradients: this pixel's first sample (luminances, random state), kept for the next frame.
     vec2 first = vec2(0.0);
     uint firstState = 0u;
+    uvec2 reservoir = GI_NO_RESERVOIR;
     if (giGbCoveredCounting(p)) {
       vec3 V;
       GiSurface s = giGbSurface(p, V);
       filterVertex = giHasDiffuseLobe(s.material);
       float kept = 0.0;
+      // With gradients the reservoir's pick as the gradient sample keeps it (temporal.glsl).
+      reservoir = giPrimaryReservoir(p);
+      if (pc.gradients != 0u && giUsesReservoir(reservoir)) reservoir = giGradientPick(reservoir);
       for (uint i = 0u; i < pc.samplesPerPixel; ++i) {
         GiRng rng = giRngCreate(uvec2(p), giFrame.frameIndex * pc.samplesPerPixel + i, pc.seed, GI_STREAM_MODULE);
         if (i == 0u) firstState = rng.state;
-        GiPathSample path = giTracePathFromSurface(s, V, pc.maxBounces, pc.russianRouletteStart, giPrimaryReservoir(p), rng);
+        GiPathSample path = giTracePathFromSurface(s, V, pc.maxBounces, pc.russianRouletteStart, reservoir, rng);
         const bool keep = giKeepSample(path.direct, path.indirectDemod);
         if (i == 0u && keep) first = giGradientLuminance(path.direct, path.indirectDemod, p);  // temporal.glsl
         if (!keep) continue;
@@ -56,7 +60,7 @@ void main() {
       direct = s.material.emission + direct * inv;
       indirect *= inv;
     }
-    if (pc.gradients != 0u) giStoreGradientSample(p, first, firstState);
+    if (pc.gradients != 0u) giStoreGradientSample(p, first, firstState, giUsesReservoir(reservoir) ? reservoir : uvec2(GI_RESERVOIR_EMPTY, 0u));
     if (pc.accumulate != 0u) {
       // Running mean: weight 1/(n+1) until the cap, then an exponential average.
       float n = float(min(pc.historyLength, pc.maxHistory - 1u));

@@ -4,6 +4,7 @@
 // reprojected pixel's first path had last frame, and the tile keeps the
 // change of the two samples' luminances and the larger of them (direct over
 // the base colour, demodulated indirect); zero where the pixel has no source.
+// With reservoirs the path shades with last frame's light pick (temporal.glsl's giGradientPick).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #include "path_task.glsl"
@@ -26,7 +27,11 @@ void main() {
       const GiSurface s = giGbSurface(p, V);
       GiRng rng;
       rng.state = source.z;
-      const GiPathSample path = giTracePathFromSurface(s, V, pc.maxBounces, pc.russianRouletteStart, GI_NO_RESERVOIR, rng);
+      // With reservoirs, last frame's light pick (the light and W its first path shaded with).
+      const uvec2 reservoir = giFrame.primaryDirect == GI_PRIMARY_DIRECT_RESERVOIRS ? giUnpackGradientPick(source.w)
+                              : giFrame.primaryDirect == GI_PRIMARY_DIRECT_NONE     ? GI_NO_NEE
+                                                                                    : GI_NO_RESERVOIR;
+      const GiPathSample path = giTracePathFromSurface(s, V, pc.maxBounces, pc.russianRouletteStart, reservoir, rng);
       const vec2 now = giKeepSample(path.direct, path.indirectDemod)
                            ? giGradientLuminance(path.direct, path.indirectDemod, p)
                            : vec2(0.0);

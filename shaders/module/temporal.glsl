@@ -130,10 +130,26 @@ bool giGradientSource(ivec2 p, uint readSet, float tolerance, float cosNormalLim
 }
 
 // What a gradient compares: luminance of the direct light over the base colour, and of the demodulated
-// indirect. With reservoirs the direct light's sample is the reservoir's, which no random state repeats:
-// its gradient is left at 0 (the reservoirs reset where reprojection fails).
+// indirect.
 vec2 giGradientLuminance(vec3 direct, vec3 indirectDemod, ivec2 p) {
-  return vec2(giFrame.primaryDirect != GI_PRIMARY_DIRECT_NEE ? 0.0 : giLuminance(direct / giDirectAlbedo(p)), giLuminance(indirectDemod));
+  return vec2(giLuminance(direct / giDirectAlbedo(p)), giLuminance(indirectDemod));
+}
+
+// With reservoirs no random state repeats the primary hit's light pick, so the gradient sample keeps the
+// pick itself in 32 bits: the light (16 bits; a scene with more punctual lights keeps none) and W as a half
+// float. The first path shades with exactly that pick (W rounded to a half: 2^-11 of it), so last frame's
+// sample, re-shaded with the same pick, repeats bit for bit unless the light moved or changed. The pick's
+// shadow ray was the reservoir pass's (W = 0 where it was occluded); the re-shading traces none.
+uvec2 giGradientPick(uvec2 reservoir) {
+  if (!giUsesReservoir(reservoir) || reservoir.x >= 0xffffu) return uvec2(GI_RESERVOIR_EMPTY, 0u);
+  return uvec2(reservoir.x, floatBitsToUint(unpackHalf2x16(packHalf2x16(vec2(min(uintBitsToFloat(reservoir.y), 65504.0), 0.0))).x));
+}
+uint giPackGradientPick(uvec2 pick) {
+  return pick.x == GI_RESERVOIR_EMPTY ? 0xffffu : pick.x | (packHalf2x16(vec2(uintBitsToFloat(pick.y), 0.0)) << 16u);
+}
+uvec2 giUnpackGradientPick(uint packed) {
+  const uint light = packed & 0xffffu;
+  return light == 0xffffu ? uvec2(GI_RESERVOIR_EMPTY, 0u) : uvec2(light, floatBitsToUint(unpackHalf2x16(packed >> 16u).x));
 }
 
 // λ for direct (x) and indirect (y): the share of the history that pixel p drops.
