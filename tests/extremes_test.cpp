@@ -175,8 +175,8 @@ gi::Settings defaults(gi::Method m) {
       EXPECT_GE(b.mean, b.referenceMean / (energy)) << gi::methodName(m) << ": energy lost";          \
       EXPECT_LE(ratio, factor) << gi::methodName(m) << " error " << b.relMse << " vs " << a.relMse;   \
     }                                                                                                 \
-    unload(normal);                                                                                   \
-    unload(extreme);                                                                                  \
+    normal.release();                                                                                 \
+    extreme.release();                                                                                \
   }
 #define GI_EXTREME_SCENE(Name, factor, energy, extremeRoom) \
   GI_EXTREME_SCENE_VS(                                      \

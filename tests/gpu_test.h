@@ -17,7 +17,7 @@
 inline std::string sharedScene(const std::string& relative) { return std::string(GI_SHARED_SCENES) + "/" + relative; }
 
 // A scene loaded and on the device; released when it goes out of scope (a failed ASSERT included), or
-// earlier by GpuTest::unload, or when GpuTest::load fills it again.
+// earlier by release(), or when GpuTest::load fills it again.
 struct LoadedScene {
   engine::Scene scene;
   engine::SceneGpu gpu;
@@ -87,7 +87,7 @@ class GpuTest : public ::testing::Test {
   static void TearDownTestSuite() { engine::destroyContext(ctx); }
   void TearDown() override { EXPECT_EQ(ctx.validationMessages(), 0u) << "Vulkan validation reported problems"; }
 
-  // Loads (Morton-sorted) and uploads; fails the test on a load error.
+  // Loads (Morton-sorted) and uploads; fails the test on a load error (LoadedScene::release frees it early).
   // `sky`: the light beyond the scene (black by default).
   static void load(const std::string& path, LoadedScene& out, const engine::Sky& sky = {}) {
     out.release();
@@ -97,7 +97,6 @@ class GpuTest : public ::testing::Test {
     out.scene.sky = sky;
     out.upload(ctx);
   }
-  static void unload(LoadedScene& s) { s.release(); }
 
   static engine::ReferenceImages render(const LoadedScene& s, uint32_t width, uint32_t height,
                                         const engine::ReferenceSettings& settings, uint32_t spp) {

@@ -101,6 +101,10 @@ std::vector<double> guidedFilterCpu(const Rgba& guidance, const Rgba& input, int
 
 class GuidedFilterTest : public ScreenFilterTest<W, H> {
  protected:
+  void SetUp() override {
+    ASSERT_NO_FATAL_FAILURE(ScreenFilterTest::SetUp());
+    ASSERT_FALSE(gi::ensureGuidedStack(dev, filters));
+  }
   // `covered`: 1 per covered pixel, 0 for background (the position image's
   // view depth); empty = every pixel covered.
   std::vector<float> run(const Rgba& guidance, const Rgba& input, const gi::GuidedFilterParams& params,

@@ -111,8 +111,8 @@ TEST_F(LightSamplerTest, TheTreesCutIsExactUpToItsSizeAndItsRaysStayFixed) {
                                 (std::abs(double(a.images.final.pixels[i])) + 1e-6));
   std::printf("4 lights, a cut of 4: worst relative difference to every light %.2e\n", worst);
   EXPECT_LT(worst, 1e-4);
-  unload(exact);
-  unload(tree);
+  exact.release();
+  tree.release();
 
   settings.maxBounces = 0;
   const std::string many = lightField(32, "light_sampler_field");

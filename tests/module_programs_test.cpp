@@ -83,7 +83,7 @@ class ModuleProgramsTest : public GpuTest {
   }
   void TearDown() override {
     vkDestroyPipelineCache(ctx.device, cache, nullptr);
-    unload(scene);
+    scene.release();
     GpuTest::TearDown();
   }
   // A module desc that creates its pipelines through the test's cache and counter.

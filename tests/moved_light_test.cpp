@@ -119,7 +119,7 @@ class MovedLightTest : public GpuTest {
     r.on = jump.run(settings);
     print((std::string(what) + " off").c_str(), r.off);
     print((std::string(what) + " on ").c_str(), r.on);
-    unload(s);
+    s.release();
     return r;
   }
 };

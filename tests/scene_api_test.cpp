@@ -231,8 +231,8 @@ TEST_F(SceneApiTest, AnEnginesAllocatorHoldsEveryByteOfTheScene) {
   const engine::ReferenceImages a = render(own, 32, 32, settings, 4);
   const engine::ReferenceImages b = render(engineOwned, 32, 32, settings, 4);
   EXPECT_EQ(a.final.pixels, b.final.pixels);
-  unload(engineOwned);
-  unload(own);
+  engineOwned.release();
+  own.release();
   EXPECT_EQ(engineMemory.liveBytes, 0u);
   EXPECT_EQ(engineMemory.requests, engineMemory.frees);
   EXPECT_TRUE(engineMemory.error.empty()) << engineMemory.error;

@@ -229,7 +229,7 @@ TEST_F(SvgfTest, IterationsLeaveWhatTheyDoNotFilterUntouched) {
     EXPECT_EQ(filtered.direct.pixels, exact.direct.pixels) << iterations << " iterations";
     EXPECT_NE(filtered.indirect.pixels, exact.indirect.pixels) << iterations << " iterations filter the indirect";
   }
-  unload(punctual);
+  punctual.release();
 
   testscene::Description open;
   open.quads.push_back({{{-100, 0, 100}, {100, 0, 100}, {100, 0, -100}, {-100, 0, -100}}, glm::vec3(0.5f)});

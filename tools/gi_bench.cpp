@@ -375,7 +375,6 @@ struct Bench {
   std::vector<Reference> animationRefs, pathRefs;  // --animate, --camera-path: one per timed frame
   double refFlicker = 0.0;  // --camera-path: the references' mean change between consecutive frames
   engine::RayBenchResult bare;
-  uint32_t messages = 0;  // validation messages, counted before the context goes
 
   Bench() = default;
   Bench(const Bench&) = delete;

@@ -482,7 +482,8 @@ Error setSettings(Module* m, const Settings& settings) {
   // read; only once all of it exists does the old part retire.
   if (vk::Status s = createPrograms(*m, settings)) return vulkanError("gi::setSettings", s);
   SizedResources sized;
-  bool newSized = sizedResourcesNeeded(planMethod(m->desc.scene, settings), settings) != m->sized.needs;
+  const MethodPlan plan = planMethod(m->desc.scene, settings);
+  bool newSized = sizedResourcesNeeded(plan, settings) != m->sized.needs;
   if (newSized)
     if (vk::Status s = createSizedResources(*m, settings, m->desc.maxWidth, m->desc.maxHeight, m->outputs, sized))
       return vulkanError("gi::setSettings", s);
@@ -502,7 +503,7 @@ Error setSettings(Module* m, const Settings& settings) {
   for (const SettingInfo& info : settingCatalogue())
     restart = restart || (info.restartsHistory && info.get(settings) != info.get(m->settings));
   m->settings = settings;
-  m->plan = planMethod(m->desc.scene, settings);
+  m->plan = plan;
   if (restart) dropHistory(*m);
   return {};
 }
@@ -523,8 +524,9 @@ Error setScene(Module* m, const SceneDesc& scene) {
   if (rebuild)
     for (vk::ComputeProgram* p : scenePrograms(*m)) previous.push_back(std::exchange(*p, vk::ComputeProgram{}));
   vk::Status s = createPrograms(*m, m->settings);
-  SizedResources sized;  // the glossy images follow the scene's materials
-  const bool newSized = sizedResourcesNeeded(planMethod(m->desc.scene, m->settings), m->settings) != m->sized.needs;
+  SizedResources sized;                                            // the glossy images follow the scene's materials
+  const MethodPlan plan = planMethod(m->desc.scene, m->settings);  // the scene's facts are part of it
+  const bool newSized = sizedResourcesNeeded(plan, m->settings) != m->sized.needs;
   if (!s && newSized) s = createSizedResources(*m, m->settings, m->desc.maxWidth, m->desc.maxHeight, m->outputs, sized);
   if (s) {
     destroySizedResources(m->gpu, sized);
@@ -545,7 +547,7 @@ Error setScene(Module* m, const SceneDesc& scene) {
     });
   }
   if (newSized) replaceSized(*m, sized);
-  m->plan = planMethod(m->desc.scene, m->settings);  // the scene's facts are part of it
+  m->plan = plan;
   dropHistory(*m);
   return {};
 }
