@@ -114,8 +114,9 @@ bool poseScene(const Context& ctx, const SceneAnimation& animation, float second
                std::string& error) {
   animateScene(animation, seconds, scene);
   bool recorded = false;
-  submitAndWait(ctx, [&](VkCommandBuffer cmd) { recorded = recordSceneTransformUpdate(ctx, cmd, scene, gpu, error); });
-  return recorded;
+  const bool submitted = submitAndWait(
+      ctx, [&](VkCommandBuffer cmd) { recorded = recordSceneTransformUpdate(ctx, cmd, scene, gpu, error); }, error);
+  return recorded && submitted;
 }
 
 bool jumpScene(const Context& ctx, const SceneAnimation& animation, float seconds, Scene& scene, SceneGpu& gpu,

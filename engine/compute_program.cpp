@@ -1,31 +1,29 @@
 #include "compute_program.h"
 
+#include <cstdio>
+#include <cstdlib>
+
 namespace engine {
-namespace {
 
-void check(const gi::vk::Status& s, const char* what) {
-  if (!s) return;
-  std::fprintf(stderr, "%s: %s failed with %s\n", what, s.call, vkResultName(s.result));
-  std::abort();
-}
-
-}  // namespace
-
-VkShaderModule createShaderModule(const Context& ctx, std::span<const uint32_t> spirv) {
+VkShaderModule createShaderModule(const Context& ctx, std::span<const uint32_t> spirv, std::string& error) {
+  VkShaderModule module = VK_NULL_HANDLE;
+  if (!error.empty()) return module;
   VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
   info.codeSize = spirv.size_bytes();
   info.pCode = spirv.data();
-  VkShaderModule module;
-  VK_CHECK(vkCreateShaderModule(ctx.device, &info, nullptr, &module));
+  VK_SUCCEEDED(error, "a shader module", vkCreateShaderModule(ctx.device, &info, nullptr, &module));
   return module;
 }
 
 ComputeProgram createComputeProgram(const Context& ctx, std::span<const uint32_t> spirv,
                                     std::span<const VkDescriptorSetLayout> setLayouts, uint32_t pushConstantSize,
-                                    glm::uvec2 groupSize, std::span<const uint32_t> specialization) {
+                                    glm::uvec2 groupSize, std::string& error,
+                                    std::span<const uint32_t> specialization) {
   ComputeProgram p;
-  check(gi::vk::createComputeProgram(ctx.vk, spirv, setLayouts, pushConstantSize, groupSize, specialization, p),
-        "createComputeProgram");
+  if (!error.empty()) return p;
+  const gi::vk::Status s =
+      gi::vk::createComputeProgram(ctx.vk, spirv, setLayouts, pushConstantSize, groupSize, specialization, p);
+  if (!vkSucceeded(s.result, "a compute program", s.call ? s.call : "", error)) destroyComputeProgram(ctx, p);
   return p;
 }
 

@@ -12,6 +12,13 @@ namespace engine {
 
 const char* vkResultName(VkResult result) { return gi::resultName(result); }
 
+bool vkSucceeded(VkResult result, const char* what, const char* call, std::string& error) {
+  if (result == VK_SUCCESS) return true;
+  const std::string text = call;
+  error = std::string(what) + ": " + text.substr(0, text.find('(')) + " failed with " + vkResultName(result);
+  return false;
+}
+
 namespace {
 
 VKAPI_ATTR VkBool32 VKAPI_CALL onValidationMessage(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
@@ -410,31 +417,40 @@ void destroyContext(Context& ctx) {
   ctx.instance = VK_NULL_HANDLE;
 }
 
-VkCommandBuffer beginOneShot(const Context& ctx) {
+VkCommandBuffer beginOneShot(const Context& ctx, std::string& error) {
+  if (!error.empty()) return VK_NULL_HANDLE;
   VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
   alloc.commandPool = ctx.commandPool;
   alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
   alloc.commandBufferCount = 1;
-  VkCommandBuffer cmd;
-  VK_CHECK(vkAllocateCommandBuffers(ctx.device, &alloc, &cmd));
+  VkCommandBuffer cmd = VK_NULL_HANDLE;
+  if (!VK_SUCCEEDED(error, "one-shot commands", vkAllocateCommandBuffers(ctx.device, &alloc, &cmd)))
+    return VK_NULL_HANDLE;
   VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
   begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-  VK_CHECK(vkBeginCommandBuffer(cmd, &begin));
+  if (!VK_SUCCEEDED(error, "one-shot commands", vkBeginCommandBuffer(cmd, &begin))) {
+    vkFreeCommandBuffers(ctx.device, ctx.commandPool, 1, &cmd);
+    return VK_NULL_HANDLE;
+  }
   return cmd;
 }
 
-void endOneShotAndWait(const Context& ctx, VkCommandBuffer cmd) {
-  VK_CHECK(vkEndCommandBuffer(cmd));
+bool endOneShotAndWait(const Context& ctx, VkCommandBuffer cmd, std::string& error) {
+  const char* what = "one-shot commands";
+  VkFence fence = VK_NULL_HANDLE;
   VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-  VkFence fence;
-  VK_CHECK(vkCreateFence(ctx.device, &fenceInfo, nullptr, &fence));
   VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
   submit.commandBufferCount = 1;
   submit.pCommandBuffers = &cmd;
-  VK_CHECK(vkQueueSubmit(ctx.queue, 1, &submit, fence));
-  VK_CHECK(vkWaitForFences(ctx.device, 1, &fence, VK_TRUE, UINT64_MAX));
-  vkDestroyFence(ctx.device, fence, nullptr);
+  const bool done = VK_SUCCEEDED(error, what, vkEndCommandBuffer(cmd)) &&
+                    VK_SUCCEEDED(error, what, vkCreateFence(ctx.device, &fenceInfo, nullptr, &fence)) &&
+                    VK_SUCCEEDED(error, what, vkQueueSubmit(ctx.queue, 1, &submit, fence)) &&
+                    VK_SUCCEEDED(error, what, vkWaitForFences(ctx.device, 1, &fence, VK_TRUE, UINT64_MAX));
+  // A submission that failed after it was queued (a lost device) still holds the buffer: wait out the queue.
+  if (!done) vkQueueWaitIdle(ctx.queue);
+  if (fence) vkDestroyFence(ctx.device, fence, nullptr);
   vkFreeCommandBuffers(ctx.device, ctx.commandPool, 1, &cmd);
+  return done;
 }
 
 }  // namespace engine

@@ -73,17 +73,19 @@ void destroyContext(Context& ctx);
 // (the swapchain's only with `swapchain`): the context's, or a second one (second_device.h).
 VkResult createEngineDevice(const Context& ctx, bool swapchain, VkDevice& out);
 
-// One-shot command buffer: begin, record with `record`, submit and wait.
+// One-shot command buffer: begin, record with `record`, submit and wait. False (and `error`) when
+// any step fails or `error` already holds a sentence; `record` then does not run.
 template <typename F>
-void submitAndWait(const Context& ctx, F&& record);
-VkCommandBuffer beginOneShot(const Context& ctx);
-void endOneShotAndWait(const Context& ctx, VkCommandBuffer cmd);
+bool submitAndWait(const Context& ctx, F&& record, std::string& error);
+VkCommandBuffer beginOneShot(const Context& ctx, std::string& error);  // null on failure
+bool endOneShotAndWait(const Context& ctx, VkCommandBuffer cmd, std::string& error);
 
 template <typename F>
-void submitAndWait(const Context& ctx, F&& record) {
-  VkCommandBuffer cmd = beginOneShot(ctx);
+bool submitAndWait(const Context& ctx, F&& record, std::string& error) {
+  VkCommandBuffer cmd = beginOneShot(ctx, error);
+  if (!cmd) return false;
   record(cmd);
-  endOneShotAndWait(ctx, cmd);
+  return endOneShotAndWait(ctx, cmd, error);
 }
 
 }  // namespace engine

@@ -2,12 +2,12 @@
 
 namespace engine {
 
-DescriptorSet createDescriptorSet(const Context& ctx, std::span<const Binding> bindings, uint32_t variableCount) {
+DescriptorSet createDescriptorSet(const Context& ctx, std::span<const Binding> bindings, std::string& error,
+                                  uint32_t variableCount) {
+  if (!error.empty()) return {};
   gi::vk::DescriptorSets sets;
-  if (gi::vk::Status s = gi::vk::createDescriptorSets(ctx.vk, bindings, 1, sets, VK_NULL_HANDLE, variableCount)) {
-    std::fprintf(stderr, "createDescriptorSet: %s failed with %s\n", s.call, vkResultName(s.result));
-    std::abort();
-  }
+  const gi::vk::Status s = gi::vk::createDescriptorSets(ctx.vk, bindings, 1, sets, VK_NULL_HANDLE, variableCount);
+  if (!vkSucceeded(s.result, "a descriptor set", s.call ? s.call : "", error)) return {};
   return {sets.layout, sets.pool, sets[0]};
 }
 

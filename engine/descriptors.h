@@ -5,6 +5,7 @@
 #include "context.h"
 
 #include <span>
+#include <string>
 
 #include "gi/vk/programs.h"
 
@@ -21,7 +22,9 @@ struct DescriptorSet {
 
 // Creates a layout (all stages), a pool and one set. `variableCount` is the
 // actual size of the variable-count binding, if there is one.
-DescriptorSet createDescriptorSet(const Context& ctx, std::span<const Binding> bindings, uint32_t variableCount = 0);
+// Errors as in vk.h: an empty set and `error`.
+DescriptorSet createDescriptorSet(const Context& ctx, std::span<const Binding> bindings, std::string& error,
+                                  uint32_t variableCount = 0);
 void destroyDescriptorSet(const Context& ctx, DescriptorSet& set);
 
 }  // namespace engine

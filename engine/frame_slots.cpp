@@ -4,17 +4,20 @@
 
 namespace engine {
 
-FrameSlots createFrameSlots(const Context& ctx, uint32_t count) {
+FrameSlots createFrameSlots(const Context& ctx, std::string& error, uint32_t count) {
   FrameSlots f;
+  if (!error.empty()) return f;
   f.count = std::clamp(count, 1u, kMaxFramesInFlight);
   VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
   alloc.commandPool = ctx.commandPool;
   alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
   alloc.commandBufferCount = f.count;
-  VK_CHECK(vkAllocateCommandBuffers(ctx.device, &alloc, f.cmd));
+  bool made = VK_SUCCEEDED(error, "frame slots", vkAllocateCommandBuffers(ctx.device, &alloc, f.cmd));
   VkFenceCreateInfo fence{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
   fence.flags = VK_FENCE_CREATE_SIGNALED_BIT;
-  for (uint32_t slot = 0; slot < f.count; ++slot) VK_CHECK(vkCreateFence(ctx.device, &fence, nullptr, &f.done[slot]));
+  for (uint32_t slot = 0; made && slot < f.count; ++slot)
+    made = VK_SUCCEEDED(error, "frame slots", vkCreateFence(ctx.device, &fence, nullptr, &f.done[slot]));
+  if (!made) destroyFrameSlots(ctx, f);
   return f;
 }
 
@@ -25,24 +28,25 @@ void destroyFrameSlots(const Context& ctx, FrameSlots& f) {
   f = FrameSlots{};
 }
 
-void waitFrameSlot(const Context& ctx, const FrameSlots& f, uint32_t frame) {
-  VK_CHECK(vkWaitForFences(ctx.device, 1, &f.done[frame % f.count], VK_TRUE, UINT64_MAX));
+bool waitFrameSlot(const Context& ctx, const FrameSlots& f, uint32_t frame, std::string& error) {
+  return error.empty() && VK_SUCCEEDED(error, "waiting for a frame in flight",
+                                       vkWaitForFences(ctx.device, 1, &f.done[frame % f.count], VK_TRUE, UINT64_MAX));
 }
 
-VkCommandBuffer beginFrameSlot(const Context& ctx, FrameSlots& f, uint32_t frame) {
+VkCommandBuffer beginFrameSlot(const Context& ctx, FrameSlots& f, uint32_t frame, std::string& error) {
   const uint32_t slot = frame % f.count;
-  VK_CHECK(vkResetFences(ctx.device, 1, &f.done[slot]));
-  VK_CHECK(vkResetCommandBuffer(f.cmd[slot], 0));
   VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
   begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-  VK_CHECK(vkBeginCommandBuffer(f.cmd[slot], &begin));
-  return f.cmd[slot];
+  const char* what = "beginning a frame";
+  const bool begun = error.empty() && VK_SUCCEEDED(error, what, vkResetFences(ctx.device, 1, &f.done[slot])) &&
+                     VK_SUCCEEDED(error, what, vkResetCommandBuffer(f.cmd[slot], 0)) &&
+                     VK_SUCCEEDED(error, what, vkBeginCommandBuffer(f.cmd[slot], &begin));
+  return begun ? f.cmd[slot] : VK_NULL_HANDLE;
 }
 
-void submitFrameSlot(const Context& ctx, FrameSlots& f, uint32_t frame, VkSemaphore wait,
+bool submitFrameSlot(const Context& ctx, FrameSlots& f, uint32_t frame, std::string& error, VkSemaphore wait,
                      VkPipelineStageFlags waitStage, VkSemaphore signal) {
   const uint32_t slot = frame % f.count;
-  VK_CHECK(vkEndCommandBuffer(f.cmd[slot]));
   VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
   submit.waitSemaphoreCount = wait ? 1 : 0;
   submit.pWaitSemaphores = &wait;
@@ -51,7 +55,9 @@ void submitFrameSlot(const Context& ctx, FrameSlots& f, uint32_t frame, VkSemaph
   submit.pCommandBuffers = &f.cmd[slot];
   submit.signalSemaphoreCount = signal ? 1 : 0;
   submit.pSignalSemaphores = &signal;
-  VK_CHECK(vkQueueSubmit(ctx.queue, 1, &submit, f.done[slot]));
+  const char* what = "submitting a frame";
+  return error.empty() && VK_SUCCEEDED(error, what, vkEndCommandBuffer(f.cmd[slot])) &&
+         VK_SUCCEEDED(error, what, vkQueueSubmit(ctx.queue, 1, &submit, f.done[slot]));
 }
 
 }  // namespace engine

@@ -5,6 +5,8 @@
 #pragma once
 #include "context.h"
 
+#include <string>
+
 namespace engine {
 
 inline constexpr uint32_t kFramesInFlight = 2;     // the window's and the demo's
@@ -16,15 +18,17 @@ struct FrameSlots {
   uint32_t count = 0;  // slots, [1, kMaxFramesInFlight]
 };
 
-FrameSlots createFrameSlots(const Context& ctx, uint32_t count = kFramesInFlight);
+// Errors as in vk.h: false (or an empty FrameSlots / a null command buffer) with `error` set.
+FrameSlots createFrameSlots(const Context& ctx, std::string& error, uint32_t count = kFramesInFlight);
 void destroyFrameSlots(const Context& ctx, FrameSlots& slots);
 // Waits for the frame that last used frame `frame`'s slot.
-void waitFrameSlot(const Context& ctx, const FrameSlots& slots, uint32_t frame);
+bool waitFrameSlot(const Context& ctx, const FrameSlots& slots, uint32_t frame, std::string& error);
 // Resets the slot's fence and begins its command buffer (after waitFrameSlot).
-VkCommandBuffer beginFrameSlot(const Context& ctx, FrameSlots& slots, uint32_t frame);
+VkCommandBuffer beginFrameSlot(const Context& ctx, FrameSlots& slots, uint32_t frame, std::string& error);
 // Ends and submits the slot's command buffer, signalling its fence; optionally
 // waiting on and signalling semaphores (a swapchain's).
-void submitFrameSlot(const Context& ctx, FrameSlots& slots, uint32_t frame, VkSemaphore wait = VK_NULL_HANDLE,
-                     VkPipelineStageFlags waitStage = 0, VkSemaphore signal = VK_NULL_HANDLE);
+bool submitFrameSlot(const Context& ctx, FrameSlots& slots, uint32_t frame, std::string& error,
+                     VkSemaphore wait = VK_NULL_HANDLE, VkPipelineStageFlags waitStage = 0,
+                     VkSemaphore signal = VK_NULL_HANDLE);
 
 }  // namespace engine

@@ -15,25 +15,30 @@ gi::GBufferDesc moduleGBufferDesc() {
   return g;
 }
 
-GBuffer createGBuffer(const Context& ctx, VkExtent2D extent) {
+GBuffer createGBuffer(const Context& ctx, VkExtent2D extent, std::string& error) {
   GBuffer g;
   g.extent = g.renderExtent = extent;
   for (uint32_t i = 0; i < gpu::GBUFFER_COLOR_COUNT; ++i)
     g.color[i] =
         createImage(ctx, extent, kGBufferFormats[i],
                     VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
-                        VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_SAMPLED_BIT);
+                        VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+                    error);
   g.depth = createImage(ctx, extent, kGBufferDepthFormat,
-                        VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+                        VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, error);
   // Start in the post-pass layout so recordGBuffer always transitions from GENERAL.
-  submitAndWait(ctx, [&](VkCommandBuffer cmd) {
-    for (Image& img : g.color)
-      imageBarrier(cmd, img.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, 0,
-                   VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT);
-    imageBarrier(cmd, g.depth.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
-                 VK_PIPELINE_STAGE_2_NONE, 0, VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT,
-                 VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT, VK_IMAGE_ASPECT_DEPTH_BIT);
-  });
+  submitAndWait(
+      ctx,
+      [&](VkCommandBuffer cmd) {
+        for (Image& img : g.color)
+          imageBarrier(cmd, img.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, 0,
+                       VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT);
+        imageBarrier(cmd, g.depth.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
+                     VK_PIPELINE_STAGE_2_NONE, 0, VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT,
+                     VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT, VK_IMAGE_ASPECT_DEPTH_BIT);
+      },
+      error);
+  if (!error.empty()) destroyGBuffer(ctx, g);
   return g;
 }
 
@@ -43,13 +48,18 @@ void destroyGBuffer(const Context& ctx, GBuffer& g) {
   g = GBuffer{};
 }
 
-GBufferPass createGBufferPass(const Context& ctx, const SceneGpu& scene) {
+GBufferPass createGBufferPass(const Context& ctx, const SceneGpu& scene, std::string& error) {
   GBufferPass p;
+  if (!error.empty()) return p;
   const Binding cameraBinding[] = {{gpu::GBUFFER_BINDING_CAMERA, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER}};
-  p.cameraSet = createDescriptorSet(ctx, cameraBinding);
+  p.cameraSet = createDescriptorSet(ctx, cameraBinding, error);
   p.cameraBuffer =
       createBuffer(ctx, sizeof(gpu::GpuCamera), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                   MemoryKind::DeviceLocal);
+                   MemoryKind::DeviceLocal, error);
+  if (!error.empty()) {
+    destroyGBufferPass(ctx, p);
+    return p;
+  }
   DescriptorWriter(p.cameraSet.set)
       .buffer(gpu::GBUFFER_BINDING_CAMERA, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, p.cameraBuffer.buffer)
       .write(ctx.vk);
@@ -61,7 +71,7 @@ GBufferPass createGBufferPass(const Context& ctx, const SceneGpu& scene) {
   layoutInfo.pSetLayouts = sets;
   layoutInfo.pushConstantRangeCount = 1;
   layoutInfo.pPushConstantRanges = &range;
-  VK_CHECK(vkCreatePipelineLayout(ctx.device, &layoutInfo, nullptr, &p.layout));
+  VK_SUCCEEDED(error, "the G-buffer pass", vkCreatePipelineLayout(ctx.device, &layoutInfo, nullptr, &p.layout));
 
   VkPipelineColorBlendAttachmentState blend[gpu::GBUFFER_COLOR_COUNT]{};
   for (auto& b : blend) b.colorWriteMask = 0xf;
@@ -73,7 +83,8 @@ GBufferPass createGBufferPass(const Context& ctx, const SceneGpu& scene) {
   desc.blends = blend;
   desc.depthFormat = kGBufferDepthFormat;
   desc.depthCompare = VK_COMPARE_OP_GREATER;  // reversed Z (camera.cpp)
-  p.pipeline = createGraphicsPipeline(ctx, desc);
+  p.pipeline = createGraphicsPipeline(ctx, desc, error);
+  if (!error.empty()) destroyGBufferPass(ctx, p);
   return p;
 }
 

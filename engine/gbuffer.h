@@ -39,10 +39,11 @@ struct GBufferPass {
 // encodings, the glossy flag in albedo alpha (gbuffer.frag writes the material's flag there).
 gi::GBufferDesc moduleGBufferDesc();
 
-GBuffer createGBuffer(const Context& ctx, VkExtent2D extent);
+// Errors as in vk.h: an empty G-buffer (or pass) and `error`.
+GBuffer createGBuffer(const Context& ctx, VkExtent2D extent, std::string& error);
 void destroyGBuffer(const Context& ctx, GBuffer& gbuffer);
 
-GBufferPass createGBufferPass(const Context& ctx, const SceneGpu& scene);
+GBufferPass createGBufferPass(const Context& ctx, const SceneGpu& scene, std::string& error);
 void destroyGBufferPass(const Context& ctx, GBufferPass& pass);
 
 // Writes `camera` to the pass's uniform buffer and records the raster pass.

@@ -4,9 +4,9 @@
 
 namespace engine {
 
-VkPipeline createGraphicsPipeline(const Context& ctx, const GraphicsPipelineDesc& d) {
-  VkShaderModule vert = createShaderModule(ctx, d.vertexSpirv);
-  VkShaderModule frag = createShaderModule(ctx, d.fragmentSpirv);
+VkPipeline createGraphicsPipeline(const Context& ctx, const GraphicsPipelineDesc& d, std::string& error) {
+  VkShaderModule vert = createShaderModule(ctx, d.vertexSpirv, error);
+  VkShaderModule frag = createShaderModule(ctx, d.fragmentSpirv, error);
   VkPipelineShaderStageCreateInfo stages[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
                                                {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};
   stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
@@ -61,10 +61,12 @@ VkPipeline createGraphicsPipeline(const Context& ctx, const GraphicsPipelineDesc
   info.pColorBlendState = &blendState;
   info.pDynamicState = &dynamic;
   info.layout = d.layout;
-  VkPipeline pipeline;
-  VK_CHECK(vkCreateGraphicsPipelines(ctx.device, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline));
-  vkDestroyShaderModule(ctx.device, vert, nullptr);
-  vkDestroyShaderModule(ctx.device, frag, nullptr);
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  if (error.empty())
+    VK_SUCCEEDED(error, "a graphics pipeline",
+                 vkCreateGraphicsPipelines(ctx.device, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline));
+  if (vert) vkDestroyShaderModule(ctx.device, vert, nullptr);
+  if (frag) vkDestroyShaderModule(ctx.device, frag, nullptr);
   return pipeline;
 }
 

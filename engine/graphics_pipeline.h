@@ -4,6 +4,7 @@
 // dynamic; triangles are filled, never culled.
 #pragma once
 #include <span>
+#include <string>
 
 #include "context.h"
 
@@ -20,6 +21,7 @@ struct GraphicsPipelineDesc {
   VkCompareOp depthCompare = VK_COMPARE_OP_GREATER;             // reversed Z (camera.cpp)
 };
 
-VkPipeline createGraphicsPipeline(const Context& ctx, const GraphicsPipelineDesc& desc);
+// Errors as in vk.h: null and `error`.
+VkPipeline createGraphicsPipeline(const Context& ctx, const GraphicsPipelineDesc& desc, std::string& error);
 
 }  // namespace engine

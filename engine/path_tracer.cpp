@@ -8,8 +8,9 @@
 
 namespace engine {
 
-PathTracer createPathTracer(const Context& ctx, const SceneGpu& scene, VkExtent2D extent) {
+PathTracer createPathTracer(const Context& ctx, const SceneGpu& scene, VkExtent2D extent, std::string& error) {
   PathTracer pt;
+  if (!error.empty()) return pt;
   pt.extent = extent;
   const Binding bindings[] = {
       {gpu::PT_BINDING_CAMERA, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER},
@@ -20,18 +21,27 @@ PathTracer createPathTracer(const Context& ctx, const SceneGpu& scene, VkExtent2
       {gpu::PT_BINDING_NORMAL, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
       {gpu::PT_BINDING_RAY_COUNTER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
   };
-  pt.set = createDescriptorSet(ctx, bindings);
-  pt.camera = createBuffer(ctx, sizeof(gpu::GpuCamera), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, MemoryKind::HostVisible);
-  pt.rayCounter = createBuffer(ctx, sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryKind::HostVisible);
-  std::memset(pt.rayCounter.mapped, 0, sizeof(uint32_t));
+  pt.set = createDescriptorSet(ctx, bindings, error);
+  pt.camera =
+      createBuffer(ctx, sizeof(gpu::GpuCamera), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, MemoryKind::HostVisible, error);
+  pt.rayCounter =
+      createBuffer(ctx, sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryKind::HostVisible, error);
   for (Image& img : pt.accum)
     img = createImage(ctx, extent, VK_FORMAT_R32G32B32A32_SFLOAT,
-                      VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
-  submitAndWait(ctx, [&](VkCommandBuffer cmd) {
-    for (Image& img : pt.accum)
-      imageBarrier(cmd, img.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, 0,
-                   VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-  });
+                      VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, error);
+  submitAndWait(
+      ctx,
+      [&](VkCommandBuffer cmd) {
+        for (Image& img : pt.accum)
+          imageBarrier(cmd, img.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, 0,
+                       VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+      },
+      error);
+  if (!error.empty()) {
+    destroyPathTracer(ctx, pt);
+    return pt;
+  }
+  std::memset(pt.rayCounter.mapped, 0, sizeof(uint32_t));
   DescriptorWriter w(pt.set.set);
   w.buffer(gpu::PT_BINDING_CAMERA, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, pt.camera.buffer)
       .storageImage(gpu::PT_BINDING_FINAL, pt.accum[0].view)
@@ -44,7 +54,8 @@ PathTracer createPathTracer(const Context& ctx, const SceneGpu& scene, VkExtent2
   VkDescriptorSetLayout layouts[] = {scene.set.layout, pt.set.layout};
   pt.program =
       createComputeProgram(ctx, GI_SCENE_SPIRV(ctx.traversalId(), path_trace_comp), layouts,
-                           sizeof(gpu::PathTracerPush), {PT_GROUP_SIZE, PT_GROUP_SIZE}, scene.specialization());
+                           sizeof(gpu::PathTracerPush), {PT_GROUP_SIZE, PT_GROUP_SIZE}, error, scene.specialization());
+  if (!error.empty()) destroyPathTracer(ctx, pt);
   return pt;
 }
 
@@ -91,11 +102,11 @@ uint64_t takeRayCount(PathTracer& pt) {
   return rays;
 }
 
-ReferenceImages readReferenceImages(const Context& ctx, const PathTracer& pt) {
+ReferenceImages readReferenceImages(const Context& ctx, const PathTracer& pt, std::string& error) {
   uint32_t w = pt.extent.width, h = pt.extent.height;
   float inv = pt.samples > 0 ? 1.0f / float(pt.samples) : 0.0f;
   auto read = [&](int i) {
-    std::vector<std::byte> raw = readbackImage(ctx, pt.accum[i], VK_IMAGE_LAYOUT_GENERAL, 16);
+    std::vector<std::byte> raw = readbackImage(ctx, pt.accum[i], VK_IMAGE_LAYOUT_GENERAL, 16, error);
     std::vector<float> f(raw.size() / 4);
     std::memcpy(f.data(), raw.data(), raw.size());
     return f;
@@ -105,6 +116,7 @@ ReferenceImages readReferenceImages(const Context& ctx, const PathTracer& pt) {
   const int source[] = {0, 1, 2, 3, 4};
   for (int k = 0; k < 5; ++k) {
     std::vector<float> f = read(source[k]);
+    if (!error.empty()) return ReferenceImages{};
     *rgb[k] = FloatImage(w, h, 3);
     if (k == 3) out.depth = FloatImage(w, h, 1);
     for (size_t p = 0; p < size_t(w) * h; ++p) {
@@ -116,25 +128,28 @@ ReferenceImages readReferenceImages(const Context& ctx, const PathTracer& pt) {
 }
 
 ReferenceRun renderReference(const Context& ctx, const SceneGpu& scene, const gpu::GpuCamera& camera,
-                             const ReferenceSettings& settings, uint32_t spp, uint32_t samplesPerSubmit) {
+                             const ReferenceSettings& settings, uint32_t spp, uint32_t samplesPerSubmit,
+                             std::string& error) {
   ReferenceRun run;
   auto start = std::chrono::steady_clock::now();
-  PathTracer pt = createPathTracer(ctx, scene, {uint32_t(camera.imageSize.x), uint32_t(camera.imageSize.y)});
-  GpuTimer timer = createGpuTimer(ctx, 4);
-  takeRayCount(pt);
+  PathTracer pt = createPathTracer(ctx, scene, {uint32_t(camera.imageSize.x), uint32_t(camera.imageSize.y)}, error);
+  GpuTimer timer = createGpuTimer(ctx, error, 4);
+  if (error.empty()) takeRayCount(pt);
   const auto warmStart = std::chrono::steady_clock::now();
-  submitAndWait(ctx, [&](VkCommandBuffer cmd) { warmPathTracer(ctx, cmd, pt, scene); });
+  submitAndWait(
+      ctx, [&](VkCommandBuffer cmd) { warmPathTracer(ctx, cmd, pt, scene); }, error);
   run.firstDispatchMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - warmStart).count();
-  for (uint32_t done = 0; done < spp;) {
-    uint32_t n = std::min(samplesPerSubmit, spp - done);
+  for (uint32_t done = 0; done < spp && error.empty();) {
+    uint32_t n = std::min(std::max(samplesPerSubmit, 1u), spp - done);
     resetGpuTimer(ctx, timer);
     submitAndWait(
-        ctx, [&](VkCommandBuffer cmd) { recordPathTrace(ctx, cmd, pt, scene, camera, settings, done, n, &timer); });
-    for (const PassTime& t : readPassTimes(ctx, timer)) run.gpuMs += t.ms;
-    run.rays += takeRayCount(pt);
+        ctx, [&](VkCommandBuffer cmd) { recordPathTrace(ctx, cmd, pt, scene, camera, settings, done, n, &timer); },
+        error);
+    for (const PassTime& t : readPassTimes(ctx, timer, error)) run.gpuMs += t.ms;
+    if (error.empty()) run.rays += takeRayCount(pt);
     done += n;
   }
-  run.images = readReferenceImages(ctx, pt);
+  run.images = readReferenceImages(ctx, pt, error);
   destroyGpuTimer(ctx, timer);
   destroyPathTracer(ctx, pt);
   run.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -35,7 +35,8 @@ struct PathTracer {
   uint32_t samples = 0;  // samples accumulated so far
 };
 
-PathTracer createPathTracer(const Context& ctx, const SceneGpu& scene, VkExtent2D extent);
+// Errors as in vk.h (an empty tracer, empty images, and `error`).
+PathTracer createPathTracer(const Context& ctx, const SceneGpu& scene, VkExtent2D extent, std::string& error);
 void destroyPathTracer(const Context& ctx, PathTracer& pt);
 
 // Records `samples` more samples per pixel (restarting when firstSample == 0).
@@ -48,7 +49,7 @@ void recordPathTrace(const Context& ctx, VkCommandBuffer cmd, PathTracer& pt, co
 // Rays traced since the last call (reads and clears the counter; GPU idle).
 uint64_t takeRayCount(PathTracer& pt);
 
-ReferenceImages readReferenceImages(const Context& ctx, const PathTracer& pt);
+ReferenceImages readReferenceImages(const Context& ctx, const PathTracer& pt, std::string& error);
 
 struct ReferenceRun {
   ReferenceImages images;
@@ -59,8 +60,10 @@ struct ReferenceRun {
   double wallSeconds = 0.0;
 };
 
-// Renders `spp` samples in submissions of at most `samplesPerSubmit`, and reads back.
+// Renders `spp` samples in submissions of at most `samplesPerSubmit` (4 is a good default: one
+// submission stays short), and reads back. On failure the run's images are empty and `error` says why.
 ReferenceRun renderReference(const Context& ctx, const SceneGpu& scene, const gpu::GpuCamera& camera,
-                             const ReferenceSettings& settings, uint32_t spp, uint32_t samplesPerSubmit = 4);
+                             const ReferenceSettings& settings, uint32_t spp, uint32_t samplesPerSubmit,
+                             std::string& error);
 
 }  // namespace engine

@@ -6,6 +6,8 @@
 
 #include <cstddef>
 #include <span>
+#include <string>
+#include <vector>
 
 namespace engine {
 
@@ -29,31 +31,39 @@ struct Image {
 
 enum class MemoryKind { DeviceLocal, HostVisible };
 
-Buffer createBuffer(const Context& ctx, VkDeviceSize size, VkBufferUsageFlags usage, MemoryKind kind);
+// Each create/upload/readback below follows vk.h's error style: on failure (or with `error` already
+// set) it leaves nothing behind, returns an empty resource or false, and `error` names what failed.
+Buffer createBuffer(const Context& ctx, VkDeviceSize size, VkBufferUsageFlags usage, MemoryKind kind,
+                    std::string& error);
 void destroyBuffer(const Context& ctx, Buffer& buffer);
 
 // Device-local buffer filled through a staging copy (waits for completion).
-Buffer createBufferWithData(const Context& ctx, const void* data, VkDeviceSize size, VkBufferUsageFlags usage);
+Buffer createBufferWithData(const Context& ctx, const void* data, VkDeviceSize size, VkBufferUsageFlags usage,
+                            std::string& error);
 template <typename T>
-Buffer createBufferFrom(const Context& ctx, std::span<const T> data, VkBufferUsageFlags usage) {
-  return createBufferWithData(ctx, data.data(), data.size_bytes(), usage);
+Buffer createBufferFrom(const Context& ctx, std::span<const T> data, VkBufferUsageFlags usage, std::string& error) {
+  return createBufferWithData(ctx, data.data(), data.size_bytes(), usage, error);
 }
 
-Image createImage(const Context& ctx, VkExtent2D extent, VkFormat format, VkImageUsageFlags usage,
+Image createImage(const Context& ctx, VkExtent2D extent, VkFormat format, VkImageUsageFlags usage, std::string& error,
                   uint32_t mipLevels = 1);
 void destroyImage(const Context& ctx, Image& image);
 
 // Uploads tightly packed texels into mip 0, builds the other mips with blits and
 // leaves the image in SHADER_READ_ONLY_OPTIMAL.
-void uploadImageWithMips(const Context& ctx, Image& image, const void* texels, size_t bytes);
+bool uploadImageWithMips(const Context& ctx, Image& image, const void* texels, size_t bytes, std::string& error);
 
 // Uploads tightly packed texels into mip 0 of a single-mip image and leaves it in `finalLayout`; waits.
-void uploadImage(const Context& ctx, Image& image, const void* texels, size_t bytes, VkImageLayout finalLayout);
+bool uploadImage(const Context& ctx, Image& image, const void* texels, size_t bytes, VkImageLayout finalLayout,
+                 std::string& error);
 
-// Copies an image (in `layout`) to host memory, tightly packed; waits.
-std::vector<std::byte> readbackImage(const Context& ctx, const Image& image, VkImageLayout layout, size_t texelBytes);
+// Copies an image (in `layout`) to host memory, tightly packed; waits. Empty on failure.
+std::vector<std::byte> readbackImage(const Context& ctx, const Image& image, VkImageLayout layout, size_t texelBytes,
+                                     std::string& error);
 
-uint32_t findMemoryType(const Context& ctx, uint32_t typeBits, VkMemoryPropertyFlags flags);
+// The first memory type with `flags` among `typeBits`; false (and `error`) when none has them.
+bool findMemoryType(const Context& ctx, uint32_t typeBits, VkMemoryPropertyFlags flags, uint32_t& type,
+                    std::string& error);
 
 // Layout transition with synchronization2: all mips by default, colour or depth aspect.
 void imageBarrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayout to,

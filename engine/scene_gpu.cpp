@@ -72,9 +72,9 @@ bool createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu, std::
     uint32_t mips = 1 + uint32_t(std::floor(std::log2(double(std::max(t.width, t.height)))));
     Image img = createImage(
         ctx, {t.width, t.height}, t.srgb ? VK_FORMAT_R8G8B8A8_SRGB : VK_FORMAT_R8G8B8A8_UNORM,
-        VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, mips);
-    uploadImageWithMips(ctx, img, t.rgba8.data(), t.rgba8.size());
+        VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, error, mips);
     gpu.textures.push_back(img);
+    uploadImageWithMips(ctx, img, t.rgba8.data(), t.rgba8.size(), error);
   }
   VkSamplerCreateInfo samplerInfo{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
   samplerInfo.magFilter = VK_FILTER_LINEAR;
@@ -82,7 +82,13 @@ bool createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu, std::
   samplerInfo.mipmapMode = VK_SAMPLER_MIPMAP_MODE_LINEAR;
   samplerInfo.addressModeU = samplerInfo.addressModeV = samplerInfo.addressModeW = VK_SAMPLER_ADDRESS_MODE_REPEAT;
   samplerInfo.maxLod = VK_LOD_CLAMP_NONE;
-  VK_CHECK(vkCreateSampler(ctx.device, &samplerInfo, nullptr, &gpu.sampler));
+  if (error.empty())
+    VK_SUCCEEDED(error, "the textures' sampler", vkCreateSampler(ctx.device, &samplerInfo, nullptr, &gpu.sampler));
+  if (!error.empty()) {
+    error = scene.sourcePath + ": " + error;
+    destroySceneGpu(ctx, gpu);
+    return false;
+  }
 
   // The module numbers geometries mesh by mesh; the G-buffer draws by primitive index.
   std::vector<gi::MeshDesc> meshes;
@@ -142,9 +148,11 @@ bool createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu, std::
   desc.lightTreeCut = scene.lightTreeCut;
   desc.deviceMemory = deviceMemory;
   gi::Error created;
-  submitAndWait(ctx, [&](VkCommandBuffer cmd) { created = gi::createScene(desc, contents, cmd, gpu.scene); });
+  const bool submitted = submitAndWait(
+      ctx, [&](VkCommandBuffer cmd) { created = gi::createScene(desc, contents, cmd, gpu.scene); }, error);
   // CPU meshes: finishing frees the staging and builds nothing.
-  if (failed(created, scene, error) || failed(gi::finishSceneUpload(gpu.scene), scene, error)) {
+  if (!submitted || failed(created, scene, error) || failed(gi::finishSceneUpload(gpu.scene), scene, error)) {
+    if (!submitted) error = scene.sourcePath + ": " + error;
     destroySceneGpu(ctx, gpu);
     return false;
   }
@@ -152,7 +160,11 @@ bool createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu, std::
   gpu.desc.traversal = gi::Traversal(ctx.traversalId());
   gpu.set.layout = gpu.desc.layout;
   gpu.set.set = gpu.desc.set;
-  createSkinningGpu(ctx, scene, gpu.skinning);
+  if (!createSkinningGpu(ctx, scene, gpu.skinning, error)) {
+    error = scene.sourcePath + ": " + error;
+    destroySceneGpu(ctx, gpu);
+    return false;
+  }
   return true;
 }
 

@@ -16,21 +16,25 @@ glm::uvec2 split(VkDeviceAddress a) { return {uint32_t(a), uint32_t(a >> 32)}; }
 
 }  // namespace
 
-void createSkinningGpu(const Context& ctx, const Scene& scene, SkinningGpu& out) {
+bool createSkinningGpu(const Context& ctx, const Scene& scene, SkinningGpu& out, std::string& error) {
   out = SkinningGpu{};
   const SceneAnimations& a = scene.gltf;
-  if (a.skinnedMeshes.empty()) return;
-  out.program = createComputeProgram(ctx, spv_skinning_comp, {}, sizeof(gpu::SkinningPush), {SKINNING_GROUP_SIZE, 1});
-  out.bindPositions = createBufferFrom(ctx, std::span<const glm::vec3>(a.bindPositions), kAddressed);
-  out.bindNormals = createBufferFrom(ctx, std::span<const glm::vec3>(a.bindNormals), kAddressed);
-  out.joints = createBufferFrom(ctx, std::span<const glm::uvec4>(a.vertexJoints), kAddressed);
-  out.weights = createBufferFrom(ctx, std::span<const glm::vec4>(a.vertexWeights), kAddressed);
+  if (a.skinnedMeshes.empty()) return error.empty();
+  out.program =
+      createComputeProgram(ctx, spv_skinning_comp, {}, sizeof(gpu::SkinningPush), {SKINNING_GROUP_SIZE, 1}, error);
+  out.bindPositions = createBufferFrom(ctx, std::span<const glm::vec3>(a.bindPositions), kAddressed, error);
+  out.bindNormals = createBufferFrom(ctx, std::span<const glm::vec3>(a.bindNormals), kAddressed, error);
+  out.joints = createBufferFrom(ctx, std::span<const glm::uvec4>(a.vertexJoints), kAddressed, error);
+  out.weights = createBufferFrom(ctx, std::span<const glm::vec4>(a.vertexWeights), kAddressed, error);
   size_t joints = 0;
   for (const Skin& s : a.skins) joints += s.joints.size();
   out.jointMatrices = createBuffer(ctx, std::max<size_t>(joints, 1) * sizeof(glm::mat4),
-                                   kAddressed | VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryKind::DeviceLocal);
-  out.positions = createBuffer(ctx, scene.positions.size() * sizeof(glm::vec3), kAddressed, MemoryKind::DeviceLocal);
-  out.normals = createBuffer(ctx, scene.normals.size() * sizeof(glm::vec3), kAddressed, MemoryKind::DeviceLocal);
+                                   kAddressed | VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryKind::DeviceLocal, error);
+  out.positions =
+      createBuffer(ctx, scene.positions.size() * sizeof(glm::vec3), kAddressed, MemoryKind::DeviceLocal, error);
+  out.normals = createBuffer(ctx, scene.normals.size() * sizeof(glm::vec3), kAddressed, MemoryKind::DeviceLocal, error);
+  if (!error.empty()) destroySkinningGpu(ctx, out);
+  return error.empty();
 }
 
 void destroySkinningGpu(const Context& ctx, SkinningGpu& s) {

@@ -11,8 +11,8 @@
 
 namespace engine {
 
-// Nothing is created for a scene without skinned meshes (createSceneGpu calls it).
-void createSkinningGpu(const Context& ctx, const Scene& scene, SkinningGpu& out);
+// Nothing is created for a scene without skinned meshes (createSceneGpu calls it). Errors as in vk.h.
+bool createSkinningGpu(const Context& ctx, const Scene& scene, SkinningGpu& out, std::string& error);
 void destroySkinningGpu(const Context& ctx, SkinningGpu& skinning);
 
 // Records into `cmd` the write of scene.gltf.jointMatrices, every skinned mesh posed by them and handed to

@@ -13,9 +13,11 @@ extern "C" VkResult glfwCreateWindowSurface(VkInstance, GLFWwindow*, const VkAll
 namespace engine {
 namespace {
 
-void createSwapchain(const Context& ctx, Window& w) {
+bool createSwapchain(const Context& ctx, Window& w, std::string& error) {
+  const char* what = "the window's swapchain";
   VkSurfaceCapabilitiesKHR caps;
-  VK_CHECK(vkGetPhysicalDeviceSurfaceCapabilitiesKHR(ctx.physicalDevice, w.surface, &caps));
+  if (!VK_SUCCEEDED(error, what, vkGetPhysicalDeviceSurfaceCapabilitiesKHR(ctx.physicalDevice, w.surface, &caps)))
+    return false;
   uint32_t formatCount = 0;
   vkGetPhysicalDeviceSurfaceFormatsKHR(ctx.physicalDevice, w.surface, &formatCount, nullptr);
   std::vector<VkSurfaceFormatKHR> formats(formatCount);
@@ -44,7 +46,7 @@ void createSwapchain(const Context& ctx, Window& w) {
   info.clipped = VK_TRUE;
   info.oldSwapchain = w.swapchain;
   VkSwapchainKHR created;
-  VK_CHECK(vkCreateSwapchainKHR(ctx.device, &info, nullptr, &created));
+  if (!VK_SUCCEEDED(error, what, vkCreateSwapchainKHR(ctx.device, &info, nullptr, &created))) return false;
   if (w.swapchain) vkDestroySwapchainKHR(ctx.device, w.swapchain, nullptr);
   w.swapchain = created;
   uint32_t count = 0;
@@ -54,7 +56,9 @@ void createSwapchain(const Context& ctx, Window& w) {
   for (VkSemaphore s : w.renderDone) vkDestroySemaphore(ctx.device, s, nullptr);  // the device is idle here
   w.renderDone.assign(count, VK_NULL_HANDLE);
   VkSemaphoreCreateInfo sem{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
-  for (VkSemaphore& s : w.renderDone) VK_CHECK(vkCreateSemaphore(ctx.device, &sem, nullptr, &s));
+  for (VkSemaphore& s : w.renderDone)
+    if (!VK_SUCCEEDED(error, what, vkCreateSemaphore(ctx.device, &sem, nullptr, &s))) return false;
+  return true;
 }
 
 }  // namespace
@@ -92,11 +96,13 @@ bool createWindow(const Context& ctx, uint32_t width, uint32_t height, const cha
     error = std::string("the Vulkan device '") + ctx.properties.deviceName + "' cannot present to this window";
     return false;
   }
-  createSwapchain(ctx, w);
+  if (!createSwapchain(ctx, w, error)) return false;
   VkSemaphoreCreateInfo sem{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
-  for (VkSemaphore& acquired : w.imageAcquired) VK_CHECK(vkCreateSemaphore(ctx.device, &sem, nullptr, &acquired));
-  w.slots = createFrameSlots(ctx);
-  return true;
+  for (VkSemaphore& acquired : w.imageAcquired)
+    if (!VK_SUCCEEDED(error, "the window's semaphores", vkCreateSemaphore(ctx.device, &sem, nullptr, &acquired)))
+      return false;
+  w.slots = createFrameSlots(ctx, error);
+  return error.empty();
 }
 
 void destroyWindow(const Context& ctx, Window& w) {
@@ -104,7 +110,8 @@ void destroyWindow(const Context& ctx, Window& w) {
   destroyFrameSlots(ctx, w.slots);
   for (VkSemaphore acquired : w.imageAcquired)
     if (acquired) vkDestroySemaphore(ctx.device, acquired, nullptr);
-  for (VkSemaphore s : w.renderDone) vkDestroySemaphore(ctx.device, s, nullptr);
+  for (VkSemaphore s : w.renderDone)
+    if (s) vkDestroySemaphore(ctx.device, s, nullptr);
   if (w.swapchain) vkDestroySwapchainKHR(ctx.device, w.swapchain, nullptr);
   if (w.surface) vkDestroySurfaceKHR(ctx.instance, w.surface, nullptr);
   if (w.handle) glfwDestroyWindow(w.handle);
@@ -117,21 +124,21 @@ bool windowShouldClose(const Window& w) {
   return glfwWindowShouldClose(w.handle);
 }
 
-bool beginWindowFrame(const Context& ctx, Window& w, uint32_t& imageIndex) {
-  waitFrameSlot(ctx, w.slots, w.frames);
+WindowFrame beginWindowFrame(const Context& ctx, Window& w, uint32_t& imageIndex, std::string& error) {
+  if (!waitFrameSlot(ctx, w.slots, w.frames, error)) return WindowFrame::Failed;
   VkResult r = vkAcquireNextImageKHR(ctx.device, w.swapchain, UINT64_MAX, w.imageAcquired[w.frames % kFramesInFlight],
                                      VK_NULL_HANDLE, &imageIndex);
   if (r == VK_ERROR_OUT_OF_DATE_KHR) {
     vkDeviceWaitIdle(ctx.device);
-    createSwapchain(ctx, w);
-    return false;
+    return createSwapchain(ctx, w, error) ? WindowFrame::Skipped : WindowFrame::Failed;
   }
-  if (r != VK_SUBOPTIMAL_KHR) VK_CHECK(r);
-  w.cmd = beginFrameSlot(ctx, w.slots, w.frames);
-  return true;
+  if (r != VK_SUBOPTIMAL_KHR && !VK_SUCCEEDED(error, "acquiring a swapchain image", r)) return WindowFrame::Failed;
+  w.cmd = beginFrameSlot(ctx, w.slots, w.frames, error);
+  return w.cmd ? WindowFrame::Begun : WindowFrame::Failed;
 }
 
-void endWindowFrame(const Context& ctx, Window& w, uint32_t imageIndex, VkImage source, VkExtent2D extent) {
+bool endWindowFrame(const Context& ctx, Window& w, uint32_t imageIndex, VkImage source, VkExtent2D extent,
+                    std::string& error) {
   VkImage target = w.images[imageIndex];
   imageBarrier(w.cmd, target, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
                VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, 0, VK_PIPELINE_STAGE_2_BLIT_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
@@ -150,8 +157,9 @@ void endWindowFrame(const Context& ctx, Window& w, uint32_t imageIndex, VkImage 
                VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
   imageBarrier(w.cmd, target, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
                VK_PIPELINE_STAGE_2_BLIT_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_NONE, 0);
-  submitFrameSlot(ctx, w.slots, w.frames, w.imageAcquired[w.frames % kFramesInFlight], VK_PIPELINE_STAGE_TRANSFER_BIT,
-                  w.renderDone[imageIndex]);
+  if (!submitFrameSlot(ctx, w.slots, w.frames, error, w.imageAcquired[w.frames % kFramesInFlight],
+                       VK_PIPELINE_STAGE_TRANSFER_BIT, w.renderDone[imageIndex]))
+    return false;
   w.frames++;
   VkPresentInfoKHR present{VK_STRUCTURE_TYPE_PRESENT_INFO_KHR};
   present.waitSemaphoreCount = 1;
@@ -162,10 +170,9 @@ void endWindowFrame(const Context& ctx, Window& w, uint32_t imageIndex, VkImage 
   VkResult r = vkQueuePresentKHR(ctx.queue, &present);
   if (r == VK_ERROR_OUT_OF_DATE_KHR || r == VK_SUBOPTIMAL_KHR) {
     vkDeviceWaitIdle(ctx.device);
-    createSwapchain(ctx, w);
-  } else {
-    VK_CHECK(r);
+    return createSwapchain(ctx, w, error);
   }
+  return VK_SUCCEEDED(error, "presenting a frame", r);
 }
 
 }  // namespace engine

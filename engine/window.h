@@ -33,12 +33,14 @@ bool createWindow(const Context& ctx, uint32_t width, uint32_t height, const cha
 void destroyWindow(const Context& ctx, Window& window);
 bool windowShouldClose(const Window& window);  // also polls events
 
-// Waits for the frame recorded kFramesInFlight frames ago, acquires an
-// image and begins this frame's command buffer. Returns false when the
-// swapchain had to be recreated (skip the frame).
-bool beginWindowFrame(const Context& ctx, Window& window, uint32_t& imageIndex);
+// Waits for the frame recorded kFramesInFlight frames ago, acquires an image
+// and begins this frame's command buffer. Skipped: the swapchain had to be
+// recreated (skip the frame). Failed: `error` says why (vk.h).
+enum class WindowFrame { Begun, Skipped, Failed };
+WindowFrame beginWindowFrame(const Context& ctx, Window& window, uint32_t& imageIndex, std::string& error);
 // Blits `source` (GENERAL layout, any colour format) scaled to the swapchain
 // image, submits the frame's command buffer and presents.
-void endWindowFrame(const Context& ctx, Window& window, uint32_t imageIndex, VkImage source, VkExtent2D sourceExtent);
+bool endWindowFrame(const Context& ctx, Window& window, uint32_t imageIndex, VkImage source, VkExtent2D sourceExtent,
+                    std::string& error);
 
 }  // namespace engine

@@ -46,8 +46,15 @@ int main(int argc, char** argv) {
     engine::destroyContext(ctx);
     return 1;
   }
-  engine::GBuffer gbuffer = engine::createGBuffer(ctx, {width, height});
-  engine::GBufferPass gbufferPass = engine::createGBufferPass(ctx, sceneGpu);
+  // The engine's calls report failures in `error` and do nothing once it is set: one check after a run of them.
+  engine::GBuffer gbuffer = engine::createGBuffer(ctx, {width, height}, error);
+  engine::GBufferPass gbufferPass = engine::createGBufferPass(ctx, sceneGpu, error);
+  engine::FrameSlots frameSlots =
+      engine::createFrameSlots(ctx, error);  // a command buffer and fence per frame in flight
+  if (!error.empty()) {
+    std::fprintf(stderr, "%s\n", error.c_str());
+    return 1;
+  }
 
   // --- init: the module ----------------------------------------------------------
   gi::ModuleDesc desc;
@@ -72,8 +79,7 @@ int main(int argc, char** argv) {
                                gbuffer.color[gpu::GBUFFER_MOTION].view,   gbuffer.color[gpu::GBUFFER_VIEWZ].view};
 
   // --- the game loop: two frames in flight -------------------------------------
-  engine::FrameSlots frameSlots = engine::createFrameSlots(ctx);  // a command buffer and fence per frame in flight
-  constexpr uint32_t kFramesInFlight = engine::kFramesInFlight;   // the module's default ModuleDesc::framesInFlight
+  constexpr uint32_t kFramesInFlight = engine::kFramesInFlight;  // the module's default ModuleDesc::framesInFlight
   auto printStats = [&](uint32_t completed) {
     gi::FrameStats stats;
     if (gi::frameStats(gi, completed, stats))
@@ -81,7 +87,7 @@ int main(int argc, char** argv) {
   };
   gpu::GpuCamera previous{};
   for (uint32_t frame = 0; frame < frames; ++frame) {
-    engine::waitFrameSlot(ctx, frameSlots, frame);
+    if (!engine::waitFrameSlot(ctx, frameSlots, frame, error)) break;
     if (frame >= kFramesInFlight) printStats(frame - kFramesInFlight);  // its fence has signalled: its numbers are in
 
     // Update: a slow orbit of the scene's camera around its up axis.
@@ -92,7 +98,8 @@ int main(int argc, char** argv) {
     camera.worldFromView = camera.worldFromView * turn;
     gpu::GpuCamera current = engine::makeGpuCamera(camera, width, height, frame ? &previous : nullptr);
 
-    VkCommandBuffer cmd = engine::beginFrameSlot(ctx, frameSlots, frame);
+    VkCommandBuffer cmd = engine::beginFrameSlot(ctx, frameSlots, frame, error);
+    if (!cmd) break;
     // Raster the G-buffer; it leaves the images in GENERAL, visible to compute (the module's contract).
     engine::recordGBuffer(ctx, cmd, gbufferPass, scene, sceneGpu, gbuffer, current, nullptr);
     // Global illumination: records passes, never submits.
@@ -104,7 +111,7 @@ int main(int argc, char** argv) {
     // Composite → the frame: a game would barrier, then sample gi::outputs(gi).composite in its post chain.
     engine::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                           VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
-    engine::submitFrameSlot(ctx, frameSlots, frame);
+    if (!engine::submitFrameSlot(ctx, frameSlots, frame, error)) break;
     previous = current;
   }
   vkDeviceWaitIdle(ctx.device);
@@ -113,8 +120,8 @@ int main(int argc, char** argv) {
 
   // "Present": read the composite back and write it.
   const gi::Outputs outputs = gi::outputs(gi);  // half floats by default (ModuleDesc::outputFormat)
-  engine::FloatImage image = engine::readbackRgb(ctx, outputs.composite, outputs.format, {width, height});
-  bool written = engine::writeImage(argv[2], image, error);
+  engine::FloatImage image = engine::readbackRgb(ctx, outputs.composite, outputs.format, {width, height}, error);
+  const bool written = error.empty() && engine::writeImage(argv[2], image, error);
   if (!written) std::fprintf(stderr, "%s\n", error.c_str());
 
   // --- shutdown ------------------------------------------------------------------

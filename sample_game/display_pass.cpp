@@ -9,27 +9,35 @@
 
 namespace demo {
 
-DisplayPass createDisplayPass(const engine::Context& ctx, VkExtent2D extent, VkImageView source) {
+DisplayPass createDisplayPass(const engine::Context& ctx, VkExtent2D extent, VkImageView source, std::string& error) {
   DisplayPass d;
   d.extent = extent;
   d.image = engine::createImage(
       ctx, extent, kDisplayFormat,
-      VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
-  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
-    engine::imageBarrier(cmd, d.image.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
-                         VK_PIPELINE_STAGE_2_NONE, 0, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                         VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-  });
+      VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, error);
+  engine::submitAndWait(
+      ctx,
+      [&](VkCommandBuffer cmd) {
+        engine::imageBarrier(cmd, d.image.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
+                             VK_PIPELINE_STAGE_2_NONE, 0, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                             VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+      },
+      error);
   const engine::Binding bindings[] = {{gpu::DISPLAY_BINDING_SOURCE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
                                       {gpu::DISPLAY_BINDING_TARGET, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}};
-  d.set = engine::createDescriptorSet(ctx, bindings);
+  d.set = engine::createDescriptorSet(ctx, bindings, error);
+  if (!error.empty()) {
+    destroyDisplayPass(ctx, d);
+    return d;
+  }
   engine::DescriptorWriter(d.set.set)
       .storageImage(gpu::DISPLAY_BINDING_SOURCE, source)
       .storageImage(gpu::DISPLAY_BINDING_TARGET, d.image.view)
       .write(ctx.vk);
   VkDescriptorSetLayout layouts[] = {d.set.layout};
   d.program = engine::createComputeProgram(ctx, spv_display_comp, layouts, sizeof(gpu::DisplayPush),
-                                           {DISPLAY_GROUP_SIZE, DISPLAY_GROUP_SIZE});
+                                           {DISPLAY_GROUP_SIZE, DISPLAY_GROUP_SIZE}, error);
+  if (!error.empty()) destroyDisplayPass(ctx, d);
   return d;
 }
 
@@ -50,8 +58,8 @@ void recordDisplay(const engine::Context& ctx, VkCommandBuffer cmd, const Displa
                    gpu::DisplayPush{exposure, 0, {sourceExtent.width, sourceExtent.height}});
 }
 
-engine::FloatImage readDisplay(const engine::Context& ctx, const DisplayPass& d) {
-  return engine::readbackRgb(ctx, d.image.image, d.image.format, d.extent);
+engine::FloatImage readDisplay(const engine::Context& ctx, const DisplayPass& d, std::string& error) {
+  return engine::readbackRgb(ctx, d.image.image, d.image.format, d.extent, error);
 }
 
 }  // namespace demo

@@ -19,13 +19,14 @@ struct DisplayPass {
 inline constexpr VkFormat kDisplayFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
 
 // `source` is an rgba32f storage view in GENERAL layout (the module's composite).
-DisplayPass createDisplayPass(const engine::Context& ctx, VkExtent2D extent, VkImageView source);
+// Errors as in engine/vk.h: an empty pass (or image) and `error`.
+DisplayPass createDisplayPass(const engine::Context& ctx, VkExtent2D extent, VkImageView source, std::string& error);
 void destroyDisplayPass(const engine::Context& ctx, DisplayPass& pass);
 // Waits for the module's compute writes, then fills the display image.
 // `sourceExtent`: the render rectangle in the composite (the module's render size).
 void recordDisplay(const engine::Context& ctx, VkCommandBuffer cmd, const DisplayPass& pass, float exposure,
                    VkExtent2D sourceExtent);
 // The display image as linear RGB floats (after the frame has completed).
-engine::FloatImage readDisplay(const engine::Context& ctx, const DisplayPass& pass);
+engine::FloatImage readDisplay(const engine::Context& ctx, const DisplayPass& pass, std::string& error);
 
 }  // namespace demo

@@ -166,7 +166,8 @@ demo::CameraInput pollInput(GLFWwindow* w, float extent, Keys& keys, bool& previ
 
 bool saveDisplay(const engine::Context& ctx, const demo::DisplayPass& display, const fs::path& path, bool announce) {
   std::string error;
-  if (!engine::writeImage(path.string(), demo::readDisplay(ctx, display), error)) {
+  const engine::FloatImage image = demo::readDisplay(ctx, display, error);
+  if (!error.empty() || !engine::writeImage(path.string(), image, error)) {
     std::fprintf(stderr, "sample_game: %s\n", error.c_str());
     return false;
   }
@@ -274,15 +275,17 @@ int openPresentation(Demo& d) {
     return fail(error, 1);
   d.displaySize = {o.windowWidth, o.windowHeight};
   for (demo::DisplayPass& display : d.displays)
-    display = demo::createDisplayPass(d.ctx, d.displaySize, gi::outputs(d.session.module).compositeView);
-  if (o.headless) d.headless = engine::createFrameSlots(d.ctx);
+    display = demo::createDisplayPass(d.ctx, d.displaySize, gi::outputs(d.session.module).compositeView, error);
+  if (o.headless) d.headless = engine::createFrameSlots(d.ctx, error);
+  if (!error.empty()) return fail(error, 1);
 
   ImGui::CreateContext();
   d.imgui = true;
   ImGui::StyleColorsDark();
   ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini next to the user's files
   if (!o.headless) ImGui_ImplGlfw_InitForVulkan(d.window.handle, true);
-  d.overlay = demo::createOverlayRenderer(d.ctx, demo::kDisplayFormat);
+  d.overlay = demo::createOverlayRenderer(d.ctx, demo::kDisplayFormat, error);
+  if (!error.empty()) return fail(error, 1);
 
   d.ui.animate = o.animate;
   d.ui.walkthrough = o.walkthrough;
@@ -323,7 +326,8 @@ gi::FrameStats completedFrame(Demo& d, uint32_t completed) {
   gi::FrameStats stats;
   if (!gi::frameStats(d.session.module, completed, stats)) stats = gi::stats(d.session.module);
   double gbufferMs = 0.0;
-  for (const engine::PassTime& p : engine::readPassTimes(d.ctx, tools::gbufferTimer(d.session, completed)))
+  for (const engine::PassTime& p :
+       engine::readPassTimes(d.ctx, tools::gbufferTimer(d.session, completed), d.session.error))
     gbufferMs += p.ms;
   demo::recordFrameNumbers(d.ui, stats, gbufferMs, d.cpuMs);
   if (d.logging)
@@ -343,7 +347,7 @@ bool saveFrame(const Demo& d, uint32_t completed) {
 
 // Frames are recorded two ahead, windowed and headless: the frame recorded kFramesInFlight ago has completed,
 // so its numbers (and headless its PNG, before this frame redraws it) are taken now, and budget mode takes
-// its next step. False when the PNG could not be written.
+// its next step. False when the PNG could not be written or the frame's numbers could not be read (printed).
 bool takeCompletedFrame(Demo& d) {
   const Clock::time_point now = Clock::now();
   d.cpuMs = std::chrono::duration<double, std::milli>(now - d.lastFrame).count();
@@ -351,6 +355,10 @@ bool takeCompletedFrame(Demo& d) {
   if (d.frame < engine::kFramesInFlight) return true;
   const uint32_t completed = d.frame - engine::kFramesInFlight;
   const gi::FrameStats stats = completedFrame(d, completed);
+  if (!d.session.error.empty()) {
+    fail(d.session.error, 1);  // prints it
+    return false;
+  }
   if (d.o.headless && !d.o.benchmark && !saveFrame(d, completed)) return false;
   if (d.ui.budgetMode) {
     d.settings.rayBudget = d.applied.rayBudget = gi::updateBudget(d.ui.budget, stats);
@@ -425,10 +433,13 @@ bool recordDemoFrame(Demo& d, VkCommandBuffer cmd, const gpu::GpuCamera& camera,
   d.session.preExposure = d.ui.exposure;
   tools::recordModuleFrame(d.ctx, cmd, d.session, d.scene, d.sceneGpu, camera, d.frame > 0 ? d.previousCamera : camera,
                            d.frame);
+  if (!d.session.error.empty()) {
+    error = d.session.error;
+    return false;
+  }
   demo::recordDisplay(d.ctx, cmd, display, d.ui.exposure / d.session.preExposure, d.session.extent);
-  demo::recordOverlay(d.ctx, cmd, d.overlay, d.frame, *ImGui::GetDrawData(), display.image.image, display.image.view,
-                      d.displaySize);
-  return true;
+  return demo::recordOverlay(d.ctx, cmd, d.overlay, d.frame, *ImGui::GetDrawData(), display.image.image,
+                             display.image.view, d.displaySize, error);
 }
 
 // The frames, until the window closes or the count is reached. 0, or the exit status.
@@ -440,27 +451,29 @@ int runFrames(Demo& d) {
     const engine::VulkanCallCounts callsBefore = engine::vulkanCallCounts();
     uint32_t image = 0;
     VkCommandBuffer frameCmd = VK_NULL_HANDLE;
+    std::string error;
     if (!o.headless) {
       if (engine::windowShouldClose(d.window)) break;
-      if (!engine::beginWindowFrame(d.ctx, d.window, image)) {
+      const engine::WindowFrame begun = engine::beginWindowFrame(d.ctx, d.window, image, error);
+      if (begun == engine::WindowFrame::Skipped) {
         --d.frame;
         continue;
       }
       frameCmd = d.window.cmd;
-    } else {
-      engine::waitFrameSlot(d.ctx, d.headless, d.frame);
-      frameCmd = engine::beginFrameSlot(d.ctx, d.headless, d.frame);
+    } else if (engine::waitFrameSlot(d.ctx, d.headless, d.frame, error)) {
+      frameCmd = engine::beginFrameSlot(d.ctx, d.headless, d.frame, error);
     }
+    if (!error.empty()) return fail(error, 1);
     demo::DisplayPass& display = d.displays[d.frame % engine::kFramesInFlight];
     if (!takeCompletedFrame(d)) return 1;
     const float dt = fixedStep ? 1.0f / 30.0f : float(d.cpuMs * 1e-3);
     d.seconds += dt;
     const gpu::GpuCamera camera = updateCameraAndOverlay(d, dt);
-    if (std::string error; !recordDemoFrame(d, frameCmd, camera, display, error)) return fail(error, 1);
-    if (o.headless)
-      engine::submitFrameSlot(d.ctx, d.headless, d.frame);
-    else
-      engine::endWindowFrame(d.ctx, d.window, image, display.image.image, d.displaySize);
+    if (!recordDemoFrame(d, frameCmd, camera, display, error)) return fail(error, 1);
+    const bool submitted =
+        o.headless ? engine::submitFrameSlot(d.ctx, d.headless, d.frame, error)
+                   : engine::endWindowFrame(d.ctx, d.window, image, display.image.image, d.displaySize, error);
+    if (!submitted) return fail(error, 1);
     if (d.screenshotPending || d.frame == o.screenshotAt) {
       // With the overlay: once this frame has completed (its display image is not redrawn until frame + 2).
       vkQueueWaitIdle(d.ctx.queue);

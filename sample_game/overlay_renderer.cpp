@@ -13,7 +13,7 @@
 namespace demo {
 namespace {
 
-VkPipeline createPipeline(const engine::Context& ctx, VkPipelineLayout layout, VkFormat format) {
+VkPipeline createPipeline(const engine::Context& ctx, VkPipelineLayout layout, VkFormat format, std::string& error) {
   const VkVertexInputBindingDescription binding{0, sizeof(ImDrawVert), VK_VERTEX_INPUT_RATE_VERTEX};
   const VkVertexInputAttributeDescription attributes[] = {
       {0, 0, VK_FORMAT_R32G32_SFLOAT, uint32_t(offsetof(ImDrawVert, pos))},
@@ -37,34 +37,41 @@ VkPipeline createPipeline(const engine::Context& ctx, VkPipelineLayout layout, V
   desc.vertexAttributes = attributes;
   desc.colorFormats = std::span(&format, 1);
   desc.blends = std::span(&blend, 1);
-  return engine::createGraphicsPipeline(ctx, desc);
+  return engine::createGraphicsPipeline(ctx, desc, error);
 }
 
 // A host-visible buffer of at least `bytes` (grown by half again to avoid regrowing every frame).
-void ensureCapacity(const engine::Context& ctx, engine::Buffer& buffer, VkDeviceSize bytes, VkBufferUsageFlags usage) {
-  if (buffer.buffer && buffer.size >= bytes) return;
+bool ensureCapacity(const engine::Context& ctx, engine::Buffer& buffer, VkDeviceSize bytes, VkBufferUsageFlags usage,
+                    std::string& error) {
+  if (buffer.buffer && buffer.size >= bytes) return true;
   if (buffer.buffer) engine::destroyBuffer(ctx, buffer);
   buffer = engine::createBuffer(ctx, std::max<VkDeviceSize>(bytes + bytes / 2, 4096), usage,
-                                engine::MemoryKind::HostVisible);
+                                engine::MemoryKind::HostVisible, error);
+  return error.empty();
 }
 
 }  // namespace
 
-OverlayRenderer createOverlayRenderer(const engine::Context& ctx, VkFormat targetFormat) {
+OverlayRenderer createOverlayRenderer(const engine::Context& ctx, VkFormat targetFormat, std::string& error) {
   OverlayRenderer r;
   unsigned char* pixels = nullptr;
   int width = 0, height = 0;
   ImGui::GetIO().Fonts->GetTexDataAsRGBA32(&pixels, &width, &height);
   r.font = engine::createImage(ctx, {uint32_t(width), uint32_t(height)}, VK_FORMAT_R8G8B8A8_UNORM,
-                               VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT);
-  engine::uploadImage(ctx, r.font, pixels, size_t(width) * size_t(height) * 4,
-                      VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+                               VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT, error);
+  engine::uploadImage(ctx, r.font, pixels, size_t(width) * size_t(height) * 4, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                      error);
   VkSamplerCreateInfo s{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
   s.magFilter = s.minFilter = VK_FILTER_LINEAR;
   s.addressModeU = s.addressModeV = s.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
-  VK_CHECK(vkCreateSampler(ctx.device, &s, nullptr, &r.sampler));
+  if (error.empty())
+    VK_SUCCEEDED(error, "the overlay's font sampler", vkCreateSampler(ctx.device, &s, nullptr, &r.sampler));
   const engine::Binding bindings[] = {{gpu::OVERLAY_BINDING_FONT, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER}};
-  r.set = engine::createDescriptorSet(ctx, bindings);
+  r.set = engine::createDescriptorSet(ctx, bindings, error);
+  if (!error.empty()) {
+    destroyOverlayRenderer(ctx, r);
+    return r;
+  }
   engine::DescriptorWriter(r.set.set).sampledImage(gpu::OVERLAY_BINDING_FONT, r.font.view, r.sampler).write(ctx.vk);
 
   VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(gpu::OverlayPush)};
@@ -73,8 +80,12 @@ OverlayRenderer createOverlayRenderer(const engine::Context& ctx, VkFormat targe
   layoutInfo.pSetLayouts = &r.set.layout;
   layoutInfo.pushConstantRangeCount = 1;
   layoutInfo.pPushConstantRanges = &range;
-  VK_CHECK(vkCreatePipelineLayout(ctx.device, &layoutInfo, nullptr, &r.layout));
-  r.pipeline = createPipeline(ctx, r.layout, targetFormat);
+  VK_SUCCEEDED(error, "the overlay's pipeline", vkCreatePipelineLayout(ctx.device, &layoutInfo, nullptr, &r.layout));
+  r.pipeline = createPipeline(ctx, r.layout, targetFormat, error);
+  if (!error.empty()) {
+    destroyOverlayRenderer(ctx, r);
+    return r;
+  }
   ImGui::GetIO().Fonts->SetTexID(reinterpret_cast<ImTextureID>(r.set.set));
   return r;
 }
@@ -91,13 +102,17 @@ void destroyOverlayRenderer(const engine::Context& ctx, OverlayRenderer& r) {
   r = OverlayRenderer{};
 }
 
-void recordOverlay(const engine::Context& ctx, VkCommandBuffer cmd, OverlayRenderer& r, uint32_t frameIndex,
-                   const ImDrawData& data, VkImage target, VkImageView targetView, VkExtent2D extent) {
-  if (data.TotalVtxCount == 0) return;
+bool recordOverlay(const engine::Context& ctx, VkCommandBuffer cmd, OverlayRenderer& r, uint32_t frameIndex,
+                   const ImDrawData& data, VkImage target, VkImageView targetView, VkExtent2D extent,
+                   std::string& error) {
+  if (data.TotalVtxCount == 0) return true;
   engine::Buffer& vertices = r.vertices[frameIndex % 2];
   engine::Buffer& indices = r.indices[frameIndex % 2];
-  ensureCapacity(ctx, vertices, sizeof(ImDrawVert) * size_t(data.TotalVtxCount), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
-  ensureCapacity(ctx, indices, sizeof(ImDrawIdx) * size_t(data.TotalIdxCount), VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
+  if (!ensureCapacity(ctx, vertices, sizeof(ImDrawVert) * size_t(data.TotalVtxCount), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT,
+                      error) ||
+      !ensureCapacity(ctx, indices, sizeof(ImDrawIdx) * size_t(data.TotalIdxCount), VK_BUFFER_USAGE_INDEX_BUFFER_BIT,
+                      error))
+    return false;
   auto* vertexOut = static_cast<ImDrawVert*>(vertices.mapped);
   auto* indexOut = static_cast<ImDrawIdx*>(indices.mapped);
   for (int i = 0; i < data.CmdListsCount; ++i) {
@@ -158,6 +173,7 @@ void recordOverlay(const engine::Context& ctx, VkCommandBuffer cmd, OverlayRende
                        VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
                        VK_PIPELINE_STAGE_2_TRANSFER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                        VK_ACCESS_2_TRANSFER_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+  return true;
 }
 
 }  // namespace demo

@@ -23,13 +23,15 @@ struct OverlayRenderer {
 };
 
 // Uploads ImGui's font atlas (call after ImGui::CreateContext) and builds the
-// pipeline for `targetFormat`.
-OverlayRenderer createOverlayRenderer(const engine::Context& ctx, VkFormat targetFormat);
+// pipeline for `targetFormat`. Errors as in engine/vk.h: an empty renderer and `error`.
+OverlayRenderer createOverlayRenderer(const engine::Context& ctx, VkFormat targetFormat, std::string& error);
 void destroyOverlayRenderer(const engine::Context& ctx, OverlayRenderer& renderer);
 
 // Draws over `target` (GENERAL layout, COLOR_ATTACHMENT usage; left in GENERAL).
-// Uses buffer pair `frameIndex` mod 2: the frame two before must have completed.
-void recordOverlay(const engine::Context& ctx, VkCommandBuffer cmd, OverlayRenderer& renderer, uint32_t frameIndex,
-                   const ImDrawData& data, VkImage target, VkImageView targetView, VkExtent2D extent);
+// Uses buffer pair `frameIndex` mod 2: the frame two before must have completed. False (recording
+// nothing) when a grown buffer cannot be made.
+bool recordOverlay(const engine::Context& ctx, VkCommandBuffer cmd, OverlayRenderer& renderer, uint32_t frameIndex,
+                   const ImDrawData& data, VkImage target, VkImageView targetView, VkExtent2D extent,
+                   std::string& error);
 
 }  // namespace demo

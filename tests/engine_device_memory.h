@@ -9,6 +9,8 @@
 #include <cstring>
 #include <map>
 
+#include <gtest/gtest.h>
+
 #include "context.h"
 #include "resources.h"
 #include "gi/device_memory.h"
@@ -38,7 +40,9 @@ struct EngineDeviceMemory {
   }
 
   VkResult allocate(const gi::DeviceMemoryRequest& r, gi::DeviceMemorySlice& out) {
-    const uint32_t type = engine::findMemoryType(*ctx, r.requirements.memoryTypeBits, r.properties);
+    uint32_t type = 0;
+    if (std::string noType; !engine::findMemoryType(*ctx, r.requirements.memoryTypeBits, r.properties, type, noType))
+      return VK_ERROR_OUT_OF_DEVICE_MEMORY;  // the module names the failed allocation
     const VkDeviceSize alignment = std::max<VkDeviceSize>(r.requirements.alignment, 1);
     VkMemoryAllocateFlagsInfo flags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
     flags.flags = r.allocateFlags;
@@ -132,7 +136,9 @@ struct AliasedTransientPool {
     vkCreateBuffer(ctx.device, &info, nullptr, &alias);
     VkMemoryRequirements req;
     vkGetBufferMemoryRequirements(ctx.device, alias, &req);
-    memoryType = engine::findMemoryType(ctx, req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+    std::string error;
+    if (!engine::findMemoryType(ctx, req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, memoryType, error))
+      ADD_FAILURE() << error;
     VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
     alloc.allocationSize = size = req.size;
     alloc.memoryTypeIndex = memoryType;

@@ -41,29 +41,31 @@ AnimatedRun runFrames(const engine::Context& ctx, const std::string& path, uint3
   settings.method = gi::Method::Svgf;
   ScopedSession session(ctx);
   EXPECT_TRUE(tools::createModuleSession(ctx, s.gpu, {kSize, kSize}, settings, session, error, &desc)) << error;
-  engine::FrameSlots slots = engine::createFrameSlots(ctx, inFlight);
+  engine::FrameSlots slots = engine::createFrameSlots(ctx, error, inFlight);
   AnimatedRun run;
   const uint32_t warmup = inFlight + 2;
   engine::VulkanCallCounts atWarmup;
-  for (uint32_t f = 0; f < kFrames; ++f) {
+  for (uint32_t f = 0; f < kFrames && error.empty(); ++f) {
     if (f == warmup) {
       atWarmup = engine::vulkanCallCounts();
       run.moduleAllocationsAfterWarmup = gi::stats(session.module).deviceAllocations;
     }
     engine::animateScene(animation, float(f) / 30.0f, s.scene);
     if (overlapped) {
-      engine::waitFrameSlot(ctx, slots, f);  // the frame inFlight back
-      VkCommandBuffer cmd = engine::beginFrameSlot(ctx, slots, f);
+      engine::waitFrameSlot(ctx, slots, f, error);  // the frame inFlight back
+      VkCommandBuffer cmd = engine::beginFrameSlot(ctx, slots, f, error);
+      if (!cmd) break;
       recordUpdateOrFail(ctx, cmd, s.scene, s.gpu);
       tools::recordModuleFrame(ctx, cmd, session, s.scene, s.gpu, camera, camera, f);
-      engine::submitFrameSlot(ctx, slots, f);
+      engine::submitFrameSlot(ctx, slots, f, error);
     } else {
-      engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+      submitOrFail(ctx, [&](VkCommandBuffer cmd) {
         recordUpdateOrFail(ctx, cmd, s.scene, s.gpu);
         tools::recordModuleFrame(ctx, cmd, session, s.scene, s.gpu, camera, camera, f);
       });
     }
   }
+  EXPECT_EQ(error, "");
   if (steadyCalls) *steadyCalls = engine::vulkanCallCounts() - atWarmup;
   vkDeviceWaitIdle(ctx.device);
   run.moduleAllocationsAtEnd = gi::stats(session.module).deviceAllocations;

@@ -30,7 +30,7 @@ CpuGBuffer readGBuffer(const engine::Context& ctx, const engine::GBuffer& g) {
   const size_t n = size_t(kSize) * kSize;
   CpuGBuffer c;
   auto halves = [&](uint32_t index, uint32_t channels) {
-    std::vector<std::byte> raw = engine::readbackImage(ctx, g.color[index], VK_IMAGE_LAYOUT_GENERAL, 2 * channels);
+    std::vector<std::byte> raw = readbackOrFail(ctx, g.color[index], VK_IMAGE_LAYOUT_GENERAL, 2 * channels);
     std::vector<float> out(n * channels);
     for (size_t i = 0; i < out.size(); ++i) {
       uint16_t h;
@@ -40,12 +40,10 @@ CpuGBuffer readGBuffer(const engine::Context& ctx, const engine::GBuffer& g) {
     return out;
   };
   std::vector<float> normal = halves(gpu::GBUFFER_NORMAL, 4), motion = halves(gpu::GBUFFER_MOTION, 2);
-  std::vector<std::byte> albedo = engine::readbackImage(ctx, g.color[gpu::GBUFFER_ALBEDO], VK_IMAGE_LAYOUT_GENERAL, 4);
-  std::vector<std::byte> material =
-      engine::readbackImage(ctx, g.color[gpu::GBUFFER_MATERIAL], VK_IMAGE_LAYOUT_GENERAL, 2);
-  std::vector<std::byte> emission =
-      engine::readbackImage(ctx, g.color[gpu::GBUFFER_EMISSION], VK_IMAGE_LAYOUT_GENERAL, 16);
-  std::vector<std::byte> viewZ = engine::readbackImage(ctx, g.color[gpu::GBUFFER_VIEWZ], VK_IMAGE_LAYOUT_GENERAL, 4);
+  std::vector<std::byte> albedo = readbackOrFail(ctx, g.color[gpu::GBUFFER_ALBEDO], VK_IMAGE_LAYOUT_GENERAL, 4);
+  std::vector<std::byte> material = readbackOrFail(ctx, g.color[gpu::GBUFFER_MATERIAL], VK_IMAGE_LAYOUT_GENERAL, 2);
+  std::vector<std::byte> emission = readbackOrFail(ctx, g.color[gpu::GBUFFER_EMISSION], VK_IMAGE_LAYOUT_GENERAL, 16);
+  std::vector<std::byte> viewZ = readbackOrFail(ctx, g.color[gpu::GBUFFER_VIEWZ], VK_IMAGE_LAYOUT_GENERAL, 4);
   for (size_t p = 0; p < n; ++p) {
     c.normal.push_back({normal[4 * p], normal[4 * p + 1], normal[4 * p + 2], normal[4 * p + 3]});
     glm::vec4 a;
@@ -97,11 +95,13 @@ struct UploadedGBuffer {
 UploadedGBuffer upload(const engine::Context& ctx, const Encoded (&encoded)[6],
                        VkImageLayout layout = VK_IMAGE_LAYOUT_GENERAL) {
   UploadedGBuffer u;
+  std::string error;
   for (int i = 0; i < 6; ++i) {
     u.images[i] = engine::createImage(ctx, {kSize, kSize}, encoded[i].format,
-                                      VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT);
-    engine::uploadImage(ctx, u.images[i], encoded[i].bytes.data(), encoded[i].bytes.size(), layout);
+                                      VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT, error);
+    engine::uploadImage(ctx, u.images[i], encoded[i].bytes.data(), encoded[i].bytes.size(), layout, error);
   }
+  if (!error.empty()) ADD_FAILURE() << error;
   return u;
 }
 
@@ -156,7 +156,7 @@ TEST_F(GBufferEncodingsTest, EveryAcceptedEncodingGivesTheSameImage) {
   // Our own G-buffer, rendered once.
   ScopedSession native(ctx);
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {kSize, kSize}, gi::Settings{}, native));
-  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+  submitOrFail(ctx, [&](VkCommandBuffer cmd) {
     engine::recordGBuffer(ctx, cmd, native.gbufferPass, s.scene, s.gpu, native.gbuffer, reversed, nullptr);
   });
   const CpuGBuffer g = readGBuffer(ctx, native.gbuffer);
@@ -291,11 +291,11 @@ TEST_F(GBufferEncodingsTest, EveryAcceptedEncodingGivesTheSameImage) {
     if (v.yUp)
       for (int c = 0; c < 4; ++c)
         in.camera.clipFromView[c * 4 + 1] = in.previousCamera.clipFromView[c * 4 + 1] *= -1.0f;
-    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { ASSERT_FALSE(gi::recordFrame(module, cmd, in)); });
+    submitOrFail(ctx, [&](VkCommandBuffer cmd) { ASSERT_FALSE(gi::recordFrame(module, cmd, in)); });
     const gi::Outputs o = gi::outputs(module);
     engine::ReferenceImages out;
-    out.final = engine::readbackRgb(ctx, o.composite, o.compositeFormat, {kSize, kSize});
-    out.direct = engine::readbackRgb(ctx, o.direct, o.format, {kSize, kSize});
+    out.final = readbackRgbOrFail(ctx, o.composite, o.compositeFormat, {kSize, kSize});
+    out.direct = readbackRgbOrFail(ctx, o.direct, o.format, {kSize, kSize});
     images.push_back(out);
     gi::destroy(module);
     for (engine::Image& img : uploaded.images) engine::destroyImage(ctx, img);
@@ -360,7 +360,7 @@ TEST_F(GBufferEncodingsTest, BadCamerasAreNamedErrors) {
     in.camera = in.previousCamera = good;
     c.edit(in.camera);
     gi::Error e;
-    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { e = gi::recordFrame(session.module, cmd, in); });
+    submitOrFail(ctx, [&](VkCommandBuffer cmd) { e = gi::recordFrame(session.module, cmd, in); });
     EXPECT_EQ(e.code, gi::ErrorCode::OutOfRange) << c.what;
     EXPECT_NE(e.message.find("inputs.camera"), std::string::npos) << e.message;
     EXPECT_NE(e.message.find(c.message), std::string::npos) << e.message;
@@ -433,7 +433,7 @@ TEST_F(GBufferEncodingsTest, MismatchedEncodingsAreNamedErrors) {
     const gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], 16, 16, nullptr);
     in.camera = in.previousCamera = engine::moduleCamera(cam);
     gi::Error e;
-    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { e = gi::recordFrame(m, cmd, in); });
+    submitOrFail(ctx, [&](VkCommandBuffer cmd) { e = gi::recordFrame(m, cmd, in); });
     EXPECT_EQ(e.code, gi::ErrorCode::MissingHandle) << names[missing];
     EXPECT_NE(e.message.find(std::string("inputs.gbuffer.") + names[missing] + " is VK_NULL_HANDLE"), std::string::npos)
         << e.message;
@@ -462,7 +462,7 @@ TEST_F(GBufferEncodingsTest, MotionInEveryConventionReprojectsAsOurs) {
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {kSize, kSize}, gi::Settings{}, native));
   CpuGBuffer frames[2];
   for (int f = 0; f < 2; ++f) {
-    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+    submitOrFail(ctx, [&](VkCommandBuffer cmd) {
       engine::recordGBuffer(ctx, cmd, native.gbufferPass, s.scene, s.gpu, native.gbuffer, f == 0 ? a : b, nullptr);
     });
     frames[f] = readGBuffer(ctx, native.gbuffer);
@@ -510,13 +510,13 @@ TEST_F(GBufferEncodingsTest, MotionInEveryConventionReprojectsAsOurs) {
       in.camera = engine::moduleCamera(f == 0 ? a : b);
       in.previousCamera = engine::moduleCamera(a);
       in.frameIndex = f;
-      engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { ASSERT_FALSE(gi::recordFrame(module, cmd, in)); });
+      submitOrFail(ctx, [&](VkCommandBuffer cmd) { ASSERT_FALSE(gi::recordFrame(module, cmd, in)); });
       for (engine::Image& img : uploaded.images) engine::destroyImage(ctx, img);
     }
     const gi::Outputs o = gi::outputs(module);
     engine::ReferenceImages out;
-    out.indirect = engine::readbackRgb(ctx, o.indirect, o.format, {kSize, kSize});
-    out.direct = engine::readbackRgb(ctx, o.direct, o.format, {kSize, kSize});
+    out.indirect = readbackRgbOrFail(ctx, o.indirect, o.format, {kSize, kSize});
+    out.direct = readbackRgbOrFail(ctx, o.direct, o.format, {kSize, kSize});
     images.push_back(out);
     gi::destroy(module);
   }
@@ -556,7 +556,7 @@ TEST(GBufferLayouts, ReadOnlyGBufferAndOutputsInTheEnginesLayoutGiveTheSameFrame
   const gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], kSize, kSize, nullptr);
   ScopedSession native(ctx);
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {kSize, kSize}, gi::Settings{}, native));
-  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+  submitOrFail(ctx, [&](VkCommandBuffer cmd) {
     engine::recordGBuffer(ctx, cmd, native.gbufferPass, s.scene, s.gpu, native.gbuffer, cam, nullptr);
   });
   Encoded encoded[6];
@@ -584,20 +584,21 @@ TEST(GBufferLayouts, ReadOnlyGBufferAndOutputsInTheEnginesLayoutGiveTheSameFrame
     gi::Module* module = nullptr;
     ASSERT_FALSE(gi::create(desc, settings, module)) << run.what;
     UploadedGBuffer uploaded = upload(ctx, encoded, run.gbuffer);
-    engine::FrameSlots slots = engine::createFrameSlots(ctx, 2);
+    engine::FrameSlots slots = engine::createFrameSlots(ctx, error, 2);
     for (uint32_t f = 0; f < 3; ++f) {
-      engine::waitFrameSlot(ctx, slots, f);
-      VkCommandBuffer cmd = engine::beginFrameSlot(ctx, slots, f);
+      engine::waitFrameSlot(ctx, slots, f, error);
+      VkCommandBuffer cmd = engine::beginFrameSlot(ctx, slots, f, error);
+      ASSERT_EQ(error, "") << run.what;
       gi::FrameInputs in;
       in.gbuffer = uploaded.views();
       in.camera = in.previousCamera = engine::moduleCamera(cam);
       in.frameIndex = f;
       ASSERT_FALSE(gi::recordFrame(module, cmd, in)) << run.what;
-      engine::submitFrameSlot(ctx, slots, f);
+      ASSERT_TRUE(engine::submitFrameSlot(ctx, slots, f, error)) << error;
     }
     vkDeviceWaitIdle(ctx.device);
     const gi::Outputs o = gi::outputs(module);
-    composites.push_back(engine::readbackRgb(ctx, o.composite, o.compositeFormat, {kSize, kSize}, 1.0f, run.outputs));
+    composites.push_back(readbackRgbOrFail(ctx, o.composite, o.compositeFormat, {kSize, kSize}, 1.0f, run.outputs));
     engine::destroyFrameSlots(ctx, slots);
     for (engine::Image& img : uploaded.images) engine::destroyImage(ctx, img);
     gi::destroy(module);
@@ -618,7 +619,7 @@ TEST_F(GBufferEncodingsTest, WithoutAnEmissionViewTheEngineAddsTheEmission) {
   const gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], kSize, kSize, nullptr);
   ScopedSession native(ctx);
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {kSize, kSize}, gi::Settings{}, native));
-  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+  submitOrFail(ctx, [&](VkCommandBuffer cmd) {
     engine::recordGBuffer(ctx, cmd, native.gbufferPass, s.scene, s.gpu, native.gbuffer, cam, nullptr);
   });
   const CpuGBuffer g = readGBuffer(ctx, native.gbuffer);
@@ -637,11 +638,11 @@ TEST_F(GBufferEncodingsTest, WithoutAnEmissionViewTheEngineAddsTheEmission) {
     in.gbuffer = uploaded.views();
     if (!withEmission) in.gbuffer.emission = VK_NULL_HANDLE;
     in.camera = in.previousCamera = engine::moduleCamera(cam);
-    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { ASSERT_FALSE(gi::recordFrame(module, cmd, in)); });
+    submitOrFail(ctx, [&](VkCommandBuffer cmd) { ASSERT_FALSE(gi::recordFrame(module, cmd, in)); });
     const gi::Outputs o = gi::outputs(module);
-    out[withEmission].direct = engine::readbackRgb(ctx, o.direct, o.format, {kSize, kSize});
-    out[withEmission].indirect = engine::readbackRgb(ctx, o.indirect, o.format, {kSize, kSize});
-    out[withEmission].final = engine::readbackRgb(ctx, o.composite, o.compositeFormat, {kSize, kSize});
+    out[withEmission].direct = readbackRgbOrFail(ctx, o.direct, o.format, {kSize, kSize});
+    out[withEmission].indirect = readbackRgbOrFail(ctx, o.indirect, o.format, {kSize, kSize});
+    out[withEmission].final = readbackRgbOrFail(ctx, o.composite, o.compositeFormat, {kSize, kSize});
     gi::destroy(module);
   }
   for (engine::Image& img : uploaded.images) engine::destroyImage(ctx, img);

@@ -8,7 +8,7 @@
 namespace {
 
 std::vector<float> readFloats(const engine::Context& ctx, const engine::Image& img, size_t texelBytes) {
-  std::vector<std::byte> raw = engine::readbackImage(ctx, img, VK_IMAGE_LAYOUT_GENERAL, texelBytes);
+  std::vector<std::byte> raw = readbackOrFail(ctx, img, VK_IMAGE_LAYOUT_GENERAL, texelBytes);
   std::vector<float> out(raw.size() / 4);
   std::memcpy(out.data(), raw.data(), raw.size());
   return out;
@@ -27,12 +27,12 @@ class GBufferTest : public GpuTest {
     const uint32_t W = gbuffer.extent.width, H = gbuffer.extent.height;
     std::vector<float> viewZ = readFloats(ctx, gbuffer.color[gpu::GBUFFER_VIEWZ], 4);
     std::vector<std::byte> normalRaw =
-        engine::readbackImage(ctx, gbuffer.color[gpu::GBUFFER_NORMAL], VK_IMAGE_LAYOUT_GENERAL, 8);
+        readbackOrFail(ctx, gbuffer.color[gpu::GBUFFER_NORMAL], VK_IMAGE_LAYOUT_GENERAL, 8);
 
     engine::ReferenceSettings settings;
     settings.pixelJitter = false;
     settings.maxBounces = 0;
-    engine::ReferenceImages rt = engine::renderReference(ctx, s.gpu, cam, settings, 1).images;
+    engine::ReferenceImages rt = referenceOrFail(ctx, s.gpu, cam, settings, 1, 4).images;
 
     uint32_t compared = 0, agree = 0;
     for (uint32_t y = 0; y < H; ++y)
@@ -71,13 +71,15 @@ TEST_F(GBufferTest, DepthAndNormalMatchRayTracedPrimaryHits) {
       uint32_t boxMesh = s.scene.instances.back().mesh;
       for (engine::Instance& inst : s.scene.instances)
         if (inst.mesh == boxMesh) inst.worldFromObject[3] += glm::vec4(0.2f, 0.0f, 0.0f, 0.0f);
-      engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { recordUpdateOrFail(ctx, cmd, s.scene, s.gpu); });
+      submitOrFail(ctx, [&](VkCommandBuffer cmd) { recordUpdateOrFail(ctx, cmd, s.scene, s.gpu); });
     }
     const uint32_t W = 64, H = 48;
     gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], W, H, nullptr);
-    engine::GBuffer gbuffer = engine::createGBuffer(ctx, {W, H});
-    engine::GBufferPass pass = engine::createGBufferPass(ctx, s.gpu);
-    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+    std::string error;
+    engine::GBuffer gbuffer = engine::createGBuffer(ctx, {W, H}, error);
+    engine::GBufferPass pass = engine::createGBufferPass(ctx, s.gpu, error);
+    ASSERT_EQ(error, "");
+    submitOrFail(ctx, [&](VkCommandBuffer cmd) {
       engine::recordGBuffer(ctx, cmd, pass, s.scene, s.gpu, gbuffer, cam, nullptr);
     });
     const double agreement = rasterAgreesWithRays(s, gbuffer, cam);
@@ -86,7 +88,7 @@ TEST_F(GBufferTest, DepthAndNormalMatchRayTracedPrimaryHits) {
     if (moved) {
       // The moved instances carry motion: some pixels point back to where they were.
       std::vector<std::byte> motion =
-          engine::readbackImage(ctx, gbuffer.color[gpu::GBUFFER_MOTION], VK_IMAGE_LAYOUT_GENERAL, 4);
+          readbackOrFail(ctx, gbuffer.color[gpu::GBUFFER_MOTION], VK_IMAGE_LAYOUT_GENERAL, 4);
       uint32_t moving = 0;
       for (size_t i = 0; i < size_t(W) * H; ++i) {
         uint16_t h[2];
@@ -106,10 +108,12 @@ TEST_F(GBufferTest, JitteredAndOffAxisProjectionsMatchRayTracedPrimaryHits) {
   LoadedScene s;
   load(sharedScene("cornell-box-mcguire/CornellBox-Original.gltf"), s);
   const uint32_t W = 64, H = 48;
-  engine::GBuffer gbuffer = engine::createGBuffer(ctx, {W, H});
-  engine::GBufferPass pass = engine::createGBufferPass(ctx, s.gpu);
+  std::string error;
+  engine::GBuffer gbuffer = engine::createGBuffer(ctx, {W, H}, error);
+  engine::GBufferPass pass = engine::createGBufferPass(ctx, s.gpu, error);
+  ASSERT_EQ(error, "");
   auto depthOf = [&](const gpu::GpuCamera& cam) {
-    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+    submitOrFail(ctx, [&](VkCommandBuffer cmd) {
       engine::recordGBuffer(ctx, cmd, pass, s.scene, s.gpu, gbuffer, cam, nullptr);
     });
     return readFloats(ctx, gbuffer.color[gpu::GBUFFER_VIEWZ], 4);

@@ -9,12 +9,23 @@
 #include "animation.h"
 #include "camera.h"
 #include "context.h"
+#include "engine_or_fail.h"
 #include "module_session.h"
 #include "path_tracer.h"
 #include "scene_gpu.h"
 #include "scene_loading.h"
 
 inline std::string sharedScene(const std::string& relative) { return std::string(GI_SHARED_SCENES) + "/" + relative; }
+
+// The reference path tracer in tests: a failure fails the test (and the run's images are empty).
+inline engine::ReferenceRun referenceOrFail(const engine::Context& c, const engine::SceneGpu& scene,
+                                            const gpu::GpuCamera& camera, const engine::ReferenceSettings& settings,
+                                            uint32_t spp, uint32_t samplesPerSubmit) {
+  std::string error;
+  engine::ReferenceRun run = engine::renderReference(c, scene, camera, settings, spp, samplesPerSubmit, error);
+  if (!error.empty()) ADD_FAILURE() << error;
+  return run;
+}
 
 // A scene loaded and on the device; released when it goes out of scope (a failed ASSERT included), or
 // earlier by release(), or when GpuTest::load fills it again.
@@ -63,13 +74,15 @@ inline void recordHoldOrFail(VkCommandBuffer cmd, const engine::Scene& scene, en
 }
 
 // A module session (tools/module_session.h) released when it goes out of scope, after a failed ASSERT
-// too. Declared after the scene it renders, it goes first.
+// too. Declared after the scene it renders, it goes first. A session that ends holding a failure
+// (ModuleSession::error: a frame, warm-up or read-back that failed) fails the test.
 struct ScopedSession : tools::ModuleSession {
   const engine::Context* context;
   explicit ScopedSession(const engine::Context& c) : context(&c) {}
   ScopedSession(const ScopedSession&) = delete;
   ScopedSession& operator=(const ScopedSession&) = delete;
   ~ScopedSession() {
+    EXPECT_EQ(error, "") << "the module session's first failure";
     if (module) tools::destroyModuleSession(*context, *this);  // a session destroyed by hand has no module
   }
 };
@@ -101,7 +114,7 @@ class GpuTest : public ::testing::Test {
   static engine::ReferenceImages render(const LoadedScene& s, uint32_t width, uint32_t height,
                                         const engine::ReferenceSettings& settings, uint32_t spp) {
     gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], width, height, nullptr);
-    return engine::renderReference(ctx, s.gpu, cam, settings, spp, 16).images;
+    return referenceOrFail(ctx, s.gpu, cam, settings, spp, 16).images;
   }
 };
 

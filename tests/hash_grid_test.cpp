@@ -27,11 +27,13 @@ class HashGridTest : public GpuTest {
 
   void make(uint32_t capacity) {
     dev = openModuleDevice(ctx);
-    empty = engine::createDescriptorSet(ctx, {});
+    std::string error;
+    empty = engine::createDescriptorSet(ctx, {}, error);
     ASSERT_FALSE(gi::createHashGridLayout(dev, gridLayout));
     ASSERT_FALSE(gi::createHashGrid(dev, gridLayout, capacity, 1, 8, 8, 1, false, grid));
     VkDescriptorSetLayout all[] = {empty.layout, empty.layout, gridLayout};
-    stress = engine::createComputeProgram(ctx, spv_hash_stress_comp, all, sizeof(StressPush), {64, 1});
+    stress = engine::createComputeProgram(ctx, spv_hash_stress_comp, all, sizeof(StressPush), {64, 1}, error);
+    ASSERT_EQ(error, "");
   }
   void TearDown() override {
     engine::destroyComputeProgram(ctx, stress);
@@ -45,7 +47,7 @@ class HashGridTest : public GpuTest {
   void run(const StressPush& push) {
     VkDescriptorSet sets[] = {empty.set, empty.set, grid.set[0]};
     uint32_t threads = push.mode == kTidy ? push.capacity : push.keyCount * (push.mode == kInsert ? push.repeats : 1u);
-    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+    submitOrFail(ctx, [&](VkCommandBuffer cmd) {
       gi::recordHashGridFrameStart(dev, cmd, grid, 0);
       engine::dispatch(ctx, cmd, stress, sets, {threads, 1}, push);
       gi::recordHashGridTelemetryCopy(dev, cmd, grid, 0);
@@ -53,9 +55,12 @@ class HashGridTest : public GpuTest {
   }
   // The keys and sums as the GPU holds them.
   void read(std::vector<uint32_t>& keys, std::vector<gpu::HgAccum>& accum) {
-    engine::Buffer staging = engine::createBuffer(ctx, grid.keys.size + grid.accum.size,
-                                                  VK_BUFFER_USAGE_TRANSFER_DST_BIT, engine::MemoryKind::HostVisible);
-    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+    std::string error;
+    engine::Buffer staging =
+        engine::createBuffer(ctx, grid.keys.size + grid.accum.size, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                             engine::MemoryKind::HostVisible, error);
+    ASSERT_EQ(error, "");
+    submitOrFail(ctx, [&](VkCommandBuffer cmd) {
       VkBufferCopy a{0, 0, grid.keys.size}, b{0, grid.keys.size, grid.accum.size};
       vkCmdCopyBuffer(cmd, grid.keys.buffer, staging.buffer, 1, &a);
       vkCmdCopyBuffer(cmd, grid.accum.buffer, staging.buffer, 1, &b);

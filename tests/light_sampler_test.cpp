@@ -29,14 +29,14 @@ TEST_F(LightSamplerTest, PickedLightsHaveTheExactSumsExpectationAndOneShadowRayA
   engine::ReferenceSettings settings;
   settings.maxBounces = 0;
   const gpu::GpuCamera cam = engine::makeGpuCamera(exact.scene.cameras[0], kSize, kSize, nullptr);
-  const engine::ReferenceRun all = engine::renderReference(ctx, exact.gpu, cam, settings, 64, 16);
+  const engine::ReferenceRun all = referenceOrFail(ctx, exact.gpu, cam, settings, 64, 16);
   double equalSamplesMse[2] = {0.0, 0.0};
   for (uint32_t sampler : {gpu::LIGHT_SAMPLER_POWER, gpu::LIGHT_SAMPLER_TREE}) {
     const char* name = sampler == gpu::LIGHT_SAMPLER_POWER ? "power" : "tree";
     LoadedScene picked;
     ASSERT_NO_FATAL_FAILURE(loadWith(path, sampler, picked));
-    const engine::ReferenceRun many = engine::renderReference(ctx, picked.gpu, cam, settings, 2048, 64);
-    const engine::ReferenceRun few = engine::renderReference(ctx, picked.gpu, cam, settings, 64, 16);
+    const engine::ReferenceRun many = referenceOrFail(ctx, picked.gpu, cam, settings, 2048, 64);
+    const engine::ReferenceRun few = referenceOrFail(ctx, picked.gpu, cam, settings, 64, 16);
     uint32_t unlit = 0;
     const double worst = worstBlockDifference(many.images.final, all.images.final, kSize, &unlit);
     ASSERT_EQ(unlit, 0u) << "every block is lit";
@@ -72,12 +72,12 @@ TEST_F(LightSamplerTest, SpotsAimedAnywhereKeepTheExactSumsExpectationAndTheTree
   engine::ReferenceSettings settings;
   settings.maxBounces = 0;
   const gpu::GpuCamera cam = engine::makeGpuCamera(exact.scene.cameras[0], kSize, kSize, nullptr);
-  const engine::ReferenceRun all = engine::renderReference(ctx, exact.gpu, cam, settings, 64, 16);
-  const engine::ReferenceRun many = engine::renderReference(ctx, tree.gpu, cam, settings, 2048, 64);
+  const engine::ReferenceRun all = referenceOrFail(ctx, exact.gpu, cam, settings, 64, 16);
+  const engine::ReferenceRun many = referenceOrFail(ctx, tree.gpu, cam, settings, 2048, 64);
   const double treeMse =
-      metrics::mse(engine::renderReference(ctx, tree.gpu, cam, settings, 64, 16).images.final, all.images.final);
+      metrics::mse(referenceOrFail(ctx, tree.gpu, cam, settings, 64, 16).images.final, all.images.final);
   const double powerMse =
-      metrics::mse(engine::renderReference(ctx, power.gpu, cam, settings, 64, 16).images.final, all.images.final);
+      metrics::mse(referenceOrFail(ctx, power.gpu, cam, settings, 64, 16).images.final, all.images.final);
   uint32_t unlit = 0;
   const double worst = worstBlockDifference(many.images.final, all.images.final, kSize, &unlit);
   const double meanAll = meanOf(all.images.final), meanTree = meanOf(many.images.final);
@@ -102,8 +102,8 @@ TEST_F(LightSamplerTest, TheTreesCutIsExactUpToItsSizeAndItsRaysStayFixed) {
   ASSERT_NO_FATAL_FAILURE(loadWith(few, gpu::LIGHT_SAMPLER_ALL, exact));
   ASSERT_NO_FATAL_FAILURE(loadWith(few, gpu::LIGHT_SAMPLER_TREE, tree, 4));
   const gpu::GpuCamera cam = engine::makeGpuCamera(exact.scene.cameras[0], kSize, kSize, nullptr);
-  const engine::ReferenceRun a = engine::renderReference(ctx, exact.gpu, cam, settings, 16, 16);
-  const engine::ReferenceRun b = engine::renderReference(ctx, tree.gpu, cam, settings, 16, 16);
+  const engine::ReferenceRun a = referenceOrFail(ctx, exact.gpu, cam, settings, 16, 16);
+  const engine::ReferenceRun b = referenceOrFail(ctx, tree.gpu, cam, settings, 16, 16);
   EXPECT_EQ(a.rays, b.rays);
   double worst = 0.0;
   for (size_t i = 0; i < a.images.final.pixels.size(); ++i)
@@ -118,12 +118,12 @@ TEST_F(LightSamplerTest, TheTreesCutIsExactUpToItsSizeAndItsRaysStayFixed) {
   const std::string many = lightField(32, "light_sampler_field");
   LoadedScene all;
   ASSERT_NO_FATAL_FAILURE(loadWith(many, gpu::LIGHT_SAMPLER_ALL, all));
-  const engine::ReferenceRun truth = engine::renderReference(ctx, all.gpu, cam, settings, 64, 16);
+  const engine::ReferenceRun truth = referenceOrFail(ctx, all.gpu, cam, settings, 64, 16);
   double previous = 1e30;
   for (uint32_t cut : {1u, 4u, 16u}) {
     LoadedScene s;
     ASSERT_NO_FATAL_FAILURE(loadWith(many, gpu::LIGHT_SAMPLER_TREE, s, cut));
-    const engine::ReferenceRun r = engine::renderReference(ctx, s.gpu, cam, settings, 64, 16);
+    const engine::ReferenceRun r = referenceOrFail(ctx, s.gpu, cam, settings, 64, 16);
     double mse = 0.0;
     for (size_t i = 0; i < r.images.final.pixels.size(); ++i) {
       const double d = double(r.images.final.pixels[i]) - double(truth.images.final.pixels[i]);

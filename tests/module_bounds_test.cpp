@@ -69,7 +69,8 @@ using StressPush = gpu::HgStressPush;  // hash_stress.comp's push constants
 // past the buffer into whatever lies beside it: not run).
 TEST_F(ModuleBoundsTest, AnIndexPastTheMapIsCounted) {
   gi::vk::Device dev = openModuleDevice(ctx);
-  engine::DescriptorSet empty = engine::createDescriptorSet(ctx, {});
+  std::string error;
+  engine::DescriptorSet empty = engine::createDescriptorSet(ctx, {}, error);
   VkDescriptorSetLayout gridLayout = VK_NULL_HANDLE;
   ASSERT_FALSE(gi::createHashGridLayout(dev, gridLayout));
   gi::HashGrid grid;
@@ -78,10 +79,11 @@ TEST_F(ModuleBoundsTest, AnIndexPastTheMapIsCounted) {
   uint32_t spec[GI_SPEC_COUNT] = {};
   spec[GI_SPEC_CHECK_BOUNDS] = 1;
   engine::ComputeProgram stress =
-      engine::createComputeProgram(ctx, spv_hash_stress_comp, all, sizeof(StressPush), {64, 1}, spec);
+      engine::createComputeProgram(ctx, spv_hash_stress_comp, all, sizeof(StressPush), {64, 1}, error, spec);
+  ASSERT_EQ(error, "");
   const StressPush told4096{4096, 8, 4096, 1, 0, 1, 0, 1};  // insert 4,096 keys, one sample each
   VkDescriptorSet sets[] = {empty.set, empty.set, grid.set[0]};
-  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+  submitOrFail(ctx, [&](VkCommandBuffer cmd) {
     gi::recordHashGridFrameStart(dev, cmd, grid, 0);
     engine::dispatch(ctx, cmd, stress, sets, {4096, 1}, told4096);
     gi::recordHashGridTelemetryCopy(dev, cmd, grid, 0);

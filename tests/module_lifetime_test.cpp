@@ -16,7 +16,7 @@ constexpr uint32_t kSize = 32, kFrames = 5;
 
 // Every frame-lifetime image of the module filled with NaN.
 void fillFrameImagesWithNan(const engine::Context& ctx, const gi::Module& m) {
-  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+  submitOrFail(ctx, [&](VkCommandBuffer cmd) {
     engine::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                           VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                           VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);

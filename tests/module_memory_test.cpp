@@ -242,7 +242,7 @@ TEST_F(ModuleMemoryTest, TransientImagesShareTheEnginesMemoryBetweenFrames) {
       ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, size, settings, session, &desc));
       for (uint32_t f = 0; f < 4; ++f) {
         tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, f);
-        engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {  // the engine's own use of the pool's bytes
+        submitOrFail(ctx, [&](VkCommandBuffer cmd) {  // the engine's own use of the pool's bytes
           engine::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
                                 VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT,
                                 VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);

@@ -37,9 +37,9 @@ void renderOutputs(const engine::Context& ctx, LoadedScene& s, const gi::Setting
   const gi::Outputs o = gi::outputs(session.module);
   EXPECT_EQ(o.format, format);
   EXPECT_EQ(o.compositeFormat, composite == VK_FORMAT_UNDEFINED ? format : composite);
-  out.direct = engine::readbackRgb(ctx, o.direct, o.format, {kSize, kSize});
-  out.indirect = engine::readbackRgb(ctx, o.indirect, o.format, {kSize, kSize});
-  out.composite = engine::readbackRgb(ctx, o.composite, o.compositeFormat, {kSize, kSize});
+  out.direct = readbackRgbOrFail(ctx, o.direct, o.format, {kSize, kSize});
+  out.indirect = readbackRgbOrFail(ctx, o.indirect, o.format, {kSize, kSize});
+  out.composite = readbackRgbOrFail(ctx, o.composite, o.compositeFormat, {kSize, kSize});
 }
 
 // Σ|a − b| / Σ|b|.
@@ -232,7 +232,7 @@ TEST_F(ModuleOutputsTest, BadPreExposureIsANamedError) {
     in.camera = in.previousCamera = engine::moduleCamera(cam);
     in.preExposure = bad;
     gi::Error e;
-    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { e = gi::recordFrame(session.module, cmd, in); });
+    submitOrFail(ctx, [&](VkCommandBuffer cmd) { e = gi::recordFrame(session.module, cmd, in); });
     EXPECT_EQ(e.code, gi::ErrorCode::OutOfRange) << bad;
     EXPECT_NE(e.message.find("preExposure"), std::string::npos) << e.message;
   }

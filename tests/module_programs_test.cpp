@@ -179,7 +179,7 @@ TEST_F(ModuleProgramsTest, AWarmUpNamesItsProgramAndIsFinishedBeforeTheNext) {
   ScopedSession session(ctx);
   ASSERT_NO_FATAL_FAILURE(openSession(ctx, scene, kSize, gi::Settings{}, session));
   const gi::Settings hpsf = hpsfSettings();
-  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+  submitOrFail(ctx, [&](VkCommandBuffer cmd) {
     gi::Error unknown = gi::recordProgramWarmup(session.module, hpsf, cmd, "gi_raw_trace");
     EXPECT_EQ(unknown.code, gi::ErrorCode::OutOfRange);
     EXPECT_NE(unknown.message.find("\"gi_raw_trace\" is not one these settings run"), std::string::npos)
@@ -194,8 +194,7 @@ TEST_F(ModuleProgramsTest, AWarmUpNamesItsProgramAndIsFinishedBeforeTheNext) {
                             gi::Method::Sspsf, gi::Method::Nhpsf, gi::Method::Anhpsf, gi::Method::Svgf}) {
     gi::Settings s;
     s.method = method;
-    engine::submitAndWait(ctx,
-                          [&](VkCommandBuffer cmd) { EXPECT_FALSE(gi::recordProgramWarmup(session.module, s, cmd)); });
+    submitOrFail(ctx, [&](VkCommandBuffer cmd) { EXPECT_FALSE(gi::recordProgramWarmup(session.module, s, cmd)); });
     gi::finishProgramWarmup(session.module);
   }
 }

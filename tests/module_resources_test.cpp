@@ -316,9 +316,11 @@ TEST_F(ModuleResourcesTest, TwoModulesOnTwoThreadsAtOnce) {
   load(sharedScene("cornell-simple/cornell_simple.gltf"), s);
   const VkExtent2D size{32, 24};
   gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], size.width, size.height, nullptr);
-  engine::GBuffer gbuffer = engine::createGBuffer(ctx, size);
-  engine::GBufferPass pass = engine::createGBufferPass(ctx, s.gpu);
-  engine::submitAndWait(
+  std::string error;
+  engine::GBuffer gbuffer = engine::createGBuffer(ctx, size, error);
+  engine::GBufferPass pass = engine::createGBufferPass(ctx, s.gpu, error);
+  ASSERT_EQ(error, "");
+  submitOrFail(
       ctx, [&](VkCommandBuffer cmd) { engine::recordGBuffer(ctx, cmd, pass, s.scene, s.gpu, gbuffer, cam, nullptr); });
   const gi::GBufferViews views = tools::gbufferViews(gbuffer);
   struct Worker {
@@ -341,24 +343,24 @@ TEST_F(ModuleResourcesTest, TwoModulesOnTwoThreadsAtOnce) {
     if ((w.error = gi::create(tools::moduleDesc(ctx, s.gpu, size), settings, w.module))) return;
     VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
     poolInfo.queueFamilyIndex = ctx.queueFamily;
-    VK_CHECK(vkCreateCommandPool(ctx.device, &poolInfo, nullptr, &w.pool));
+    EXPECT_EQ(vkCreateCommandPool(ctx.device, &poolInfo, nullptr, &w.pool), VK_SUCCESS);
     VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
     alloc.commandPool = w.pool;
     alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
     alloc.commandBufferCount = 1;
-    VK_CHECK(vkAllocateCommandBuffers(ctx.device, &alloc, &w.cmd));
+    EXPECT_EQ(vkAllocateCommandBuffers(ctx.device, &alloc, &w.cmd), VK_SUCCESS);
     VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-    VK_CHECK(vkBeginCommandBuffer(w.cmd, &begin));
+    EXPECT_EQ(vkBeginCommandBuffer(w.cmd, &begin), VK_SUCCESS);
     w.error = gi::recordFrame(w.module, w.cmd, {views, engine::moduleCamera(cam), engine::moduleCamera(cam), 0});
-    VK_CHECK(vkEndCommandBuffer(w.cmd));
+    EXPECT_EQ(vkEndCommandBuffer(w.cmd), VK_SUCCESS);
   });
   for (Worker& w : workers) ASSERT_FALSE(w.error) << w.error.message;
   VkCommandBuffer cmds[] = {workers[0].cmd, workers[1].cmd};
   VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
   submit.commandBufferCount = 2;
   submit.pCommandBuffers = cmds;
-  VK_CHECK(vkQueueSubmit(ctx.queue, 1, &submit, VK_NULL_HANDLE));
-  VK_CHECK(vkQueueWaitIdle(ctx.queue));
+  EXPECT_EQ(vkQueueSubmit(ctx.queue, 1, &submit, VK_NULL_HANDLE), VK_SUCCESS);
+  EXPECT_EQ(vkQueueWaitIdle(ctx.queue), VK_SUCCESS);
   for (Worker& w : workers) {
     gi::FrameStats st;
     ASSERT_TRUE(gi::frameStats(w.module, 0, st));

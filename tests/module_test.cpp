@@ -408,7 +408,7 @@ TEST_F(ModuleTest, NonFiniteGBufferValuesDoNotSpread) {
     const engine::GBuffer& g = session.gbuffer;
     const gi::GBufferViews views = tools::gbufferViews(g);
     for (uint32_t frame = 0; frame < 3; ++frame) {
-      engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+      submitOrFail(ctx, [&](VkCommandBuffer cmd) {
         engine::recordGBuffer(ctx, cmd, session.gbufferPass, s.scene, s.gpu, session.gbuffer, cam, nullptr);
         if (frame == 1) {  // frame 1: the engine hands over NaN depths and infinite emission
           VkClearColorValue nan{{std::nanf(""), 0, 0, 0}}, inf{{INFINITY, INFINITY, INFINITY, 1}};

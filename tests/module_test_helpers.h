@@ -14,7 +14,7 @@ inline engine::ReferenceImages pixelCentreReference(const engine::Context& ctx, 
   engine::ReferenceSettings settings;
   settings.maxBounces = bounces;
   settings.pixelJitter = false;  // the module sees the raster G-buffer: pixel centres
-  return engine::renderReference(ctx, s.gpu, cam, settings, spp, 256).images;
+  return referenceOrFail(ctx, s.gpu, cam, settings, spp, 256).images;
 }
 
 // Use as ASSERT_NO_FATAL_FAILURE(openSession(...)).

@@ -149,7 +149,7 @@ TEST_F(ReservoirTest, TemporalGradientsSeeMovedLightsThroughTheKeptPick) {
     stillIndirect = std::max(stillIndirect, l.indirectLargest);
   }
   for (engine::PunctualLight& light : s.scene.lights) light.position.x += 0.6f;  // every light moves 0.6 m
-  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { recordUpdateOrFail(ctx, cmd, s.scene, s.gpu); });
+  submitOrFail(ctx, [&](VkCommandBuffer cmd) { recordUpdateOrFail(ctx, cmd, s.scene, s.gpu); });
   const Lambda moved = lambdaOf(8);
   std::printf(
       "reservoirs and gradients: still largest lambda direct %.3g, indirect %.3g; the lights moved: direct "

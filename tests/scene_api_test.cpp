@@ -26,7 +26,7 @@ class SceneApiTest : public GpuTest {
   // createScene into a one-shot command buffer; the scene (or null) in `out`.
   static gi::Error create(const gi::SceneContents& contents, gi::Scene*& out) {
     gi::Error e;
-    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { e = gi::createScene(createDesc(), contents, cmd, out); });
+    submitOrFail(ctx, [&](VkCommandBuffer cmd) { e = gi::createScene(createDesc(), contents, cmd, out); });
     return e;
   }
 };
@@ -48,19 +48,18 @@ TEST_F(SceneApiTest, GoodContentsBuildAndBadOnesAreNamedErrors) {
     // Updates: counts and meshes must match what was created.
     std::vector<gi::InstanceDesc> two(2, q.instance);
     gi::Error e;
-    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { e = gi::updateInstances(scene, cmd, two); });
+    submitOrFail(ctx, [&](VkCommandBuffer cmd) { e = gi::updateInstances(scene, cmd, two); });
     EXPECT_EQ(e.code, gi::ErrorCode::OutOfRange);
     EXPECT_NE(e.message.find("2 instances given, the scene has 1"), std::string::npos) << e.message;
     gi::InstanceDesc otherMesh = q.instance;
     otherMesh.mesh = 1;
-    engine::submitAndWait(ctx,
-                          [&](VkCommandBuffer cmd) { e = gi::updateInstances(scene, cmd, std::span(&otherMesh, 1)); });
+    submitOrFail(ctx, [&](VkCommandBuffer cmd) { e = gi::updateInstances(scene, cmd, std::span(&otherMesh, 1)); });
     EXPECT_NE(e.message.find("instances[0].mesh"), std::string::npos) << e.message;
-    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { e = gi::updateLights(scene, cmd, {}); });
+    submitOrFail(ctx, [&](VkCommandBuffer cmd) { e = gi::updateLights(scene, cmd, {}); });
     EXPECT_NE(e.message.find("0 lights given, the scene has 1"), std::string::npos) << e.message;
     gi::LightDesc bad = q.light;
     bad.intensity[1] = NAN;
-    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { e = gi::updateLights(scene, cmd, std::span(&bad, 1)); });
+    submitOrFail(ctx, [&](VkCommandBuffer cmd) { e = gi::updateLights(scene, cmd, std::span(&bad, 1)); });
     EXPECT_NE(e.message.find("lights[0]: intensity"), std::string::npos) << e.message;
     gi::destroyScene(scene);
   }
@@ -135,7 +134,7 @@ TEST_F(SceneApiTest, InstanceMovedThroughUpdateInstancesMatchesTheSceneLoadedInT
     moved.upload(ctx);
     posed.upload(ctx);
     moved.scene.instances[block].worldFromObject = pose;
-    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { recordUpdateOrFail(ctx, cmd, moved.scene, moved.gpu); });
+    submitOrFail(ctx, [&](VkCommandBuffer cmd) { recordUpdateOrFail(ctx, cmd, moved.scene, moved.gpu); });
     engine::ReferenceSettings settings;
     settings.seed = 7;
     const engine::ReferenceImages a = render(moved, kSize, kSize, settings, 8);
@@ -177,10 +176,10 @@ TEST_F(SceneApiTest, RayQueryScenesBuildNoCpuBvhUnlessAskedForBoth) {
   gi::SceneCreateDesc desc = createDesc();
   desc.traversal = gi::Traversal::RayQuery;
   gi::Error e;
-  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { e = gi::createScene(desc, q.contents(), cmd, rayQueryOnly); });
+  submitOrFail(ctx, [&](VkCommandBuffer cmd) { e = gi::createScene(desc, q.contents(), cmd, rayQueryOnly); });
   ASSERT_FALSE(e) << e.message;
   desc.bothTraversals = true;
-  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { e = gi::createScene(desc, q.contents(), cmd, both); });
+  submitOrFail(ctx, [&](VkCommandBuffer cmd) { e = gi::createScene(desc, q.contents(), cmd, both); });
   ASSERT_FALSE(e) << e.message;
   EXPECT_FALSE(gi::sceneDesc(rayQueryOnly).hasComputeBvh);
   EXPECT_TRUE(rayQueryOnly->bvh.bottomNodes.empty() && rayQueryOnly->bvh.topNodes.empty()) << "no CPU BVH";
@@ -275,9 +274,11 @@ void packCornell(const engine::Context& ctx, const engine::Scene& scene, PackedC
   if (indices16.size() % 2) indices16.push_back(0);  // read in whole words
   out.cpuIndices = scene.indices;
   const VkBufferUsageFlags usage = VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
-  out.positions = engine::createBufferWithData(ctx, halfs.data(), halfs.size() * 2, usage);
-  out.attributes = engine::createBufferWithData(ctx, attributes.data(), attributes.size() * 4, usage);
-  out.indices = engine::createBufferWithData(ctx, indices16.data(), indices16.size() * 2, usage);
+  std::string error;
+  out.positions = engine::createBufferWithData(ctx, halfs.data(), halfs.size() * 2, usage, error);
+  out.attributes = engine::createBufferWithData(ctx, attributes.data(), attributes.size() * 4, usage, error);
+  out.indices = engine::createBufferWithData(ctx, indices16.data(), indices16.size() * 2, usage, error);
+  ASSERT_EQ(error, "");
   for (const engine::Primitive& p : scene.primitives)
     out.primitives.push_back({p.firstIndex, p.indexCount, p.vertexOffset, p.vertexCount, p.material});
   for (const engine::Material& m : scene.materials) {
@@ -342,7 +343,7 @@ TEST_F(SceneApiTest, DeviceBufferMeshesDecodeAsTheirCpuValues) {
   EXPECT_FALSE(gi::sceneBuilt(device));
   EXPECT_EQ(gi::sceneDesc(device).set, VK_NULL_HANDLE);
   gi::Error e;
-  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { e = gi::finishSceneUpload(device, cmd); });
+  submitOrFail(ctx, [&](VkCommandBuffer cmd) { e = gi::finishSceneUpload(device, cmd); });
   ASSERT_FALSE(e) << e.message;
   EXPECT_TRUE(gi::sceneBuilt(device));
   ASSERT_FALSE(create(cornellContents(p, false), cpu));
@@ -401,7 +402,7 @@ TEST_F(SceneApiTest, DeviceBufferMeshesDecodeAsTheirCpuValues) {
   contents.meshes = meshes;
   gi::Scene* scene = nullptr;
   ASSERT_FALSE(create(contents, scene));
-  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { e = gi::finishSceneUpload(scene, cmd); });
+  submitOrFail(ctx, [&](VkCommandBuffer cmd) { e = gi::finishSceneUpload(scene, cmd); });
   EXPECT_EQ(e.code, gi::ErrorCode::OutOfRange);
   EXPECT_NE(e.message.find("gi::finishSceneUpload: contents.meshes[0].primitives[0]: index"), std::string::npos)
       << e.message;

@@ -23,10 +23,12 @@ class ScreenFilterTest : public GpuTest {
 
   void SetUp() override {
     dev = openModuleDevice(ctx);
+    std::string error;
     for (engine::Image& img : images)
       img = engine::createImage(
           ctx, {W, H}, VK_FORMAT_R32G32B32A32_SFLOAT,
-          VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+          VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, error);
+    ASSERT_EQ(error, "");
     ASSERT_FALSE(gi::createFilterPrograms(dev, programs));
     ASSERT_FALSE(gi::createScreenFilters(dev, programs, W, H,
                                          {images[kGuidance].view, images[kPosition].view, images[kInput].view,
@@ -48,8 +50,8 @@ class ScreenFilterTest : public GpuTest {
   // The output image's first `channels` channels per pixel, after `record` ran the filter.
   template <typename Record>
   std::vector<float> filterOutput(Record&& record, uint32_t channels) {
-    engine::submitAndWait(ctx, record);
-    const std::vector<std::byte> raw = engine::readbackImage(ctx, images[kOutput], VK_IMAGE_LAYOUT_GENERAL, 16);
+    submitOrFail(ctx, record);
+    const std::vector<std::byte> raw = readbackOrFail(ctx, images[kOutput], VK_IMAGE_LAYOUT_GENERAL, 16);
     std::vector<float> out(size_t{W} * H * channels);
     for (size_t p = 0; p < size_t(W) * H; ++p) std::memcpy(&out[channels * p], &raw[16 * p], 4 * channels);
     return out;
@@ -57,6 +59,8 @@ class ScreenFilterTest : public GpuTest {
 
  private:
   void upload(engine::Image& image, const std::vector<float>& rgba) {
-    engine::uploadImage(ctx, image, rgba.data(), rgba.size() * 4, VK_IMAGE_LAYOUT_GENERAL);
+    std::string error;
+    if (!engine::uploadImage(ctx, image, rgba.data(), rgba.size() * 4, VK_IMAGE_LAYOUT_GENERAL, error))
+      ADD_FAILURE() << error;
   }
 };

@@ -175,7 +175,7 @@ TEST_F(SkinningTest, DeformingSurfacesCarryTheirMotion) {
   auto motionOf = [&](uint32_t frame) {
     tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, frame);
     const std::vector<std::byte> raw =
-        engine::readbackImage(ctx, session.gbuffer.color[gpu::GBUFFER_MOTION], VK_IMAGE_LAYOUT_GENERAL, 4);
+        readbackOrFail(ctx, session.gbuffer.color[gpu::GBUFFER_MOTION], VK_IMAGE_LAYOUT_GENERAL, 4);
     std::vector<float> lengths;
     for (size_t p = 0; p < size_t(kSize) * kSize; ++p) {
       uint16_t h[2];
@@ -195,7 +195,7 @@ TEST_F(SkinningTest, DeformingSurfacesCarryTheirMotion) {
   motionAt(0.3f, 0);
   const std::vector<float> bending = motionAt(0.4f, 1);  // 9 degrees further
   const std::vector<float> unheld = motionOf(2);         // no update: the last motion stays
-  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { recordHoldOrFail(cmd, s.scene, s.gpu); });
+  submitOrFail(ctx, [&](VkCommandBuffer cmd) { recordHoldOrFail(cmd, s.scene, s.gpu); });
   const std::vector<float> held = motionOf(3);
   motionAt(0.3f, 4);
   const std::vector<float> still = motionAt(0.3f, 5);  // the same pose again

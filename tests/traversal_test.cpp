@@ -169,12 +169,12 @@ TEST_F(TraversalTest, MovedInstancesAgree) {
   for (engine::Instance& inst : s.scene.instances)
     if (inst.mesh == boxMesh)
       inst.worldFromObject = glm::rotate(glm::translate(inst.worldFromObject, {0.2f, 0.0f, 0.1f}), 0.3f, {0, 1, 0});
-  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { recordUpdateOrFail(ctx, cmd, s.scene, s.gpu); });
+  submitOrFail(ctx, [&](VkCommandBuffer cmd) { recordUpdateOrFail(ctx, cmd, s.scene, s.gpu); });
   checkScene(s.scene, s.gpu);
   // Moving again only rebuilds the top level.
   for (engine::Instance& inst : s.scene.instances)
     if (inst.mesh == boxMesh) inst.worldFromObject = glm::translate(inst.worldFromObject, {-0.1f, 0.05f, 0.0f});
-  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { recordUpdateOrFail(ctx, cmd, s.scene, s.gpu); });
+  submitOrFail(ctx, [&](VkCommandBuffer cmd) { recordUpdateOrFail(ctx, cmd, s.scene, s.gpu); });
   checkScene(s.scene, s.gpu);
 }
 
@@ -225,7 +225,7 @@ TEST_F(TraversalTest, DeformedMeshesAgree) {
   for (float turns : {0.5f, 1.2f}) {
     SCOPED_TRACE(turns);
     twistMesh(s.scene, boxMesh, restPositions, restNormals, turns);
-    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+    submitOrFail(ctx, [&](VkCommandBuffer cmd) {
       std::string e;
       EXPECT_TRUE(engine::recordMeshVertexUpdate(cmd, s.scene, s.gpu, boxMesh, e)) << e;
     });
@@ -239,19 +239,20 @@ TEST_F(TraversalTest, DeformedMeshesAgree) {
 
   // The same vertices from device buffers, after a different pose in between.
   twistMesh(s.scene, boxMesh, restPositions, restNormals, -0.3f);
-  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+  submitOrFail(ctx, [&](VkCommandBuffer cmd) {
     std::string e;
     EXPECT_TRUE(engine::recordMeshVertexUpdate(cmd, s.scene, s.gpu, boxMesh, e)) << e;
   });
   twistMesh(s.scene, boxMesh, restPositions, restNormals, 1.2f);
   const VkBufferUsageFlags usage = VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
-  engine::Buffer positions = engine::createBufferFrom(ctx, std::span<const glm::vec3>(s.scene.positions), usage);
-  engine::Buffer normals = engine::createBufferFrom(ctx, std::span<const glm::vec3>(s.scene.normals), usage);
+  engine::Buffer positions = engine::createBufferFrom(ctx, std::span<const glm::vec3>(s.scene.positions), usage, error);
+  engine::Buffer normals = engine::createBufferFrom(ctx, std::span<const glm::vec3>(s.scene.normals), usage, error);
+  ASSERT_EQ(error, "");
   gi::MeshVertices streams;
   streams.devicePositions = {positions.address, VK_FORMAT_R32G32B32_SFLOAT, 0};
   streams.deviceNormals = {normals.address, VK_FORMAT_R32G32B32_SFLOAT, 0};
-  engine::submitAndWait(
-      ctx, [&](VkCommandBuffer cmd) { ASSERT_FALSE(gi::updateMeshVertices(s.gpu.scene, cmd, boxMesh, streams)); });
+  submitOrFail(ctx,
+               [&](VkCommandBuffer cmd) { ASSERT_FALSE(gi::updateMeshVertices(s.gpu.scene, cmd, boxMesh, streams)); });
   const std::vector<gpu::TraceBatchResult> fromStreams = oracle::traceBatch(ctx, s.gpu, gpu::TRAVERSAL_COMPUTE, rays);
   ASSERT_EQ(fromStreams.size(), fromArrays.size());
   for (size_t i = 0; i < rays.size(); ++i) {
@@ -297,7 +298,7 @@ TEST_F(TraversalTest, MeshVertexUpdatesNameWhatIsWrong) {
   gi::MeshVertices v;
   v.positions = &positions[0].x;
   v.normals = &s.scene.normals[0].x;
-  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+  submitOrFail(ctx, [&](VkCommandBuffer cmd) {
     EXPECT_NE(gi::updateMeshVertices(s.gpu.scene, cmd, otherMesh, v).message.find("was not created deformable"),
               std::string::npos);
     EXPECT_NE(gi::updateMeshVertices(s.gpu.scene, cmd, 1000, v).message.find("is not below the scene's"),

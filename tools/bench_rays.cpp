@@ -17,11 +17,12 @@ bool benchRays(const engine::Context& ctx, const engine::Scene& scene, const eng
   };
   std::vector<Row> rows;
   if (ctx.rayQuery) {
-    engine::RayRates r = engine::measureRayRates(ctx, sceneGpu, camera, gpu::TRAVERSAL_RAY_QUERY);
+    engine::RayRates r = engine::measureRayRates(ctx, sceneGpu, camera, gpu::TRAVERSAL_RAY_QUERY, error);
     rows.push_back({"rayquery", r.primary, r.diffuse, r.shadow});
   }
-  engine::RayRates c = engine::measureRayRates(ctx, sceneGpu, camera, gpu::TRAVERSAL_COMPUTE);
+  engine::RayRates c = engine::measureRayRates(ctx, sceneGpu, camera, gpu::TRAVERSAL_COMPUTE, error);
   rows.push_back({"compute", c.primary, c.diffuse, c.shadow});
+  if (!error.empty()) return false;
   auto buildStart = std::chrono::steady_clock::now();
   engine::CpuTracerPtr tracer = engine::createCpuTracer(scene, error);
   if (!tracer) return false;

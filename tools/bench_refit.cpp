@@ -7,7 +7,6 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
-#include <stdexcept>
 #include <vector>
 
 #include "gi/scene.h"
@@ -60,25 +59,103 @@ double median(std::vector<double> v) {
   return v.empty() ? 0.0 : v[v.size() / 2];
 }
 
-// Records `record` into a command buffer between a timestamp pair, submits and waits.
+// Records `record` into a command buffer between a timestamp pair, submits and waits (errors as in
+// engine/vk.h: nothing runs once `error` is set).
 template <typename F>
-Timed timed(const engine::Context& ctx, engine::GpuTimer& timer, F&& record) {
+Timed timed(const engine::Context& ctx, engine::GpuTimer& timer, std::string& error, F&& record) {
   Timed t;
+  if (!error.empty()) return t;
   engine::resetGpuTimer(ctx, timer);
-  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
-    engine::beginPass(ctx, cmd, timer, "update");
-    engine::timestampFence(cmd);
-    const Clock::time_point start = Clock::now();
-    record(cmd);
-    t.cpuMs = msSince(start);
-    engine::endPass(ctx, cmd, timer);
-  });
-  t.gpuMs = engine::readPassTimes(ctx, timer).at(0).ms;
+  engine::submitAndWait(
+      ctx,
+      [&](VkCommandBuffer cmd) {
+        engine::beginPass(ctx, cmd, timer, "update");
+        engine::timestampFence(cmd);
+        const Clock::time_point start = Clock::now();
+        record(cmd);
+        t.cpuMs = msSince(start);
+        engine::endPass(ctx, cmd, timer);
+      },
+      error);
+  for (const engine::PassTime& p : engine::readPassTimes(ctx, timer, error)) t.gpuMs += p.ms;
   return t;
 }
 
-void check(const gi::Error& e) {
-  if (e) throw std::runtime_error(e.message);
+// A module error kept as the run's first failure.
+void note(const gi::Error& e, std::string& error) {
+  if (e && error.empty()) error = e.message;
+}
+
+struct RefitRow {
+  std::vector<double> refitCpu, refitGpu, rebuildCpu, rebuildGpu;
+};
+
+// The grid's scene description for `backend` (pointers into `grid`, `mesh` and the other arguments).
+gi::SceneCreateDesc gridScene(const engine::Context& ctx, uint32_t backend) {
+  gi::SceneCreateDesc desc;
+  desc.getInstanceProcAddr = vkGetInstanceProcAddr;
+  desc.instance = ctx.instance;
+  desc.physicalDevice = ctx.physicalDevice;
+  desc.device = ctx.device;
+  desc.traversal = gi::Traversal(backend);
+  // With ray queries, the compute BVH too: the refit and the BLAS update, as RESULTS' refit table was
+  // measured (a scene for ray queries alone pays the BLAS update and the TLAS rebuild only).
+  desc.bothTraversals = backend == gpu::TRAVERSAL_RAY_QUERY;
+  return desc;
+}
+
+// Rebuild (a new scene in each pose, of a mesh not declared deformable: what a module without refits would
+// need every frame) against refit (one scene, a new pose a frame; two untimed first: compilation at the
+// first dispatch).
+bool measureGrid(const engine::Context& ctx, engine::GpuTimer& timer, Grid& grid, uint32_t backend, RefitRow& row,
+                 std::string& error) {
+  const gi::PrimitiveDesc primitive{0, uint32_t(grid.indices.size()), 0, uint32_t(grid.rest.size()), 0};
+  gi::MaterialDesc material;
+  gi::LightDesc light;
+  light.position[1] = 2.0f;
+  gi::MeshDesc mesh;
+  mesh.positions = &grid.positions[0].x;
+  mesh.normals = &grid.normals[0].x;
+  mesh.vertexCount = uint32_t(grid.rest.size());
+  mesh.indices = grid.indices.data();
+  mesh.indexCount = uint32_t(grid.indices.size());
+  mesh.primitives = std::span(&primitive, 1);
+  gi::InstanceDesc instance;
+  gi::SceneContents contents;
+  contents.meshes = std::span(&mesh, 1);
+  contents.materials = std::span(&material, 1);
+  contents.lights = std::span(&light, 1);
+  contents.instances = std::span(&instance, 1);
+  const gi::SceneCreateDesc desc = gridScene(ctx, backend);
+  mesh.deformable = false;
+  for (int i = 0; i < 3 && error.empty(); ++i) {
+    wave(grid, float(i));
+    gi::Scene* scene = nullptr;
+    const Timed t = timed(ctx, timer, error,
+                          [&](VkCommandBuffer cmd) { note(gi::createScene(desc, contents, cmd, scene), error); });
+    if (scene) note(gi::finishSceneUpload(scene), error);
+    row.rebuildCpu.push_back(t.cpuMs);
+    row.rebuildGpu.push_back(t.gpuMs);
+    gi::destroyScene(scene);
+  }
+  mesh.deformable = true;
+  gi::Scene* scene = nullptr;
+  engine::submitAndWait(
+      ctx, [&](VkCommandBuffer cmd) { note(gi::createScene(desc, contents, cmd, scene), error); }, error);
+  if (scene) note(gi::finishSceneUpload(scene), error);
+  for (int i = 0; i < 7 && error.empty(); ++i) {
+    wave(grid, 0.5f * float(i));
+    gi::MeshVertices vertices;
+    vertices.positions = &grid.positions[0].x;
+    vertices.normals = &grid.normals[0].x;
+    const Timed t = timed(ctx, timer, error,
+                          [&](VkCommandBuffer cmd) { note(gi::updateMeshVertices(scene, cmd, 0, vertices), error); });
+    if (i < 2) continue;
+    row.refitCpu.push_back(t.cpuMs);
+    row.refitGpu.push_back(t.gpuMs);
+  }
+  gi::destroyScene(scene);
+  return error.empty();
 }
 
 }  // namespace
@@ -95,85 +172,26 @@ bool benchRefit(const engine::Context& ctx, std::span<const uint32_t> triangleCo
   if (fresh) csv << "device,backend,triangles,refit_cpu_ms,refit_gpu_ms,rebuild_cpu_ms,rebuild_gpu_ms\n";
   std::vector<uint32_t> backends{gpu::TRAVERSAL_COMPUTE};
   if (ctx.rayQuery) backends.push_back(gpu::TRAVERSAL_RAY_QUERY);
-  engine::GpuTimer timer = engine::createGpuTimer(ctx, 4);
+  engine::GpuTimer timer = engine::createGpuTimer(ctx, error, 4);
   std::printf(
       "gi-bench: a deforming grid on %s: ms a frame, refit (updateMeshVertices) against rebuild (createScene)\n",
       ctx.properties.deviceName);
   std::printf("  %-9s %10s %12s %12s %14s %14s\n", "backend", "triangles", "refit CPU", "refit GPU", "rebuild CPU",
               "rebuild GPU");
-  gi::MaterialDesc material;
-  gi::LightDesc light;
-  light.position[1] = 2.0f;
   for (uint32_t count : triangleCounts)
     for (uint32_t backend : backends) {
       Grid grid = makeGrid(count);
-      const gi::PrimitiveDesc primitive{0, uint32_t(grid.indices.size()), 0, uint32_t(grid.rest.size()), 0};
-      gi::MeshDesc mesh;
-      mesh.positions = &grid.positions[0].x;
-      mesh.normals = &grid.normals[0].x;
-      mesh.vertexCount = uint32_t(grid.rest.size());
-      mesh.indices = grid.indices.data();
-      mesh.indexCount = uint32_t(grid.indices.size());
-      mesh.primitives = std::span(&primitive, 1);
-      mesh.deformable = true;
-      gi::InstanceDesc instance;
-      gi::SceneContents contents;
-      contents.meshes = std::span(&mesh, 1);
-      contents.materials = std::span(&material, 1);
-      contents.lights = std::span(&light, 1);
-      contents.instances = std::span(&instance, 1);
-      gi::SceneCreateDesc desc;
-      desc.getInstanceProcAddr = vkGetInstanceProcAddr;
-      desc.instance = ctx.instance;
-      desc.physicalDevice = ctx.physicalDevice;
-      desc.device = ctx.device;
-      desc.traversal = gi::Traversal(backend);
-      // With ray queries, the compute BVH too: the refit and the BLAS update, as RESULTS' refit table was
-      // measured (a scene for ray queries alone pays the BLAS update and the TLAS rebuild only).
-      desc.bothTraversals = backend == gpu::TRAVERSAL_RAY_QUERY;
-      // Rebuild: a new scene in each pose, of a mesh not declared deformable (what a module without refits
-      // would need every frame).
-      mesh.deformable = false;
-      std::vector<double> rebuildCpu, rebuildGpu;
-      for (int i = 0; i < 3; ++i) {
-        wave(grid, float(i));
-        gi::Scene* scene = nullptr;
-        gi::Error created;
-        const Timed t =
-            timed(ctx, timer, [&](VkCommandBuffer cmd) { created = gi::createScene(desc, contents, cmd, scene); });
-        check(created);
-        check(gi::finishSceneUpload(scene));
-        rebuildCpu.push_back(t.cpuMs);
-        rebuildGpu.push_back(t.gpuMs);
-        gi::destroyScene(scene);
-      }
-      // Refit: one scene, a new pose a frame (two untimed first: compilation at the first dispatch).
-      mesh.deformable = true;
-      gi::Scene* scene = nullptr;
-      engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) { check(gi::createScene(desc, contents, cmd, scene)); });
-      check(gi::finishSceneUpload(scene));
-      std::vector<double> refitCpu, refitGpu;
-      for (int i = 0; i < 7; ++i) {
-        wave(grid, 0.5f * float(i));
-        gi::MeshVertices vertices;
-        vertices.positions = &grid.positions[0].x;
-        vertices.normals = &grid.normals[0].x;
-        const Timed t =
-            timed(ctx, timer, [&](VkCommandBuffer cmd) { check(gi::updateMeshVertices(scene, cmd, 0, vertices)); });
-        if (i < 2) continue;
-        refitCpu.push_back(t.cpuMs);
-        refitGpu.push_back(t.gpuMs);
-      }
-      gi::destroyScene(scene);
+      RefitRow row;
+      if (!measureGrid(ctx, timer, grid, backend, row, error)) break;
       const char* name = backend == gpu::TRAVERSAL_COMPUTE ? "compute" : "rayquery";
       const uint32_t triangles = uint32_t(grid.indices.size() / 3);
-      std::printf("  %-9s %10u %12.2f %12.2f %14.2f %14.2f\n", name, triangles, median(refitCpu), median(refitGpu),
-                  median(rebuildCpu), median(rebuildGpu));
-      csv << '"' << ctx.properties.deviceName << "\"," << name << ',' << triangles << ',' << median(refitCpu) << ','
-          << median(refitGpu) << ',' << median(rebuildCpu) << ',' << median(rebuildGpu) << '\n';
+      std::printf("  %-9s %10u %12.2f %12.2f %14.2f %14.2f\n", name, triangles, median(row.refitCpu),
+                  median(row.refitGpu), median(row.rebuildCpu), median(row.rebuildGpu));
+      csv << '"' << ctx.properties.deviceName << "\"," << name << ',' << triangles << ',' << median(row.refitCpu) << ','
+          << median(row.refitGpu) << ',' << median(row.rebuildCpu) << ',' << median(row.rebuildGpu) << '\n';
     }
   engine::destroyGpuTimer(ctx, timer);
-  return true;
+  return error.empty();
 }
 
 }  // namespace tools

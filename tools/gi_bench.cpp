@@ -157,10 +157,11 @@ bool gbufferReference(const engine::Context& ctx, const engine::Scene& scene, co
   const uint32_t frames = (spp + settings.raw.samplesPerPixel - 1) / settings.raw.samplesPerPixel;
   for (uint32_t f = 0; f < frames; ++f) tools::renderModuleFrame(ctx, session, scene, sceneGpu, camera, camera, f);
   engine::ReferenceImages images = tools::readModuleImages(ctx, session);
+  error = session.error;
   tools::destroyModuleSession(ctx, session);
   out.final = std::move(images.final);
   out.indirect = std::move(images.indirect);
-  return true;
+  return error.empty();
 }
 
 // The cached reference's name for `key` (from the G-buffer's hits: "_gb" appended), and where its image
@@ -190,7 +191,8 @@ bool reference(const engine::Context& ctx, const engine::Scene& scene, const eng
     settings.maxBounces = bounces;
     settings.pixelJitter = false;
     settings.seed = 0x5eed;
-    engine::ReferenceRun run = engine::renderReference(ctx, sceneGpu, camera, settings, spp, 8);
+    engine::ReferenceRun run = engine::renderReference(ctx, sceneGpu, camera, settings, spp, 8, error);
+    if (!error.empty()) return false;
     out.final = run.images.final;
     out.indirect = run.images.indirect;
   }
@@ -254,12 +256,7 @@ int refitOnly(cli::Args& args) {
     std::fprintf(stderr, "gi-bench: %s\n", error.c_str());
     return 1;
   }
-  bool written = false;
-  try {
-    written = tools::benchRefit(ctx, counts, dir, error);
-  } catch (const std::exception& e) {
-    error = e.what();
-  }
+  const bool written = tools::benchRefit(ctx, counts, dir, error);
   if (!written) std::fprintf(stderr, "gi-bench: %s\n", error.c_str());
   engine::destroyContext(ctx);
   return written ? 0 : 1;
@@ -538,6 +535,10 @@ bool measureFrame(const BenchOptions& o, Bench& b, tools::ModuleSession& session
   s.staleResets += frameStats.hash.staleResets;
   engine::FloatImage lastFinal = std::move(s.last.final);
   s.last = tools::readModuleImages(b.ctx, session);
+  if (!session.error.empty()) {
+    error = config.label + ": " + session.error;
+    return false;
+  }
   if (o.cameraPath && f > 0) s.flicker += meanFrameDifference(s.last.final, lastFinal) / double(o.frames - 1);
   s.finals.push_back(metrics::compare(s.last.final, frameRef.final));
   if (!frameRef.indirect.pixels.empty()) s.indirects.push_back(metrics::compare(s.last.indirect, frameRef.indirect));
@@ -729,7 +730,8 @@ void writeRunFacts(const BenchOptions& o, const Bench& b, const std::vector<std:
 // configuration's session could not be made (the rows measured before it are still written).
 bool measureAll(const BenchOptions& o, Bench& b, std::string& error) {
   // The tracing passes' ceiling: the active backend's camera + diffuse rays.
-  b.bare = engine::runRayBench(b.ctx, b.sceneGpu, b.camera, gpu::RB_KIND_DIFFUSE, b.ctx.traversalId());
+  b.bare = engine::runRayBench(b.ctx, b.sceneGpu, b.camera, gpu::RB_KIND_DIFFUSE, b.ctx.traversalId(), error);
+  if (!error.empty()) return false;
   std::printf("gi-bench: bare rays (%s traversal) on %s: %.3f Mrays/s\n", engine::traversalName(b.ctx.traversal),
               b.ctx.properties.deviceName, b.bare.mraysPerSecond());
   std::vector<Row> rows;

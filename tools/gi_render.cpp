@@ -175,17 +175,20 @@ int renderModule(const engine::Context& ctx, LoadedScene& l, const Options& o, c
       // Windowed: the same frame script into the window's command buffer, then present.
       uint32_t image = 0;
       if (engine::windowShouldClose(window)) break;
-      if (!engine::beginWindowFrame(ctx, window, image)) continue;
-      if (o.animate) {
+      const engine::WindowFrame begun = engine::beginWindowFrame(ctx, window, image, error);
+      if (begun == engine::WindowFrame::Skipped) continue;
+      if (o.animate && begun == engine::WindowFrame::Begun) {
         engine::animateScene(l.animation, float(f) / 30.0f, l.scene);
-        if (!engine::recordSceneTransformUpdate(ctx, window.cmd, l.scene, l.gpu, error)) {
-          std::fprintf(stderr, "gi-render: %s\n", error.c_str());
-          status = 1;
-          break;
-        }
+        engine::recordSceneTransformUpdate(ctx, window.cmd, l.scene, l.gpu, error);
       }
-      tools::recordModuleFrame(ctx, window.cmd, session, l.scene, l.gpu, camera, camera, f);
-      engine::endWindowFrame(ctx, window, image, gi::outputs(session.module).composite, {o.width, o.height});
+      if (error.empty()) tools::recordModuleFrame(ctx, window.cmd, session, l.scene, l.gpu, camera, camera, f);
+      if (error.empty() && session.error.empty())
+        engine::endWindowFrame(ctx, window, image, gi::outputs(session.module).composite, {o.width, o.height}, error);
+      if (!error.empty() || !session.error.empty()) {
+        std::fprintf(stderr, "gi-render: %s\n", error.empty() ? session.error.c_str() : error.c_str());
+        status = 1;
+        break;
+      }
       continue;
     }
     if (o.animate && !engine::poseScene(ctx, l.animation, float(f) / 30.0f, l.scene, l.gpu, error)) {
@@ -211,6 +214,10 @@ int renderModule(const engine::Context& ctx, LoadedScene& l, const Options& o, c
   }
   if (o.windowed) engine::destroyWindow(ctx, window);
   out.run.images = tools::readModuleImages(ctx, session);
+  if (!session.error.empty() && status == 0) {
+    std::fprintf(stderr, "gi-render: %s\n", session.error.c_str());
+    status = 1;
+  }
   out.lastSize = session.extent;
   out.last = gi::stats(session.module);
   tools::destroyModuleSession(ctx, session);
@@ -235,7 +242,11 @@ int renderReferenceImage(const engine::Context& ctx, LoadedScene& l, const Optio
     return 1;
   }
   const gpu::GpuCamera camera = engine::makeGpuCamera(l.scene.cameras[o.cameraIndex], o.width, o.height, nullptr);
-  out.run = engine::renderReference(ctx, l.gpu, camera, settings, o.spp * o.frames);
+  out.run = engine::renderReference(ctx, l.gpu, camera, settings, o.spp * o.frames, 4, error);
+  if (!error.empty()) {
+    std::fprintf(stderr, "gi-render: %s\n", error.c_str());
+    return 1;
+  }
   out.lastSize = {o.width, o.height};
   out.passMs["path_trace"] = out.run.gpuMs;
   out.firstDispatchMs["path_trace"] = out.run.firstDispatchMs;

@@ -45,11 +45,12 @@ bool createModuleSession(const engine::Context& ctx, const engine::SceneGpu& sce
   s.preExposure = 1.0f / scene.desc.typicalRadiance;
   // At the largest render size (ModuleDesc::maxWidth × maxHeight): a smaller one renders into its top left.
   s.gbuffer = engine::createGBuffer(
-      ctx, {std::max(extent.width, created.maxWidth), std::max(extent.height, created.maxHeight)});
+      ctx, {std::max(extent.width, created.maxWidth), std::max(extent.height, created.maxHeight)}, error);
   s.gbuffer.renderExtent = extent;
-  s.gbufferPass = engine::createGBufferPass(ctx, scene);
-  for (uint32_t slot = 0; slot < s.framesInFlight; ++slot) s.timers[slot] = engine::createGpuTimer(ctx, 4);
-  return true;
+  s.gbufferPass = engine::createGBufferPass(ctx, scene, error);
+  for (uint32_t slot = 0; slot < s.framesInFlight; ++slot) s.timers[slot] = engine::createGpuTimer(ctx, error, 4);
+  if (!error.empty()) destroyModuleSession(ctx, s);
+  return error.empty();
 }
 
 void destroyModuleSession(const engine::Context& ctx, ModuleSession& s) {
@@ -66,22 +67,24 @@ std::vector<ProgramWarmup> warmModulePrograms(const engine::Context& ctx, Module
                                               const engine::SceneGpu& sceneGpu, const gpu::GpuCamera& camera) {
   std::vector<ProgramWarmup> out;
   const auto rasterStart = std::chrono::steady_clock::now();  // every frame rasters its G-buffer anew
-  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
-    engine::recordGBuffer(ctx, cmd, s.gbufferPass, scene, sceneGpu, s.gbuffer, camera, nullptr);
-  });
+  engine::submitAndWait(
+      ctx,
+      [&](VkCommandBuffer cmd) {
+        engine::recordGBuffer(ctx, cmd, s.gbufferPass, scene, sceneGpu, s.gbuffer, camera, nullptr);
+      },
+      s.error);
   out.push_back(
       {"gbuffer", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - rasterStart).count()});
   for (const std::string& name : gi::programNames(s.module, settings)) {
     const auto start = std::chrono::steady_clock::now();
-    engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
-      if (gi::Error e = gi::recordProgramWarmup(s.module, settings, cmd, name)) {
-        std::fprintf(stderr, "warmModulePrograms: %s\n", e.message.c_str());  // a bug: the names are the module's
-        std::abort();
-      }
-    });
+    gi::Error warmed;
+    engine::submitAndWait(
+        ctx, [&](VkCommandBuffer cmd) { warmed = gi::recordProgramWarmup(s.module, settings, cmd, name); }, s.error);
+    if (warmed && s.error.empty()) s.error = "warming " + name + ": " + warmed.message;
     gi::finishProgramWarmup(s.module);
     out.push_back({name, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count()});
   }
+  if (!s.error.empty()) out.clear();
   return out;
 }
 
@@ -97,13 +100,14 @@ bool resizeModuleSession(const engine::Context& ctx, ModuleSession& s, VkExtent2
   }
   vkDeviceWaitIdle(ctx.device);
   engine::destroyGBuffer(ctx, s.gbuffer);
-  s.gbuffer = engine::createGBuffer(ctx, extent);
-  return true;
+  s.gbuffer = engine::createGBuffer(ctx, extent, error);
+  return error.empty();
 }
 
 void recordModuleFrame(const engine::Context& ctx, VkCommandBuffer cmd, ModuleSession& s, const engine::Scene& scene,
                        const engine::SceneGpu& sceneGpu, const gpu::GpuCamera& camera,
                        const gpu::GpuCamera& previousCamera, uint32_t frameIndex) {
+  if (!s.error.empty()) return;
   engine::GpuTimer& timer = s.timers[frameIndex % s.framesInFlight];
   engine::resetGpuTimer(ctx, timer);
   gi::FrameInputs in;
@@ -115,8 +119,8 @@ void recordModuleFrame(const engine::Context& ctx, VkCommandBuffer cmd, ModuleSe
   // Frame script: raster the G-buffer, then the GI module's passes.
   engine::recordGBuffer(ctx, cmd, s.gbufferPass, scene, sceneGpu, s.gbuffer, camera, &timer);
   if (gi::Error e = gi::recordFrame(s.module, cmd, in)) {
-    std::fprintf(stderr, "%s\n", e.message.c_str());  // every view above is set: a bug in this file
-    std::abort();
+    s.error = "frame " + std::to_string(frameIndex) + ": " + e.message;
+    return;
   }
   engine::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                         VK_PIPELINE_STAGE_2_TRANSFER_BIT | VK_PIPELINE_STAGE_2_HOST_BIT,
@@ -126,11 +130,13 @@ void recordModuleFrame(const engine::Context& ctx, VkCommandBuffer cmd, ModuleSe
 FrameTiming renderModuleFrame(const engine::Context& ctx, ModuleSession& s, const engine::Scene& scene,
                               const engine::SceneGpu& sceneGpu, const gpu::GpuCamera& camera,
                               const gpu::GpuCamera& previousCamera, uint32_t frameIndex) {
-  engine::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
-    recordModuleFrame(ctx, cmd, s, scene, sceneGpu, camera, previousCamera, frameIndex);
-  });
   FrameTiming t;
-  for (const engine::PassTime& p : engine::readPassTimes(ctx, gbufferTimer(s, frameIndex)))
+  engine::submitAndWait(
+      ctx,
+      [&](VkCommandBuffer cmd) { recordModuleFrame(ctx, cmd, s, scene, sceneGpu, camera, previousCamera, frameIndex); },
+      s.error);
+  if (!s.error.empty()) return t;
+  for (const engine::PassTime& p : engine::readPassTimes(ctx, gbufferTimer(s, frameIndex), s.error))
     t.passes.push_back({p.name, p.ms});
   gi::FrameStats st = gi::stats(s.module);
   t.passes.insert(t.passes.end(), st.passes.begin(), st.passes.end());
@@ -139,22 +145,25 @@ FrameTiming renderModuleFrame(const engine::Context& ctx, ModuleSession& s, cons
   return t;
 }
 
-engine::ReferenceImages readModuleImages(const engine::Context& ctx, const ModuleSession& s) {
+engine::ReferenceImages readModuleImages(const engine::Context& ctx, ModuleSession& s) {
   engine::ReferenceImages out;
+  if (!s.error.empty()) return out;
   gi::Outputs o = gi::outputs(s.module);
   const gi::OutputScales scale = gi::outputScales(gi::settings(s.module), s.preExposure);
-  out.final = engine::readbackRgb(ctx, o.composite, o.compositeFormat, s.extent, scale.composite);
-  out.direct = engine::readbackRgb(ctx, o.direct, o.format, s.extent, scale.direct);
-  out.indirect = engine::readbackRgb(ctx, o.indirect, o.format, s.extent, scale.indirect);
+  out.final = engine::readbackRgb(ctx, o.composite, o.compositeFormat, s.extent, s.error, scale.composite);
+  out.direct = engine::readbackRgb(ctx, o.direct, o.format, s.extent, s.error, scale.direct);
+  out.indirect = engine::readbackRgb(ctx, o.indirect, o.format, s.extent, s.error, scale.indirect);
   size_t n = size_t(s.extent.width) * s.extent.height;
   auto rendered = [&](uint32_t view) {  // the rectangle rendered into (the images may be larger)
     engine::Image image = s.gbuffer.color[view];
     image.extent = s.extent;
     return image;
   };
-  std::vector<std::byte> albedo = engine::readbackImage(ctx, rendered(gpu::GBUFFER_ALBEDO), VK_IMAGE_LAYOUT_GENERAL, 4);
-  std::vector<std::byte> normal = engine::readbackImage(ctx, rendered(gpu::GBUFFER_NORMAL), VK_IMAGE_LAYOUT_GENERAL, 8);
-  std::vector<std::byte> depth = engine::readbackImage(ctx, rendered(gpu::GBUFFER_VIEWZ), VK_IMAGE_LAYOUT_GENERAL, 4);
+  const VkImageLayout general = VK_IMAGE_LAYOUT_GENERAL;
+  std::vector<std::byte> albedo = engine::readbackImage(ctx, rendered(gpu::GBUFFER_ALBEDO), general, 4, s.error);
+  std::vector<std::byte> normal = engine::readbackImage(ctx, rendered(gpu::GBUFFER_NORMAL), general, 8, s.error);
+  std::vector<std::byte> depth = engine::readbackImage(ctx, rendered(gpu::GBUFFER_VIEWZ), general, 4, s.error);
+  if (!s.error.empty()) return engine::ReferenceImages{};
   out.albedo = engine::FloatImage(s.extent.width, s.extent.height, 3);
   out.normal = engine::FloatImage(s.extent.width, s.extent.height, 3);
   out.depth = engine::FloatImage(s.extent.width, s.extent.height, 1);

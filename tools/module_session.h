@@ -25,6 +25,11 @@ struct ModuleSession {
   // surfaces sit near 1 in the half-float outputs whatever the light's scale;
   // readModuleImages divides it out again.
   float preExposure = 1.0f;
+  // The session's first failure (the engine's error style, engine/vk.h, kept with the session because
+  // every frame call would otherwise take it): once set, the frame, warm-up and read-back calls below
+  // do nothing and return empty results. Tools check it after their frames; tests' ScopedSession fails
+  // the test when its session ends with one.
+  std::string error;
 };
 
 struct FrameTiming {
@@ -78,6 +83,6 @@ FrameTiming renderModuleFrame(const engine::Context& ctx, ModuleSession& session
 
 // The module's outputs and the G-buffer's albedo/normal/depth, as float images
 // shaped like the reference's AOVs.
-engine::ReferenceImages readModuleImages(const engine::Context& ctx, const ModuleSession& session);
+engine::ReferenceImages readModuleImages(const engine::Context& ctx, ModuleSession& session);
 
 }  // namespace tools
