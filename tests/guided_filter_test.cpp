@@ -101,9 +101,11 @@ std::vector<double> guidedFilterCpu(const Rgba& guidance, const Rgba& input, int
 
 class GuidedFilterTest : public ScreenFilterTest<W, H> {
  protected:
+  // gif.subsample the statistics images are made for (GuidedFilterParams::subsample must match).
+  virtual uint32_t subsample() const { return 1; }
   void SetUp() override {
     ASSERT_NO_FATAL_FAILURE(ScreenFilterTest::SetUp());
-    ASSERT_FALSE(gi::ensureGuidedStack(dev, filters));
+    ASSERT_FALSE(gi::ensureGuidedStack(dev, filters, subsample()));
   }
   // `covered`: 1 per covered pixel, 0 for background (the position image's
   // view depth); empty = every pixel covered.
@@ -247,4 +249,89 @@ TEST_F(GuidedFilterTest, BackgroundEntersNoWindow) {
     for (size_t i = 0; i < cpu.size(); ++i) worst = std::max(worst, std::abs(double(gpu[i]) - cpu[i]));
     EXPECT_LT(worst, 1e-4) << "dims " << dims;
   }
+}
+
+// The fast guided filter (gif.subsample = s): window statistics of s×s blocks, coefficients bilinear
+// between them. With s = 3 on a 40×32 image the last blocks are partial. What the filter must keep
+// whatever its resolution: a constant stays, an input linear in the guidance is recovered (every window
+// fits the same a and b, so their interpolation is exact), an evenly lit object keeps its light beside
+// background, and a guidance step keeps its step while each side is smoothed.
+class GuidedFilterSubsampledTest : public GuidedFilterTest {
+ protected:
+  uint32_t subsample() const override { return 3; }
+  static gi::GuidedFilterParams params(uint32_t radius, float epsilon, uint32_t dims) {
+    return {.radius = radius,
+            .epsilonNormal = epsilon,
+            .epsilonDepth = epsilon,
+            .guidanceDimensions = dims,
+            .subsample = 3};
+  }
+};
+
+TEST_F(GuidedFilterSubsampledTest, KeepsConstantsLinearFitsAndLitObjects) {
+  const Rgba guidance = random(11);
+  const Rgba constant(size_t(W) * H * 4, 0.7f);
+  for (float v : run(guidance, constant, params(8, 0.01f, 4))) ASSERT_NEAR(v, 0.7f, 1e-5f);
+  Rgba linear(size_t(W) * H * 4);
+  for (size_t p = 0; p < size_t(W) * H; ++p)
+    for (int c = 0; c < 4; ++c) linear[4 * p + c] = 2.0f * guidance[4 * p] - 0.5f * guidance[4 * p + 3] + 0.25f;
+  const std::vector<float> fit = run(guidance, linear, params(4, 0.0f, 4));
+  for (size_t p = 0; p < size_t(W) * H; ++p)
+    for (int c = 0; c < 3; ++c) ASSERT_NEAR(fit[3 * p + c], linear[4 * p + c], 2e-3f) << "pixel " << p;
+  // A disc lit 1 with grey guidance, as the background's, on background lit 0.
+  Rgba grey(size_t(W) * H * 4), disc(size_t(W) * H * 4, 0.0f);
+  std::vector<float> covered(size_t(W) * H, 0.0f);
+  for (uint32_t y = 0; y < H; ++y)
+    for (uint32_t x = 0; x < W; ++x) {
+      const size_t p = size_t(y) * W + x;
+      const bool object = (x - W / 2.0f) * (x - W / 2.0f) + (y - H / 2.0f) * (y - H / 2.0f) < 100.0f;
+      covered[p] = object ? 1.0f : 0.0f;
+      const float g[4] = {object ? 0.8535534f : 0.5f, object ? 0.1464466f : 0.5f, 0.5f, object ? 0.4f : 0.0f};
+      std::memcpy(&grey[4 * p], g, sizeof(g));
+      for (int c = 0; c < 3; ++c) disc[4 * p + c] = object ? 1.0f : 0.0f;
+    }
+  for (uint32_t dims : {1u, 4u}) {
+    const std::vector<float> out = run(grey, disc, params(8, 0.01f, dims), covered);
+    for (size_t p = 0; p < size_t(W) * H; ++p)
+      if (covered[p] > 0.0f) {
+        ASSERT_NEAR(out[3 * p], 1.0f, 1e-4f) << "dims " << dims << ", pixel " << p;
+      }
+  }
+}
+
+TEST_F(GuidedFilterSubsampledTest, SmoothsEachSideOfAGuidanceStepAndKeepsTheStep) {
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<float> noise(-0.15f, 0.15f);
+  Rgba guidance(size_t(W) * H * 4), input(size_t(W) * H * 4);
+  for (uint32_t y = 0; y < H; ++y)
+    for (uint32_t x = 0; x < W; ++x) {
+      const bool left = x < W / 2;
+      const float g[4] = {left ? 0.5f : 1.0f, 0.5f, left ? 1.0f : 0.5f, left ? 0.3f : 0.6f};
+      std::memcpy(&guidance[(size_t(y) * W + x) * 4], g, sizeof(g));
+      const float v = (left ? 0.2f : 0.8f) + noise(rng);
+      for (int c = 0; c < 4; ++c) input[(size_t(y) * W + x) * 4 + c] = v;
+    }
+  const std::vector<float> out = run(guidance, input, params(6, 0.01f, 4));
+  auto column = [&](uint32_t x0, uint32_t x1, double& mean, double& sd) {
+    double s = 0, s2 = 0, n = 0;
+    for (uint32_t y = 0; y < H; ++y)
+      for (uint32_t x = x0; x < x1; ++x) {
+        const double v = out[(size_t(y) * W + x) * 3];
+        s += v;
+        s2 += v * v;
+        ++n;
+      }
+    mean = s / n;
+    sd = std::sqrt(std::max(0.0, s2 / n - mean * mean));
+  };
+  double mean, sd, l, r;
+  column(0, W / 2, mean, sd);
+  EXPECT_NEAR(mean, 0.2, 0.02);
+  EXPECT_LT(sd, 0.35 * 0.15 / std::sqrt(3.0));  // the input's σ is 0.15/√3
+  column(W / 2, W, mean, sd);
+  EXPECT_NEAR(mean, 0.8, 0.02);
+  EXPECT_LT(sd, 0.35 * 0.15 / std::sqrt(3.0));
+  column(W / 2 - 1, W / 2, l, sd);
+  column(W / 2, W / 2 + 1, r, sd);
+  EXPECT_GT(r - l, 0.5);
 }

@@ -549,6 +549,24 @@ def sweep(key, pairs):
                   f"{pass_ms(a, 'composite'):.2f} → {pass_ms(b, 'composite'):.2f} |")
 
 
+def sweep_passes(key, prefix, pairs):
+    """A setting swept on one method (args: KEY PREFIX NAME DIR ...): per scene and value, the final and
+    indirect MSE after the run's last frame against the first value's, and the ms per frame of the
+    passes whose names start with PREFIX (the passes the setting changes)."""
+    print(f"| scene | {key} | MSE (final) | against the first | MSE (indirect) | against the first | "
+          f"{prefix}* ms |")
+    print("|---|---|---|---|---|---|---|")
+    for name, directory in named(pairs):
+        first = None
+        for r in rows(f"{directory}/results.csv"):
+            value = r["label"].split(f"{key}=")[1].split()[0]
+            final, indirect = float(r["mse"]), float(r["mse_indirect"])
+            first = first or (final, indirect)
+            ms = sum(float(x.split(":")[1]) for x in r["pass_ms"].split(";") if x.startswith(prefix))
+            print(f"| {name} | {value} | {final:.3e} | {final / first[0]:.2f}× | {indirect:.3e} | "
+                  f"{indirect / first[1]:.2f}× | {ms:.2f} |")
+
+
 def configurations(pairs):
     """Runs of one scene in several configurations against the same references (args: NAME DIR ...): per
     run and method, GPU ms per frame, final MSE, indirect MSE and flicker against the first run's."""
@@ -741,6 +759,7 @@ KINDS = {
     "error_at_frames": error_at_frames,
     "hpsf_frames": hpsf_frames,
     "sweep": lambda a: sweep(a[0], a[1:]),
+    "sweep_passes": lambda a: sweep_passes(a[0], a[1], a[2:]),
     "coldstart": lambda a: coldstart(a[0], a[1]),
     "programs": programs,
     "switch": lambda a: switch(a[0]),

@@ -263,12 +263,13 @@ void recordFilterPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const gpu
                       hooks);
     }
   } else if (s.method == Method::Gif) {
-    GuidedFilterParams gif{s.gif.radius,
-                           s.gif.epsilonNormal,
-                           s.gif.epsilonDepth,
-                           s.gif.guidanceDimensions,
-                           s.debugView == DebugView::GifCoefficients,
-                           toIndirect};
+    const GuidedFilterParams gif{.radius = s.gif.radius,
+                                 .epsilonNormal = s.gif.epsilonNormal,
+                                 .epsilonDepth = s.gif.epsilonDepth,
+                                 .guidanceDimensions = s.gif.guidanceDimensions,
+                                 .writeCoefficientView = s.debugView == DebugView::GifCoefficients,
+                                 .output = toIndirect,
+                                 .subsample = s.gif.subsample};
     recordGuidedFilter(g, cmd, f, gif, hooks);
   } else if (s.method == Method::Bilateral) {
     const BilateralSettings& b = s.bilateral;

@@ -38,7 +38,7 @@ struct OutputImages {
 // method does not use are 1×1 placeholders.
 struct SizedResources {
   uint32_t width = 0, height = 0;
-  uint32_t needs = 0;                            // sizedResourcesNeeded() it was built for
+  uint64_t needs = 0;                            // sizedResourcesNeeded() it was built for
   uint64_t frameBytes = 0;                       // the bytes of frameImages(), counted once they exist
   vk::Image historyDirectA, historyIndirectA;    // raw's still-camera mean; temporal reprojection's set A
   vk::Image historyDirectB, historyIndirectB;    // temporal reprojection's set B
@@ -129,7 +129,7 @@ struct Module {
 // the images at full size and the filters the settings use.
 // Set 1 of every pass: frame constants, G-buffer, the module images, counters.
 std::span<const vk::Binding> frameBindings();
-uint32_t sizedResourcesNeeded(const MethodPlan& plan, const Settings& settings);
+uint64_t sizedResourcesNeeded(const MethodPlan& plan, const Settings& settings);
 vk::Status createSizedResources(Module& m, const Settings& settings, uint32_t width, uint32_t height,
                                 const OutputImages& outputs, SizedResources& out);
 void destroySizedResources(vk::Device& gpu, SizedResources& r);

@@ -1,5 +1,7 @@
 #include "screen_filters.h"
 
+#include <algorithm>
+
 #include <cstdint>
 #include <cstring>
 #include <string>
@@ -151,10 +153,11 @@ vk::Status createScreenFilters(vk::Device& d, const FilterPrograms& programs, ui
   return {};
 }
 
-vk::Status ensureGuidedStack(vk::Device& d, ScreenFilters& f) {
+vk::Status ensureGuidedStack(vk::Device& d, ScreenFilters& f, uint32_t subsample) {
   if (f.a[0].image) return {};
+  const VkExtent2D size{(f.imageWidth + subsample - 1) / subsample, (f.imageHeight + subsample - 1) / subsample};
   for (vk::Image& img : f.a)
-    if (vk::Status s = vk::createImage(d, {f.imageWidth, f.imageHeight}, VK_FORMAT_R32G32B32A32_SFLOAT,
+    if (vk::Status s = vk::createImage(d, size, VK_FORMAT_R32G32B32A32_SFLOAT,
                                        VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT, img, true)) {
       for (vk::Image& made : f.a) vk::destroyImage(d, made);
       return s;
@@ -179,21 +182,27 @@ void destroyScreenFilters(vk::Device& d, ScreenFilters& f) {
 void recordGuidedFilter(const vk::Device& d, VkCommandBuffer cmd, ScreenFilters& f, const GuidedFilterParams& p,
                         const PassHooks& hooks) {
   recordScreenFiltersFirstUse(d, cmd, f);
-  const glm::uvec2 size{f.width, f.height};
-  const gpu::GuidedMomentsPush dims{p.guidanceDimensions, p.writeCoefficientView ? 1u : 0u, p.output};
-  // Window statistics: per-pixel products, then their box means (rows, then columns).
-  pass(d, cmd, f, hooks, Pass::GifMoments, f.programs->moments, size, dims);
-  pass(d, cmd, f, hooks, Pass::GifBoxRows, f.programs->box, {f.height, 1},
-       gpu::BoxPush{p.radius, 0, GIF_MOMENT_IMAGES, 0});
-  pass(d, cmd, f, hooks, Pass::GifBoxColumns, f.programs->box, {f.width, 1},
-       gpu::BoxPush{p.radius, 1, GIF_MOMENT_IMAGES, 0});
+  const uint32_t s = p.subsample;
+  const glm::uvec2 size{f.width, f.height}, stack{(f.width + s - 1) / s, (f.height + s - 1) / s};
+  const uint32_t radius = std::max(1u, (p.radius + s / 2) / s);  // in statistics pixels
+  const gpu::GuidedMomentsPush dims{.guidanceDimensions = p.guidanceDimensions,
+                                    .writeCoefficientView = p.writeCoefficientView ? 1u : 0u,
+                                    .encoding = p.output,
+                                    .subsample = s};
+  auto box = [&](uint32_t vertical, uint32_t images) {
+    pass(d, cmd, f, hooks, vertical ? Pass::GifBoxColumns : Pass::GifBoxRows, f.programs->box,
+         {vertical ? stack.x : stack.y, 1},
+         gpu::BoxPush{.radius = radius, .vertical = vertical, .imageCount = images, .subsample = s});
+  };
+  // Window statistics: per-pixel products averaged over s×s blocks, then their box means (rows, columns).
+  pass(d, cmd, f, hooks, Pass::GifMoments, f.programs->moments, stack, dims);
+  box(0, GIF_MOMENT_IMAGES);
+  box(1, GIF_MOMENT_IMAGES);
   // Per-window ridge regression, then the mean of the coefficients over the windows covering each pixel.
-  pass(d, cmd, f, hooks, Pass::GifCoefficients, f.programs->coefficients, size,
-       gpu::GuidedCoefficientsPush{p.epsilonNormal, p.epsilonDepth, 0, 0});
-  pass(d, cmd, f, hooks, Pass::GifBoxRows, f.programs->box, {f.height, 1},
-       gpu::BoxPush{p.radius, 0, GIF_COEFF_IMAGES, 0});
-  pass(d, cmd, f, hooks, Pass::GifBoxColumns, f.programs->box, {f.width, 1},
-       gpu::BoxPush{p.radius, 1, GIF_COEFF_IMAGES, 0});
+  pass(d, cmd, f, hooks, Pass::GifCoefficients, f.programs->coefficients, stack,
+       gpu::GuidedCoefficientsPush{.epsilonNormal = p.epsilonNormal, .epsilonDepth = p.epsilonDepth, .subsample = s});
+  box(0, GIF_COEFF_IMAGES);
+  box(1, GIF_COEFF_IMAGES);
   pass(d, cmd, f, hooks, Pass::GifOutput, f.programs->output, size, dims);
 }
 

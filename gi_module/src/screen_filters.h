@@ -64,11 +64,12 @@ struct ScreenFilters {
 };
 
 struct GuidedFilterParams {
-  uint32_t radius = 24;
+  uint32_t radius = 24;  // pixels
   float epsilonNormal = 0.01f, epsilonDepth = 0.02f;
   uint32_t guidanceDimensions = 4;
   bool writeCoefficientView = false;                // also write |a|, |b| to the temp image (debug view)
   gpu::FilterOutputEncoding output = kPlainOutput;  // how the output image holds light
+  uint32_t subsample = 1;  // one statistics pixel per s×s pixels (as the stack was made: ensureGuidedStack)
 };
 
 // Descriptor sets of the filters' layout, one per target: the same programs
@@ -77,8 +78,9 @@ vk::Status createFilterSets(const vk::Device& device, const FilterPrograms& prog
                             std::span<const FilterTargets> targets, vk::DescriptorSets& out);
 vk::Status createScreenFilters(vk::Device& device, const FilterPrograms& programs, uint32_t width, uint32_t height,
                                const FilterTargets& targets, ScreenFilters& out);
-// Allocates the guided filter's 16 statistics images (16 × width × height × 16 bytes) once.
-vk::Status ensureGuidedStack(vk::Device& device, ScreenFilters& f);
+// Allocates the guided filter's FILTER_STACK statistics images (rgba32f, ⌈width/s⌉ × ⌈height/s⌉ of the
+// largest render size) once; `subsample` is gif.subsample (sized resources are remade when it changes).
+vk::Status ensureGuidedStack(vk::Device& device, ScreenFilters& f, uint32_t subsample);
 void destroyScreenFilters(vk::Device& device, ScreenFilters& f);
 // Moves the guided filter's statistics images to GENERAL layout, once (the filters do it on first use).
 void recordScreenFiltersFirstUse(const vk::Device& device, VkCommandBuffer cmd, ScreenFilters& f);

@@ -80,6 +80,10 @@ constexpr uint32_t kNeedsFilters = 1u << 28, kNeedsGuidedStack = 1u << 29, kNeed
 // binding then names the indirect image, and no separate image is held (except for the filter
 // in | out view, which shows both).
 constexpr uint32_t kNoisyIsIndirect = 1u << 31;
+// Bits 32–35: the guided filter's gif.subsample, which sizes its statistics images.
+constexpr uint32_t kGuidedSubsampleShift = 32;
+uint32_t guidedSubsample(uint64_t needs) { return uint32_t(needs >> kGuidedSubsampleShift) & 0xfu; }
+static_assert(GIF_MAX_SUBSAMPLE <= 0xfu, "gif.subsample fits its four bits");
 
 constexpr uint32_t bit(vk::Image SizedResources::*image) {
   for (uint32_t i = 0; i < std::size(kSizedImages); ++i)
@@ -115,8 +119,8 @@ static_assert(std::size(kFrameBindings) == gpu::GI_BINDING_COUNT, "every binding
 
 std::span<const vk::Binding> frameBindings() { return kFrameBindings; }
 
-uint32_t sizedResourcesNeeded(const MethodPlan& plan, const Settings& s) {
-  uint32_t need = 0;
+uint64_t sizedResourcesNeeded(const MethodPlan& plan, const Settings& s) {
+  uint64_t need = 0;
   const bool noisyReadAfterOutput = s.debugView == DebugView::FilterInOut;
   if (!noisyReadAfterOutput && ((plan.hashGrid && !plan.clampsHashIndirect) || plan.svgf))
     need |= kNoisyIsIndirect;
@@ -171,14 +175,14 @@ uint32_t sizedResourcesNeeded(const MethodPlan& plan, const Settings& s) {
     default: break;
   }
   if (plan.screenFilters) need |= kNeedsFilters;
-  if (s.method == Method::Gif) need |= kNeedsGuidedStack;
+  if (s.method == Method::Gif) need |= kNeedsGuidedStack | uint64_t(s.gif.subsample) << kGuidedSubsampleShift;
   if (plan.aafSpecular) need |= kNeedsGlossySets;
   return need;
 }
 
 namespace {
 
-VkFormat imageFormat(const Module& m, const SizedImage& image, uint32_t needs) {
+VkFormat imageFormat(const Module& m, const SizedImage& image, uint64_t needs) {
   if (image.format == kFilterTempFormat)
     return needs & kHalfFilterTemp ? VK_FORMAT_R16G16B16A16_SFLOAT : VK_FORMAT_R32G32B32A32_SFLOAT;
   if (image.format != kRadianceHistory) return image.format;
@@ -200,7 +204,7 @@ vk::Status createFilters(Module& m, const OutputImages& outputs, SizedResources&
                                      r.debug.view, r.aafGlossyEdge.view, m.counters.buffer}};
     GI_TRY(createFilterSets(m.gpu, m.filterPrograms, glossy, r.filters.aafGlossySets));
   }
-  if (r.needs & kNeedsGuidedStack) GI_TRY(ensureGuidedStack(m.gpu, r.filters));
+  if (r.needs & kNeedsGuidedStack) GI_TRY(ensureGuidedStack(m.gpu, r.filters, guidedSubsample(r.needs)));
   return {};
 }
 

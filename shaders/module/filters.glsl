@@ -32,6 +32,10 @@ vec3 filterLoadOutput(ivec2 p, FilterOutputEncoding e) { return imageLoad(filter
 // The guided filter's guidance vector for 1 (grey normal), 3 (normal) or 4
 // (normal + depth) dimensions; unused channels are zero, so their
 // coefficients solve to zero.
+// The guided filter's statistics images over the render rectangle: one pixel per s×s pixels, rounded up.
+// (A macro, as filterSize is: the push constants are declared after this file.)
+#define gifStackSize(s) ((filterSize() + ivec2(int(s) - 1)) / int(s))
+
 vec4 gifGuidance(ivec2 p, uint dimensions) {
   vec4 g = imageLoad(filterGuidance, p);
   return dimensions == 1u ? vec4((g.x + g.y + g.z) / 3.0, 0.0, 0.0, 0.0) : dimensions == 3u ? vec4(g.xyz, 0.0) : g;

@@ -1,6 +1,7 @@
 #version 460
 // Box mean whose cost does not depend on the radius: one thread walks a row
-// (or a column) keeping a running window sum. Windows are clipped at the
+// (or a column) of the statistics images (1/s of the render rectangle,
+// gifStackSize) keeping a running window sum. Windows are clipped at the
 // image border and divided by the pixels they hold, so two passes (rows,
 // then columns) give the exact 2-D clipped box mean.
 // In place: the means overwrite the line as the thread walks it, and the r
@@ -16,7 +17,7 @@ layout(push_constant, scalar) uniform Push { BoxPush pc; };
 ivec2 linePixel(int line, int t) { return pc.vertical == 0u ? ivec2(t, line) : ivec2(line, t); }
 
 void main() {
-  ivec2 size = filterSize();
+  ivec2 size = gifStackSize(pc.subsample);
   int line = int(gl_GlobalInvocationID.x);
   int lines = pc.vertical == 0u ? size.y : size.x;
   int length = pc.vertical == 0u ? size.x : size.y;

@@ -6,7 +6,8 @@
 // window mostly over background counts little when gif_output averages them,
 // and one with no covered pixel not at all.
 // Σ + εU is symmetric positive definite, solved by Cholesky. Written in
-// place over the window means (each thread reads and writes its own pixel).
+// place over the window means (each thread reads and writes its own
+// statistics pixel, 1/s of the render rectangle).
 #extension GL_GOOGLE_include_directive : require
 #include "filters.glsl"
 
@@ -18,7 +19,7 @@ layout(push_constant, scalar) uniform Push { GuidedCoefficientsPush pc; };
 
 void main() {
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-  if (any(greaterThanEqual(p, filterSize()))) return;
+  if (any(greaterThanEqual(p, gifStackSize(pc.subsample)))) return;
   float m[32];
   for (uint img = 0u; img < GIF_MOMENT_IMAGES; ++img) {
     vec4 v = imageLoad(filterA[img], p);

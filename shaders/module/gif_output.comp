@@ -1,8 +1,11 @@
 #version 460
 // Guided filter, step 3: q = mean(a)ᵀ · I + mean(b), with the coefficients of
 // every window that covers the pixel averaged by the box passes, each window
-// weighted by its covered fraction (gif_coefficients.comp). Background pixels
-// keep their input.
+// weighted by its covered fraction (gif_coefficients.comp), and I the pixel's
+// own guidance. With statistics at 1/s resolution the mean coefficients are
+// interpolated bilinearly between the four statistics pixels around the
+// pixel's centre (He & Sun 2015); with s = 1 they are the pixel's own.
+// Background pixels keep their input.
 #extension GL_GOOGLE_include_directive : require
 #include "filters.glsl"
 
@@ -13,9 +16,16 @@ void main() {
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(p, filterSize()))) return;
   vec4 I = gifGuidance(p, pc.guidanceDimensions);
+  const vec2 at = (vec2(p) + 0.5) / float(pc.subsample) - 0.5;  // in statistics pixels
+  const ivec2 last = gifStackSize(pc.subsample) - 1;
+  const ivec2 c0 = clamp(ivec2(floor(at)), ivec2(0), last), c1 = min(c0 + 1, last);
+  const vec2 f = clamp(at - vec2(c0), 0.0, 1.0);
   float coeff[16];
   for (uint img = 0u; img < GIF_COEFF_IMAGES; ++img) {
-    vec4 v = imageLoad(filterA[img], p);
+    vec4 v = pc.subsample == 1u
+                 ? imageLoad(filterA[img], p)
+                 : mix(mix(imageLoad(filterA[img], c0), imageLoad(filterA[img], ivec2(c1.x, c0.y)), f.x),
+                       mix(imageLoad(filterA[img], ivec2(c0.x, c1.y)), imageLoad(filterA[img], c1), f.x), f.y);
     coeff[4 * img] = v.x;
     coeff[4 * img + 1] = v.y;
     coeff[4 * img + 2] = v.z;

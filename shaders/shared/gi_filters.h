@@ -13,13 +13,15 @@ GPU_CONST FILTER_BINDING_POSITION = 1;  // xyz: position relative to the camera;
 GPU_CONST FILTER_BINDING_INPUT = 2;     // rgb: the noisy image
 GPU_CONST FILTER_BINDING_OUTPUT = 3;    // rgb: the filtered image; formatless: the module's indirect output
                                         // (half or single floats, FilterOutputEncoding) or an rgba32f image
-GPU_CONST FILTER_BINDING_A = 4;         // FILTER_STACK images: window statistics, then coefficients, box-filtered in place
+GPU_CONST FILTER_BINDING_A = 4;         // FILTER_STACK images at 1/gif.subsample resolution: window statistics, then
+                                        // coefficients, box-filtered in place
 GPU_CONST FILTER_BINDING_TEMP = 5;      // ping-pong image for à-trous and AAF; the guided filter's coefficient view
 GPU_CONST FILTER_BINDING_PARAMS = 6;    // AAF: z_min, z_max (metres), samples, β (metres)
 GPU_CONST FILTER_BINDING_COUNTERS = 7;  // storage buffer: GiCounters (the module's), where the bounds-checked
                                         // variant counts coordinates outside an image (shaders/module/bounds.glsl)
 #define FILTER_STACK 8u                 // 32 channels: the 29 window moments of 4-D guidance and RGB input
 #define GIF_MAX_RADIUS 128u             // the box filter holds the r most recent originals of its line (gif.radius's range)
+#define GIF_MAX_SUBSAMPLE 8u            // gif.subsample's range: statistics pixels of up to 8×8 pixels
 #define FILTER_GROUP_SIZE 8u            // 8×8 threads for per-pixel passes
 #define FILTER_LINE_GROUP 64u           // 64 rows or columns per group for the box filter
 
@@ -72,15 +74,17 @@ struct GuidedMomentsPush {
   uint guidanceDimensions;  // 1 (grey normal), 3 (normal), 4 (normal + depth)
   uint writeCoefficientView;// gif_output: 1 = also write (|a|, |b|) to the temp image
   FilterOutputEncoding encoding;  // of the output image
+  uint subsample;   // s: one statistics pixel per s×s pixels (gif.subsample, [1, GIF_MAX_SUBSAMPLE])
+  uint pad0;
   uvec2 size;       // the render rectangle, pixels (dynamic resolution: the images may be larger); set by the pass
 };
-GPU_ASSERT_SIZE(GuidedMomentsPush, 24);
+GPU_ASSERT_SIZE(GuidedMomentsPush, 32);
 
 struct BoxPush {
-  uint radius;      // window half-size in pixels; windows are clipped at the borders
+  uint radius;      // window half-size in statistics pixels; windows are clipped at the borders
   uint vertical;    // 0: rows, 1: columns (both in place over the A images)
   uint imageCount;  // how many of the FILTER_STACK images hold data
-  uint pad0;
+  uint subsample;   // s: the statistics images cover the render rectangle at 1/s (gifStackSize)
   uvec2 size;       // the render rectangle, pixels (dynamic resolution: the images may be larger); set by the pass
 };
 GPU_ASSERT_SIZE(BoxPush, 24);
@@ -88,8 +92,8 @@ GPU_ASSERT_SIZE(BoxPush, 24);
 struct GuidedCoefficientsPush {
   float epsilonNormal;  // ridge term for the normal channels (in guidance units²)
   float epsilonDepth;   // ridge term for the depth channel
+  uint subsample;       // s, as GuidedMomentsPush's
   uint pad0;
-  uint pad1;
   uvec2 size;       // the render rectangle, pixels (dynamic resolution: the images may be larger); set by the pass
 };
 GPU_ASSERT_SIZE(GuidedCoefficientsPush, 24);
