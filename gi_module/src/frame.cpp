@@ -386,7 +386,8 @@ gpu::GiFrameConstants frameConstants(const Module& m, const FrameInputs& in, con
           motionPixelsPerUnit(m.desc.gbuffer, m.width, m.height),
           // Previous − current of the NDC shifts (jitter, off-axis), in pixels.
           m.desc.gbuffer.motionHasJitter ? glm::vec2(0.0f) : (previousCamera.ndcShift - camera.ndcShift) * halfSize,
-          largestFinite(compositeFormat(m.desc))};
+          largestFinite(compositeFormat(m.desc)),
+          m.sized.svgfMomentsA.format == VK_FORMAT_R32G32B32A32_UINT ? 1u : 0u};
 }
 
 // This frame's own facts beside the method's plan (Module::plan), decided once before its passes.
@@ -493,7 +494,8 @@ void recordCompositePasses(Module& m, VkCommandBuffer cmd, const FrameSetup& set
       .filterClamp = s.temporal.filterClamp,
       .clampLight = clampLight,
       .packedHistory = m.plan.packedHistory ? 1u : 0u,
-      .historyScale = radianceScale(m)};
+      .historyScale = radianceScale(m),
+      .svgfFrames = s.method == Method::Svgf ? 1u : 0u};
   const glm::uvec2 size{m.width, m.height};
   runPass(m, cmd, setup.slot, Pass::Composite, m.composite, setup.sets, size, composite);
   if (s.method == Method::Gif && s.gif.supersamples > 0 && s.debugView == DebugView::None) {

@@ -43,6 +43,10 @@ constexpr VkFormat kHalf = VK_FORMAT_R16G16B16A16_SFLOAT;
 // running mean, which after n frames adds 1/n of a frame and keeps single floats
 // (kFullPrecisionHistory). Resolved by imageFormat().
 constexpr VkFormat kRadianceHistory = VK_FORMAT_UNDEFINED;
+// svgf's variances and history frames (its means ride in the histories' alphas): packed in one word
+// a pixel with half-float histories, as single floats with single-float ones (gi_frame.glsl's
+// giPackSvgfState). Resolved by imageFormat().
+constexpr VkFormat kSvgfStateFormat = VK_FORMAT_R32_UINT;
 constexpr Lifetime kFrame = Lifetime::Frame, kHistory = Lifetime::History;
 constexpr SizedImage kSizedImages[] = {
     {&SizedResources::historyDirectA, gpu::GI_BINDING_HISTORY_DIRECT_A, kHistory, kRadianceHistory},
@@ -59,8 +63,8 @@ constexpr SizedImage kSizedImages[] = {
     {&SizedResources::historyIndirectB, gpu::GI_BINDING_HISTORY_INDIRECT_B, kHistory, kRadianceHistory},
     {&SizedResources::historyGuideA, gpu::GI_BINDING_HISTORY_GUIDE_A, kHistory, kGuideFormat},
     {&SizedResources::historyGuideB, gpu::GI_BINDING_HISTORY_GUIDE_B, kHistory, kGuideFormat},
-    {&SizedResources::svgfMomentsA, gpu::GI_BINDING_SVGF_MOMENTS_A, kHistory, kRadianceHistory},
-    {&SizedResources::svgfMomentsB, gpu::GI_BINDING_SVGF_MOMENTS_B, kHistory, kRadianceHistory},
+    {&SizedResources::svgfMomentsA, gpu::GI_BINDING_SVGF_MOMENTS_A, kHistory, kSvgfStateFormat},
+    {&SizedResources::svgfMomentsB, gpu::GI_BINDING_SVGF_MOMENTS_B, kHistory, kSvgfStateFormat},
     {&SizedResources::gradientSamplesA, gpu::GI_BINDING_GRADIENT_SAMPLES_A, kHistory, VK_FORMAT_R32G32B32A32_UINT},
     {&SizedResources::gradientSamplesB, gpu::GI_BINDING_GRADIENT_SAMPLES_B, kHistory, VK_FORMAT_R32G32B32A32_UINT},
     {&SizedResources::temporalGradient, gpu::GI_BINDING_TEMPORAL_GRADIENT, kFrame, kImageFormat, GI_GRADIENT_TILE},
@@ -185,6 +189,8 @@ namespace {
 VkFormat imageFormat(const Module& m, const SizedImage& image, uint64_t needs) {
   if (image.format == kFilterTempFormat)
     return needs & kHalfFilterTemp ? VK_FORMAT_R16G16B16A16_SFLOAT : VK_FORMAT_R32G32B32A32_SFLOAT;
+  if (image.format == kSvgfStateFormat)
+    return m.desc.historyFormat == VK_FORMAT_R16G16B16A16_SFLOAT ? kSvgfStateFormat : VK_FORMAT_R32G32B32A32_UINT;
   if (image.format != kRadianceHistory) return image.format;
   return needs & kFullPrecisionHistory ? VK_FORMAT_R32G32B32A32_SFLOAT : m.desc.historyFormat;
 }

@@ -17,6 +17,8 @@ layout(push_constant, scalar) uniform Push { GiCompositePush pc; };
 // Last frame's history length at p, as the temporal pass left it (0 without one).
 float historyFramesAt(ivec2 p) {
   return pc.packedHistory != 0u     ? imageLoad(giOutDirect, p).a
+         : pc.temporalWritten == 2u ? 0.0
+         : pc.svgfFrames != 0u      ? giLoadSvgfFrames(pc.temporalWritten, p)
          : pc.temporalWritten == 0u ? imageLoad(giHistoryDirectA, p).a
          : pc.temporalWritten == 1u ? imageLoad(giHistoryDirectB, p).a
                                     : 0.0;

@@ -41,9 +41,9 @@ layout(set = 1, binding = GI_BINDING_HISTORY_DIRECT_B) uniform image2D giHistory
 layout(set = 1, binding = GI_BINDING_HISTORY_INDIRECT_B) uniform image2D giHistoryIndirectB;
 layout(set = 1, binding = GI_BINDING_HISTORY_GUIDE_A, r32ui) uniform uimage2D giHistoryGuideA;  // temporal.glsl's giPackGuide
 layout(set = 1, binding = GI_BINDING_HISTORY_GUIDE_B, r32ui) uniform uimage2D giHistoryGuideB;
-// svgf's moments are in the radiance histories' format: no format qualifier.
-layout(set = 1, binding = GI_BINDING_SVGF_MOMENTS_A) uniform image2D giSvgfMomentsA;
-layout(set = 1, binding = GI_BINDING_SVGF_MOMENTS_B) uniform image2D giSvgfMomentsB;
+// svgf's variances and history frames (giPackSvgfState): r32ui or rgba32ui, so no format qualifier.
+layout(set = 1, binding = GI_BINDING_SVGF_MOMENTS_A) uniform uimage2D giSvgfMomentsA;
+layout(set = 1, binding = GI_BINDING_SVGF_MOMENTS_B) uniform uimage2D giSvgfMomentsB;
 layout(set = 1, binding = GI_BINDING_GRADIENT_SAMPLES_A, rgba32ui) uniform uimage2D giGradientSamplesA;
 layout(set = 1, binding = GI_BINDING_GRADIENT_SAMPLES_B, rgba32ui) uniform uimage2D giGradientSamplesB;
 layout(set = 1, binding = GI_BINDING_TEMPORAL_GRADIENT, rgba32f) uniform image2D giTemporalGradient;
@@ -103,21 +103,51 @@ GI_HISTORY_ACCESS(HistoryDirectB, giHistoryDirectB)
 GI_HISTORY_ACCESS(HistoryIndirectB, giHistoryIndirectB)
 
 // svgf's luminance moments of direct (x) and indirect (y) light: their mean and their variance about
-// it, not the mean square, in the histories' units (× historyScale, variance × historyScale²). A half
-// float keeps a variance of 1% of the squared mean to three digits; a mean square minus a squared mean
-// that close would cancel to nothing. Set 0 = A, 1 = B.
+// it, not the mean square, in the histories' units (× historyScale, variance × historyScale²); a mean
+// square minus a squared mean would cancel to nothing where the variance is small. Each set keeps the
+// means in its radiance histories' alphas (the direct history's and the indirect's, in the histories'
+// format), and in its state image the two variances and the history's frames, which the other methods
+// keep in the direct history's alpha. With half-float histories the state is one word a pixel
+// (giPackSvgfState); with single-float ones, single floats (giFrame.svgfWideState). Set 0 = A, 1 = B.
 struct GiMoments {
   vec2 mean, variance;
 };
-GiMoments giLoadMoments(uint set, ivec2 q) {
-  const vec4 v = set == 0u ? imageLoad(giSvgfMomentsA, q) : imageLoad(giSvgfMomentsB, q);
-  const float s = giFrame.historyScale;
-  return GiMoments(v.xz / s, v.yw / (s * s));
+// A variance (≥ 0) in 12 bits: its half float without the sign and the 3 lowest mantissa bits, rounded
+// (7 mantissa bits: within 0.4% where it is a normal half; the filter's weights take its square root).
+// Frames in 8 bits with 2 fractional bits (the history's blend weight is 1 / frames, at least α):
+// 0 to 63.75, as the hash methods' frames.
+#define GI_SVGF_VARIANCE_MAX 60000.0
+uint giPackSvgfVariance(float v) {
+  return (packHalf2x16(vec2(clamp(v, 0.0, GI_SVGF_VARIANCE_MAX), 0.0)) + 4u) >> 3u;
 }
-void giStoreMoments(uint set, ivec2 p, GiMoments m) {
-  const float s = giFrame.historyScale, limit = giFrame.historyMax;
-  const vec2 mean = clamp(m.mean * s, vec2(-limit), vec2(limit)), variance = min(m.variance * s * s, vec2(limit));
-  const vec4 v = vec4(mean.x, variance.x, mean.y, variance.y);
+float giUnpackSvgfVariance(uint bits) { return unpackHalf2x16((bits & 0xfffu) << 3u).x; }
+uvec4 giPackSvgfState(vec2 variance, float frames) {
+  const vec2 v = variance * giFrame.historyScale * giFrame.historyScale;
+  const float f = clamp(frames, 0.0, 63.75);
+  if (giFrame.svgfWideState != 0u) return uvec4(floatBitsToUint(v.x), floatBitsToUint(v.y), floatBitsToUint(f), 0u);
+  return uvec4(giPackSvgfVariance(v.x) | giPackSvgfVariance(v.y) << 12u | uint(f * 4.0 + 0.5) << 24u, 0u, 0u, 0u);
+}
+uvec4 giLoadSvgfState(uint set, ivec2 q) { return set == 0u ? imageLoad(giSvgfMomentsA, q) : imageLoad(giSvgfMomentsB, q); }
+float giLoadSvgfFrames(uint set, ivec2 q) {
+  const uvec4 state = giLoadSvgfState(set, q);
+  return giFrame.svgfWideState != 0u ? uintBitsToFloat(state.z) : float(state.x >> 24u) / 4.0;
+}
+GiMoments giLoadMoments(uint set, ivec2 q) {
+  const uvec4 state = giLoadSvgfState(set, q);
+  const vec2 variance = giFrame.svgfWideState != 0u
+                            ? uintBitsToFloat(state.xy)
+                            : vec2(giUnpackSvgfVariance(state.x), giUnpackSvgfVariance(state.x >> 12u));
+  const float directMean = (set == 0u ? imageLoad(giHistoryDirectA, q) : imageLoad(giHistoryDirectB, q)).a;
+  const float indirectMean = (set == 0u ? imageLoad(giHistoryIndirectA, q) : imageLoad(giHistoryIndirectB, q)).a;
+  const float s = giFrame.historyScale;
+  return GiMoments(vec2(directMean, indirectMean) / s, variance / (s * s));
+}
+// The means as the histories' alphas hold them.
+vec2 giSvgfMeanAlphas(GiMoments m) {
+  return clamp(m.mean * giFrame.historyScale, vec2(0.0), vec2(giFrame.historyMax));
+}
+void giStoreSvgfState(uint set, ivec2 p, GiMoments m, float frames) {
+  const uvec4 v = giPackSvgfState(m.variance, frames);
   if (set == 0u) imageStore(giSvgfMomentsA, p, v);
   else imageStore(giSvgfMomentsB, p, v);
 }

@@ -39,27 +39,28 @@ HistoryTexel readTexel(ivec2 q) {
     const GiPackedHistory h = giUnpackHistory(imageLoad(giHistoryPacked, q).xy);
     return HistoryTexel(h.guide, vec4(h.direct / pc.historyScale, h.frames));
   }
-  return HistoryTexel(giPreviousGuide(q, pc.readSet), pc.readSet == 0u ? giLoadHistoryDirectA(q) : giLoadHistoryDirectB(q));
+  vec4 direct = pc.readSet == 0u ? giLoadHistoryDirectA(q) : giLoadHistoryDirectB(q);
+  if (pc.moments != 0u) direct.a = giLoadSvgfFrames(pc.readSet, q);  // svgf's alpha holds its direct mean
+  return HistoryTexel(giPreviousGuide(q, pc.readSet), direct);
 }
 vec4 readIndirect(ivec2 q) { return pc.readSet == 0u ? giLoadHistoryIndirectA(q) : giLoadHistoryIndirectB(q); }
-// svgf: the luminance moments, into the set this pass writes.
-void writeMoments(ivec2 p, GiMoments moments) {
-  if (pc.moments != 0u) giStoreMoments(1u - pc.readSet, p, moments);
-}
 // The guide keeps view depth over the scene extent: half floats then hold it
 // at any scene scale (metres would overflow past 65504).
-// The history frames ride in the direct image's alpha. With directOnly the
-// packed history is written by the composite pass, once every neighbour has
-// read it: this pass hands the frames on in the direct output's alpha.
-void write(ivec2 p, vec3 direct, vec3 indirect, float frames, vec3 n, float depth) {
+// The history frames ride in the direct image's alpha; svgf's alphas hold its luminance means instead,
+// and its moments image the variances and the frames (gi_frame.glsl's giLoadMoments). With directOnly
+// the packed history is written by the composite pass, once every neighbour has read it: this pass
+// hands the frames on in the direct output's alpha.
+void write(ivec2 p, vec3 direct, vec3 indirect, float frames, vec3 n, float depth, GiMoments moments) {
   if (pc.directOnly != 0u) return;
+  const vec2 alphas = pc.moments != 0u ? giSvgfMeanAlphas(moments) : vec2(frames, 1.0);
+  if (pc.moments != 0u) giStoreSvgfState(1u - pc.readSet, p, moments, frames);
   if (pc.readSet == 0u) {
-    giStoreHistoryDirectB(p, direct, frames);
-    giStoreHistoryIndirectB(p, indirect, 1.0);
+    giStoreHistoryDirectB(p, direct, alphas.x);
+    giStoreHistoryIndirectB(p, indirect, alphas.y);
     imageStore(giHistoryGuideB, p, uvec4(giPackGuide(n, depth / giFrame.depthScale)));
   } else {
-    giStoreHistoryDirectA(p, direct, frames);
-    giStoreHistoryIndirectA(p, indirect, 1.0);
+    giStoreHistoryDirectA(p, direct, alphas.x);
+    giStoreHistoryIndirectA(p, indirect, alphas.y);
     imageStore(giHistoryGuideA, p, uvec4(giPackGuide(n, depth / giFrame.depthScale)));
   }
 }
@@ -119,8 +120,7 @@ void main() {
   const ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   if (!giInFrame(gl_GlobalInvocationID.xy)) return;
   if (!giGbCovered(p)) {
-    write(p, vec3(0.0), vec3(0.0), 0.0, vec3(0.0), 0.0);
-    writeMoments(p, GiMoments(vec2(0.0), vec2(0.0)));
+    write(p, vec3(0.0), vec3(0.0), 0.0, vec3(0.0), 0.0, GiMoments(vec2(0.0), vec2(0.0)));
     return;
   }
   vec3 dir;
@@ -152,8 +152,7 @@ void main() {
   const vec2 luminance = vec2(lumDirect, lumIndirect);
   if (h.frames == 0.0) {  // no history: this frame's light stands as the trace wrote it
     countHistory(p, 1.0);
-    write(p, direct, indirect, 1.0, n, depth);
-    writeMoments(p, GiMoments(luminance, vec2(0.0)));
+    write(p, direct, indirect, 1.0, n, depth, GiMoments(luminance, vec2(0.0)));
     return;
   }
   float frames = h.frames + 1.0;
@@ -164,14 +163,14 @@ void main() {
   if (max(lambda.x, lambda.y) > 0.0) frames = min(frames, 1.0 / max(blends.x, blends.y));
   const vec3 outDirect = pc.direct != 0u ? mix(h.direct, direct, blends.x) : direct;
   const vec3 outIndirect = pc.directOnly != 0u ? indirect : mix(h.indirect, indirect, blends.y);
-  write(p, outDirect, outIndirect, min(frames, 65536.0), n, depth);
-  countHistory(p, frames);
   const vec2 momentsBlends = mix(vec2(momentsBlend), vec2(1.0), lambda);
   // The moments' running mean and mean square, kept as the mean and the variance about it:
   // σ²' = (1 − a)·(σ² + a·(l − μ)²), exactly what E[l²]' − E[l]'² gives.
   const vec2 variance = max(vec2(0.0), h.square - h.mean * h.mean), deviation = luminance - h.mean;
-  writeMoments(p, GiMoments(mix(h.mean, luminance, momentsBlends),
-                            (1.0 - momentsBlends) * (variance + momentsBlends * deviation * deviation)));
+  const GiMoments moments = GiMoments(mix(h.mean, luminance, momentsBlends),
+                                      (1.0 - momentsBlends) * (variance + momentsBlends * deviation * deviation));
+  write(p, outDirect, outIndirect, min(frames, 65536.0), n, depth, moments);
+  countHistory(p, frames);
   if (pc.directOnly != 0u) giStoreDirectAndFrames(p, emission + albedo * outDirect, min(frames, 63.0));
   else if (pc.direct != 0u) giStoreDirect(p, emission + albedo * outDirect);
   if (pc.directOnly != 0u) return;

@@ -72,10 +72,10 @@ void main() {
     // Unfiltered direct light is already in the history as the temporal pass stored it.
     if (pc.writtenSet == 0u) {
       if (pc.direct != 0u) giStoreHistoryDirectA(p, filtered.direct.rgb, imageLoad(giHistoryDirectA, p).a);
-      giStoreHistoryIndirectA(p, filtered.indirect.rgb, 1.0);
+      giStoreHistoryIndirectA(p, filtered.indirect.rgb, imageLoad(giHistoryIndirectA, p).a);  // the moment kept
     } else {
       if (pc.direct != 0u) giStoreHistoryDirectB(p, filtered.direct.rgb, imageLoad(giHistoryDirectB, p).a);
-      giStoreHistoryIndirectB(p, filtered.indirect.rgb, 1.0);
+      giStoreHistoryIndirectB(p, filtered.indirect.rgb, imageLoad(giHistoryIndirectB, p).a);
     }
   }
   if (pc.iteration + 1u < pc.iterations) {

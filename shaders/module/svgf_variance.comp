@@ -19,7 +19,7 @@ void main() {
   if (!giInFrame(gl_GlobalInvocationID.xy)) return;
   const vec4 direct = pc.writtenSet == 0u ? giLoadHistoryDirectA(p) : giLoadHistoryDirectB(p);
   const vec3 indirect = (pc.writtenSet == 0u ? giLoadHistoryIndirectA(p) : giLoadHistoryIndirectB(p)).rgb;
-  const float frames = direct.a;
+  const float frames = giLoadSvgfFrames(pc.writtenSet, p);
   const vec4 guide = svgfGuide(p, pc.writtenSet);
   vec2 variance = vec2(0.0);
   if (guide.w > 0.0 && frames < GI_TRUSTED_HISTORY) {

@@ -120,7 +120,8 @@ struct GiFrameConstants {
   vec2 motionScale;  // the G-buffer's stored motion → pixels: GBufferDesc::motionScale × its units' pixels
   vec2 motionOffset; // pixels added after: the cameras' jitter difference where the engine's motion leaves it out
   float compositeMax; // largest finite value of the composite's format (ModuleDesc::compositeFormat)
-  uint pad0;
+  uint svgfWideState; // 1: svgf's state image holds its variances and frames as single floats (with single-float
+                      // histories); 0: packed in one word (gi_frame.glsl's giPackSvgfState)
 };
 GPU_ASSERT_SIZE(GiFrameConstants, 744);
 
@@ -241,6 +242,7 @@ struct GiCompositePush {
   uint packedHistory;  // 1: store the packed direct history (GiTemporalPush::directOnly), frames from
                        // the direct output's alpha, which goes back to 1
   float historyScale;  // GiTemporalPush::historyScale
+  uint svgfFrames;     // 1: the frames are in svgf's state image of the set written (gi_frame.glsl's giLoadSvgfFrames)
 };
 
 struct GiSupersamplePush {
@@ -248,7 +250,7 @@ struct GiSupersamplePush {
   uint supersamples;  // extra eye rays per pixel
 };
 GPU_ASSERT_SIZE(GiSupersamplePush, 8);
-GPU_ASSERT_SIZE(GiCompositePush, 48);
+GPU_ASSERT_SIZE(GiCompositePush, 52);
 
 GPU_NAMESPACE_END
 #endif
