@@ -64,7 +64,9 @@
 #include "gi/settings.h"
 #include "shared/scene_modes.h"
 
-// The API's version (gi::version(); find_package(gi 0.11)):
+// The API's version (gi::version(); find_package(gi 0.12)):
+//   0.12: GifSettings::subsample (the guided filter's window statistics at 1/s resolution; default 4, so
+//         gif's image differs from 0.11's: docs/RESULTS.md, "gif's statistics at 1/s")
 //   0.11: holdMeshVertices (a deforming mesh at rest reads no motion)
 //   0.10: device memory from the engine (ModuleDesc/SceneCreateDesc::deviceMemory), predictMemory, dynamic
 //         resolution within maxWidth × maxHeight, compositeFormat
@@ -79,7 +81,7 @@
 //   0.3: half-float outputs with pre-exposure
 //   0.2: own function table, frames in flight, returned Vulkan errors, catalogues
 #define GI_VERSION_MAJOR 0
-#define GI_VERSION_MINOR 11
+#define GI_VERSION_MINOR 12
 
 namespace gi {
 
