@@ -387,7 +387,7 @@ gpu::GiFrameConstants frameConstants(const Module& m, const FrameInputs& in, con
           // Previous − current of the NDC shifts (jitter, off-axis), in pixels.
           m.desc.gbuffer.motionHasJitter ? glm::vec2(0.0f) : (previousCamera.ndcShift - camera.ndcShift) * halfSize,
           largestFinite(compositeFormat(m.desc)),
-          m.sized.svgfMomentsA.format == VK_FORMAT_R32G32B32A32_UINT ? 1u : 0u};
+          m.sized.svgfStateA.format == VK_FORMAT_R32G32B32A32_UINT ? 1u : 0u};
 }
 
 // This frame's own facts beside the method's plan (Module::plan), decided once before its passes.

@@ -43,7 +43,7 @@ struct SizedResources {
   vk::Image historyDirectA, historyIndirectA;    // raw's still-camera mean; temporal reprojection's set A
   vk::Image historyDirectB, historyIndirectB;    // temporal reprojection's set B
   vk::Image historyGuideA, historyGuideB;        // temporal reprojection: each frame's normal and view depth
-  vk::Image svgfMomentsA, svgfMomentsB;          // svgf: luminance moments' history (sets A and B)
+  vk::Image svgfStateA, svgfStateB;              // svgf: its variances and history frames (sets A and B)
   vk::Image gradientSamplesA, gradientSamplesB;  // temporal gradients: each pixel's first sample (sets A and B)
   vk::Image temporalGradient;                    // temporal gradients: one texel per tile
   vk::Image temporalSpread;                      // history clamp: this frame's 3×3 luminance mean and σ

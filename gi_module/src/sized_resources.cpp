@@ -63,8 +63,8 @@ constexpr SizedImage kSizedImages[] = {
     {&SizedResources::historyIndirectB, gpu::GI_BINDING_HISTORY_INDIRECT_B, kHistory, kRadianceHistory},
     {&SizedResources::historyGuideA, gpu::GI_BINDING_HISTORY_GUIDE_A, kHistory, kGuideFormat},
     {&SizedResources::historyGuideB, gpu::GI_BINDING_HISTORY_GUIDE_B, kHistory, kGuideFormat},
-    {&SizedResources::svgfMomentsA, gpu::GI_BINDING_SVGF_MOMENTS_A, kHistory, kSvgfStateFormat},
-    {&SizedResources::svgfMomentsB, gpu::GI_BINDING_SVGF_MOMENTS_B, kHistory, kSvgfStateFormat},
+    {&SizedResources::svgfStateA, gpu::GI_BINDING_SVGF_STATE_A, kHistory, kSvgfStateFormat},
+    {&SizedResources::svgfStateB, gpu::GI_BINDING_SVGF_STATE_B, kHistory, kSvgfStateFormat},
     {&SizedResources::gradientSamplesA, gpu::GI_BINDING_GRADIENT_SAMPLES_A, kHistory, VK_FORMAT_R32G32B32A32_UINT},
     {&SizedResources::gradientSamplesB, gpu::GI_BINDING_GRADIENT_SAMPLES_B, kHistory, VK_FORMAT_R32G32B32A32_UINT},
     {&SizedResources::temporalGradient, gpu::GI_BINDING_TEMPORAL_GRADIENT, kFrame, kImageFormat, GI_GRADIENT_TILE},
@@ -147,7 +147,7 @@ uint64_t sizedResourcesNeeded(const MethodPlan& plan, const Settings& s) {
   if (s.method == Method::Atrous || plan.aaf) need |= bit(&SizedResources::debug) | kHalfFilterTemp;
   // The hash lookup leaves its data for any debug view (the hash views read it).
   if (plan.hashGrid && s.debugView != DebugView::None) need |= bit(&SizedResources::debug);
-  if (plan.svgf) need |= bit(&SizedResources::svgfMomentsA) | bit(&SizedResources::svgfMomentsB);
+  if (plan.svgf) need |= bit(&SizedResources::svgfStateA) | bit(&SizedResources::svgfStateB);
   if (plan.temporalGradients)
     need |= bit(&SizedResources::gradientSamplesA) | bit(&SizedResources::gradientSamplesB) |
             bit(&SizedResources::temporalGradient);

@@ -42,8 +42,8 @@ layout(set = 1, binding = GI_BINDING_HISTORY_INDIRECT_B) uniform image2D giHisto
 layout(set = 1, binding = GI_BINDING_HISTORY_GUIDE_A, r32ui) uniform uimage2D giHistoryGuideA;  // temporal.glsl's giPackGuide
 layout(set = 1, binding = GI_BINDING_HISTORY_GUIDE_B, r32ui) uniform uimage2D giHistoryGuideB;
 // svgf's variances and history frames (giPackSvgfState): r32ui or rgba32ui, so no format qualifier.
-layout(set = 1, binding = GI_BINDING_SVGF_MOMENTS_A) uniform uimage2D giSvgfMomentsA;
-layout(set = 1, binding = GI_BINDING_SVGF_MOMENTS_B) uniform uimage2D giSvgfMomentsB;
+layout(set = 1, binding = GI_BINDING_SVGF_STATE_A) uniform uimage2D giSvgfStateA;
+layout(set = 1, binding = GI_BINDING_SVGF_STATE_B) uniform uimage2D giSvgfStateB;
 layout(set = 1, binding = GI_BINDING_GRADIENT_SAMPLES_A, rgba32ui) uniform uimage2D giGradientSamplesA;
 layout(set = 1, binding = GI_BINDING_GRADIENT_SAMPLES_B, rgba32ui) uniform uimage2D giGradientSamplesB;
 layout(set = 1, binding = GI_BINDING_TEMPORAL_GRADIENT, rgba32f) uniform image2D giTemporalGradient;
@@ -127,7 +127,7 @@ uvec4 giPackSvgfState(vec2 variance, float frames) {
   if (giFrame.svgfWideState != 0u) return uvec4(floatBitsToUint(v.x), floatBitsToUint(v.y), floatBitsToUint(f), 0u);
   return uvec4(giPackSvgfVariance(v.x) | giPackSvgfVariance(v.y) << 12u | uint(f * 4.0 + 0.5) << 24u, 0u, 0u, 0u);
 }
-uvec4 giLoadSvgfState(uint set, ivec2 q) { return set == 0u ? imageLoad(giSvgfMomentsA, q) : imageLoad(giSvgfMomentsB, q); }
+uvec4 giLoadSvgfState(uint set, ivec2 q) { return set == 0u ? imageLoad(giSvgfStateA, q) : imageLoad(giSvgfStateB, q); }
 float giLoadSvgfFrames(uint set, ivec2 q) {
   const uvec4 state = giLoadSvgfState(set, q);
   return giFrame.svgfWideState != 0u ? uintBitsToFloat(state.z) : float(state.x >> 24u) / 4.0;
@@ -148,8 +148,8 @@ vec2 giSvgfMeanAlphas(GiMoments m) {
 }
 void giStoreSvgfState(uint set, ivec2 p, GiMoments m, float frames) {
   const uvec4 v = giPackSvgfState(m.variance, frames);
-  if (set == 0u) imageStore(giSvgfMomentsA, p, v);
-  else imageStore(giSvgfMomentsB, p, v);
+  if (set == 0u) imageStore(giSvgfStateA, p, v);
+  else imageStore(giSvgfStateB, p, v);
 }
 
 // --- The G-buffer decode: the only place that knows the engine's encodings.

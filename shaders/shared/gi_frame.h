@@ -48,8 +48,8 @@ GPU_CONST GI_BINDING_HISTORY_GUIDE_B = 24;
 // colour's (sets A and B alternate: GiSvgfPush::writtenSet). Its à-trous iterations hold no images of their own: they ping-pong
 // between the outputs and the history set last frame wrote (svgf.glsl), and read the normal from this
 // frame's history guide and the depth from the G-buffer.
-GPU_CONST GI_BINDING_SVGF_MOMENTS_A = 25;     // the histories' format: direct luminance mean, variance; indirect's (zw)
-GPU_CONST GI_BINDING_SVGF_MOMENTS_B = 26;
+GPU_CONST GI_BINDING_SVGF_STATE_A = 25;     // svgf's luminance variances and frames (gi_frame.glsl's giPackSvgfState)
+GPU_CONST GI_BINDING_SVGF_STATE_B = 26;
 // Temporal gradients (TemporalSettings::gradients, A-SVGF, Schied et al. 2018): one pixel per
 // GI_GRADIENT_TILE² tile traces with the random numbers its reprojected pixel used last frame.
 GPU_CONST GI_BINDING_GRADIENT_SAMPLES_A = 27; // rgba32ui: the pixel's first sample, luminance of direct over base colour
