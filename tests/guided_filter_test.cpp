@@ -119,6 +119,47 @@ class GuidedFilterTest : public ScreenFilterTest<W, H> {
     return filterOutput([&](VkCommandBuffer cmd) { gi::recordGuidedFilter(dev, cmd, filters, params, {}); }, 3);
   }
 
+  // Left half faces +z at depth 0.3, right half faces +x at depth 0.6; the input is 0.2 / 0.8 plus
+  // uniform noise of ±0.15. Each side's mean is kept within 0.02 and its noise falls below 0.35 of
+  // the input's; the columns either side of the step stay more than 0.5 apart.
+  void expectStepKeptAndSidesSmoothed(const gi::GuidedFilterParams& params, uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> noise(-0.15f, 0.15f);
+    Rgba guidance(size_t(W) * H * 4), input(size_t(W) * H * 4);
+    for (uint32_t y = 0; y < H; ++y)
+      for (uint32_t x = 0; x < W; ++x) {
+        const bool left = x < W / 2;
+        const float g[4] = {left ? 0.5f : 1.0f, 0.5f, left ? 1.0f : 0.5f, left ? 0.3f : 0.6f};
+        std::memcpy(&guidance[(size_t(y) * W + x) * 4], g, sizeof(g));
+        const float v = (left ? 0.2f : 0.8f) + noise(rng);
+        for (int c = 0; c < 4; ++c) input[(size_t(y) * W + x) * 4 + c] = v;
+      }
+    const std::vector<float> out = run(guidance, input, params);
+    auto stats = [&](const auto& img, size_t stride, uint32_t x0, uint32_t x1, double& mean, double& sd) {
+      double s = 0, s2 = 0, n = 0;
+      for (uint32_t y = 0; y < H; ++y)
+        for (uint32_t x = x0; x < x1; ++x) {
+          const double v = img[(size_t(y) * W + x) * stride];
+          s += v;
+          s2 += v * v;
+          ++n;
+        }
+      mean = s / n;
+      sd = std::sqrt(std::max(0.0, s2 / n - mean * mean));
+    };
+    double inMean, inSd, outMean, outSd;
+    for (auto [x0, x1, expected] : {std::tuple{0u, W / 2, 0.2}, std::tuple{W / 2, W, 0.8}}) {
+      stats(input, 4, x0, x1, inMean, inSd);
+      stats(out, 3, x0, x1, outMean, outSd);
+      EXPECT_NEAR(outMean, expected, 0.02);
+      EXPECT_LT(outSd, 0.35 * inSd) << "noise on side [" << x0 << ", " << x1 << ")";
+    }
+    double l, r, sd;
+    stats(out, 3, W / 2 - 1, W / 2, l, sd);
+    stats(out, 3, W / 2, W / 2 + 1, r, sd);
+    EXPECT_GT(r - l, 0.5);
+  }
+
   static Rgba random(uint32_t seed) {
     std::mt19937 rng(seed);
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
@@ -148,44 +189,7 @@ TEST_F(GuidedFilterTest, ConstantInputStaysConstant) {
 }
 
 TEST_F(GuidedFilterTest, SmoothsEachSideOfAGuidanceStepAndKeepsTheStep) {
-  // Left half faces +z at depth 0.3, right half faces +x at depth 0.6; the
-  // input is 0.2 / 0.8 plus uniform noise of ±0.15.
-  std::mt19937 rng(4);
-  std::uniform_real_distribution<float> noise(-0.15f, 0.15f);
-  Rgba guidance(size_t(W) * H * 4), input(size_t(W) * H * 4);
-  for (uint32_t y = 0; y < H; ++y)
-    for (uint32_t x = 0; x < W; ++x) {
-      bool left = x < W / 2;
-      float g[4] = {left ? 0.5f : 1.0f, 0.5f, left ? 1.0f : 0.5f, left ? 0.3f : 0.6f};
-      std::memcpy(&guidance[(size_t(y) * W + x) * 4], g, sizeof(g));
-      float v = (left ? 0.2f : 0.8f) + noise(rng);
-      for (int c = 0; c < 4; ++c) input[(size_t(y) * W + x) * 4 + c] = v;
-    }
-  std::vector<float> out = run(guidance, input, {6, 0.01f, 0.02f, 4, false});
-  auto stats = [&](const auto& img, size_t stride, uint32_t x0, uint32_t x1, double& mean, double& sd) {
-    double s = 0, s2 = 0, n = 0;
-    for (uint32_t y = 0; y < H; ++y)
-      for (uint32_t x = x0; x < x1; ++x) {
-        double v = img[(size_t(y) * W + x) * stride];
-        s += v;
-        s2 += v * v;
-        ++n;
-      }
-    mean = s / n;
-    sd = std::sqrt(std::max(0.0, s2 / n - mean * mean));
-  };
-  double inMean, inSd, outMean, outSd;
-  for (auto [x0, x1, expected] : {std::tuple{0u, W / 2, 0.2}, std::tuple{W / 2, W, 0.8}}) {
-    stats(input, 4, x0, x1, inMean, inSd);
-    stats(out, 3, x0, x1, outMean, outSd);
-    EXPECT_NEAR(outMean, expected, 0.02);
-    EXPECT_LT(outSd, 0.35 * inSd) << "noise on side [" << x0 << ", " << x1 << ")";
-  }
-  // The columns either side of the step stay apart.
-  double l, r, sd;
-  stats(out, 3, W / 2 - 1, W / 2, l, sd);
-  stats(out, 3, W / 2, W / 2 + 1, r, sd);
-  EXPECT_GT(r - l, 0.5);
+  expectStepKeptAndSidesSmoothed({6, 0.01f, 0.02f, 4, false}, 4);
 }
 
 TEST_F(GuidedFilterTest, EpsilonExtremesStayFiniteAndReachTheirLimits) {
@@ -300,38 +304,5 @@ TEST_F(GuidedFilterSubsampledTest, KeepsConstantsLinearFitsAndLitObjects) {
 }
 
 TEST_F(GuidedFilterSubsampledTest, SmoothsEachSideOfAGuidanceStepAndKeepsTheStep) {
-  std::mt19937 rng(12);
-  std::uniform_real_distribution<float> noise(-0.15f, 0.15f);
-  Rgba guidance(size_t(W) * H * 4), input(size_t(W) * H * 4);
-  for (uint32_t y = 0; y < H; ++y)
-    for (uint32_t x = 0; x < W; ++x) {
-      const bool left = x < W / 2;
-      const float g[4] = {left ? 0.5f : 1.0f, 0.5f, left ? 1.0f : 0.5f, left ? 0.3f : 0.6f};
-      std::memcpy(&guidance[(size_t(y) * W + x) * 4], g, sizeof(g));
-      const float v = (left ? 0.2f : 0.8f) + noise(rng);
-      for (int c = 0; c < 4; ++c) input[(size_t(y) * W + x) * 4 + c] = v;
-    }
-  const std::vector<float> out = run(guidance, input, params(6, 0.01f, 4));
-  auto column = [&](uint32_t x0, uint32_t x1, double& mean, double& sd) {
-    double s = 0, s2 = 0, n = 0;
-    for (uint32_t y = 0; y < H; ++y)
-      for (uint32_t x = x0; x < x1; ++x) {
-        const double v = out[(size_t(y) * W + x) * 3];
-        s += v;
-        s2 += v * v;
-        ++n;
-      }
-    mean = s / n;
-    sd = std::sqrt(std::max(0.0, s2 / n - mean * mean));
-  };
-  double mean, sd, l, r;
-  column(0, W / 2, mean, sd);
-  EXPECT_NEAR(mean, 0.2, 0.02);
-  EXPECT_LT(sd, 0.35 * 0.15 / std::sqrt(3.0));  // the input's σ is 0.15/√3
-  column(W / 2, W, mean, sd);
-  EXPECT_NEAR(mean, 0.8, 0.02);
-  EXPECT_LT(sd, 0.35 * 0.15 / std::sqrt(3.0));
-  column(W / 2 - 1, W / 2, l, sd);
-  column(W / 2, W / 2 + 1, r, sd);
-  EXPECT_GT(r - l, 0.5);
+  expectStepKeptAndSidesSmoothed(params(6, 0.01f, 4), 12);
 }
