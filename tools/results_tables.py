@@ -551,11 +551,12 @@ def sweep(key, pairs):
 
 def sweep_passes(key, prefix, pairs):
     """A setting swept on one method (args: KEY PREFIX NAME DIR ...): per scene and value, the final and
-    indirect MSE after the run's last frame against the first value's, and the ms per frame of the
-    passes whose names start with PREFIX (the passes the setting changes)."""
-    print(f"| scene | {key} | MSE (final) | against the first | MSE (indirect) | against the first | "
+    indirect MSE (the mean over the run's frames) against the first value's, the flicker of a camera-path run
+    (its frame-to-frame change against the references'), and the ms per frame of the passes whose names
+    start with PREFIX (the passes the setting changes)."""
+    print(f"| scene | {key} | MSE (final) | against the first | MSE (indirect) | against the first | flicker | "
           f"{prefix}* ms |")
-    print("|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|")
     for name, directory in named(pairs):
         first = None
         for r in rows(f"{directory}/results.csv"):
@@ -563,8 +564,9 @@ def sweep_passes(key, prefix, pairs):
             final, indirect = float(r["mse"]), float(r["mse_indirect"])
             first = first or (final, indirect)
             ms = sum(float(x.split(":")[1]) for x in r["pass_ms"].split(";") if x.startswith(prefix))
+            flicker = f"{float(r['flicker_ratio']):.2f}" if r["flicker_ratio"] else "–"
             print(f"| {name} | {value} | {final:.3e} | {final / first[0]:.2f}× | {indirect:.3e} | "
-                  f"{indirect / first[1]:.2f}× | {ms:.2f} |")
+                  f"{indirect / first[1]:.2f}× | {flicker} | {ms:.2f} |")
 
 
 def configurations(pairs):
