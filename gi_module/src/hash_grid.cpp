@@ -37,7 +37,7 @@ vk::Status createHashGrid(vk::Device& d, VkDescriptorSetLayout layout, uint32_t 
     GI_TRY(vk::createBuffer(d, sizeof(gpu::HgCell) * n, usage, false, g.cells));
     GI_TRY(vk::createBuffer(d, sizeof(gpu::HgTelemetry) * (1 + slots), usage, true, g.telemetry));
     if (g.telemetry.memory.mapped) std::memset(g.telemetry.memory.mapped, 0, g.telemetry.size);  // null: a prediction
-    GI_TRY(vk::createBuffer(d, sizeof(gpu::HgWalk) * std::max(g.walkPixels, 1u), usage, false, g.walks));
+    GI_TRY(vk::createBuffer(d, sizeof(gpu::HgWalkRecord) * std::max(g.walkPixels, 1u), usage, false, g.walks));
     GI_TRY(vk::createDescriptorSets(d, kHashGridBindings, 1, g.set, layout));
     return {};
   };

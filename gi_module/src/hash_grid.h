@@ -15,7 +15,7 @@ struct HashGrid {
   uint32_t tables = 1;    // 2 for strict eviction (swapped every frame), 1 for aging
   vk::Buffer keys, accum, cells;
   vk::Buffer telemetry;     // host-visible HgTelemetry[1 + slots]: [0] is live, the rest per-frame copies
-  vk::Buffer walks;         // HgWalk per pixel of the largest render size (anhpsf), else one placeholder
+  vk::Buffer walks;         // HgWalkRecord per pixel of the largest render size (anhpsf), else one placeholder
   uint32_t walkPixels = 0;  // pixels with a walk slot (0: the placeholder)
   vk::DescriptorSets set;   // one set, of the module's set-2 layout
   uint64_t memoryBytes = 0;

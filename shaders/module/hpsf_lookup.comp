@@ -73,7 +73,7 @@ void main() {
     debug.w = used / float(pc.probeWindow);
   }
   if (pc.debugView == GI_DEBUG_CONTINUATION_DEPTH && pc.mode == HG_MODE_ANHPSF) {
-    debug.x = float(hgWalkSegments(HG_AT(hgWalks, uint(p.y) * giFrame.size.x + uint(p.x)))) / float(pc.depth);
+    debug.x = float(hgWalkSegments(hgUnpackWalk(HG_AT(hgWalks, uint(p.y) * giFrame.size.x + uint(p.x))))) / float(pc.depth);
   }
   giStoreIndirect(p, result);
   // The debug image exists at full size only while a debug view is on (the module allocates it then).

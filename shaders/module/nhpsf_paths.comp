@@ -114,7 +114,7 @@ void main() {
     uint pixel = uint(p.y) * giFrame.size.x + uint(p.x);
     HgWalk stored;
     stored.state = 0u;
-    if (pc.mode == HG_MODE_ANHPSF) stored = HG_AT(hgWalks, pixel);
+    if (pc.mode == HG_MODE_ANHPSF) stored = hgUnpackWalk(HG_AT(hgWalks, pixel));
     if (giGbCoveredCounting(p)) {
       GiTask t;
       t.s = giGbSurface(p, t.V);
@@ -141,7 +141,7 @@ void main() {
     } else {
       stored.state = 0u;  // background: nothing to continue
     }
-    if (pc.mode == HG_MODE_ANHPSF) HG_AT(hgWalks, pixel) = stored;
+    if (pc.mode == HG_MODE_ANHPSF) HG_AT(hgWalks, pixel) = hgPackWalk(stored);
     giStoreDirect(p, direct);
     giStoreNoisy(p, indirect, filterVertex ? 1.0 : 0.0);
   }

@@ -124,6 +124,20 @@ struct HgWalk {
 };
 GPU_ASSERT_SIZE(HgWalk, 48);
 
+// A walk as anhpsf keeps it between frames, one per pixel (hpsf.glsl's hgPackWalk, hgUnpackWalk):
+// the origin, the fed cell and the direction as they are, the throughput in RGB9E5 (9-bit mantissas
+// under a shared exponent: within 0.2% of its largest channel), the travel as a half float and the
+// state in 16 bits (vertices reached in 7, the continue flag, the level of detail + 128 in 8).
+struct HgWalkRecord {
+  vec3 origin;
+  uint index;
+  uint key;
+  uint direction;
+  uint throughput;   // RGB9E5
+  uint travelState;  // bits 0–15: the travel (half float); 16–22: vertices reached; 23: continues; 24–31: LOD + 128
+};
+GPU_ASSERT_SIZE(HgWalkRecord, 32);
+
 GPU_FN uint hgHashPcg(uint v) {
   uint state = v * 747796405u + 2891336453u;
   uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
