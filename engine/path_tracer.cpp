@@ -29,14 +29,7 @@ PathTracer createPathTracer(const Context& ctx, const SceneGpu& scene, VkExtent2
   for (Image& img : pt.accum)
     img = createImage(ctx, extent, VK_FORMAT_R32G32B32A32_SFLOAT,
                       VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, error);
-  submitAndWait(
-      ctx,
-      [&](VkCommandBuffer cmd) {
-        for (Image& img : pt.accum)
-          imageBarrier(cmd, img.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, 0,
-                       VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-      },
-      error);
+  makeStorageImagesGeneral(ctx, pt.accum, error);
   if (!error.empty()) {
     destroyPathTracer(ctx, pt);
     return pt;

@@ -223,6 +223,17 @@ bool uploadImage(const Context& ctx, Image& img, const void* texels, size_t byte
   return error.empty();
 }
 
+bool makeStorageImagesGeneral(const Context& ctx, std::span<const Image> images, std::string& error) {
+  return submitAndWait(
+      ctx,
+      [&](VkCommandBuffer cmd) {
+        for (const Image& img : images)
+          imageBarrier(cmd, img.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, 0,
+                       VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+      },
+      error);
+}
+
 std::vector<std::byte> readbackImage(const Context& ctx, const Image& img, VkImageLayout layout, size_t texelBytes,
                                      std::string& error) {
   size_t bytes = size_t(img.extent.width) * img.extent.height * texelBytes;

@@ -57,6 +57,9 @@ bool uploadImageWithMips(const Context& ctx, Image& image, const void* texels, s
 bool uploadImage(const Context& ctx, Image& image, const void* texels, size_t bytes, VkImageLayout finalLayout,
                  std::string& error);
 
+// Moves new storage images from UNDEFINED to GENERAL for compute passes to write; waits.
+bool makeStorageImagesGeneral(const Context& ctx, std::span<const Image> images, std::string& error);
+
 // Copies an image (in `layout`) to host memory, tightly packed; waits. Empty on failure.
 std::vector<std::byte> readbackImage(const Context& ctx, const Image& image, VkImageLayout layout, size_t texelBytes,
                                      std::string& error);

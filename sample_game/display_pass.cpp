@@ -15,14 +15,7 @@ DisplayPass createDisplayPass(const engine::Context& ctx, VkExtent2D extent, VkI
   d.image = engine::createImage(
       ctx, extent, kDisplayFormat,
       VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, error);
-  engine::submitAndWait(
-      ctx,
-      [&](VkCommandBuffer cmd) {
-        engine::imageBarrier(cmd, d.image.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
-                             VK_PIPELINE_STAGE_2_NONE, 0, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                             VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-      },
-      error);
+  engine::makeStorageImagesGeneral(ctx, std::span(&d.image, 1), error);
   const engine::Binding bindings[] = {{gpu::DISPLAY_BINDING_SOURCE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
                                       {gpu::DISPLAY_BINDING_TARGET, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}};
   d.set = engine::createDescriptorSet(ctx, bindings, error);

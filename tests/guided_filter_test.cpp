@@ -101,7 +101,7 @@ std::vector<double> guidedFilterCpu(const Rgba& guidance, const Rgba& input, int
 
 class GuidedFilterTest : public ScreenFilterTest<W, H> {
  protected:
-  // gif.subsample the statistics images are made for (GuidedFilterParams::subsample must match).
+  // gif.subsample the statistics images are made for (the filter runs at their resolution).
   virtual uint32_t subsample() const { return 1; }
   void SetUp() override {
     ASSERT_NO_FATAL_FAILURE(ScreenFilterTest::SetUp());
@@ -264,11 +264,7 @@ class GuidedFilterSubsampledTest : public GuidedFilterTest {
  protected:
   uint32_t subsample() const override { return 3; }
   static gi::GuidedFilterParams params(uint32_t radius, float epsilon, uint32_t dims) {
-    return {.radius = radius,
-            .epsilonNormal = epsilon,
-            .epsilonDepth = epsilon,
-            .guidanceDimensions = dims,
-            .subsample = 3};
+    return {.radius = radius, .epsilonNormal = epsilon, .epsilonDepth = epsilon, .guidanceDimensions = dims};
   }
 };
 

@@ -268,8 +268,7 @@ void recordFilterPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const gpu
                                  .epsilonDepth = s.gif.epsilonDepth,
                                  .guidanceDimensions = s.gif.guidanceDimensions,
                                  .writeCoefficientView = s.debugView == DebugView::GifCoefficients,
-                                 .output = toIndirect,
-                                 .subsample = s.gif.subsample};
+                                 .output = toIndirect};
     recordGuidedFilter(g, cmd, f, gif, hooks);
   } else if (s.method == Method::Bilateral) {
     const BilateralSettings& b = s.bilateral;

@@ -155,6 +155,7 @@ vk::Status createScreenFilters(vk::Device& d, const FilterPrograms& programs, ui
 
 vk::Status ensureGuidedStack(vk::Device& d, ScreenFilters& f, uint32_t subsample) {
   if (f.a[0].image) return {};
+  f.guidedSubsample = subsample;
   const VkExtent2D size{(f.imageWidth + subsample - 1) / subsample, (f.imageHeight + subsample - 1) / subsample};
   for (vk::Image& img : f.a)
     if (vk::Status s = vk::createImage(d, size, VK_FORMAT_R32G32B32A32_SFLOAT,
@@ -182,7 +183,7 @@ void destroyScreenFilters(vk::Device& d, ScreenFilters& f) {
 void recordGuidedFilter(const vk::Device& d, VkCommandBuffer cmd, ScreenFilters& f, const GuidedFilterParams& p,
                         const PassHooks& hooks) {
   recordScreenFiltersFirstUse(d, cmd, f);
-  const uint32_t s = p.subsample;
+  const uint32_t s = f.guidedSubsample;
   const glm::uvec2 size{f.width, f.height}, stack{(f.width + s - 1) / s, (f.height + s - 1) / s};
   const uint32_t radius = std::max(1u, (p.radius + s / 2) / s);  // in statistics pixels
   const gpu::GuidedMomentsPush dims{.guidanceDimensions = p.guidanceDimensions,

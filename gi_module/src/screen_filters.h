@@ -54,6 +54,7 @@ void destroyFilterPrograms(const vk::Device& device, FilterPrograms& programs);
 struct ScreenFilters {
   const FilterPrograms* programs = nullptr;
   vk::Image a[FILTER_STACK];                 // the guided filter's window statistics (created on its first use)
+  uint32_t guidedSubsample = 1;              // their resolution: one pixel per s×s pixels (ensureGuidedStack)
   vk::DescriptorSets set;                    // one set over the module's targets
   vk::DescriptorSets aafGlossySets;          // two: AAF's specular terms filtered in place (glossy scenes)
   vk::Buffer ownCounters;                    // where the targets named no counters (the filters on their own, in tests)
@@ -69,7 +70,6 @@ struct GuidedFilterParams {
   uint32_t guidanceDimensions = 4;
   bool writeCoefficientView = false;                // also write |a|, |b| to the temp image (debug view)
   gpu::FilterOutputEncoding output = kPlainOutput;  // how the output image holds light
-  uint32_t subsample = 1;  // one statistics pixel per s×s pixels (as the stack was made: ensureGuidedStack)
 };
 
 // Descriptor sets of the filters' layout, one per target: the same programs
@@ -79,7 +79,8 @@ vk::Status createFilterSets(const vk::Device& device, const FilterPrograms& prog
 vk::Status createScreenFilters(vk::Device& device, const FilterPrograms& programs, uint32_t width, uint32_t height,
                                const FilterTargets& targets, ScreenFilters& out);
 // Allocates the guided filter's FILTER_STACK statistics images (rgba32f, ⌈width/s⌉ × ⌈height/s⌉ of the
-// largest render size) once; `subsample` is gif.subsample (sized resources are remade when it changes).
+// largest render size) once; `subsample` is gif.subsample (sized resources are remade when it changes), and
+// the guided filter runs at the resolution the stack was made for.
 vk::Status ensureGuidedStack(vk::Device& device, ScreenFilters& f, uint32_t subsample);
 void destroyScreenFilters(vk::Device& device, ScreenFilters& f);
 // Moves the guided filter's statistics images to GENERAL layout, once (the filters do it on first use).

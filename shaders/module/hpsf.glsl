@@ -33,31 +33,14 @@ uint hgWalkSegments(HgWalk w) { return max(hgWalkDepth(w), 1u) - 1u; }
 bool hgWalkContinues(HgWalk w) { return (w.state & 0x10000u) != 0u; }
 int hgWalkLod(HgWalk w) { return int(w.state >> 24u) - 128; }
 
-// RGB9E5 (EXT_texture_shared_exponent's packing): three non-negative values under one exponent.
-uint hgPackRgb9e5(vec3 c) {
-  const float kMax = 65408.0;  // (2^9 − 1) / 2^9 · 2^16
-  c = clamp(c, vec3(0.0), vec3(kMax));
-  const float largest = max(c.r, max(c.g, c.b));
-  int exponent = max(-16, int(floor(log2(max(largest, 1e-30))))) + 16;
-  float unit = exp2(float(exponent - 24));
-  if (floor(largest / unit + 0.5) >= 512.0) {
-    ++exponent;
-    unit *= 2.0;
-  }
-  const uvec3 m = uvec3(min(floor(c / unit + 0.5), vec3(511.0)));
-  return m.r | m.g << 9u | m.b << 18u | uint(exponent) << 27u;
-}
-vec3 hgUnpackRgb9e5(uint v) {
-  return vec3(uvec3(v, v >> 9u, v >> 18u) & 0x1ffu) * exp2(float(int(v >> 27u) - 24));
-}
 HgWalkRecord hgPackWalk(HgWalk w) {
   const uint state = min(w.state & 0xffffu, 0x7fu) << 16u | ((w.state >> 16u) & 1u) << 23u | (w.state >> 24u) << 24u;
-  return HgWalkRecord(w.origin, w.index, w.key, w.direction, hgPackRgb9e5(w.throughput),
+  return HgWalkRecord(w.origin, w.index, w.key, w.direction, giPackRgb9e5(w.throughput),
                       (packHalf2x16(vec2(min(w.travel, 65504.0), 0.0)) & 0xffffu) | state);
 }
 HgWalk hgUnpackWalk(HgWalkRecord r) {
   const uint state = ((r.travelState >> 16u) & 0x7fu) | ((r.travelState >> 23u) & 1u) << 16u | (r.travelState >> 24u) << 24u;
-  return HgWalk(r.origin, r.index, hgUnpackRgb9e5(r.throughput), r.key, r.direction,
+  return HgWalk(r.origin, r.index, giUnpackRgb9e5(r.throughput), r.key, r.direction,
                 unpackHalf2x16(r.travelState & 0xffffu).x, state, 0u);
 }
 

@@ -67,28 +67,8 @@ void giNewFrameLight(ivec2 p, out vec3 direct, out vec3 indirect) {
   indirect = giLoadNoisy(p);
 }
 
-// The packed history texel (GI_BINDING_HISTORY_PACKED). RGB9E5 (the
-// EXT_texture_shared_exponent encoding, rounded to nearest): 9 bits of
-// mantissa per channel, values up to 65408 times the scene's typical radiance.
-uint giPackRgb9e5(vec3 rgb) {
-  const vec3 c = clamp(rgb, vec3(0.0), vec3(65408.0));
-  const float largest = max(c.r, max(c.g, c.b));
-  if (!(largest > 0.0)) return 0u;
-  int e;
-  frexp(largest, e);                     // largest = m · 2^e, m in [0.5, 1): floor(log2) = e − 1
-  int exponent = max(e - 1, -16) + 16;   // biased exponent (bias 15) of the largest channel, + 1
-  float unit = exp2(float(exponent - 24));  // the value of one mantissa step
-  if (floor(largest / unit + 0.5) >= 512.0) {
-    exponent += 1;
-    unit *= 2.0;
-  }
-  const uvec3 m = uvec3(min(floor(c / unit + 0.5), vec3(511.0)));
-  return m.r | (m.g << 9u) | (m.b << 18u) | (uint(exponent) << 27u);
-}
-vec3 giUnpackRgb9e5(uint v) {
-  return vec3(uvec3(v, v >> 9u, v >> 18u) & 511u) * exp2(float(int(v >> 27u) - 24));
-}
-
+// The packed history texel (GI_BINDING_HISTORY_PACKED): the direct light in RGB9E5 (common.glsl),
+// values up to 65408 times the scene's typical radiance.
 struct GiPackedHistory {
   vec3 direct;   // reflected direct light over the base colour, × GiTemporalPush::historyScale
   vec4 guide;    // unit normal (xyz), view depth / depthScale (w), as giHistoryTexelAgrees reads it
