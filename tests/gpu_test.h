@@ -129,6 +129,27 @@ inline bool createSyncValidatedContext(engine::Context& ctx, std::string& error)
   return engine::createContext(desc, ctx, error);
 }
 
+// The bytes this device's driver asks for an optimally tiled 2D image with the module's screen-image
+// usage: a driver may pad a 1080p image (an NVIDIA H200 pads an 8-byte one by 1.1 MB, its rows to its
+// tiles; lavapipe pads nothing).
+inline VkDeviceSize driverImageBytes(const engine::Context& ctx, VkExtent2D extent, VkFormat format) {
+  VkImageCreateInfo image{.sType = VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO,
+                          .imageType = VK_IMAGE_TYPE_2D,
+                          .format = format,
+                          .extent = {extent.width, extent.height, 1},
+                          .mipLevels = 1,
+                          .arrayLayers = 1,
+                          .samples = VK_SAMPLE_COUNT_1_BIT,
+                          .tiling = VK_IMAGE_TILING_OPTIMAL,
+                          .usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
+                                   VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_SAMPLED_BIT};
+  const VkDeviceImageMemoryRequirements info{.sType = VK_STRUCTURE_TYPE_DEVICE_IMAGE_MEMORY_REQUIREMENTS,
+                                             .pCreateInfo = &image};
+  VkMemoryRequirements2 requirements{.sType = VK_STRUCTURE_TYPE_MEMORY_REQUIREMENTS_2};
+  vkGetDeviceImageMemoryRequirements(ctx.device, &info, &requirements);
+  return requirements.memoryRequirements.size;
+}
+
 // The mean over every pixel and channel (0 for an empty image).
 inline double meanOf(const engine::FloatImage& img) {
   double sum = 0.0;

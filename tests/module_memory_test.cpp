@@ -51,6 +51,12 @@ std::map<std::string, MemoryRow> fullHdRows(const std::string& path) {
 class ModuleMemoryTest : public GpuTest {};
 
 TEST_F(ModuleMemoryTest, EveryMethodAt1080pHoldsWhatTheMemoryTableSays) {
+  // The table was measured on lavapipe, which pads no image. A driver that pads 1080p images holds more
+  // for every method (an NVIDIA H200: 4.4 MB for anhpsf, 10 MB for svgf, and its transient buffer's
+  // alignment); there what a module holds is checked against its prediction (the next test), not the table.
+  const VkDeviceSize padding = driverImageBytes(ctx, {1920, 1080}, VK_FORMAT_R16G16B16A16_SFLOAT) - 8 * 1920 * 1080;
+  if (padding != 0)
+    GTEST_SKIP() << "this driver pads a 1080p image by " << padding << " bytes; the table is lavapipe's";
   const std::map<std::string, MemoryRow> table = fullHdRows(std::string(GI_RESULTS) + "/memory/memory.csv");
   LoadedScene s;
   load(std::string(GI_ASSETS) + "/cornell_box/cornell_box.gltf", s);

@@ -19,6 +19,8 @@
 
   tools/results_tables.py speedups METHOD DIR...  a method's equal-error speed-ups over raw per scene and spp
   tools/results_tables.py demo DIR           the demo scene's figure of merit (relMSE × ms per frame)
+  tools/results_tables.py bench_log LOG      gi-bench's printed lines (a run cut off before its results.csv)
+  tools/results_tables.py gtest_logs LOG...  GoogleTest logs: tests run, passed, skipped, failed by name
   tools/results_tables.py check FILE...      every generated block of the markdown FILEs against its data
   tools/results_tables.py write FILE...      rewrites those blocks from their data
 
@@ -480,6 +482,30 @@ def rays(path):
               f"{f'{build:.1f}' if build > 0 else '–'} |")
 
 
+def bench_log(path):
+    """A gi-bench run's printed lines (a run that ran out of time before writing results.csv): ms a frame
+    and the final image's errors per configuration."""
+    line = re.compile(r"gi-bench: (\S+) (spp=\d+)\s+([\d.]+) ms\s+MSE (\S+)\s+relMSE (\S+)\s+SSIM (\S+)")
+    print("| configuration | ms/frame | MSE (final) | relMSE (final) | SSIM |")
+    print("|---|---|---|---|---|")
+    for m in filter(None, map(line.search, open(path, encoding="utf-8"))):
+        print(f"| {m[1]} {m[2]} | {float(m[3]):.1f} | {float(m[4]):.3e} | {float(m[5]):.3e} | {float(m[6]):.3f} |")
+
+
+def gtest_logs(paths):
+    """GoogleTest runs (--gtest_brief logs, one or more processes each): tests run, passed, skipped, and the
+    failed tests by name."""
+    print("| log | ran | passed | skipped | failed |")
+    print("|---|---|---|---|---|")
+    for path in paths:
+        text = open(path, encoding="utf-8").read()
+        count = lambda pattern: sum(int(n) for n in re.findall(pattern, text, re.M))
+        failed = sorted(set(re.findall(r"^\[  FAILED  \] (\S+) \(", text, re.M)))
+        ran, passed = count(r"^\[==========\] (\d+) tests? from"), count(r"^\[  PASSED  \] (\d+) tests?")
+        skipped = count(r"^\[  SKIPPED \] (\d+) tests?")
+        print(f"| `{os.path.basename(path)}` | {ran} | {passed} | {skipped} | {', '.join(failed) if failed else '–'} |")
+
+
 def refit(path):
     """A deforming mesh's cost a frame (gi-bench --refit): the device refit against creating the scene anew."""
     names = {"rayquery": "ray queries (+ compute BVH)", "compute": "compute"}
@@ -735,6 +761,8 @@ KINDS = {
     "move": lambda a: move(a[0]),
     "walk": lambda a: walk(a[0], a[1] if len(a) > 1 else None),
     "refit": lambda a: refit(a[0]),
+    "bench_log": lambda a: bench_log(a[0]),
+    "gtest_logs": gtest_logs,
     "walk_best": walk_best,
     "hashdirect": hashdirect,
     "spikes": lambda a: spikes(a[0], a[1], a[2:]),

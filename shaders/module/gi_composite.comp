@@ -42,7 +42,7 @@ void storePackedHistory(ivec2 p, vec3 direct, float historyFrames) {
 // history is long enough to speak for itself (a few samples' spread says little: nine 1-spp samples that
 // all missed the light would hold the filter at black).
 void applyFilterClamp(ivec2 p, float historyFrames, bool indirectOnly, inout vec3 direct, inout vec3 indirect) {
-  const bool clamped = pc.filterClamp > 0.0 && pc.clampLight != 0u && historyFrames >= GI_TRUSTED_HISTORY &&
+  const bool clamped = pc.filterClamp > 0.0 && pc.clampLight != 0u && giHistoryTrusted(historyFrames) &&
                        giGbCovered(p) &&
                        ((pc.clampLight & GI_CLAMP_FILTER_VERTICES) == 0u || imageLoad(giNoisyIndirect, p).a > 0.5);
   if (!clamped) return;

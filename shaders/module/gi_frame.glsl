@@ -128,6 +128,11 @@ uvec4 giPackSvgfState(vec2 variance, float frames) {
   return uvec4(giPackSvgfVariance(v.x) | giPackSvgfVariance(v.y) << 12u | uint(f * 4.0 + 0.5) << 24u, 0u, 0u, 0u);
 }
 uvec4 giLoadSvgfState(uint set, ivec2 q) { return set == 0u ? imageLoad(giSvgfStateA, q) : imageLoad(giSvgfStateB, q); }
+// Whether a pixel's history is GI_TRUSTED_HISTORY frames long. The count is reprojected as a weighted
+// mean of its neighbours' counts, which on a GPU with fused multiply-adds (an NVIDIA H200) comes out an
+// ulp or two below the count every neighbour holds (3.9999998 for 4): the 1e-3 of slack is far below the
+// smallest honest step (1/4, the packed state's) and far above that rounding.
+bool giHistoryTrusted(float frames) { return frames >= GI_TRUSTED_HISTORY - 1e-3; }
 float giLoadSvgfFrames(uint set, ivec2 q) {
   const uvec4 state = giLoadSvgfState(set, q);
   return giFrame.svgfWideState != 0u ? uintBitsToFloat(state.z) : float(state.x >> 24u) / 4.0;

@@ -22,7 +22,7 @@ void main() {
   const float frames = giLoadSvgfFrames(pc.writtenSet, p);
   const vec4 guide = svgfGuide(p, pc.writtenSet);
   vec2 variance = vec2(0.0);
-  if (guide.w > 0.0 && frames < GI_TRUSTED_HISTORY) {
+  if (guide.w > 0.0 && !giHistoryTrusted(frames)) {
     const vec2 gradient = svgfDepthGradient(p, guide.w, pc.writtenSet);
     vec2 mean = vec2(0.0), square = vec2(0.0);
     float weights = 0.0;
