@@ -6,6 +6,7 @@
 #include <random>
 #include <set>
 
+#include "gi/settings.h"
 #include "shared/hash_grid.h"
 
 using gpu::HgDescriptor;
@@ -178,4 +179,42 @@ TEST(HashGridMath, FixedPointSumsDoNotDependOnOrder) {
   // Negative or huge values clamp instead of wrapping.
   EXPECT_EQ(gpu::hgToFixed(-5.0f), 0u);
   EXPECT_EQ(gpu::hgToFixed(1e30f), gpu::hgToFixed(float(HG_MAX_SAMPLE)));
+}
+
+// The map's size and the n-methods' cell widths (gi/settings.h): a quarter cell a pixel; nhpsf and anhpsf
+// get a third of a cell a vertex their paths reach (pixels × segments / 3) up to 2^19 cells, and past
+// that, or in a smaller map set by hand, widen their later cells by powers of two until that need fits,
+// never below the width asked for; hpsf keeps the width asked for.
+TEST(HashGridMath, TheNMethodsMapFollowsTheirVerticesAndTheirLaterCellsWidenPastItsCap) {
+  gi::Settings s;
+  s.method = gi::Method::Hpsf;
+  EXPECT_EQ(gi::hashCapacity(s, 160, 90), 4096u);
+  EXPECT_EQ(gi::hashCapacity(s, 1920, 1080), 1u << 19);
+  EXPECT_EQ(gi::hashSecondaryWidth(s, 1920, 1080), 1.0f);
+  s.method = gi::Method::Nhpsf;  // 3 segments: 14,400 cells' worth at 160×90
+  EXPECT_EQ(gi::hashCapacity(s, 160, 90), 1u << 14);
+  EXPECT_EQ(gi::hashSecondaryWidth(s, 160, 90), 1.0f);
+  EXPECT_EQ(gi::hashCapacity(s, 1920, 1080), 1u << 19);    // 2.07M wanted: the cap
+  EXPECT_EQ(gi::hashSecondaryWidth(s, 1920, 1080), 4.0f);  // 2.07M ≤ 4 × 2^19
+  s.method = gi::Method::Anhpsf;                           // 4 segments
+  EXPECT_EQ(gi::hashCapacity(s, 160, 90), 1u << 15);
+  EXPECT_EQ(gi::hashSecondaryWidth(s, 1920, 1080), 8.0f);  // 2.76M
+  s.hpsf.samplesPerPixel = 16;  // the samples a pixel change neither (the ray budget changes them every frame)
+  EXPECT_EQ(gi::hashCapacity(s, 160, 90), 1u << 15);
+  EXPECT_EQ(gi::hashSecondaryWidth(s, 1920, 1080), 8.0f);
+  s.hpsf.continuationDepth = 16;  // 11M: the width stops at 16
+  EXPECT_EQ(gi::hashSecondaryWidth(s, 1920, 1080), 16.0f);
+  s.hpsf.continuationDepth = 4;
+  s.hpsf.samplesPerPixel = 1;
+  s.method = gi::Method::Nhpsf;
+  s.hpsf.capacity = 4096;  // set by hand below the need: wider
+  EXPECT_EQ(gi::hashCapacity(s, 160, 90), 4096u);
+  EXPECT_EQ(gi::hashSecondaryWidth(s, 160, 90), 4.0f);
+  s.hpsf.secondaryWidthScale = 3.0f;
+  EXPECT_EQ(gi::hashSecondaryWidth(s, 160, 90), 4.0f);
+  s.hpsf.capacity = 1u << 14;  // one that holds them: the width asked for
+  EXPECT_EQ(gi::hashSecondaryWidth(s, 160, 90), 3.0f);
+  s.method = gi::Method::Hpsf;
+  s.hpsf.capacity = 4096;
+  EXPECT_EQ(gi::hashSecondaryWidth(s, 160, 90), 3.0f);
 }

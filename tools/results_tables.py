@@ -20,6 +20,8 @@
   tools/results_tables.py speedups METHOD DIR...  a method's equal-error speed-ups over raw per scene and spp
   tools/results_tables.py demo DIR           the demo scene's figure of merit (relMSE × ms per frame)
   tools/results_tables.py bench_log LOG      gi-bench's printed lines (a run cut off before its results.csv)
+  tools/results_tables.py hash_map NAME DIR ...  the map's occupancy, failed inserts, memory and error per run
+  tools/results_tables.py hash_live SEGMENTS JSON ...  live cells a pixel and a vertex (gi-render --stats)
   tools/results_tables.py gtest_logs LOG...  GoogleTest logs: tests run, passed, skipped, failed by name
   tools/results_tables.py check FILE...      every generated block of the markdown FILEs against its data
   tools/results_tables.py write FILE...      rewrites those blocks from their data
@@ -37,6 +39,7 @@ rays / Mrays/s.
 """
 import contextlib
 import io
+import json
 import os
 import re
 import csv
@@ -482,6 +485,31 @@ def rays(path):
               f"{f'{build:.1f}' if build > 0 else '–'} |")
 
 
+def hash_map(pairs):
+    """The hash map under configurations of its size (args: NAME DIR ...): per run and row, the map's
+    occupancy and failed inserts in the last frame, the module's memory and the final and indirect relMSE."""
+    print("| run | configuration | occupancy | failed inserts, last frame | memory MB | relMSE (final) "
+          "| relMSE (indirect) |")
+    print("|---|---|---|---|---|---|---|")
+    for name, directory in named(pairs):
+        for r in rows(f"{directory}/results.csv"):
+            print(f"| {name.replace('_', ' ')} | {r['label']} | {float(r['hash_occupancy']):.2f} | "
+                  f"{r['hash_failed_inserts']} | {int(r['memory_bytes']) * 1e-6:.1f} | {float(r['relmse']):.3e} | "
+                  f"{float(r['relmse_indirect']):.3e} |")
+
+
+def hash_live(segments, paths):
+    """The cells a method keeps live in a map too large to fill (gi-render --stats after N frames, args:
+    SEGMENTS JSON ...): per pixel and per vertex a pixel's path reaches (pixels × SEGMENTS)."""
+    print("| method | size | frames | capacity | live cells | a pixel | a vertex | failed inserts |")
+    print("|---|---|---|---|---|---|---|---|")
+    for path in paths:
+        d = json.load(open(path))
+        h, pixels = d["hash_last_frame"], d["width"] * d["height"]
+        print(f"| {d['method']} | {d['width']}×{d['height']} | {d['frames']} | {h['capacity']:,} | {h['occupied']:,} | "
+              f"{h['occupied'] / pixels:.3f} | {h['occupied'] / (pixels * int(segments)):.3f} | {h['failed_inserts']} |")
+
+
 def bench_log(path):
     """A gi-bench run's printed lines (a run that ran out of time before writing results.csv): ms a frame
     and the final image's errors per configuration."""
@@ -762,6 +790,8 @@ KINDS = {
     "walk": lambda a: walk(a[0], a[1] if len(a) > 1 else None),
     "refit": lambda a: refit(a[0]),
     "bench_log": lambda a: bench_log(a[0]),
+    "hash_map": hash_map,
+    "hash_live": lambda a: hash_live(a[0], a[1:]),
     "gtest_logs": gtest_logs,
     "walk_best": walk_best,
     "hashdirect": hashdirect,

@@ -155,7 +155,7 @@ void recordHashPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const gpu::
                          .debugView = uint32_t(s.debugView),
                          .mode = hashMode(s.method),
                          .depth = s.method == Method::Nhpsf ? h.pathDepth : h.continuationDepth,
-                         .secondaryWidthScale = h.secondaryWidthScale,
+                         .secondaryWidthScale = hashSecondaryWidth(s, m.desc.maxWidth, m.desc.maxHeight),
                          .validationInterval = strict ? 0u : h.validationInterval,
                          .radianceScale = radianceScale(m),
                          .forgetLight = m.hash.forgetLight ? 1u : 0u,

@@ -250,7 +250,7 @@ struct HashGridShape {
   bool walks;
 };
 HashGridShape hashGridShape(const Settings& s, uint32_t width, uint32_t height) {
-  return {hashCapacity(s.hpsf, width, height), s.hpsf.eviction == EvictionPolicy::Strict ? 2u : 1u,
+  return {hashCapacity(s, width, height), s.hpsf.eviction == EvictionPolicy::Strict ? 2u : 1u,
           s.method == Method::Anhpsf};
 }
 

@@ -1,5 +1,6 @@
 // Settings validation: every impossible value gets a named error that says
 // which field, what value and what range.
+#include <algorithm>
 #include <cstdio>
 
 #include "gi/catalogue.h"
@@ -47,14 +48,48 @@ Error validate(const Settings& s) {
   return {};
 }
 
-uint32_t hashCapacity(const HpsfSettings& s, uint32_t width, uint32_t height) {
-  if (s.capacity != 0) return s.capacity;
+namespace {
+
+// The cells nhpsf's and anhpsf's paths keep live, from the vertices a pixel's path reaches (its
+// segments): nhpsf at its defaults on Sponza kept 0.16 cells live a vertex at 160×90, 0.13 at 320×180 and
+// 0.09 at 1920×1080 (RESULTS, "The n-methods' map"). A third of a cell a vertex keeps the map at about
+// half load or less, where the probe window finds every key a slot; full, it turns samples away, and
+// which ones depends on the order the threads ran in. Not the samples a pixel: more of them a frame reach
+// the same cells sooner, and the ray budget changes them every frame, which must not rebuild the map.
+double nMethodCells(const Settings& s, uint32_t width, uint32_t height) {
+  const uint32_t segments = s.method == Method::Nhpsf ? s.hpsf.pathDepth : s.hpsf.continuationDepth;
+  return double(width) * height * segments / 3.0;
+}
+
+bool nMethod(Method m) { return m == Method::Nhpsf || m == Method::Anhpsf; }
+
+// The n-methods' map grows to what their vertices need up to 2^19 cells (77.6 MB, what the quarter cell a
+// pixel gives at 1920×1080: issue 30's memory); beyond, their later cells widen instead.
+constexpr double kNMethodCellsCap = double(1u << 19);
+
+}  // namespace
+
+uint32_t hashCapacity(const Settings& s, uint32_t width, uint32_t height) {
+  if (s.hpsf.capacity != 0) return s.hpsf.capacity;
   // A quarter of a cell per pixel: a 60-frame Sponza walk at 1920×1080 (default width 16, aging) had 121k
   // cells live (0.058 per pixel), 23% of this; at 2^18 cells (46% full) inserts began to fail (RESULTS).
-  uint64_t want = uint64_t(width) * height / 4;
+  double want = double(width) * height / 4.0;
+  if (nMethod(s.method)) want = std::max(want, std::min(nMethodCells(s, width, height), kNMethodCellsCap));
   uint32_t c = 1u << 10;
   while (c < want && c < (1u << 21)) c <<= 1;
   return c;
+}
+
+float hashSecondaryWidth(const Settings& s, uint32_t width, uint32_t height) {
+  const HpsfSettings& h = s.hpsf;
+  if (!nMethod(s.method)) return h.secondaryWidthScale;
+  // Where the map is smaller than the vertices need (its cap, or a capacity set by hand), the cells after
+  // the first vertex widen: widened 4× they kept 29% of the live cells at 160×90 (2×: 46%), so the width
+  // doubles until the need over the width fits the map.
+  const double need = nMethodCells(s, width, height), capacity = hashCapacity(s, width, height);
+  float fit = 1.0f;
+  while (need > capacity * fit && fit < 16.0f) fit *= 2.0f;
+  return std::max(h.secondaryWidthScale, fit);
 }
 
 namespace {

@@ -177,7 +177,7 @@ enum class SecondaryLod : uint32_t {
 
 struct HpsfSettings {
   uint32_t samplesPerPixel = 1;  // [1, 64]
-  uint32_t capacity = 0;         // cells, a power of two in [2^10, 2^21]; 0 = the next power of two ≥ pixels / 4
+  uint32_t capacity = 0;         // cells, a power of two in [2^10, 2^21]; 0 = gi::hashCapacity's default
   uint32_t probeWindow = 16;     // linear-probing limit in slots, [1, 64]
   float filterWidth = 16.0f;  // pixels, [0.5, 256]: cell size = width × pixel footprint × distance, to a power of two
   float jitter = 0.3f;        // tangent-plane jitter, ± cells (Meijer Alg. 3's δ ∈ [−1, 1]³), [0, 2]; 0 = off.
@@ -203,7 +203,7 @@ struct HpsfSettings {
   uint32_t continuationDepth = 4;  // anhpsf: the longest path continued over frames, in segments, [2, 16]
   SecondaryLod secondaryLod = SecondaryLod::Camera;  // nhpsf/anhpsf: the travel behind later vertices' cells
                                                      // (Meijer's Segment makes them small: noisier, the map fills)
-  float secondaryWidthScale = 1.0f;                  // cells at vertices after the first are this much wider, [1, 16]
+  float secondaryWidthScale = 1.0f;                  // cells after the first: at least this much wider, [1, 16]
   bool temporalDirect = true;     // blend in last frame's direct light, reprojected (TemporalSettings): the map
                                   // holds the indirect light in world space, the direct light has no cache, and
                                   // without this it is one frame's samples (speckles at 1 spp). Runs only where
@@ -278,8 +278,13 @@ struct Settings {
 // The knob --spp and the ray budget act on: the active method's paths per pixel.
 uint32_t tracedSamplesPerPixel(const Settings& settings);         // 0 for AAF (adaptive)
 void setTracedSamplesPerPixel(Settings& settings, uint32_t spp);  // no effect for AAF
-// The hash map capacity in cells for a render size (settings.hpsf.capacity, or its default).
-uint32_t hashCapacity(const HpsfSettings& settings, uint32_t width, uint32_t height);
+// The hash map capacity in cells for a render size (settings.hpsf.capacity, or its default: a quarter cell a
+// pixel; for nhpsf and anhpsf at least a third of a cell a vertex their paths reach, up to 2^19 cells).
+uint32_t hashCapacity(const Settings& settings, uint32_t width, uint32_t height);
+// How much wider than the first vertex's the cells after it are for a render size: nhpsf and anhpsf
+// widen them (by a power of two, up to 16) until the cells their vertices keep live fit the map at about
+// half load, never below hpsf.secondary_width; hpsf.secondary_width for the other methods.
+float hashSecondaryWidth(const Settings& settings, uint32_t width, uint32_t height);
 bool usesScreenFilters(
     Method method);                // the filters of screen_filters (every method but raw, the hash methods and svgf)
 bool isAaf(Method method);         // aaf, aaf_ao: adaptive sample counts (tracedSamplesPerPixel is 0)
