@@ -64,7 +64,9 @@
 #include "gi/settings.h"
 #include "shared/scene_modes.h"
 
-// The API's version (gi::version(); find_package(gi 0.12)):
+// The API's version (gi::version(); find_package(gi 0.13)):
+//   0.13: hashCapacity takes the Settings (nhpsf and anhpsf size their map from their segments);
+//         hashSecondaryWidth (their later cells widen past the map's cap)
 //   0.12: GifSettings::subsample (the guided filter's window statistics at 1/s resolution; default 4, so
 //         gif's image differs from 0.11's: docs/RESULTS.md, "gif's statistics at 1/s")
 //   0.11: holdMeshVertices (a deforming mesh at rest reads no motion)
@@ -81,7 +83,7 @@
 //   0.3: half-float outputs with pre-exposure
 //   0.2: own function table, frames in flight, returned Vulkan errors, catalogues
 #define GI_VERSION_MAJOR 0
-#define GI_VERSION_MINOR 12
+#define GI_VERSION_MINOR 13
 
 namespace gi {
 
