@@ -128,7 +128,8 @@ bool buildOverlay(OverlayState& state, gi::Settings& settings, const gi::FrameSt
   }
   if (gi::usesHashGrid(settings.method) && ImGui::CollapsingHeader("hash map", ImGuiTreeNodeFlags_DefaultOpen)) {
     const gi::FrameStats::Hash& h = stats.hash;
-    ImGui::Text("occupancy %.1f%% (%u of %u cells)", 100.0 * h.occupancy(), h.occupied, h.capacity);
+    ImGui::Text("occupancy %.1f%% (%u of %u cells), later cells %gx wider", 100.0 * h.occupancy(), h.occupied,
+                h.capacity, h.secondaryWidth);
     ImGui::Text("inserts %u   failed %u   evicted %u", h.inserts, h.failedInserts, h.evicted);
     ImGui::Text("probe mean %.2f   max %u   overflows %u", double(h.meanProbe), h.maxProbe, h.overflows);
     ImGui::Text("stale histories cut %u", h.staleResets);

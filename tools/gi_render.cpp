@@ -319,6 +319,7 @@ bool writeStats(const std::string& path, const engine::Context& ctx, const Loade
   const gi::FrameStats::Hash& h = r.last.hash;
   if (h.capacity)
     j["hash_last_frame"] = {{"capacity", h.capacity},
+                            {"secondary_width", h.secondaryWidth},
                             {"occupied", h.occupied},
                             {"inserts", h.inserts},
                             {"failed_inserts", h.failedInserts},

@@ -526,6 +526,7 @@ void endFrame(Module& m, VkCommandBuffer cmd, const FrameSetup& setup, const Fra
   frameSlot.history = m.historyLength;
   frameSlot.spp = setup.spp;
   frameSlot.method = s.method;
+  frameSlot.hashSecondaryWidth = hashSecondaryWidth(s, m.desc.maxWidth, m.desc.maxHeight);
   frameSlot.recorded = true;
   m.previousWidth = m.width;  // the next frame's histories cover this rectangle
   m.previousHeight = m.height;

@@ -59,6 +59,7 @@ bool readFrameStats(Module& m, uint32_t slot, FrameStats& st) {
     gpu::HgTelemetry t = readHashGridTelemetry(m.hash, slot);
     st.boundsViolations += t.outOfBounds;
     st.hash.capacity = m.hash.capacity;
+    st.hash.secondaryWidth = fs.hashSecondaryWidth;
     st.hash.occupied = t.occupied;
     st.hash.inserts = t.inserts;
     st.hash.failedInserts = t.failedInserts;

@@ -85,6 +85,7 @@ struct FrameSlot {
   std::vector<Pass> passes;  // recorded, in order (timestamps for the first kMaxPasses)
   uint32_t history = 0, spp = 0;
   Method method = Method::Raw;
+  float hashSecondaryWidth = 1.0f;  // the hash methods' later cells' width (gi::hashSecondaryWidth)
 };
 
 struct Module {

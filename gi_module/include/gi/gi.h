@@ -66,7 +66,7 @@
 
 // The API's version (gi::version(); find_package(gi 0.13)):
 //   0.13: hashCapacity takes the Settings (nhpsf and anhpsf size their map from their segments);
-//         hashSecondaryWidth (their later cells widen past the map's cap)
+//         hashSecondaryWidth (their later cells widen past the map's cap), FrameStats::Hash::secondaryWidth
 //   0.12: GifSettings::subsample (the guided filter's window statistics at 1/s resolution; default 4, so
 //         gif's image differs from 0.11's: docs/RESULTS.md, "gif's statistics at 1/s")
 //   0.11: holdMeshVertices (a deforming mesh at rest reads no motion)
@@ -323,6 +323,7 @@ struct FrameStats {
   uint32_t deviceAllocations = 0;     // vkAllocateMemory blocks behind memoryBytes
   struct Hash {                       // HPSF hash map telemetry (zero for other methods)
     uint32_t capacity = 0;            // cells
+    float secondaryWidth = 0.0f;      // the cells after the first vertex are this much wider (gi::hashSecondaryWidth)
     uint32_t occupied = 0;            // live cells after this frame's resolve
     uint32_t inserts = 0;             // samples stored
     uint32_t failedInserts = 0;       // samples that found no slot within the probe window
