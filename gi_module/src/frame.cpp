@@ -128,7 +128,9 @@ void beginFrame(Module& m, VkCommandBuffer cmd, uint32_t slot, const FrameInputs
                     VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
 }
 
-void recordHashPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const gpu::GiFrameConstants& frame, uint32_t spp) {
+// `secondaryWidth`: how much wider the cells after the first vertex are (gi::hashSecondaryWidth).
+void recordHashPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const gpu::GiFrameConstants& frame, uint32_t spp,
+                      float secondaryWidth) {
   const Settings& s = m.settings;
   const HpsfSettings& h = s.hpsf;
   const bool strict = h.eviction == EvictionPolicy::Strict;
@@ -155,7 +157,7 @@ void recordHashPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const gpu::
                          .debugView = uint32_t(s.debugView),
                          .mode = hashMode(s.method),
                          .depth = s.method == Method::Nhpsf ? h.pathDepth : h.continuationDepth,
-                         .secondaryWidthScale = hashSecondaryWidth(s, m.desc.maxWidth, m.desc.maxHeight),
+                         .secondaryWidthScale = secondaryWidth,
                          .validationInterval = strict ? 0u : h.validationInterval,
                          .radianceScale = radianceScale(m),
                          .forgetLight = m.hash.forgetLight ? 1u : 0u,
@@ -396,6 +398,7 @@ struct FrameSetup {
   uint32_t aafBudget = 0;                 // AAF's samples within the ray budget (0: none)
   bool accumulate = false;                // raw's running mean
   bool gradientsTraced = false;           // temporal gradients, which need last frame's samples
+  float hashSecondaryWidth = 1.0f;        // the hash methods' later cells' width (gi::hashSecondaryWidth)
   std::array<VkDescriptorSet, 2> sets{};  // scene, frame
 };
 
@@ -419,7 +422,7 @@ void recordTracePasses(Module& m, VkCommandBuffer cmd, const FrameSetup& setup, 
     runPass(m, cmd, setup.slot, Pass::AafAdaptive, m.aafAdaptive, setup.sets, size, aaf);
     return;
   }
-  if (m.plan.hashGrid) return recordHashPasses(m, cmd, setup.slot, frame, setup.spp);
+  if (m.plan.hashGrid) return recordHashPasses(m, cmd, setup.slot, frame, setup.spp, setup.hashSecondaryWidth);
   // Pass: trace paths from the G-buffer (direct + demodulated indirect, optional temporal mean).
   const gpu::GiRawPush raw{.seed = s.seed,
                            .samplesPerPixel = setup.spp,
@@ -526,7 +529,7 @@ void endFrame(Module& m, VkCommandBuffer cmd, const FrameSetup& setup, const Fra
   frameSlot.history = m.historyLength;
   frameSlot.spp = setup.spp;
   frameSlot.method = s.method;
-  frameSlot.hashSecondaryWidth = hashSecondaryWidth(s, m.desc.maxWidth, m.desc.maxHeight);
+  frameSlot.hashSecondaryWidth = setup.hashSecondaryWidth;
   frameSlot.recorded = true;
   m.previousWidth = m.width;  // the next frame's histories cover this rectangle
   m.previousHeight = m.height;
@@ -548,6 +551,7 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
   setup.aafBudget = aafSampleBudget(m, setup.slot);
   setup.accumulate = s.method == Method::Raw && s.raw.temporalAccumulation;
   setup.gradientsTraced = m.plan.temporalGradients && m.temporalFrames > 0;
+  setup.hashSecondaryWidth = m.plan.hashGrid ? hashSecondaryWidth(s, m.desc.maxWidth, m.desc.maxHeight) : 1.0f;
   setup.sets = {m.desc.scene.set, m.sized.frameSets[setup.slot]};
   m.slots[setup.slot].passes.clear();
 
