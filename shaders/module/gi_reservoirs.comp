@@ -62,7 +62,7 @@ void giReservoirMerge(inout GiReservoir r, uint light, float target, float weigh
 
 // A light from the scene's sampler and its chance (0: none can light x).
 uint giReservoirCandidate(GiSurface s, float u, out float chance) {
-  if (giLightSampler() == LIGHT_SAMPLER_TREE) return giPickFromTree(0u, s.position, s.geometricNormal, u, chance);
+  if (giLightSampler() == LIGHT_SAMPLER_TREE) return giPickFromTree(false, 0u, s.position, s.geometricNormal, u, chance);
   return giPickPunctual(u, chance);
 }
 

@@ -1,8 +1,9 @@
 // Next-event estimation: every punctual light (delta lights, no MIS), or
 // with LIGHT_SAMPLER_POWER one of them picked by its power, or with
 // LIGHT_SAMPLER_TREE every directional light and one point or spot light
-// from each subtree of the light tree's cut; and one shadow ray towards the area lights: an emissive triangle picked by power or
-// the sky (sky.glsl), each with MIS against BSDF sampling. Where a scene has
+// from each subtree of the light tree's cut; and one shadow ray towards the area lights: an emissive
+// triangle (picked by power, or with LIGHT_SAMPLER_TREE down the emissive triangles' tree) or the sky
+// (sky.glsl), each with MIS against BSDF sampling. Where a scene has
 // both, either is picked with probability 1/2 (one-sample MIS between them),
 // so NEE traces one traversal for them, not two.
 // NEE is a ray machine (GiNee): it hands out its shadow rays one at a time,
@@ -30,17 +31,6 @@ struct GiShadowRay {
 uint giLightSampler();
 
 
-// Solid-angle density with which NEE would pick the emissive point `s` seen
-// from `from` (s.frontFace must hold).
-float giEmissiveLightPdf(GiSurface s, uint geometry, vec3 from) {
-  if (!GI_SCENE_HAS_EMISSIVE) return 0.0;
-  vec3 d = s.position - from;
-  float dist2 = dot(d, d);
-  float cosLight = abs(dot(s.geometricNormal, normalize(d)));
-  float areaPdf = giLuminance(sceneMaterialData(sceneGeometry(geometry).material).emission) / sceneConstants().emissiveTotalPower;
-  return areaPdf * dist2 / max(cosLight, 1e-8);
-}
-
 uint giPickEmissiveTriangle(float u) {
   uint lo = 0u, hi = sceneConstants().emissiveTriangleCount - 1u;
   while (lo < hi) {
@@ -51,10 +41,82 @@ uint giPickEmissiveTriangle(float u) {
   return lo;
 }
 
+// The emissive triangles' entry of (instance, geometry, triangle): their table is in that order. An
+// emitter's own entry; 0xffffffff for a triangle the table does not hold.
+uint giFindEmissive(uint instance, uint geometry, uint triangle) {
+  uint lo = 0u, hi = sceneConstants().emissiveTriangleCount - 1u;
+  while (lo < hi) {
+    const uint mid = (lo + hi) / 2u;
+    const GpuEmissiveTriangle e = sceneEmissiveTriangle(mid);
+    const bool before = e.instance < instance ||
+                        (e.instance == instance && (e.geometry < geometry || (e.geometry == geometry && e.triangle < triangle)));
+    if (before) lo = mid + 1u;
+    else hi = mid;
+  }
+  const GpuEmissiveTriangle e = sceneEmissiveTriangle(lo);
+  return e.instance == instance && e.geometry == geometry && e.triangle == triangle ? lo : 0xffffffffu;
+}
+
+// The world area of an emissive triangle's vertices (m²).
+float giTriangleArea(vec3 p0, vec3 p1, vec3 p2) { return 0.5 * length(cross(p1 - p0, p2 - p0)); }
+
+// A node of the point and spot lights' tree, or of the emissive triangles'.
+GpuLightNode giTreeNode(bool emissive, uint index) { return emissive ? sceneEmissiveNode(index) : sceneLightNode(index); }
+
+// LIGHT_SAMPLER_TREE: a leaf picked from node `index` down, each child with its share of the two
+// children's importance (lightNodeImportance, shared/light_tree.h) at x (geometric normal ng), and the
+// chance of that pick within the node (0: none of its emitters can light the surface).
+uint giPickFromTree(bool emissive, uint index, vec3 x, vec3 ng, float u, out float chance) {
+  chance = 1.0;
+  for (uint depth = 0u; depth < 64u; ++depth) {
+    const GpuLightNode n = giTreeNode(emissive, index);
+    if ((n.child & LIGHT_NODE_LEAF) != 0u) return n.child & ~LIGHT_NODE_LEAF;
+    const float a = lightNodeImportance(giTreeNode(emissive, n.child), x, ng);
+    const float b = lightNodeImportance(giTreeNode(emissive, n.child + 1u), x, ng);
+    if (!(a + b > 0.0)) break;
+    const float p = a / (a + b);
+    // One random number serves every level: the part of [0, 1) the choice leaves is stretched back to it.
+    if (u < p) {
+      u /= p;
+      chance *= p;
+      index = n.child;
+    } else {
+      u = (u - p) / (1.0 - p);
+      chance *= 1.0 - p;
+      index = n.child + 1u;
+    }
+    u = min(u, 0.99999994);
+  }
+  chance = 0.0;
+  return 0u;
+}
+
+// The chance giPickFromTree(emissive, 0, x, ng, ·) picks node `leaf`: its choices walked up from the leaf.
+float giTreeLeafChance(bool emissive, uint leaf, vec3 x, vec3 ng) {
+  float chance = 1.0;
+  uint node = leaf;
+  for (uint depth = 0u; depth < 64u && node != 0u; ++depth) {
+    const uint parent = giTreeNode(emissive, node).parent;
+    const uint first = giTreeNode(emissive, parent).child;
+    const float a = lightNodeImportance(giTreeNode(emissive, first), x, ng);
+    const float b = lightNodeImportance(giTreeNode(emissive, first + 1u), x, ng);
+    if (!(a + b > 0.0)) return 0.0;
+    const float p = a / (a + b);
+    chance *= node == first ? p : 1.0 - p;
+    node = parent;
+  }
+  return chance;
+}
+
 // The emissive triangle's shadow ray, picked with probability `selection`.
 // withMis: weight against BSDF sampling (the caller also adds BSDF-sampled emission).
 bool giPrepareEmissive(GiSurface s, GiBsdf b, vec3 V, bool withMis, float selection, inout GiRng rng, out GiShadowRay ray) {
-  GpuEmissiveTriangle e = sceneEmissiveTriangle(giPickEmissiveTriangle(giRandom(rng)));
+  const bool tree = giLightSampler() == LIGHT_SAMPLER_TREE;
+  float chance = 1.0;  // the tree's pick's
+  const uint k = tree ? giPickFromTree(true, 0u, s.position, s.geometricNormal, giRandom(rng), chance)
+                      : giPickEmissiveTriangle(giRandom(rng));
+  if (!(chance > 0.0)) return false;  // none of the triangles can light s
+  GpuEmissiveTriangle e = sceneEmissiveTriangle(k);
   uvec3 tri = sceneTriangle(e.geometry, e.triangle);
   vec2 u = giRandom2(rng);
   float su = sqrt(u.x);
@@ -75,7 +137,8 @@ bool giPrepareEmissive(GiSurface s, GiBsdf b, vec3 V, bool withMis, float select
   GpuMaterial m = sceneMaterialData(sceneGeometry(e.geometry).material);
   vec3 Le = m.emission;
   if (m.emissiveTexture != NO_TEXTURE) Le *= sceneTexture(m.emissiveTexture, sceneUv(tri, w)).rgb;
-  float lightPdf = selection * (giLuminance(m.emission) / sceneConstants().emissiveTotalPower * dist2 / cosLight);
+  const float areaPdf = tree ? chance / giTriangleArea(p0, p1, p2) : giLuminance(m.emission) / sceneConstants().emissiveTotalPower;
+  float lightPdf = selection * (areaPdf * dist2 / cosLight);
   ray.origin = giOffsetRay(s.position, s.geometricNormal);
   vec3 seg = giOffsetRay(y, -L) - ray.origin;
   ray.tMax = length(seg);
@@ -134,9 +197,25 @@ float giSkySelection(bool withMis) {
 }
 
 // Solid-angle densities with which NEE (with MIS) picks an emitter's point or
-// a sky direction, for BSDF-sampled hits to weigh themselves against.
-float giEmissiveNeePdf(GiSurface s, uint geometry, vec3 from) {
-  return (1.0 - giSkySelection(true)) * giEmissiveLightPdf(s, geometry, from);
+// a sky direction, for BSDF-sampled hits to weigh themselves against: the emissive point `s` of `hit`
+// (s.frontFace holds) seen from `origin`, the ray's origin off the surface `from` (the NEE there picked
+// its triangle at from.position, facing from.geometricNormal).
+float giEmissiveNeePdf(GiSurface s, GiHit hit, vec3 origin, GiSurface from) {
+  if (!GI_SCENE_HAS_EMISSIVE || sceneConstants().emissiveTriangleCount == 0u) return 0.0;
+  vec3 d = s.position - origin;
+  float dist2 = dot(d, d);
+  float cosLight = abs(dot(s.geometricNormal, normalize(d)));
+  float areaPdf;
+  if (giLightSampler() == LIGHT_SAMPLER_TREE) {
+    const uint k = giFindEmissive(hit.instance, hit.geometry, hit.triangle);
+    if (k == 0xffffffffu) return 0.0;
+    vec3 p0, p1, p2;
+    giTriangleWorld(hit.instance, sceneTriangle(hit.geometry, hit.triangle), p0, p1, p2);
+    areaPdf = giTreeLeafChance(true, sceneEmissiveLeaf(k), from.position, from.geometricNormal) / giTriangleArea(p0, p1, p2);
+  } else {
+    areaPdf = giLuminance(sceneMaterialData(sceneGeometry(hit.geometry).material).emission) / sceneConstants().emissiveTotalPower;
+  }
+  return (1.0 - giSkySelection(true)) * areaPdf * dist2 / max(cosLight, 1e-8);
 }
 float giSkyNeePdf(vec3 dir) { return giSkySelection(true) * giSkyLightPdf(dir); }
 
@@ -162,34 +241,6 @@ uint giPickPunctual(float u, out float chance) {
   }
   chance = scenePunctualLightCdf(lo) - (lo > 0u ? scenePunctualLightCdf(lo - 1u) : 0.0);
   return lo;
-}
-
-// LIGHT_SAMPLER_TREE: a point or spot light picked from node `index` down, each child with its share of
-// the two children's importance (lightNodeImportance, shared/light_tree.h), and the chance of that pick
-// within the node (0: none of its lights can light the surface).
-uint giPickFromTree(uint index, vec3 x, vec3 ng, float u, out float chance) {
-  chance = 1.0;
-  for (uint depth = 0u; depth < 64u; ++depth) {
-    const GpuLightNode n = sceneLightNode(index);
-    if ((n.child & LIGHT_NODE_LEAF) != 0u) return n.child & ~LIGHT_NODE_LEAF;
-    const float a = lightNodeImportance(sceneLightNode(n.child), x, ng);
-    const float b = lightNodeImportance(sceneLightNode(n.child + 1u), x, ng);
-    if (!(a + b > 0.0)) break;
-    const float p = a / (a + b);
-    // One random number serves every level: the part of [0, 1) the choice leaves is stretched back to it.
-    if (u < p) {
-      u /= p;
-      chance *= p;
-      index = n.child;
-    } else {
-      u = (u - p) / (1.0 - p);
-      chance *= 1.0 - p;
-      index = n.child + 1u;
-    }
-    u = min(u, 0.99999994);
-  }
-  chance = 0.0;
-  return 0u;
 }
 
 // The turns NEE takes for the punctual lights: one a light (all); one in all when a light picked by power
@@ -252,7 +303,7 @@ bool giNeeNextRay(inout GiNee nee, GiSurface s, GiBsdf b, vec3 V, bool withMis, 
     const uint leaf = sceneLightNode(node).child;
     float chance = 1.0;
     const uint light = (leaf & LIGHT_NODE_LEAF) != 0u ? leaf & ~LIGHT_NODE_LEAF
-                                                      : giPickFromTree(node, s.position, s.geometricNormal, giRandom(rng), chance);
+                                                      : giPickFromTree(false, node, s.position, s.geometricNormal, giRandom(rng), chance);
     ready = chance > 0.0 && giPreparePunctual(light, s, b, V, shadow);
     shadow.contribution /= max(chance, 1e-30);
   } else if (i < turns) {

@@ -117,11 +117,11 @@ void giPathTakeHit(inout GiPath p, GiHit hit, GiSurface s) {
                 p.depth == 1u);
     return;
   }
-  p.s = s;
   if (s.frontFace && giMaxComponent(s.material.emission) > 0.0) {
-    float w = GI_SCENE_HAS_EMISSIVE ? giPowerHeuristic(p.previousBsdfPdf, giEmissiveNeePdf(s, hit.geometry, p.origin)) : 1.0;
+    float w = GI_SCENE_HAS_EMISSIVE ? giPowerHeuristic(p.previousBsdfPdf, giEmissiveNeePdf(s, hit, p.origin, p.s)) : 1.0;
     giPathAdd(p, s.material.emission * w, p.depth == 1u);
   }
+  p.s = s;
   if (p.depth > p.maxBounces) return;
   p.V = -p.direction;
   p.b = giMakeBsdf(s.material.baseColor, s.material.metallic, s.material.roughness, s.material.flags);

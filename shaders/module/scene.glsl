@@ -120,7 +120,23 @@ GpuLightNode sceneLightNode(uint index) {
   const uvec4 a = GI_FETCH(scenePunctualRows, row), b = GI_FETCH(scenePunctualRows, row + 1),
               c = GI_FETCH(scenePunctualRows, row + 2);
   return GpuLightNode(uintBitsToFloat(a.xyz), uintBitsToFloat(a.w), uintBitsToFloat(b.xyz), uintBitsToFloat(b.w),
-                      uintBitsToFloat(c.x), c.y, uintBitsToFloat(c.z), 0.0);
+                      uintBitsToFloat(c.x), c.y, uintBitsToFloat(c.z), c.w);
+}
+
+// The emissive triangles' tree's node i (GpuLightNode), after the triangles in their buffer.
+GpuLightNode sceneEmissiveNode(uint index) {
+  const int row = int(sceneConstants().emissiveTriangleCount) + int(index) * 3;
+  const uvec4 a = GI_FETCH(sceneEmissiveRows, row), b = GI_FETCH(sceneEmissiveRows, row + 1),
+              c = GI_FETCH(sceneEmissiveRows, row + 2);
+  return GpuLightNode(uintBitsToFloat(a.xyz), uintBitsToFloat(a.w), uintBitsToFloat(b.xyz), uintBitsToFloat(b.w),
+                      uintBitsToFloat(c.x), c.y, uintBitsToFloat(c.z), c.w);
+}
+
+// The leaf node of emissive triangle k (after the tree's 2n − 1 nodes).
+uint sceneEmissiveLeaf(uint k) {
+  const uint n = sceneConstants().emissiveTriangleCount;
+  const uint word = n * 4u + (2u * n - 1u) * 12u + k;
+  return GI_FETCH(sceneEmissiveRows, int(word / 4u))[word % 4u];
 }
 
 // LIGHT_SAMPLER_TREE's cut entry k: a node whose subtree one light is taken from (after the 2n − 1 nodes).

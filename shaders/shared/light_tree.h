@@ -24,7 +24,7 @@ struct GpuLightNode {
   uint child;        // LIGHT_NODE_LEAF | the light's index; otherwise the first of two adjacent children
   float cosFalloff;  // cos of how far past the aim cone light still leaves, weighed by the cosine of that
                      // angle (a cosine emitter's π/2: 0); 1 when none does (point and spot lights)
-  float pad;
+  uint parent;       // the node whose child this is (the root's: 0): a leaf's chance is walked up from it
 };
 GPU_ASSERT_SIZE(GpuLightNode, 48);
 GPU_CONST LIGHT_NODE_LEAF = 0x80000000u;

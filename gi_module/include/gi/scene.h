@@ -176,7 +176,10 @@ struct SceneCreateDesc {
   // the angle to the surface (the same expectation; cost independent of the count; exact, as all,
   // with no more lights than lightTreeCut: the default, which leaves scenes of a few lights as they
   // were and keeps a frame's cost flat however many lights a scene has). The tree is rebuilt by
-  // gi::updateLights.
+  // gi::updateLights. The emissive triangles take one shadow ray a vertex under every sampler: picked by
+  // power (world area × luminance of the emission) under all and power, down a tree of their own under
+  // tree (bounds, power and the cone of directions each emits in; rebuilt when updateInstances or
+  // updateMeshVertices moves them), with MIS against BSDF sampling either way.
   uint32_t lightSampler = gpu::LIGHT_SAMPLER_TREE;  // kLightSamplerNames names them
   uint32_t lightTreeCut = 4;  // [1, 64]: LIGHT_SAMPLER_TREE's subtrees (shadow rays a vertex for its lights)
   const VkAllocationCallbacks* allocationCallbacks = nullptr;
@@ -261,7 +264,7 @@ Error holdMeshVertices(Scene* scene, VkCommandBuffer cmd, uint32_t mesh);
 
 struct SceneInfo {
   uint32_t triangles = 0;                                    // instanced
-  uint32_t emissiveTriangles = 0;                            // entries of the emission CDF
+  uint32_t emissiveTriangles = 0;                            // NEE picks among these (their CDF, their tree)
   double bvhBottomBuildMs = 0.0;                             // CPU time of the BVH's bottom levels (paid at create)
   double bvhTopBuildMs = 0.0;                                // of its last top-level build
   uint64_t memoryBytes = 0;                                  // device memory the scene holds

@@ -242,7 +242,8 @@ enum class LightSampling : uint32_t {
   Scene = 0,  // SceneCreateDesc::lightSampler
   All,        // a shadow ray to every punctual light at every vertex (exact; cost grows with the count)
   Power,      // one light a vertex, picked by its power
-  Tree,       // every directional light and one light from each subtree of the tree's cut
+  Tree,       // every directional light and one light from each subtree of the tree's cut; the emissive
+              // triangle down their own tree
 };
 struct LightSettings {
   LightSampling sampler = LightSampling::Scene;

@@ -173,16 +173,14 @@ vk::Status buildBvhBuffers(Scene& s, VkCommandBuffer cmd, std::span<const uint8_
   return {};
 }
 
-// The emission table for the instances' and vertices' current state, its count and power in the scene's
-// constants (both written by the caller, in its command buffer).
-std::vector<gpu::GpuEmissiveTriangle> refreshEmission(Scene& s) {
-  float totalPower = 0.0f;
-  std::vector<gpu::GpuEmissiveTriangle> table = emissiveTable(s.packed, s.instances, totalPower);
-  // Moves and deformations keep the triangles; only degenerate ones could drop entries.
-  table.resize(std::min<size_t>(table.size(), s.emissiveCapacity));
-  s.sceneConstants.emissiveTriangleCount = uint32_t(table.size());
-  s.sceneConstants.emissiveTotalPower = totalPower;
-  return table;
+// The emission table for the instances' and vertices' current state (the buffer's words), its count and
+// power in the scene's constants (both written by the caller, in its command buffer). Moves and
+// deformations keep the triangles: the words fit the buffer made for them.
+std::vector<uint32_t> refreshEmission(Scene& s) {
+  const EmissiveTable table = emissiveTable(s.packed, s.instances);
+  s.sceneConstants.emissiveTriangleCount = table.pickable();
+  s.sceneConstants.emissiveTotalPower = table.totalPower;
+  return emissiveTableWords(table);
 }
 
 RefitBuffers refitBuffers(const Scene& s) {
@@ -346,16 +344,15 @@ vk::Status buildScene(Scene& s, VkCommandBuffer cmd, const SceneContents& conten
   GI_TRY(upload(s, cmd, p.materials, kTexels, s.materials));
 
   GI_TRY(hostBuffer(s, gpuInstances(p, s.instances, {}), s.instances.size(), kTexels, s.instanceTable));
-  float totalPower = 0.0f;
-  std::vector<gpu::GpuEmissiveTriangle> emissive = emissiveTable(p, s.instances, totalPower);
-  s.emissiveCapacity = uint32_t(emissive.size());
-  GI_TRY(hostBuffer(s, emissive, emissive.size(), kTexels, s.emissiveTriangles));
+  const EmissiveTable emissive = emissiveTable(p, s.instances);
+  GI_TRY(hostBuffer(s, emissiveTableWords(emissive), emissiveTableCapacityWords(emissive.triangles.size()), kTexels,
+                    s.emissiveTriangles));
   gpu::GpuSceneConstants& c = s.sceneConstants;
   glm::vec3 lo, hi;
   worldBounds(p, s.instances, lo, hi);
   const bool empty = lo.x > hi.x;
-  c.emissiveTriangleCount = uint32_t(emissive.size());
-  c.emissiveTotalPower = totalPower;
+  c.emissiveTriangleCount = emissive.pickable();
+  c.emissiveTotalPower = emissive.totalPower;
   // An empty scene (nothing streamed in yet) still needs a scale for depth guidance: 1 m.
   c.sceneExtent = empty ? 1.0f : std::max(std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z}), 1e-6f);
   c.boundsMin = empty ? glm::vec3(0.0f) : lo;
@@ -565,7 +562,7 @@ Error updateInstances(Scene* s, VkCommandBuffer cmd, std::span<const InstanceDes
     s->instances[i] = instances[i];
     s->instances[i].movable = movable;
   }
-  const std::vector<gpu::GpuEmissiveTriangle> emissive = refreshEmission(*s);
+  const std::vector<uint32_t> emissive = refreshEmission(*s);
   if (mergedMoved) {  // merged as static: taken out once, its level rebuilt (new buffers, set 0 rewritten)
     if (vk::Status st = buildBvhBuffers(*s, VK_NULL_HANDLE, moved)) return vulkanError("gi::updateInstances", st);
     writeBvhDescriptors(*s);

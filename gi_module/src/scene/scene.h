@@ -22,7 +22,6 @@ struct Scene {
   std::vector<InstanceDesc> instances;        // as given, with the latest transforms
   std::vector<glm::mat4> previousTransforms;  // per instance: last update's, for motion vectors
   size_t lightCount = 0;
-  uint32_t emissiveCapacity = 0;  // entries the emission table's buffer holds
 
   vk::Buffer positions, normals, uvs, indices, geometries, materials;  // device-local, uploaded once
   vk::Buffer instanceTable, emissiveTriangles, punctualLights, constants, skyDistribution;  // host-visible: written

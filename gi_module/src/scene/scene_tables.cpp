@@ -5,6 +5,7 @@
 #include <cstring>
 #include <limits>
 
+#include "scene/light_tree.h"
 #include "scene/morton_order.h"
 #include "scene/sky_tables.h"
 
@@ -211,40 +212,84 @@ std::string checkLights(std::span<const LightDesc> lights, const char* what) {
   return {};
 }
 
-std::vector<gpu::GpuEmissiveTriangle> emissiveTable(const PackedScene& packed, std::span<const InstanceDesc> instances,
-                                                    float& totalPower) {
-  std::vector<gpu::GpuEmissiveTriangle> table;
-  std::vector<double> weights;
+namespace {
+
+// The directions a triangle sends light in: its geometric normal, turned to the side its vertex normals
+// are on (giTriangleNormals turns it to the shading normal's); every direction where they disagree or it
+// has no area. One-sided emission: a cosine emitter (cosFalloff 0).
+DirectionCone triangleCone(const glm::vec3 (&v)[3], const glm::vec3 (&n)[3]) {
+  constexpr double kPi = 3.14159265358979323846;
+  const glm::dvec3 g = glm::cross(glm::dvec3(v[1] - v[0]), glm::dvec3(v[2] - v[0]));
+  if (!(glm::dot(g, g) > 0.0)) return {glm::dvec3(0.0, 0.0, 1.0), kPi};
+  int front = 0, back = 0;
+  for (const glm::vec3& normal : n) {
+    const double d = glm::dot(g, glm::dvec3(normal));
+    front += d >= 0.0;
+    back += d <= 0.0;
+  }
+  if (front == 3) return {glm::normalize(g), 1e-3};  // 1e-3 rad: as a spot's margin, for float rounding
+  if (back == 3) return {-glm::normalize(g), 1e-3};
+  return {glm::normalize(g), kPi};
+}
+
+}  // namespace
+
+EmissiveTable emissiveTable(const PackedScene& packed, std::span<const InstanceDesc> instances) {
+  EmissiveTable table;
+  std::vector<EmitterBounds> bounds;
   for (uint32_t i = 0; i < instances.size(); ++i) {
     const glm::mat4 world = toMat4(instances[i].worldFromObject);
+    const glm::mat3 normalWorld = glm::transpose(glm::inverse(glm::mat3(world)));
     const uint32_t first = packed.meshFirstGeometry[instances[i].mesh];
     for (uint32_t id = first; id < first + packed.meshGeometryCount[instances[i].mesh]; ++id) {
       const gpu::GpuGeometry& geo = packed.geometries[id];
       const glm::vec3 emission = packed.materialEmission[geo.material];
       if (!(emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f)) continue;
       for (uint32_t t = 0; t < geo.triangleCount; ++t) {
-        glm::vec3 v[3];
-        for (int k = 0; k < 3; ++k)
-          v[k] = glm::vec3(
-              world * glm::vec4(packed.positions[geo.vertexOffset + packed.indices[geo.firstIndex + 3 * t + k]], 1.0f));
-        double area = 0.5 * double(glm::length(glm::cross(v[1] - v[0], v[2] - v[0])));
+        glm::vec3 v[3], n[3];
+        for (int k = 0; k < 3; ++k) {
+          const uint32_t vertex = geo.vertexOffset + packed.indices[geo.firstIndex + 3 * t + k];
+          v[k] = glm::vec3(world * glm::vec4(packed.positions[vertex], 1.0f));
+          n[k] = normalWorld * packed.normals[vertex];
+        }
+        const double area = 0.5 * double(glm::length(glm::cross(v[1] - v[0], v[2] - v[0])));
         double w = area * double(luminance(emission));
-        if (!(w > 0.0) || !std::isfinite(w)) continue;  // zero-area triangles can never be hit nor sampled
-        table.push_back({i, id, t, 0.0f});
-        weights.push_back(w);
+        if (!(w > 0.0) || !std::isfinite(w)) w = 0.0;  // never picked: a triangle without area is never hit
+        // Every triangle keeps its entry, so an (instance, geometry, triangle) finds its own by search.
+        table.triangles.push_back({i, id, t, 0.0f});
+        bounds.push_back(
+            {glm::min(v[0], glm::min(v[1], v[2])), glm::max(v[0], glm::max(v[1], v[2])), triangleCone(v, n), w, 0.0f});
       }
     }
   }
   double total = 0.0;
-  for (double w : weights) total += w;
+  for (const EmitterBounds& b : bounds) total += b.power;
+  if (!(total > 0.0)) return table;  // nothing to pick: the scene's constants hold no emissive triangle
   double running = 0.0;
-  for (size_t k = 0; k < table.size(); ++k) {
-    running += weights[k];
-    table[k].cdf = float(running / total);
+  size_t last = 0;
+  for (size_t k = 0; k < table.triangles.size(); ++k) {
+    running += bounds[k].power;
+    table.triangles[k].cdf = float(running / total);
+    if (bounds[k].power > 0.0) last = k;
   }
-  if (!table.empty()) table.back().cdf = 1.0f;
-  totalPower = float(total);
+  // Rounding never leaves u ∈ [0, 1) without a triangle, nor picks one after the last with area.
+  for (size_t k = last; k < table.triangles.size(); ++k) table.triangles[k].cdf = 1.0f;
+  std::vector<uint32_t> order(table.triangles.size());
+  for (uint32_t k = 0; k < order.size(); ++k) order[k] = k;
+  table.nodes = buildLightTree(bounds, std::move(order));
+  table.totalPower = float(total);
   return table;
+}
+
+std::vector<uint32_t> emissiveTableWords(const EmissiveTable& t) {
+  const size_t n = t.pickable();
+  std::vector<uint32_t> words(emissiveTableCapacityWords(n));
+  std::memcpy(words.data(), t.triangles.data(), n * sizeof(gpu::GpuEmissiveTriangle));
+  const size_t leafWord = (n * sizeof(gpu::GpuEmissiveTriangle) + t.nodes.size() * sizeof(gpu::GpuLightNode)) / 4;
+  if (n) std::memcpy(words.data() + n * 4, t.nodes.data(), t.nodes.size() * sizeof(gpu::GpuLightNode));
+  for (uint32_t i = 0; i < t.nodes.size(); ++i)
+    if (t.nodes[i].child & gpu::LIGHT_NODE_LEAF) words[leafWord + (t.nodes[i].child & ~gpu::LIGHT_NODE_LEAF)] = i;
+  return words;
 }
 
 namespace {
@@ -286,13 +331,6 @@ void fillCdf(std::vector<gpu::GpuPunctualLight>& table, const std::vector<double
   if (!table.empty()) table.back().cdf = 1.0f;  // rounding never leaves u ∈ [0, 1) without a light
 }
 
-// A cone of directions (Conty Estevez & Kulla 2018): every direction within `angle` of `axis` (radians,
-// [0, π]); the node's cosAim.
-struct DirectionCone {
-  glm::dvec3 axis{0.0, 0.0, 1.0};
-  double angle = 0.0;
-};
-
 // How far a spot's cone is widened in the tree: the shaders' float arithmetic must never rule out a
 // light a surface is inside the cone of (radians).
 constexpr double kLightConeMargin = 1e-3;
@@ -303,81 +341,6 @@ DirectionCone lightCone(const gpu::GpuPunctualLight& l) {
   if (l.type != gpu::PUNCTUAL_SPOT) return {glm::dvec3(0.0, 0.0, 1.0), kPi};
   const double outer = std::acos(std::clamp(double(l.cosOuter), -1.0, 1.0));
   return {glm::normalize(glm::dvec3(l.direction)), std::min(outer + kLightConeMargin, kPi)};
-}
-
-// The smallest cone round both (PBRT-v4's DirectionCone Union).
-DirectionCone coneUnion(const DirectionCone& a, const DirectionCone& b) {
-  constexpr double kPi = 3.14159265358979323846;
-  const double between = std::acos(std::clamp(glm::dot(a.axis, b.axis), -1.0, 1.0));
-  if (std::min(between + b.angle, kPi) <= a.angle) return a;
-  if (std::min(between + a.angle, kPi) <= b.angle) return b;
-  const double angle = 0.5 * (a.angle + between + b.angle);
-  const glm::dvec3 normal = glm::cross(a.axis, b.axis);
-  if (angle >= kPi || glm::dot(normal, normal) < 1e-24) return {a.axis, kPi};
-  // Turn a's axis towards b's by the part of the new half-angle a does not cover.
-  const double turn = angle - a.angle;
-  const glm::dvec3 axis = a.axis * std::cos(turn) + glm::cross(glm::normalize(normal), a.axis) * std::sin(turn);
-  return {glm::normalize(axis), std::min(angle + 1e-6, kPi)};  // 1e-6: the rounding of the turn
-}
-
-// The tree over lights [first, last) of `table` (positional), each leaf one light: split at the median
-// of the longest axis of their positions, children adjacent: fills element `at` of `nodes` and appends
-// the children. Returns the node's direction cone.
-DirectionCone buildLightTree(const std::vector<gpu::GpuPunctualLight>& table, const std::vector<double>& power,
-                             std::vector<uint32_t>& order, size_t first, size_t last, size_t at,
-                             std::vector<gpu::GpuLightNode>& nodes) {
-  glm::vec3 low(std::numeric_limits<float>::max()), high(-std::numeric_limits<float>::max());
-  double sum = 0.0;
-  for (size_t i = first; i < last; ++i) {
-    low = glm::min(low, table[order[i]].position);
-    high = glm::max(high, table[order[i]].position);
-    sum += power[order[i]];
-  }
-  gpu::GpuLightNode node{};
-  node.centre = 0.5f * (low + high);
-  // The half diagonal, rounded up so that every position is inside in float arithmetic.
-  node.radius = std::nextafter(0.5f * glm::length(high - low), std::numeric_limits<float>::max());
-  node.power = float(sum);
-  node.cosFalloff = 1.0f;  // point and spot lights send nothing past their cones
-  DirectionCone cone;
-  if (last - first == 1) {
-    node.child = gpu::LIGHT_NODE_LEAF | order[first];
-    node.radius = 0.0f;
-    cone = lightCone(table[order[first]]);
-  } else {
-    const glm::vec3 extent = high - low;
-    const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
-    const size_t middle = first + (last - first) / 2;
-    std::nth_element(order.begin() + ptrdiff_t(first), order.begin() + ptrdiff_t(middle),
-                     order.begin() + ptrdiff_t(last),
-                     [&](uint32_t a, uint32_t b) { return table[a].position[axis] < table[b].position[axis]; });
-    node.child = uint32_t(nodes.size());
-    nodes.resize(nodes.size() + 2);
-    cone = coneUnion(buildLightTree(table, power, order, first, middle, node.child, nodes),
-                     buildLightTree(table, power, order, middle, last, node.child + 1, nodes));
-  }
-  node.axis = glm::vec3(cone.axis);
-  node.cosAim = float(std::cos(cone.angle));
-  nodes[at] = node;
-  return cone;
-}
-
-// The cut of at most `size` nodes whose subtrees hold every light of the tree once: from the root, the
-// node with the most power is split into its children until there are `size` (or only leaves).
-std::vector<uint32_t> treeCut(const std::vector<gpu::GpuLightNode>& nodes, uint32_t size) {
-  std::vector<uint32_t> cut{0u};
-  while (cut.size() < size) {
-    size_t widest = cut.size();
-    for (size_t i = 0; i < cut.size(); ++i)
-      if (!(nodes[cut[i]].child & gpu::LIGHT_NODE_LEAF) &&
-          (widest == cut.size() || nodes[cut[i]].power > nodes[cut[widest]].power))
-        widest = i;
-    if (widest == cut.size()) break;  // every subtree a light
-    const uint32_t child = nodes[cut[widest]].child;
-    cut[widest] = child;
-    cut.insert(cut.begin() + ptrdiff_t(widest) + 1, child + 1);
-  }
-  return cut;
 }
 
 }  // namespace
@@ -395,10 +358,13 @@ LightTable lightTable(std::span<const LightDesc> lights, float sceneExtent, uint
       }
   fillCdf(t.lights, power);
   if (t.lights.size() > t.directionalCount) {
+    std::vector<EmitterBounds> bounds(t.lights.size());
     std::vector<uint32_t> order;
-    for (uint32_t i = t.directionalCount; i < t.lights.size(); ++i) order.push_back(i);
-    t.nodes.resize(1);
-    buildLightTree(t.lights, power, order, 0, order.size(), 0, t.nodes);
+    for (uint32_t i = t.directionalCount; i < t.lights.size(); ++i) {
+      bounds[i] = {t.lights[i].position, t.lights[i].position, lightCone(t.lights[i]), power[i], 1.0f};
+      order.push_back(i);
+    }
+    t.nodes = buildLightTree(bounds, std::move(order));
     t.cut = treeCut(t.nodes, std::max(cutSize, 1u));
   }
   return t;

@@ -4,6 +4,7 @@
 #pragma once
 #include <glm/glm.hpp>
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -39,10 +40,29 @@ glm::mat4 toMat4(const float (&m)[16]);
 // Element i of a strided CPU array (stride 0: packed, `packedSize` bytes apart).
 const float* element(const float* base, uint32_t stride, uint32_t packedSize, uint32_t i);
 
-// One entry per emissive (instance, triangle), picked in proportion to world
-// area × luminance(emission); `totalPower` gets Σ of the weights.
-std::vector<gpu::GpuEmissiveTriangle> emissiveTable(const PackedScene& packed, std::span<const InstanceDesc> instances,
-                                                    float& totalPower);
+// The emissive triangles as the shaders read them: one entry per triangle of every emissive primitive of
+// every instance, in (instance, geometry, triangle) order (lights.glsl's giFindEmissive searches it), each
+// with its chance under LIGHT_SAMPLER_POWER (world area × luminance(emission); a triangle without area has
+// none) as a cdf, and the tree LIGHT_SAMPLER_TREE walks over them (2n − 1 nodes, cosine emitters). Empty
+// triangles and nodes when no triangle has power. totalPower: Σ of the weights.
+struct EmissiveTable {
+  std::vector<gpu::GpuEmissiveTriangle> triangles;
+  std::vector<gpu::GpuLightNode> nodes;
+  float totalPower = 0.0f;
+  // The triangles the shaders pick from (GpuSceneConstants::emissiveTriangleCount).
+  uint32_t pickable() const { return nodes.empty() ? 0u : uint32_t(triangles.size()); }
+};
+EmissiveTable emissiveTable(const PackedScene& packed, std::span<const InstanceDesc> instances);
+// The scene's emission buffer (16-byte texels): the n triangles, their tree's nodes (3 texels each), then
+// each triangle's leaf node (a word each).
+std::vector<uint32_t> emissiveTableWords(const EmissiveTable& table);
+inline size_t emissiveTableCapacityWords(size_t triangles) {
+  const size_t words =
+      (triangles * sizeof(gpu::GpuEmissiveTriangle) + (triangles ? 2 * triangles - 1 : 0) * sizeof(gpu::GpuLightNode)) /
+          4 +
+      triangles;
+  return std::max<size_t>((words + 3) / 4 * 4, 4);  // whole texels, at least one (a buffer is never empty)
+}
 // The punctual lights as the shaders read them: the directional ones first, each light's chance of being
 // picked by LIGHT_SAMPLER_POWER (its power; directional lights' over the scene's disc of diameter
 // sceneExtent), the tree LIGHT_SAMPLER_TREE walks over the others (2n − 1 nodes for n lights) and its cut
