@@ -187,13 +187,26 @@ bool giPreparePunctual(uint i, GiSurface s, GiBsdf b, vec3 V, out GiShadowRay ra
   return true;
 }
 
-// Probability that the area-light shadow ray goes to the sky: 1/2 where
-// emissive triangles and a sampled sky share it, else all or nothing. With
-// MIS a constant sky is not sampled (BSDF sampling finds it), so it takes no share.
-float giSkySelection(bool withMis) {
+// Probability that the area-light shadow ray from x (geometric normal ng) goes to the sky, where emissive
+// triangles and a sampled sky share it: with LIGHT_SAMPLER_TREE the sky is one more node beside the
+// emissive triangles' tree, chosen by its irradiance against the root's importance at x (all of it where
+// no triangle can light x); else 1/2. All or nothing where only one of them is there. With MIS a constant
+// sky is not sampled (BSDF sampling finds it), so it takes no share.
+float giSkySelection(bool withMis, vec3 x, vec3 ng) {
   bool emissive = GI_SCENE_HAS_EMISSIVE && sceneConstants().emissiveTriangleCount > 0u;
   bool sky = GI_SCENE_HAS_SKY && (giSkyHasMap() || !withMis) && giMaxComponent(sceneConstants().skyRadiance) > 0.0;
-  return sky ? (emissive ? 0.5 : 1.0) : 0.0;
+  if (!sky) return 0.0;
+  if (!emissive) return 1.0;
+  if (giLightSampler() != LIGHT_SAMPLER_TREE) return 0.5;
+  // The root's children's importance: the root's own bounds every triangle at once, far looser.
+  const GpuLightNode root = sceneEmissiveNode(0u);
+  const bool leaf = (root.child & LIGHT_NODE_LEAF) != 0u;
+  const float triangles = leaf ? lightNodeImportance(root, x, ng)
+                               : lightNodeImportance(sceneEmissiveNode(root.child), x, ng) +
+                                     lightNodeImportance(sceneEmissiveNode(root.child + 1u), x, ng);
+  const float skyImportance = sceneConstants().skyIrradiance;
+  const float total = skyImportance + triangles;
+  return total > 0.0 ? skyImportance / total : 0.5;
 }
 
 // Solid-angle densities with which NEE (with MIS) picks an emitter's point or
@@ -215,15 +228,17 @@ float giEmissiveNeePdf(GiSurface s, GiHit hit, vec3 origin, GiSurface from) {
   } else {
     areaPdf = giLuminance(sceneMaterialData(sceneGeometry(hit.geometry).material).emission) / sceneConstants().emissiveTotalPower;
   }
-  return (1.0 - giSkySelection(true)) * areaPdf * dist2 / max(cosLight, 1e-8);
+  return (1.0 - giSkySelection(true, from.position, from.geometricNormal)) * areaPdf * dist2 / max(cosLight, 1e-8);
 }
-float giSkyNeePdf(vec3 dir) { return giSkySelection(true) * giSkyLightPdf(dir); }
+float giSkyNeePdf(vec3 dir, GiSurface from) {
+  return giSkySelection(true, from.position, from.geometricNormal) * giSkyLightPdf(dir);
+}
 
 // The area lights' one shadow ray (giSkySelection shares it between the sky
 // and the emissive triangles); false when there is none or it cannot light s.
 bool giPrepareArea(GiSurface s, GiBsdf b, vec3 V, bool withMis, inout GiRng rng, out GiShadowRay ray) {
   bool emissive = GI_SCENE_HAS_EMISSIVE && sceneConstants().emissiveTriangleCount > 0u;
-  float skyChance = giSkySelection(withMis);
+  float skyChance = giSkySelection(withMis, s.position, s.geometricNormal);
   if (!emissive && !(skyChance > 0.0)) return false;
   // Scenes without a sky draw no extra random number: their paths are as before.
   bool pickSky = skyChance >= 1.0 || (skyChance > 0.0 && giRandom(rng) < skyChance);

@@ -113,7 +113,7 @@ void giPathTakeHit(inout GiPath p, GiHit hit, GiSurface s) {
   p.phase = GI_PATH_DONE;
   if (hit.t < 0.0) {  // the sky, weighed against its NEE (giPrepareSky)
     if (GI_SCENE_HAS_SKY)
-      giPathAdd(p, giSkyRadiance(p.direction) * giPowerHeuristic(p.previousBsdfPdf, giSkyNeePdf(p.direction)),
+      giPathAdd(p, giSkyRadiance(p.direction) * giPowerHeuristic(p.previousBsdfPdf, giSkyNeePdf(p.direction, p.s)),
                 p.depth == 1u);
     return;
   }

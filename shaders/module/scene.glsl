@@ -53,7 +53,7 @@ GpuSceneConstants sceneConstants() {
   uvec4 d = GI_FETCH(sceneConstantRows, 3), e = GI_FETCH(sceneConstantRows, 4), f = GI_FETCH(sceneConstantRows, 5);
   return GpuSceneConstants(a.x, a.y, uintBitsToFloat(a.z), uintBitsToFloat(a.w), uintBitsToFloat(b.xyz),
                            b.w, uintBitsToFloat(c.xyz), c.w, uintBitsToFloat(d.xyz),
-                           d.w, e.xy, uintBitsToFloat(e.z), e.w, f.x, f.y, f.z, f.w);
+                           d.w, e.xy, uintBitsToFloat(e.z), e.w, f.x, uintBitsToFloat(f.y), f.z, f.w);
 }
 
 // The arrays' elements. Unused fields cost nothing: the compiler drops their fetches.

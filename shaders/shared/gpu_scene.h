@@ -138,7 +138,10 @@ struct GpuSceneConstants {
   uint lightSampler;     // LIGHT_SAMPLER_*
   uint textureCount;     // SCENE_BINDING_TEXTURES's written elements (the sky's map included): what a material's
                          // or the sky's texture index is checked against (ModuleDesc::checkBounds)
-  uint pad0, pad1, pad2;
+  float skyIrradiance;   // W/m²: a quarter of the sky's luminance integrated over the sphere (π × luminance for
+                         // a constant sky): LIGHT_SAMPLER_TREE's importance of the sky beside the emissive
+                         // triangles' tree (giSkySelection); 0: no sky
+  uint pad1, pad2;
 };
 GPU_ASSERT_SIZE(GpuSceneConstants, 96);
 

@@ -208,6 +208,12 @@ vk::Status uploadSky(Scene& s, VkCommandBuffer cmd, const SkyDesc& sky, uint32_t
   if (enabled && sky.map) tables = skyDistribution(sky.map, sky.width, sky.height, sky.channels, c.skyDistributionSum);
   s.facts.hasSky = enabled && (!sky.map || c.skyDistributionSum > 0.0f);
   c.skyRadiance = s.facts.hasSky ? radiance : glm::vec3(0.0f);
+  // A quarter of the light arriving from every direction (πL under a constant sky L): the irradiance of a
+  // surface facing a uniform sky; a map's integral from its sampling tables' Σ luminance × sin θ.
+  const double pi = 3.14159265358979323846;
+  const double integral =
+      sky.map ? double(c.skyDistributionSum) * (pi / sky.height) * (2.0 * pi / sky.width) : 4.0 * pi;
+  c.skyIrradiance = float(0.25 * integral * luminance(c.skyRadiance.x, c.skyRadiance.y, c.skyRadiance.z));
   c.skyTexture = gpu::NO_TEXTURE;
   if (s.facts.hasSky && sky.map) {
     c.skyTexture = textureCount;
