@@ -6,6 +6,7 @@
 
 #include "light_field.h"
 #include "metrics.h"
+#include "module_test_helpers.h"
 
 class EmissiveSamplerTest : public LightFieldTest {
  protected:
@@ -173,4 +174,20 @@ TEST_F(EmissiveSamplerTest, SquaresMovedThroughUpdateInstancesLightAsTheSceneLoa
               differ, 100.0 * moveDiff / sum);
   EXPECT_EQ(differ, 0u);
   EXPECT_GT(moveDiff / sum, 0.05) << "the move should change the picture";
+}
+
+// A scene lit by one quad lamp (the Cornell box's ceiling light, two triangles: LIGHT_EMISSIVE_TREE_MIN)
+// keeps power's picks under the tree: the same image bit for bit, and the same rays.
+TEST_F(EmissiveSamplerTest, OneQuadLampKeepsPowersPicksUnderTheTree) {
+  const std::string path = sharedScene("cornell-box-mcguire/CornellBox-Original.gltf");
+  LoadedScene power, tree;
+  ASSERT_NO_FATAL_FAILURE(loadWith(path, gpu::LIGHT_SAMPLER_POWER, power));
+  ASSERT_NO_FATAL_FAILURE(loadWith(path, gpu::LIGHT_SAMPLER_TREE, tree));
+  ASSERT_EQ(gi::sceneInfo(tree.gpu.scene).emissiveTriangles, gpu::LIGHT_EMISSIVE_TREE_MIN);
+  engine::ReferenceSettings settings;
+  const gpu::GpuCamera cam = engine::makeGpuCamera(power.scene.cameras[0], kSize, kSize, nullptr);
+  const engine::ReferenceRun a = referenceOrFail(ctx, power.gpu, cam, settings, 8, 8);
+  const engine::ReferenceRun b = referenceOrFail(ctx, tree.gpu, cam, settings, 8, 8);
+  EXPECT_TRUE(sameBits(a.images.final, b.images.final));
+  EXPECT_EQ(a.rays, b.rays);
 }

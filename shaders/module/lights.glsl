@@ -60,6 +60,12 @@ uint giFindEmissive(uint instance, uint geometry, uint triangle) {
 // The world area of an emissive triangle's vertices (m²).
 float giTriangleArea(vec3 p0, vec3 p1, vec3 p2) { return 0.5 * length(cross(p1 - p0, p2 - p0)); }
 
+// Whether NEE picks emissive triangles down their tree (else by power): LIGHT_SAMPLER_TREE with more of
+// them than LIGHT_EMISSIVE_TREE_MIN.
+bool giEmissiveTree() {
+  return giLightSampler() == LIGHT_SAMPLER_TREE && sceneConstants().emissiveTriangleCount > LIGHT_EMISSIVE_TREE_MIN;
+}
+
 // A node of the point and spot lights' tree, or of the emissive triangles'.
 GpuLightNode giTreeNode(bool emissive, uint index) { return emissive ? sceneEmissiveNode(index) : sceneLightNode(index); }
 
@@ -111,7 +117,7 @@ float giTreeLeafChance(bool emissive, uint leaf, vec3 x, vec3 ng) {
 // The emissive triangle's shadow ray, picked with probability `selection`.
 // withMis: weight against BSDF sampling (the caller also adds BSDF-sampled emission).
 bool giPrepareEmissive(GiSurface s, GiBsdf b, vec3 V, bool withMis, float selection, inout GiRng rng, out GiShadowRay ray) {
-  const bool tree = giLightSampler() == LIGHT_SAMPLER_TREE;
+  const bool tree = giEmissiveTree();
   float chance = 1.0;  // the tree's pick's
   const uint k = tree ? giPickFromTree(true, 0u, s.position, s.geometricNormal, giRandom(rng), chance)
                       : giPickEmissiveTriangle(giRandom(rng));
@@ -188,8 +194,8 @@ bool giPreparePunctual(uint i, GiSurface s, GiBsdf b, vec3 V, out GiShadowRay ra
 }
 
 // Probability that the area-light shadow ray from x (geometric normal ng) goes to the sky, where emissive
-// triangles and a sampled sky share it: with LIGHT_SAMPLER_TREE the sky is one more node beside the
-// emissive triangles' tree, chosen by its irradiance against the root's importance at x (all of it where
+// triangles and a sampled sky share it: where the triangles are picked down their tree (giEmissiveTree)
+// the sky is one more node beside it, chosen by its irradiance against the root's importance at x (all of it where
 // no triangle can light x); else 1/2. All or nothing where only one of them is there. With MIS a constant
 // sky is not sampled (BSDF sampling finds it), so it takes no share.
 float giSkySelection(bool withMis, vec3 x, vec3 ng) {
@@ -197,7 +203,7 @@ float giSkySelection(bool withMis, vec3 x, vec3 ng) {
   bool sky = GI_SCENE_HAS_SKY && (giSkyHasMap() || !withMis) && giMaxComponent(sceneConstants().skyRadiance) > 0.0;
   if (!sky) return 0.0;
   if (!emissive) return 1.0;
-  if (giLightSampler() != LIGHT_SAMPLER_TREE) return 0.5;
+  if (!giEmissiveTree()) return 0.5;
   // The root's children's importance: the root's own bounds every triangle at once, far looser.
   const GpuLightNode root = sceneEmissiveNode(0u);
   const bool leaf = (root.child & LIGHT_NODE_LEAF) != 0u;
@@ -219,7 +225,7 @@ float giEmissiveNeePdf(GiSurface s, GiHit hit, vec3 origin, GiSurface from) {
   float dist2 = dot(d, d);
   float cosLight = abs(dot(s.geometricNormal, normalize(d)));
   float areaPdf;
-  if (giLightSampler() == LIGHT_SAMPLER_TREE) {
+  if (giEmissiveTree()) {
     const uint k = giFindEmissive(hit.instance, hit.geometry, hit.triangle);
     if (k == 0xffffffffu) return 0.0;
     vec3 p0, p1, p2;

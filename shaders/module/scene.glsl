@@ -114,22 +114,24 @@ GpuPunctualLight scenePunctualLight(uint index) {
 // The chance of picking a punctual light up to `index` (LIGHT_SAMPLER_POWER), one texel read.
 float scenePunctualLightCdf(uint index) { return uintBitsToFloat(GI_FETCH(scenePunctualRows, int(index) * 4 + 3).y); }
 
+// A GpuLightNode from its three rows.
+GpuLightNode sceneNodeFromRows(uvec4 a, uvec4 b, uvec4 c) {
+  return GpuLightNode(uintBitsToFloat(a.xyz), uintBitsToFloat(a.w), uintBitsToFloat(b.xyz), uintBitsToFloat(b.w),
+                      uintBitsToFloat(c.x), c.y, uintBitsToFloat(c.z), c.w);
+}
+
 // LIGHT_SAMPLER_TREE's node i (GpuLightNode), after the light table.
 GpuLightNode sceneLightNode(uint index) {
   const int row = int(sceneConstants().punctualLightCount) * 4 + int(index) * 3;
-  const uvec4 a = GI_FETCH(scenePunctualRows, row), b = GI_FETCH(scenePunctualRows, row + 1),
-              c = GI_FETCH(scenePunctualRows, row + 2);
-  return GpuLightNode(uintBitsToFloat(a.xyz), uintBitsToFloat(a.w), uintBitsToFloat(b.xyz), uintBitsToFloat(b.w),
-                      uintBitsToFloat(c.x), c.y, uintBitsToFloat(c.z), c.w);
+  return sceneNodeFromRows(GI_FETCH(scenePunctualRows, row), GI_FETCH(scenePunctualRows, row + 1),
+                           GI_FETCH(scenePunctualRows, row + 2));
 }
 
 // The emissive triangles' tree's node i (GpuLightNode), after the triangles in their buffer.
 GpuLightNode sceneEmissiveNode(uint index) {
   const int row = int(sceneConstants().emissiveTriangleCount) + int(index) * 3;
-  const uvec4 a = GI_FETCH(sceneEmissiveRows, row), b = GI_FETCH(sceneEmissiveRows, row + 1),
-              c = GI_FETCH(sceneEmissiveRows, row + 2);
-  return GpuLightNode(uintBitsToFloat(a.xyz), uintBitsToFloat(a.w), uintBitsToFloat(b.xyz), uintBitsToFloat(b.w),
-                      uintBitsToFloat(c.x), c.y, uintBitsToFloat(c.z), c.w);
+  return sceneNodeFromRows(GI_FETCH(sceneEmissiveRows, row), GI_FETCH(sceneEmissiveRows, row + 1),
+                           GI_FETCH(sceneEmissiveRows, row + 2));
 }
 
 // The leaf node of emissive triangle k (after the tree's 2n − 1 nodes).

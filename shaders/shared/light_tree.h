@@ -28,6 +28,10 @@ struct GpuLightNode {
 };
 GPU_ASSERT_SIZE(GpuLightNode, 48);
 GPU_CONST LIGHT_NODE_LEAF = 0x80000000u;
+// LIGHT_SAMPLER_TREE walks the emissive triangles' tree only with more triangles than this: one quad lamp's
+// two are picked as well by power, and the walk and the search a BSDF-sampled hit needs for MIS only cost
+// time there; four panels' eight gain (docs/RESULTS.md, "Many emissive triangles" and "today's scenes").
+GPU_CONST LIGHT_EMISSIVE_TREE_MIN = 2u;
 
 // How much a node's lights may bring to a surface at x (world, metres) with geometric normal ng: their
 // power over the squared distance to the sphere's centre, times the cosine of the smallest angle between

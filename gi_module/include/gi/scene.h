@@ -179,7 +179,8 @@ struct SceneCreateDesc {
   // gi::updateLights. The emissive triangles take one shadow ray a vertex under every sampler: picked by
   // power (world area × luminance of the emission) under all and power, down a tree of their own under
   // tree (bounds, power and the cone of directions each emits in; rebuilt when updateInstances or
-  // updateMeshVertices moves them), with MIS against BSDF sampling either way.
+  // updateMeshVertices moves them; with more than two triangles: one quad lamp's are picked by power),
+  // with MIS against BSDF sampling either way.
   uint32_t lightSampler = gpu::LIGHT_SAMPLER_TREE;  // kLightSamplerNames names them
   uint32_t lightTreeCut = 4;  // [1, 64]: LIGHT_SAMPLER_TREE's subtrees (shadow rays a vertex for its lights)
   const VkAllocationCallbacks* allocationCallbacks = nullptr;
