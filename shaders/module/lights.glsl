@@ -4,7 +4,8 @@
 // from each subtree of the light tree's cut; and one shadow ray towards the area lights: an emissive
 // triangle (picked by power, or with LIGHT_SAMPLER_TREE down the emissive triangles' tree) or the sky
 // (sky.glsl), each with MIS against BSDF sampling. Where a scene has
-// both, either is picked with probability 1/2 (one-sample MIS between them),
+// both, one of them is picked (giSkySelection: 1/2, or the sky's share of
+// the importance beside the triangles' tree; one-sample MIS between them),
 // so NEE traces one traversal for them, not two.
 // NEE is a ray machine (GiNee): it hands out its shadow rays one at a time,
 // so the program that runs it traces them through its one giTrace call

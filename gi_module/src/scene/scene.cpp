@@ -563,12 +563,15 @@ Error updateInstances(Scene* s, VkCommandBuffer cmd, std::span<const InstanceDes
     moved[i] = s->bvh.merged[i] && toMat4(instances[i].worldFromObject) != s->bvh.mergedTransforms[i];
     mergedMoved |= moved[i] != 0;
   }
+  bool emitterMoved = false;  // the emission table (its areas, cdf and tree) follows only emitters' moves
   for (size_t i = 0; i < instances.size(); ++i) {
     const bool movable = s->instances[i].movable || moved[i];
+    emitterMoved |=
+        toMat4(instances[i].worldFromObject) != s->previousTransforms[i] && meshEmits(s->packed, instances[i].mesh);
     s->instances[i] = instances[i];
     s->instances[i].movable = movable;
   }
-  const std::vector<uint32_t> emissive = refreshEmission(*s);
+  const std::vector<uint32_t> emissive = emitterMoved ? refreshEmission(*s) : std::vector<uint32_t>{};
   if (mergedMoved) {  // merged as static: taken out once, its level rebuilt (new buffers, set 0 rewritten)
     if (vk::Status st = buildBvhBuffers(*s, VK_NULL_HANDLE, moved)) return vulkanError("gi::updateInstances", st);
     writeBvhDescriptors(*s);
@@ -583,7 +586,7 @@ Error updateInstances(Scene* s, VkCommandBuffer cmd, std::span<const InstanceDes
   // The tables travel in `cmd`: frames in flight keep reading the previous ones.
   vk::beginBufferWrites(s->gpu, cmd);
   writeInCommands(*s, cmd, s->instanceTable, gpuInstances(s->packed, s->instances, s->previousTransforms));
-  writeInCommands(*s, cmd, s->emissiveTriangles, emissive);
+  if (emitterMoved) writeInCommands(*s, cmd, s->emissiveTriangles, emissive);
   writeInCommands(*s, cmd, s->constants, std::vector<gpu::GpuSceneConstants>{s->sceneConstants});
   if (!mergedMoved && computeBvh(*s)) {
     writeInCommands(*s, cmd, s->bvhTopNodes, s->bvh.topNodes);
@@ -637,11 +640,9 @@ Error updateMeshVertices(Scene* s, VkCommandBuffer cmd, uint32_t mesh, const Mes
   PackedScene& p = s->packed;
   const uint32_t firstGeometry = p.meshFirstGeometry[mesh], geometryEnd = firstGeometry + p.meshGeometryCount[mesh];
   uint32_t vertexCount = 0;  // the mesh's arrays reach this far
-  bool emissive = false;
-  for (uint32_t id = firstGeometry; id < geometryEnd; ++id) {
+  for (uint32_t id = firstGeometry; id < geometryEnd; ++id)
     vertexCount = std::max(vertexCount, p.geometryFirstVertex[id] + p.geometryVertexCount[id]);
-    emissive |= (p.materials[p.geometries[id].material].flags & gpu::MATERIAL_FLAG_EMISSIVE) != 0;
-  }
+  const bool emissive = meshEmits(p, mesh);
   const bool device = v.devicePositions.address || v.deviceNormals.address;
   if (device) {
     if (v.positions || v.normals)

@@ -281,6 +281,13 @@ EmissiveTable emissiveTable(const PackedScene& packed, std::span<const InstanceD
   return table;
 }
 
+bool meshEmits(const PackedScene& packed, uint32_t mesh) {
+  const uint32_t first = packed.meshFirstGeometry[mesh];
+  for (uint32_t id = first; id < first + packed.meshGeometryCount[mesh]; ++id)
+    if (packed.materials[packed.geometries[id].material].flags & gpu::MATERIAL_FLAG_EMISSIVE) return true;
+  return false;
+}
+
 std::vector<uint32_t> emissiveTableWords(const EmissiveTable& t) {
   const size_t n = t.pickable();
   std::vector<uint32_t> words(emissiveTableCapacityWords(n));

@@ -53,6 +53,8 @@ struct EmissiveTable {
   uint32_t pickable() const { return nodes.empty() ? 0u : uint32_t(triangles.size()); }
 };
 EmissiveTable emissiveTable(const PackedScene& packed, std::span<const InstanceDesc> instances);
+// Whether some primitive of `mesh` emits light (its instances and vertices are in the emissive table).
+bool meshEmits(const PackedScene& packed, uint32_t mesh);
 // The scene's emission buffer (16-byte texels): the n triangles, their tree's nodes (3 texels each), then
 // each triangle's leaf node (a word each).
 std::vector<uint32_t> emissiveTableWords(const EmissiveTable& table);
