@@ -4,6 +4,7 @@
 // buffer or image (gi::ModuleDesc::checkBounds on), and validation stays
 // silent (the fixture fails the test on any validation message).
 #include <fstream>
+#include <new>
 
 #include "gpu_test.h"
 #include "module_test_helpers.h"
@@ -36,9 +37,24 @@ TEST_P(SoakTest, TenThousandFramesStayFlat) {
   const uint32_t kFrames = 10000, kSteadyFrom = 1000, kSteadyTo = 2000;
   uint64_t hostAtSteady = 0, deviceAtSteady = 0;
   uint32_t steadyOccupancy = 0;
+  // A one-off std::bad_alloc has ended this test now and then (issue 30, unexplained, with GBs of memory
+  // free): name the frame, the step and the resident memory where one is thrown, still failing the test.
+  const char* step = "";
+  auto failOnBadAlloc = [&](uint32_t f, auto&& run) {
+    try {
+      run();
+    } catch (const std::bad_alloc&) {
+      FAIL() << "std::bad_alloc at frame " << f << " in " << step << ", host RSS "
+             << double(residentBytes()) / 1048576.0 << " MiB";
+    }
+  };
   for (uint32_t f = 0; f < kFrames; ++f) {
-    tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, f);
-    gi::FrameStats st = gi::stats(session.module);
+    step = "renderModuleFrame";
+    ASSERT_NO_FATAL_FAILURE(
+        failOnBadAlloc(f, [&] { tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, f); }));
+    step = "gi::stats";
+    gi::FrameStats st;
+    ASSERT_NO_FATAL_FAILURE(failOnBadAlloc(f, [&] { st = gi::stats(session.module); }));
     ASSERT_EQ(st.hash.failedInserts, 0u) << "frame " << f;
     ASSERT_EQ(st.boundsViolations, 0u) << "frame " << f;
     if (f == kSteadyFrom) {
