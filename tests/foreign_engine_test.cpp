@@ -107,17 +107,28 @@ TEST(ForeignEngine, BadInputIsANamedError) {
 // Issue 35 §5: the engine reads everything in SHADER_READ_ONLY_OPTIMAL (its G-buffer, depth included)
 // and keeps the outputs in the layout it samples them in, reading them in a fragment shader
 // (examples/foreign_engine/present_pass.h) with 3 frames in flight for 100 frames: no validation
-// message with synchronization validation on, for a method with history (svgf) and a hash method.
+// message with synchronization validation on, for a method with history (svgf) and a hash method, and
+// for svgf with the outputs in the engine's HDR format (B10G11R11, ModuleDesc::outputFormat), whose mean
+// is the half-float run's to the packed format's steps.
 TEST(ForeignEngine, OutputsSampledInAFragmentShaderForAHundredFramesThreeInFlight) {
-  for (const char* method : {"svgf", "hpsf"}) {
+  double means[2][3] = {};
+  for (const char* run : {"svgf", "hpsf", "svgf --outputs packed"}) {
     std::string out;
     ASSERT_EQ(
         runProcess(GI_FOREIGN_ENGINE_BINARY,
-                   std::string("--method ") + method + " --frames 100 --size 32x32 --validation --scene " + kCornell,
-                   out),
+                   std::string("--method ") + run + " --frames 100 --size 32x32 --validation --scene " + kCornell, out),
         0)
         << out;
     EXPECT_NE(out.find("100 frames (jittered, 3 in flight)"), std::string::npos) << out;
     EXPECT_NE(out.find("validation messages: 0"), std::string::npos) << out;
+    const bool packed = std::string(run).find("packed") != std::string::npos;
+    EXPECT_NE(out.find(packed ? "outputs: B10G11R11" : "outputs: RGBA16F"), std::string::npos) << out;
+    if (std::string(run).rfind("svgf", 0) == 0) {
+      ASSERT_TRUE(readTriple(out, "mean indirect", means[packed])) << out;
+    }
+  }
+  for (int c = 0; c < 3; ++c) {
+    ASSERT_GT(means[0][c], 0.0);
+    EXPECT_NEAR(means[1][c], means[0][c], means[0][c] / 32.0) << "channel " << c;
   }
 }

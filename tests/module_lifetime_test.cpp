@@ -55,6 +55,41 @@ TEST_F(ModuleLifetimeTest, FrameImagesCanBeOverwrittenBetweenFramesInEveryMethod
   }
 }
 
+// With packed outputs (B10G11R11) the passes' direct and indirect light is the module's own half-float
+// pair, listed as frame images with the rest: filled with NaN after every frame, the methods that use the
+// outputs as scratch (svgf's à-trous, the hash methods' samples, à-trous's ping-pong) and raw render the
+// same bits.
+TEST_F(ModuleLifetimeTest, PackedOutputsWorkingImagesCanBeOverwrittenBetweenFrames) {
+  LoadedScene s;
+  load(sharedScene("cornell-box-mcguire/CornellBox-Original.gltf"), s);
+  const engine::SceneAnimation animation = engine::makeSceneAnimation(s.scene);
+  gi::ModuleDesc desc = tools::moduleDesc(ctx, s.gpu, {kSize, kSize});
+  desc.outputFormat = VK_FORMAT_B10G11R11_UFLOAT_PACK32;
+  for (gi::Method method : {gi::Method::Raw, gi::Method::Atrous, gi::Method::Svgf, gi::Method::Hpsf}) {
+    gi::Settings settings;
+    settings.method = method;
+    const char* name = gi::methodName(method);
+    const bool moving = !gi::usesHashGrid(method);
+    size_t listed = 0;
+    const engine::ReferenceImages kept =
+        renderAnimatedFrames(ctx, s, animation, settings, kSize, kFrames, moving, {}, &desc);
+    const engine::ReferenceImages filled = renderAnimatedFrames(
+        ctx, s, animation, settings, kSize, kFrames, moving,
+        [&](tools::ModuleSession& session) {
+          const gi::SizedResources& r = session.module->sized;
+          for (const gi::vk::Image* image : gi::frameImages(r))
+            listed += image == &r.workDirect || image == &r.workIndirect;
+          fillFrameImagesWithNan(ctx, *session.module);
+        },
+        &desc);
+    EXPECT_EQ(listed, 2u * kFrames) << name << ": the working pair is among the frame images";
+    ASSERT_FALSE(kept.final.pixels.empty()) << name;
+    EXPECT_TRUE(sameBits(kept.direct, filled.direct)) << name;
+    EXPECT_TRUE(sameBits(kept.indirect, filled.indirect)) << name;
+    EXPECT_TRUE(sameBits(kept.final, filled.final)) << name;
+  }
+}
+
 // What the stats call transient is what the list holds, and most of what the
 // screen filters hold at 1080p is transient (their guidance, position and,
 // for gif, the window statistics), the histories are not.

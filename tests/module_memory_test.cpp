@@ -91,14 +91,19 @@ TEST_F(ModuleMemoryTest, ThePredictionIsWhatTheModuleHolds) {
     VkExtent2D size, maximum;
     uint32_t framesInFlight;
     bool engineAllocator;
+    VkFormat outputFormat = VK_FORMAT_R16G16B16A16_SFLOAT;  // packed: the module's working pair, transient
   };
-  const Case cases[] = {
-      {{1920, 1080}, {0, 0}, 2, false}, {{97, 61}, {300, 200}, 3, false}, {{97, 61}, {0, 0}, 2, true}};
+  const Case cases[] = {{{1920, 1080}, {0, 0}, 2, false},
+                        {{97, 61}, {300, 200}, 3, false},
+                        {{97, 61}, {0, 0}, 2, true},
+                        {{97, 61}, {0, 0}, 2, true, VK_FORMAT_B10G11R11_UFLOAT_PACK32}};
   for (const Case& c : cases)
     for (const gi::MethodInfo& info : gi::methodCatalogue()) {
       SCOPED_TRACE(std::string(info.name) + " at " + std::to_string(c.size.width) + "x" +
-                   std::to_string(c.size.height) + (c.engineAllocator ? " from the engine's allocator" : ""));
+                   std::to_string(c.size.height) + (c.engineAllocator ? " from the engine's allocator" : "") +
+                   (c.outputFormat == VK_FORMAT_B10G11R11_UFLOAT_PACK32 ? ", packed outputs" : ""));
       gi::ModuleDesc desc = tools::moduleDesc(ctx, s.gpu, c.size);
+      desc.outputFormat = c.outputFormat;
       desc.maxWidth = c.maximum.width;
       desc.maxHeight = c.maximum.height;
       desc.framesInFlight = c.framesInFlight;

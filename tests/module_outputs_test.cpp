@@ -52,6 +52,24 @@ double relativeL1(const engine::FloatImage& a, const engine::FloatImage& b) {
   return sum > 0.0 ? diff / sum : diff;
 }
 
+// Values of `packed` against the same outputs of `half`: each within `step` of itself (negative light as
+// 0, nothing below 0) and under 1% relative L1.
+void expectWithinPackedSteps(const engine::FloatImage& half, const engine::FloatImage& packed, float step,
+                             const std::string& what) {
+  size_t outside = 0;
+  double lit = 0.0;
+  for (size_t v = 0; v < half.pixels.size(); ++v) {
+    const float expected = std::max(half.pixels[v], 0.0f);
+    outside += !(packed.pixels[v] >= 0.0f && std::fabs(packed.pixels[v] - expected) <= expected * step + 1e-4f);
+    lit += expected;
+  }
+  EXPECT_EQ(outside, 0u) << what;
+  EXPECT_GT(lit, 0.0) << what << ": nothing to compare";
+  const double l1 = relativeL1(packed, half);
+  std::printf("%-24s packed vs half, relative L1 %.2e\n", what.c_str(), l1);
+  EXPECT_LT(l1, 1e-2) << what;
+}
+
 }  // namespace
 
 // Every method gives the same image in half floats as in single floats, to
@@ -79,12 +97,14 @@ TEST_F(ModuleOutputsTest, HalfFloatOutputsMatchSingleFloatOnes) {
   }
 }
 
-// ModuleDesc::compositeFormat = B10G11R11_UFLOAT_PACK32 (an engine's HDR target): every method's
-// direct and indirect outputs are bit for bit those of the half-float default, and its composite is
-// theirs to the packed format's steps (6 mantissa bits in red and green, 5 in blue: a value is within
-// 1/32 of itself after one rounding; gif's supersampling reads the composite and rounds again). A
-// format the module does not take is a named error.
-TEST_F(ModuleOutputsTest, APackedCompositeIsTheHalfFloatOneToItsSteps) {
+// The engine's HDR format, B10G11R11_UFLOAT_PACK32 (6 mantissa bits in red and green, 5 in blue: a value
+// is within 1/64 of itself after one rounding, 1/32 truncated), for the composite alone
+// (ModuleDesc::compositeFormat): every method's direct and indirect outputs are bit for bit those of the
+// half-float default and its composite theirs to the packed steps (gif's supersampling reads the
+// composite and rounds again: 1/16); and for all three outputs (ModuleDesc::outputFormat): the passes
+// work in the module's half-float pair, so the direct and indirect outputs are the half-float ones after
+// one rounding and the composite as before. A format the module does not take is a named error.
+TEST_F(ModuleOutputsTest, PackedOutputsAreTheHalfFloatOnesToTheirSteps) {
   LoadedScene s;
   load(sharedScene("cornell-simple/cornell_simple.gltf"), s);
   const float preExposure = 1.0f / s.gpu.desc.typicalRadiance;
@@ -92,21 +112,17 @@ TEST_F(ModuleOutputsTest, APackedCompositeIsTheHalfFloatOneToItsSteps) {
   for (uint32_t i = 0; i < gi::kMethodCount; ++i) {
     gi::Settings settings;
     settings.method = gi::Method(i);
-    const char* name = gi::methodName(settings.method);
-    Stored half, packed;
+    const std::string name = gi::methodName(settings.method);
+    Stored half, composite, all;
     ASSERT_NO_FATAL_FAILURE(renderOutputs(ctx, s, settings, kHalf, preExposure, half));
-    ASSERT_NO_FATAL_FAILURE(renderOutputs(ctx, s, settings, kHalf, preExposure, packed, kHalf, kFrames, kPacked));
-    EXPECT_TRUE(sameBits(half.direct, packed.direct)) << name;
-    EXPECT_TRUE(sameBits(half.indirect, packed.indirect)) << name;
-    size_t outside = 0;
-    for (size_t v = 0; v < half.composite.pixels.size(); ++v) {
-      const float a = packed.composite.pixels[v], b = std::max(half.composite.pixels[v], 0.0f);
-      outside += !(std::fabs(a - b) <= b / 16.0f + 1e-4f);
-    }
-    EXPECT_EQ(outside, 0u) << name;
-    std::printf("%-9s packed composite vs half, relative L1 %.2e\n", name,
-                relativeL1(packed.composite, half.composite));
-    EXPECT_LT(relativeL1(packed.composite, half.composite), 1e-2) << name;
+    ASSERT_NO_FATAL_FAILURE(renderOutputs(ctx, s, settings, kHalf, preExposure, composite, kHalf, kFrames, kPacked));
+    ASSERT_NO_FATAL_FAILURE(renderOutputs(ctx, s, settings, kPacked, preExposure, all));
+    EXPECT_TRUE(sameBits(half.direct, composite.direct)) << name;
+    EXPECT_TRUE(sameBits(half.indirect, composite.indirect)) << name;
+    expectWithinPackedSteps(half.composite, composite.composite, 1.0f / 16.0f, name + " composite alone");
+    expectWithinPackedSteps(half.direct, all.direct, 1.0f / 32.0f, name + " direct");
+    expectWithinPackedSteps(half.indirect, all.indirect, 1.0f / 32.0f, name + " indirect");
+    expectWithinPackedSteps(half.composite, all.composite, 1.0f / 16.0f, name + " composite");
   }
   gi::ModuleDesc desc = tools::moduleDesc(ctx, s.gpu, {kSize, kSize});
   desc.compositeFormat = VK_FORMAT_R8G8B8A8_UNORM;

@@ -59,10 +59,11 @@ inline engine::ReferenceImages renderAnimatedFrames(const engine::Context& ctx, 
                                                     const engine::SceneAnimation& animation,
                                                     const gi::Settings& settings, uint32_t size, uint32_t frames,
                                                     bool moving,
-                                                    const std::function<void(tools::ModuleSession&)>& afterFrame = {}) {
+                                                    const std::function<void(tools::ModuleSession&)>& afterFrame = {},
+                                                    const gi::ModuleDesc* desc = nullptr) {
   const gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], size, size, nullptr);
   ScopedSession session(ctx);
-  EXPECT_NO_FATAL_FAILURE(openSession(ctx, s, {size, size}, settings, session));
+  EXPECT_NO_FATAL_FAILURE(openSession(ctx, s, {size, size}, settings, session, desc));
   if (!session.module) return {};
   for (uint32_t f = 0; f < frames; ++f) {
     // Frame 0 jumps to the start: no motion from whatever pose the last run left.

@@ -39,8 +39,9 @@ struct Options {
   bool validation = false;
   std::string out;  // the frames' mean indirect light (or debug view) as a .pfm, if given
   gi::DebugView view = gi::DebugView::None;
-  uint32_t maxBounces = 0;   // 0: gi::Settings' default
-  bool deviceMeshes = true;  // the G-buffer's own vertex/index buffers (false: the loaded CPU arrays)
+  uint32_t maxBounces = 0;     // 0: gi::Settings' default
+  bool deviceMeshes = true;    // the G-buffer's own vertex/index buffers (false: the loaded CPU arrays)
+  bool packedOutputs = false;  // the outputs in this engine's HDR format, B10G11R11 (false: half floats)
 };
 
 bool parseOptions(int argc, char** argv, Options& o) {
@@ -57,6 +58,8 @@ bool parseOptions(int argc, char** argv, Options& o) {
       ++i;
     } else if (arg == "--meshes" && value && (std::string(value) == "device" || std::string(value) == "cpu")) {
       o.deviceMeshes = std::string(argv[++i]) == "device";
+    } else if (arg == "--outputs" && value && (std::string(value) == "half" || std::string(value) == "packed")) {
+      o.packedOutputs = std::string(argv[++i]) == "packed";
     } else if (arg == "--out" && value) {
       o.out = argv[++i];
     } else if (arg == "--scene" && value) {
@@ -75,7 +78,7 @@ bool parseOptions(int argc, char** argv, Options& o) {
     } else {
       std::fprintf(stderr,
                    "usage: foreign_engine --scene FILE.gltf [--method NAME] [--size WxH] [--frames N] [--max-bounces "
-                   "B] [--view NAME] [--meshes device|cpu] [--out FILE.pfm] [--validation]\n");
+                   "B] [--view NAME] [--meshes device|cpu] [--outputs half|packed] [--out FILE.pfm] [--validation]\n");
       return false;
     }
   }
@@ -215,6 +218,7 @@ int main(int argc, char** argv) {
   desc.scene = gi::sceneDesc(scene);
   desc.gbuffer = foreign::gbufferDesc();
   desc.outputLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;  // the layout this engine samples them in
+  if (options.packedOutputs) desc.outputFormat = VK_FORMAT_B10G11R11_UFLOAT_PACK32;  // where the device stores to it
   gi::Settings settings;
   settings.method = options.method;
   settings.debugView = options.view;
@@ -317,6 +321,7 @@ int main(int argc, char** argv) {
   std::printf("mean %s: %.6f %.6f %.6f\n", options.view == gi::DebugView::None ? "indirect" : "composite", mean.x,
               mean.y, mean.z);
   std::printf("standard error: %.6f %.6f %.6f\n", standardError.x, standardError.y, standardError.z);
+  std::printf("outputs: %s\n", options.packedOutputs ? "B10G11R11 (packed)" : "RGBA16F");
 
   if (!options.out.empty() && !writePfm(options.out, extent, meanImage)) {
     std::fprintf(stderr, "foreign_engine: cannot write %s\n", options.out.c_str());

@@ -156,14 +156,17 @@ Error checkGBufferFormats(const Module& m) {
   return {};
 }
 
-// The composite's format (B10G11R11 is not every device's storage format).
+// The outputs' formats (B10G11R11 is not every device's storage format).
 Error checkOutputFormats(const Module& m) {
-  VkFormatProperties p{};
-  const VkFormat composite = compositeFormat(m.desc);
-  m.gpu.fn.vkGetPhysicalDeviceFormatProperties(m.desc.physicalDevice, composite, &p);
-  if (!(p.optimalTilingFeatures & VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT))
-    return {ErrorCode::UnsupportedFormat, "desc.compositeFormat = " + vk::formatName(composite) +
-                                              ": the device cannot store to it (a storage image)"};
+  const std::pair<const char*, VkFormat> outputs[] = {{"desc.outputFormat", m.desc.outputFormat},
+                                                      {"desc.compositeFormat", compositeFormat(m.desc)}};
+  for (const auto& [field, format] : outputs) {
+    VkFormatProperties p{};
+    m.gpu.fn.vkGetPhysicalDeviceFormatProperties(m.desc.physicalDevice, format, &p);
+    if (!(p.optimalTilingFeatures & VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT))
+      return {ErrorCode::UnsupportedFormat, std::string(field) + " = " + vk::formatName(format) +
+                                                ": the device cannot store to it (a storage image)"};
+  }
   return {};
 }
 
@@ -193,9 +196,11 @@ Error checkDesc(const ModuleDesc& d) {
       d.outputLayout != VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL)
     return {ErrorCode::OutOfRange, "desc.outputLayout = " + vk::layoutName(d.outputLayout) +
                                        " is not GENERAL, SHADER_READ_ONLY_OPTIMAL or TRANSFER_SRC_OPTIMAL"};
-  if (d.outputFormat != VK_FORMAT_R16G16B16A16_SFLOAT && d.outputFormat != VK_FORMAT_R32G32B32A32_SFLOAT)
+  if (d.outputFormat != VK_FORMAT_R16G16B16A16_SFLOAT && d.outputFormat != VK_FORMAT_R32G32B32A32_SFLOAT &&
+      d.outputFormat != VK_FORMAT_B10G11R11_UFLOAT_PACK32)
     return {ErrorCode::UnsupportedFormat, "desc.outputFormat = " + vk::formatName(d.outputFormat) +
-                                              " is not R16G16B16A16Sfloat or R32G32B32A32Sfloat"};
+                                              " is not R16G16B16A16Sfloat, R32G32B32A32Sfloat or "
+                                              "B10G11R11UfloatPack32"};
   if (d.compositeFormat != VK_FORMAT_UNDEFINED && d.compositeFormat != VK_FORMAT_R16G16B16A16_SFLOAT &&
       d.compositeFormat != VK_FORMAT_R32G32B32A32_SFLOAT && d.compositeFormat != VK_FORMAT_B10G11R11_UFLOAT_PACK32)
     return {ErrorCode::UnsupportedFormat, "desc.compositeFormat = " + vk::formatName(d.compositeFormat) +

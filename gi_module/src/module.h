@@ -54,10 +54,13 @@ struct SizedResources {
   vk::Image guidance, position, debug;           // filter guidance, world position, filter debug/temp
   vk::Image aafParams, aafSum;                   // AAF per-pixel z_min, z_max, samples, β; sample sums
   vk::Image aafGlossy, aafGlossyEdge;            // AAF specular terms
-  ScreenFilters filters;                         // methods with a screen-space filter
-  vk::DescriptorSets frameSets;                  // set 1, one per frame slot
-  GBufferViews bound[kMaxFramesInFlight]{};      // G-buffer views written into each slot's set
-  bool initialised = false;                      // images moved to GENERAL layout
+  // Packed outputs (outputsPacked): the passes' direct and indirect light, half floats with an alpha, which
+  // the composite pass copies into the engine's outputs; written and read within a frame.
+  vk::Image workDirect, workIndirect;
+  ScreenFilters filters;                     // methods with a screen-space filter
+  vk::DescriptorSets frameSets;              // set 1, one per frame slot
+  GBufferViews bound[kMaxFramesInFlight]{};  // G-buffer views written into each slot's set
+  bool initialised = false;                  // images moved to GENERAL layout
 };
 
 // Placeholders that gi::recordProgramWarmup binds to its empty dispatches
@@ -144,6 +147,9 @@ void recordTransientReset(const vk::Device& gpu, VkCommandBuffer cmd, const Size
 vk::Status createOutputImages(vk::Device& gpu, uint32_t width, uint32_t height, const ModuleDesc& desc,
                               OutputImages& out);
 VkFormat compositeFormat(const ModuleDesc& desc);
+// Direct and indirect outputs with no sign and no alpha (B10G11R11): the passes work in SizedResources'
+// workDirect and workIndirect, the composite pass fills the outputs.
+bool outputsPacked(const ModuleDesc& desc);
 // The hash methods trace their noisy indirect straight into the indirect output (no image of its own).
 bool noisyAliasesIndirect(const SizedResources& r);
 // The images whose contents live within one frame (written before they are

@@ -109,6 +109,8 @@ constexpr vk::Binding kFixedFrameBindings[] = {
     {gpu::GI_BINDING_OUT_INDIRECT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
     {gpu::GI_BINDING_OUT_COMPOSITE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
     {gpu::GI_BINDING_COUNTERS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+    {gpu::GI_BINDING_PACKED_DIRECT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+    {gpu::GI_BINDING_PACKED_INDIRECT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
 };
 constexpr auto kFrameBindings = [] {
   std::array<vk::Binding, std::size(kFixedFrameBindings) + std::size(kSizedImages)> all{};
@@ -195,11 +197,20 @@ VkFormat imageFormat(const Module& m, const SizedImage& image, uint64_t needs) {
   return needs & kFullPrecisionHistory ? VK_FORMAT_R32G32B32A32_SFLOAT : m.desc.historyFormat;
 }
 
+// The images the passes write their direct and indirect light into: the outputs, or where those are
+// packed the working images of `r`.
+const vk::Image& workingDirect(const OutputImages& outputs, const SizedResources& r) {
+  return r.workDirect.memory.size ? r.workDirect : outputs.direct;
+}
+const vk::Image& workingIndirect(const OutputImages& outputs, const SizedResources& r) {
+  return r.workIndirect.memory.size ? r.workIndirect : outputs.indirect;
+}
+
 // The screen filters over the images of `r`, with the parts `r.needs` asks for.
 vk::Status createFilters(Module& m, const OutputImages& outputs, SizedResources& r) {
   if (!(r.needs & kNeedsFilters)) return {};
   GI_TRY(createScreenFilters(m.gpu, m.filterPrograms, r.width, r.height,
-                             {r.guidance.view, r.position.view, r.noisyIndirect.view, outputs.indirect.view,
+                             {r.guidance.view, r.position.view, r.noisyIndirect.view, workingIndirect(outputs, r).view,
                               r.debug.view, r.aafParams.view, m.counters.buffer},
                              r.filters));
   if (r.needs & kNeedsGlossySets) {
@@ -227,6 +238,8 @@ void forEachFrameImage(const SizedResources& r, Visit&& visit) {
     if (image.lifetime == Lifetime::Frame) visit(r.*image.image);
   for (const vk::Image& stack : r.filters.a)
     if (stack.memory.size) visit(stack);
+  for (const vk::Image* work : {&r.workDirect, &r.workIndirect})
+    if (work->memory.size) visit(*work);
 }
 }  // namespace
 
@@ -235,6 +248,8 @@ std::vector<const vk::Image*> frameImages(const SizedResources& r) {
   forEachFrameImage(r, [&](const vk::Image& image) { images.push_back(&image); });
   return images;
 }
+
+bool outputsPacked(const ModuleDesc& desc) { return desc.outputFormat == VK_FORMAT_B10G11R11_UFLOAT_PACK32; }
 
 VkFormat compositeFormat(const ModuleDesc& desc) {
   return desc.compositeFormat == VK_FORMAT_UNDEFINED ? desc.outputFormat : desc.compositeFormat;
@@ -277,6 +292,12 @@ vk::Status createSizedResources(Module& m, const Settings& settings, uint32_t wi
                                  VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
                              r.*kSizedImages[i].image, kSizedImages[i].lifetime == Lifetime::Frame));
     }
+    if (outputsPacked(m.desc))
+      for (vk::Image* work : {&r.workDirect, &r.workIndirect})
+        GI_TRY(vk::createImage(
+            m.gpu, {width, height}, VK_FORMAT_R16G16B16A16_SFLOAT,
+            VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT, *work,
+            true));
     GI_TRY(vk::createDescriptorSets(m.gpu, kFrameBindings, m.desc.framesInFlight, r.frameSets, m.frameLayout));
     for (uint32_t slot = 0; slot < m.desc.framesInFlight; ++slot) {
       vk::DescriptorWriter w(r.frameSets[slot]);
@@ -285,12 +306,14 @@ vk::Status createSizedResources(Module& m, const Settings& settings, uint32_t wi
       // The shaders' live counter is the first GiCounters; the others are per-slot copies for readback.
       w.buffer(gpu::GI_BINDING_COUNTERS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, m.counters.buffer, 0,
                sizeof(gpu::GiCounters));
-      w.storageImage(gpu::GI_BINDING_OUT_DIRECT, outputs.direct.view);
-      w.storageImage(gpu::GI_BINDING_OUT_INDIRECT, outputs.indirect.view);
+      w.storageImage(gpu::GI_BINDING_OUT_DIRECT, workingDirect(outputs, r).view);
+      w.storageImage(gpu::GI_BINDING_OUT_INDIRECT, workingIndirect(outputs, r).view);
       w.storageImage(gpu::GI_BINDING_OUT_COMPOSITE, outputs.composite.view);
+      w.storageImage(gpu::GI_BINDING_PACKED_DIRECT, outputs.direct.view);
+      w.storageImage(gpu::GI_BINDING_PACKED_INDIRECT, outputs.indirect.view);
       for (const SizedImage& image : kSizedImages) {
         const bool alias = image.image == &SizedResources::noisyIndirect && (r.needs & kNoisyIsIndirect);
-        w.storageImage(image.binding, alias ? outputs.indirect.view : (r.*image.image).view);
+        w.storageImage(image.binding, alias ? workingIndirect(outputs, r).view : (r.*image.image).view);
       }
       w.write(m.gpu);
     }
@@ -314,14 +337,18 @@ void recordFirstUse(const vk::Device& gpu, VkCommandBuffer cmd, OutputImages& o,
   };
   if (!o.initialised)
     for (const vk::Image* img : {&o.direct, &o.indirect, &o.composite}) toGeneral(*img);
-  if (!r.initialised)
+  if (!r.initialised) {
     for (const SizedImage& image : kSizedImages) toGeneral(r.*image.image);
+    for (const vk::Image* work : {&r.workDirect, &r.workIndirect})
+      if (work->image) toGeneral(*work);
+  }
   o.initialised = r.initialised = true;
 }
 
 void recordTransientReset(const vk::Device& gpu, VkCommandBuffer cmd, const SizedResources& r) {
-  // Every frame: the barriers on the stack (the sized images and the guided stack at most), one call.
-  std::array<VkImageMemoryBarrier2, std::size(kSizedImages) + FILTER_STACK> barriers;
+  // Every frame: the barriers on the stack (the sized images, the guided stack and the working pair at
+  // most), one call.
+  std::array<VkImageMemoryBarrier2, std::size(kSizedImages) + FILTER_STACK + 2> barriers;  // + the working pair
   uint32_t count = 0;
   forEachFrameImage(r, [&](const vk::Image& image) {
     barriers[count++] = vk::imageBarrierInfo(
@@ -340,6 +367,7 @@ void destroySizedResources(vk::Device& gpu, SizedResources& r) {
   destroyScreenFilters(gpu, r.filters);
   vk::destroyDescriptorSets(gpu, r.frameSets);
   for (const SizedImage& image : kSizedImages) vk::destroyImage(gpu, r.*image.image);
+  for (vk::Image* work : {&r.workDirect, &r.workIndirect}) vk::destroyImage(gpu, *work);
   r = SizedResources{};
 }
 

@@ -143,4 +143,8 @@ void main() {
   // stored as they are (a count past its scale reads above 1: tests count with them).
   if (pc.radiance != 0u) giStoreComposite(p, result);
   else imageStore(giOutComposite, p, vec4(result, 1.0));
+  if (pc.packedOutputs != 0u) {  // the engine's outputs hold no sign: the stored light as it is, within range
+    imageStore(giPackedDirect, p, vec4(clamp(imageLoad(giOutDirect, p).rgb, 0.0, pc.packedMax), 1.0));
+    imageStore(giPackedIndirect, p, vec4(clamp(imageLoad(giOutIndirect, p).rgb, 0.0, pc.packedMax), 1.0));
+  }
 }

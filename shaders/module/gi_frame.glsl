@@ -25,6 +25,9 @@ layout(constant_id = GI_SPEC_HAS_EMISSION) const bool GI_GB_HAS_EMISSION = true;
 layout(set = 1, binding = GI_BINDING_OUT_DIRECT) uniform image2D giOutDirect;
 layout(set = 1, binding = GI_BINDING_OUT_INDIRECT) uniform image2D giOutIndirect;
 layout(set = 1, binding = GI_BINDING_OUT_COMPOSITE) uniform image2D giOutComposite;
+// The engine's packed direct and indirect outputs (B10G11R11), which only the composite pass writes.
+layout(set = 1, binding = GI_BINDING_PACKED_DIRECT) uniform writeonly image2D giPackedDirect;
+layout(set = 1, binding = GI_BINDING_PACKED_INDIRECT) uniform writeonly image2D giPackedIndirect;
 // The radiance histories are half or single floats (GiFrameConstants::historyScale): no format qualifier.
 layout(set = 1, binding = GI_BINDING_HISTORY_DIRECT_A) uniform image2D giHistoryDirectA;
 layout(set = 1, binding = GI_BINDING_HISTORY_INDIRECT_A) uniform image2D giHistoryIndirectA;

@@ -21,6 +21,8 @@ GPU_CONST GI_BINDING_GB_DEPTH = 6;      // linear view depth, or the hardware de
 // The outputs are in ModuleDesc::outputFormat (rgba16f or rgba32f), so the
 // shaders access them without a format qualifier, always through
 // giStoreOutput / giLoadOutput (gi_frame.glsl), which apply the pre-exposure.
+// Where outputFormat has no alpha (B10G11R11), direct and indirect are the module's own half-float
+// working images, and the composite pass copies them into the engine's (GI_BINDING_PACKED_*).
 GPU_CONST GI_BINDING_OUT_DIRECT = 7;     // emission + direct light, W/(sr·m²) × pre-exposure
 GPU_CONST GI_BINDING_OUT_INDIRECT = 8;   // demodulated indirect light × pre-exposure
 GPU_CONST GI_BINDING_OUT_COMPOSITE = 9;  // what the debug view selects (default: the lit image × pre-exposure)
@@ -72,7 +74,12 @@ GPU_CONST GI_BINDING_HISTORY_PACKED = 31;
 GPU_CONST GI_BINDING_RESERVOIRS_A = 32;
 GPU_CONST GI_BINDING_RESERVOIRS_B = 33;
 GPU_CONST GI_BINDING_RESERVOIR_PICK = 34;
-GPU_CONST GI_BINDING_COUNT = 35;
+// The engine's direct and indirect outputs where ModuleDesc::outputFormat is packed (B10G11R11: no sign,
+// no alpha), written by the composite pass alone from OUT_DIRECT and OUT_INDIRECT (GiCompositePush::
+// packedOutputs); otherwise the same images as those, and not written.
+GPU_CONST GI_BINDING_PACKED_DIRECT = 35;
+GPU_CONST GI_BINDING_PACKED_INDIRECT = 36;
+GPU_CONST GI_BINDING_COUNT = 37;
 #define GI_GRADIENT_TILE 3u              // pixels per side of a gradient tile (A-SVGF's strata)
 #define GI_TRUSTED_HISTORY 4.0           // frames of history from which a pixel's accumulated light speaks for
                                          // itself: SVGF's temporal variance (spatial before), the filter clamp
@@ -243,6 +250,8 @@ struct GiCompositePush {
                        // the direct output's alpha, which goes back to 1
   float historyScale;  // GiTemporalPush::historyScale
   uint svgfFrames;     // 1: the frames are in svgf's state image of the set written (gi_frame.glsl's giLoadSvgfFrames)
+  uint packedOutputs;  // 1: copy the direct and indirect light into GI_BINDING_PACKED_* (clamped to [0, packedMax])
+  float packedMax;     // the packed format's largest finite value
 };
 
 struct GiSupersamplePush {
@@ -250,7 +259,7 @@ struct GiSupersamplePush {
   uint supersamples;  // extra eye rays per pixel
 };
 GPU_ASSERT_SIZE(GiSupersamplePush, 8);
-GPU_ASSERT_SIZE(GiCompositePush, 52);
+GPU_ASSERT_SIZE(GiCompositePush, 60);
 
 GPU_NAMESPACE_END
 #endif

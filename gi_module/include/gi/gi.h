@@ -83,7 +83,7 @@
 //   0.3: half-float outputs with pre-exposure
 //   0.2: own function table, frames in flight, returned Vulkan errors, catalogues
 #define GI_VERSION_MAJOR 0
-#define GI_VERSION_MINOR 13
+#define GI_VERSION_MINOR 14
 
 namespace gi {
 
@@ -227,7 +227,11 @@ struct ModuleDesc {
   GBufferDesc gbuffer;  // the engine's G-buffer formats and encodings (defaults: ours, shared/gbuffer.h)
   // Format of the three output images: VK_FORMAT_R16G16B16A16_SFLOAT (half
   // the memory; set FrameInputs::preExposure so the light stays within
-  // ±65504) or VK_FORMAT_R32G32B32A32_SFLOAT. Anything else: UnsupportedFormat.
+  // ±65504), VK_FORMAT_R32G32B32A32_SFLOAT, or B10G11R11_UFLOAT_PACK32 where the
+  // device can store to it (as compositeFormat below; the module then works in two half-float images of
+  // its own, 16 bytes a pixel that live within a frame (FrameStats::memoryTransientBytes), and its
+  // composite pass copies them into the direct and indirect outputs, negative light as 0). Anything
+  // else: UnsupportedFormat.
   VkFormat outputFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
   // Format of the composite alone: VK_FORMAT_UNDEFINED (outputFormat), R16G16B16A16_SFLOAT,
   // R32G32B32A32_SFLOAT, or B10G11R11_UFLOAT_PACK32 where the device can store to it (an engine's HDR
