@@ -106,13 +106,14 @@ struct Scene {
   std::vector<Material> materials;
   std::vector<Texture> textures;
   std::vector<PunctualLight> lights;
-  std::vector<Camera> cameras;  // never empty after loading: a default camera is added if needed
-  Sky sky;                      // not in glTF: set by the caller (--sky); black by default
-  uint32_t lightSampler = 2;    // not in glTF: --light-sampler, gi::SceneCreateDesc's (gpu::LIGHT_SAMPLER_TREE)
-  uint32_t lightTreeCut = 4;    // not in glTF: --light-tree-cut, gi::SceneCreateDesc's
-  bool bothTraversals = false;  // not in glTF: build both traversals' structures where the device has ray queries
-                                // (tests and benchmarks that compare them); else only the context's traversal
-  SceneAnimations gltf;         // the file's node hierarchy, animations and skins (engine/gltf_animation.h)
+  std::vector<Camera> cameras;     // never empty after loading: a default camera is added if needed
+  Sky sky;                         // not in glTF: set by the caller (--sky); black by default
+  uint32_t lightSampler = 2;       // not in glTF: --light-sampler, gi::SceneCreateDesc's (gpu::LIGHT_SAMPLER_TREE)
+  uint32_t lightTreeCut = 4;       // not in glTF: --light-tree-cut, gi::SceneCreateDesc's
+  bool bothTraversals = false;     // not in glTF: build both traversals' structures where the device has ray queries
+                                   // (tests and benchmarks that compare them); else only the context's traversal
+  float rebuildCostRatio = -1.0f;  // not in glTF: gi::SceneCreateDesc's (below 0: the module's default)
+  SceneAnimations gltf;            // the file's node hierarchy, animations and skins (engine/gltf_animation.h)
 
   Bounds worldBounds() const;
   size_t triangleCount() const;  // instanced triangles

@@ -13,6 +13,7 @@
 #include <tuple>
 
 #include "cpu_tracer.h"
+#include "deformed_grid.h"
 #include "gpu_test.h"
 #include "scene/bvh_builder.h"
 #include "trace_batch.h"
@@ -220,6 +221,7 @@ TEST_F(TraversalTest, DeformedMeshesAgree) {
   const uint32_t boxMesh = s.scene.instances.back().mesh;
   s.scene.meshes[boxMesh].deformable = true;
   s.scene.bothTraversals = true;
+  s.scene.rebuildCostRatio = 0.0f;  // refits only: the arrays and the streams then trace one tree
   s.upload(ctx);
   const std::vector<glm::vec3> restPositions = s.scene.positions, restNormals = s.scene.normals;
   for (float turns : {0.5f, 1.2f}) {
@@ -280,6 +282,65 @@ TEST_F(TraversalTest, DeformedMeshesAgree) {
   std::printf("twisted box, refit against rebuilt: reference images' relative L1 %.2e\n", difference / sum);
   EXPECT_GT(sum, 0.0);
   EXPECT_LT(difference / sum, 1e-3);
+}
+
+// SceneCreateDesc::rebuildCostRatio: a grid rippled with CPU arrays keeps its level (refit; its cost as
+// built, to a few per cent), the same grid folded like an accordion degrades its refit level past the
+// ratio and is rebuilt on the CPU (with ray queries its BLAS built anew), and after the rebuild and a
+// refit that follows it the compute traversal traces as ray queries and Embree do; with the ratio 0 the
+// fold is only refit, at a cost many times the built one. A ratio that is not finite is a named error.
+TEST_F(TraversalTest, DegradedRefitsAreRebuiltAndTraceAsBuiltFromScratch) {
+  {
+    LoadedScene bad;
+    std::string error;
+    ASSERT_TRUE(engine::loadSceneForRendering(sharedScene("cornell-simple/cornell_simple.gltf"), bad.scene, error));
+    bad.scene.rebuildCostRatio = INFINITY;
+    engine::SceneGpu gpu;
+    EXPECT_FALSE(engine::createSceneGpu(ctx, bad.scene, gpu, error));
+    EXPECT_NE(error.find("desc.rebuildCostRatio = inf is not a finite ratio"), std::string::npos) << error;
+    engine::destroySceneGpu(ctx, gpu);
+  }
+  for (float ratio : {1.5f, 0.0f}) {
+    SCOPED_TRACE(ratio);
+    LoadedScene s;
+    std::string error;
+    ASSERT_TRUE(engine::loadSceneForRendering(sharedScene("cornell-simple/cornell_simple.gltf"), s.scene, error))
+        << error;
+    const engine::Bounds bounds = s.scene.worldBounds();
+    const uint32_t grid = tools::appendGrid(s.scene, 40, 0.5f * (bounds.min + bounds.max), 0.5f * bounds.extent());
+    s.scene.bothTraversals = true;
+    s.scene.rebuildCostRatio = ratio;
+    s.upload(ctx);
+    const std::vector<glm::vec3> rest = s.scene.positions;
+    auto update = [&](float amount, float ripple) {
+      tools::foldGrid(s.scene, grid, rest, 8, amount, ripple);
+      submitOrFail(ctx, [&](VkCommandBuffer cmd) {
+        std::string e;
+        EXPECT_TRUE(engine::recordMeshVertexUpdate(cmd, s.scene, s.gpu, grid, e)) << e;
+      });
+      return gi::sceneInfo(s.gpu.scene);
+    };
+    const gi::SceneInfo rippled = update(0.0f, 0.002f);
+    std::printf("rebuildCostRatio %.1f: rippled, cost ratio %.3f, rebuilds %u\n", ratio, rippled.refitCostRatio,
+                rippled.levelRebuilds);
+    EXPECT_LT(rippled.refitCostRatio, 1.1f);
+    EXPECT_EQ(rippled.levelRebuilds, 0u);
+    const gi::SceneInfo folded = update(1.0f, 0.0f);
+    std::printf("rebuildCostRatio %.1f: folded, cost ratio %.3f, rebuilds %u\n", ratio, folded.refitCostRatio,
+                folded.levelRebuilds);
+    if (ratio > 0.0f) {
+      EXPECT_EQ(folded.levelRebuilds, 1u);
+      EXPECT_EQ(folded.refitCostRatio, 1.0f);  // the level as just built
+    } else {
+      EXPECT_EQ(folded.levelRebuilds, 0u);
+      EXPECT_GT(folded.refitCostRatio, 3.0f);
+    }
+    checkScene(s.scene, s.gpu);
+    // A refit of the rebuilt level (or the degraded one) still traces exactly.
+    const gi::SceneInfo after = update(1.0f, 0.001f);
+    EXPECT_EQ(after.levelRebuilds, folded.levelRebuilds);
+    checkScene(s.scene, s.gpu);
+  }
 }
 
 // What gi::updateMeshVertices refuses, by name: a mesh not created deformable, a mesh index past the
@@ -465,6 +526,8 @@ TEST(BvhBuilder, EveryTriangleOnceAndChildBoxesEncloseTheirSubtrees) {
       triangles += scene.primitives[scene.meshes[inst.mesh].firstPrimitive + p].indexCount / 3;
   }
   instances.back().movable = true;  // one instance keeps its own level
+  const uint32_t own = scene.instances.back().mesh;
+  meshes[own].deformable = true;  // refit in place: no split fragments, room for a rebuild
   gi::SceneBvh bvh = gi::buildSceneBvh({scene.positions, scene.indices, meshes, instances});
   std::vector<int> seen(bvh.triangles.size(), 0);
   std::set<std::tuple<uint32_t, uint32_t, uint32_t>> found;  // (geometry, triangle, instance) reached
@@ -500,4 +563,22 @@ TEST(BvhBuilder, EveryTriangleOnceAndChildBoxesEncloseTheirSubtrees) {
   for (size_t i = 0; i < seen.size(); ++i) EXPECT_EQ(seen[i], 1) << "triangle " << i;
   EXPECT_GT(movableTriangles, 0u);
   EXPECT_EQ(bvh.topInstances.size(), 2u);  // the merged level and the movable instance
+
+  // The deformable level: one slot a triangle; rebuilt in a sheared pose (rebuildMeshLevel) it keeps its
+  // root and slots, holds each triangle once inside its boxes, and costs no more than the old tree refit
+  // to that pose (meshLevelCost, which counts the root's own area: at least 1).
+  EXPECT_EQ(bvh.meshTriangleCount[own], movableTriangles) << "a deformable level holds no split fragments";
+  EXPECT_GE(gi::meshLevelCost({scene.positions, scene.indices, meshes, instances}, bvh, own), 1.0);
+  std::vector<glm::vec3> sheared = scene.positions;
+  for (glm::vec3& v : sheared) v.x += 3.0f * std::sin(7.0f * v.z);
+  const gi::BvhInput input{sheared, scene.indices, meshes, instances};
+  const double refitCost = gi::meshLevelCost(input, bvh, own);
+  const uint32_t root = bvh.meshRoot[own], first = bvh.meshFirstTriangle[own];
+  ASSERT_TRUE(gi::rebuildMeshLevel(input, own, bvh));
+  EXPECT_EQ(bvh.meshRoot[own], root);
+  EXPECT_EQ(bvh.meshFirstTriangle[own], first);
+  EXPECT_LE(gi::meshLevelCost(input, bvh, own), refitCost);
+  std::fill(seen.begin(), seen.end(), 0);
+  walk(root, glm::vec3(-1e30f), glm::vec3(1e30f));
+  for (uint32_t i = first; i < first + bvh.meshTriangleCount[own]; ++i) EXPECT_EQ(seen[i], 1) << "triangle " << i;
 }

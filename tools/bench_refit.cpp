@@ -1,6 +1,7 @@
 #include "bench_refit.h"
 
 #include <glm/glm.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -9,8 +10,12 @@
 #include <fstream>
 #include <vector>
 
+#include "camera.h"
+#include "deformed_grid.h"
 #include "gi/scene.h"
 #include "gpu_timer.h"
+#include "ray_bench.h"
+#include "scene_gpu.h"
 
 namespace tools {
 namespace {
@@ -191,6 +196,80 @@ bool benchRefit(const engine::Context& ctx, std::span<const uint32_t> triangleCo
           << median(row.refitGpu) << ',' << median(row.rebuildCpu) << ',' << median(row.rebuildGpu) << '\n';
     }
   engine::destroyGpuTimer(ctx, timer);
+  return error.empty();
+}
+
+namespace {
+
+// The grid alone under a camera looking down at the part the fold stacks the rest on, 320×180, and its mesh.
+engine::Scene foldScene(uint32_t& grid, gpu::GpuCamera& camera) {
+  engine::Scene scene;
+  scene.sourcePath = "folded grid";
+  engine::Material grey;
+  grey.baseColor = glm::vec4(0.7f, 0.7f, 0.7f, 1.0f);
+  grey.metallic = 0.0f;
+  scene.materials.push_back(grey);
+  grid = appendGrid(scene, 100, glm::vec3(0.0f), 1.0f);
+  engine::Camera view;  // on the strip the fold stacks the others on (x from −0.5 to −0.375), from above
+  const glm::vec3 target(-0.4375f, 0.0f, 0.0f);
+  view.worldFromView = glm::inverse(glm::lookAt(target + glm::vec3(0.0f, 0.5f, 0.05f), target, glm::vec3(1, 0, 0)));
+  view.yfov = 0.5f;
+  scene.cameras.push_back(view);
+  scene.rebuildCostRatio = 0.0f;  // refits only: what they cost is measured
+  camera = engine::makeGpuCamera(view, 320, 180, nullptr);
+  return scene;
+}
+
+}  // namespace
+
+bool benchRefitQuality(const engine::Context& ctx, const std::filesystem::path& dir, std::string& error) {
+  const std::filesystem::path csvPath = dir / "refit_quality.csv";
+  const bool fresh = !std::filesystem::exists(csvPath);
+  std::ofstream csv(csvPath, std::ios::app);
+  if (!csv) {
+    error = csvPath.string() + ": cannot write";
+    return false;
+  }
+  if (fresh) csv << "device,backend,triangles,fold,cost_ratio,refit_primary_mrays,built_primary_mrays\n";
+  uint32_t grid = 0;
+  gpu::GpuCamera camera{};
+  engine::Scene scene = foldScene(grid, camera);
+  scene.bothTraversals = ctx.rayQuery;
+  const std::vector<glm::vec3> rest = scene.positions;
+  engine::SceneGpu refit;
+  if (!engine::createSceneGpu(ctx, scene, refit, error)) return false;
+  std::vector<uint32_t> backends{gpu::TRAVERSAL_COMPUTE};
+  if (ctx.rayQuery) backends.push_back(gpu::TRAVERSAL_RAY_QUERY);
+  // Camera rays, 4 a pixel, 7 timed rounds (each after an untimed one; the programs compile at their first
+  // dispatch); the better of two such runs, the two scenes' runs interleaved (the machine's other work
+  // only slows a run down).
+  auto primary = [&](const engine::SceneGpu& gpu, uint32_t backend) {
+    return engine::runRayBench(ctx, gpu, camera, gpu::RB_KIND_PRIMARY, backend, error, 4, 7).mraysPerSecond();
+  };
+  std::printf("gi-bench: a grid of %zu triangles folded on %s: camera Mrays/s, refit / built anew\n",
+              scene.indices.size() / 3, ctx.properties.deviceName);
+  std::printf("  %-9s %5s %10s %16s\n", "backend", "fold", "cost ratio", "Mrays/s");
+  for (float fold : {0.0f, 0.5f, 0.6f, 0.7f, 0.8f, 0.9f, 1.0f}) {
+    foldGrid(scene, grid, rest, 8, fold, 0.0f);
+    engine::submitAndWait(
+        ctx, [&](VkCommandBuffer cmd) { engine::recordMeshVertexUpdate(cmd, scene, refit, grid, error); }, error);
+    const float ratio = gi::sceneInfo(refit.scene).refitCostRatio;
+    engine::SceneGpu built;  // the same pose built anew (a deformable level, as a rebuild makes it)
+    if (!error.empty() || !engine::createSceneGpu(ctx, scene, built, error)) break;
+    for (uint32_t backend : backends) {
+      double r = 0.0, b = 0.0;
+      for (int run = 0; run < 2; ++run) {
+        r = std::max(r, primary(refit, backend));
+        b = std::max(b, primary(built, backend));
+      }
+      const char* name = backend == gpu::TRAVERSAL_COMPUTE ? "compute" : "rayquery";
+      std::printf("  %-9s %5.2f %10.2f %7.2f / %6.2f\n", name, fold, ratio, r, b);
+      csv << '"' << ctx.properties.deviceName << "\"," << name << ',' << scene.indices.size() / 3 << ',' << fold << ','
+          << ratio << ',' << r << ',' << b << '\n';
+    }
+    engine::destroySceneGpu(ctx, built);
+  }
+  engine::destroySceneGpu(ctx, refit);
   return error.empty();
 }
 

@@ -21,4 +21,10 @@ namespace tools {
 bool benchRefit(const engine::Context& ctx, std::span<const uint32_t> triangleCounts, const std::filesystem::path& dir,
                 std::string& error);
 
+// What refits cost tracing as a deformation grows: a grid of 20,000 triangles folded step by step
+// (tools/deformed_grid.h), refit (gi::SceneCreateDesc::rebuildCostRatio 0) against the same pose built
+// anew: the level's surface-area cost ratio (gi::SceneInfo::refitCostRatio) and each backend's primary
+// and diffuse Mrays/s, both scenes. Prints a table, appends to DIR/refit_quality.csv.
+bool benchRefitQuality(const engine::Context& ctx, const std::filesystem::path& dir, std::string& error);
+
 }  // namespace tools

@@ -64,7 +64,8 @@ const cli::Option kOptions[] = {
     {"refit", "N,N,...",
      "only the deforming-mesh microbenchmark: a grid of each triangle count handed over every frame "
      "(gi::updateMeshVertices) against its scene created anew, for each traversal backend; appends "
-     "to DIR/refit.csv (no --scene or --methods needed)"},
+     "to DIR/refit.csv; then a grid folded step by step, refit against built anew: its BVH level's cost "
+     "ratio and Mrays/s, to DIR/refit_quality.csv (no --scene or --methods needed)"},
     {"rays", nullptr,
      "only the bare-ray microbenchmark: primary, diffuse and shadow Mrays/s for each traversal backend "
      "and for Embree on the CPU; appends to DIR/rays.csv (no --methods needed)"},
@@ -256,7 +257,7 @@ int refitOnly(cli::Args& args) {
     std::fprintf(stderr, "gi-bench: %s\n", error.c_str());
     return 1;
   }
-  const bool written = tools::benchRefit(ctx, counts, dir, error);
+  const bool written = tools::benchRefit(ctx, counts, dir, error) && tools::benchRefitQuality(ctx, dir, error);
   if (!written) std::fprintf(stderr, "gi-bench: %s\n", error.c_str());
   engine::destroyContext(ctx);
   return written ? 0 : 1;

@@ -547,6 +547,17 @@ def refit(path):
               f"{rebuild_ms / refit_ms:.0f}× |")
 
 
+def refit_quality(path):
+    """A folded grid's level refit against built anew (gi-bench --refit's second table): cost ratio, camera Mrays/s."""
+    names = {"rayquery": "ray queries (BLAS updated / built)", "compute": "compute"}
+    print("| backend | fold | cost ratio (refit ÷ built) | refit Mrays/s | built anew Mrays/s | refit ÷ built |")
+    print("|---|---|---|---|---|---|")
+    for r in rows(path):
+        refit_rate, built_rate = float(r["refit_primary_mrays"]), float(r["built_primary_mrays"])
+        print(f"| {names[r['backend']]} | {float(r['fold']):.1f} | {float(r['cost_ratio']):.2f} | {refit_rate:.2f} | "
+              f"{built_rate:.2f} | {refit_rate / built_rate:.2f} |")
+
+
 def error_at_frames(pairs, ks=(1, 4, 8, 32, 64)):
     """Final / indirect MSE after frame k of each run's series, its light at 32 and 64, its ms (args: NAME DIR ...)."""
     print("| scene | method | " + " | ".join(f"k = {k}" for k in ks) + " | light at k = 32 / 64 | frame ms |")
@@ -789,6 +800,7 @@ KINDS = {
     "move": lambda a: move(a[0]),
     "walk": lambda a: walk(a[0], a[1] if len(a) > 1 else None),
     "refit": lambda a: refit(a[0]),
+    "refit_quality": lambda a: refit_quality(a[0]),
     "bench_log": lambda a: bench_log(a[0]),
     "hash_map": hash_map,
     "hash_live": lambda a: hash_live(a[0], a[1:]),

@@ -4,7 +4,8 @@
 // level at a time from the deepest (one dispatch each, a barrier between),
 // then the top level. Refitting keeps the tree's shape, so traversal stays
 // exact (every box still holds its triangles) while its quality drifts with
-// the deformation (gi::updateMeshVertices says when to rebuild).
+// the deformation (gi::updateMeshVertices rebuilds it on the CPU instead where
+// that drift passes SceneCreateDesc::rebuildCostRatio).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_buffer_reference : require
 #extension GL_EXT_scalar_block_layout : require

@@ -183,6 +183,13 @@ struct SceneCreateDesc {
   // with MIS against BSDF sampling either way.
   uint32_t lightSampler = gpu::LIGHT_SAMPLER_TREE;  // kLightSamplerNames names them
   uint32_t lightTreeCut = 4;  // [1, 64]: LIGHT_SAMPLER_TREE's subtrees (shadow rays a vertex for its lights)
+  // A deformable mesh whose vertices updateMeshVertices takes as CPU arrays is rebuilt rather than refit
+  // once its refit compute-BVH level's surface-area cost (SceneInfo::refitCostRatio) exceeds this many
+  // times its cost when last built: its level by Embree on the CPU (as at createScene) and, with ray
+  // queries, its BLAS built anew. 0: always refit. Device streams are always refit (the CPU never sees
+  // their vertices). The default is where refitting began to cost tracing more than rebuilding saves
+  // (docs/RESULTS.md, "Refit against rebuild").
+  float rebuildCostRatio = 1.5f;
   const VkAllocationCallbacks* allocationCallbacks = nullptr;
   uint64_t memoryBudgetBytes = 0;  // 0 = no limit
   DeviceMemoryCallbacks
@@ -252,9 +259,11 @@ struct MeshVertices {
 // written, the compute traversal's BVH is refit on the device (its triangles, its bottom level a level at a
 // time, the top level; the tree keeps the shape of the pose it was built in, so traversal stays exact and
 // slows as the deformation grows), and with ray queries the mesh's BLAS is updated and the TLAS rebuilt.
-// With CPU arrays the emission table follows the new areas; device streams leave emissive meshes' picking
-// weights at their last CPU-known areas. The G-buffer's motion vectors of deforming surfaces are the
-// engine's (previous positions): the module's temporal passes see them as moving geometry.
+// With CPU arrays the level and the BLAS are rebuilt instead where refits have degraded the level past
+// SceneCreateDesc::rebuildCostRatio, and the emission table follows the new areas; an emissive mesh's
+// vertices must come as CPU arrays (its picking weights are areas the CPU computes). The G-buffer's motion
+// vectors of deforming surfaces are the engine's (previous positions): the module's temporal passes see
+// them as moving geometry.
 Error updateMeshVertices(Scene* scene, VkCommandBuffer cmd, uint32_t mesh, const MeshVertices& vertices);
 // A frame in which deformable mesh `mesh` holds still (its animation paused, its character at rest): its
 // previous positions become its current ones, so the G-buffer's motion vectors read no motion there;
@@ -270,6 +279,11 @@ struct SceneInfo {
   double bvhTopBuildMs = 0.0;                                // of its last top-level build
   uint64_t memoryBytes = 0;                                  // device memory the scene holds
   float boundsMin[3] = {0, 0, 0}, boundsMax[3] = {0, 0, 0};  // world, metres
+  // The deformable mesh updateMeshVertices last took as CPU arrays (compute BVH): its level's surface-area
+  // cost after that update over its cost when last built (1: as built), and the rebuilds
+  // SceneCreateDesc::rebuildCostRatio has made since createScene.
+  float refitCostRatio = 0.0f;
+  uint32_t levelRebuilds = 0;
 };
 SceneInfo sceneInfo(const Scene* scene);
 

@@ -85,14 +85,16 @@ void blasGeometries(const AccelerationMesh& mesh, VkDeviceAddress positions, VkD
 }  // namespace
 
 void recordBlasUpdate(const vk::Device& d, VkCommandBuffer cmd, const vk::Buffer& positions, const vk::Buffer& indices,
-                      const AccelerationMesh& mesh, const SceneAcceleration& accel, uint32_t m) {
+                      const AccelerationMesh& mesh, const SceneAcceleration& accel, uint32_t m, bool rebuild) {
   std::vector<VkAccelerationStructureGeometryKHR> geometries;
   std::vector<VkAccelerationStructureBuildRangeInfoKHR> ranges;
   blasGeometries(mesh, deviceAddress(d, positions), deviceAddress(d, indices), geometries, ranges);
   VkAccelerationStructureBuildGeometryInfoKHR build =
       buildInfo(VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, geometries, true);
-  build.mode = VK_BUILD_ACCELERATION_STRUCTURE_MODE_UPDATE_KHR;
-  build.srcAccelerationStructure = build.dstAccelerationStructure = accel.blas[m].handle;
+  build.mode =
+      rebuild ? VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR : VK_BUILD_ACCELERATION_STRUCTURE_MODE_UPDATE_KHR;
+  build.srcAccelerationStructure = rebuild ? VK_NULL_HANDLE : accel.blas[m].handle;
+  build.dstAccelerationStructure = accel.blas[m].handle;
   build.scratchData.deviceAddress = alignUp(deviceAddress(d, accel.updateScratch), accel.scratchAlignment);
   const VkAccelerationStructureBuildRangeInfoKHR* rangePointer = ranges.data();
   // Earlier traces read this BLAS; the update overwrites it in place.
@@ -140,7 +142,8 @@ vk::Status buildSceneAcceleration(vk::Device& d, VkCommandBuffer cmd, const vk::
     d.fn.vkGetAccelerationStructureBuildSizesKHR(d.device, VK_ACCELERATION_STRUCTURE_BUILD_TYPE_DEVICE_KHR, &build,
                                                  maxPrims.data(), &p.sizes);
     maxScratch = std::max(maxScratch, p.sizes.buildScratchSize);
-    if (meshes[m].updatable) maxUpdateScratch = std::max(maxUpdateScratch, p.sizes.updateScratchSize);
+    if (meshes[m].updatable)  // updates, and the rebuilds of a degraded one (gi::SceneCreateDesc::rebuildCostRatio)
+      maxUpdateScratch = std::max({maxUpdateScratch, p.sizes.updateScratchSize, p.sizes.buildScratchSize});
   }
   GI_TRY(vk::createBuffer(d, maxScratch + accel.scratchAlignment, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | kAddressable,
                           false, scratchOut));

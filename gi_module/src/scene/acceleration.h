@@ -23,7 +23,7 @@ struct AccelerationStructure {
 
 struct SceneAcceleration {
   std::vector<AccelerationStructure> blas;  // per mesh
-  vk::Buffer updateScratch;                 // for the updatable BLASes' updates (none without)
+  vk::Buffer updateScratch;                 // for the updatable BLASes' updates and rebuilds (none without)
   AccelerationStructure tlas;
   vk::Buffer tlasScratch;
   vk::Buffer instanceBuffer;  // host-visible VkAccelerationStructureInstanceKHR[]
@@ -57,10 +57,11 @@ vk::Status buildSceneAcceleration(vk::Device& device, VkCommandBuffer cmd, const
                                   std::span<const AccelerationInstance> instances, SceneAcceleration& accel,
                                   vk::Buffer& scratchOut);
 // Records the update of mesh `m`'s BLAS (updatable) to the positions now in `positions`, written before by
-// commands made visible to acceleration-structure builds; the TLAS rebuild that must follow reads it.
+// commands made visible to acceleration-structure builds, or with `rebuild` its build anew in place; the
+// TLAS rebuild that must follow reads it.
 void recordBlasUpdate(const vk::Device& device, VkCommandBuffer cmd, const vk::Buffer& positions,
                       const vk::Buffer& indices, const AccelerationMesh& mesh, const SceneAcceleration& accel,
-                      uint32_t m);
+                      uint32_t m, bool rebuild = false);
 // The TLAS's instance records for `instances` (as many as the TLAS was built for).
 std::vector<VkAccelerationStructureInstanceKHR> tlasInstances(std::span<const AccelerationInstance> instances,
                                                               const SceneAcceleration& accel);

@@ -2,6 +2,7 @@
 
 #include <embree3/rtcore.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <memory>
@@ -218,10 +219,9 @@ struct Part {
   uint32_t instance;    // stored in the triangles: BVH_FROM_TOP_LEVEL for a mesh's own level
 };
 
-uint32_t buildBottom(RTCDevice device, const BvhInput& input, std::span<const Part> parts, SceneBvh& bvh, glm::vec3& lo,
-                     glm::vec3& hi) {
-  std::vector<gpu::GpuBvhTriangle> candidates;
-  std::vector<RTCBuildPrimitive> boxes;
+// The triangles of `parts` whose vertices are all finite, and their boxes (primID: the index of the triangle).
+void collectTriangles(const BvhInput& input, std::span<const Part> parts, std::vector<gpu::GpuBvhTriangle>& candidates,
+                      std::vector<RTCBuildPrimitive>& boxes) {
   for (const Part& part : parts) {
     for (const BvhGeometry& g : part.mesh->geometries) {
       for (uint32_t t = 0; t < g.triangleCount; ++t) {
@@ -244,9 +244,17 @@ uint32_t buildBottom(RTCDevice device, const BvhInput& input, std::span<const Pa
       }
     }
   }
+}
+
+// `splits`: spatial splits of the triangles (not for a level that is refit).
+uint32_t buildBottom(RTCDevice device, const BvhInput& input, std::span<const Part> parts, bool splits, SceneBvh& bvh,
+                     glm::vec3& lo, glm::vec3& hi) {
+  std::vector<gpu::GpuBvhTriangle> candidates;
+  std::vector<RTCBuildPrimitive> boxes;
+  collectTriangles(input, parts, candidates, boxes);
   std::vector<uint32_t> order;
   uint32_t root = buildTree(device, std::move(boxes), kLeafSize, uint32_t(bvh.triangles.size()), bvh.bottomNodes, order,
-                            lo, hi, &candidates);
+                            lo, hi, splits ? &candidates : nullptr);
   for (uint32_t id : order) bvh.triangles.push_back(candidates[id]);
   return root;
 }
@@ -308,15 +316,51 @@ SceneBvh buildSceneBvh(const BvhInput& input) {
     }
   }
   if (!mergedParts.empty())
-    bvh.mergedRoot = buildBottom(embree.device, input, mergedParts, bvh, bvh.mergedMin, bvh.mergedMax);
+    bvh.mergedRoot = buildBottom(embree.device, input, mergedParts, true, bvh, bvh.mergedMin, bvh.mergedMax);
+  bvh.meshFirstTriangle.assign(input.meshes.size(), 0);
+  bvh.meshTriangleCount.assign(input.meshes.size(), 0);
+  bvh.meshNodeCapacity.assign(input.meshes.size(), 0);
   for (size_t m = 0; m < input.meshes.size(); ++m) {
     if (!meshUsed[m]) continue;
     Part own{&input.meshes[m], glm::mat4(1.0f), gpu::BVH_FROM_TOP_LEVEL};
-    bvh.meshRoot[m] = buildBottom(embree.device, input, {&own, 1}, bvh, bvh.meshMin[m], bvh.meshMax[m]);
+    const bool deformable = input.meshes[m].deformable;
+    const size_t firstNode = bvh.bottomNodes.size(), firstTriangle = bvh.triangles.size();
+    bvh.meshRoot[m] = buildBottom(embree.device, input, {&own, 1}, !deformable, bvh, bvh.meshMin[m], bvh.meshMax[m]);
+    const size_t built = bvh.bottomNodes.size() - firstNode;
+    // Room for a rebuild in another pose, whose tree may need a few more nodes (never referenced until then).
+    bvh.bottomNodes.resize(firstNode + (deformable ? built + built / 2 + 1 : built), kEmptyNode);
+    bvh.meshFirstTriangle[m] = uint32_t(firstTriangle);
+    bvh.meshTriangleCount[m] = uint32_t(bvh.triangles.size() - firstTriangle);
+    bvh.meshNodeCapacity[m] = uint32_t(bvh.bottomNodes.size() - firstNode);
   }
   bvh.bottomBuildMs = millisecondsSince(start);
   rebuildTopLevel(input.instances, bvh);
   return bvh;
+}
+
+bool rebuildMeshLevel(const BvhInput& input, uint32_t mesh, SceneBvh& bvh) {
+  EmbreeDevice embree;
+  if (!embree.device) throw std::runtime_error("BVH: could not create an Embree device");
+  const Part own{&input.meshes[mesh], glm::mat4(1.0f), gpu::BVH_FROM_TOP_LEVEL};
+  std::vector<gpu::GpuBvhTriangle> candidates;
+  std::vector<RTCBuildPrimitive> boxes;
+  collectTriangles(input, {&own, 1}, candidates, boxes);
+  if (candidates.size() != bvh.meshTriangleCount[mesh]) return false;
+  const uint32_t root = bvh.meshRoot[mesh], first = bvh.meshFirstTriangle[mesh];
+  std::vector<gpu::GpuBvhNode> nodes;
+  std::vector<uint32_t> order;
+  glm::vec3 lo, hi;
+  buildTree(embree.device, std::move(boxes), kLeafSize, first, nodes, order, lo, hi);
+  if (nodes.size() > bvh.meshNodeCapacity[mesh]) return false;
+  for (gpu::GpuBvhNode& n : nodes)  // built from node 0: the level starts at its root
+    for (int k = 0; k < int(kWidth); ++k)
+      if (n.child[k] != gpu::BVH_NO_CHILD && !(n.child[k] & gpu::BVH_LEAF_BIT)) n.child[k] += root;
+  nodes.resize(bvh.meshNodeCapacity[mesh], kEmptyNode);
+  std::copy(nodes.begin(), nodes.end(), bvh.bottomNodes.begin() + root);
+  for (size_t i = 0; i < order.size(); ++i) bvh.triangles[first + i] = candidates[order[i]];
+  bvh.meshMin[mesh] = lo;
+  bvh.meshMax[mesh] = hi;
+  return true;
 }
 
 void rebuildTopLevel(std::span<const BvhInstance> instances, SceneBvh& bvh) {

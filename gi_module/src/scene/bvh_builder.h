@@ -29,6 +29,9 @@ struct BvhGeometry {
 
 struct BvhMesh {
   std::vector<BvhGeometry> geometries;
+  // Refit in place (gi::MeshDesc::deformable): its own level is built without spatial splits (a refit box
+  // holds whole triangles, so split fragments would only repeat them) and keeps room for a rebuild.
+  bool deformable = false;
 };
 
 struct BvhInstance {
@@ -49,6 +52,9 @@ struct SceneBvh {
   std::vector<gpu::GpuBvhTriangle> triangles;
   std::vector<uint32_t> meshRoot;           // per mesh: root node, or BVH_NO_CHILD when no unmerged instance uses it
   std::vector<glm::vec3> meshMin, meshMax;  // per mesh: object-space bounds of its bottom level
+  // Per mesh with a level of its own: its triangle slots, and the nodes from its root a rebuild may fill
+  // (deformable meshes: half as many again as the first build made; others: as many as it made).
+  std::vector<uint32_t> meshFirstTriangle, meshTriangleCount, meshNodeCapacity;
   uint32_t mergedRoot = gpu::BVH_NO_CHILD;  // the merged static level's root node
   glm::vec3 mergedMin{0.0f}, mergedMax{0.0f};
   std::vector<uint8_t> merged;              // per instance: 1 if in the merged level
@@ -62,6 +68,19 @@ struct SceneBvh {
 // Builds both levels. Triangles with non-finite vertices are left out (ray
 // queries treat them as inactive too). Throws std::runtime_error if Embree fails.
 SceneBvh buildSceneBvh(const BvhInput& input);
+
+// Rebuilds deformable mesh `mesh`'s own level in place from the current `input.positions` (its root,
+// node range and triangle slots stay; the top level's refit follows on the device). False, and nothing
+// changed, when the new tree needs more nodes than the level has room for or a triangle is not finite.
+// Throws std::runtime_error if Embree fails.
+bool rebuildMeshLevel(const BvhInput& input, uint32_t mesh, SceneBvh& bvh);
+
+// The surface-area cost of mesh `mesh`'s own level with its boxes refit to `input.positions` (on the
+// CPU; the tree as it is): Σ over inner nodes of their box's area + Σ over leaves of their box's area ×
+// their triangles, over the root box's area (a box test and a triangle test cost about the same on
+// lavapipe). A level just built has its lowest; refits that move triangles away from their neighbours in
+// the tree raise it, and traversal slows with it (docs/RESULTS.md, "Refit against rebuild").
+double meshLevelCost(const BvhInput& input, const SceneBvh& bvh, uint32_t mesh);
 
 // Rebuilds the top level from the instances' current transforms. Throws
 // std::runtime_error when a merged instance moved (it should have been movable).

@@ -3,7 +3,8 @@
 // deformable mesh's bottom level is split into levels (nodes of equal depth,
 // refit together, the deepest first) and its triangle slots found; an update
 // records the triangles' rewrite, one dispatch per level and the top level's
-// refit. The tree keeps the shape Embree gave the rest pose.
+// refit. The tree keeps the shape Embree gave it, until a degraded level is
+// rebuilt (gi::SceneCreateDesc::rebuildCostRatio) and its plan re-derived.
 #pragma once
 #include <cstdint>
 #include <span>

@@ -164,8 +164,18 @@ vk::Status buildBvhBuffers(Scene& s, VkCommandBuffer cmd, std::span<const uint8_
   GI_TRY(hostBuffer(s, s.bvh.topInstances, maxTopInstances(instances), usage, s.bvhInstances));
   if (hasDeformable(s.packed) && computeBvh(s)) {
     s.refit = refitPlan(s.bvh, s.packed.meshDeformable);
+    // Room for the order of every deformable level at its capacity (a rebuild may add nodes), and each
+    // level's cost as built, which its refits are weighed against.
+    size_t orderCapacity = 0;
+    const std::vector<BvhMesh> meshes = bvhMeshes(s.packed);
+    s.builtCost.assign(meshes.size(), 0.0);
+    for (size_t m = 0; m < meshes.size(); ++m) {
+      if (!s.packed.meshDeformable[m] || s.bvh.meshRoot[m] == gpu::BVH_NO_CHILD) continue;
+      orderCapacity += s.bvh.meshNodeCapacity[m];
+      s.builtCost[m] = meshLevelCost({s.packed.positions, s.packed.indices, meshes, {}}, s.bvh, uint32_t(m));
+    }
     vk::destroyBuffer(s.gpu, s.refitOrder);
-    GI_TRY(hostBuffer(s, s.refit.order, s.refit.order.size(), kAddressed, s.refitOrder));
+    GI_TRY(hostBuffer(s, s.refit.order, orderCapacity, kAddressed, s.refitOrder));
   }
   const vk::Buffer* buffers[] = {&s.bvhNodes, &s.bvhTriangles, &s.bvhTopNodes, &s.bvhInstances};
   for (int i = 0; i < 4; ++i)
@@ -457,6 +467,9 @@ Error createScene(const SceneCreateDesc& desc, const SceneContents& contents, Vk
   if (desc.lightSampler > gpu::LIGHT_SAMPLER_TREE)
     return sceneError("gi::createScene: desc.lightSampler = " + std::to_string(desc.lightSampler) +
                       " is not gpu::LIGHT_SAMPLER_ALL, LIGHT_SAMPLER_POWER or LIGHT_SAMPLER_TREE");
+  if (!(desc.rebuildCostRatio >= 0.0f) || !std::isfinite(desc.rebuildCostRatio))
+    return sceneError("gi::createScene: desc.rebuildCostRatio = " + std::to_string(desc.rebuildCostRatio) +
+                      " is not a finite ratio ≥ 0 (0: never rebuild)");
   auto s = std::make_unique<Scene>();
   s->desc = desc;
   bool deviceMeshes = false;
@@ -619,6 +632,41 @@ void recordPreviousPositions(Scene& s, VkCommandBuffer cmd, uint32_t mesh) {
       VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_MEMORY_READ_BIT);
 }
 
+// Deformable mesh `mesh`'s compute-BVH level after new CPU-array vertices (in s.packed): its cost as refit
+// weighed against its cost when built, and where refits have degraded it past
+// SceneCreateDesc::rebuildCostRatio, rebuilt on the CPU and its nodes, triangles and the refit order
+// written into `cmd` (transfers, made visible by the caller). True when rebuilt: the caller skips the
+// level's refit and builds the BLAS anew. An Embree failure (memory) leaves the refit to do.
+bool rebuildDegradedLevel(Scene& s, VkCommandBuffer cmd, uint32_t mesh) {
+  if (mesh >= s.builtCost.size() || !(s.builtCost[mesh] > 0.0)) return false;
+  const std::vector<BvhMesh> meshes = bvhMeshes(s.packed);
+  const BvhInput input{s.packed.positions, s.packed.indices, meshes, {}};
+  double ratio = meshLevelCost(input, s.bvh, mesh) / s.builtCost[mesh];
+  bool rebuilt = false;
+  if (s.desc.rebuildCostRatio > 0.0f && ratio > s.desc.rebuildCostRatio) {
+    try {
+      rebuilt = rebuildMeshLevel(input, mesh, s.bvh);
+    } catch (const std::exception&) {
+      rebuilt = false;
+    }
+  }
+  if (rebuilt) {
+    s.levelRebuilds++;
+    s.builtCost[mesh] = meshLevelCost(input, s.bvh, mesh);
+    ratio = 1.0;
+    const uint32_t root = s.bvh.meshRoot[mesh], first = s.bvh.meshFirstTriangle[mesh];
+    vk::recordBufferWrite(s.gpu, cmd, s.bvhNodes, &s.bvh.bottomNodes[root],
+                          s.bvh.meshNodeCapacity[mesh] * sizeof(gpu::GpuBvhNode), root * sizeof(gpu::GpuBvhNode));
+    vk::recordBufferWrite(s.gpu, cmd, s.bvhTriangles, &s.bvh.triangles[first],
+                          s.bvh.meshTriangleCount[mesh] * sizeof(gpu::GpuBvhTriangle),
+                          first * sizeof(gpu::GpuBvhTriangle));
+    s.refit = refitPlan(s.bvh, s.packed.meshDeformable);  // the new tree's levels
+    writeInCommands(s, cmd, s.refitOrder, s.refit.order);
+  }
+  s.refitCostRatio = float(ratio);
+  return rebuilt;
+}
+
 // The checks both vertex calls make: a built scene, a command buffer, a deformable mesh.
 Error checkDeformableMesh(const Scene* s, VkCommandBuffer cmd, uint32_t mesh, const char* caller) {
   if (!sceneBuilt(s))
@@ -692,17 +740,18 @@ Error updateMeshVertices(Scene* s, VkCommandBuffer cmd, uint32_t mesh, const Mes
     writeInCommands(*s, cmd, s->emissiveTriangles, refreshEmission(*s));
     writeInCommands(*s, cmd, s->constants, std::vector<gpu::GpuSceneConstants>{s->sceneConstants});
   }
+  const bool rebuilt = !device && computeBvh(*s) && rebuildDegradedLevel(*s, cmd, mesh);
   // The vertices before the refit, the BLAS update and every later reader.
   vk::memoryBarrier(s->gpu, cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                     VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                     VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT);
   if (computeBvh(*s)) {
     const RefitBuffers buffers = refitBuffers(*s);
-    recordMeshRefit(s->gpu, cmd, s->refitProgram, buffers, s->refit, mesh);
+    if (!rebuilt) recordMeshRefit(s->gpu, cmd, s->refitProgram, buffers, s->refit, mesh);
     recordTopRefit(s->gpu, cmd, s->refitProgram, buffers, uint32_t(s->bvh.topNodes.size()));
   }
   if (rayQuery(*s)) {
-    recordBlasUpdate(s->gpu, cmd, s->positions, s->indices, s->accelMeshes[mesh], s->accel, mesh);
+    recordBlasUpdate(s->gpu, cmd, s->positions, s->indices, s->accelMeshes[mesh], s->accel, mesh, rebuilt);
     recordTlasRebuild(s->gpu, cmd, s->accel);
   }
   return {};
@@ -750,6 +799,8 @@ SceneInfo sceneInfo(const Scene* s) {
   info.bvhBottomBuildMs = s->bvh.bottomBuildMs;
   info.bvhTopBuildMs = s->bvh.topBuildMs;
   info.memoryBytes = s->gpu.memory.held;
+  info.refitCostRatio = s->refitCostRatio;
+  info.levelRebuilds = s->levelRebuilds;
   for (int k = 0; k < 3; ++k) {
     info.boundsMin[k] = s->sceneConstants.boundsMin[k];
     info.boundsMax[k] = s->sceneConstants.boundsMax[k];

@@ -34,6 +34,9 @@ struct Scene {
   vk::Buffer bvhNodes, bvhTriangles, bvhTopNodes, bvhInstances;
   VkBufferView bvhViews[4]{};                      // RGBA32UI texel views of the four, in that order
   RefitPlan refit;                                 // deformable meshes: their bottom levels' refit order
+  std::vector<double> builtCost;                   // per deformable mesh: its level's cost when last built
+  float refitCostRatio = 0.0f;                     // SceneInfo's
+  uint32_t levelRebuilds = 0;                      // SceneInfo's
   vk::Buffer refitOrder;                           // RefitPlan::order on the device
   vk::ComputeProgram refitProgram, gatherProgram;  // deformable meshes only
   SceneAcceleration accel;                         // ray queries only

@@ -420,12 +420,14 @@ std::vector<gpu::GpuInstance> gpuInstances(const PackedScene& packed, std::span<
 
 std::vector<BvhMesh> bvhMeshes(const PackedScene& packed) {
   std::vector<BvhMesh> meshes(packed.meshFirstGeometry.size());
-  for (size_t m = 0; m < meshes.size(); ++m)
+  for (size_t m = 0; m < meshes.size(); ++m) {
+    meshes[m].deformable = packed.meshDeformable[m] != 0;
     for (uint32_t id = packed.meshFirstGeometry[m]; id < packed.meshFirstGeometry[m] + packed.meshGeometryCount[m];
          ++id) {
       const gpu::GpuGeometry& g = packed.geometries[id];
       meshes[m].geometries.push_back({g.firstIndex, g.triangleCount, g.vertexOffset, id});
     }
+  }
   return meshes;
 }
 
