@@ -64,7 +64,9 @@
 #include "gi/settings.h"
 #include "shared/scene_modes.h"
 
-// The API's version (gi::version(); find_package(gi 0.13)):
+// The API's version (gi::version(); find_package(gi 0.14)):
+//   0.14: ModuleDesc::outputFormat B10G11R11 (all three outputs packed); SceneCreateDesc::rebuildCostRatio,
+//         SceneInfo::refitCostRatio and levelRebuilds (degraded refit levels rebuilt)
 //   0.13: hashCapacity takes the Settings (nhpsf and anhpsf size their map from their segments);
 //         hashSecondaryWidth (their later cells widen past the map's cap), FrameStats::Hash::secondaryWidth
 //   0.12: GifSettings::subsample (the guided filter's window statistics at 1/s resolution; default 4, so
