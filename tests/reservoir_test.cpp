@@ -40,9 +40,13 @@ engine::FloatImage directAfter(const engine::Context& ctx, LoadedScene& s, gi::S
 
 // 64 lights and the block (lightField), 64 frames of resampled direct light, averaged, with the defaults
 // (temporal and spatial reuse, the balance heuristic) and with temporal reuse alone: the exact sum's image
-// in mean (within 1%) and in every 8×8 block (within 7%); one frame after 15 under 0.4× the tree's error
-// with one pick a vertex (measured 0.31× and 0.27×); and no pixel of any frame brighter than 4× the exact image's brightest
-// (the biased 1/M spatial weights made fireflies on Conference).
+// in mean (within 1%) and, averaged over 8 seeds, in every 8×8 block (within 4%; measured 2.2% and 2.8%);
+// one frame after 15 under 0.4× the tree's error with one pick a vertex (measured 0.31× and 0.27×); and no
+// pixel of any frame brighter than 4× the exact image's brightest (the biased 1/M spatial weights made
+// fireflies on Conference). The seeds, not more frames: a run's frames share their reservoirs' samples
+// through the temporal reuse, so one run's worst block stays 5–6.5% off however long it runs (64 and 128
+// frames), while the seeds' spread there is 2–4% (σ) and their average's worst block a third of it: that
+// 6% was noise, and what bias there is stays below this test's 4%.
 TEST_F(ReservoirTest, ResampledDirectLightKeepsTheExactSumsExpectation) {
   const std::string path = lightField(64, "reservoir_field", true);
   LoadedScene exact, picked;
@@ -63,21 +67,27 @@ TEST_F(ReservoirTest, ResampledDirectLightKeepsTheExactSumsExpectation) {
   temporal.reservoirs.neighbours = 0;
   for (const gi::Settings* s : {&defaults, &temporal}) {
     const char* name = s == &temporal ? "temporal reuse" : "temporal and spatial reuse";
-    const engine::FloatImage mean = directAfter(ctx, picked, *s, 64, true);
+    constexpr uint32_t kSeeds = 8;
+    engine::FloatImage mean = directAfter(ctx, picked, *s, 64, true);
+    const double oneRun = worstBlockDifference(mean, truth, kSize);
+    for (uint32_t seed = 2; seed <= kSeeds; ++seed) {
+      gi::Settings seeded = *s;
+      seeded.seed = seed;
+      const engine::FloatImage run = directAfter(ctx, picked, seeded, 64, true);
+      for (size_t i = 0; i < mean.pixels.size(); ++i) mean.pixels[i] += run.pixels[i];
+    }
+    for (float& v : mean.pixels) v /= float(kSeeds);
     const double relative = meanOf(mean) / meanOf(truth) - 1.0;
     const double worst = worstBlockDifference(mean, truth, kSize);
     const engine::FloatImage frame = directAfter(ctx, picked, *s, 16, false);
     const float peak = *std::max_element(frame.pixels.begin(), frame.pixels.end());
     const double error = mseOf(frame, truth);
     std::printf(
-        "%s: mean %+.2f%%, worst 8x8 block %.2f%%, a frame's brightest pixel %.2f of the exact image's, "
-        "a frame's MSE %.3e against the tree's %.3e (%.2fx)\n",
-        name, 100.0 * relative, 100.0 * worst, peak / brightest, error, treeError, error / treeError);
+        "%s: mean %+.2f%%, worst 8x8 block %.2f%% (one seed's %.2f%%), a frame's brightest pixel %.2f of the "
+        "exact image's, a frame's MSE %.3e against the tree's %.3e (%.2fx)\n",
+        name, 100.0 * relative, 100.0 * worst, 100.0 * oneRun, peak / brightest, error, treeError, error / treeError);
     EXPECT_LT(std::abs(relative), 0.01) << name;
-    // 7%, not the 6% this bound was: the worst block carries a bias that more frames do not average away
-    // (64 and 128 frames: 5.7% and 6.4% with temporal and spatial reuse before the G-buffer's depth
-    // tolerance of issue 32's stop, 6.3% and 6.5% after), an open question of issue 31's reservoirs.
-    EXPECT_LT(worst, 0.07) << name;
+    EXPECT_LT(worst, 0.04) << name;
     EXPECT_LT(peak, 4.0f * brightest) << name;
     EXPECT_LT(error, 0.4 * treeError) << name;
   }
