@@ -547,6 +547,24 @@ def refit(path):
               f"{rebuild_ms / refit_ms:.0f}× |")
 
 
+def pass_times(pairs):
+    """Each method's passes, ms a frame, per configuration (args: NAME DIR ...; underscores in names are spaces)."""
+    runs = [(name.replace("_", " "), {r["method"]: r for r in rows(f"{directory}/results.csv")})
+            for name, directory in named(pairs)]
+    print("| method | pass | " + " | ".join(name for name, _ in runs) + " |")
+    print("|---|---|" + "---|" * len(runs))
+    methods = list(dict.fromkeys(m for _, byMethod in runs for m in byMethod))
+    for method in methods:
+        passes = {}
+        for name, byMethod in runs:
+            for item in byMethod[method]["pass_ms"].split(";") if method in byMethod else []:
+                label, ms = item.split(":")
+                passes.setdefault(label, {})[name] = float(ms)
+        for label, times in passes.items():
+            cells = " | ".join(f"{times[name]:.1f}" if name in times else "–" for name, _ in runs)
+            print(f"| {method} | {label} | {cells} |")
+
+
 def refit_quality(path):
     """A folded grid's level refit against built anew (gi-bench --refit's second table): cost ratio, camera Mrays/s."""
     names = {"rayquery": "ray queries (BLAS updated / built)", "compute": "compute"}
@@ -825,6 +843,7 @@ KINDS = {
     "lights": lambda a: lights(a[0]),
     "samplers": lambda a: samplers(a[0]),
     "configurations": lambda a: configurations(a),
+    "pass_times": lambda a: pass_times(a),
     "ab": lambda a: ab(a[0], a[1], a[2], a[3:]),
     "moving": lambda a: moving(a[0], int(a[1]), a[2:]),
     "rays": lambda a: rays(a[0]),
