@@ -582,3 +582,34 @@ TEST(BvhBuilder, EveryTriangleOnceAndChildBoxesEncloseTheirSubtrees) {
   walk(root, glm::vec3(-1e30f), glm::vec3(1e30f));
   for (uint32_t i = first; i < first + bvh.meshTriangleCount[own]; ++i) EXPECT_EQ(seen[i], 1) << "triangle " << i;
 }
+
+// A large level's cost kept in parts (meshLevelCostInParts, what updates of more than 64k triangles use):
+// the first call measures every part and gives meshLevelCost; after a new pose, one part a call (a budget
+// of one triangle) gives the new pose's cost once every part has been measured again.
+TEST(BvhBuilder, ALevelsCostKeptInPartsIsItsWholeCost) {
+  engine::Scene scene;
+  const uint32_t grid = tools::appendGrid(scene, 40, glm::vec3(0.0f), 1.0f);
+  std::vector<gi::BvhMesh> meshes(1);
+  meshes[0].geometries.push_back({0, uint32_t(scene.indices.size() / 3), 0, 0});
+  meshes[0].deformable = true;
+  const std::vector<gi::BvhInstance> instances{{grid, glm::mat4(1.0f), true}};
+  gi::SceneBvh bvh = gi::buildSceneBvh({scene.positions, scene.indices, meshes, instances});
+  gi::LevelCostParts parts;
+  const double built = gi::meshLevelCost({scene.positions, scene.indices, meshes, instances}, bvh, 0);
+  EXPECT_NEAR(gi::meshLevelCostInParts({scene.positions, scene.indices, meshes, instances}, bvh, 0, 1, parts), built,
+              1e-9 * built);
+  ASSERT_GT(parts.parts.size(), 8u);
+  const std::vector<glm::vec3> rest = scene.positions;
+  tools::foldGrid(scene, grid, rest, 8, 1.0f, 0.0f);
+  const gi::BvhInput folded{scene.positions, scene.indices, meshes, instances};
+  const double refit = gi::meshLevelCost(folded, bvh, 0);
+  EXPECT_GT(refit, 3.0 * built);
+  double partly = 0.0;
+  for (size_t i = 0; i < parts.parts.size(); ++i) {
+    partly = gi::meshLevelCostInParts(folded, bvh, 0, 1, parts);
+    if (i + 1 < parts.parts.size()) {
+      EXPECT_LT(partly, refit) << "part " << i << ": some parts still as built";
+    }
+  }
+  EXPECT_NEAR(partly, refit, 1e-9 * refit);
+}

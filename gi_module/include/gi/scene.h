@@ -187,8 +187,9 @@ struct SceneCreateDesc {
   // once its refit compute-BVH level's surface-area cost (SceneInfo::refitCostRatio) exceeds this many
   // times its cost when last built: its level by Embree on the CPU (as at createScene) and, with ray
   // queries, its BLAS built anew. 0: always refit. Device streams are always refit (the CPU never sees
-  // their vertices). The default is where refitting began to cost tracing more than rebuilding saves
-  // (docs/RESULTS.md, "Refit against rebuild").
+  // their vertices). The default is below the first pose where refit levels traced slower (docs/RESULTS.md,
+  // "Refit against rebuild"). A rebuild is Embree's build on the CPU in the update (about 25 ms for 10,000
+  // triangles there, 870 ms for a million): 0 for meshes whose rebuild would be a hitch.
   float rebuildCostRatio = 1.5f;
   const VkAllocationCallbacks* allocationCallbacks = nullptr;
   uint64_t memoryBudgetBytes = 0;  // 0 = no limit

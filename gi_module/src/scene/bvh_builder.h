@@ -82,6 +82,20 @@ bool rebuildMeshLevel(const BvhInput& input, uint32_t mesh, SceneBvh& bvh);
 // the tree raise it, and traversal slows with it (docs/RESULTS.md, "Refit against rebuild").
 double meshLevelCost(const BvhInput& input, const SceneBvh& bvh, uint32_t mesh);
 
+// meshLevelCost kept up to date a part at a time, for updates of large meshes: the level is split into
+// the subtrees three levels below its root, each part's sum and box kept here; a call re-measures parts
+// in turn until it has measured `maxTriangles` triangles (at least one part; every part on the first
+// call after clear()) and returns the cost from the kept sums, each part as of its last measure.
+struct LevelCostParts {
+  std::vector<uint32_t> parts;    // the subtrees' references, in walk order
+  std::vector<double> sums;       // each part's areas (leaves' × their triangles)
+  std::vector<glm::vec3> lo, hi;  // each part's box
+  uint32_t next = 0;              // the part the next call measures first
+  void clear() { *this = LevelCostParts{}; }
+};
+double meshLevelCostInParts(const BvhInput& input, const SceneBvh& bvh, uint32_t mesh, uint32_t maxTriangles,
+                            LevelCostParts& parts);
+
 // Rebuilds the top level from the instances' current transforms. Throws
 // std::runtime_error when a merged instance moved (it should have been movable).
 void rebuildTopLevel(std::span<const BvhInstance> instances, SceneBvh& bvh);

@@ -30,6 +30,7 @@ struct CostWalk {
   const SceneBvh& bvh;
   const BvhMesh& mesh;
   double sum = 0.0;
+  uint32_t triangles = 0;  // measured so far
 
   Box triangle(uint32_t slot) const {
     const gpu::GpuBvhTriangle& t = bvh.triangles[slot];
@@ -48,6 +49,7 @@ struct CostWalk {
       const uint32_t first = ref & gpu::BVH_LEAF_FIRST_MASK, count = ((ref >> gpu::BVH_LEAF_COUNT_SHIFT) & 0xfu) + 1u;
       for (uint32_t i = 0; i < count; ++i) box.grow(triangle(first + i));
       sum += box.area() * count;
+      triangles += count;
       return box;
     }
     const gpu::GpuBvhNode& n = bvh.bottomNodes[ref];
@@ -58,7 +60,68 @@ struct CostWalk {
   }
 };
 
+constexpr int kPartDepth = 3;  // the parts: the subtrees this many levels below the root (at most 64)
+
+bool isPart(uint32_t ref, int depth) { return depth == kPartDepth || (ref & gpu::BVH_LEAF_BIT); }
+
+void collectParts(const SceneBvh& bvh, uint32_t ref, int depth, std::vector<uint32_t>& parts) {
+  if (isPart(ref, depth)) {
+    parts.push_back(ref);
+    return;
+  }
+  for (uint32_t child : {bvh.bottomNodes[ref].child.x, bvh.bottomNodes[ref].child.y, bvh.bottomNodes[ref].child.z,
+                         bvh.bottomNodes[ref].child.w})
+    if (child != gpu::BVH_NO_CHILD) collectParts(bvh, child, depth + 1, parts);
+}
+
+// The nodes above the parts: their boxes from the parts' kept boxes, their areas and the parts' sums added
+// to `sum` (the parts visited in walk order, `part` counting them).
+Box topBox(const SceneBvh& bvh, uint32_t ref, int depth, const LevelCostParts& p, size_t& part, double& sum) {
+  if (isPart(ref, depth)) {
+    sum += p.sums[part];
+    Box b;
+    b.lo = p.lo[part];
+    b.hi = p.hi[part];
+    ++part;
+    return b;
+  }
+  Box box;
+  for (uint32_t child : {bvh.bottomNodes[ref].child.x, bvh.bottomNodes[ref].child.y, bvh.bottomNodes[ref].child.z,
+                         bvh.bottomNodes[ref].child.w})
+    if (child != gpu::BVH_NO_CHILD) box.grow(topBox(bvh, child, depth + 1, p, part, sum));
+  sum += box.area();
+  return box;
+}
+
 }  // namespace
+
+double meshLevelCostInParts(const BvhInput& input, const SceneBvh& bvh, uint32_t mesh, uint32_t maxTriangles,
+                            LevelCostParts& p) {
+  if (mesh >= bvh.meshRoot.size() || bvh.meshRoot[mesh] == gpu::BVH_NO_CHILD) return 0.0;
+  const uint32_t root = bvh.meshRoot[mesh];
+  const bool first = p.parts.empty();
+  if (first) {
+    collectParts(bvh, root, 0, p.parts);
+    p.sums.assign(p.parts.size(), 0.0);
+    p.lo.assign(p.parts.size(), glm::vec3(INFINITY));
+    p.hi.assign(p.parts.size(), glm::vec3(-INFINITY));
+  }
+  CostWalk walk{input, bvh, input.meshes[mesh]};
+  for (size_t measured = 0; measured < p.parts.size() && (first || measured == 0 || walk.triangles < maxTriangles);
+       ++measured) {
+    const uint32_t part = p.next;
+    p.next = (p.next + 1) % uint32_t(p.parts.size());
+    walk.sum = 0.0;
+    const Box box = walk.walk(p.parts[part]);
+    p.sums[part] = walk.sum;
+    p.lo[part] = box.lo;
+    p.hi[part] = box.hi;
+  }
+  double sum = 0.0;
+  size_t part = 0;
+  const double rootArea = topBox(bvh, root, 0, p, part, sum).area();
+  return rootArea > 0.0 ? sum / rootArea : 0.0;
+}
 
 double meshLevelCost(const BvhInput& input, const SceneBvh& bvh, uint32_t mesh) {
   if (mesh >= bvh.meshRoot.size() || bvh.meshRoot[mesh] == gpu::BVH_NO_CHILD) return 0.0;

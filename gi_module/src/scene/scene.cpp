@@ -169,6 +169,7 @@ vk::Status buildBvhBuffers(Scene& s, VkCommandBuffer cmd, std::span<const uint8_
     size_t orderCapacity = 0;
     const std::vector<BvhMesh> meshes = bvhMeshes(s.packed);
     s.builtCost.assign(meshes.size(), 0.0);
+    s.costParts.assign(meshes.size(), {});
     for (size_t m = 0; m < meshes.size(); ++m) {
       if (!s.packed.meshDeformable[m] || s.bvh.meshRoot[m] == gpu::BVH_NO_CHILD) continue;
       orderCapacity += s.bvh.meshNodeCapacity[m];
@@ -641,7 +642,12 @@ bool rebuildDegradedLevel(Scene& s, VkCommandBuffer cmd, uint32_t mesh) {
   if (mesh >= s.builtCost.size() || !(s.builtCost[mesh] > 0.0)) return false;
   const std::vector<BvhMesh> meshes = bvhMeshes(s.packed);
   const BvhInput input{s.packed.positions, s.packed.indices, meshes, {}};
-  double ratio = meshLevelCost(input, s.bvh, mesh) / s.builtCost[mesh];
+  // The measure walks every triangle (about 26 ns each here: 26 ms for a million, against the update's own
+  // 6 ms), so a level of more than 64k triangles is measured a part at a time, 16k triangles an update: its
+  // cost lags its deformation by up to n / 16k updates, as refits degrade it over frames (docs/RESULTS.md,
+  // "Refit against rebuild").
+  const uint32_t budget = s.bvh.meshTriangleCount[mesh] <= (1u << 16) ? UINT32_MAX : 1u << 14;
+  double ratio = meshLevelCostInParts(input, s.bvh, mesh, budget, s.costParts[mesh]) / s.builtCost[mesh];
   bool rebuilt = false;
   if (s.desc.rebuildCostRatio > 0.0f && ratio > s.desc.rebuildCostRatio) {
     try {
@@ -653,6 +659,7 @@ bool rebuildDegradedLevel(Scene& s, VkCommandBuffer cmd, uint32_t mesh) {
   if (rebuilt) {
     s.levelRebuilds++;
     s.builtCost[mesh] = meshLevelCost(input, s.bvh, mesh);
+    s.costParts[mesh].clear();  // the new tree's parts
     ratio = 1.0;
     const uint32_t root = s.bvh.meshRoot[mesh], first = s.bvh.meshFirstTriangle[mesh];
     vk::recordBufferWrite(s.gpu, cmd, s.bvhNodes, &s.bvh.bottomNodes[root],

@@ -35,6 +35,7 @@ struct Scene {
   VkBufferView bvhViews[4]{};                      // RGBA32UI texel views of the four, in that order
   RefitPlan refit;                                 // deformable meshes: their bottom levels' refit order
   std::vector<double> builtCost;                   // per deformable mesh: its level's cost when last built
+  std::vector<LevelCostParts> costParts;           // per deformable mesh: its refit level's cost, kept in parts
   float refitCostRatio = 0.0f;                     // SceneInfo's
   uint32_t levelRebuilds = 0;                      // SceneInfo's
   vk::Buffer refitOrder;                           // RefitPlan::order on the device
