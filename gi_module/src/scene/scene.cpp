@@ -173,7 +173,9 @@ vk::Status buildBvhBuffers(Scene& s, VkCommandBuffer cmd, std::span<const uint8_
     for (size_t m = 0; m < meshes.size(); ++m) {
       if (!s.packed.meshDeformable[m] || s.bvh.meshRoot[m] == gpu::BVH_NO_CHILD) continue;
       orderCapacity += s.bvh.meshNodeCapacity[m];
-      s.builtCost[m] = meshLevelCost({s.packed.positions, s.packed.indices, meshes, {}}, s.bvh, uint32_t(m));
+      // One walk gives the cost and primes the parts the updates keep it in.
+      s.builtCost[m] = meshLevelCostInParts({s.packed.positions, s.packed.indices, meshes, {}}, s.bvh, uint32_t(m),
+                                            UINT32_MAX, s.costParts[m]);
     }
     vk::destroyBuffer(s.gpu, s.refitOrder);
     GI_TRY(hostBuffer(s, s.refit.order, orderCapacity, kAddressed, s.refitOrder));
@@ -658,8 +660,8 @@ bool rebuildDegradedLevel(Scene& s, VkCommandBuffer cmd, uint32_t mesh) {
   }
   if (rebuilt) {
     s.levelRebuilds++;
-    s.builtCost[mesh] = meshLevelCost(input, s.bvh, mesh);
-    s.costParts[mesh].clear();  // the new tree's parts
+    s.costParts[mesh].clear();  // the new tree's parts, primed by the walk that gives its cost
+    s.builtCost[mesh] = meshLevelCostInParts(input, s.bvh, mesh, UINT32_MAX, s.costParts[mesh]);
     ratio = 1.0;
     const uint32_t root = s.bvh.meshRoot[mesh], first = s.bvh.meshFirstTriangle[mesh];
     vk::recordBufferWrite(s.gpu, cmd, s.bvhNodes, &s.bvh.bottomNodes[root],
