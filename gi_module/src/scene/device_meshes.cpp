@@ -231,7 +231,11 @@ void takeDeviceMeshes(const DeviceMeshReadback& readback, HeldContents& held) {
     held.positions[m] = floats(s.positions, size_t(mesh.vertexCount) * 3);
     held.normals[m] = floats(s.normals, size_t(mesh.vertexCount) * 3);
     // Quantised normals come back a little off unit length; zero stays zero (the CPU checks name it).
-    for (size_t v = 0; v < mesh.vertexCount; ++v) {
+    // 32-bit floats stay as the engine wrote them, as CPU arrays do: normalised twice, a normal differed
+    // from the CPU array's in its last bit, and an H200's shading moved a pixel by 9e-4 with it.
+    const bool quantised = mesh.device.normals.format != VK_FORMAT_R32G32B32_SFLOAT &&
+                           mesh.device.normals.format != VK_FORMAT_R32G32B32A32_SFLOAT;
+    for (size_t v = 0; quantised && v < mesh.vertexCount; ++v) {
       float* n = &held.normals[m][3 * v];
       const float length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
       if (length > 0.0f && std::isfinite(length))
