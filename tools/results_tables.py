@@ -19,7 +19,9 @@
 
   tools/results_tables.py speedups METHOD DIR...  a method's equal-error speed-ups over raw per scene and spp
   tools/results_tables.py demo DIR           the demo scene's figure of merit (relMSE × ms per frame)
-  tools/results_tables.py bench_log LOG      gi-bench's printed lines (a run cut off before its results.csv)
+  tools/results_tables.py bench_log LOG...   gi-bench's printed lines (runs cut off before their results.csv)
+  tools/results_tables.py device_memory GPU LAVAPIPE  memory per method at 1080p on a GPU against lavapipe
+  tools/results_tables.py light_samplers CSV  frame ms against the point-light count per light sampler
   tools/results_tables.py hash_map NAME DIR ...  the map's occupancy, failed inserts, memory and error per run
   tools/results_tables.py hash_live SEGMENTS JSON ...  live cells a pixel and a vertex (gi-render --stats)
   tools/results_tables.py gtest_logs LOG...  GoogleTest logs: tests run, passed, skipped, failed by name
@@ -510,14 +512,48 @@ def hash_live(segments, paths):
               f"{h['occupied'] / pixels:.3f} | {h['occupied'] / (pixels * int(segments)):.3f} | {h['failed_inserts']} |")
 
 
-def bench_log(path):
-    """A gi-bench run's printed lines (a run that ran out of time before writing results.csv): ms a frame
-    and the final image's errors per configuration."""
-    line = re.compile(r"gi-bench: (\S+) (spp=\d+)\s+([\d.]+) ms\s+MSE (\S+)\s+relMSE (\S+)\s+SSIM (\S+)")
+def bench_log(paths):
+    """gi-bench runs' printed lines (runs cut off before their results.csv, or split over calls): ms a frame
+    and the final image's errors per configuration (aaf, adaptive, prints no spp)."""
+    line = re.compile(r"gi-bench: (\S+)( spp=\d+)?\s+([\d.]+) ms\s+MSE (\S+)\s+relMSE (\S+)\s+SSIM (\S+)")
     print("| configuration | ms/frame | MSE (final) | relMSE (final) | SSIM |")
     print("|---|---|---|---|---|")
-    for m in filter(None, map(line.search, open(path, encoding="utf-8"))):
-        print(f"| {m[1]} {m[2]} | {float(m[3]):.1f} | {float(m[4]):.3e} | {float(m[5]):.3e} | {float(m[6]):.3f} |")
+    for path in paths:
+        for m in filter(None, map(line.search, open(path, encoding="utf-8"))):
+            print(f"| {m[1]}{m[2] or ''} | {float(m[3]):.1f} | {float(m[4]):.3e} | {float(m[5]):.3e} | "
+                  f"{float(m[6]):.3f} |")
+
+
+def device_memory(device_path, lavapipe_path):
+    """Each method's device memory at 1920×1080 on a GPU against lavapipe, the same command on both
+    (scripts/device/run memory: gi-render --frames 4, MB = 10^6 bytes), and issue 30's goal."""
+    lavapipe = {r["method"]: r for r in rows(lavapipe_path)}
+    goal = {"hpsf": 150, "svgf": 150}
+    print("| method | held on the GPU | held on lavapipe | GPU − lavapipe | transient on the GPU | predicted = held "
+          "(GPU) | goal |")
+    print("|---|---|---|---|---|---|---|")
+    for r in rows(device_path):
+        mine, theirs = int(r["held_bytes"]), int(lavapipe[r["method"]]["held_bytes"])
+        print(f"| {r['method']} | {mine / 1e6:.1f} | {theirs / 1e6:.1f} | {(mine - theirs) / 1e6:+.1f} | "
+              f"{int(r['transient_bytes']) / 1e6:.1f} | {'yes' if r['predicted_bytes'] == r['held_bytes'] else 'no'} | "
+              f"≤ {goal.get(r['method'], 200)} |")
+
+
+def light_samplers(path):
+    """A frame's GPU ms against the point-light count for each light sampler (scripts/device/run lights),
+    and each against its own time at 4 lights."""
+    by = {}
+    for r in rows(path):
+        by.setdefault((r["method"], r["lights"]), {})[r["sampler"]] = float(r["gpu_ms_per_frame"])
+    samplers = ["tree", "power", "all"]
+    print("| method | point lights | " + " | ".join(f"{s} ms" for s in samplers) + " | "
+          + " | ".join(f"{s} against 4 lights" for s in samplers) + " |")
+    print("|---|---|" + "---|" * (2 * len(samplers)))
+    for (method, n), ms in by.items():
+        base = by[(method, "4")]
+        cell = lambda s: f"{ms[s]:.2f}" if s in ms else "–"
+        ratio = lambda s: f"{ms[s] / base[s]:.2f}×" if s in ms else "–"
+        print(f"| {method} | {n} | " + " | ".join(map(cell, samplers)) + " | " + " | ".join(map(ratio, samplers)) + " |")
 
 
 def gtest_logs(paths):
@@ -819,7 +855,9 @@ KINDS = {
     "walk": lambda a: walk(a[0], a[1] if len(a) > 1 else None),
     "refit": lambda a: refit(a[0]),
     "refit_quality": lambda a: refit_quality(a[0]),
-    "bench_log": lambda a: bench_log(a[0]),
+    "bench_log": bench_log,
+    "device_memory": lambda a: device_memory(a[0], a[1]),
+    "light_samplers": lambda a: light_samplers(a[0]),
     "hash_map": hash_map,
     "hash_live": lambda a: hash_live(a[0], a[1:]),
     "gtest_logs": gtest_logs,
