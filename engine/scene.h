@@ -113,6 +113,7 @@ struct Scene {
   bool bothTraversals = false;     // not in glTF: build both traversals' structures where the device has ray queries
                                    // (tests and benchmarks that compare them); else only the context's traversal
   float rebuildCostRatio = -1.0f;  // not in glTF: gi::SceneCreateDesc's (below 0: the module's default)
+  bool rebuildOffThread = true;    // not in glTF: gi::SceneCreateDesc's
   SceneAnimations gltf;            // the file's node hierarchy, animations and skins (engine/gltf_animation.h)
 
   Bounds worldBounds() const;

@@ -146,6 +146,7 @@ bool createSceneGpu(const Context& ctx, const Scene& scene, SceneGpu& gpu, std::
   desc.traversal = desc.bothTraversals ? gi::Traversal::RayQuery : gi::Traversal(ctx.traversalId());
   desc.lightSampler = scene.lightSampler;
   if (scene.rebuildCostRatio >= 0.0f) desc.rebuildCostRatio = scene.rebuildCostRatio;
+  desc.rebuildOffThread = scene.rebuildOffThread;
   desc.lightTreeCut = scene.lightTreeCut;
   desc.deviceMemory = deviceMemory;
   gi::Error created;

@@ -7,9 +7,11 @@
 // millimetre and hundred-kilometre scale and with degenerate triangles.
 #include <glm/gtc/matrix_transform.hpp>
 
+#include <chrono>
 #include <functional>
 #include <random>
 #include <set>
+#include <thread>
 #include <tuple>
 
 #include "cpu_tracer.h"
@@ -284,6 +286,39 @@ TEST_F(TraversalTest, DeformedMeshesAgree) {
   EXPECT_LT(difference / sum, 1e-3);
 }
 
+namespace {
+
+// Cornell (simple) with a deformable 40×40 grid (3,200 triangles) across its middle, for both traversals,
+// and the grid's updates: folded like an accordion by `amount` (tools/deformed_grid.h), rippled by `ripple`.
+struct FoldedGrid {
+  LoadedScene s;
+  uint32_t grid = 0;
+  std::vector<glm::vec3> rest;
+
+  void load(const engine::Context& ctx, float rebuildCostRatio, bool rebuildOffThread) {
+    std::string error;
+    ASSERT_TRUE(engine::loadSceneForRendering(sharedScene("cornell-simple/cornell_simple.gltf"), s.scene, error))
+        << error;
+    const engine::Bounds bounds = s.scene.worldBounds();
+    grid = tools::appendGrid(s.scene, 40, 0.5f * (bounds.min + bounds.max), 0.5f * bounds.extent());
+    s.scene.bothTraversals = true;
+    s.scene.rebuildCostRatio = rebuildCostRatio;
+    s.scene.rebuildOffThread = rebuildOffThread;
+    s.upload(ctx);
+    rest = s.scene.positions;
+  }
+  gi::SceneInfo update(const engine::Context& ctx, float amount, float ripple) {
+    tools::foldGrid(s.scene, grid, rest, 8, amount, ripple);
+    submitOrFail(ctx, [&](VkCommandBuffer cmd) {
+      std::string e;
+      EXPECT_TRUE(engine::recordMeshVertexUpdate(cmd, s.scene, s.gpu, grid, e)) << e;
+    });
+    return gi::sceneInfo(s.gpu.scene);
+  }
+};
+
+}  // namespace
+
 // SceneCreateDesc::rebuildCostRatio: a grid rippled with CPU arrays keeps its level (refit; its cost as
 // built, to a few per cent), the same grid folded like an accordion degrades its refit level past the
 // ratio and is rebuilt on the CPU (with ray queries its BLAS built anew), and after the rebuild and a
@@ -302,24 +337,11 @@ TEST_F(TraversalTest, DegradedRefitsAreRebuiltAndTraceAsBuiltFromScratch) {
   }
   for (float ratio : {1.5f, 0.0f}) {
     SCOPED_TRACE(ratio);
-    LoadedScene s;
-    std::string error;
-    ASSERT_TRUE(engine::loadSceneForRendering(sharedScene("cornell-simple/cornell_simple.gltf"), s.scene, error))
-        << error;
-    const engine::Bounds bounds = s.scene.worldBounds();
-    const uint32_t grid = tools::appendGrid(s.scene, 40, 0.5f * (bounds.min + bounds.max), 0.5f * bounds.extent());
-    s.scene.bothTraversals = true;
-    s.scene.rebuildCostRatio = ratio;
-    s.upload(ctx);
-    const std::vector<glm::vec3> rest = s.scene.positions;
-    auto update = [&](float amount, float ripple) {
-      tools::foldGrid(s.scene, grid, rest, 8, amount, ripple);
-      submitOrFail(ctx, [&](VkCommandBuffer cmd) {
-        std::string e;
-        EXPECT_TRUE(engine::recordMeshVertexUpdate(cmd, s.scene, s.gpu, grid, e)) << e;
-      });
-      return gi::sceneInfo(s.gpu.scene);
-    };
+    FoldedGrid folding;
+    folding.load(ctx, ratio, false);  // the update that finds the level degraded rebuilds it
+    auto update = [&](float amount, float ripple) { return folding.update(ctx, amount, ripple); };
+    const engine::Scene& scene = folding.s.scene;
+    const engine::SceneGpu& gpu = folding.s.gpu;
     const gi::SceneInfo rippled = update(0.0f, 0.002f);
     std::printf("rebuildCostRatio %.1f: rippled, cost ratio %.3f, rebuilds %u\n", ratio, rippled.refitCostRatio,
                 rippled.levelRebuilds);
@@ -335,12 +357,44 @@ TEST_F(TraversalTest, DegradedRefitsAreRebuiltAndTraceAsBuiltFromScratch) {
       EXPECT_EQ(folded.levelRebuilds, 0u);
       EXPECT_GT(folded.refitCostRatio, 3.0f);
     }
-    checkScene(s.scene, s.gpu);
+    checkScene(scene, gpu);
     // A refit of the rebuilt level (or the degraded one) still traces exactly.
     const gi::SceneInfo after = update(1.0f, 0.001f);
     EXPECT_EQ(after.levelRebuilds, folded.levelRebuilds);
-    checkScene(s.scene, s.gpu);
+    checkScene(scene, gpu);
   }
+}
+
+// The same fold with the rebuild on the module's worker thread (the default): the update that finds the
+// level degraded starts it and refits meanwhile, so its ratio stays the degraded one; a later update of the
+// mesh installs the level built from the folded pose, which then traces as ray queries and Embree do, in
+// that pose and in a pose moved on from it before the install (refit to it).
+TEST_F(TraversalTest, OffThreadRebuildsAreInstalledByALaterUpdate) {
+  FoldedGrid folding;
+  folding.load(ctx, 1.5f, true);
+  auto update = [&](float amount, float ripple) { return folding.update(ctx, amount, ripple); };
+  const engine::Scene& scene = folding.s.scene;
+  const engine::SceneGpu& gpu = folding.s.gpu;
+  const gi::SceneInfo folded = update(1.0f, 0.0f);
+  EXPECT_EQ(folded.levelRebuilds, 0u) << "started, not waited for";
+  EXPECT_GT(folded.refitCostRatio, 1.5f);
+  checkScene(scene, gpu);  // refit meanwhile: exact
+  // A little later the rebuild has finished: the next update installs it (3,200 triangles build in
+  // milliseconds; the loop allows 20 s).
+  gi::SceneInfo installed = folded;
+  for (int i = 0; i < 2000 && installed.levelRebuilds == 0; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    installed = update(1.0f, 0.001f * float(i % 2));
+  }
+  std::printf("off thread: folded, cost ratio %.3f; installed after the fold with ratio %.3f\n", folded.refitCostRatio,
+              installed.refitCostRatio);
+  EXPECT_EQ(installed.levelRebuilds, 1u);
+  EXPECT_EQ(installed.refitCostRatio, 1.0f);  // measured as installed
+  checkScene(scene, gpu);
+  const gi::SceneInfo after = update(1.0f, 0.002f);
+  EXPECT_EQ(after.levelRebuilds, 1u);
+  EXPECT_LT(after.refitCostRatio, 1.1f);
+  checkScene(scene, gpu);
 }
 
 // What gi::updateMeshVertices refuses, by name: a mesh not created deformable, a mesh index past the

@@ -6,6 +6,7 @@
 
 #include "cpu_tracer.h"
 #include "ray_bench.h"
+#include "results_csv.h"
 
 namespace tools {
 
@@ -33,16 +34,12 @@ bool benchRays(const engine::Context& ctx, const engine::Scene& scene, const eng
   engine::CpuRayRates e = engine::measureCpuRayRates(*tracer, scene, camera, 8);
   rows.push_back({"embree_cpu", e.primary, e.diffuse, e.shadow});
 
-  const std::filesystem::path csvPath = dir / "rays.csv";
-  const bool fresh = !std::filesystem::exists(csvPath);
-  std::ofstream csv(csvPath, std::ios::app);
-  if (!csv) {
-    error = csvPath.string() + ": cannot write";
+  std::ofstream csv;
+  if (!appendResultsCsv(dir / "rays.csv",
+                        "scene,width,height,triangles,device,backend,primary_mrays,diffuse_mrays,shadow_mrays,"
+                        "primary_of_embree,diffuse_of_embree,shadow_of_embree,bvh_build_ms\n",
+                        csv, error))
     return false;
-  }
-  if (fresh)
-    csv << "scene,width,height,triangles,device,backend,primary_mrays,diffuse_mrays,shadow_mrays,"
-           "primary_of_embree,diffuse_of_embree,shadow_of_embree,bvh_build_ms\n";
   const std::string name = std::filesystem::path(scene.sourcePath).stem().string();
   std::printf("gi-bench: bare rays on %s, %s (%zu triangles), %ux%u; Mrays/s (fraction of Embree):\n",
               ctx.properties.deviceName, name.c_str(), scene.triangleCount(), uint32_t(camera.imageSize.x),

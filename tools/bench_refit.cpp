@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <thread>
 #include <vector>
 
 #include "camera.h"
@@ -15,6 +16,7 @@
 #include "gi/scene.h"
 #include "gpu_timer.h"
 #include "ray_bench.h"
+#include "results_csv.h"
 #include "scene_gpu.h"
 
 namespace tools {
@@ -167,14 +169,11 @@ bool measureGrid(const engine::Context& ctx, engine::GpuTimer& timer, Grid& grid
 
 bool benchRefit(const engine::Context& ctx, std::span<const uint32_t> triangleCounts, const std::filesystem::path& dir,
                 std::string& error) {
-  const std::filesystem::path csvPath = dir / "refit.csv";
-  const bool fresh = !std::filesystem::exists(csvPath);
-  std::ofstream csv(csvPath, std::ios::app);
-  if (!csv) {
-    error = csvPath.string() + ": cannot write";
+  std::ofstream csv;
+  if (!appendResultsCsv(dir / "refit.csv",
+                        "device,backend,triangles,refit_cpu_ms,refit_gpu_ms,rebuild_cpu_ms,rebuild_gpu_ms\n", csv,
+                        error))
     return false;
-  }
-  if (fresh) csv << "device,backend,triangles,refit_cpu_ms,refit_gpu_ms,rebuild_cpu_ms,rebuild_gpu_ms\n";
   std::vector<uint32_t> backends{gpu::TRAVERSAL_COMPUTE};
   if (ctx.rayQuery) backends.push_back(gpu::TRAVERSAL_RAY_QUERY);
   engine::GpuTimer timer = engine::createGpuTimer(ctx, error, 4);
@@ -223,14 +222,11 @@ engine::Scene foldScene(uint32_t& grid, gpu::GpuCamera& camera) {
 }  // namespace
 
 bool benchRefitQuality(const engine::Context& ctx, const std::filesystem::path& dir, std::string& error) {
-  const std::filesystem::path csvPath = dir / "refit_quality.csv";
-  const bool fresh = !std::filesystem::exists(csvPath);
-  std::ofstream csv(csvPath, std::ios::app);
-  if (!csv) {
-    error = csvPath.string() + ": cannot write";
+  std::ofstream csv;
+  if (!appendResultsCsv(dir / "refit_quality.csv",
+                        "device,backend,triangles,fold,cost_ratio,refit_primary_mrays,built_primary_mrays\n", csv,
+                        error))
     return false;
-  }
-  if (fresh) csv << "device,backend,triangles,fold,cost_ratio,refit_primary_mrays,built_primary_mrays\n";
   uint32_t grid = 0;
   gpu::GpuCamera camera{};
   engine::Scene scene = foldScene(grid, camera);
@@ -270,6 +266,95 @@ bool benchRefitQuality(const engine::Context& ctx, const std::filesystem::path& 
     engine::destroySceneGpu(ctx, built);
   }
   engine::destroySceneGpu(ctx, refit);
+  return error.empty();
+}
+
+namespace {
+
+// One update of `mesh` to the grid's pose `fold` (ripple `ripple`), submitted and waited for: the CPU ms
+// of the module's call (and the engine's copy of the vertices it records), and the scene's facts after it.
+double timedUpdate(const engine::Context& ctx, engine::Scene& scene, engine::SceneGpu& gpu, uint32_t mesh,
+                   const std::vector<glm::vec3>& rest, float fold, float ripple, gi::SceneInfo& info,
+                   std::string& error) {
+  foldGrid(scene, mesh, rest, 8, fold, ripple);
+  double ms = 0.0;
+  engine::submitAndWait(
+      ctx,
+      [&](VkCommandBuffer cmd) {
+        const Clock::time_point start = Clock::now();
+        engine::recordMeshVertexUpdate(cmd, scene, gpu, mesh, error);
+        ms = msSince(start);
+      },
+      error);
+  info = gi::sceneInfo(gpu.scene);
+  return ms;
+}
+
+struct RebuildRow {
+  double refitMs = 0.0, rebuildMs = 0.0, startMs = 0.0, installMs = 0.0, buildWallMs = 0.0;
+  uint32_t updatesUntilInstalled = 0;
+};
+
+// A grid of `side`² quads, compute traversal: a ripple (a refit), then folded flat at once (the level
+// degraded past gi::SceneCreateDesc::rebuildCostRatio's 1.5): rebuilt in that update, or started off thread
+// there and installed by a later update (updates of the same pose every 5 ms until then).
+bool measureRebuild(const engine::Context& ctx, uint32_t side, bool offThread, RebuildRow& row, std::string& error) {
+  engine::Scene scene;
+  scene.sourcePath = "folded grid";
+  scene.materials.push_back(engine::Material{});
+  const uint32_t mesh = appendGrid(scene, side, glm::vec3(0.0f), 1.0f);
+  scene.cameras.push_back(engine::Camera{});
+  scene.rebuildOffThread = offThread;
+  const std::vector<glm::vec3> rest = scene.positions;
+  engine::SceneGpu gpu;
+  if (!engine::createSceneGpu(ctx, scene, gpu, error)) return false;
+  gi::SceneInfo info;
+  timedUpdate(ctx, scene, gpu, mesh, rest, 0.0f, 0.002f, info, error);  // the programs compile
+  row.refitMs = timedUpdate(ctx, scene, gpu, mesh, rest, 0.0f, 0.004f, info, error);
+  // Folded: a level of more than 64k triangles is measured 16k triangles an update, so the update that
+  // finds it degraded may come some updates later.
+  double ms = 0.0;
+  for (int i = 0; i < 200 && error.empty() && !info.levelRebuildRunning && info.levelRebuilds == 0; ++i)
+    ms = timedUpdate(ctx, scene, gpu, mesh, rest, 1.0f, 0.0f, info, error);
+  (offThread ? row.startMs : row.rebuildMs) = ms;
+  const Clock::time_point start = Clock::now();
+  while (offThread && info.levelRebuilds == 0 && error.empty() && msSince(start) < 60000.0) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    row.installMs = timedUpdate(ctx, scene, gpu, mesh, rest, 1.0f, 0.0f, info, error);
+    row.updatesUntilInstalled++;
+  }
+  row.buildWallMs = msSince(start);
+  if (error.empty() && info.levelRebuilds != 1)
+    error = "the folded grid's level was not rebuilt (cost ratio " + std::to_string(info.refitCostRatio) + ")";
+  engine::destroySceneGpu(ctx, gpu);
+  return error.empty();
+}
+
+}  // namespace
+
+bool benchRefitRebuild(const engine::Context& ctx, std::span<const uint32_t> triangleCounts,
+                       const std::filesystem::path& dir, std::string& error) {
+  std::ofstream csv;
+  if (!appendResultsCsv(dir / "refit_rebuild.csv",
+                        "device,triangles,refit_update_ms,rebuild_update_ms,start_update_ms,install_update_ms,"
+                        "updates_until_installed,start_to_install_ms\n",
+                        csv, error))
+    return false;
+  std::printf("gi-bench: the update that finds a folded grid's level degraded on %s: CPU ms\n",
+              ctx.properties.deviceName);
+  std::printf("  %10s %8s %16s %14s %15s %8s %14s\n", "triangles", "refit", "rebuild in it", "start (off)",
+              "install (off)", "updates", "start→install");
+  for (uint32_t count : triangleCounts) {
+    const uint32_t side = std::max(1u, uint32_t(std::lround(std::sqrt(double(count) / 2.0))));
+    RebuildRow inUpdate, offThread;
+    if (!measureRebuild(ctx, side, false, inUpdate, error) || !measureRebuild(ctx, side, true, offThread, error)) break;
+    const uint32_t triangles = 2 * side * side;
+    std::printf("  %10u %8.2f %16.2f %14.2f %15.2f %8u %14.1f\n", triangles, offThread.refitMs, inUpdate.rebuildMs,
+                offThread.startMs, offThread.installMs, offThread.updatesUntilInstalled, offThread.buildWallMs);
+    csv << '"' << ctx.properties.deviceName << "\"," << triangles << ',' << offThread.refitMs << ','
+        << inUpdate.rebuildMs << ',' << offThread.startMs << ',' << offThread.installMs << ','
+        << offThread.updatesUntilInstalled << ',' << offThread.buildWallMs << '\n';
+  }
   return error.empty();
 }
 

@@ -27,4 +27,12 @@ bool benchRefit(const engine::Context& ctx, std::span<const uint32_t> triangleCo
 // and diffuse Mrays/s, both scenes. Prints a table, appends to DIR/refit_quality.csv.
 bool benchRefitQuality(const engine::Context& ctx, const std::filesystem::path& dir, std::string& error);
 
+// What the update that finds a level degraded costs (gi::SceneCreateDesc::rebuildCostRatio 1.5): a grid of
+// each triangle count folded flat at once, compute traversal, CPU ms of the update that rebuilds it
+// (rebuildOffThread false) against a refit, the update that starts the rebuild off thread and the update
+// that installs it (the same pose handed over every 5 ms until then). Prints a table, appends to
+// DIR/refit_rebuild.csv.
+bool benchRefitRebuild(const engine::Context& ctx, std::span<const uint32_t> triangleCounts,
+                       const std::filesystem::path& dir, std::string& error);
+
 }  // namespace tools

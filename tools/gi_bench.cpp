@@ -66,6 +66,10 @@ const cli::Option kOptions[] = {
      "(gi::updateMeshVertices) against its scene created anew, for each traversal backend; appends "
      "to DIR/refit.csv; then a grid folded step by step, refit against built anew: its BVH level's cost "
      "ratio and Mrays/s, to DIR/refit_quality.csv (no --scene or --methods needed)"},
+    {"refit-rebuild", "N,N,...",
+     "only the rebuild microbenchmark: a grid of each triangle count folded flat at once, the update that "
+     "rebuilds its BVH level against the one that starts it off thread and the one that installs it (CPU ms); "
+     "appends to DIR/refit_rebuild.csv (no --scene or --methods needed)"},
     {"rays", nullptr,
      "only the bare-ray microbenchmark: primary, diffuse and shadow Mrays/s for each traversal backend "
      "and for Embree on the CPU; appends to DIR/rays.csv (no --methods needed)"},
@@ -235,15 +239,16 @@ void recovery(const std::vector<double>& afterMove, int& frames, double& steady)
 
 }  // namespace
 
-// --refit: the deforming-mesh microbenchmark alone (tools/bench_refit.h).
+// --refit and --refit-rebuild: the deforming-mesh microbenchmarks alone (tools/bench_refit.h).
 int refitOnly(cli::Args& args) {
   std::vector<uint32_t> counts;
   std::string error;
-  for (const std::string& s : cli::splitList(args.values["refit"])) {
+  const std::string option = args.has("refit") ? "refit" : "refit-rebuild";
+  for (const std::string& s : cli::splitList(args.values[option])) {
     cli::Args one;
-    one.values["refit"] = s;
+    one.values[option] = s;
     uint32_t v;
-    if (!cli::getUint(one, "refit", 1000, 2, 1u << 24, v, error)) return usageError(error);
+    if (!cli::getUint(one, option, 1000, 2, 1u << 24, v, error)) return usageError(error);
     counts.push_back(v);
   }
   engine::ContextDesc desc;
@@ -257,7 +262,9 @@ int refitOnly(cli::Args& args) {
     std::fprintf(stderr, "gi-bench: %s\n", error.c_str());
     return 1;
   }
-  const bool written = tools::benchRefit(ctx, counts, dir, error) && tools::benchRefitQuality(ctx, dir, error);
+  const bool written = option == "refit"
+                           ? tools::benchRefit(ctx, counts, dir, error) && tools::benchRefitQuality(ctx, dir, error)
+                           : tools::benchRefitRebuild(ctx, counts, dir, error);
   if (!written) std::fprintf(stderr, "gi-bench: %s\n", error.c_str());
   engine::destroyContext(ctx);
   return written ? 0 : 1;
@@ -812,7 +819,7 @@ int main(int argc, char** argv) {
     std::printf("%s", cli::usage("gi-bench", kSynopsis, kOptions).c_str());
     return 0;
   }
-  if (args.has("refit")) return refitOnly(args);
+  if (args.has("refit") || args.has("refit-rebuild")) return refitOnly(args);
   BenchOptions o;
   if (!parseExperiment(args, o, error) || !parseConfigurations(args, o, error)) return usageError(error);
   return o.raysOnly ? raysOnly(o, args) : runBench(o, args);

@@ -19,6 +19,7 @@
 
   tools/results_tables.py speedups METHOD DIR...  a method's equal-error speed-ups over raw per scene and spp
   tools/results_tables.py demo DIR           the demo scene's figure of merit (relMSE × ms per frame)
+  tools/results_tables.py refit_rebuild CSV  the update that finds a level degraded: rebuilt in it or off thread
   tools/results_tables.py bench_log LOG...   gi-bench's printed lines (runs cut off before their results.csv)
   tools/results_tables.py device_memory GPU LAVAPIPE  memory per method at 1080p on a GPU against lavapipe
   tools/results_tables.py light_samplers CSV  frame ms against the point-light count per light sampler
@@ -601,6 +602,18 @@ def pass_times(pairs):
             print(f"| {method} | {label} | {cells} |")
 
 
+def refit_rebuild(path):
+    """The update that finds a level degraded (gi-bench --refit-rebuild): CPU ms of a refit, of the update
+    that rebuilds in it, and off thread of the update that starts the rebuild and the one that installs it."""
+    print("| triangles | refit update ms | rebuilt in the update, ms | off thread: starting update, ms | "
+          "installing update, ms | updates between | start to install, ms |")
+    print("|---|---|---|---|---|---|---|")
+    for r in rows(path):
+        print(f"| {int(r['triangles']):,} | {float(r['refit_update_ms']):.2f} | {float(r['rebuild_update_ms']):.1f} | "
+              f"{float(r['start_update_ms']):.2f} | {float(r['install_update_ms']):.1f} | "
+              f"{r['updates_until_installed']} | {float(r['start_to_install_ms']):.0f} |")
+
+
 def refit_quality(path):
     """A folded grid's level refit against built anew (gi-bench --refit's second table): cost ratio, camera Mrays/s."""
     names = {"rayquery": "ray queries (BLAS updated / built)", "compute": "compute"}
@@ -855,6 +868,7 @@ KINDS = {
     "walk": lambda a: walk(a[0], a[1] if len(a) > 1 else None),
     "refit": lambda a: refit(a[0]),
     "refit_quality": lambda a: refit_quality(a[0]),
+    "refit_rebuild": lambda a: refit_rebuild(a[0]),
     "bench_log": bench_log,
     "device_memory": lambda a: device_memory(a[0], a[1]),
     "light_samplers": lambda a: light_samplers(a[0]),

@@ -64,7 +64,9 @@
 #include "gi/settings.h"
 #include "shared/scene_modes.h"
 
-// The API's version (gi::version(); find_package(gi 0.14)):
+// The API's version (gi::version(); find_package(gi 0.15)):
+//   0.15: SceneCreateDesc::rebuildOffThread (degraded levels rebuilt on a worker thread, by default),
+//         SceneInfo::levelRebuildRunning
 //   0.14: ModuleDesc::outputFormat B10G11R11 (all three outputs packed); SceneCreateDesc::rebuildCostRatio,
 //         SceneInfo::refitCostRatio and levelRebuilds (degraded refit levels rebuilt)
 //   0.13: hashCapacity takes the Settings (nhpsf and anhpsf size their map from their segments);
@@ -85,7 +87,7 @@
 //   0.3: half-float outputs with pre-exposure
 //   0.2: own function table, frames in flight, returned Vulkan errors, catalogues
 #define GI_VERSION_MAJOR 0
-#define GI_VERSION_MINOR 14
+#define GI_VERSION_MINOR 15
 
 namespace gi {
 

@@ -188,9 +188,16 @@ struct SceneCreateDesc {
   // times its cost when last built: its level by Embree on the CPU (as at createScene) and, with ray
   // queries, its BLAS built anew. 0: always refit. Device streams are always refit (the CPU never sees
   // their vertices). The default is below the first pose where refit levels traced slower (docs/RESULTS.md,
-  // "Refit against rebuild"). A rebuild is Embree's build on the CPU in the update (about 25 ms for 10,000
-  // triangles there, 870 ms for a million): 0 for meshes whose rebuild would be a hitch.
+  // "Refit against rebuild"). A rebuild is Embree's build on the CPU (about 25 ms for 10,000 triangles
+  // there, 870 ms for a million): see rebuildOffThread.
   float rebuildCostRatio = 1.5f;
+  // true: a rebuild runs on a worker thread of the module's, one level at a time, from the pose of the
+  // update that found the level degraded; the level is refit meanwhile, and the first update of the mesh
+  // after the build finished installs it (its nodes written into that update's command buffer, refit to
+  // that pose; the BLAS is built anew at once on the device). The update calls then cost no more than a
+  // refit, except the install's writes and one walk of the level (its cost as installed). false: the
+  // update that finds the level degraded rebuilds it itself, the same frames in every run.
+  bool rebuildOffThread = true;
   const VkAllocationCallbacks* allocationCallbacks = nullptr;
   uint64_t memoryBudgetBytes = 0;  // 0 = no limit
   DeviceMemoryCallbacks
@@ -285,6 +292,7 @@ struct SceneInfo {
   // SceneCreateDesc::rebuildCostRatio has made since createScene.
   float refitCostRatio = 0.0f;
   uint32_t levelRebuilds = 0;
+  bool levelRebuildRunning = false;  // a rebuild on the module's worker thread, not yet installed
 };
 SceneInfo sceneInfo(const Scene* scene);
 

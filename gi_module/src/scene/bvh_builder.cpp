@@ -338,28 +338,42 @@ SceneBvh buildSceneBvh(const BvhInput& input) {
   return bvh;
 }
 
-bool rebuildMeshLevel(const BvhInput& input, uint32_t mesh, SceneBvh& bvh) {
+MeshLevelSlots meshLevelSlots(const SceneBvh& bvh, uint32_t mesh) {
+  return {bvh.meshRoot[mesh], bvh.meshFirstTriangle[mesh], bvh.meshTriangleCount[mesh], bvh.meshNodeCapacity[mesh]};
+}
+
+MeshLevel buildMeshLevel(const BvhInput& input, uint32_t mesh, const MeshLevelSlots& slots) {
   EmbreeDevice embree;
   if (!embree.device) throw std::runtime_error("BVH: could not create an Embree device");
   const Part own{&input.meshes[mesh], glm::mat4(1.0f), gpu::BVH_FROM_TOP_LEVEL};
   std::vector<gpu::GpuBvhTriangle> candidates;
   std::vector<RTCBuildPrimitive> boxes;
   collectTriangles(input, {&own, 1}, candidates, boxes);
-  if (candidates.size() != bvh.meshTriangleCount[mesh]) return false;
-  const uint32_t root = bvh.meshRoot[mesh], first = bvh.meshFirstTriangle[mesh];
-  std::vector<gpu::GpuBvhNode> nodes;
+  if (candidates.size() != slots.triangleCount) return {};
+  MeshLevel level;
   std::vector<uint32_t> order;
-  glm::vec3 lo, hi;
-  buildTree(embree.device, std::move(boxes), kLeafSize, first, nodes, order, lo, hi);
-  if (nodes.size() > bvh.meshNodeCapacity[mesh]) return false;
-  for (gpu::GpuBvhNode& n : nodes)  // built from node 0: the level starts at its root
+  buildTree(embree.device, std::move(boxes), kLeafSize, slots.firstTriangle, level.nodes, order, level.lo, level.hi);
+  if (level.nodes.size() > slots.nodeCapacity) return {};
+  for (gpu::GpuBvhNode& n : level.nodes)  // built from node 0: the level starts at its root
     for (int k = 0; k < int(kWidth); ++k)
-      if (n.child[k] != gpu::BVH_NO_CHILD && !(n.child[k] & gpu::BVH_LEAF_BIT)) n.child[k] += root;
-  nodes.resize(bvh.meshNodeCapacity[mesh], kEmptyNode);
-  std::copy(nodes.begin(), nodes.end(), bvh.bottomNodes.begin() + root);
-  for (size_t i = 0; i < order.size(); ++i) bvh.triangles[first + i] = candidates[order[i]];
-  bvh.meshMin[mesh] = lo;
-  bvh.meshMax[mesh] = hi;
+      if (n.child[k] != gpu::BVH_NO_CHILD && !(n.child[k] & gpu::BVH_LEAF_BIT)) n.child[k] += slots.root;
+  level.nodes.resize(slots.nodeCapacity, kEmptyNode);
+  level.triangles.reserve(order.size());
+  for (uint32_t id : order) level.triangles.push_back(candidates[id]);
+  return level;
+}
+
+void installMeshLevel(const MeshLevel& level, uint32_t mesh, SceneBvh& bvh) {
+  std::copy(level.nodes.begin(), level.nodes.end(), bvh.bottomNodes.begin() + bvh.meshRoot[mesh]);
+  std::copy(level.triangles.begin(), level.triangles.end(), bvh.triangles.begin() + bvh.meshFirstTriangle[mesh]);
+  bvh.meshMin[mesh] = level.lo;
+  bvh.meshMax[mesh] = level.hi;
+}
+
+bool rebuildMeshLevel(const BvhInput& input, uint32_t mesh, SceneBvh& bvh) {
+  const MeshLevel level = buildMeshLevel(input, mesh, meshLevelSlots(bvh, mesh));
+  if (level.nodes.empty()) return false;
+  installMeshLevel(level, mesh, bvh);
   return true;
 }
 

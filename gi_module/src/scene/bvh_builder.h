@@ -69,10 +69,27 @@ struct SceneBvh {
 // queries treat them as inactive too). Throws std::runtime_error if Embree fails.
 SceneBvh buildSceneBvh(const BvhInput& input);
 
-// Rebuilds deformable mesh `mesh`'s own level in place from the current `input.positions` (its root,
-// node range and triangle slots stay; the top level's refit follows on the device). False, and nothing
-// changed, when the new tree needs more nodes than the level has room for or a triangle is not finite.
-// Throws std::runtime_error if Embree fails.
+// Where deformable mesh `mesh`'s own level lives in a SceneBvh: fixed by its first build, every rebuild
+// fills the same root, node range and triangle slots.
+struct MeshLevelSlots {
+  uint32_t root = 0, firstTriangle = 0, triangleCount = 0, nodeCapacity = 0;
+};
+MeshLevelSlots meshLevelSlots(const SceneBvh& bvh, uint32_t mesh);
+
+// A level built anew from `input.positions` (Embree), ready to copy into its slots: `slots.nodeCapacity`
+// nodes from the root (children as global node indices), the triangles in slot order, its bounds. No nodes
+// when the new tree needs more nodes than the slots hold or a triangle is not finite. Touches no SceneBvh,
+// so it may run on a worker thread while the scene is used. Throws std::runtime_error if Embree fails.
+struct MeshLevel {
+  std::vector<gpu::GpuBvhNode> nodes;
+  std::vector<gpu::GpuBvhTriangle> triangles;
+  glm::vec3 lo{0.0f}, hi{0.0f};
+};
+MeshLevel buildMeshLevel(const BvhInput& input, uint32_t mesh, const MeshLevelSlots& slots);
+void installMeshLevel(const MeshLevel& level, uint32_t mesh, SceneBvh& bvh);
+
+// buildMeshLevel then installMeshLevel, in place from the current `input.positions` (the top level's refit
+// follows on the device). False, and nothing changed, where buildMeshLevel gave no nodes.
 bool rebuildMeshLevel(const BvhInput& input, uint32_t mesh, SceneBvh& bvh);
 
 // The surface-area cost of mesh `mesh`'s own level with its boxes refit to `input.positions` (on the

@@ -4,10 +4,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <chrono>
 #include <cstring>
+#include <future>
 #include <memory>
 #include <new>
 #include <stdexcept>
+#include <type_traits>
 
 #include "gi/device.h"
 #include "scene/device_meshes.h"
@@ -144,6 +147,7 @@ vk::Status buildBvhBuffers(Scene& s, VkCommandBuffer cmd, std::span<const uint8_
     std::vector<BvhInstance> instances = bvhInstances(s.instances, forceMovable);
     try {
       s.bvh = buildSceneBvh({s.packed.positions, s.packed.indices, meshes, instances});
+      s.bvhBuilds++;
     } catch (const std::bad_alloc&) {
       return {VK_ERROR_OUT_OF_HOST_MEMORY, "rtcBuildBVH (Embree's BVH build)"};
     } catch (const std::exception&) {
@@ -318,7 +322,7 @@ vk::Status writeSceneDescriptors(Scene& s, const SceneContents& contents) {
       // scene programs of its own, compiled anew at their first dispatch.
       {gpu::SCENE_BINDING_CONSTANTS, &s.constants, VK_FORMAT_R32G32B32A32_UINT, 16,
        "vkCreateBufferView (the scene's constants)"}};
-  static_assert(std::size(arrays) == std::size(Scene{}.arrayViews));
+  static_assert(std::size(arrays) == std::extent_v<decltype(Scene::arrayViews)>);
   for (size_t i = 0; i < std::size(arrays); ++i) {
     GI_TRY(
         texelView(s, *arrays[i].buffer, arrays[i].format, arrays[i].texelBytes, arrays[i].tooLarge, s.arrayViews[i]));
@@ -410,6 +414,7 @@ void freeStaging(Scene& s) {
 }
 
 void destroySceneResources(Scene& s) {
+  s.rebuildJob.reset();  // waits for a level rebuild still running: it reads the scene's indices
   freeStaging(s);
   destroyDeviceMeshReadback(s.gpu, s.readback);
   destroyBvhBuffers(s);
@@ -640,40 +645,94 @@ void recordPreviousPositions(Scene& s, VkCommandBuffer cmd, uint32_t mesh) {
 // SceneCreateDesc::rebuildCostRatio, rebuilt on the CPU and its nodes, triangles and the refit order
 // written into `cmd` (transfers, made visible by the caller). True when rebuilt: the caller skips the
 // level's refit and builds the BLAS anew. An Embree failure (memory) leaves the refit to do.
-bool rebuildDegradedLevel(Scene& s, VkCommandBuffer cmd, uint32_t mesh) {
-  if (mesh >= s.builtCost.size() || !(s.builtCost[mesh] > 0.0)) return false;
+// Writes mesh `mesh`'s level, as s.bvh now holds it, into the device's BVH in `cmd` (its nodes, its
+// triangle slots, the refit order of the new tree), with its cost as installed for the ratio.
+void writeRebuiltLevel(Scene& s, VkCommandBuffer cmd, uint32_t mesh, const BvhInput& input) {
+  s.levelRebuilds++;
+  s.costParts[mesh].clear();  // the new tree's parts, primed by the walk that gives its cost
+  s.builtCost[mesh] = meshLevelCostInParts(input, s.bvh, mesh, UINT32_MAX, s.costParts[mesh]);
+  const uint32_t root = s.bvh.meshRoot[mesh], first = s.bvh.meshFirstTriangle[mesh];
+  vk::recordBufferWrite(s.gpu, cmd, s.bvhNodes, &s.bvh.bottomNodes[root],
+                        s.bvh.meshNodeCapacity[mesh] * sizeof(gpu::GpuBvhNode), root * sizeof(gpu::GpuBvhNode));
+  vk::recordBufferWrite(s.gpu, cmd, s.bvhTriangles, &s.bvh.triangles[first],
+                        s.bvh.meshTriangleCount[mesh] * sizeof(gpu::GpuBvhTriangle),
+                        first * sizeof(gpu::GpuBvhTriangle));
+  s.refit = refitPlan(s.bvh, s.packed.meshDeformable);  // the new tree's levels
+  writeInCommands(s, cmd, s.refitOrder, s.refit.order);
+}
+
+// Starts the rebuild of `mesh`'s level from this pose on a worker thread.
+void startLevelRebuild(Scene& s, uint32_t mesh) {
+  auto job = std::make_unique<Scene::LevelRebuildJob>();
+  job->mesh = mesh;
+  job->bvhBuilds = s.bvhBuilds;
+  job->positions = s.packed.positions;  // the updates go on writing the scene's own
+  job->meshes = bvhMeshes(s.packed);
+  const BvhInput input{job->positions, s.packed.indices, job->meshes, {}};  // indices never change
+  job->level = std::async(std::launch::async, buildMeshLevel, input, mesh, meshLevelSlots(s.bvh, mesh));
+  s.rebuildJob = std::move(job);
+}
+
+// The off-thread rebuild of `mesh`'s level, if it finished: installed into s.bvh and written in `cmd`
+// (true), or dropped where it failed, found no room or was started before a whole-BVH build.
+bool installFinishedRebuild(Scene& s, VkCommandBuffer cmd, uint32_t mesh, const BvhInput& input) {
+  Scene::LevelRebuildJob* job = s.rebuildJob.get();
+  if (!job || job->mesh != mesh || job->level.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
+    return false;
+  MeshLevel level;
+  try {
+    level = job->level.get();
+  } catch (const std::exception&) {
+    level = MeshLevel{};
+  }
+  const bool current = job->bvhBuilds == s.bvhBuilds;
+  s.rebuildJob.reset();
+  if (!current || level.nodes.empty()) return false;
+  installMeshLevel(level, mesh, s.bvh);
+  writeRebuiltLevel(s, cmd, mesh, input);
+  return true;
+}
+
+// What an update with CPU arrays does to its mesh's level beyond writing the vertices.
+struct LevelUpdate {
+  bool nodesBuilt = false;  // its nodes were built for this pose and written: no refit
+  bool blasBuild = false;   // its BLAS is built anew rather than updated (ray queries)
+};
+
+// After an update with CPU arrays: the level's cost against its cost when built; past the ratio, rebuilt
+// in this update or, off thread, started here (the BLAS built anew in either) and installed by a later
+// update of the mesh, which then refits it to its own pose.
+LevelUpdate rebuildDegradedLevel(Scene& s, VkCommandBuffer cmd, uint32_t mesh) {
+  if (mesh >= s.builtCost.size() || !(s.builtCost[mesh] > 0.0)) return {};
   const std::vector<BvhMesh> meshes = bvhMeshes(s.packed);
   const BvhInput input{s.packed.positions, s.packed.indices, meshes, {}};
+  if (installFinishedRebuild(s, cmd, mesh, input)) {
+    s.refitCostRatio = 1.0f;  // its cost as installed, in this pose
+    return {};
+  }
   // The measure walks every triangle (about 26 ns each here: 26 ms for a million, against the update's own
   // 6 ms), so a level of more than 64k triangles is measured a part at a time, 16k triangles an update: its
   // cost lags its deformation by up to n / 16k updates, as refits degrade it over frames (docs/RESULTS.md,
   // "Refit against rebuild").
   const uint32_t budget = s.bvh.meshTriangleCount[mesh] <= (1u << 16) ? UINT32_MAX : 1u << 14;
-  double ratio = meshLevelCostInParts(input, s.bvh, mesh, budget, s.costParts[mesh]) / s.builtCost[mesh];
-  bool rebuilt = false;
-  if (s.desc.rebuildCostRatio > 0.0f && ratio > s.desc.rebuildCostRatio) {
-    try {
-      rebuilt = rebuildMeshLevel(input, mesh, s.bvh);
-    } catch (const std::exception&) {
-      rebuilt = false;
-    }
-  }
-  if (rebuilt) {
-    s.levelRebuilds++;
-    s.costParts[mesh].clear();  // the new tree's parts, primed by the walk that gives its cost
-    s.builtCost[mesh] = meshLevelCostInParts(input, s.bvh, mesh, UINT32_MAX, s.costParts[mesh]);
-    ratio = 1.0;
-    const uint32_t root = s.bvh.meshRoot[mesh], first = s.bvh.meshFirstTriangle[mesh];
-    vk::recordBufferWrite(s.gpu, cmd, s.bvhNodes, &s.bvh.bottomNodes[root],
-                          s.bvh.meshNodeCapacity[mesh] * sizeof(gpu::GpuBvhNode), root * sizeof(gpu::GpuBvhNode));
-    vk::recordBufferWrite(s.gpu, cmd, s.bvhTriangles, &s.bvh.triangles[first],
-                          s.bvh.meshTriangleCount[mesh] * sizeof(gpu::GpuBvhTriangle),
-                          first * sizeof(gpu::GpuBvhTriangle));
-    s.refit = refitPlan(s.bvh, s.packed.meshDeformable);  // the new tree's levels
-    writeInCommands(s, cmd, s.refitOrder, s.refit.order);
-  }
+  const double ratio = meshLevelCostInParts(input, s.bvh, mesh, budget, s.costParts[mesh]) / s.builtCost[mesh];
   s.refitCostRatio = float(ratio);
-  return rebuilt;
+  if (!(s.desc.rebuildCostRatio > 0.0f && ratio > s.desc.rebuildCostRatio)) return {};
+  if (s.desc.rebuildOffThread) {
+    if (s.rebuildJob) return {};  // one at a time: this level waits for the next update
+    startLevelRebuild(s, mesh);
+    return {false, true};
+  }
+  bool rebuilt = false;
+  try {
+    rebuilt = rebuildMeshLevel(input, mesh, s.bvh);
+  } catch (const std::exception&) {
+    rebuilt = false;
+  }
+  if (!rebuilt) return {};
+  writeRebuiltLevel(s, cmd, mesh, input);
+  s.refitCostRatio = 1.0f;
+  return {true, true};
 }
 
 // The checks both vertex calls make: a built scene, a command buffer, a deformable mesh.
@@ -749,18 +808,18 @@ Error updateMeshVertices(Scene* s, VkCommandBuffer cmd, uint32_t mesh, const Mes
     writeInCommands(*s, cmd, s->emissiveTriangles, refreshEmission(*s));
     writeInCommands(*s, cmd, s->constants, std::vector<gpu::GpuSceneConstants>{s->sceneConstants});
   }
-  const bool rebuilt = !device && computeBvh(*s) && rebuildDegradedLevel(*s, cmd, mesh);
+  const LevelUpdate level = !device && computeBvh(*s) ? rebuildDegradedLevel(*s, cmd, mesh) : LevelUpdate{};
   // The vertices before the refit, the BLAS update and every later reader.
   vk::memoryBarrier(s->gpu, cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                     VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                     VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT);
   if (computeBvh(*s)) {
     const RefitBuffers buffers = refitBuffers(*s);
-    if (!rebuilt) recordMeshRefit(s->gpu, cmd, s->refitProgram, buffers, s->refit, mesh);
+    if (!level.nodesBuilt) recordMeshRefit(s->gpu, cmd, s->refitProgram, buffers, s->refit, mesh);
     recordTopRefit(s->gpu, cmd, s->refitProgram, buffers, uint32_t(s->bvh.topNodes.size()));
   }
   if (rayQuery(*s)) {
-    recordBlasUpdate(s->gpu, cmd, s->positions, s->indices, s->accelMeshes[mesh], s->accel, mesh, rebuilt);
+    recordBlasUpdate(s->gpu, cmd, s->positions, s->indices, s->accelMeshes[mesh], s->accel, mesh, level.blasBuild);
     recordTlasRebuild(s->gpu, cmd, s->accel);
   }
   return {};
@@ -805,6 +864,7 @@ SceneInfo sceneInfo(const Scene* s) {
          id < s->packed.meshFirstGeometry[inst.mesh] + s->packed.meshGeometryCount[inst.mesh]; ++id)
       info.triangles += s->packed.geometries[id].triangleCount;
   info.emissiveTriangles = s->sceneConstants.emissiveTriangleCount;
+  info.levelRebuildRunning = s->rebuildJob != nullptr;
   info.bvhBottomBuildMs = s->bvh.bottomBuildMs;
   info.bvhTopBuildMs = s->bvh.topBuildMs;
   info.memoryBytes = s->gpu.memory.held;

@@ -2,6 +2,8 @@
 // device buffers, the compute BVH and the ray-query acceleration structures,
 // and set 0.
 #pragma once
+#include <future>
+#include <memory>
 #include <vector>
 
 #include "gi/scene.h"
@@ -32,12 +34,24 @@ struct Scene {
   VkSampler skySampler = VK_NULL_HANDLE;
   SceneBvh bvh;  // the compute traversal's two levels
   vk::Buffer bvhNodes, bvhTriangles, bvhTopNodes, bvhInstances;
-  VkBufferView bvhViews[4]{};                      // RGBA32UI texel views of the four, in that order
-  RefitPlan refit;                                 // deformable meshes: their bottom levels' refit order
-  std::vector<double> builtCost;                   // per deformable mesh: its level's cost when last built
-  std::vector<LevelCostParts> costParts;           // per deformable mesh: its refit level's cost, kept in parts
-  float refitCostRatio = 0.0f;                     // SceneInfo's
-  uint32_t levelRebuilds = 0;                      // SceneInfo's
+  VkBufferView bvhViews[4]{};             // RGBA32UI texel views of the four, in that order
+  RefitPlan refit;                        // deformable meshes: their bottom levels' refit order
+  std::vector<double> builtCost;          // per deformable mesh: its level's cost when last built
+  std::vector<LevelCostParts> costParts;  // per deformable mesh: its refit level's cost, kept in parts
+  float refitCostRatio = 0.0f;            // SceneInfo's
+  uint32_t levelRebuilds = 0;             // SceneInfo's
+  // A degraded level's rebuild on a worker thread (SceneCreateDesc::rebuildOffThread), one at a time: the
+  // pose it started from, held here while Embree builds from it; the first update of its mesh after it
+  // finished installs it. A whole-BVH build in between (bvhBuilds) makes its slots stale: it is dropped.
+  struct LevelRebuildJob {
+    uint32_t mesh = 0;
+    uint32_t bvhBuilds = 0;
+    std::vector<glm::vec3> positions;
+    std::vector<BvhMesh> meshes;
+    std::future<MeshLevel> level;
+  };
+  std::unique_ptr<LevelRebuildJob> rebuildJob;
+  uint32_t bvhBuilds = 0;                          // buildSceneBvh calls so far
   vk::Buffer refitOrder;                           // RefitPlan::order on the device
   vk::ComputeProgram refitProgram, gatherProgram;  // deformable meshes only
   SceneAcceleration accel;                         // ray queries only
