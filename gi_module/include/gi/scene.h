@@ -268,7 +268,8 @@ struct MeshVertices {
 // time, the top level; the tree keeps the shape of the pose it was built in, so traversal stays exact and
 // slows as the deformation grows), and with ray queries the mesh's BLAS is updated and the TLAS rebuilt.
 // With CPU arrays the level and the BLAS are rebuilt instead where refits have degraded the level past
-// SceneCreateDesc::rebuildCostRatio, and the emission table follows the new areas; an emissive mesh's
+// SceneCreateDesc::rebuildCostRatio (the level off this thread by default: SceneCreateDesc::rebuildOffThread),
+// and the emission table follows the new areas; an emissive mesh's
 // vertices must come as CPU arrays (its picking weights are areas the CPU computes). The G-buffer's motion
 // vectors of deforming surfaces are the engine's (previous positions): the module's temporal passes see
 // them as moving geometry.
