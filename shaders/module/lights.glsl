@@ -42,6 +42,13 @@ uint giPickEmissiveTriangle(float u) {
   return lo;
 }
 
+// The chance giPickEmissiveTriangle picks entry k: its share of the cdf. Not luminance over the total
+// power: a mesh deformed through device streams keeps the cdf of its areas when the table was built, and
+// the picks stay unbiased with the pdf this chance over the triangle's area now (giTriangleArea).
+float giEmissiveTriangleChance(uint k) {
+  return sceneEmissiveTriangle(k).cdf - (k > 0u ? sceneEmissiveTriangle(k - 1u).cdf : 0.0);
+}
+
 // The emissive triangles' entry of (instance, geometry, triangle): their table is in that order. An
 // emitter's own entry; 0xffffffff for a triangle the table does not hold.
 uint giFindEmissive(uint instance, uint geometry, uint triangle) {
@@ -144,7 +151,9 @@ bool giPrepareEmissive(GiSurface s, GiBsdf b, vec3 V, bool withMis, float select
   GpuMaterial m = sceneMaterialData(sceneGeometry(e.geometry).material);
   vec3 Le = m.emission;
   if (m.emissiveTexture != NO_TEXTURE) Le *= sceneTexture(m.emissiveTexture, sceneUv(tri, w)).rgb;
-  const float areaPdf = tree ? chance / giTriangleArea(p0, p1, p2) : giLuminance(m.emission) / sceneConstants().emissiveTotalPower;
+  const float area = giTriangleArea(p0, p1, p2);
+  if (!(area > 0.0)) return false;  // deformed to a sliver: it emits nothing
+  const float areaPdf = (tree ? chance : giEmissiveTriangleChance(k)) / area;
   float lightPdf = selection * (areaPdf * dist2 / cosLight);
   ray.origin = giOffsetRay(s.position, s.geometricNormal);
   vec3 seg = giOffsetRay(y, -L) - ray.origin;
@@ -225,16 +234,15 @@ float giEmissiveNeePdf(GiSurface s, GiHit hit, vec3 origin, GiSurface from) {
   vec3 d = s.position - origin;
   float dist2 = dot(d, d);
   float cosLight = abs(dot(s.geometricNormal, normalize(d)));
-  float areaPdf;
-  if (giEmissiveTree()) {
-    const uint k = giFindEmissive(hit.instance, hit.geometry, hit.triangle);
-    if (k == 0xffffffffu) return 0.0;
-    vec3 p0, p1, p2;
-    giTriangleWorld(hit.instance, sceneTriangle(hit.geometry, hit.triangle), p0, p1, p2);
-    areaPdf = giTreeLeafChance(true, sceneEmissiveLeaf(k), from.position, from.geometricNormal) / giTriangleArea(p0, p1, p2);
-  } else {
-    areaPdf = giLuminance(sceneMaterialData(sceneGeometry(hit.geometry).material).emission) / sceneConstants().emissiveTotalPower;
-  }
+  const uint k = giFindEmissive(hit.instance, hit.geometry, hit.triangle);
+  if (k == 0xffffffffu) return 0.0;
+  vec3 p0, p1, p2;
+  giTriangleWorld(hit.instance, sceneTriangle(hit.geometry, hit.triangle), p0, p1, p2);
+  const float chance = giEmissiveTree() ? giTreeLeafChance(true, sceneEmissiveLeaf(k), from.position, from.geometricNormal)
+                                        : giEmissiveTriangleChance(k);
+  const float area = giTriangleArea(p0, p1, p2);
+  if (!(area > 0.0)) return 0.0;
+  const float areaPdf = chance / area;
   return (1.0 - giSkySelection(true, from.position, from.geometricNormal)) * areaPdf * dist2 / max(cosLight, 1e-8);
 }
 float giSkyNeePdf(vec3 dir, GiSurface from) {

@@ -119,7 +119,7 @@ GPU_ASSERT_SIZE(GpuPunctualLight, 64);
 struct GpuSceneConstants {
   uint emissiveTriangleCount;
   uint punctualLightCount;
-  float emissiveTotalPower;    // Σ area × luminance(emission), used for light pdfs
+  float pad0;
   float sceneExtent;           // largest dimension of the scene bounds, metres
   vec3 boundsMin;
   uint directionalLightCount;  // the light table's first ones (secondary rays offset by ULPs, giOffsetRay: no

@@ -269,8 +269,9 @@ struct MeshVertices {
 // slows as the deformation grows), and with ray queries the mesh's BLAS is updated and the TLAS rebuilt.
 // With CPU arrays the level and the BLAS are rebuilt instead where refits have degraded the level past
 // SceneCreateDesc::rebuildCostRatio (the level off this thread by default: SceneCreateDesc::rebuildOffThread),
-// and the emission table follows the new areas; an emissive mesh's
-// vertices must come as CPU arrays (its picking weights are areas the CPU computes). The G-buffer's motion
+// and the emission table follows the new areas. An emissive mesh posed by device streams keeps the table
+// its areas and bounds gave when last built on the CPU: its picks stay unbiased (their chances over each
+// triangle's area in the pose being traced) and grow noisier as it deforms away. The G-buffer's motion
 // vectors of deforming surfaces are the engine's (previous positions): the module's temporal passes see
 // them as moving geometry.
 Error updateMeshVertices(Scene* scene, VkCommandBuffer cmd, uint32_t mesh, const MeshVertices& vertices);

@@ -196,7 +196,6 @@ vk::Status buildBvhBuffers(Scene& s, VkCommandBuffer cmd, std::span<const uint8_
 std::vector<uint32_t> refreshEmission(Scene& s) {
   const EmissiveTable table = emissiveTable(s.packed, s.instances);
   s.sceneConstants.emissiveTriangleCount = table.pickable();
-  s.sceneConstants.emissiveTotalPower = table.totalPower;
   return emissiveTableWords(table);
 }
 
@@ -375,7 +374,6 @@ vk::Status buildScene(Scene& s, VkCommandBuffer cmd, const SceneContents& conten
   worldBounds(p, s.instances, lo, hi);
   const bool empty = lo.x > hi.x;
   c.emissiveTriangleCount = emissive.pickable();
-  c.emissiveTotalPower = emissive.totalPower;
   // An empty scene (nothing streamed in yet) still needs a scale for depth guidance: 1 m.
   c.sceneExtent = empty ? 1.0f : std::max(std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z}), 1e-6f);
   c.boundsMin = empty ? glm::vec3(0.0f) : lo;
@@ -765,10 +763,6 @@ Error updateMeshVertices(Scene* s, VkCommandBuffer cmd, uint32_t mesh, const Mes
       return sceneError("gi::updateMeshVertices: vertices: device streams and CPU arrays both given");
     if (std::string e = checkVertexStreams(v.devicePositions, v.deviceNormals, vertexCount, "vertices"); !e.empty())
       return sceneError("gi::updateMeshVertices: " + e);
-    if (emissive)
-      return sceneError("gi::updateMeshVertices: mesh " + std::to_string(mesh) +
-                        " emits light: its emission is "
-                        "sampled by triangle areas the CPU computes, so give its vertices as CPU arrays");
   } else {
     if (!v.positions || !v.normals)
       return sceneError(
