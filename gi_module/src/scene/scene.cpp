@@ -638,11 +638,6 @@ void recordPreviousPositions(Scene& s, VkCommandBuffer cmd, uint32_t mesh) {
       VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_MEMORY_READ_BIT);
 }
 
-// Deformable mesh `mesh`'s compute-BVH level after new CPU-array vertices (in s.packed): its cost as refit
-// weighed against its cost when built, and where refits have degraded it past
-// SceneCreateDesc::rebuildCostRatio, rebuilt on the CPU and its nodes, triangles and the refit order
-// written into `cmd` (transfers, made visible by the caller). True when rebuilt: the caller skips the
-// level's refit and builds the BLAS anew. An Embree failure (memory) leaves the refit to do.
 // Writes mesh `mesh`'s level, as s.bvh now holds it, into the device's BVH in `cmd` (its nodes, its
 // triangle slots, the refit order of the new tree), with its cost as installed for the ratio.
 void writeRebuiltLevel(Scene& s, VkCommandBuffer cmd, uint32_t mesh, const BvhInput& input) {
