@@ -183,12 +183,14 @@ struct SceneCreateDesc {
   // with MIS against BSDF sampling either way.
   uint32_t lightSampler = gpu::LIGHT_SAMPLER_TREE;  // kLightSamplerNames names them
   uint32_t lightTreeCut = 4;  // [1, 64]: LIGHT_SAMPLER_TREE's subtrees (shadow rays a vertex for its lights)
-  // A deformable mesh whose vertices updateMeshVertices takes as CPU arrays is rebuilt rather than refit
-  // once its refit compute-BVH level's surface-area cost (SceneInfo::refitCostRatio) exceeds this many
-  // times its cost when last built: its level by Embree on the CPU (as at createScene) and, with ray
-  // queries, its BLAS built anew. 0: always refit. Device streams are always refit (the CPU never sees
-  // their vertices). The default is below the first pose where refit levels traced slower (docs/RESULTS.md,
-  // "Refit against rebuild"). A rebuild is Embree's build on the CPU (about 25 ms for 10,000 triangles
+  // A deformable mesh is rebuilt rather than refit once its refit compute-BVH level's surface-area cost
+  // (SceneInfo::refitCostRatio) exceeds this many times its cost when last built: its level by Embree on
+  // the CPU (as at createScene) and, with ray queries, its BLAS built anew. 0: always refit. Measured after
+  // each update with CPU arrays; with device streams on positions read back now and then (one mesh at a
+  // time: an update copies them to host-visible memory behind an event, a later update of the mesh that
+  // finds it set measures them; no wait, so the measure lags the pose by the frames in flight). Scenes for
+  // ray queries alone have no compute BVH to measure: their BLAS is always updated. The default is below
+  // the first pose where refit levels traced slower (docs/RESULTS.md, "Refit against rebuild"). A rebuild is Embree's build on the CPU (about 25 ms for 10,000 triangles
   // there, 870 ms for a million): see rebuildOffThread.
   float rebuildCostRatio = 1.5f;
   // true: a rebuild runs on a worker thread of the module's, one level at a time, from the pose of the
@@ -289,9 +291,10 @@ struct SceneInfo {
   double bvhTopBuildMs = 0.0;                                // of its last top-level build
   uint64_t memoryBytes = 0;                                  // device memory the scene holds
   float boundsMin[3] = {0, 0, 0}, boundsMax[3] = {0, 0, 0};  // world, metres
-  // The deformable mesh updateMeshVertices last took as CPU arrays (compute BVH): its level's surface-area
-  // cost after that update over its cost when last built (1: as built), and the rebuilds
-  // SceneCreateDesc::rebuildCostRatio has made since createScene.
+  // The deformable mesh updateMeshVertices last measured (compute BVH: each update with CPU arrays, device
+  // streams when their read-back positions arrived): its level's surface-area cost in that pose over its
+  // cost when last built (1: as built), and the rebuilds SceneCreateDesc::rebuildCostRatio has made since
+  // createScene.
   float refitCostRatio = 0.0f;
   uint32_t levelRebuilds = 0;
   bool levelRebuildRunning = false;  // a rebuild on the module's worker thread, not yet installed

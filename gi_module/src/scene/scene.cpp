@@ -4,9 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <chrono>
 #include <cstring>
-#include <future>
 #include <memory>
 #include <new>
 #include <stdexcept>
@@ -14,6 +12,7 @@
 
 #include "gi/device.h"
 #include "scene/device_meshes.h"
+#include "scene/level_rebuild.h"
 #include "scene/morton_order.h"
 #include "scene/sky_tables.h"
 #include "vulkan_error.h"
@@ -361,8 +360,11 @@ vk::Status buildScene(Scene& s, VkCommandBuffer cmd, const SceneContents& conten
   GI_TRY(upload(s, cmd, p.uvs, kTexels, s.uvs));
   GI_TRY(upload(s, cmd, p.indices, geometryUsage, s.indices));
   GI_TRY(upload(s, cmd, p.geometries, kTexels | refitUsage(s), s.geometries));
-  if (hasDeformable(p) && computeBvh(s)) GI_TRY(createRefitProgram(s.gpu, s.refitProgram));  // the compute BVH's
-  if (hasDeformable(p)) GI_TRY(createGatherProgram(s.gpu, s.gatherProgram));                 // device streams
+  if (hasDeformable(p) && computeBvh(s)) {  // the compute BVH's refits, and the device streams' measure
+    GI_TRY(createRefitProgram(s.gpu, s.refitProgram));
+    GI_TRY(createPositionsReadback(s));
+  }
+  if (hasDeformable(p)) GI_TRY(createGatherProgram(s.gpu, s.gatherProgram));  // device streams
   GI_TRY(upload(s, cmd, p.materials, kTexels, s.materials));
 
   GI_TRY(hostBuffer(s, gpuInstances(p, s.instances, {}), s.instances.size(), kTexels, s.instanceTable));
@@ -413,6 +415,7 @@ void freeStaging(Scene& s) {
 
 void destroySceneResources(Scene& s) {
   s.rebuildJob.reset();  // waits for a level rebuild still running: it reads the scene's indices
+  destroyPositionsReadback(s);
   freeStaging(s);
   destroyDeviceMeshReadback(s.gpu, s.readback);
   destroyBvhBuffers(s);
@@ -638,96 +641,6 @@ void recordPreviousPositions(Scene& s, VkCommandBuffer cmd, uint32_t mesh) {
       VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_MEMORY_READ_BIT);
 }
 
-// Writes mesh `mesh`'s level, as s.bvh now holds it, into the device's BVH in `cmd` (its nodes, its
-// triangle slots, the refit order of the new tree), with its cost as installed for the ratio.
-void writeRebuiltLevel(Scene& s, VkCommandBuffer cmd, uint32_t mesh, const BvhInput& input) {
-  s.levelRebuilds++;
-  s.costParts[mesh].clear();  // the new tree's parts, primed by the walk that gives its cost
-  s.builtCost[mesh] = meshLevelCostInParts(input, s.bvh, mesh, UINT32_MAX, s.costParts[mesh]);
-  const uint32_t root = s.bvh.meshRoot[mesh], first = s.bvh.meshFirstTriangle[mesh];
-  vk::recordBufferWrite(s.gpu, cmd, s.bvhNodes, &s.bvh.bottomNodes[root],
-                        s.bvh.meshNodeCapacity[mesh] * sizeof(gpu::GpuBvhNode), root * sizeof(gpu::GpuBvhNode));
-  vk::recordBufferWrite(s.gpu, cmd, s.bvhTriangles, &s.bvh.triangles[first],
-                        s.bvh.meshTriangleCount[mesh] * sizeof(gpu::GpuBvhTriangle),
-                        first * sizeof(gpu::GpuBvhTriangle));
-  s.refit = refitPlan(s.bvh, s.packed.meshDeformable);  // the new tree's levels
-  writeInCommands(s, cmd, s.refitOrder, s.refit.order);
-}
-
-// Starts the rebuild of `mesh`'s level from this pose on a worker thread.
-void startLevelRebuild(Scene& s, uint32_t mesh) {
-  auto job = std::make_unique<Scene::LevelRebuildJob>();
-  job->mesh = mesh;
-  job->bvhBuilds = s.bvhBuilds;
-  job->positions = s.packed.positions;  // the updates go on writing the scene's own
-  job->meshes = bvhMeshes(s.packed);
-  const BvhInput input{job->positions, s.packed.indices, job->meshes, {}};  // indices never change
-  job->level = std::async(std::launch::async, buildMeshLevel, input, mesh, meshLevelSlots(s.bvh, mesh));
-  s.rebuildJob = std::move(job);
-}
-
-// The off-thread rebuild of `mesh`'s level, if it finished: installed into s.bvh and written in `cmd`
-// (true), or dropped where it failed, found no room or was started before a whole-BVH build.
-bool installFinishedRebuild(Scene& s, VkCommandBuffer cmd, uint32_t mesh, const BvhInput& input) {
-  Scene::LevelRebuildJob* job = s.rebuildJob.get();
-  if (!job || job->mesh != mesh || job->level.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
-    return false;
-  MeshLevel level;
-  try {
-    level = job->level.get();
-  } catch (const std::exception&) {
-    level = MeshLevel{};
-  }
-  const bool current = job->bvhBuilds == s.bvhBuilds;
-  s.rebuildJob.reset();
-  if (!current || level.nodes.empty()) return false;
-  installMeshLevel(level, mesh, s.bvh);
-  writeRebuiltLevel(s, cmd, mesh, input);
-  return true;
-}
-
-// What an update with CPU arrays does to its mesh's level beyond writing the vertices.
-struct LevelUpdate {
-  bool nodesBuilt = false;  // its nodes were built for this pose and written: no refit
-  bool blasBuild = false;   // its BLAS is built anew rather than updated (ray queries)
-};
-
-// After an update with CPU arrays: the level's cost against its cost when built; past the ratio, rebuilt
-// in this update or, off thread, started here (the BLAS built anew in either) and installed by a later
-// update of the mesh, which then refits it to its own pose.
-LevelUpdate rebuildDegradedLevel(Scene& s, VkCommandBuffer cmd, uint32_t mesh) {
-  if (mesh >= s.builtCost.size() || !(s.builtCost[mesh] > 0.0)) return {};
-  const std::vector<BvhMesh> meshes = bvhMeshes(s.packed);
-  const BvhInput input{s.packed.positions, s.packed.indices, meshes, {}};
-  if (installFinishedRebuild(s, cmd, mesh, input)) {
-    s.refitCostRatio = 1.0f;  // its cost as installed, in this pose
-    return {};
-  }
-  // The measure walks every triangle (about 26 ns each here: 26 ms for a million, against the update's own
-  // 6 ms), so a level of more than 64k triangles is measured a part at a time, 16k triangles an update: its
-  // cost lags its deformation by up to n / 16k updates, as refits degrade it over frames (docs/RESULTS.md,
-  // "Refit against rebuild").
-  const uint32_t budget = s.bvh.meshTriangleCount[mesh] <= (1u << 16) ? UINT32_MAX : 1u << 14;
-  const double ratio = meshLevelCostInParts(input, s.bvh, mesh, budget, s.costParts[mesh]) / s.builtCost[mesh];
-  s.refitCostRatio = float(ratio);
-  if (!(s.desc.rebuildCostRatio > 0.0f && ratio > s.desc.rebuildCostRatio)) return {};
-  if (s.desc.rebuildOffThread) {
-    if (s.rebuildJob) return {};  // one at a time: this level waits for the next update
-    startLevelRebuild(s, mesh);
-    return {false, true};
-  }
-  bool rebuilt = false;
-  try {
-    rebuilt = rebuildMeshLevel(input, mesh, s.bvh);
-  } catch (const std::exception&) {
-    rebuilt = false;
-  }
-  if (!rebuilt) return {};
-  writeRebuiltLevel(s, cmd, mesh, input);
-  s.refitCostRatio = 1.0f;
-  return {true, true};
-}
-
 // The checks both vertex calls make: a built scene, a command buffer, a deformable mesh.
 Error checkDeformableMesh(const Scene* s, VkCommandBuffer cmd, uint32_t mesh, const char* caller) {
   if (!sceneBuilt(s))
@@ -797,7 +710,9 @@ Error updateMeshVertices(Scene* s, VkCommandBuffer cmd, uint32_t mesh, const Mes
     writeInCommands(*s, cmd, s->emissiveTriangles, refreshEmission(*s));
     writeInCommands(*s, cmd, s->constants, std::vector<gpu::GpuSceneConstants>{s->sceneConstants});
   }
-  const LevelUpdate level = !device && computeBvh(*s) ? rebuildDegradedLevel(*s, cmd, mesh) : LevelUpdate{};
+  const LevelUpdate level = !computeBvh(*s) ? LevelUpdate{}
+                            : device        ? followDeviceLevel(*s, cmd, mesh)
+                                            : rebuildDegradedLevel(*s, cmd, mesh);
   // The vertices before the refit, the BLAS update and every later reader.
   vk::memoryBarrier(s->gpu, cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                     VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
@@ -811,6 +726,7 @@ Error updateMeshVertices(Scene* s, VkCommandBuffer cmd, uint32_t mesh, const Mes
     recordBlasUpdate(s->gpu, cmd, s->positions, s->indices, s->accelMeshes[mesh], s->accel, mesh, level.blasBuild);
     recordTlasRebuild(s->gpu, cmd, s->accel);
   }
+  if (device && computeBvh(*s)) recordPositionsReadback(*s, cmd, mesh);  // for a later update's measure
   return {};
 }
 

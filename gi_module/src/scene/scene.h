@@ -51,7 +51,12 @@ struct Scene {
     std::future<MeshLevel> level;
   };
   std::unique_ptr<LevelRebuildJob> rebuildJob;
-  uint32_t bvhBuilds = 0;                          // buildSceneBvh calls so far
+  uint32_t bvhBuilds = 0;  // buildSceneBvh calls so far
+  // Device-stream meshes' positions on their way back for the measure (scene/level_rebuild.h): the
+  // host-visible copy, the event set after it, and whose they are (UINT32_MAX: none on their way).
+  vk::Buffer positionsReadback;
+  VkEvent positionsRead = VK_NULL_HANDLE;
+  uint32_t readbackMesh = UINT32_MAX;
   vk::Buffer refitOrder;                           // RefitPlan::order on the device
   vk::ComputeProgram refitProgram, gatherProgram;  // deformable meshes only
   SceneAcceleration accel;                         // ray queries only

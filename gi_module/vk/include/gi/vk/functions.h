@@ -30,6 +30,7 @@ namespace gi::vk {
   X(vkCmdDispatch)                       \
   X(vkCmdFillBuffer)                     \
   X(vkCmdPipelineBarrier2)               \
+  X(vkCmdSetEvent2)                      \
   X(vkCmdPushConstants)                  \
   X(vkCmdUpdateBuffer)                   \
   X(vkCmdResetQueryPool)                 \
@@ -39,6 +40,7 @@ namespace gi::vk {
   X(vkCreateComputePipelines)            \
   X(vkCreateDescriptorPool)              \
   X(vkCreateDescriptorSetLayout)         \
+  X(vkCreateEvent)                       \
   X(vkCreateImage)                       \
   X(vkCreateImageView)                   \
   X(vkCreatePipelineLayout)              \
@@ -49,6 +51,7 @@ namespace gi::vk {
   X(vkDestroyBufferView)                 \
   X(vkDestroyDescriptorPool)             \
   X(vkDestroyDescriptorSetLayout)        \
+  X(vkDestroyEvent)                      \
   X(vkDestroyImage)                      \
   X(vkDestroyImageView)                  \
   X(vkDestroyPipeline)                   \
@@ -61,9 +64,11 @@ namespace gi::vk {
   X(vkGetBufferMemoryRequirements)       \
   X(vkGetDeviceBufferMemoryRequirements) \
   X(vkGetDeviceImageMemoryRequirements)  \
+  X(vkGetEventStatus)                    \
   X(vkGetImageMemoryRequirements)        \
   X(vkGetQueryPoolResults)               \
   X(vkMapMemory)                         \
+  X(vkResetEvent)                        \
   X(vkUpdateDescriptorSets)
 
 // Optional: present only when the instance enabled VK_EXT_debug_utils, or

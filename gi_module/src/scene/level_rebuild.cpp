@@ -1,0 +1,171 @@
+#include "scene/level_rebuild.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+#include <future>
+#include <memory>
+
+namespace gi {
+namespace {
+
+// Writes mesh `mesh`'s level, as s.bvh now holds it, into the device's BVH in `cmd` (its nodes, its
+// triangle slots, the refit order of the new tree), with its cost as installed for the ratio.
+void writeRebuiltLevel(Scene& s, VkCommandBuffer cmd, uint32_t mesh, const BvhInput& input) {
+  s.levelRebuilds++;
+  s.costParts[mesh].clear();  // the new tree's parts, primed by the walk that gives its cost
+  s.builtCost[mesh] = meshLevelCostInParts(input, s.bvh, mesh, UINT32_MAX, s.costParts[mesh]);
+  const uint32_t root = s.bvh.meshRoot[mesh], first = s.bvh.meshFirstTriangle[mesh];
+  vk::recordBufferWrite(s.gpu, cmd, s.bvhNodes, &s.bvh.bottomNodes[root],
+                        s.bvh.meshNodeCapacity[mesh] * sizeof(gpu::GpuBvhNode), root * sizeof(gpu::GpuBvhNode));
+  vk::recordBufferWrite(s.gpu, cmd, s.bvhTriangles, &s.bvh.triangles[first],
+                        s.bvh.meshTriangleCount[mesh] * sizeof(gpu::GpuBvhTriangle),
+                        first * sizeof(gpu::GpuBvhTriangle));
+  s.refit = refitPlan(s.bvh, s.packed.meshDeformable);  // the new tree's levels
+  vk::recordBufferWrite(s.gpu, cmd, s.refitOrder, s.refit.order.data(), s.refit.order.size() * sizeof(uint32_t));
+}
+
+// Starts the rebuild of `mesh`'s level from the positions in s.packed on a worker thread.
+void startLevelRebuild(Scene& s, uint32_t mesh) {
+  auto job = std::make_unique<Scene::LevelRebuildJob>();
+  job->mesh = mesh;
+  job->bvhBuilds = s.bvhBuilds;
+  job->positions = s.packed.positions;  // the updates go on writing the scene's own
+  job->meshes = bvhMeshes(s.packed);
+  const BvhInput input{job->positions, s.packed.indices, job->meshes, {}};  // indices never change
+  job->level = std::async(std::launch::async, buildMeshLevel, input, mesh, meshLevelSlots(s.bvh, mesh));
+  s.rebuildJob = std::move(job);
+}
+
+// The off-thread rebuild of `mesh`'s level, if it finished: installed into s.bvh and written in `cmd`
+// (true), or dropped where it failed, found no room or was started before a whole-BVH build.
+bool installFinishedRebuild(Scene& s, VkCommandBuffer cmd, uint32_t mesh, const BvhInput& input) {
+  Scene::LevelRebuildJob* job = s.rebuildJob.get();
+  if (!job || job->mesh != mesh || job->level.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
+    return false;
+  MeshLevel level;
+  try {
+    level = job->level.get();
+  } catch (const std::exception&) {
+    level = MeshLevel{};
+  }
+  const bool current = job->bvhBuilds == s.bvhBuilds;
+  s.rebuildJob.reset();
+  if (!current || level.nodes.empty()) return false;
+  installMeshLevel(level, mesh, s.bvh);
+  writeRebuiltLevel(s, cmd, mesh, input);
+  s.refitCostRatio = 1.0f;  // its cost as installed, in this pose
+  return true;
+}
+
+// The level measured on the positions in s.packed; past the ratio rebuilt here or started off thread.
+LevelUpdate judgeLevel(Scene& s, VkCommandBuffer cmd, uint32_t mesh, const BvhInput& input) {
+  // The measure walks every triangle (about 26 ns each here: 26 ms for a million, against the update's own
+  // 6 ms), so a level of more than 64k triangles is measured a part at a time, 16k triangles an update: its
+  // cost lags its deformation by up to n / 16k updates, as refits degrade it over frames (docs/RESULTS.md,
+  // "Refit against rebuild").
+  const uint32_t budget = s.bvh.meshTriangleCount[mesh] <= (1u << 16) ? UINT32_MAX : 1u << 14;
+  const double ratio = meshLevelCostInParts(input, s.bvh, mesh, budget, s.costParts[mesh]) / s.builtCost[mesh];
+  s.refitCostRatio = float(ratio);
+  if (!(s.desc.rebuildCostRatio > 0.0f && ratio > s.desc.rebuildCostRatio)) return {};
+  if (s.desc.rebuildOffThread) {
+    if (s.rebuildJob) return {};  // one at a time: this level waits for a later update
+    startLevelRebuild(s, mesh);
+    return {false, true};
+  }
+  bool rebuilt = false;
+  try {
+    rebuilt = rebuildMeshLevel(input, mesh, s.bvh);
+  } catch (const std::exception&) {
+    rebuilt = false;
+  }
+  if (!rebuilt) return {};
+  writeRebuiltLevel(s, cmd, mesh, input);
+  s.refitCostRatio = 1.0f;
+  return {true, true};
+}
+
+bool measured(const Scene& s, uint32_t mesh) { return mesh < s.builtCost.size() && s.builtCost[mesh] > 0.0; }
+
+// Mesh `mesh`'s vertex ranges in the positions (12 bytes a vertex): each geometry's, packed one after
+// another in the read-back buffer.
+std::vector<VkBufferCopy> readbackRegions(const PackedScene& p, uint32_t mesh) {
+  std::vector<VkBufferCopy> regions;
+  VkDeviceSize packed = 0;
+  for (uint32_t id = p.meshFirstGeometry[mesh]; id < p.meshFirstGeometry[mesh] + p.meshGeometryCount[mesh]; ++id) {
+    const VkDeviceSize bytes = VkDeviceSize(p.geometryVertexCount[id]) * 12;
+    regions.push_back({VkDeviceSize(p.geometries[id].vertexOffset) * 12, packed, bytes});
+    packed += bytes;
+  }
+  return regions;
+}
+
+}  // namespace
+
+LevelUpdate rebuildDegradedLevel(Scene& s, VkCommandBuffer cmd, uint32_t mesh) {
+  if (!measured(s, mesh)) return {};
+  const std::vector<BvhMesh> meshes = bvhMeshes(s.packed);
+  const BvhInput input{s.packed.positions, s.packed.indices, meshes, {}};
+  if (installFinishedRebuild(s, cmd, mesh, input)) return {};  // built for an earlier pose: refit to this one
+  return judgeLevel(s, cmd, mesh, input);
+}
+
+LevelUpdate followDeviceLevel(Scene& s, VkCommandBuffer cmd, uint32_t mesh) {
+  if (!measured(s, mesh) || !s.positionsRead) return {};
+  const std::vector<BvhMesh> meshes = bvhMeshes(s.packed);
+  const BvhInput input{s.packed.positions, s.packed.indices, meshes, {}};
+  if (installFinishedRebuild(s, cmd, mesh, input)) return {};
+  if (s.readbackMesh != mesh || s.gpu.fn.vkGetEventStatus(s.gpu.device, s.positionsRead) != VK_EVENT_SET) return {};
+  // The copy completed (the event's dependency made it visible to the host): this mesh's positions as of
+  // that update become the CPU's.
+  const auto* bytes = static_cast<const char*>(s.positionsReadback.memory.mapped);
+  for (const VkBufferCopy& r : readbackRegions(s.packed, mesh))
+    std::memcpy(reinterpret_cast<char*>(s.packed.positions.data()) + r.srcOffset, bytes + r.dstOffset, r.size);
+  s.gpu.fn.vkResetEvent(s.gpu.device, s.positionsRead);
+  s.readbackMesh = UINT32_MAX;
+  LevelUpdate level = judgeLevel(s, cmd, mesh, input);
+  level.nodesBuilt = false;  // rebuilt here, for the read-back pose: refit to this update's
+  return level;
+}
+
+void recordPositionsReadback(Scene& s, VkCommandBuffer cmd, uint32_t mesh) {
+  if (!measured(s, mesh) || !s.positionsRead || s.readbackMesh != UINT32_MAX || s.rebuildJob) return;
+  const std::vector<VkBufferCopy> regions = readbackRegions(s.packed, mesh);
+  s.gpu.fn.vkCmdCopyBuffer(cmd, s.positions.buffer, s.positionsReadback.buffer, uint32_t(regions.size()),
+                           regions.data());
+  VkMemoryBarrier2 toHost{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
+  toHost.srcStageMask = VK_PIPELINE_STAGE_2_COPY_BIT;
+  toHost.srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
+  toHost.dstStageMask = VK_PIPELINE_STAGE_2_HOST_BIT;
+  toHost.dstAccessMask = VK_ACCESS_2_HOST_READ_BIT;
+  VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+  dependency.memoryBarrierCount = 1;
+  dependency.pMemoryBarriers = &toHost;
+  s.gpu.fn.vkCmdSetEvent2(cmd, s.positionsRead, &dependency);
+  s.readbackMesh = mesh;
+}
+
+vk::Status createPositionsReadback(Scene& s) {
+  VkDeviceSize largest = 0;
+  for (uint32_t m = 0; m < s.packed.meshDeformable.size(); ++m) {
+    if (!s.packed.meshDeformable[m]) continue;
+    VkDeviceSize bytes = 0;
+    for (const VkBufferCopy& r : readbackRegions(s.packed, m)) bytes += r.size;
+    largest = std::max(largest, bytes);
+  }
+  GI_TRY(vk::createBuffer(s.gpu, std::max<VkDeviceSize>(largest, 16), VK_BUFFER_USAGE_TRANSFER_DST_BIT, true,
+                          s.positionsReadback));
+  VkEventCreateInfo info{VK_STRUCTURE_TYPE_EVENT_CREATE_INFO};
+  if (VkResult r = s.gpu.fn.vkCreateEvent(s.gpu.device, &info, s.gpu.allocator, &s.positionsRead); r != VK_SUCCESS)
+    return {r, "vkCreateEvent (the deformable meshes' read-back)"};
+  return {};
+}
+
+void destroyPositionsReadback(Scene& s) {
+  if (s.positionsRead) s.gpu.fn.vkDestroyEvent(s.gpu.device, s.positionsRead, s.gpu.allocator);
+  s.positionsRead = VK_NULL_HANDLE;
+  s.readbackMesh = UINT32_MAX;
+  vk::destroyBuffer(s.gpu, s.positionsReadback);
+}
+
+}  // namespace gi
