@@ -19,6 +19,8 @@
 #include "deformed_grid.h"
 #include "gpu_test.h"
 #include "scene/bvh_builder.h"
+#include "scene/prepared_level.h"
+#include "scene/refit.h"
 #include "trace_batch.h"
 
 namespace {
@@ -711,4 +713,47 @@ TEST(BvhBuilder, ALevelsCostKeptInPartsIsItsWholeCost) {
     }
   }
   EXPECT_NEAR(partly, refit, 1e-9 * refit);
+}
+
+// A level rebuilt off the update's thread comes prepared (prepareMeshLevel: built, its cost walked once in
+// the pose it was built from, its refit order derived) so the update that installs it only copies: its
+// cost is the installed level's in that pose, and its refit order spliced into the plan
+// (replaceMeshRefit) is the plan derived anew from the whole BVH, for the first of two levels (the second
+// one's runs move) and for the second.
+TEST(BvhBuilder, APreparedLevelInstallsAsTheLevelRebuiltInPlace) {
+  engine::Scene scene;
+  const uint32_t a = tools::appendGrid(scene, 24, glm::vec3(-2.0f, 0.0f, 0.0f), 1.0f);
+  const uint32_t b = tools::appendGrid(scene, 16, glm::vec3(2.0f, 0.0f, 0.0f), 1.0f);
+  std::vector<gi::BvhMesh> meshes(2);
+  std::vector<gi::BvhInstance> instances;
+  for (uint32_t m : {a, b}) {
+    const engine::Primitive& p = scene.primitives[scene.meshes[m].firstPrimitive];
+    meshes[m].geometries.push_back({p.firstIndex, p.indexCount / 3, p.vertexOffset, m});
+    meshes[m].deformable = true;
+    instances.push_back({m, glm::mat4(1.0f), true});
+  }
+  gi::SceneBvh bvh = gi::buildSceneBvh({scene.positions, scene.indices, meshes, instances});
+  const std::vector<uint8_t> deformable{1, 1};
+  gi::RefitPlan plan = gi::refitPlan(bvh, deformable);
+  const std::vector<glm::vec3> rest = scene.positions;
+  for (uint32_t m : {a, b}) {
+    tools::foldGrid(scene, m, rest, 8, 1.0f, 0.0f);
+    const gi::BvhInput folded{scene.positions, scene.indices, meshes, instances};
+    gi::PreparedLevel prepared = gi::prepareMeshLevel(folded, m, gi::meshLevelSlots(bvh, m));
+    ASSERT_FALSE(prepared.level.nodes.empty());
+    gi::installMeshLevel(prepared.level, m, bvh);
+    EXPECT_NEAR(prepared.cost, gi::meshLevelCost(folded, bvh, m), 1e-9 * prepared.cost) << "mesh " << m;
+    const size_t changed = gi::replaceMeshRefit(plan, m, prepared.refit, prepared.order);
+    const gi::RefitPlan fresh = gi::refitPlan(bvh, deformable);
+    EXPECT_EQ(plan.order, fresh.order) << "mesh " << m;
+    size_t runBefore = 0;  // the entries of the levels before m's, which the splice leaves as they were
+    for (uint32_t k = 0; k < m; ++k)
+      for (const auto& level : fresh.meshes[k].levels) runBefore += level.second;
+    EXPECT_EQ(changed, runBefore) << "mesh " << m;
+    for (uint32_t k : {a, b}) {
+      EXPECT_EQ(plan.meshes[k].levels, fresh.meshes[k].levels) << "mesh " << m << ", level of " << k;
+      EXPECT_EQ(plan.meshes[k].firstTriangle, fresh.meshes[k].firstTriangle);
+      EXPECT_EQ(plan.meshes[k].triangleCount, fresh.meshes[k].triangleCount);
+    }
+  }
 }

@@ -370,6 +370,12 @@ void installMeshLevel(const MeshLevel& level, uint32_t mesh, SceneBvh& bvh) {
   bvh.meshMax[mesh] = level.hi;
 }
 
+LevelArrays levelArrays(const SceneBvh& bvh) { return {bvh.bottomNodes, 0, bvh.triangles, 0}; }
+
+LevelArrays levelArrays(const MeshLevel& level, const MeshLevelSlots& slots) {
+  return {level.nodes, slots.root, level.triangles, slots.firstTriangle};
+}
+
 bool rebuildMeshLevel(const BvhInput& input, uint32_t mesh, SceneBvh& bvh) {
   const MeshLevel level = buildMeshLevel(input, mesh, meshLevelSlots(bvh, mesh));
   if (level.nodes.empty()) return false;

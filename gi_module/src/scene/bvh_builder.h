@@ -88,6 +88,19 @@ struct MeshLevel {
 MeshLevel buildMeshLevel(const BvhInput& input, uint32_t mesh, const MeshLevelSlots& slots);
 void installMeshLevel(const MeshLevel& level, uint32_t mesh, SceneBvh& bvh);
 
+// Bottom-level nodes and triangle slots wherever they are held, addressed by their global indices: the
+// scene's arrays, or a MeshLevel not yet installed (its slots' range), which a worker thread may walk.
+struct LevelArrays {
+  std::span<const gpu::GpuBvhNode> nodes;
+  uint32_t firstNode = 0;  // the global index of nodes[0]
+  std::span<const gpu::GpuBvhTriangle> triangles;
+  uint32_t firstTriangle = 0;  // the global slot of triangles[0]
+  const gpu::GpuBvhNode& node(uint32_t ref) const { return nodes[ref - firstNode]; }
+  const gpu::GpuBvhTriangle& triangle(uint32_t slot) const { return triangles[slot - firstTriangle]; }
+};
+LevelArrays levelArrays(const SceneBvh& bvh);
+LevelArrays levelArrays(const MeshLevel& level, const MeshLevelSlots& slots);
+
 // buildMeshLevel then installMeshLevel, in place from the current `input.positions` (the top level's refit
 // follows on the device). False, and nothing changed, where buildMeshLevel gave no nodes.
 bool rebuildMeshLevel(const BvhInput& input, uint32_t mesh, SceneBvh& bvh);
@@ -112,6 +125,9 @@ struct LevelCostParts {
 };
 double meshLevelCostInParts(const BvhInput& input, const SceneBvh& bvh, uint32_t mesh, uint32_t maxTriangles,
                             LevelCostParts& parts);
+// The same for the level rooted at `root` in `level` (mesh `mesh`'s, not necessarily installed).
+double meshLevelCostInParts(const BvhInput& input, const LevelArrays& level, uint32_t root, uint32_t mesh,
+                            uint32_t maxTriangles, LevelCostParts& parts);
 
 // Rebuilds the top level from the instances' current transforms. Throws
 // std::runtime_error when a merged instance moved (it should have been movable).

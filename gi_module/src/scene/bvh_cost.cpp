@@ -27,13 +27,13 @@ struct Box {
 // The level's boxes refit bottom up to the current positions, their weighted areas summed on the way.
 struct CostWalk {
   const BvhInput& input;
-  const SceneBvh& bvh;
+  const LevelArrays& level;
   const BvhMesh& mesh;
   double sum = 0.0;
   uint32_t triangles = 0;  // measured so far
 
   Box triangle(uint32_t slot) const {
-    const gpu::GpuBvhTriangle& t = bvh.triangles[slot];
+    const gpu::GpuBvhTriangle& t = level.triangle(slot);
     Box b;
     for (const BvhGeometry& g : mesh.geometries) {
       if (g.id != t.geometry) continue;
@@ -52,7 +52,7 @@ struct CostWalk {
       triangles += count;
       return box;
     }
-    const gpu::GpuBvhNode& n = bvh.bottomNodes[ref];
+    const gpu::GpuBvhNode& n = level.node(ref);
     for (int k = 0; k < int(gpu::BVH_WIDTH); ++k)
       if (n.child[k] != gpu::BVH_NO_CHILD) box.grow(walk(n.child[k]));
     sum += box.area();
@@ -64,19 +64,19 @@ constexpr int kPartDepth = 3;  // the parts: the subtrees this many levels below
 
 bool isPart(uint32_t ref, int depth) { return depth == kPartDepth || (ref & gpu::BVH_LEAF_BIT); }
 
-void collectParts(const SceneBvh& bvh, uint32_t ref, int depth, std::vector<uint32_t>& parts) {
+void collectParts(const LevelArrays& level, uint32_t ref, int depth, std::vector<uint32_t>& parts) {
   if (isPart(ref, depth)) {
     parts.push_back(ref);
     return;
   }
-  for (uint32_t child : {bvh.bottomNodes[ref].child.x, bvh.bottomNodes[ref].child.y, bvh.bottomNodes[ref].child.z,
-                         bvh.bottomNodes[ref].child.w})
-    if (child != gpu::BVH_NO_CHILD) collectParts(bvh, child, depth + 1, parts);
+  const gpu::GpuBvhNode& n = level.node(ref);
+  for (uint32_t child : {n.child.x, n.child.y, n.child.z, n.child.w})
+    if (child != gpu::BVH_NO_CHILD) collectParts(level, child, depth + 1, parts);
 }
 
 // The nodes above the parts: their boxes from the parts' kept boxes, their areas and the parts' sums added
 // to `sum` (the parts visited in walk order, `part` counting them).
-Box topBox(const SceneBvh& bvh, uint32_t ref, int depth, const LevelCostParts& p, size_t& part, double& sum) {
+Box topBox(const LevelArrays& level, uint32_t ref, int depth, const LevelCostParts& p, size_t& part, double& sum) {
   if (isPart(ref, depth)) {
     sum += p.sums[part];
     Box b;
@@ -86,9 +86,9 @@ Box topBox(const SceneBvh& bvh, uint32_t ref, int depth, const LevelCostParts& p
     return b;
   }
   Box box;
-  for (uint32_t child : {bvh.bottomNodes[ref].child.x, bvh.bottomNodes[ref].child.y, bvh.bottomNodes[ref].child.z,
-                         bvh.bottomNodes[ref].child.w})
-    if (child != gpu::BVH_NO_CHILD) box.grow(topBox(bvh, child, depth + 1, p, part, sum));
+  const gpu::GpuBvhNode& n = level.node(ref);
+  for (uint32_t child : {n.child.x, n.child.y, n.child.z, n.child.w})
+    if (child != gpu::BVH_NO_CHILD) box.grow(topBox(level, child, depth + 1, p, part, sum));
   sum += box.area();
   return box;
 }
@@ -98,15 +98,19 @@ Box topBox(const SceneBvh& bvh, uint32_t ref, int depth, const LevelCostParts& p
 double meshLevelCostInParts(const BvhInput& input, const SceneBvh& bvh, uint32_t mesh, uint32_t maxTriangles,
                             LevelCostParts& p) {
   if (mesh >= bvh.meshRoot.size() || bvh.meshRoot[mesh] == gpu::BVH_NO_CHILD) return 0.0;
-  const uint32_t root = bvh.meshRoot[mesh];
+  return meshLevelCostInParts(input, levelArrays(bvh), bvh.meshRoot[mesh], mesh, maxTriangles, p);
+}
+
+double meshLevelCostInParts(const BvhInput& input, const LevelArrays& level, uint32_t root, uint32_t mesh,
+                            uint32_t maxTriangles, LevelCostParts& p) {
   const bool first = p.parts.empty();
   if (first) {
-    collectParts(bvh, root, 0, p.parts);
+    collectParts(level, root, 0, p.parts);
     p.sums.assign(p.parts.size(), 0.0);
     p.lo.assign(p.parts.size(), glm::vec3(INFINITY));
     p.hi.assign(p.parts.size(), glm::vec3(-INFINITY));
   }
-  CostWalk walk{input, bvh, input.meshes[mesh]};
+  CostWalk walk{input, level, input.meshes[mesh]};
   for (size_t measured = 0; measured < p.parts.size() && (first || measured == 0 || walk.triangles < maxTriangles);
        ++measured) {
     const uint32_t part = p.next;
@@ -119,13 +123,14 @@ double meshLevelCostInParts(const BvhInput& input, const SceneBvh& bvh, uint32_t
   }
   double sum = 0.0;
   size_t part = 0;
-  const double rootArea = topBox(bvh, root, 0, p, part, sum).area();
+  const double rootArea = topBox(level, root, 0, p, part, sum).area();
   return rootArea > 0.0 ? sum / rootArea : 0.0;
 }
 
 double meshLevelCost(const BvhInput& input, const SceneBvh& bvh, uint32_t mesh) {
   if (mesh >= bvh.meshRoot.size() || bvh.meshRoot[mesh] == gpu::BVH_NO_CHILD) return 0.0;
-  CostWalk walk{input, bvh, input.meshes[mesh]};
+  const LevelArrays level = levelArrays(bvh);
+  CostWalk walk{input, level, input.meshes[mesh]};
   const double rootArea = walk.walk(bvh.meshRoot[mesh]).area();
   return rootArea > 0.0 ? walk.sum / rootArea : 0.0;
 }

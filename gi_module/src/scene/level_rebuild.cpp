@@ -9,23 +9,26 @@
 namespace gi {
 namespace {
 
-// Writes mesh `mesh`'s level, as s.bvh now holds it, into the device's BVH in `cmd` (its nodes, its
-// triangle slots, the refit order of the new tree), with its cost as installed for the ratio.
-void writeRebuiltLevel(Scene& s, VkCommandBuffer cmd, uint32_t mesh, const BvhInput& input) {
+// Installs a prepared level of mesh `mesh` into s.bvh, the refit plan and the ratio's base, and writes
+// it into the device's BVH in `cmd` (its nodes, its triangle slots, the refit order from its run on). The
+// nodes come as built: the caller refits them to the pose of this update.
+void installPreparedLevel(Scene& s, VkCommandBuffer cmd, uint32_t mesh, PreparedLevel& p) {
+  installMeshLevel(p.level, mesh, s.bvh);
   s.levelRebuilds++;
-  s.costParts[mesh].clear();  // the new tree's parts, primed by the walk that gives its cost
-  s.builtCost[mesh] = meshLevelCostInParts(input, s.bvh, mesh, UINT32_MAX, s.costParts[mesh]);
+  s.builtCost[mesh] = p.cost;
+  s.costParts[mesh] = std::move(p.costParts);
+  s.refitCostRatio = 1.0f;  // as built
+  const size_t changed = replaceMeshRefit(s.refit, mesh, std::move(p.refit), p.order);
   const uint32_t root = s.bvh.meshRoot[mesh], first = s.bvh.meshFirstTriangle[mesh];
-  vk::recordBufferWrite(s.gpu, cmd, s.bvhNodes, &s.bvh.bottomNodes[root],
-                        s.bvh.meshNodeCapacity[mesh] * sizeof(gpu::GpuBvhNode), root * sizeof(gpu::GpuBvhNode));
-  vk::recordBufferWrite(s.gpu, cmd, s.bvhTriangles, &s.bvh.triangles[first],
-                        s.bvh.meshTriangleCount[mesh] * sizeof(gpu::GpuBvhTriangle),
-                        first * sizeof(gpu::GpuBvhTriangle));
-  s.refit = refitPlan(s.bvh, s.packed.meshDeformable);  // the new tree's levels
-  vk::recordBufferWrite(s.gpu, cmd, s.refitOrder, s.refit.order.data(), s.refit.order.size() * sizeof(uint32_t));
+  vk::recordBufferWrite(s.gpu, cmd, s.bvhNodes, p.level.nodes.data(), p.level.nodes.size() * sizeof(gpu::GpuBvhNode),
+                        root * sizeof(gpu::GpuBvhNode));
+  vk::recordBufferWrite(s.gpu, cmd, s.bvhTriangles, p.level.triangles.data(),
+                        p.level.triangles.size() * sizeof(gpu::GpuBvhTriangle), first * sizeof(gpu::GpuBvhTriangle));
+  vk::recordBufferWrite(s.gpu, cmd, s.refitOrder, s.refit.order.data() + changed,
+                        (s.refit.order.size() - changed) * sizeof(uint32_t), changed * sizeof(uint32_t));
 }
 
-// Starts the rebuild of `mesh`'s level from the positions in s.packed on a worker thread.
+// Mesh `mesh`'s level rebuilt from the positions in s.packed and prepared on a worker thread.
 void startLevelRebuild(Scene& s, uint32_t mesh) {
   auto job = std::make_unique<Scene::LevelRebuildJob>();
   job->mesh = mesh;
@@ -33,28 +36,26 @@ void startLevelRebuild(Scene& s, uint32_t mesh) {
   job->positions = s.packed.positions;  // the updates go on writing the scene's own
   job->meshes = bvhMeshes(s.packed);
   const BvhInput input{job->positions, s.packed.indices, job->meshes, {}};  // indices never change
-  job->level = std::async(std::launch::async, buildMeshLevel, input, mesh, meshLevelSlots(s.bvh, mesh));
+  job->level = std::async(std::launch::async, prepareMeshLevel, input, mesh, meshLevelSlots(s.bvh, mesh));
   s.rebuildJob = std::move(job);
 }
 
-// The off-thread rebuild of `mesh`'s level, if it finished: installed into s.bvh and written in `cmd`
-// (true), or dropped where it failed, found no room or was started before a whole-BVH build.
-bool installFinishedRebuild(Scene& s, VkCommandBuffer cmd, uint32_t mesh, const BvhInput& input) {
+// The off-thread rebuild of `mesh`'s level, if it finished: installed and written in `cmd` (true), or
+// dropped where it failed, found no room or was started before a whole-BVH build.
+bool installFinishedRebuild(Scene& s, VkCommandBuffer cmd, uint32_t mesh) {
   Scene::LevelRebuildJob* job = s.rebuildJob.get();
   if (!job || job->mesh != mesh || job->level.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
     return false;
-  MeshLevel level;
+  PreparedLevel prepared;
   try {
-    level = job->level.get();
+    prepared = job->level.get();
   } catch (const std::exception&) {
-    level = MeshLevel{};
+    prepared = PreparedLevel{};
   }
   const bool current = job->bvhBuilds == s.bvhBuilds;
   s.rebuildJob.reset();
-  if (!current || level.nodes.empty()) return false;
-  installMeshLevel(level, mesh, s.bvh);
-  writeRebuiltLevel(s, cmd, mesh, input);
-  s.refitCostRatio = 1.0f;  // its cost as installed, in this pose
+  if (!current || prepared.level.nodes.empty()) return false;
+  installPreparedLevel(s, cmd, mesh, prepared);
   return true;
 }
 
@@ -73,15 +74,14 @@ LevelUpdate judgeLevel(Scene& s, VkCommandBuffer cmd, uint32_t mesh, const BvhIn
     startLevelRebuild(s, mesh);
     return {false, true};
   }
-  bool rebuilt = false;
+  PreparedLevel prepared;
   try {
-    rebuilt = rebuildMeshLevel(input, mesh, s.bvh);
+    prepared = prepareMeshLevel(input, mesh, meshLevelSlots(s.bvh, mesh));
   } catch (const std::exception&) {
-    rebuilt = false;
+    return {};  // Embree failed (memory): the refit goes on
   }
-  if (!rebuilt) return {};
-  writeRebuiltLevel(s, cmd, mesh, input);
-  s.refitCostRatio = 1.0f;
+  if (prepared.level.nodes.empty()) return {};
+  installPreparedLevel(s, cmd, mesh, prepared);
   return {true, true};
 }
 
@@ -106,7 +106,7 @@ LevelUpdate rebuildDegradedLevel(Scene& s, VkCommandBuffer cmd, uint32_t mesh) {
   if (!measured(s, mesh)) return {};
   const std::vector<BvhMesh> meshes = bvhMeshes(s.packed);
   const BvhInput input{s.packed.positions, s.packed.indices, meshes, {}};
-  if (installFinishedRebuild(s, cmd, mesh, input)) return {};  // built for an earlier pose: refit to this one
+  if (installFinishedRebuild(s, cmd, mesh)) return {};  // built for an earlier pose: refit to this one
   return judgeLevel(s, cmd, mesh, input);
 }
 
@@ -114,7 +114,7 @@ LevelUpdate followDeviceLevel(Scene& s, VkCommandBuffer cmd, uint32_t mesh) {
   if (!measured(s, mesh) || !s.positionsRead) return {};
   const std::vector<BvhMesh> meshes = bvhMeshes(s.packed);
   const BvhInput input{s.packed.positions, s.packed.indices, meshes, {}};
-  if (installFinishedRebuild(s, cmd, mesh, input)) return {};
+  if (installFinishedRebuild(s, cmd, mesh)) return {};
   if (s.readbackMesh != mesh || s.gpu.fn.vkGetEventStatus(s.gpu.device, s.positionsRead) != VK_EVENT_SET) return {};
   // The copy completed (the event's dependency made it visible to the host): this mesh's positions as of
   // that update become the CPU's.

@@ -28,6 +28,12 @@ struct RefitPlan {
 };
 // The plan for the meshes flagged in `deformable` (per mesh).
 RefitPlan refitPlan(const SceneBvh& bvh, std::span<const uint8_t> deformable);
+// One level's refit from `root` in `level`, its node indices appended to `order` (its levels index there).
+MeshRefit meshRefit(const LevelArrays& level, uint32_t root, std::vector<uint32_t>& order);
+// Mesh `mesh`'s refit replaced by a rebuilt level's (`refit`'s levels index `order` from 0): its run of the
+// plan's order swapped for `order`, the later meshes' levels moved with it. Returns the first order entry
+// that changed (the device's copy needs the entries from there on).
+size_t replaceMeshRefit(RefitPlan& plan, uint32_t mesh, MeshRefit refit, std::span<const uint32_t> order);
 
 // Device addresses of the buffers the refit reads and writes.
 struct RefitBuffers {

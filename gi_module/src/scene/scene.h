@@ -12,6 +12,7 @@
 #include "scene/acceleration.h"
 #include "scene/bvh_builder.h"
 #include "scene/device_meshes.h"
+#include "scene/prepared_level.h"
 #include "scene/refit.h"
 #include "scene/scene_tables.h"
 
@@ -48,7 +49,7 @@ struct Scene {
     uint32_t bvhBuilds = 0;
     std::vector<glm::vec3> positions;
     std::vector<BvhMesh> meshes;
-    std::future<MeshLevel> level;
+    std::future<PreparedLevel> level;
   };
   std::unique_ptr<LevelRebuildJob> rebuildJob;
   uint32_t bvhBuilds = 0;  // buildSceneBvh calls so far
