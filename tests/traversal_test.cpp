@@ -148,6 +148,15 @@ class TraversalTest : public GpuTest {
       expectAgree(compare(compute, rayQuery, rays), "compute vs ray queries");
     }
   }
+  // Ray queries against Embree alone, for a scene built for ray queries alone.
+  void checkRayQueries(const engine::Scene& scene, const engine::SceneGpu& gpu, uint32_t w = 64, uint32_t h = 48) {
+    std::string tracerError;
+    engine::CpuTracerPtr tracer = engine::createCpuTracer(scene, tracerError);
+    ASSERT_TRUE(tracer) << tracerError;
+    std::vector<gpu::TraceBatchRay> rays = makeRays(scene, *tracer, w, h);
+    std::vector<gpu::TraceBatchResult> rayQuery = oracle::traceBatch(ctx, gpu, gpu::TRAVERSAL_RAY_QUERY, rays);
+    expectAgree(compare(rayQuery, embreeResults(*tracer, rays), rays), "ray queries vs Embree");
+  }
   // Loads with both traversals' structures: the tests compare them.
   static void loadBoth(const std::string& path, LoadedScene& s) {
     std::string error;
@@ -298,13 +307,14 @@ struct FoldedGrid {
   uint32_t grid = 0;
   std::vector<glm::vec3> rest;
 
-  void load(const engine::Context& ctx, float rebuildCostRatio, bool rebuildOffThread) {
+  // `both`: with both traversals' structures (else the context's traversal alone).
+  void load(const engine::Context& ctx, float rebuildCostRatio, bool rebuildOffThread, bool both = true) {
     std::string error;
     ASSERT_TRUE(engine::loadSceneForRendering(sharedScene("cornell-simple/cornell_simple.gltf"), s.scene, error))
         << error;
     const engine::Bounds bounds = s.scene.worldBounds();
     grid = tools::appendGrid(s.scene, 40, 0.5f * (bounds.min + bounds.max), 0.5f * bounds.extent());
-    s.scene.bothTraversals = true;
+    s.scene.bothTraversals = both;
     s.scene.rebuildCostRatio = rebuildCostRatio;
     s.scene.rebuildOffThread = rebuildOffThread;
     s.upload(ctx);
@@ -442,6 +452,35 @@ TEST_F(TraversalTest, DeviceStreamLevelsAreMeasuredOnReadBackPositions) {
   EXPECT_EQ(info.levelRebuilds, 1u);
   EXPECT_LT(info.refitCostRatio, 1.1f);
   checkScene(folding.s.scene, folding.s.gpu);
+}
+
+// A scene for ray queries alone has no compute BVH to trace, yet keeps its deformable meshes' levels on
+// the CPU (never uploaded) for the measure that tells when their BLAS is built anew: a ripple measures
+// near its built cost; the fold measures past the ratio and is rebuilt in that update, its BLAS built
+// anew, and traces as Embree does, also after a further refit; with the ratio 0 the fold is measured
+// (several times its built cost) and only updated.
+TEST_F(TraversalTest, RayQueryScenesMeasureTheirDeformableLevelsToo) {
+  if (ctx.traversal != engine::Traversal::RayQuery) GTEST_SKIP() << "the ray-query variant runs it";
+  for (float ratio : {1.5f, 0.0f}) {
+    SCOPED_TRACE(ratio);
+    FoldedGrid folding;
+    folding.load(ctx, ratio, false, false);
+    ASSERT_FALSE(gi::sceneDesc(folding.s.gpu.scene).hasComputeBvh);
+    const gi::SceneInfo rippled = folding.update(ctx, 0.0f, 0.002f);
+    EXPECT_GT(rippled.refitCostRatio, 0.5f) << "measured (0: not)";
+    EXPECT_LT(rippled.refitCostRatio, 1.1f);
+    EXPECT_EQ(rippled.levelRebuilds, 0u);
+    const gi::SceneInfo folded = folding.update(ctx, 1.0f, 0.0f);
+    std::printf("ray queries alone, rebuildCostRatio %.1f: folded, cost ratio %.3f, rebuilds %u\n", ratio,
+                folded.refitCostRatio, folded.levelRebuilds);
+    EXPECT_EQ(folded.levelRebuilds, ratio > 0.0f ? 1u : 0u);
+    if (ratio > 0.0f) EXPECT_EQ(folded.refitCostRatio, 1.0f);
+    else EXPECT_GT(folded.refitCostRatio, 3.0f);
+    checkRayQueries(folding.s.scene, folding.s.gpu);
+    const gi::SceneInfo after = folding.update(ctx, 1.0f, 0.001f);
+    EXPECT_EQ(after.levelRebuilds, folded.levelRebuilds);
+    checkRayQueries(folding.s.scene, folding.s.gpu);
+  }
 }
 
 // What gi::updateMeshVertices refuses, by name: a mesh not created deformable, a mesh index past the

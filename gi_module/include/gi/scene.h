@@ -188,16 +188,18 @@ struct SceneCreateDesc {
   // the CPU (as at createScene) and, with ray queries, its BLAS built anew. 0: always refit. Measured after
   // each update with CPU arrays; with device streams on positions read back now and then (one mesh at a
   // time: an update copies them to host-visible memory behind an event, a later update of the mesh that
-  // finds it set measures them; no wait, so the measure lags the pose by the frames in flight). Scenes for
-  // ray queries alone have no compute BVH to measure: their BLAS is always updated. The default is below
-  // the first pose where refit levels traced slower (docs/RESULTS.md, "Refit against rebuild"). A rebuild is Embree's build on the CPU (about 25 ms for 10,000 triangles
-  // there, 870 ms for a million): see rebuildOffThread.
+  // finds it set measures them; no wait, so the measure lags the pose by the frames in flight). A scene
+  // for ray queries alone keeps its deformable meshes' levels on the CPU for this measure (never uploaded;
+  // host memory only). The default is below the first pose where refit levels traced slower
+  // (docs/RESULTS.md, "Refit against rebuild"). A rebuild is Embree's build on the CPU (about 25 ms for
+  // 10,000 triangles there, 870 ms for a million): see rebuildOffThread.
   float rebuildCostRatio = 1.5f;
   // true: a rebuild runs on a worker thread of the module's, one level at a time, from the pose of the
   // update that found the level degraded; the level is refit meanwhile, and the first update of the mesh
   // after the build finished installs it (its nodes written into that update's command buffer, refit to
-  // that pose; the BLAS is built anew at once on the device). The update calls then cost no more than a
-  // refit, except the install's writes and one walk of the level (its cost as installed). false: the
+  // that pose; the BLAS is built anew at once on the device). The worker also walks the new level's cost
+  // in the pose it was built from and derives its refit order, so the update calls then cost no more than
+  // a refit, except the install's copies of the level into the BVH and its writes. false: the
   // update that finds the level degraded rebuilds it itself, the same frames in every run.
   bool rebuildOffThread = true;
   const VkAllocationCallbacks* allocationCallbacks = nullptr;
@@ -291,8 +293,8 @@ struct SceneInfo {
   double bvhTopBuildMs = 0.0;                                // of its last top-level build
   uint64_t memoryBytes = 0;                                  // device memory the scene holds
   float boundsMin[3] = {0, 0, 0}, boundsMax[3] = {0, 0, 0};  // world, metres
-  // The deformable mesh updateMeshVertices last measured (compute BVH: each update with CPU arrays, device
-  // streams when their read-back positions arrived): its level's surface-area cost in that pose over its
+  // The deformable mesh updateMeshVertices last measured (each update with CPU arrays, device streams when
+  // their read-back positions arrived): its compute-BVH level's surface-area cost in that pose over its
   // cost when last built (1: as built), and the rebuilds SceneCreateDesc::rebuildCostRatio has made since
   // createScene.
   float refitCostRatio = 0.0f;

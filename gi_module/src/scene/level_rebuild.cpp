@@ -9,15 +9,16 @@
 namespace gi {
 namespace {
 
-// Installs a prepared level of mesh `mesh` into s.bvh, the refit plan and the ratio's base, and writes
-// it into the device's BVH in `cmd` (its nodes, its triangle slots, the refit order from its run on). The
-// nodes come as built: the caller refits them to the pose of this update.
+// Installs a prepared level of mesh `mesh` into s.bvh and the ratio's base and, where the scene has a
+// compute BVH, into the refit plan and the device's BVH, written in `cmd` (its nodes, its triangle slots,
+// the refit order from its run on). The nodes come as built: the caller refits them to this update's pose.
 void installPreparedLevel(Scene& s, VkCommandBuffer cmd, uint32_t mesh, PreparedLevel& p) {
   installMeshLevel(p.level, mesh, s.bvh);
   s.levelRebuilds++;
   s.builtCost[mesh] = p.cost;
   s.costParts[mesh] = std::move(p.costParts);
   s.refitCostRatio = 1.0f;  // as built
+  if (!s.facts.hasComputeBvh) return;  // the measure's tree alone: the BLAS was built anew
   const size_t changed = replaceMeshRefit(s.refit, mesh, std::move(p.refit), p.order);
   const uint32_t root = s.bvh.meshRoot[mesh], first = s.bvh.meshFirstTriangle[mesh];
   vk::recordBufferWrite(s.gpu, cmd, s.bvhNodes, p.level.nodes.data(), p.level.nodes.size() * sizeof(gpu::GpuBvhNode),

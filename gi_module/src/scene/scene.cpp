@@ -139,11 +139,16 @@ void destroyBvhBuffers(Scene& s) {
 
 // Builds the compute BVH and stores it (bottom levels uploaded through `cmd`,
 // or host-visible without one; the top level host-visible, sized for every instance).
-// A scene for ray queries alone builds none: its BVH bindings get one-element placeholders.
+// A scene for ray queries alone uploads none: its BVH bindings get one-element placeholders. With
+// deformable meshes it keeps their levels alone on the CPU, never uploaded, for the measure that tells
+// when their BLAS is built anew rather than updated (scene/level_rebuild.h).
 vk::Status buildBvhBuffers(Scene& s, VkCommandBuffer cmd, std::span<const uint8_t> forceMovable) {
-  if (computeBvh(s)) {
+  if (computeBvh(s) || hasDeformable(s.packed)) {
     std::vector<BvhMesh> meshes = bvhMeshes(s.packed);
     std::vector<BvhInstance> instances = bvhInstances(s.instances, forceMovable);
+    if (!computeBvh(s))  // the deformable levels alone (instances kept: per-instance facts stay aligned)
+      for (size_t m = 0; m < meshes.size(); ++m)
+        if (!s.packed.meshDeformable[m]) meshes[m].geometries.clear();
     try {
       s.bvh = buildSceneBvh({s.packed.positions, s.packed.indices, meshes, instances});
       s.bvhBuilds++;
@@ -155,18 +160,20 @@ vk::Status buildBvhBuffers(Scene& s, VkCommandBuffer cmd, std::span<const uint8_
   }
   destroyBvhBuffers(s);
   const VkBufferUsageFlags usage = kTexels | refitUsage(s);
+  const SceneBvh none;
+  const SceneBvh& device = computeBvh(s) ? s.bvh : none;
   if (cmd) {
-    GI_TRY(upload(s, cmd, s.bvh.bottomNodes, usage, s.bvhNodes));
-    GI_TRY(upload(s, cmd, s.bvh.triangles, usage, s.bvhTriangles));
+    GI_TRY(upload(s, cmd, device.bottomNodes, usage, s.bvhNodes));
+    GI_TRY(upload(s, cmd, device.triangles, usage, s.bvhTriangles));
   } else {
-    GI_TRY(hostBuffer(s, s.bvh.bottomNodes, s.bvh.bottomNodes.size(), usage, s.bvhNodes));
-    GI_TRY(hostBuffer(s, s.bvh.triangles, s.bvh.triangles.size(), usage, s.bvhTriangles));
+    GI_TRY(hostBuffer(s, device.bottomNodes, device.bottomNodes.size(), usage, s.bvhNodes));
+    GI_TRY(hostBuffer(s, device.triangles, device.triangles.size(), usage, s.bvhTriangles));
   }
   const size_t instances = computeBvh(s) ? s.instances.size() : 0;
-  GI_TRY(hostBuffer(s, s.bvh.topNodes, maxTopNodes(instances), usage, s.bvhTopNodes));
-  GI_TRY(hostBuffer(s, s.bvh.topInstances, maxTopInstances(instances), usage, s.bvhInstances));
-  if (hasDeformable(s.packed) && computeBvh(s)) {
-    s.refit = refitPlan(s.bvh, s.packed.meshDeformable);
+  GI_TRY(hostBuffer(s, device.topNodes, maxTopNodes(instances), usage, s.bvhTopNodes));
+  GI_TRY(hostBuffer(s, device.topInstances, maxTopInstances(instances), usage, s.bvhInstances));
+  if (hasDeformable(s.packed)) {
+    if (computeBvh(s)) s.refit = refitPlan(s.bvh, s.packed.meshDeformable);
     // Room for the order of every deformable level at its capacity (a rebuild may add nodes), and each
     // level's cost as built, which its refits are weighed against.
     size_t orderCapacity = 0;
@@ -181,7 +188,7 @@ vk::Status buildBvhBuffers(Scene& s, VkCommandBuffer cmd, std::span<const uint8_
                                             UINT32_MAX, s.costParts[m]);
     }
     vk::destroyBuffer(s.gpu, s.refitOrder);
-    GI_TRY(hostBuffer(s, s.refit.order, orderCapacity, kAddressed, s.refitOrder));
+    if (computeBvh(s)) GI_TRY(hostBuffer(s, s.refit.order, orderCapacity, kAddressed, s.refitOrder));
   }
   const vk::Buffer* buffers[] = {&s.bvhNodes, &s.bvhTriangles, &s.bvhTopNodes, &s.bvhInstances};
   for (int i = 0; i < 4; ++i)
@@ -360,10 +367,8 @@ vk::Status buildScene(Scene& s, VkCommandBuffer cmd, const SceneContents& conten
   GI_TRY(upload(s, cmd, p.uvs, kTexels, s.uvs));
   GI_TRY(upload(s, cmd, p.indices, geometryUsage, s.indices));
   GI_TRY(upload(s, cmd, p.geometries, kTexels | refitUsage(s), s.geometries));
-  if (hasDeformable(p) && computeBvh(s)) {  // the compute BVH's refits, and the device streams' measure
-    GI_TRY(createRefitProgram(s.gpu, s.refitProgram));
-    GI_TRY(createPositionsReadback(s));
-  }
+  if (hasDeformable(p) && computeBvh(s)) GI_TRY(createRefitProgram(s.gpu, s.refitProgram));  // its refits
+  if (hasDeformable(p)) GI_TRY(createPositionsReadback(s));  // the device streams' measure
   if (hasDeformable(p)) GI_TRY(createGatherProgram(s.gpu, s.gatherProgram));  // device streams
   GI_TRY(upload(s, cmd, p.materials, kTexels, s.materials));
 
@@ -581,7 +586,7 @@ Error updateInstances(Scene* s, VkCommandBuffer cmd, std::span<const InstanceDes
   for (size_t i = 0; i < instances.size(); ++i) s->previousTransforms[i] = toMat4(s->instances[i].worldFromObject);
   std::vector<uint8_t> moved(instances.size(), 0);
   bool mergedMoved = false;
-  for (size_t i = 0; i < instances.size() && i < s->bvh.merged.size(); ++i) {
+  for (size_t i = 0; computeBvh(*s) && i < instances.size() && i < s->bvh.merged.size(); ++i) {
     moved[i] = s->bvh.merged[i] && toMat4(instances[i].worldFromObject) != s->bvh.mergedTransforms[i];
     mergedMoved |= moved[i] != 0;
   }
@@ -710,9 +715,7 @@ Error updateMeshVertices(Scene* s, VkCommandBuffer cmd, uint32_t mesh, const Mes
     writeInCommands(*s, cmd, s->emissiveTriangles, refreshEmission(*s));
     writeInCommands(*s, cmd, s->constants, std::vector<gpu::GpuSceneConstants>{s->sceneConstants});
   }
-  const LevelUpdate level = !computeBvh(*s) ? LevelUpdate{}
-                            : device        ? followDeviceLevel(*s, cmd, mesh)
-                                            : rebuildDegradedLevel(*s, cmd, mesh);
+  const LevelUpdate level = device ? followDeviceLevel(*s, cmd, mesh) : rebuildDegradedLevel(*s, cmd, mesh);
   // The vertices before the refit, the BLAS update and every later reader.
   vk::memoryBarrier(s->gpu, cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                     VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
@@ -726,7 +729,7 @@ Error updateMeshVertices(Scene* s, VkCommandBuffer cmd, uint32_t mesh, const Mes
     recordBlasUpdate(s->gpu, cmd, s->positions, s->indices, s->accelMeshes[mesh], s->accel, mesh, level.blasBuild);
     recordTlasRebuild(s->gpu, cmd, s->accel);
   }
-  if (device && computeBvh(*s)) recordPositionsReadback(*s, cmd, mesh);  // for a later update's measure
+  if (device) recordPositionsReadback(*s, cmd, mesh);  // for a later update's measure
   return {};
 }
 

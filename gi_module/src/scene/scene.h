@@ -33,7 +33,7 @@ struct Scene {
   VkBufferView arrayViews[12]{};  // texel views of the arrays above and the constants (bindings 1–10, 15, 16)
   vk::Image skyMap;               // rgba32f equirectangular map (none for a constant sky)
   VkSampler skySampler = VK_NULL_HANDLE;
-  SceneBvh bvh;  // the compute traversal's two levels
+  SceneBvh bvh;  // the compute traversal's two levels (ray queries alone: deformable levels, for their measure)
   vk::Buffer bvhNodes, bvhTriangles, bvhTopNodes, bvhInstances;
   VkBufferView bvhViews[4]{};             // RGBA32UI texel views of the four, in that order
   RefitPlan refit;                        // deformable meshes: their bottom levels' refit order
