@@ -474,8 +474,10 @@ TEST_F(TraversalTest, RayQueryScenesMeasureTheirDeformableLevelsToo) {
     std::printf("ray queries alone, rebuildCostRatio %.1f: folded, cost ratio %.3f, rebuilds %u\n", ratio,
                 folded.refitCostRatio, folded.levelRebuilds);
     EXPECT_EQ(folded.levelRebuilds, ratio > 0.0f ? 1u : 0u);
-    if (ratio > 0.0f) EXPECT_EQ(folded.refitCostRatio, 1.0f);
-    else EXPECT_GT(folded.refitCostRatio, 3.0f);
+    if (ratio > 0.0f)
+      EXPECT_EQ(folded.refitCostRatio, 1.0f);
+    else
+      EXPECT_GT(folded.refitCostRatio, 3.0f);
     checkRayQueries(folding.s.scene, folding.s.gpu);
     const gi::SceneInfo after = folding.update(ctx, 1.0f, 0.001f);
     EXPECT_EQ(after.levelRebuilds, folded.levelRebuilds);

@@ -17,7 +17,7 @@ void installPreparedLevel(Scene& s, VkCommandBuffer cmd, uint32_t mesh, Prepared
   s.levelRebuilds++;
   s.builtCost[mesh] = p.cost;
   s.costParts[mesh] = std::move(p.costParts);
-  s.refitCostRatio = 1.0f;  // as built
+  s.refitCostRatio = 1.0f;             // as built
   if (!s.facts.hasComputeBvh) return;  // the measure's tree alone: the BLAS was built anew
   const size_t changed = replaceMeshRefit(s.refit, mesh, std::move(p.refit), p.order);
   const uint32_t root = s.bvh.meshRoot[mesh], first = s.bvh.meshFirstTriangle[mesh];

@@ -368,7 +368,7 @@ vk::Status buildScene(Scene& s, VkCommandBuffer cmd, const SceneContents& conten
   GI_TRY(upload(s, cmd, p.indices, geometryUsage, s.indices));
   GI_TRY(upload(s, cmd, p.geometries, kTexels | refitUsage(s), s.geometries));
   if (hasDeformable(p) && computeBvh(s)) GI_TRY(createRefitProgram(s.gpu, s.refitProgram));  // its refits
-  if (hasDeformable(p)) GI_TRY(createPositionsReadback(s));  // the device streams' measure
+  if (hasDeformable(p)) GI_TRY(createPositionsReadback(s));                   // the device streams' measure
   if (hasDeformable(p)) GI_TRY(createGatherProgram(s.gpu, s.gatherProgram));  // device streams
   GI_TRY(upload(s, cmd, p.materials, kTexels, s.materials));
 
