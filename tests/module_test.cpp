@@ -95,13 +95,27 @@ TEST_F(ModuleTest, CreateRejectsImpossibleValuesWithNamedErrors) {
   add(
       "8-bit histories", [](gi::ModuleDesc& d) { d.historyFormat = VK_FORMAT_R8G8B8A8_UNORM; }, same,
       gi::ErrorCode::UnsupportedFormat, "desc.historyFormat");
-  // The engine says what it enabled: a chain filled by gi/device.h, less one feature.
+  // The engine says what it enabled: a chain filled by gi/device.h for the scene's traversal (the
+  // ray-query structs too where it is traced with ray queries), less one feature.
+  const bool rayQueryScene = desc.scene.traversal == gi::Traversal::RayQuery;
+  VkPhysicalDeviceRayQueryFeaturesKHR rayQueryFeatures{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR};
+  VkPhysicalDeviceAccelerationStructureFeaturesKHR accelerationFeatures{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
+  accelerationFeatures.pNext = &rayQueryFeatures;
   VkPhysicalDeviceVulkan13Features f13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
+  f13.pNext = rayQueryScene ? &accelerationFeatures : nullptr;
   VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
   f12.pNext = &f13;
   VkPhysicalDeviceFeatures2 enabled{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
   enabled.pNext = &f12;
-  ASSERT_EQ(gi::enableRequiredFeatures(enabled, false), nullptr);
+  ASSERT_EQ(gi::enableRequiredFeatures(enabled, rayQueryScene), nullptr);
+  // The same for the compute traversal alone: no ray-query structs.
+  VkPhysicalDeviceVulkan13Features computeF13 = f13;
+  computeF13.pNext = nullptr;
+  VkPhysicalDeviceVulkan12Features computeF12 = f12;
+  computeF12.pNext = &computeF13;
+  VkPhysicalDeviceFeatures2 computeOnly = enabled;
+  computeOnly.pNext = &computeF12;
   add(
       "all enabled", [&](gi::ModuleDesc& d) { d.enabledFeatures = &enabled; }, same, gi::ErrorCode::None, "");
   VkPhysicalDeviceVulkan12Features f12NoAtomics = f12;
@@ -115,7 +129,7 @@ TEST_F(ModuleTest, CreateRejectsImpossibleValuesWithNamedErrors) {
   add(
       "no ray queries",
       [&](gi::ModuleDesc& d) {
-        d.enabledFeatures = &enabled;
+        d.enabledFeatures = &computeOnly;
         d.scene.traversal = gi::Traversal::RayQuery;
       },
       same, gi::ErrorCode::MissingFeature, "ray-query");
