@@ -135,27 +135,25 @@ void expectAgree(const Agreement& g, const char* what) {
 
 class TraversalTest : public GpuTest {
  protected:
-  // Compares compute with ray queries (where the device has them) and with Embree.
-  void checkScene(const engine::Scene& scene, const engine::SceneGpu& gpu, uint32_t w = 64, uint32_t h = 48) {
+  // Compares compute with ray queries (where the device has them) and with Embree; a scene for ray queries
+  // alone (`compute` false): ray queries with Embree.
+  void checkScene(const engine::Scene& scene, const engine::SceneGpu& gpu, uint32_t w = 64, uint32_t h = 48,
+                  bool compute = true) {
     std::string tracerError;
     engine::CpuTracerPtr tracer = engine::createCpuTracer(scene, tracerError);
     ASSERT_TRUE(tracer) << tracerError;
     std::vector<gpu::TraceBatchRay> rays = makeRays(scene, *tracer, w, h);
-    std::vector<gpu::TraceBatchResult> compute = oracle::traceBatch(ctx, gpu, gpu::TRAVERSAL_COMPUTE, rays);
-    expectAgree(compare(compute, embreeResults(*tracer, rays), rays), "compute vs Embree");
+    if (!compute) {
+      std::vector<gpu::TraceBatchResult> rayQuery = oracle::traceBatch(ctx, gpu, gpu::TRAVERSAL_RAY_QUERY, rays);
+      expectAgree(compare(rayQuery, embreeResults(*tracer, rays), rays), "ray queries vs Embree");
+      return;
+    }
+    std::vector<gpu::TraceBatchResult> computeResults = oracle::traceBatch(ctx, gpu, gpu::TRAVERSAL_COMPUTE, rays);
+    expectAgree(compare(computeResults, embreeResults(*tracer, rays), rays), "compute vs Embree");
     if (ctx.rayQuery) {
       std::vector<gpu::TraceBatchResult> rayQuery = oracle::traceBatch(ctx, gpu, gpu::TRAVERSAL_RAY_QUERY, rays);
-      expectAgree(compare(compute, rayQuery, rays), "compute vs ray queries");
+      expectAgree(compare(computeResults, rayQuery, rays), "compute vs ray queries");
     }
-  }
-  // Ray queries against Embree alone, for a scene built for ray queries alone.
-  void checkRayQueries(const engine::Scene& scene, const engine::SceneGpu& gpu, uint32_t w = 64, uint32_t h = 48) {
-    std::string tracerError;
-    engine::CpuTracerPtr tracer = engine::createCpuTracer(scene, tracerError);
-    ASSERT_TRUE(tracer) << tracerError;
-    std::vector<gpu::TraceBatchRay> rays = makeRays(scene, *tracer, w, h);
-    std::vector<gpu::TraceBatchResult> rayQuery = oracle::traceBatch(ctx, gpu, gpu::TRAVERSAL_RAY_QUERY, rays);
-    expectAgree(compare(rayQuery, embreeResults(*tracer, rays), rays), "ray queries vs Embree");
   }
   // Loads with both traversals' structures: the tests compare them.
   static void loadBoth(const std::string& path, LoadedScene& s) {
@@ -478,10 +476,10 @@ TEST_F(TraversalTest, RayQueryScenesMeasureTheirDeformableLevelsToo) {
       EXPECT_EQ(folded.refitCostRatio, 1.0f);
     else
       EXPECT_GT(folded.refitCostRatio, 3.0f);
-    checkRayQueries(folding.s.scene, folding.s.gpu);
+    checkScene(folding.s.scene, folding.s.gpu, 64, 48, false);
     const gi::SceneInfo after = folding.update(ctx, 1.0f, 0.001f);
     EXPECT_EQ(after.levelRebuilds, folded.levelRebuilds);
-    checkRayQueries(folding.s.scene, folding.s.gpu);
+    checkScene(folding.s.scene, folding.s.gpu, 64, 48, false);
   }
 }
 
