@@ -300,6 +300,11 @@ bool writeStats(const std::string& path, const engine::Context& ctx, const Loade
   j["max_bounces"] = o.bounces;
   j["seed"] = o.seed;
   j["triangles"] = l.scene.triangleCount();
+  // Deformable meshes (gi::SceneInfo): the last measured level's cost over its cost as built, and the
+  // rebuilds SceneCreateDesc::rebuildCostRatio made (0 and 0 without deformable meshes).
+  const gi::SceneInfo sceneInfo = gi::sceneInfo(l.gpu.scene);
+  j["scene_refit_cost_ratio"] = sceneInfo.refitCostRatio;
+  j["scene_level_rebuilds"] = sceneInfo.levelRebuilds;
   j["passes_ms"] = r.passMs;  // summed over the frames, all after every program's warm-up
   // Wall time of each program's first dispatch, one submission each before the frames: its compile
   // where the driver compiles at first dispatch (lavapipe).
