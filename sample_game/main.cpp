@@ -330,6 +330,7 @@ gi::FrameStats completedFrame(Demo& d, uint32_t completed) {
        engine::readPassTimes(d.ctx, tools::gbufferTimer(d.session, completed), d.session.error))
     gbufferMs += p.ms;
   demo::recordFrameNumbers(d.ui, stats, gbufferMs, d.cpuMs);
+  d.ui.scene = gi::sceneInfo(d.sceneGpu.scene);
   if (d.logging)
     demo::writeFrameRow(d.log, completed, d.lastSeconds, d.cpuMs, gbufferMs, stats,
                         d.factsOfFrame[completed % engine::kFramesInFlight]);

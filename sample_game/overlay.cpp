@@ -154,6 +154,12 @@ bool buildOverlay(OverlayState& state, gi::Settings& settings, const gi::FrameSt
     ImGui::Checkbox("move the light and an object", &state.animate);
     ImGui::Checkbox("tell the module when lights move (gi::invalidate)", &state.tellModuleLightsMoved);
     if (ImGui::Button("screenshot (F12)")) state.screenshotRequested = true;
+    // Deforming meshes (gi::SceneInfo): the last measured level's cost against its cost as built, and the
+    // rebuilds past SceneCreateDesc::rebuildCostRatio (shown once a mesh was measured).
+    const gi::SceneInfo& info = state.scene;
+    if (info.refitCostRatio > 0.0f || info.levelRebuilds > 0)
+      ImGui::Text("deforming mesh BVH: cost %.2fx as built, %u rebuilds%s", double(info.refitCostRatio),
+                  info.levelRebuilds, info.levelRebuildRunning ? " (one building)" : "");
     ImGui::TextDisabled("right mouse: look   WASD/QE: move   shift: faster");
   }
   ImGui::PopItemWidth();

@@ -1,12 +1,13 @@
 // The demo's Dear ImGui panel: method switch, every tunable of the method as
 // a slider in its real units, the debug-view picker, per-pass GPU time (a
-// stacked bar and a history plot), hash-map telemetry, and budget mode.
+// stacked bar and a history plot), hash-map telemetry, deforming meshes' BVH measure, and budget mode.
 #pragma once
 #include <deque>
 #include <string>
 
 #include "gi/budget.h"
 #include "gi/gi.h"
+#include "gi/scene.h"
 
 namespace demo {
 
@@ -25,6 +26,7 @@ struct OverlayState {
   std::deque<float> totalMsHistory;  // module GPU ms per frame, newest last
   double gbufferMs = 0.0;
   double cpuFrameMs = 0.0;
+  gi::SceneInfo scene;  // the module scene's facts after this frame's updates (deforming meshes' measure)
 };
 
 // Builds the panel between ImGui::NewFrame and ImGui::Render. Returns true
