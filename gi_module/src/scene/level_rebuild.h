@@ -3,7 +3,8 @@
 // in the update or on a worker thread (SceneCreateDesc::rebuildOffThread). Meshes posed by device streams
 // are measured on positions read back now and then, one mesh at a time and without a wait: an update
 // copies them into a host-visible buffer and sets an event after the copy, and a later update of the
-// mesh that finds the event set takes them.
+// mesh that finds the event set takes them. A scene for ray queries alone keeps its deformable levels on
+// the CPU for this measure alone (never uploaded): there a rebuild builds the BLAS anew.
 #pragma once
 #include <cstdint>
 

@@ -42,8 +42,8 @@ struct Scene {
   float refitCostRatio = 0.0f;            // SceneInfo's
   uint32_t levelRebuilds = 0;             // SceneInfo's
   // A degraded level's rebuild on a worker thread (SceneCreateDesc::rebuildOffThread), one at a time: the
-  // pose it started from, held here while Embree builds from it; the first update of its mesh after it
-  // finished installs it. A whole-BVH build in between (bvhBuilds) makes its slots stale: it is dropped.
+  // pose it started from, held here while Embree builds from it and the level is prepared
+  // (scene/prepared_level.h); the first update of its mesh after it finished installs it. A whole-BVH build in between (bvhBuilds) makes its slots stale: it is dropped.
   struct LevelRebuildJob {
     uint32_t mesh = 0;
     uint32_t bvhBuilds = 0;
