@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -628,6 +629,40 @@ struct Loader {
   }
 };
 
+// tinygltf's file access made strict: a URI is a path as written (no shell-style expansion), and only a
+// regular file of at most kMaxExternalFileBytes is read. Its own reader takes a directory's size as -1
+// and allocates that (a URI naming a directory ended the program with std::bad_alloc).
+constexpr uintmax_t kMaxExternalFileBytes = uintmax_t(4) << 30;  // 4 GiB: beyond any buffer or image we take
+
+bool regularFileExists(const std::string& path, void*) {
+  std::error_code ec;
+  return std::filesystem::is_regular_file(path, ec);
+}
+
+std::string pathAsWritten(const std::string& path, void*) { return path; }
+
+bool readRegularFile(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
+  auto failWith = [&](const std::string& why) {
+    if (err) *err += path + ": " + why + "\n";
+    return false;
+  };
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return failWith("not a regular file");
+  const uintmax_t bytes = std::filesystem::file_size(path, ec);
+  if (ec) return failWith("its size cannot be read (" + ec.message() + ")");
+  if (bytes > kMaxExternalFileBytes) return failWith(std::to_string(bytes) + " bytes, more than the 4 GiB we read");
+  std::ifstream file(path, std::ios::binary);
+  out->resize(size_t(bytes));
+  if (!file || (bytes > 0 && !file.read(reinterpret_cast<char*>(out->data()), std::streamsize(bytes))))
+    return failWith("cannot be read");
+  return true;
+}
+
+bool refuseWrite(std::string* err, const std::string& path, const std::vector<unsigned char>&, void*) {
+  if (err) *err += path + ": the loader writes no files\n";
+  return false;
+}
+
 }  // namespace
 
 bool loadGltf(const std::string& path, Scene& scene, std::string& error) {
@@ -639,11 +674,18 @@ bool loadGltf(const std::string& path, Scene& scene, std::string& error) {
     return false;
   }
   tinygltf::TinyGLTF gltf;
+  gltf.SetFsCallbacks({regularFileExists, pathAsWritten, readRegularFile, refuseWrite, nullptr});
   tinygltf::Model model;
   std::string err, warn;
   bool binary = path.size() >= 4 && path.compare(path.size() - 4, 4, ".glb") == 0;
-  bool ok =
-      binary ? gltf.LoadBinaryFromFile(&model, &err, &warn, path) : gltf.LoadASCIIFromFile(&model, &err, &warn, path);
+  bool ok = false;
+  try {
+    ok = binary ? gltf.LoadBinaryFromFile(&model, &err, &warn, path)
+                : gltf.LoadASCIIFromFile(&model, &err, &warn, path);
+  } catch (const std::exception& e) {  // memory for what the file declares, or tinygltf's own throws
+    error = path + ": cannot be loaded (" + e.what() + ")";
+    return false;
+  }
   if (!ok || !err.empty()) {
     while (!err.empty() && (err.back() == '\n' || err.back() == '\r')) err.pop_back();
     error = path + ": " + (err.empty() ? std::string("not a valid glTF file") : err);

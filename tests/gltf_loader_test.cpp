@@ -36,6 +36,8 @@ const Malformed kMalformed[] = {
     {"not_json.gltf", "parse error"},
     {"empty_file.gltf", "empty"},
     {"wrong_version.gltf", "asset.version"},
+    // An image URI naming a directory (the fuzzer's find: tinygltf's own reader allocated -1 bytes).
+    {"image_uri_is_a_directory.gltf", "image 0 ('.') could not be decoded"},
 };
 
 }  // namespace
