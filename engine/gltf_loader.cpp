@@ -680,8 +680,8 @@ bool loadGltf(const std::string& path, Scene& scene, std::string& error) {
   bool binary = path.size() >= 4 && path.compare(path.size() - 4, 4, ".glb") == 0;
   bool ok = false;
   try {
-    ok = binary ? gltf.LoadBinaryFromFile(&model, &err, &warn, path)
-                : gltf.LoadASCIIFromFile(&model, &err, &warn, path);
+    ok =
+        binary ? gltf.LoadBinaryFromFile(&model, &err, &warn, path) : gltf.LoadASCIIFromFile(&model, &err, &warn, path);
   } catch (const std::exception& e) {  // memory for what the file declares, or tinygltf's own throws
     error = path + ": cannot be loaded (" + e.what() + ")";
     return false;
