@@ -105,16 +105,13 @@ std::vector<VkBufferCopy> readbackRegions(const PackedScene& p, uint32_t mesh) {
 
 LevelUpdate rebuildDegradedLevel(Scene& s, VkCommandBuffer cmd, uint32_t mesh) {
   if (!measured(s, mesh)) return {};
-  const std::vector<BvhMesh> meshes = bvhMeshes(s.packed);
-  const BvhInput input{s.packed.positions, s.packed.indices, meshes, {}};
   if (installFinishedRebuild(s, cmd, mesh)) return {};  // built for an earlier pose: refit to this one
-  return judgeLevel(s, cmd, mesh, input);
+  const std::vector<BvhMesh> meshes = bvhMeshes(s.packed);
+  return judgeLevel(s, cmd, mesh, {s.packed.positions, s.packed.indices, meshes, {}});
 }
 
 LevelUpdate followDeviceLevel(Scene& s, VkCommandBuffer cmd, uint32_t mesh) {
   if (!measured(s, mesh) || !s.positionsRead) return {};
-  const std::vector<BvhMesh> meshes = bvhMeshes(s.packed);
-  const BvhInput input{s.packed.positions, s.packed.indices, meshes, {}};
   if (installFinishedRebuild(s, cmd, mesh)) return {};
   if (s.readbackMesh != mesh || s.gpu.fn.vkGetEventStatus(s.gpu.device, s.positionsRead) != VK_EVENT_SET) return {};
   // The copy completed (the event's dependency made it visible to the host): this mesh's positions as of
@@ -124,7 +121,8 @@ LevelUpdate followDeviceLevel(Scene& s, VkCommandBuffer cmd, uint32_t mesh) {
     std::memcpy(reinterpret_cast<char*>(s.packed.positions.data()) + r.srcOffset, bytes + r.dstOffset, r.size);
   s.gpu.fn.vkResetEvent(s.gpu.device, s.positionsRead);
   s.readbackMesh = UINT32_MAX;
-  LevelUpdate level = judgeLevel(s, cmd, mesh, input);
+  const std::vector<BvhMesh> meshes = bvhMeshes(s.packed);  // only on the updates that measure
+  LevelUpdate level = judgeLevel(s, cmd, mesh, {s.packed.positions, s.packed.indices, meshes, {}});
   level.nodesBuilt = false;  // rebuilt here, for the read-back pose: refit to this update's
   return level;
 }
