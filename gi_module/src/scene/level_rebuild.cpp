@@ -132,11 +132,8 @@ void recordPositionsReadback(Scene& s, VkCommandBuffer cmd, uint32_t mesh) {
   const std::vector<VkBufferCopy> regions = readbackRegions(s.packed, mesh);
   s.gpu.fn.vkCmdCopyBuffer(cmd, s.positions.buffer, s.positionsReadback.buffer, uint32_t(regions.size()),
                            regions.data());
-  VkMemoryBarrier2 toHost{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
-  toHost.srcStageMask = VK_PIPELINE_STAGE_2_COPY_BIT;
-  toHost.srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
-  toHost.dstStageMask = VK_PIPELINE_STAGE_2_HOST_BIT;
-  toHost.dstAccessMask = VK_ACCESS_2_HOST_READ_BIT;
+  const VkMemoryBarrier2 toHost = vk::memoryBarrierInfo(VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                                                        VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
   VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
   dependency.memoryBarrierCount = 1;
   dependency.pMemoryBarriers = &toHost;
