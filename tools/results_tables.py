@@ -682,7 +682,7 @@ def sweep(key, pairs):
 
 
 def sweep_passes(key, prefix, pairs):
-    """A setting swept on one method (args: KEY PREFIX NAME DIR ...): per scene and value, the final and
+    """A setting swept (args: KEY PREFIX NAME DIR ...): per scene (and method, where a run has several) and value, the final and
     indirect MSE (the mean over the run's frames) against the first value's, the flicker of a camera-path run
     (its frame-to-frame change against the references'), and the ms per frame of the passes whose names
     start with PREFIX (the passes the setting changes)."""
@@ -690,15 +690,18 @@ def sweep_passes(key, prefix, pairs):
           f"{prefix}* ms |")
     print("|---|---|---|---|---|---|---|---|")
     for name, directory in named(pairs):
-        first = None
-        for r in rows(f"{directory}/results.csv"):
+        runs = rows(f"{directory}/results.csv")
+        several = len({r["method"] for r in runs}) > 1  # then each method against its own first value
+        first = {}
+        for r in runs:
             value = r["label"].split(f"{key}=")[1].split()[0]
             final, indirect = float(r["mse"]), float(r["mse_indirect"])
-            first = first or (final, indirect)
+            base = first.setdefault(r["method"], (final, indirect))
             ms = sum(float(x.split(":")[1]) for x in r["pass_ms"].split(";") if x.startswith(prefix))
             flicker = f"{float(r['flicker_ratio']):.2f}" if r["flicker_ratio"] else "–"
-            print(f"| {name} | {value} | {final:.3e} | {final / first[0]:.2f}× | {indirect:.3e} | "
-                  f"{indirect / first[1]:.2f}× | {flicker} | {ms:.2f} |")
+            label = f"{name} {r['method']}" if several else name
+            print(f"| {label} | {value} | {final:.3e} | {final / base[0]:.2f}× | {indirect:.3e} | "
+                  f"{indirect / base[1]:.2f}× | {flicker} | {ms:.2f} |")
 
 
 def configurations(pairs):
