@@ -226,8 +226,10 @@ struct ReservoirSettings {
   bool enabled = true;       // on: measured better for raw, svgf and hpsf from 64 lights on (RESULTS, "Reservoirs")
   uint32_t candidates = 8;   // [1, 64]: lights drawn per pixel and frame
   bool temporal = true;      // merge last frame's reservoir (TemporalSettings' depth and normal tests)
-  uint32_t neighbours = 3;   // [0, 8]: reservoirs merged from around the pixel for its pick (0 = no spatial
-                             // reuse); the next frame reuses the pixel's own (docs/RESULTS.md, "Reservoirs")
+  uint32_t neighbours = 5;   // [0, 8]: reservoirs merged from around the pixel for its pick (0 = no spatial
+                             // reuse); the next frame reuses the pixel's own. More lower every method's
+                             // error from 64 lights on and cost the spatial pass more: 5 is where hpsf
+                             // meets 1.5x its 4-light error at 1024 lights (docs/RESULTS.md, "Reservoirs")
   float radius = 4.0f;       // pixels, [1, 64]: the disc the neighbours come from
   float maxHistory = 20.0f;  // [1, 1000]: last frame's reservoir counts at most this many times `candidates`
   bool unbiased = true;      // spatial weights: the balance heuristic over the reservoirs' surfaces' targets
