@@ -151,8 +151,10 @@ const SettingInfo kSettings[] = {
                             kEvery)),
     GI_SETTING("reservoirs.candidates", reservoirs.candidates, "lights", "lights drawn per pixel and frame", Uint, 1,
                64, false, kEvery),
-    GI_BOOL("reservoirs.temporal", reservoirs.temporal, "merge last frame's reservoir through the motion vectors",
-            kEvery),
+    GI_BOOL("reservoirs.temporal", reservoirs.temporal,
+            "merge last frame's reservoir through the motion vectors (where no temporal pass averages the direct "
+            "light: raw, aaf)",
+            kRaw | kAaf),
     GI_SETTING("reservoirs.neighbours", reservoirs.neighbours, "reservoirs", "neighbours merged (0 = no spatial reuse)",
                Uint, 0, 8, false, kEvery),
     GI_SETTING("reservoirs.radius", reservoirs.radius, "pixels", "the disc the neighbours come from", Float, 1, 64,

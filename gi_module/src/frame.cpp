@@ -195,14 +195,15 @@ void recordReservoirPasses(Module& m, VkCommandBuffer cmd, uint32_t slot) {
   gpu::GiReservoirPush push{.mode = gpu::GI_RESERVOIR_TEMPORAL,
                             .seed = s.seed,
                             .candidates = r.candidates,
-                            .temporal = r.temporal && m.reservoirFrames > 0 ? 1u : 0u,
+                            .temporal = m.plan.reservoirTemporal && m.reservoirFrames > 0 ? 1u : 0u,
                             .neighbours = r.neighbours,
                             .radius = r.radius,
                             .maxHistory = r.maxHistory,
                             .unbiased = r.unbiased ? 1u : 0u,
                             .depthTolerance = s.temporal.depthTolerance,
                             .cosNormalLimit = cosDegrees(s.temporal.normalLimitDegrees),
-                            .readSet = m.reservoirFrames & 1u};
+                            // Without the merge one set serves (A: written, then read by the spatial pass).
+                            .readSet = m.plan.reservoirTemporal ? m.reservoirFrames & 1u : 1u};
   // Pass: candidates from the light sampler, last frame's reservoir, the survivor's shadow ray.
   runPass(m, cmd, slot, Pass::ReservoirTemporal, m.reservoirs, sets, {m.width, m.height}, push);
   // Pass: neighbours' reservoirs merged and the survivor's shadow ray: the pick the tracing passes take.

@@ -21,6 +21,7 @@ MethodPlan planMethod(const SceneDesc& scene, const Settings& s) {
   p.temporalGradients = s.temporal.gradients && p.temporalPass && !p.hashGrid && !p.aaf;
   p.historyClamp = s.temporal.historyClamp > 0.0f && p.temporalPass;
   p.reservoirs = s.reservoirs.enabled && !s.indirectOnly && p.picksPunctualLights;
+  p.reservoirTemporal = p.reservoirs && s.reservoirs.temporal && !p.temporalPass;
   p.validatesHashCells = p.hashGrid && s.hpsf.eviction == EvictionPolicy::Aging && s.hpsf.validationInterval > 0;
   return p;
 }

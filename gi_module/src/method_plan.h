@@ -38,8 +38,12 @@ struct MethodPlan {
   // Temporal gradients are traced (raw's trace pass) when the temporal pass runs for a method whose paths
   // start there (not the hash methods, not AAF).
   bool temporalGradients = false;
-  bool historyClamp = false;        // the temporal pass clamps the history to this frame's samples
-  bool reservoirs = false;          // the reservoir passes: asked for, and NEE picks among point and spot lights
+  bool historyClamp = false;  // the temporal pass clamps the history to this frame's samples
+  bool reservoirs = false;    // the reservoir passes: asked for, and NEE picks among point and spot lights
+  // Last frame's reservoir is merged (ReservoirSettings::temporal) only where no temporal pass averages the
+  // direct light over frames: the reuse makes a pixel's successive picks alike, and a history of alike
+  // samples averages less noise away than one of fresh picks (docs/RESULTS.md, "Reservoirs").
+  bool reservoirTemporal = false;
   bool validatesHashCells = false;  // the hash map's sentinel rays are re-traced (aging with hpsf.validation > 0)
 };
 

@@ -155,8 +155,8 @@ uint64_t sizedResourcesNeeded(const MethodPlan& plan, const Settings& s) {
             bit(&SizedResources::temporalGradient);
   if (plan.historyClamp) need |= bit(&SizedResources::temporalSpread);
   if (plan.aaf) need |= bit(&SizedResources::aafParams) | bit(&SizedResources::aafSum);
-  if (plan.reservoirs)
-    need |= bit(&SizedResources::reservoirsA) | bit(&SizedResources::reservoirsB) | bit(&SizedResources::reservoirPick);
+  if (plan.reservoirs) need |= bit(&SizedResources::reservoirsA) | bit(&SizedResources::reservoirPick);
+  if (plan.reservoirTemporal) need |= bit(&SizedResources::reservoirsB);  // last frame's set
   if (plan.aafSpecular) need |= bit(&SizedResources::aafGlossy) | bit(&SizedResources::aafGlossyEdge);
   // Debug views read their source at full size whatever the method (zero where it does not write).
   switch (s.debugView) {

@@ -225,7 +225,9 @@ struct HpsfSettings {
 struct ReservoirSettings {
   bool enabled = true;       // on: measured better for raw, svgf and hpsf from 64 lights on (RESULTS, "Reservoirs")
   uint32_t candidates = 8;   // [1, 64]: lights drawn per pixel and frame
-  bool temporal = true;      // merge last frame's reservoir (TemporalSettings' depth and normal tests)
+  bool temporal = true;      // merge last frame's reservoir (TemporalSettings' depth and normal tests), for the
+                             // methods without a temporal pass (raw, aaf): one that averages the direct light
+                             // over frames averages more noise away from fresh picks (docs/RESULTS.md)
   uint32_t neighbours = 5;   // [0, 8]: reservoirs merged from around the pixel for its pick (0 = no spatial
                              // reuse); the next frame reuses the pixel's own. More lower every method's
                              // error from 64 lights on and cost the spatial pass more: 5 is where hpsf
