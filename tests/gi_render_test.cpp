@@ -14,6 +14,23 @@ namespace {
 const std::string kData = GI_TEST_DATA;
 int runTool(const std::string& args, std::string& output) { return runProcess(GI_RENDER_BINARY, args, output); }
 
+// gi-render with `args`, --traversal `traversal` and --stats into `dir`: its exit code, its output, whether
+// the device refused ray queries (a device without them must), and the stats where it succeeded.
+struct TraversalRun {
+  int rc = 0;
+  std::string out;
+  bool refusedRayQueries = false;
+  nlohmann::json stats;
+};
+TraversalRun runWithTraversal(const std::string& args, const char* traversal, const std::string& dir) {
+  TraversalRun r;
+  r.rc = runTool(args + " --validation --traversal " + traversal + " --stats " + dir + "/s.json", r.out);
+  r.refusedRayQueries =
+      std::string(traversal) == "rayquery" && r.out.find("does not support VK_KHR_ray_query") != std::string::npos;
+  if (r.rc == 0) r.stats = nlohmann::json::parse(std::ifstream(dir + "/s.json"));
+  return r;
+}
+
 }  // namespace
 
 TEST(GiRenderTool, BadInputExitsWithASentence) {
@@ -94,17 +111,14 @@ TEST(GiRenderTool, AnimatedSkinsAreMeasuredForRebuilds) {
   std::string dir = std::filesystem::temp_directory_path() / "gi_render_test_skin";
   std::filesystem::create_directories(dir);
   for (const char* traversal : {"compute", "rayquery"}) {
-    std::string out;
-    int rc = runTool("--scene " + std::string(GI_ASSETS) +
-                         "/skinned_bar/skinned_bar.gltf --method raw --animate --frames 24 --size 32x18 --validation"
-                         " --traversal " +
-                         traversal + " --out " + dir + "/s.png --stats " + dir + "/s.json",
-                     out);
-    if (std::string(traversal) == "rayquery" && out.find("does not support VK_KHR_ray_query") != std::string::npos)
-      continue;  // the test above asserts the refusal
-    ASSERT_EQ(rc, 0) << out;
-    std::ifstream f(dir + "/s.json");
-    nlohmann::json j = nlohmann::json::parse(f);
+    const TraversalRun run = runWithTraversal("--scene " + std::string(GI_ASSETS) +
+                                                  "/skinned_bar/skinned_bar.gltf --method raw --animate --frames 24"
+                                                  " --size 32x18 --out " +
+                                                  dir + "/s.png",
+                                              traversal, dir);
+    if (run.refusedRayQueries) continue;  // the test below asserts the refusal
+    ASSERT_EQ(run.rc, 0) << run.out;
+    const nlohmann::json& j = run.stats;
     EXPECT_EQ(j["traversal"], traversal);
     EXPECT_GT(j["scene_refit_cost_ratio"].get<double>(), 0.0) << traversal << ": the bar's level was never measured";
     EXPECT_EQ(j["validation_messages"], 0);
@@ -118,20 +132,18 @@ TEST(GiRenderTool, MethodsUseTheirOwnSamplesAndTheChosenTraversal) {
   std::string dir = std::filesystem::temp_directory_path() / "gi_render_test_method";
   std::filesystem::create_directories(dir);
   for (const char* traversal : {"compute", "rayquery"}) {
-    std::string out;
-    int rc = runTool("--scene " + std::string(GI_SHARED_SCENES) +
-                         "/cornell-box-mcguire/CornellBox-Original.gltf --size 16x16 --method hpsf --validation"
-                         " --traversal " +
-                         traversal + " --out " + dir + "/h.pfm --stats " + dir + "/s.json",
-                     out);
-    if (std::string(traversal) == "rayquery" && out.find("does not support VK_KHR_ray_query") != std::string::npos) {
-      EXPECT_EQ(rc, 1) << out;
-      std::printf("this device has no ray queries: %s", out.c_str());
+    const TraversalRun run = runWithTraversal("--scene " + std::string(GI_SHARED_SCENES) +
+                                                  "/cornell-box-mcguire/CornellBox-Original.gltf --size 16x16"
+                                                  " --method hpsf --out " +
+                                                  dir + "/h.pfm",
+                                              traversal, dir);
+    if (run.refusedRayQueries) {
+      EXPECT_EQ(run.rc, 1) << run.out;
+      std::printf("this device has no ray queries: %s", run.out.c_str());
       continue;
     }
-    ASSERT_EQ(rc, 0) << out;
-    std::ifstream f(dir + "/s.json");
-    nlohmann::json j = nlohmann::json::parse(f);
+    ASSERT_EQ(run.rc, 0) << run.out;
+    const nlohmann::json& j = run.stats;
     EXPECT_EQ(j["spp"], 1);
     EXPECT_EQ(j["traversal"], traversal);
   }
