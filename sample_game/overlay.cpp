@@ -130,7 +130,7 @@ bool buildOverlay(OverlayState& state, gi::Settings& settings, const gi::FrameSt
     const gi::FrameStats::Hash& h = stats.hash;
     ImGui::Text("occupancy %.1f%% (%u of %u cells), later cells %gx wider", 100.0 * h.occupancy(), h.occupied,
                 h.capacity, h.secondaryWidth);
-    ImGui::Text("inserts %u   failed %u   evicted %u", h.inserts, h.failedInserts, h.evicted);
+    ImGui::Text("inserts %u   failed %u   claimed %u   evicted %u", h.inserts, h.failedInserts, h.claimed, h.evicted);
     ImGui::Text("probe mean %.2f   max %u   overflows %u", double(h.meanProbe), h.maxProbe, h.overflows);
     ImGui::Text("stale histories cut %u", h.staleResets);
     if (settings.method == gi::Method::Anhpsf)

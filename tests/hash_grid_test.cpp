@@ -1,6 +1,7 @@
 // The hash map on the GPU under collisions: no lost update below capacity,
 // an exact failed-insert count beyond it, and eviction that keeps probe
 // chains whole and leaves nothing behind.
+#include <algorithm>
 #include <cstring>
 #include <map>
 
@@ -13,7 +14,8 @@
 namespace {
 
 using StressPush = gpu::HgStressPush;
-constexpr uint32_t kInsert = gpu::HG_STRESS_INSERT, kEvict = gpu::HG_STRESS_EVICT, kTidy = gpu::HG_STRESS_TIDY;
+constexpr uint32_t kInsert = gpu::HG_STRESS_INSERT, kEvict = gpu::HG_STRESS_EVICT, kTidy = gpu::HG_STRESS_TIDY,
+                   kClaim = gpu::HG_STRESS_CLAIM;
 
 }  // namespace
 
@@ -43,10 +45,11 @@ class HashGridTest : public GpuTest {
     engine::destroyDescriptorSet(ctx, empty);
     GpuTest::TearDown();
   }
-  // One dispatch of hash_stress.comp (threads: keys × repeats, or every slot for kTidy).
+  // One dispatch of hash_stress.comp (threads: keys × repeats, or every slot for kTidy and kClaim).
   void run(const StressPush& push) {
     VkDescriptorSet sets[] = {empty.set, empty.set, grid.set[0]};
-    uint32_t threads = push.mode == kTidy ? push.capacity : push.keyCount * (push.mode == kInsert ? push.repeats : 1u);
+    const bool everySlot = push.mode == kTidy || push.mode == kClaim;
+    uint32_t threads = everySlot ? push.capacity : push.keyCount * (push.mode == kInsert ? push.repeats : 1u);
     submitOrFail(ctx, [&](VkCommandBuffer cmd) {
       gi::recordHashGridFrameStart(dev, cmd, grid, 0);
       engine::dispatch(ctx, cmd, stress, sets, {threads, 1}, push);
@@ -81,7 +84,7 @@ TEST_F(HashGridTest, InsertAndFindUnderLoadLoseNothingBelowCapacity) {
     uint32_t keys = uint32_t(load * capacity);
     grid.cleared = false;  // start from an empty map
     // The probe window spans the table, so any free slot can be found.
-    run({capacity, capacity, keys, repeats, kInsert, 0, 0, 1});
+    run({capacity, capacity, keys, repeats, kInsert, 0, 0, 1, 0});
     gpu::HgTelemetry t = gi::readHashGridTelemetry(grid, 0);
     std::vector<uint32_t> k;
     std::vector<gpu::HgAccum> acc;
@@ -103,6 +106,38 @@ TEST_F(HashGridTest, InsertAndFindUnderLoadLoseNothingBelowCapacity) {
   }
 }
 
+// Deferred claims (HgPush::deferredClaims): which keys get slots follows from the bids, not from the order
+// the threads ran in. Forty keys share one start slot and a window of 16 slots: each round they bid for the
+// first free slot, all with priority 0, and the largest key bidding gets it, so after 16 rounds slot s holds the
+// (s+1)-th largest key, with every sample of the rounds after its claim, and the other 24 keys are turned
+// away. First come, first served (the claims inserts make at once) fills the window in the threads' order.
+TEST_F(HashGridTest, DeferredClaimsGiveAFullWindowToTheLargestKeysInAnyOrder) {
+  const uint32_t capacity = 1024, window = 16, keys = 40, repeats = 3;
+  make(capacity);
+  std::vector<uint32_t> largest;
+  for (uint32_t k = 0; k < keys; ++k) largest.push_back(keyOf(k));
+  std::sort(largest.rbegin(), largest.rend());
+  for (uint32_t round = 0; round < window; ++round) {
+    run({capacity, window, keys, repeats, kInsert, 0, 1, 1, 1});
+    EXPECT_EQ(gi::readHashGridTelemetry(grid, 0).failedInserts, 0u) << "round " << round << ": a slot is still free";
+    run({capacity, window, 0, 1, kClaim, 0, 1, 0, 1});
+  }
+  run({capacity, window, keys, repeats, kInsert, 0, 1, 1, 1});
+  EXPECT_EQ(gi::readHashGridTelemetry(grid, 0).failedInserts, (keys - window) * repeats);
+  std::vector<uint32_t> k;
+  std::vector<gpu::HgAccum> acc;
+  read(k, acc);
+  for (uint32_t s = 0; s < capacity; ++s) {
+    if (s >= window) {
+      EXPECT_EQ(acc[s].lum2, 0u) << "slot " << s << ": a bid left behind";
+      EXPECT_EQ(k[s], gpu::HG_EMPTY_KEY) << "slot " << s << " is outside the window";
+      continue;
+    }
+    EXPECT_EQ(k[s], largest[s]) << "slot " << s;
+    EXPECT_EQ(acc[s].count, repeats * (window - s)) << "slot " << s << ": the samples since its claim";
+  }
+}
+
 // Aging eviction from the middle of a probe chain: the keys further along
 // must stay reachable (an emptied slot would end every search there, and the
 // next insert of a later key would store it a second time). Eight keys share
@@ -112,14 +147,14 @@ TEST_F(HashGridTest, EvictingFromTheMiddleOfAChainKeepsTheLaterKeysReachable) {
   const uint32_t capacity = 1024, chain = 8;
   make(capacity);
   grid.cleared = false;
-  for (uint32_t k = 0; k < chain; ++k) run({capacity, 16, 1, 1, kInsert, k, 1, 1});  // key k in slot k
-  run({capacity, 16, 1, 1, kEvict, 3, 1, 0});                                        // key 3 goes
+  for (uint32_t k = 0; k < chain; ++k) run({capacity, 16, 1, 1, kInsert, k, 1, 1, 0});  // key k in slot k
+  run({capacity, 16, 1, 1, kEvict, 3, 1, 0, 0});                                        // key 3 goes
   std::vector<uint32_t> keys;
   std::vector<gpu::HgAccum> accum;
   read(keys, accum);
   EXPECT_EQ(keys[3], gpu::HG_TOMBSTONE_KEY) << "the evicted slot still carries the chain";
   EXPECT_EQ(accum[3].count, 0u);
-  for (uint32_t k : {0u, 1u, 2u, 4u, 5u, 6u, 7u}) run({capacity, 16, 1, 1, kInsert, k, 1, 1});
+  for (uint32_t k : {0u, 1u, 2u, 4u, 5u, 6u, 7u}) run({capacity, 16, 1, 1, kInsert, k, 1, 1, 0});
   read(keys, accum);
   std::map<uint32_t, int> seen;
   for (uint32_t s = 0; s < capacity; ++s)
@@ -131,7 +166,7 @@ TEST_F(HashGridTest, EvictingFromTheMiddleOfAChainKeepsTheLaterKeysReachable) {
   }
   EXPECT_EQ(seen.count(keyOf(3)), 0u);
   // A new key reclaims the tombstone (the first free slot of its chain).
-  run({capacity, 16, 1, 1, kInsert, 100, 1, 1});
+  run({capacity, 16, 1, 1, kInsert, 100, 1, 1, 0});
   read(keys, accum);
   EXPECT_EQ(keys[3], keyOf(100));
   EXPECT_EQ(accum[3].count, 1u);
@@ -145,10 +180,10 @@ TEST_F(HashGridTest, EvictionLeavesNoLightBehindAndContinuedLightMakesNoCell) {
   const uint32_t capacity = 1024;
   make(capacity);
   grid.cleared = false;
-  run({capacity, 16, 1, 1, kInsert, 0, 1, 1});  // key 0 in slot 0
-  run({capacity, 16, 1, 1, kInsert, 1, 1, 1});  // key 1 in slot 1
-  run({capacity, 16, 1, 1, kInsert, 1, 1, 0});  // more light for key 1's sample (count 0)
-  run({capacity, 16, 1, 1, kEvict, 1, 1, 0});   // key 1 goes, with its sums
+  run({capacity, 16, 1, 1, kInsert, 0, 1, 1, 0});  // key 0 in slot 0
+  run({capacity, 16, 1, 1, kInsert, 1, 1, 1, 0});  // key 1 in slot 1
+  run({capacity, 16, 1, 1, kInsert, 1, 1, 0, 0});  // more light for key 1's sample (count 0)
+  run({capacity, 16, 1, 1, kEvict, 1, 1, 0, 0});   // key 1 goes, with its sums
   std::vector<uint32_t> keys;
   std::vector<gpu::HgAccum> accum;
   read(keys, accum);
@@ -156,24 +191,24 @@ TEST_F(HashGridTest, EvictionLeavesNoLightBehindAndContinuedLightMakesNoCell) {
   EXPECT_EQ(accum[1].r, 0u);
   EXPECT_EQ(accum[1].count, 0u);
   // Continued light for a key that has no cell: dropped, nothing created.
-  run({capacity, 16, 1, 1, kInsert, 2, 1, 0});
+  run({capacity, 16, 1, 1, kInsert, 2, 1, 0, 0});
   read(keys, accum);
   EXPECT_EQ(keys[1], gpu::HG_EMPTY_KEY) << "count-0 light made a cell";
   EXPECT_EQ(gi::readHashGridTelemetry(grid, 0).failedInserts, 1u);
   // A new sample claims slot 1 and holds exactly its own light.
-  run({capacity, 16, 1, 1, kInsert, 2, 1, 1});
+  run({capacity, 16, 1, 1, kInsert, 2, 1, 1, 0});
   read(keys, accum);
   EXPECT_EQ(keys[1], keyOf(2));
   EXPECT_EQ(accum[1].count, 1u);
   EXPECT_EQ(accum[1].r, gpu::hgToFixed(1.0f));
   // Evicting slot 0 while slot 1 is full leaves a tombstone; once slot 1 is
   // gone too, tidying turns it empty.
-  run({capacity, 16, 1, 1, kEvict, 0, 1, 0});
-  run({capacity, 16, 1, 1, kEvict, 2, 1, 0});
+  run({capacity, 16, 1, 1, kEvict, 0, 1, 0, 0});
+  run({capacity, 16, 1, 1, kEvict, 2, 1, 0, 0});
   read(keys, accum);
   EXPECT_EQ(keys[0], gpu::HG_TOMBSTONE_KEY);
   EXPECT_EQ(keys[1], gpu::HG_EMPTY_KEY);
-  run({capacity, 16, 0, 1, kTidy, 0, 1, 0});
+  run({capacity, 16, 0, 1, kTidy, 0, 1, 0, 0});
   read(keys, accum);
   EXPECT_EQ(keys[0], gpu::HG_EMPTY_KEY);
 }

@@ -81,7 +81,7 @@ TEST_F(ModuleBoundsTest, AnIndexPastTheMapIsCounted) {
   engine::ComputeProgram stress =
       engine::createComputeProgram(ctx, spv_hash_stress_comp, all, sizeof(StressPush), {64, 1}, error, spec);
   ASSERT_EQ(error, "");
-  const StressPush told4096{4096, 8, 4096, 1, 0, 1, 0, 1};  // insert 4,096 keys, one sample each
+  const StressPush told4096{4096, 8, 4096, 1, 0, 1, 0, 1, 0};  // insert 4,096 keys, one sample each
   VkDescriptorSet sets[] = {empty.set, empty.set, grid.set[0]};
   submitOrFail(ctx, [&](VkCommandBuffer cmd) {
     gi::recordHashGridFrameStart(dev, cmd, grid, 0);

@@ -328,6 +328,7 @@ bool writeStats(const std::string& path, const engine::Context& ctx, const Loade
                             {"occupied", h.occupied},
                             {"inserts", h.inserts},
                             {"failed_inserts", h.failedInserts},
+                            {"claimed", h.claimed},
                             {"evicted", h.evicted},
                             {"stale_resets", h.staleResets},
                             {"reads", h.reads},

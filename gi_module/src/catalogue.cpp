@@ -212,6 +212,10 @@ const SettingInfo kSettings[] = {
                1e6, false, kHash),
     GI_SETTING("hpsf.validation", hpsf.validationInterval, "frames",
                "aging: re-trace each cell's sentinel ray this often (0 = off)", Uint, 0, 1000, false, kHash),
+    GI_BOOL("hpsf.deferred_claims", hpsf.deferredClaims,
+            "aging: new cells are made after the frame's inserts, the largest key asking for a slot first, so a full "
+            "map gives the same image every run (a new cell's first samples come a frame later)",
+            kHash),
     GI_SETTING("hpsf.path_depth", hpsf.pathDepth, "segments", "nhpsf: path segments per pixel and frame", Uint, 1, 16,
                false, kNhpsf),
     GI_SETTING("hpsf.continuation_depth", hpsf.continuationDepth, "segments",
@@ -298,6 +302,7 @@ constexpr PassInfo kPasses[] = {
     {Pass::HpsfInsert, "hpsf_insert", true},
     {Pass::NhpsfPaths, "nhpsf_paths", true},
     {Pass::AnhpsfPaths, "anhpsf_paths", true},
+    {Pass::HpsfClaim, "hpsf_claim", false},
     {Pass::HpsfValidate, "hpsf_validate", false},  // its sentinel rays are a small part: not counted as tracing time
     {Pass::HpsfResolve, "hpsf_resolve", false},
     {Pass::HpsfLookup, "hpsf_lookup", false},

@@ -163,7 +163,8 @@ void recordHashPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const gpu::
                          .forgetLight = m.hash.forgetLight ? 1u : 0u,
                          .normalJitter = h.normalJitter,
                          .secondaryLod = uint32_t(h.secondaryLod),
-                         .historySamples = s.method == Method::Hpsf ? 0u : h.historySamples};
+                         .historySamples = s.method == Method::Hpsf ? 0u : h.historySamples,
+                         .deferredClaims = m.plan.defersHashClaims ? 1u : 0u};
   m.hash.forgetLight = false;
   VkDescriptorSet sets[] = {m.desc.scene.set, m.sized.frameSets[slot], m.hash.set[0]};
   recordHashGridFrameStart(m.gpu, cmd, m.hash, frame.frameIndex);
@@ -175,6 +176,10 @@ void recordHashPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const gpu::
     // one of each pixel's continued path); each diffuse vertex's cell gets what its segment brings.
     runPass(m, cmd, slot, s.method == Method::Nhpsf ? Pass::NhpsfPaths : Pass::AnhpsfPaths, m.hashPaths, sets, size,
             push);
+  }
+  if (m.plan.defersHashClaims) {
+    // Pass: the free slots that missing keys asked for become the cells of the largest keys asking.
+    runPass(m, cmd, slot, Pass::HpsfClaim, m.hashClaim, sets, {m.hash.capacity, 1}, push);
   }
   if (m.plan.validatesHashCells) {
     // Pass: re-trace the sentinel rays due this frame; cut histories whose light changed.

@@ -63,6 +63,7 @@ bool readFrameStats(Module& m, uint32_t slot, FrameStats& st) {
     st.hash.occupied = t.occupied;
     st.hash.inserts = t.inserts;
     st.hash.failedInserts = t.failedInserts;
+    st.hash.claimed = t.claimed;
     st.hash.meanProbe = t.inserts ? float(t.probeSum) / float(t.inserts) : 0.0f;
     st.hash.maxProbe = t.probeMax;
     st.hash.evicted = t.evicted;

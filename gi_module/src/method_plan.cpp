@@ -23,6 +23,7 @@ MethodPlan planMethod(const SceneDesc& scene, const Settings& s) {
   p.reservoirs = s.reservoirs.enabled && !s.indirectOnly && p.picksPunctualLights;
   p.reservoirTemporal = p.reservoirs && s.reservoirs.temporal && !p.temporalPass;
   p.validatesHashCells = p.hashGrid && s.hpsf.eviction == EvictionPolicy::Aging && s.hpsf.validationInterval > 0;
+  p.defersHashClaims = p.hashGrid && s.hpsf.eviction == EvictionPolicy::Aging && s.hpsf.deferredClaims;
   return p;
 }
 

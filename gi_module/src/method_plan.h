@@ -45,6 +45,7 @@ struct MethodPlan {
   // samples averages less noise away than one of fresh picks (docs/RESULTS.md, "Reservoirs").
   bool reservoirTemporal = false;
   bool validatesHashCells = false;  // the hash map's sentinel rays are re-traced (aging with hpsf.validation > 0)
+  bool defersHashClaims = false;    // new cells are made after the inserts (aging with hpsf.deferred_claims)
 };
 
 MethodPlan planMethod(const SceneDesc& scene, const Settings& settings);

@@ -111,7 +111,8 @@ struct Module {
   // created under programsMutex (gi::preparePrograms may run on another thread).
   vk::ComputeProgram rawTrace, composite, guidancePass, supersample, aafSample, aafAdaptive, temporal;
   vk::ComputeProgram svgfVariance, svgfAtrous, temporalGradient, temporalSpread, reservoirs;
-  vk::ComputeProgram hashInsert, hashPaths, hashValidate, hashResolve, hashLookup;  // hashPaths: nhpsf/anhpsf
+  vk::ComputeProgram hashInsert, hashPaths, hashClaim, hashValidate, hashResolve,
+      hashLookup;                                     // hashPaths: nhpsf/anhpsf
   FilterPrograms filterPrograms;                      // the screen-space filters' (their own set layout)
   VkDescriptorSetLayout hashLayout = VK_NULL_HANDLE;  // set 2 of the hash methods' programs
   std::mutex programsMutex;

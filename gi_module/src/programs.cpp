@@ -24,6 +24,7 @@
 #include "gi_temporal_gradient.comp.h"
 #include "gi_temporal_spread.comp.compute.h"
 #include "gi_temporal_spread.comp.h"
+#include "hpsf_claim.comp.h"
 #include "hpsf_insert.comp.compute.h"
 #include "hpsf_insert.comp.h"
 #include "hpsf_lookup.comp.compute.h"
@@ -135,6 +136,8 @@ std::vector<ProgramUse> programsFor(Module& m, const Settings& s) {
       add("hpsf_insert", m.hashInsert, GI_SCENE_SPIRV(t, hpsf_insert_comp), sizeof(gpu::HgPush), hash);
     else
       add("nhpsf_paths", m.hashPaths, GI_SCENE_SPIRV(t, nhpsf_paths_comp), sizeof(gpu::HgPush), hash);
+    if (plan.defersHashClaims)
+      add("hpsf_claim", m.hashClaim, spv_hpsf_claim_comp, sizeof(gpu::HgPush), hash, {64, 1});  // traces nothing
     if (plan.validatesHashCells)
       add("hpsf_validate", m.hashValidate, GI_SCENE_SPIRV(t, hpsf_validate_comp), sizeof(gpu::HgPush), hash, {64, 1});
     add("hpsf_resolve", m.hashResolve, spv_hpsf_resolve_comp, sizeof(gpu::HgPush), hash, {64, 1});  // traces nothing
@@ -177,7 +180,7 @@ vk::Status ensurePrograms(Module& m, const Settings& s) {
 std::vector<vk::ComputeProgram*> scenePrograms(Module& m) {
   return {&m.rawTrace,  &m.composite,    &m.guidancePass, &m.supersample,      &m.aafSample,      &m.aafAdaptive,
           &m.temporal,  &m.svgfVariance, &m.svgfAtrous,   &m.temporalGradient, &m.temporalSpread, &m.hashInsert,
-          &m.hashPaths, &m.hashValidate, &m.hashResolve,  &m.hashLookup,       &m.reservoirs};
+          &m.hashPaths, &m.hashClaim,    &m.hashValidate, &m.hashResolve,      &m.hashLookup,     &m.reservoirs};
 }
 
 void destroyPrograms(Module& m) {

@@ -52,8 +52,19 @@ HgWalk hgUnpackWalk(HgWalkRecord r) {
 // slot by compare-exchange, taking the slot instead if a concurrent insert of
 // the same key got there first. Every inserter of a key walks the window in
 // the same order, so concurrent inserts of one key agree on one slot.
-int hgInsertOrFind(uint table, uint index, uint key, uint capacity, uint window, bool create, out uint probes,
-                   out bool created) {
+// With `deferred` (HgPush::deferredClaims) a missing key claims nothing now:
+// it bids for its first free slot with `priority` (HG_SLOT_ASKED comes
+// back), and the largest bid, priority then key, gets the slot after the
+// frame's inserts (hgClaimAsked). No slot changes hands while inserts run, so
+// every inserter of a key finds the same first free slot, and which keys get
+// slots, and where, follows from the bids, not from the order the threads ran
+// in: a full map turns the same samples away every run. The passes bid with a
+// random priority a sample: a key more samples ask for wins more often, as it
+// would by asking first.
+#define HG_SLOT_NONE -1   // no slot: the key is missing, and the probe window is full (or it was only looked for)
+#define HG_SLOT_ASKED -2  // deferred: the key asked for a slot, which it has from the next frame on
+int hgInsertOrFind(uint table, uint index, uint key, uint capacity, uint window, bool create, bool deferred,
+                   uint priority, out uint probes, out bool created) {
   created = false;
   probes = window;
   uint firstFree = window;
@@ -69,7 +80,11 @@ int hgInsertOrFind(uint table, uint index, uint key, uint capacity, uint window,
       break;
     }
   }
-  if (!create) return -1;
+  if (!create || firstFree == window) return HG_SLOT_NONE;
+  if (deferred) {
+    atomicMax(HG_AT(hgAccum, table + ((index + firstFree) & (capacity - 1u))).lum2, (uint64_t(priority) << 32) | key);
+    return HG_SLOT_ASKED;
+  }
   for (uint i = firstFree; i < window; ++i) {
     uint slot = table + ((index + i) & (capacity - 1u));
     uint seen = HG_AT(hgKeys, slot);
@@ -87,7 +102,7 @@ int hgInsertOrFind(uint table, uint index, uint key, uint capacity, uint window,
       return int(slot);
     }
   }
-  return -1;
+  return HG_SLOT_NONE;
 }
 
 // Read-only lookup (no claim): the global slot holding `key`, or -1.
@@ -110,19 +125,8 @@ void hgClearAccum(uint slot) {
   HG_AT(hgAccum, slot) = zero;
 }
 
-// Removes the cell in `slot` (global) of the table starting at `table`. Its
-// sums and history go with it, so the next key to claim the slot starts from
-// nothing. The slot becomes a tombstone, which keeps the probe chains through
-// it intact (a key further along stays reachable, and is not inserted a
-// second time); or empty when the next slot is empty, since no chain
-// continues past an empty slot. Runs only in resolve, where no insert runs
-// concurrently: slots there only ever empty, so a neighbour read as empty
-// stays empty, and one read as full at worst leaves a tombstone that a later
-// frame's resolve turns empty.
-void hgEvict(uint table, uint slot, uint capacity) {
-  uint next = table + ((slot - table + 1u) & (capacity - 1u));
-  HG_AT(hgKeys, slot) = HG_AT(hgKeys, next) == HG_EMPTY_KEY ? HG_EMPTY_KEY : HG_TOMBSTONE_KEY;
-  hgClearAccum(slot);
+// A cell with no history and no sentinel.
+HgCell hgEmptyCell() {
   HgCell empty;
   empty.mean = vec3(0.0);
   empty.lumMoment2 = 0.0;
@@ -136,7 +140,23 @@ void hgEvict(uint table, uint slot, uint capacity) {
   empty.sentinelDirection = 0u;
   empty.samples = 0u;
   empty.previousLod = 0u;
-  HG_AT(hgCells, slot) = empty;
+  return empty;
+}
+
+// Removes the cell in `slot` (global) of the table starting at `table`. Its
+// sums and history go with it, so the next key to claim the slot starts from
+// nothing. The slot becomes a tombstone, which keeps the probe chains through
+// it intact (a key further along stays reachable, and is not inserted a
+// second time); or empty when the next slot is empty, since no chain
+// continues past an empty slot. Runs only in resolve, where no insert runs
+// concurrently: slots there only ever empty, so a neighbour read as empty
+// stays empty, and one read as full at worst leaves a tombstone that a later
+// frame's resolve turns empty.
+void hgEvict(uint table, uint slot, uint capacity) {
+  uint next = table + ((slot - table + 1u) & (capacity - 1u));
+  HG_AT(hgKeys, slot) = HG_AT(hgKeys, next) == HG_EMPTY_KEY ? HG_EMPTY_KEY : HG_TOMBSTONE_KEY;
+  hgClearAccum(slot);
+  HG_AT(hgCells, slot) = hgEmptyCell();
 }
 
 // A tombstone whose next slot is empty ends no chain any more: it becomes empty too.
@@ -145,13 +165,28 @@ void hgTidyTombstone(uint table, uint slot, uint capacity) {
   if (HG_AT(hgKeys, slot) == HG_TOMBSTONE_KEY && HG_AT(hgKeys, next) == HG_EMPTY_KEY) HG_AT(hgKeys, slot) = HG_EMPTY_KEY;
 }
 
+// Deferred claims, once per slot of `table` after the frame's inserts: a free slot that keys bid for
+// becomes the cell of the largest bid's key, empty, seen this frame (so resolve keeps it). True when it did.
+bool hgClaimAsked(uint table, uint slot, uint frameIndex) {
+  const uint64_t bid = HG_AT(hgAccum, table + slot).lum2;
+  const uint held = HG_AT(hgKeys, table + slot);
+  if (bid == 0ul || (held != HG_EMPTY_KEY && held != HG_TOMBSTONE_KEY)) return false;  // a live cell's sums are no bid
+  HG_AT(hgAccum, table + slot).lum2 = 0ul;
+  HG_AT(hgKeys, table + slot) = uint(bid & 0xfffffffful);  // free when bid for, and no slot changed hands since
+  HgCell c = hgEmptyCell();
+  c.lastSeen = frameIndex;
+  HG_AT(hgCells, table + slot) = c;
+  return true;
+}
+
 // Adds one sample (count 1: r, g, b, luminance², count), or more light for a
 // sample already counted (count 0: r, g, b only), with what the outlier clamp
 // took off it (`tail`, 3 more atomics where not zero). `radiance`, `tail` and
 // `momentLuminance` are already multiplied by the push constants'
 // radianceScale; the second moment is of `momentLuminance`, which the clamp
-// passes unclamped (hgInsertSample says why).
-void hgAccumulate(int slot, vec3 radiance, vec3 tail, float momentLuminance, uint count, inout bool overflowed) {
+// passes unclamped (hgInsertSample says why). Returns the frame's samples in
+// the cell before this one (0xffffffff for more light, count 0).
+uint hgAccumulate(int slot, vec3 radiance, vec3 tail, float momentLuminance, uint count, inout bool overflowed) {
   if (any(greaterThan(radiance + tail, vec3(float(HG_MAX_SAMPLE))))) overflowed = true;
   atomicAdd(HG_AT(hgAccum, slot).r, hgToFixed(radiance.r));
   atomicAdd(HG_AT(hgAccum, slot).g, hgToFixed(radiance.g));
@@ -161,9 +196,9 @@ void hgAccumulate(int slot, vec3 radiance, vec3 tail, float momentLuminance, uin
     atomicAdd(HG_AT(hgAccum, slot).tg, hgToFixed(tail.g));
     atomicAdd(HG_AT(hgAccum, slot).tb, hgToFixed(tail.b));
   }
-  if (count == 0u) return;
+  if (count == 0u) return 0xffffffffu;
   atomicAdd(HG_AT(hgAccum, slot).lum2, hgToFixed(min(momentLuminance * momentLuminance, float(HG_MAX_SAMPLE))));
-  atomicAdd(HG_AT(hgAccum, slot).count, count);
+  return atomicAdd(HG_AT(hgAccum, slot).count, count);
 }
 
 // Walk directions are stored octahedral in 2 × 16 bits (HgWalk::direction, HgCell::sentinelDirection).

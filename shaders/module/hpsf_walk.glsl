@@ -54,24 +54,33 @@ float hgPrimaryTravel(vec3 position) {
 // eviction; the one table with aging (resolve has not run yet this frame).
 uint hgReadTable() { return pc.strict != 0u ? pc.previousTable : pc.table; }
 
+// A bid's priority (deferred claims: hgInsertOrFind): random, and the same every run, since each invocation
+// makes the same inserts in the same order.
+uint hgBidCount = 0u;
+uint hgBidPriority() {
+  return hgHashPcg(hgHashPcg(gl_GlobalInvocationID.x ^ hgHashPcg(gl_GlobalInvocationID.y ^ pc.frameIndex)) + hgBidCount++);
+}
+
 // Adds a sample (count = 1 for a new sample, 0 for more light on one already
 // counted, which only finds the cell) to the cell (index, key) of this frame's table. Samples above the
 // cell's history mean + kσ of luminance are clamped so one firefly cannot
 // poison the cache. Returns the global slot, or -1 when the probe window is
-// full; `needsSentinel` when this invocation made the cell and the cell keeps a
-// stale-radiance sentinel, which the caller traces (HgSentinel) and stores (hgStoreSentinel).
+// full or (deferred claims) the cell is made after this frame's inserts; `needsSentinel` when this
+// invocation made the cell, or with deferred claims brings the first sample to a cell without one, and the
+// cell keeps a stale-radiance sentinel, which the caller traces (HgSentinel) and stores (hgStoreSentinel).
 int hgInsertSample(uint index, uint key, vec3 radiance, uint count, int lod, out bool needsSentinel) {
   uint probes;
   bool created;
   needsSentinel = false;
   // More light for a sample already counted belongs to an existing cell: it never makes one (a cell
   // holding light but no sample would pass that light on to whatever key claims the slot next).
-  int slot = hgInsertOrFind(pc.table, index, key, pc.capacity, pc.probeWindow, count > 0u, probes, created);
+  int slot = hgInsertOrFind(pc.table, index, key, pc.capacity, pc.probeWindow, count > 0u, pc.deferredClaims != 0u,
+                            hgBidPriority(), probes, created);
+  if (slot == HG_SLOT_ASKED) return -1;
   if (slot < 0) {
     hgFailedCount++;
     return -1;
   }
-  needsSentinel = created && pc.validationInterval > 0u;
   hgProbeCount += probes;
   hgProbeMax = max(hgProbeMax, probes);
   // With strict eviction the history is the same key's cell in the previous
@@ -110,8 +119,13 @@ int hgInsertSample(uint index, uint key, vec3 radiance, uint count, int lod, out
     }
   }
   bool overflowed = false;
-  hgAccumulate(slot, sample_ * pc.radianceScale, tail * pc.radianceScale, lum * pc.radianceScale, count, overflowed);
+  const uint before =
+      hgAccumulate(slot, sample_ * pc.radianceScale, tail * pc.radianceScale, lum * pc.radianceScale, count, overflowed);
   if (overflowed) hgOverflowCount++;
+  // A cell made by a deferred claim has no sentinel yet: the frame's first sample there traces it.
+  const bool unwatched = pc.deferredClaims != 0u && before == 0u && history.sentinelDistance == 0.0 &&
+                         history.sentinelLight == 0.0;
+  needsSentinel = (created || unwatched) && pc.validationInterval > 0u;
   HG_AT(hgCells, slot).previousLod = hgPackPreviousLod(linked, lod);  // every writer of this key writes the same value
   hgInsertedCount++;
   return slot;

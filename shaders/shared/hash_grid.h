@@ -39,7 +39,9 @@ GPU_CONST HG_LOD_CAMERA = 2u;        // L∞ distance from the camera, as for a 
 struct HgAccum {
   uint64_t r, g, b;   // Σ radiance (after the outlier clamp) · radianceScale · HG_FIXED_POINT_SCALE
   uint64_t tr, tg, tb;// Σ what the clamp took off (the tail), same units
-  uint64_t lum2;      // Σ (unclamped luminance · radianceScale)² · HG_FIXED_POINT_SCALE (the clamp's σ)
+  uint64_t lum2;      // Σ (unclamped luminance · radianceScale)² · HG_FIXED_POINT_SCALE (the clamp's σ).
+                      // A free slot sums nothing: with deferred claims (HgPush::deferredClaims) it holds the
+                      // largest bid for the slot this frame, priority << 32 | key (0 = none; hgInsertOrFind)
   uint count;         // samples this frame
   uint pad0;
 };
@@ -101,7 +103,7 @@ struct HgTelemetry {
   uint reads;         // nhpsf/anhpsf: last frame's map read at a path's scatter vertex
   uint readMisses;    // of those, reads that found no cell (or one without samples): that light is missing
   uint outOfBounds;   // ModuleDesc::checkBounds: indices outside the map's arrays (bounds.glsl)
-  uint pad0;
+  uint claimed;       // deferred claims: cells made this frame for the keys that asked (hpsf_claim.comp)
 };
 GPU_ASSERT_SIZE(HgTelemetry, 64);
 
@@ -309,7 +311,7 @@ struct HgPush {
   float normalJitter;     // ± normal bins, 0 = off
   uint secondaryLod;      // HG_LOD_*: the travel that sets the LOD at vertices after the first
   uint historySamples;    // aging, nhpsf/anhpsf: samples behind a cell's `recent` mean (0 = its whole history)
-  uint pad0;
+  uint deferredClaims;    // aging, 1: a missing key asks for a slot and gets it after the inserts (hgInsertOrFind)
   uint pad1;
   uint pad2;
 };

@@ -5,7 +5,8 @@
 //    (keyBase + i mod keyCount): count 1 inserts, count 0 only finds (as a
 //    continued path's extra light does);
 //  HG_STRESS_EVICT: thread i evicts key keyBase + i (as resolve does);
-//  HG_STRESS_TIDY: thread i tidies slot i (as resolve does for tombstones).
+//  HG_STRESS_TIDY: thread i tidies slot i (as resolve does for tombstones);
+//  HG_STRESS_CLAIM: thread i gives slot i to the key that asked for it (deferred claims).
 // With sameIndex = 1 every key starts probing at slot 0: one long chain.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
@@ -34,6 +35,10 @@ void main() {
     if (i < pc.capacity) hgTidyTombstone(0u, i, pc.capacity);
     return;
   }
+  if (pc.mode == HG_STRESS_CLAIM) {
+    if (i < pc.capacity) hgClaimAsked(0u, i, 0u);
+    return;
+  }
   if (i >= pc.keyCount * (pc.mode == HG_STRESS_INSERT ? pc.repeats : 1u)) return;
   HgDescriptor d = stressKey(pc.keyBase + i % pc.keyCount);
   uint index = pc.sameIndex != 0u ? 0u : hgIndexHash(d);
@@ -44,7 +49,9 @@ void main() {
   }
   uint probes;
   bool created;
-  int slot = hgInsertOrFind(0u, index, hgVerificationKey(d), pc.capacity, pc.window, pc.count > 0u, probes, created);
+  int slot = hgInsertOrFind(0u, index, hgVerificationKey(d), pc.capacity, pc.window, pc.count > 0u, pc.deferred != 0u, 0u,
+                            probes, created);
+  if (slot == HG_SLOT_ASKED) return;
   if (slot < 0) {
     atomicAdd(hgTelemetry.failedInserts, 1u);
     return;

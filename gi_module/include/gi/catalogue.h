@@ -69,6 +69,7 @@ enum class Pass : uint32_t {
   HpsfInsert,
   NhpsfPaths,
   AnhpsfPaths,
+  HpsfClaim,
   HpsfValidate,
   HpsfResolve,
   HpsfLookup,

@@ -335,6 +335,7 @@ struct FrameStats {
     uint32_t occupied = 0;            // live cells after this frame's resolve
     uint32_t inserts = 0;             // samples stored
     uint32_t failedInserts = 0;       // samples that found no slot within the probe window
+    uint32_t claimed = 0;             // hpsf.deferred_claims: cells made after this frame's inserts
     float meanProbe = 0.0f;           // slots probed per successful insert
     uint32_t maxProbe = 0;
     uint32_t evicted = 0;                // cells removed this frame

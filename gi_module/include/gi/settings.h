@@ -198,6 +198,11 @@ struct HpsfSettings {
                                     // cell was made); if the answer changed by more than the cell's noise, the
                                     // history is cut to match (docs/RESULTS.md, "stale radiance"). A static
                                     // scene answers bit-exactly the same. 0 = off, [0, 1000]
+  bool deferredClaims = false;      // aging: a key missing from the map asks for its first free slot and the
+                                    // largest key asking gets it after the frame's inserts, so which samples a
+                                    // full map turns away follows from the keys, not from the order the GPU ran
+                                    // them in: the same frames give the same image. A new cell's first samples
+                                    // come a frame later. Strict eviction claims at once.
   // nhpsf and anhpsf (hpsf, nhpsf and anhpsf share the map and the settings above):
   uint32_t pathDepth = 3;          // nhpsf: path segments per pixel and frame, each vertex filtered, [1, 16]
   uint32_t continuationDepth = 4;  // anhpsf: the longest path continued over frames, in segments, [2, 16]
