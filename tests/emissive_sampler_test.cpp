@@ -3,6 +3,7 @@
 // the same expectation as picking them by power, and less noise where many face away.
 #include <glm/gtc/matrix_transform.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -96,6 +97,54 @@ TEST_F(EmissiveSamplerTest, TheTreesPicksKeepPowersExpectationWithLessNoise) {
   EXPECT_NEAR(meanTree, meanPower, 0.01 * meanPower);
   EXPECT_LT(worst, 0.03);
   EXPECT_LT(mse[1], 0.8 * mse[0]) << "the tree skips the squares that cannot light a vertex (measured 0.73x)";
+}
+
+// Reservoirs over the emissive triangles (gi_reservoirs.comp: a triangle's sample point resampled by its
+// unshadowed light, reused over the frames and the neighbours; the primary hit's NEE then samples only the
+// sky, and its BSDF-sampled hits of the triangles count nothing). Raw's direct light, 64 frames
+// accumulated and averaged over 8 seeds, with the reservoirs and without (NEE down the triangles' tree with
+// MIS): the same image in mean (within 1.5%) and in every 8×8 block (within 5%); a frame after 15 with
+// reservoirs under 0.7× the error of one without; no pixel of a frame brighter than 4× the brightest of
+// the image without.
+TEST_F(EmissiveSamplerTest, ReservoirsResampleTheTrianglesWithTheirExpectation) {
+  LoadedScene s;
+  ASSERT_NO_FATAL_FAILURE(loadWith(emissiveField(), gpu::LIGHT_SAMPLER_TREE, s));
+  gi::Settings off, on;
+  off.maxBounces = on.maxBounces = 1;
+  off.reservoirs.enabled = false;
+  ASSERT_TRUE(on.reservoirs.enabled);
+  ASSERT_GT(gi::sceneInfo(s.gpu.scene).emissiveTriangles, on.reservoirs.emissiveMin);
+  constexpr uint32_t kSeeds = 8;
+  engine::FloatImage mean[2];
+  for (gi::Settings* settings : {&off, &on}) {
+    engine::FloatImage& sum = mean[settings == &on];
+    for (uint32_t seed = 1; seed <= kSeeds; ++seed) {
+      settings->seed = seed;
+      const engine::FloatImage run = rawDirectAfter(ctx, s, *settings, kSize, 64, true);
+      if (sum.pixels.empty())
+        sum = run;
+      else
+        for (size_t i = 0; i < sum.pixels.size(); ++i) sum.pixels[i] += run.pixels[i];
+    }
+    for (float& v : sum.pixels) v /= float(kSeeds);
+    settings->seed = 1;
+  }
+  const engine::FloatImage& truth = mean[0];
+  const float brightest = *std::max_element(truth.pixels.begin(), truth.pixels.end());
+  const double relative = meanOf(mean[1]) / meanOf(truth) - 1.0;
+  const double worst = worstBlockDifference(mean[1], truth, kSize);
+  const engine::FloatImage frameOff = rawDirectAfter(ctx, s, off, kSize, 16, false);
+  const engine::FloatImage frameOn = rawDirectAfter(ctx, s, on, kSize, 16, false);
+  const double error[2] = {metrics::mse(frameOff, truth), metrics::mse(frameOn, truth)};
+  const float peak = *std::max_element(frameOn.pixels.begin(), frameOn.pixels.end());
+  std::printf(
+      "emissive reservoirs: mean %+.2f%% of NEE's, worst 8x8 block %.2f%%; a frame's MSE %.3e against NEE's "
+      "%.3e (%.2fx); its brightest pixel %.2f of the image's\n",
+      100.0 * relative, 100.0 * worst, error[1], error[0], error[1] / error[0], peak / brightest);
+  EXPECT_LT(std::abs(relative), 0.015);
+  EXPECT_LT(worst, 0.05);
+  EXPECT_LT(error[1], 0.7 * error[0]);
+  EXPECT_LT(peak, 4.0f * brightest);
 }
 
 // The sky as one node beside the emissive triangles' tree (giSkySelection): the area lights' shadow ray

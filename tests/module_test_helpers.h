@@ -79,6 +79,18 @@ inline engine::ReferenceImages renderAnimatedFrames(const engine::Context& ctx, 
   return out;
 }
 
+// The direct output of `frames` frames of raw at size × size (direct light only: its indirect is apart),
+// still camera; with `accumulate`, their running mean.
+inline engine::FloatImage rawDirectAfter(const engine::Context& ctx, LoadedScene& s, gi::Settings settings,
+                                         uint32_t size, uint32_t frames, bool accumulate) {
+  settings.method = gi::Method::Raw;
+  settings.raw.temporalAccumulation = accumulate;
+  settings.raw.temporalReprojection = false;
+  settings.raw.maxAccumulatedFrames = frames;
+  const engine::SceneAnimation still = engine::makeSceneAnimation(s.scene);
+  return renderAnimatedFrames(ctx, s, still, settings, size, frames, false).direct;
+}
+
 inline bool sameBits(const engine::FloatImage& a, const engine::FloatImage& b) {
   return a.pixels.size() == b.pixels.size() &&
          std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(float)) == 0;

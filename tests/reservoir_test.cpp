@@ -24,16 +24,9 @@ double mseOf(const engine::FloatImage& a, const engine::FloatImage& b) {
   return sum / double(a.pixels.size());
 }
 
-// The direct output of `frames` frames of raw (direct light only: its indirect is apart), still camera;
-// with `accumulate`, their running mean.
-engine::FloatImage directAfter(const engine::Context& ctx, LoadedScene& s, gi::Settings settings, uint32_t frames,
-                               bool accumulate) {
-  settings.method = gi::Method::Raw;
-  settings.raw.temporalAccumulation = accumulate;
-  settings.raw.temporalReprojection = false;
-  settings.raw.maxAccumulatedFrames = frames;
-  const engine::SceneAnimation still = engine::makeSceneAnimation(s.scene);
-  return renderAnimatedFrames(ctx, s, still, settings, kSize, frames, false).direct;
+engine::FloatImage directAfter(const engine::Context& ctx, LoadedScene& s, const gi::Settings& settings,
+                               uint32_t frames, bool accumulate) {
+  return rawDirectAfter(ctx, s, settings, kSize, frames, accumulate);
 }
 
 }  // namespace
@@ -118,12 +111,13 @@ TEST_F(ReservoirTest, AScenesExactSumRunsNoReservoirPass) {
   for (const std::string& program : gi::programNames(session.module, on)) EXPECT_NE(program, "gi_reservoirs");
 }
 
-// Temporal gradients with reservoirs (temporal.glsl's giGradientPick): the gradient sample keeps the
+// Temporal gradients with reservoirs (temporal.glsl): the gradient sample keeps the
 // primary hit's light pick, and the tile's gradient path re-shades last frame's pick, so with nothing moving
 // last frame's sample repeats bit for bit (λ 0 in direct and indirect), and when the lights move the direct
-// light's gradient sees it (without the kept pick the direct λ stayed 0 whatever the lights did). The first
-// path shades with W as the packed word holds it: a half-float round trip written in GLSL was folded away by
-// the compiler, and the direct λ of still frames was then up to 2.3e-4 (printed, by hand).
+// light's gradient sees it (without the kept pick the direct λ stayed 0 whatever the lights did). The pick
+// is kept whole (the light and W's bits); the luminances are kept as half floats, and a re-shaded one whose
+// half is the kept one's counts as unchanged (a half-float round trip written in GLSL was folded away by the
+// compiler once, and the direct λ of still frames was then up to 2.3e-4).
 TEST_F(ReservoirTest, TemporalGradientsSeeMovedLightsThroughTheKeptPick) {
   LoadedScene s;
   ASSERT_NO_FATAL_FAILURE(loadWith(lightField(16, "reservoir_gradients"), gpu::LIGHT_SAMPLER_TREE, s));

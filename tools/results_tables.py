@@ -392,6 +392,15 @@ def lights(path):
         print(f"| {n} | {ms} | {int(at[methods[0]]['rays_per_frame']):,} | {ratio} |")
 
 
+def goal_cells(at, base, methods):
+    """Per method: GPU ms per frame, final MSE, and both over `base`'s (issue 31's goal columns)."""
+    cells = []
+    for m in methods:
+        ms, mse = float(at[m]["total_ms"]), float(at[m]["mse"])
+        cells.append(f"{ms:.1f} | {mse:.3e} | {ms / float(base[m]['total_ms']):.2f}×, {mse / float(base[m]['mse']):.2f}×")
+    return " | ".join(cells)
+
+
 def samplers(prefix):
     """The light samplers against the light count (scripts/bench samplers; runs PREFIX_<N>_<sampler>): per
     method GPU ms per frame, final MSE against the N's one reference, and both over the same method's with
@@ -409,12 +418,31 @@ def samplers(prefix):
           + " |")
     print("|---|---|" + "---|" * (3 * len(methods)))
     for (n, sampler), at in runs.items():
-        cells = []
-        for m in methods:
-            ms, mse = float(at[m]["total_ms"]), float(at[m]["mse"])
-            cells.append(f"{ms:.1f} | {mse:.3e} | {ms / float(base[m]['total_ms']):.2f}×, "
-                         f"{mse / float(base[m]['mse']):.2f}×")
-        print(f"| {n} | {sampler} | " + " | ".join(cells) + " |")
+        print(f"| {n} | {sampler} | " + goal_cells(at, base, methods) + " |")
+
+
+def emissive_reservoirs(prefix, default_min=16):
+    """Reservoirs over the emissive triangles against the panel count (scripts/bench emissive_reservoirs;
+    runs PREFIX_<N>): per N and reservoirs.enabled, per method GPU ms per frame, final MSE, and both over
+    the same method's at 4 panels with the defaults (no reservoirs: two triangles a panel, 8 not above
+    reservoirs.emissive_min), issue 31's goal (at most 1.5× each at 1024). "default": what the defaults run
+    at that N."""
+    methods = ["raw", "svgf", "hpsf"]
+    runs = {}
+    for n in ("4", "16", "64", "1024", "4096"):
+        path = f"{prefix}_{n}/results.csv"
+        if os.path.exists(path):
+            for r in rows(path):
+                value = r["label"].split("reservoirs.enabled=")[1].split()[0]
+                runs.setdefault((n, value), {})[r["method"]] = r
+    base = runs[("4", "0")]
+    print("| panels | reservoirs | default | " + " | ".join(f"{m} ms | {m} MSE | {m} against 4 panels" for m in methods)
+          + " |")
+    print("|---|---|---|" + "---|" * (3 * len(methods)))
+    for (n, value), at in runs.items():
+        default = (value == "1") == (2 * int(n) > default_min)
+        print(f"| {n} | {'on' if value == '1' else 'off'} | {'yes' if default else ''} | " +
+              goal_cells(at, base, methods) + " |")
 
 
 def per_frame(path, key):
@@ -897,6 +925,7 @@ KINDS = {
     "pathtracer": lambda a: pathtracer(a[0]),
     "lights": lambda a: lights(a[0]),
     "samplers": lambda a: samplers(a[0]),
+    "emissive_reservoirs": lambda a: emissive_reservoirs(a[0]),
     "configurations": lambda a: configurations(a),
     "pass_times": lambda a: pass_times(a),
     "ab": lambda a: ab(a[0], a[1], a[2], a[3:]),

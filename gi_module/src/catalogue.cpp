@@ -147,8 +147,12 @@ const SettingInfo kSettings[] = {
     GI_CHOICE("lights.sampler", lights.sampler,
               "NEE's light sampler: 0 the scene's, 1 every light, 2 one by power, 3 the tree's cut", 3, kEvery),
     restartsHistory(GI_BOOL("reservoirs.enabled", reservoirs.enabled,
-                            "resample the primary hits' picked point and spot lights through reservoirs (ReSTIR DI)",
+                            "resample the primary hits' picked point and spot lights and many emissive triangles "
+                            "through reservoirs (ReSTIR DI)",
                             kEvery)),
+    restartsHistory(GI_SETTING("reservoirs.emissive_min", reservoirs.emissiveMin, "triangles",
+                               "resample the emissive triangles where the scene has more than this many", Uint, 0,
+                               1 << 22, false, kEvery)),
     GI_SETTING("reservoirs.candidates", reservoirs.candidates, "lights", "lights drawn per pixel and frame", Uint, 1,
                64, false, kEvery),
     GI_BOOL("reservoirs.temporal", reservoirs.temporal,

@@ -128,6 +128,13 @@ void beginFrame(Module& m, VkCommandBuffer cmd, uint32_t slot, const FrameInputs
                     VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
 }
 
+// GiFrameConstants::primaryDirect: the engine's, NEE's, or the reservoirs' for what they hold.
+uint32_t primaryDirect(const MethodPlan& plan, const Settings& s) {
+  if (s.indirectOnly) return gpu::GI_PRIMARY_DIRECT_NONE;
+  return (plan.reservoirPunctual ? gpu::GI_PRIMARY_DIRECT_RESERVOIRS : gpu::GI_PRIMARY_DIRECT_NEE) |
+         (plan.reservoirEmissive ? gpu::GI_PRIMARY_DIRECT_EMISSIVE : 0u);
+}
+
 // `secondaryWidth`: how much wider the cells after the first vertex are (gi::hashSecondaryWidth).
 void recordHashPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const gpu::GiFrameConstants& frame, uint32_t spp,
                       float secondaryWidth) {
@@ -385,9 +392,7 @@ gpu::GiFrameConstants frameConstants(const Module& m, const FrameInputs& in, con
           noisyIsOutput ? outputMax : largestFinite(noisyFormat),
           lightScale(m, historyFormat),
           largestFinite(historyFormat),
-          s.indirectOnly      ? gpu::GI_PRIMARY_DIRECT_NONE
-          : m.plan.reservoirs ? gpu::GI_PRIMARY_DIRECT_RESERVOIRS
-                              : gpu::GI_PRIMARY_DIRECT_NEE,
+          primaryDirect(m.plan, s),
           m.plan.lightSampler,
           glm::inverse(clipFromView(in.camera)),
           motionPixelsPerUnit(m.desc.gbuffer, m.width, m.height),

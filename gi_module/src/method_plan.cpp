@@ -20,7 +20,11 @@ MethodPlan planMethod(const SceneDesc& scene, const Settings& s) {
   p.packedHistory = p.temporalPass && p.hashGrid && !p.clampsHashIndirect;
   p.temporalGradients = s.temporal.gradients && p.temporalPass && !p.hashGrid && !p.aaf;
   p.historyClamp = s.temporal.historyClamp > 0.0f && p.temporalPass;
-  p.reservoirs = s.reservoirs.enabled && !s.indirectOnly && p.picksPunctualLights;
+  const bool resamples = s.reservoirs.enabled && !s.indirectOnly;
+  p.reservoirPunctual = resamples && p.picksPunctualLights;
+  p.reservoirEmissive =
+      resamples && scene.emissiveTriangles > s.reservoirs.emissiveMin && scene.emissiveTriangles <= (1u << 22);
+  p.reservoirs = p.reservoirPunctual || p.reservoirEmissive;
   p.reservoirTemporal = p.reservoirs && s.reservoirs.temporal && !p.temporalPass;
   p.validatesHashCells = p.hashGrid && s.hpsf.eviction == EvictionPolicy::Aging && s.hpsf.validationInterval > 0;
   p.defersHashClaims = p.hashGrid && s.hpsf.eviction == EvictionPolicy::Aging && s.hpsf.deferredClaims;

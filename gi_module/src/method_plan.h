@@ -39,7 +39,12 @@ struct MethodPlan {
   // start there (not the hash methods, not AAF).
   bool temporalGradients = false;
   bool historyClamp = false;  // the temporal pass clamps the history to this frame's samples
-  bool reservoirs = false;    // the reservoir passes: asked for, and NEE picks among point and spot lights
+  bool reservoirs = false;    // the reservoir passes: reservoirPunctual or reservoirEmissive
+  // The reservoirs resample the point and spot lights where NEE would pick among them, and the emissive
+  // triangles where there are more than ReservoirSettings::emissiveMin of them (and at most 2^22: the
+  // reservoir's word keeps 8 bits for the sample point); the rest stays NEE's.
+  bool reservoirPunctual = false;
+  bool reservoirEmissive = false;
   // Last frame's reservoir is merged (ReservoirSettings::temporal) only where no temporal pass averages the
   // direct light over frames: the reuse makes a pixel's successive picks alike, and a history of alike
   // samples averages less noise away than one of fresh picks (docs/RESULTS.md, "Reservoirs").

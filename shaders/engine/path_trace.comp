@@ -71,6 +71,8 @@ void giTaskTakeNee(inout GiTask task, vec3 light, GiRng rng) {
 // The engine's program: its reads are never checked (bounds.glsl).
 GI_BOUNDS_UNCHECKED
 uint giLightSampler() { return sceneConstants().lightSampler; }  // the reference follows the scene
+bool giReservoirsHoldPunctual() { return false; }                // and has no reservoirs
+bool giReservoirsHoldEmissive() { return false; }
 
 PathResult tracePath(uvec2 pixel, uint sampleIndex) {
   GiTask task;

@@ -53,6 +53,9 @@ vec3 giOctahedralDecode(vec2 e) {  // e in [-1,1]²; not normalised
 // GI_NO_NEE: no next-event estimation at all at this vertex (a primary hit the engine lights itself).
 const uvec2 GI_NO_RESERVOIR = uvec2(0xffffffffu, 0u);
 const uint GI_RESERVOIR_EMPTY = 0xfffffffeu;
+// A reservoir's light with this bit is an emissive triangle's sample point (lights.glsl's
+// giPackEmissiveSample); without it, a punctual light's index.
+const uint GI_RESERVOIR_EMISSIVE = 0x80000000u;
 const uvec2 GI_NO_NEE = uvec2(0xfffffffdu, 0u);
 bool giUsesReservoir(uvec2 reservoir) { return reservoir.x != GI_NO_RESERVOIR.x && reservoir.x != GI_NO_NEE.x; }
 

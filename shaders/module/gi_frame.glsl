@@ -62,12 +62,16 @@ GI_COUNT_PIXELS_OUTSIDE_INTO(giCounters.boundsViolations)
 GI_COUNT_TEXELS_OUTSIDE_INTO(giCounters.boundsViolations)
 
 uint giLightSampler() { return giFrame.lightSampler; }
+bool giReservoirsHoldPunctual() { return (giFrame.primaryDirect & GI_PRIMARY_DIRECT_RESERVOIRS) != 0u; }
+bool giReservoirsHoldEmissive() { return (giFrame.primaryDirect & GI_PRIMARY_DIRECT_EMISSIVE) != 0u; }
+// The frame's primary hits take their reservoir's light (gi_reservoirs.comp).
+bool giFrameHasReservoirs() { return giReservoirsHoldPunctual() || giReservoirsHoldEmissive(); }
 
 // The pixel's reservoir for its primary hit's NEE (reservoirs.glsl), GI_NO_RESERVOIR when the frame has none,
 // or GI_NO_NEE when the engine lights the primary hits.
 uvec2 giPrimaryReservoir(ivec2 p) {
   if (giFrame.primaryDirect == GI_PRIMARY_DIRECT_NONE) return GI_NO_NEE;
-  return giFrame.primaryDirect == GI_PRIMARY_DIRECT_RESERVOIRS ? imageLoad(giReservoirPick, p).xy : GI_NO_RESERVOIR;
+  return giFrameHasReservoirs() ? imageLoad(giReservoirPick, p).xy : GI_NO_RESERVOIR;
 }
 
 // Output images hold radiance × outputScale, clamped into the format's range

@@ -15,7 +15,7 @@ layout(push_constant, scalar) uniform Push { GiRawPush pc; };
 
 // Temporal gradients: this frame's first samples go to the set the temporal pass writes.
 void giStoreGradientSample(ivec2 p, vec2 luminance, uint state, uvec2 pick) {
-  const uvec4 v = uvec4(floatBitsToUint(luminance), state, giPackGradientPick(pick));
+  const uvec4 v = uvec4(giPackGradientLuminance(luminance), state, pick);
   if (pc.readSet == 0u) imageStore(giGradientSamplesB, p, v);
   else imageStore(giGradientSamplesA, p, v);
 }
@@ -42,9 +42,7 @@ void main() {
       GiSurface s = giGbSurface(p, V);
       filterVertex = giHasDiffuseLobe(s.material);
       float kept = 0.0;
-      // With gradients the reservoir's pick as the gradient sample keeps it (temporal.glsl).
       reservoir = giPrimaryReservoir(p);
-      if (pc.gradients != 0u && giUsesReservoir(reservoir)) reservoir = giGradientPick(reservoir);
       for (uint i = 0u; i < pc.samplesPerPixel; ++i) {
         GiRng rng = giRngCreate(uvec2(p), giFrame.frameIndex * pc.samplesPerPixel + i, pc.seed, GI_STREAM_MODULE);
         if (i == 0u) firstState = rng.state;

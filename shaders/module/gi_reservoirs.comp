@@ -1,10 +1,13 @@
 #version 460
-// Reservoir resampling of the primary hits' point and spot lights (ReSTIR DI,
-// Bitterli et al. 2020), shared by every method (ReservoirSettings). A
-// reservoir holds one light y, the samples M behind it and its weight W, an
-// estimate of 1 / p(y) for the target p̂ = the luminance of the light's
-// unshadowed reflected light f·Le·G: the pixel's direct light from its point
-// and spot lights is then f·Le·G·V(y)·W, one shadow ray.
+// Reservoir resampling of the primary hits' point and spot lights and emissive
+// triangles (ReSTIR DI, Bitterli et al. 2020), shared by every method
+// (ReservoirSettings). A reservoir holds one light y, the samples M behind it
+// and its weight W, an estimate of 1 / p(y) for the target p̂ = the luminance
+// of the light's unshadowed reflected light f·Le·G: the pixel's direct light
+// from the lights the reservoirs hold is then f·Le·G·V(y)·W, one shadow ray.
+// y is a punctual light (p̂ and p counted per light) or a point of an
+// emissive triangle (per unit of area: lights.glsl's giPackEmissiveSample),
+// as GiFrameConstants::primaryDirect says the frame's reservoirs hold them.
 //   GI_RESERVOIR_TEMPORAL: `candidates` lights drawn from the scene's light
 //     sampler (the tree's importance or power) are resampled by p̂ / pdf;
 //     last frame's temporal reservoir at the pixel's reprojection is merged
@@ -20,7 +23,7 @@
 //     not a mix of its neighbours' (measured: fed back, in a room of a
 //     thousand lamps whose best lights change from pixel to pixel, the
 //     neighbours' samples diluted each pixel's own history).
-// Directional lights are traced at every vertex as before: p̂ = 0 here.
+// Directional lights and the sky are NEE's at every vertex as before: p̂ = 0 here.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #include "gi_frame.glsl"
@@ -39,14 +42,12 @@ struct GiReservoir {
 
 GiReservoir giEmptyReservoir() { return GiReservoir(GI_RESERVOIR_EMPTY, 0.0, 0.0, 0.0); }
 
-// p̂: the luminance of the light's unshadowed reflected light at s (0 for directional lights and none).
+// p̂: the luminance of the light's unshadowed reflected light at s (0 for directional lights, none, and
+// lights the frame's reservoirs do not hold: giPrepareReservoirLight).
 float giReservoirTarget(uint light, GiSurface s, GiBsdf b, vec3 V) {
-  // Directional lights are NEE's at every vertex; an index past the table is last frame's after
-  // gi::updateLights shrank it.
-  const GpuSceneConstants c = sceneConstants();
-  if (light < c.directionalLightCount || light >= c.punctualLightCount) return 0.0;
+  if (light == GI_RESERVOIR_EMPTY) return 0.0;
   GiShadowRay ray;
-  return giPreparePunctual(light, s, b, V, ray) ? giLuminance(ray.contribution) : 0.0;
+  return giPrepareReservoirLight(light, s, b, V, ray) ? giLuminance(ray.contribution) : 0.0;
 }
 
 // Streams in a sample of weight w (p̂/pdf for a candidate, p̂·W·M for a reservoir) standing for M samples.
@@ -60,10 +61,31 @@ void giReservoirMerge(inout GiReservoir r, uint light, float target, float weigh
   }
 }
 
-// A light from the scene's sampler and its chance (0: none can light x).
-uint giReservoirCandidate(GiSurface s, float u, out float chance) {
-  if (giLightSampler() == LIGHT_SAMPLER_TREE) return giPickFromTree(false, 0u, s.position, s.geometricNormal, u, chance);
-  return giPickPunctual(u, chance);
+// A candidate from the scene's samplers and its density (0: none can light x): a punctual light and its
+// chance, or an emissive triangle's sample point and its chance over the triangle's area. Where the
+// reservoirs hold both, each is drawn half of the time.
+uint giReservoirCandidate(GiSurface s, inout GiRng rng, out float density) {
+  const float emissiveShare = giReservoirsHoldEmissive() ? (giReservoirsHoldPunctual() ? 0.5 : 1.0) : 0.0;
+  if (emissiveShare >= 1.0 || (emissiveShare > 0.0 && giRandom(rng) < emissiveShare)) {
+    const bool tree = giEmissiveTree();
+    float chance = 1.0;
+    const uint k = tree ? giPickFromTree(true, 0u, s.position, s.geometricNormal, giRandom(rng), chance)
+                        : giPickEmissiveTriangle(giRandom(rng));
+    if (!tree) chance = giEmissiveTriangleChance(k);
+    const uint id = giPackEmissiveSample(k, giRandom2(rng));
+    const GpuEmissiveTriangle e = sceneEmissiveTriangle(k);
+    vec3 p0, p1, p2;
+    giTriangleWorld(e.instance, sceneTriangle(e.geometry, e.triangle), p0, p1, p2);
+    const float area = giTriangleArea(p0, p1, p2);
+    density = area > 0.0 ? emissiveShare * chance / area : 0.0;
+    return id;
+  }
+  uint light;
+  if (giLightSampler() == LIGHT_SAMPLER_TREE)
+    light = giPickFromTree(false, 0u, s.position, s.geometricNormal, giRandom(rng), density);
+  else light = giPickPunctual(giRandom(rng), density);
+  density *= 1.0 - emissiveShare;
+  return light;
 }
 
 uvec4 giStoredReservoir(GiReservoir r, float W, uint guide) {
@@ -82,10 +104,10 @@ uvec4 giLoadReservoir(ivec2 p, bool current) {
 uvec4 giTemporalReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float depth, uint guide, inout GiRng rng) {
   GiReservoir r = giEmptyReservoir();
   for (uint i = 0u; i < pc.candidates; ++i) {
-    float chance;
-    const uint light = giReservoirCandidate(s, giRandom(rng), chance);
-    const float target = chance > 0.0 ? giReservoirTarget(light, s, b, V) : 0.0;
-    giReservoirMerge(r, light, target, target / max(chance, 1e-30), 1.0, giRandom(rng));
+    float density;
+    const uint light = giReservoirCandidate(s, rng, density);
+    const float target = density > 0.0 ? giReservoirTarget(light, s, b, V) : 0.0;
+    giReservoirMerge(r, light, target, target / max(density, 1e-30), 1.0, giRandom(rng));
   }
   const ivec2 q = ivec2(floor(giPreviousPosition(p)));
   if (pc.temporal != 0u && giInPreviousFrame(q)) {
@@ -156,7 +178,7 @@ uvec4 giSpatialReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float d
   // The survivor's shadow ray: an occluded light brings nothing this frame (the reservoirs that are
   // reused keep estimating the unshadowed light, whose visibility the pixel that picks it tests).
   GiShadowRay shadow;
-  if (W > 0.0 && giPreparePunctual(r.light, s, b, V, shadow) &&
+  if (W > 0.0 && giPrepareReservoirLight(r.light, s, b, V, shadow) &&
       !giTraceVisible(shadow.origin, shadow.direction, 0.0, shadow.tMax))
     W = 0.0;
   return uvec4(r.light, floatBitsToUint(W), 0u, 0u);

@@ -4,7 +4,7 @@
 // reprojected pixel's first path had last frame, and the tile keeps the
 // change of the two samples' luminances and the larger of them (direct over
 // the base colour, demodulated indirect); zero where the pixel has no source.
-// With reservoirs the path shades with last frame's light pick (temporal.glsl's giGradientPick).
+// With reservoirs the path shades with last frame's light pick (temporal.glsl).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #include "path_task.glsl"
@@ -26,17 +26,20 @@ void main() {
       vec3 V;
       const GiSurface s = giGbSurface(p, V);
       GiRng rng;
-      rng.state = source.z;
+      rng.state = source.y;
       // With reservoirs, last frame's light pick (the light and W its first path shaded with).
-      const uvec2 reservoir = giFrame.primaryDirect == GI_PRIMARY_DIRECT_RESERVOIRS ? giUnpackGradientPick(source.w)
+      const uvec2 reservoir = giFrameHasReservoirs() ? source.zw
                               : giFrame.primaryDirect == GI_PRIMARY_DIRECT_NONE     ? GI_NO_NEE
                                                                                     : GI_NO_RESERVOIR;
       const GiPathSample path = giTracePathFromSurface(s, V, pc.maxBounces, pc.russianRouletteStart, reservoir, rng);
       const vec2 now = giKeepSample(path.direct, path.indirectDemod)
                            ? giGradientLuminance(path.direct, path.indirectDemod, p)
                            : vec2(0.0);
-      const vec2 then = uintBitsToFloat(source.xy);
-      gradient = vec4(now.x - then.x, max(now.x, then.x), now.y - then.y, max(now.y, then.y));
+      const vec2 then = unpackHalf2x16(source.x);
+      const uint packed = giPackGradientLuminance(now);
+      const bvec2 same = bvec2((packed & 0xffffu) == (source.x & 0xffffu), (packed >> 16u) == (source.x >> 16u));
+      gradient = vec4(same.x ? 0.0 : now.x - then.x, max(now.x, then.x), same.y ? 0.0 : now.y - then.y,
+                      max(now.y, then.y));
       traced = true;
     }
     imageStore(giTemporalGradient, tile, gradient);

@@ -30,6 +30,11 @@ struct GiShadowRay {
 // NEE's light sampler (LIGHT_SAMPLER_*): every program that runs NEE defines it, the module's from its
 // frame constants (gi::LightSettings, gi_frame.glsl), the reference path tracer the scene's.
 uint giLightSampler();
+// What a primary hit's reservoir (gi_reservoirs.comp) stands for, where NEE is handed one: the point and
+// spot lights, the emissive triangles, or both (GiFrameConstants::primaryDirect); the others are NEE's own.
+// The reference path tracer has no reservoirs.
+bool giReservoirsHoldPunctual();
+bool giReservoirsHoldEmissive();
 
 
 uint giPickEmissiveTriangle(float u) {
@@ -122,6 +127,42 @@ float giTreeLeafChance(bool emissive, uint leaf, vec3 x, vec3 ng) {
   return chance;
 }
 
+// Emissive triangle k's point at u ∈ [0,1)² (a warp uniform in area) seen from s: the shadow ray towards
+// it, with f·Le in ray.contribution (the caller weighs it); L the direction to the point, dist2 its squared
+// distance, cosLight the cosine at the emitter and area the triangle's (m²). False when it cannot light s.
+bool giEmissivePoint(uint k, vec2 u, GiSurface s, GiBsdf b, vec3 V, out GiShadowRay ray, out vec3 L, out float dist2,
+                     out float cosLight, out float area) {
+  GpuEmissiveTriangle e = sceneEmissiveTriangle(k);
+  uvec3 tri = sceneTriangle(e.geometry, e.triangle);
+  float su = sqrt(u.x);
+  vec3 w = vec3(1.0 - su, su * (1.0 - u.y), su * u.y);
+  vec3 p0, p1, p2, ns, ng;
+  giTriangleWorld(e.instance, tri, p0, p1, p2);
+  vec3 y = p0 * w.x + p1 * w.y + p2 * w.z;
+  giTriangleNormals(e.instance, tri, w, p0, p1, p2, ns, ng);
+  vec3 toLight = y - s.position;
+  dist2 = dot(toLight, toLight);
+  if (!(dist2 > 0.0)) return false;
+  float dist = sqrt(dist2);
+  L = toLight / dist;
+  cosLight = dot(ng, -L);
+  if (cosLight <= 0.0) return false;  // emission is one-sided
+  vec3 f = giBsdfEval(b, s.normal, V, L);
+  if (dot(s.geometricNormal, L) <= 0.0 || giMaxComponent(f) <= 0.0) return false;
+  GpuMaterial m = sceneMaterialData(sceneGeometry(e.geometry).material);
+  vec3 Le = m.emission;
+  if (m.emissiveTexture != NO_TEXTURE) Le *= sceneTexture(m.emissiveTexture, sceneUv(tri, w)).rgb;
+  area = giTriangleArea(p0, p1, p2);
+  if (!(area > 0.0)) return false;  // deformed to a sliver: it emits nothing
+  ray.origin = giOffsetRay(s.position, s.geometricNormal);
+  vec3 seg = giOffsetRay(y, -L) - ray.origin;
+  ray.tMax = length(seg);
+  if (!(ray.tMax > 0.0)) return false;
+  ray.direction = seg / ray.tMax;
+  ray.contribution = f * Le;
+  return true;
+}
+
 // The emissive triangle's shadow ray, picked with probability `selection`.
 // withMis: weight against BSDF sampling (the caller also adds BSDF-sampled emission).
 bool giPrepareEmissive(GiSurface s, GiBsdf b, vec3 V, bool withMis, float selection, inout GiRng rng, out GiShadowRay ray) {
@@ -130,39 +171,33 @@ bool giPrepareEmissive(GiSurface s, GiBsdf b, vec3 V, bool withMis, float select
   const uint k = tree ? giPickFromTree(true, 0u, s.position, s.geometricNormal, giRandom(rng), chance)
                       : giPickEmissiveTriangle(giRandom(rng));
   if (!(chance > 0.0)) return false;  // none of the triangles can light s
-  GpuEmissiveTriangle e = sceneEmissiveTriangle(k);
-  uvec3 tri = sceneTriangle(e.geometry, e.triangle);
-  vec2 u = giRandom2(rng);
-  float su = sqrt(u.x);
-  vec3 w = vec3(1.0 - su, su * (1.0 - u.y), su * u.y);
-  vec3 p0, p1, p2, ns, ng;
-  giTriangleWorld(e.instance, tri, p0, p1, p2);
-  vec3 y = p0 * w.x + p1 * w.y + p2 * w.z;
-  giTriangleNormals(e.instance, tri, w, p0, p1, p2, ns, ng);
-  vec3 toLight = y - s.position;
-  float dist2 = dot(toLight, toLight);
-  if (!(dist2 > 0.0)) return false;
-  float dist = sqrt(dist2);
-  vec3 L = toLight / dist;
-  float cosLight = dot(ng, -L);
-  if (cosLight <= 0.0) return false;  // emission is one-sided
-  vec3 f = giBsdfEval(b, s.normal, V, L);
-  if (dot(s.geometricNormal, L) <= 0.0 || giMaxComponent(f) <= 0.0) return false;
-  GpuMaterial m = sceneMaterialData(sceneGeometry(e.geometry).material);
-  vec3 Le = m.emission;
-  if (m.emissiveTexture != NO_TEXTURE) Le *= sceneTexture(m.emissiveTexture, sceneUv(tri, w)).rgb;
-  const float area = giTriangleArea(p0, p1, p2);
-  if (!(area > 0.0)) return false;  // deformed to a sliver: it emits nothing
+  vec3 L;
+  float dist2, cosLight, area;
+  if (!giEmissivePoint(k, giRandom2(rng), s, b, V, ray, L, dist2, cosLight, area)) return false;
   const float areaPdf = (tree ? chance : giEmissiveTriangleChance(k)) / area;
   float lightPdf = selection * (areaPdf * dist2 / cosLight);
-  ray.origin = giOffsetRay(s.position, s.geometricNormal);
-  vec3 seg = giOffsetRay(y, -L) - ray.origin;
-  ray.tMax = length(seg);
-  if (!(ray.tMax > 0.0)) return false;
-  ray.direction = seg / ray.tMax;
   float mis = withMis ? giPowerHeuristic(lightPdf, giBsdfPdf(b, s.normal, V, L)) : 1.0;
-  ray.contribution = f * Le * (mis / lightPdf);
+  ray.contribution = ray.contribution * (mis / lightPdf);
   return true;
+}
+
+// A reservoir's emissive sample (GI_RESERVOIR_EMISSIVE): the triangle's entry k in the low
+// giEmissiveIndexBits() bits, above them the cell of a grid of 2^g × 2^g over the point's u (g =
+// giEmissiveGridBits(): the bits the table's size leaves, at most 11, keeping bit 30 clear so that no
+// sample reads as GI_RESERVOIR_EMPTY or the other markers). The sample is the cell's centre: the
+// reservoirs resample a fixed point of the triangle (from 2^8 to 2^22 of them), which the neighbours and
+// the next frame can reuse.
+uint giEmissiveIndexBits() { return uint(findMSB(max(sceneConstants().emissiveTriangleCount, 2u) - 1u)) + 1u; }
+uint giEmissiveGridBits() { return min((30u - giEmissiveIndexBits()) / 2u, 11u); }
+uint giPackEmissiveSample(uint k, vec2 u) {
+  const uint g = giEmissiveGridBits(), n = 1u << g;
+  const uvec2 cell = min(uvec2(u * float(n)), uvec2(n - 1u));
+  return GI_RESERVOIR_EMISSIVE | (((cell.y << g) | cell.x) << giEmissiveIndexBits()) | k;
+}
+uint giEmissiveSampleTriangle(uint id) { return id & ((1u << giEmissiveIndexBits()) - 1u); }
+vec2 giEmissiveSampleUv(uint id) {
+  const uint g = giEmissiveGridBits(), cells = (id & ~GI_RESERVOIR_EMISSIVE) >> giEmissiveIndexBits();
+  return (vec2(cells & ((1u << g) - 1u), cells >> g) + 0.5) / float(1u << g);
 }
 
 // Punctual light i's shadow ray; false when it cannot light s.
@@ -203,13 +238,34 @@ bool giPreparePunctual(uint i, GiSurface s, GiBsdf b, vec3 V, out GiShadowRay ra
   return true;
 }
 
+// A reservoir's light (a punctual light, or an emissive triangle's sample point): its shadow ray and, in
+// ray.contribution, the light it sends towards V unshadowed, per the measure the reservoirs sample it in:
+// f·I/d² for a punctual light, f·Le·cos θ_y / d² per unit of emitter area for a triangle's point. False
+// when it cannot light s, or it is not one of the lights the reservoirs hold now.
+bool giPrepareReservoirLight(uint id, GiSurface s, GiBsdf b, vec3 V, out GiShadowRay ray) {
+  const GpuSceneConstants c = sceneConstants();
+  if ((id & GI_RESERVOIR_EMISSIVE) == 0u) {
+    // Directional lights are NEE's at every vertex; an index past the table is last frame's after
+    // gi::updateLights shrank it.
+    if (!giReservoirsHoldPunctual() || id < c.directionalLightCount || id >= c.punctualLightCount) return false;
+    return giPreparePunctual(id, s, b, V, ray);
+  }
+  const uint k = giEmissiveSampleTriangle(id);
+  if (!GI_SCENE_HAS_EMISSIVE || !giReservoirsHoldEmissive() || k >= c.emissiveTriangleCount) return false;
+  vec3 L;
+  float dist2, cosLight, area;
+  if (!giEmissivePoint(k, giEmissiveSampleUv(id), s, b, V, ray, L, dist2, cosLight, area)) return false;
+  ray.contribution *= cosLight / dist2;
+  return true;
+}
+
 // Probability that the area-light shadow ray from x (geometric normal ng) goes to the sky, where emissive
-// triangles and a sampled sky share it: where the triangles are picked down their tree (giEmissiveTree)
+// triangles (unless a reservoir holds them: `withTriangles` false) and a sampled sky share it: where the triangles are picked down their tree (giEmissiveTree)
 // the sky is one more node beside it, chosen by its irradiance against the root's importance at x (all of it where
 // no triangle can light x); else 1/2. All or nothing where only one of them is there. With MIS a constant
 // sky is not sampled (BSDF sampling finds it), so it takes no share.
-float giSkySelection(bool withMis, vec3 x, vec3 ng) {
-  bool emissive = GI_SCENE_HAS_EMISSIVE && sceneConstants().emissiveTriangleCount > 0u;
+float giSkySelection(bool withMis, bool withTriangles, vec3 x, vec3 ng) {
+  bool emissive = withTriangles && GI_SCENE_HAS_EMISSIVE && sceneConstants().emissiveTriangleCount > 0u;
   bool sky = GI_SCENE_HAS_SKY && (giSkyHasMap() || !withMis) && giMaxComponent(sceneConstants().skyRadiance) > 0.0;
   if (!sky) return 0.0;
   if (!emissive) return 1.0;
@@ -243,17 +299,18 @@ float giEmissiveNeePdf(GiSurface s, GiHit hit, vec3 origin, GiSurface from) {
   const float area = giTriangleArea(p0, p1, p2);
   if (!(area > 0.0)) return 0.0;
   const float areaPdf = chance / area;
-  return (1.0 - giSkySelection(true, from.position, from.geometricNormal)) * areaPdf * dist2 / max(cosLight, 1e-8);
+  return (1.0 - giSkySelection(true, true, from.position, from.geometricNormal)) * areaPdf * dist2 / max(cosLight, 1e-8);
 }
-float giSkyNeePdf(vec3 dir, GiSurface from) {
-  return giSkySelection(true, from.position, from.geometricNormal) * giSkyLightPdf(dir);
+float giSkyNeePdf(vec3 dir, GiSurface from, bool triangles) {
+  return giSkySelection(true, triangles, from.position, from.geometricNormal) * giSkyLightPdf(dir);
 }
 
 // The area lights' one shadow ray (giSkySelection shares it between the sky
-// and the emissive triangles); false when there is none or it cannot light s.
-bool giPrepareArea(GiSurface s, GiBsdf b, vec3 V, bool withMis, inout GiRng rng, out GiShadowRay ray) {
-  bool emissive = GI_SCENE_HAS_EMISSIVE && sceneConstants().emissiveTriangleCount > 0u;
-  float skyChance = giSkySelection(withMis, s.position, s.geometricNormal);
+// and the emissive triangles, unless a reservoir holds those: `triangles` false); false when there is none
+// or it cannot light s.
+bool giPrepareArea(GiSurface s, GiBsdf b, vec3 V, bool withMis, bool triangles, inout GiRng rng, out GiShadowRay ray) {
+  bool emissive = triangles && GI_SCENE_HAS_EMISSIVE && sceneConstants().emissiveTriangleCount > 0u;
+  float skyChance = giSkySelection(withMis, triangles, s.position, s.geometricNormal);
   if (!emissive && !(skyChance > 0.0)) return false;
   // Scenes without a sky draw no extra random number: their paths are as before.
   bool pickSky = skyChance >= 1.0 || (skyChance > 0.0 && giRandom(rng) < skyChance);
@@ -274,16 +331,17 @@ uint giPickPunctual(float u, out float chance) {
 }
 
 // The turns NEE takes for the punctual lights: one a light (all); one in all when a light picked by power
-// stands for them (power); one a directional light and one a subtree of the cut (tree); with a reservoir,
-// one a directional light and one for the reservoir's light. A picked light brings its light over its
-// chance of being picked.
+// stands for them (power); one a directional light and one a subtree of the cut (tree); with a reservoir
+// that holds them, one a directional light. A picked light brings its light over its chance of being
+// picked. With a reservoir, one more, the last, for the reservoir's light.
 uint giNeePunctualTurns(uvec2 reservoir) {
-  if (!GI_SCENE_HAS_PUNCTUAL) return 0u;
+  const uint reservoirTurn = giUsesReservoir(reservoir) ? 1u : 0u;
+  if (!GI_SCENE_HAS_PUNCTUAL) return reservoirTurn;
   const GpuSceneConstants c = sceneConstants();
-  if (giUsesReservoir(reservoir)) return c.directionalLightCount + 1u;
-  if (giLightSampler() == LIGHT_SAMPLER_POWER) return min(c.punctualLightCount, 1u);
-  if (giLightSampler() == LIGHT_SAMPLER_TREE) return c.directionalLightCount + c.lightCutSize;
-  return c.punctualLightCount;
+  if (reservoirTurn > 0u && giReservoirsHoldPunctual()) return c.directionalLightCount + 1u;
+  if (giLightSampler() == LIGHT_SAMPLER_POWER) return min(c.punctualLightCount, 1u) + reservoirTurn;
+  if (giLightSampler() == LIGHT_SAMPLER_TREE) return c.directionalLightCount + c.lightCutSize + reservoirTurn;
+  return c.punctualLightCount + reservoirTurn;
 }
 
 // Next-event estimation at one surface as a ray machine: giNeeNextRay tries
@@ -319,7 +377,7 @@ bool giNeeNextRay(inout GiNee nee, GiSurface s, GiBsdf b, vec3 V, bool withMis, 
     // The reservoir's light, weighed by its W: its shadow ray was traced by the reservoir pass (W = 0
     // where it is occluded), so it brings its light without one.
     const float W = uintBitsToFloat(nee.reservoir.y);
-    if (nee.reservoir.x != GI_RESERVOIR_EMPTY && W > 0.0 && giPreparePunctual(nee.reservoir.x, s, b, V, shadow))
+    if (nee.reservoir.x != GI_RESERVOIR_EMPTY && W > 0.0 && giPrepareReservoirLight(nee.reservoir.x, s, b, V, shadow))
       nee.light += shadow.contribution * W;
     return false;
   } else if (i < turns && lightSampler == LIGHT_SAMPLER_POWER) {
@@ -339,7 +397,7 @@ bool giNeeNextRay(inout GiNee nee, GiSurface s, GiBsdf b, vec3 V, bool withMis, 
   } else if (i < turns) {
     ready = giPreparePunctual(i, s, b, V, shadow);
   } else {
-    ready = giPrepareArea(s, b, V, withMis, rng, shadow);
+    ready = giPrepareArea(s, b, V, withMis, !(giUsesReservoir(nee.reservoir) && giReservoirsHoldEmissive()), rng, shadow);
   }
   if (!ready) return false;
   nee.pending = shadow.contribution;

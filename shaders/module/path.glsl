@@ -111,13 +111,17 @@ void giPathTakeNee(inout GiPath p, vec3 light, inout GiRng rng) {
 void giPathTakeHit(inout GiPath p, GiHit hit, GiSurface s) {
   p.depth++;
   p.phase = GI_PATH_DONE;
+  // From vertex 0, whose reservoir holds the emissive triangles (its NEE samples only the sky), an emitter
+  // found by BSDF sampling is the reservoir's light: not counted again.
+  const bool triangles = !(p.depth == 1u && giUsesReservoir(p.reservoir) && giReservoirsHoldEmissive());
   if (hit.t < 0.0) {  // the sky, weighed against its NEE (giPrepareSky)
     if (GI_SCENE_HAS_SKY)
-      giPathAdd(p, giSkyRadiance(p.direction) * giPowerHeuristic(p.previousBsdfPdf, giSkyNeePdf(p.direction, p.s)),
+      giPathAdd(p,
+                giSkyRadiance(p.direction) * giPowerHeuristic(p.previousBsdfPdf, giSkyNeePdf(p.direction, p.s, triangles)),
                 p.depth == 1u);
     return;
   }
-  if (s.frontFace && giMaxComponent(s.material.emission) > 0.0) {
+  if (triangles && s.frontFace && giMaxComponent(s.material.emission) > 0.0) {
     float w = GI_SCENE_HAS_EMISSIVE ? giPowerHeuristic(p.previousBsdfPdf, giEmissiveNeePdf(s, hit, p.origin, p.s)) : 1.0;
     giPathAdd(p, s.material.emission * w, p.depth == 1u);
   }

@@ -116,23 +116,12 @@ vec2 giGradientLuminance(vec3 direct, vec3 indirectDemod, ivec2 p) {
 }
 
 // With reservoirs no random state repeats the primary hit's light pick, so the gradient sample keeps the
-// pick itself in 32 bits: the light (16 bits; a scene with more punctual lights keeps none) and W as a half
-// float. The first path shades with exactly that pick (W rounded to a half: within 2^-11 of it), so last
-// frame's sample, re-shaded with the same pick, repeats bit for bit unless the light moved or changed. The pick's
-// shadow ray was the reservoir pass's (W = 0 where it was occluded); the re-shading traces none.
-uint giPackGradientPick(uvec2 pick) {
-  return pick.x == GI_RESERVOIR_EMPTY ? 0xffffu : pick.x | (packHalf2x16(vec2(uintBitsToFloat(pick.y), 0.0)) << 16u);
-}
-uvec2 giUnpackGradientPick(uint packed) {
-  const uint light = packed & 0xffffu;
-  return light == 0xffffu ? uvec2(GI_RESERVOIR_EMPTY, 0u) : uvec2(light, floatBitsToUint(unpackHalf2x16(packed >> 16u).x));
-}
-uvec2 giGradientPick(uvec2 reservoir) {
-  if (!giUsesReservoir(reservoir) || reservoir.x >= 0xffffu) return uvec2(GI_RESERVOIR_EMPTY, 0u);
-  // Through the packed word's bits: a compiler may fold a half-float round trip into nothing (lavapipe
-  // did), and the first path must shade with the very W the gradient path unpacks.
-  return giUnpackGradientPick(giPackGradientPick(uvec2(reservoir.x, floatBitsToUint(min(uintBitsToFloat(reservoir.y), 65504.0)))));
-}
+// pick itself, the light and its W (two words, GiGradientSample's z and w): the first path shades with it,
+// and last frame's sample, re-shaded with the same pick, repeats bit for bit unless the light moved or
+// changed. The pick's shadow ray was the reservoir pass's (W = 0 where it was occluded); the re-shading
+// traces none. The sample's two luminances share one word as half floats (giPackGradientLuminance); a
+// re-shaded luminance whose half is the kept one's counts as unchanged.
+uint giPackGradientLuminance(vec2 luminance) { return packHalf2x16(min(luminance, vec2(65504.0))); }
 
 // λ for direct (x) and indirect (y): the share of the history that pixel p drops.
 vec2 giTemporalLambda(ivec2 p) {

@@ -55,7 +55,8 @@ GPU_CONST GI_BINDING_SVGF_STATE_B = 26;
 // Temporal gradients (TemporalSettings::gradients, A-SVGF, Schied et al. 2018): one pixel per
 // GI_GRADIENT_TILE² tile traces with the random numbers its reprojected pixel used last frame.
 GPU_CONST GI_BINDING_GRADIENT_SAMPLES_A = 27; // rgba32ui: the pixel's first sample, luminance of direct over base colour
-GPU_CONST GI_BINDING_GRADIENT_SAMPLES_B = 28; //   (x) and of demodulated indirect (y) as float bits, its random state (z)
+GPU_CONST GI_BINDING_GRADIENT_SAMPLES_B = 28; //   and of demodulated indirect as two half floats (x), its random state (y)
+                                              //   and with reservoirs its light pick, the light and W's bits (zw)
 GPU_CONST GI_BINDING_TEMPORAL_GRADIENT = 29;  // rgba32f, one texel per tile: direct's change and max(then, now) (xy), indirect's (zw)
 GPU_CONST GI_BINDING_TEMPORAL_SPREAD = 30;    // rgba32f: this frame's samples around the pixel (3×3): luminance mean
                                               //   and σ of direct over base colour (xy) and of demodulated indirect (zw)
@@ -107,6 +108,8 @@ GPU_CONST GI_GLOSSY_FROM_MATERIAL = 1u;    // the material image by the scene's 
 GPU_CONST GI_PRIMARY_DIRECT_NEE = 0u;         // next-event estimation with the scene's light sampler
 GPU_CONST GI_PRIMARY_DIRECT_RESERVOIRS = 1u;  // the point and spot lights from the reservoirs' pick (gi_reservoirs.comp)
 GPU_CONST GI_PRIMARY_DIRECT_NONE = 2u;        // none: the engine lights them (Settings::indirectOnly)
+GPU_CONST GI_PRIMARY_DIRECT_EMISSIVE = 4u;    // with NEE or RESERVOIRS: the emissive triangles from the reservoirs'
+                                              // pick too (a bit: NEE | EMISSIVE keeps NEE's exact punctual sum)
 
 struct GiFrameConstants {
   GpuCamera camera;

@@ -103,6 +103,9 @@ struct SceneDesc {
   VkDescriptorSetLayout layout = VK_NULL_HANDLE;  // set 0 per shaders/shared/gpu_scene.h
   VkDescriptorSet set = VK_NULL_HANDLE;
   bool hasEmissiveTriangles = false;  // skips emissive-light sampling when false
+  uint32_t emissiveTriangles = 0;     // the emissive triangles NEE picks among (GpuSceneConstants::
+                                      // emissiveTriangleCount): past ReservoirSettings::emissiveMin the
+                                      // reservoirs resample them
   bool hasPunctualLights = false;     // skips the punctual-light loop when false
   bool hasAlphaMask = true;           // false: every hit is opaque (faster traversal)
   float extent = 1.0f;                // largest side of the scene bounds, metres: scales depth guidance

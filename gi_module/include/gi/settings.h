@@ -220,28 +220,36 @@ struct HpsfSettings {
                                   // full-size fp32 history images more, past issue 17's 150 MB for hpsf at 1080p
 };
 
-// Reservoir resampling of the primary hits' point and spot lights (ReSTIR DI, Bitterli et al. 2020), for
-// every method (shaders/module/gi_reservoirs.comp): candidates from the scene's light sampler resampled by their
-// unshadowed light, last frame's reservoir merged through the motion vectors, the survivor's visibility
-// tested, neighbours merged; the pixel's primary hit then takes the reservoir's light with one shadow ray
-// instead of one a subtree of the light tree's cut. Runs only where NEE picks among the point and spot
-// lights (gi::picksPunctualLights, under the sampler in use); with no more than the cut has subtrees NEE's sum is exact and
-// nothing runs. Vertices after the primary hit keep the light sampler.
+// Reservoir resampling of the primary hits' point and spot lights and emissive triangles (ReSTIR DI,
+// Bitterli et al. 2020), for every method (shaders/module/gi_reservoirs.comp): candidates from the scene's
+// light samplers resampled by their unshadowed light, last frame's reservoir merged through the motion
+// vectors, the survivor's visibility tested, neighbours merged; the pixel's primary hit then takes the
+// reservoir's light with one shadow ray instead of one a subtree of the light tree's cut and one towards a
+// triangle. The point and spot lights are resampled where NEE picks among them (gi::picksPunctualLights,
+// under the sampler in use; with no more than the cut has subtrees NEE's sum is exact), the emissive
+// triangles where there are more than `emissiveMin` (a triangle's sample is a fixed
+// point of it, which the neighbours and the next frame reuse; the primary hit's BSDF-sampled rays then count
+// no emitter, and its area-light ray goes to the sky alone); with neither nothing runs. Vertices after the
+// primary hit keep the light samplers.
 struct ReservoirSettings {
-  bool enabled = true;       // on: measured better for raw, svgf and hpsf from 64 lights on (RESULTS, "Reservoirs")
-  uint32_t candidates = 8;   // [1, 64]: lights drawn per pixel and frame
-  bool temporal = true;      // merge last frame's reservoir (TemporalSettings' depth and normal tests), for the
-                             // methods without a temporal pass (raw, aaf): one that averages the direct light
-                             // over frames averages more noise away from fresh picks (docs/RESULTS.md)
-  uint32_t neighbours = 5;   // [0, 8]: reservoirs merged from around the pixel for its pick (0 = no spatial
-                             // reuse); the next frame reuses the pixel's own. More lower every method's
-                             // error from 64 lights on and cost the spatial pass more: 5 is where hpsf
-                             // meets 1.5x its 4-light error at 1024 lights (docs/RESULTS.md, "Reservoirs")
-  float radius = 4.0f;       // pixels, [1, 64]: the disc the neighbours come from
-  float maxHistory = 20.0f;  // [1, 1000]: last frame's reservoir counts at most this many times `candidates`
-  bool unbiased = true;      // spatial weights: the balance heuristic over the reservoirs' surfaces' targets
-                             // (no fireflies where a light is bright here and dim where it was drawn);
-                             // off, the biased 1/M. Neither traces a shadow ray per neighbour
+  bool enabled = true;        // on: measured better for raw, svgf and hpsf from 64 lights on (RESULTS, "Reservoirs")
+  uint32_t candidates = 8;    // [1, 64]: lights drawn per pixel and frame
+  bool temporal = true;       // merge last frame's reservoir (TemporalSettings' depth and normal tests), for the
+                              // methods without a temporal pass (raw, aaf): one that averages the direct light
+                              // over frames averages more noise away from fresh picks (docs/RESULTS.md)
+  uint32_t neighbours = 5;    // [0, 8]: reservoirs merged from around the pixel for its pick (0 = no spatial
+                              // reuse); the next frame reuses the pixel's own. More lower every method's
+                              // error from 64 lights on and cost the spatial pass more: 5 is where hpsf
+                              // meets 1.5x its 4-light error at 1024 lights (docs/RESULTS.md, "Reservoirs")
+  float radius = 4.0f;        // pixels, [1, 64]: the disc the neighbours come from
+  float maxHistory = 20.0f;   // [1, 1000]: last frame's reservoir counts at most this many times `candidates`
+  uint32_t emissiveMin = 16;  // [0, 2^22]: the emissive triangles are resampled where a scene has more than
+                              // this many: on the light hall 4 panels' 8 gained nothing for the two passes
+                              // (error 0.91–0.99×, time 1.5–2.1× at 160×90 on lavapipe), 16 panels' 32 did
+                              // (0.44–0.81×; docs/RESULTS.md, "Emissive triangles in the reservoirs")
+  bool unbiased = true;       // spatial weights: the balance heuristic over the reservoirs' surfaces' targets
+                              // (no fireflies where a light is bright here and dim where it was drawn);
+                              // off, the biased 1/M. Neither traces a shadow ray per neighbour
 };
 
 // The light sampler of next-event estimation in the module's passes (shaders/module/lights.glsl): the scene's

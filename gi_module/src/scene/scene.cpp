@@ -347,6 +347,7 @@ void setSceneFacts(Scene& s, const SceneContents& contents) {
   s.facts.layout = s.set.layout;
   s.facts.set = s.set[0];
   s.facts.hasEmissiveTriangles = c.emissiveTriangleCount > 0;
+  s.facts.emissiveTriangles = c.emissiveTriangleCount;
   s.facts.hasPunctualLights = c.punctualLightCount > 0;
   setLightFacts(c, s.facts);
   s.facts.hasAlphaMask = p.hasAlphaMask;
