@@ -66,6 +66,11 @@ TEST(Catalogue, SetReachesEveryFieldThroughItsKey) {
   gi::Settings s;
   EXPECT_FALSE(tools::applySetting(s, "hpsf.nonsense=1", error));
   EXPECT_NE(error.find("hpsf.width"), std::string::npos) << "the error lists the known keys";
+  // A value outside the range is refused before the field holds it: a bool would keep 2 as true.
+  EXPECT_FALSE(tools::applySetting(s, "raw.accumulate=2", error));
+  EXPECT_EQ(error, "settings.raw.temporalAccumulation = 2 is outside [0, 1]");
+  EXPECT_FALSE(tools::applySetting(s, "hpsf.capacity=8589934592", error)) << "past 32 bits";
+  EXPECT_FALSE(s.raw.temporalAccumulation) << "a refused value leaves the field as it was";
 }
 
 TEST(Catalogue, MethodsViewsAndPassesAreCompleteAndUnique) {

@@ -30,6 +30,12 @@ bool applySetting(gi::Settings& settings, const std::string& assignment, std::st
         "setting '" + name + "' must be " + (integer ? "a whole number" : "a finite number") + ", not '" + value + "'";
     return false;
   }
+  // Before the field holds it: a bool keeps 2 as true, a 32-bit field wraps past its range, and neither could
+  // be told from a value in range afterwards (gi::validate's message, the value as written).
+  if (!((k->openMin ? v > k->min : v >= k->min) && v <= k->max)) {
+    error = std::string(k->field) + " = " + value + " is outside " + gi::rangeText(*k);
+    return false;
+  }
   k->set(settings, v);
   return true;
 }
