@@ -1,6 +1,8 @@
 #include "program_readiness.h"
 
+#include <algorithm>
 #include <chrono>
+#include <iterator>
 
 #include "gi/scene.h"
 #include "second_device.h"
@@ -67,6 +69,12 @@ std::string warmOnSecondDevice(const engine::Context& ctx, const gi::ModuleDesc&
   standIn.scene.hasSky = real.hasSky;
   standIn.scene.hasGlossyMaterials = real.hasGlossyMaterials;
   standIn.scene.traversal = real.traversal;
+  // And what the method's plan reads (method_plan.cpp): the light sampler's picks decide the reservoir and
+  // temporal passes.
+  standIn.scene.lightSampler = real.lightSampler;
+  std::copy(std::begin(real.picksPunctualLightsWith), std::end(real.picksPunctualLightsWith),
+            std::begin(standIn.scene.picksPunctualLightsWith));
+  standIn.scene.emissiveTriangles = real.emissiveTriangles;
   if (gi::Error e = gi::create(standIn, target, module)) return fail(e.message);
   cmd = engine::beginSecond(dev);
   if (gi::Error e = gi::recordProgramWarmup(module, target, cmd)) return fail(e.message);
