@@ -1,8 +1,6 @@
 #include "program_readiness.h"
 
-#include <algorithm>
 #include <chrono>
-#include <iterator>
 
 #include "gi/scene.h"
 #include "second_device.h"
@@ -61,20 +59,12 @@ std::string warmOnSecondDevice(const engine::Context& ctx, const gi::ModuleDesc&
   standIn.debugLabels = false;
   standIn.pipelineCache = VK_NULL_HANDLE;
   standIn.enabledFeatures = nullptr;
-  const gi::SceneDesc real = desc.scene;
-  standIn.scene = gi::sceneDesc(scene);  // its set 0, made by the same code as the real one's: the same layout
-  standIn.scene.hasEmissiveTriangles = real.hasEmissiveTriangles;
-  standIn.scene.hasPunctualLights = real.hasPunctualLights;
-  standIn.scene.hasAlphaMask = real.hasAlphaMask;
-  standIn.scene.hasSky = real.hasSky;
-  standIn.scene.hasGlossyMaterials = real.hasGlossyMaterials;
-  standIn.scene.traversal = real.traversal;
-  // And what the method's plan reads (method_plan.cpp): the light sampler's picks decide the reservoir and
-  // temporal passes.
-  standIn.scene.lightSampler = real.lightSampler;
-  std::copy(std::begin(real.picksPunctualLightsWith), std::end(real.picksPunctualLightsWith),
-            std::begin(standIn.scene.picksPunctualLightsWith));
-  standIn.scene.emissiveTriangles = real.emissiveTriangles;
+  // Every fact of the real scene (what the programs are specialised on and what the method's plan reads),
+  // with the stand-in's own set 0, made by the same code as the real one's: the same layout.
+  const gi::SceneDesc own = gi::sceneDesc(scene);
+  standIn.scene.layout = own.layout;
+  standIn.scene.set = own.set;
+  standIn.scene.hasComputeBvh = own.hasComputeBvh;
   if (gi::Error e = gi::create(standIn, target, module)) return fail(e.message);
   cmd = engine::beginSecond(dev);
   if (gi::Error e = gi::recordProgramWarmup(module, target, cmd)) return fail(e.message);

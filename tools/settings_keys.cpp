@@ -31,9 +31,9 @@ bool applySetting(gi::Settings& settings, const std::string& assignment, std::st
     return false;
   }
   // Before the field holds it: a bool keeps 2 as true, a 32-bit field wraps past its range, and neither could
-  // be told from a value in range afterwards (gi::validate's message, the value as written).
-  if (!((k->openMin ? v > k->min : v >= k->min) && v <= k->max)) {
-    error = std::string(k->field) + " = " + value + " is outside " + gi::rangeText(*k);
+  // be told from a value in range afterwards (gi::validate's check and message).
+  if (!gi::inRange(*k, v)) {
+    error = gi::outOfRangeText(*k, v);
     return false;
   }
   k->set(settings, v);

@@ -360,6 +360,14 @@ std::string rangeText(const SettingInfo& k) {
   return text;
 }
 
+bool inRange(const SettingInfo& k, double v) { return (k.openMin ? v > k.min : v >= k.min) && v <= k.max; }
+
+std::string outOfRangeText(const SettingInfo& k, double v) {
+  char value[64];
+  std::snprintf(value, sizeof(value), k.kind == SettingKind::Float ? "%g" : "%.0f", v);
+  return std::string(k.field) + " = " + value + " is outside " + rangeText(k);
+}
+
 std::span<const MethodInfo> methodCatalogue() { return kMethods; }
 std::span<const DebugViewInfo> debugViewCatalogue() { return kViews; }
 std::span<const PassInfo> passCatalogue() { return kPasses; }

@@ -1,29 +1,18 @@
 // Settings validation: every impossible value gets a named error that says
 // which field, what value and what range.
 #include <algorithm>
-#include <cstdio>
 
 #include "gi/catalogue.h"
 #include "gi/gi.h"
 
 namespace gi {
-namespace {
-
-// "settings.raw.samplesPerPixel = 0 is outside [1, 64]" (floats: %g).
-Error rangeError(const SettingInfo& k, double v) {
-  char value[64];
-  std::snprintf(value, sizeof(value), k.kind == SettingKind::Float ? "%g" : "%.0f", v);
-  return {ErrorCode::OutOfRange, std::string(k.field) + " = " + value + " is outside " + rangeText(k)};
-}
-
-}  // namespace
 
 Error validate(const Settings& s) {
   if (uint32_t(s.method) >= kMethodCount) return {ErrorCode::UnknownMethod, "settings.method is not a known method"};
   // Every field against its catalogue range (NaN fails every comparison).
   for (const SettingInfo& k : settingCatalogue()) {
     const double v = k.get(s);
-    if (!((k.openMin ? v > k.min : v >= k.min) && v <= k.max)) return rangeError(k, v);
+    if (!inRange(k, v)) return {ErrorCode::OutOfRange, outOfRangeText(k, v)};
   }
   // What a range cannot say.
   if (s.gif.guidanceDimensions == 2)

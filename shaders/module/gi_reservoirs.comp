@@ -43,11 +43,17 @@ struct GiReservoir {
 GiReservoir giEmptyReservoir() { return GiReservoir(GI_RESERVOIR_EMPTY, 0.0, 0.0, 0.0); }
 
 // p̂: the luminance of the light's unshadowed reflected light at s (0 for directional lights, none, and
-// lights the frame's reservoirs do not hold: giPrepareReservoirLight).
-float giReservoirTarget(uint light, GiSurface s, GiBsdf b, vec3 V) {
+// lights the frame's reservoirs do not hold), and for a triangle's point the triangle's area
+// (giPrepareReservoirLight).
+float giReservoirTarget(uint light, GiSurface s, GiBsdf b, vec3 V, out float area) {
+  area = 0.0;
   if (light == GI_RESERVOIR_EMPTY) return 0.0;
   GiShadowRay ray;
-  return giPrepareReservoirLight(light, s, b, V, ray) ? giLuminance(ray.contribution) : 0.0;
+  return giPrepareReservoirLight(light, s, b, V, ray, area) ? giLuminance(ray.contribution) : 0.0;
+}
+float giReservoirTarget(uint light, GiSurface s, GiBsdf b, vec3 V) {
+  float area;
+  return giReservoirTarget(light, s, b, V, area);
 }
 
 // Streams in a sample of weight w (p̂/pdf for a candidate, p̂·W·M for a reservoir) standing for M samples.
@@ -61,30 +67,25 @@ void giReservoirMerge(inout GiReservoir r, uint light, float target, float weigh
   }
 }
 
-// A candidate from the scene's samplers and its density (0: none can light x): a punctual light and its
-// chance, or an emissive triangle's sample point and its chance over the triangle's area. Where the
-// reservoirs hold both, each is drawn half of the time.
-uint giReservoirCandidate(GiSurface s, inout GiRng rng, out float density) {
+// A candidate from the scene's samplers and the chance of its pick (0: none can light x): a punctual
+// light, or an emissive triangle's sample point (whose density is that chance over the triangle's area,
+// which its target brings: giReservoirTarget). Where the reservoirs hold both, each is drawn half of the time.
+uint giReservoirCandidate(GiSurface s, inout GiRng rng, out float chance) {
   const float emissiveShare = giReservoirsHoldEmissive() ? (giReservoirsHoldPunctual() ? 0.5 : 1.0) : 0.0;
   if (emissiveShare >= 1.0 || (emissiveShare > 0.0 && giRandom(rng) < emissiveShare)) {
     const bool tree = giEmissiveTree();
-    float chance = 1.0;
-    const uint k = tree ? giPickFromTree(true, 0u, s.position, s.geometricNormal, giRandom(rng), chance)
+    float pick = 1.0;
+    const uint k = tree ? giPickFromTree(true, 0u, s.position, s.geometricNormal, giRandom(rng), pick)
                         : giPickEmissiveTriangle(giRandom(rng));
-    if (!tree) chance = giEmissiveTriangleChance(k);
-    const uint id = giPackEmissiveSample(k, giRandom2(rng));
-    const GpuEmissiveTriangle e = sceneEmissiveTriangle(k);
-    vec3 p0, p1, p2;
-    giTriangleWorld(e.instance, sceneTriangle(e.geometry, e.triangle), p0, p1, p2);
-    const float area = giTriangleArea(p0, p1, p2);
-    density = area > 0.0 ? emissiveShare * chance / area : 0.0;
-    return id;
+    if (!tree) pick = giEmissiveTriangleChance(k);
+    chance = emissiveShare * pick;
+    return giPackEmissiveSample(k, giRandom2(rng));
   }
   uint light;
   if (giLightSampler() == LIGHT_SAMPLER_TREE)
-    light = giPickFromTree(false, 0u, s.position, s.geometricNormal, giRandom(rng), density);
-  else light = giPickPunctual(giRandom(rng), density);
-  density *= 1.0 - emissiveShare;
+    light = giPickFromTree(false, 0u, s.position, s.geometricNormal, giRandom(rng), chance);
+  else light = giPickPunctual(giRandom(rng), chance);
+  chance *= 1.0 - emissiveShare;
   return light;
 }
 
@@ -104,9 +105,10 @@ uvec4 giLoadReservoir(ivec2 p, bool current) {
 uvec4 giTemporalReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float depth, uint guide, inout GiRng rng) {
   GiReservoir r = giEmptyReservoir();
   for (uint i = 0u; i < pc.candidates; ++i) {
-    float density;
-    const uint light = giReservoirCandidate(s, rng, density);
-    const float target = density > 0.0 ? giReservoirTarget(light, s, b, V) : 0.0;
+    float chance, area = 0.0;
+    const uint light = giReservoirCandidate(s, rng, chance);
+    const float target = chance > 0.0 ? giReservoirTarget(light, s, b, V, area) : 0.0;
+    const float density = area > 0.0 ? chance / area : chance;  // a triangle's point: per unit of its area
     giReservoirMerge(r, light, target, target / max(density, 1e-30), 1.0, giRandom(rng));
   }
   const ivec2 q = ivec2(floor(giPreviousPosition(p)));
@@ -178,7 +180,8 @@ uvec4 giSpatialReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float d
   // The survivor's shadow ray: an occluded light brings nothing this frame (the reservoirs that are
   // reused keep estimating the unshadowed light, whose visibility the pixel that picks it tests).
   GiShadowRay shadow;
-  if (W > 0.0 && giPrepareReservoirLight(r.light, s, b, V, shadow) &&
+  float area;
+  if (W > 0.0 && giPrepareReservoirLight(r.light, s, b, V, shadow, area) &&
       !giTraceVisible(shadow.origin, shadow.direction, 0.0, shadow.tMax))
     W = 0.0;
   return uvec4(r.light, floatBitsToUint(W), 0u, 0u);

@@ -132,6 +132,7 @@ float giTreeLeafChance(bool emissive, uint leaf, vec3 x, vec3 ng) {
 // distance, cosLight the cosine at the emitter and area the triangle's (m²). False when it cannot light s.
 bool giEmissivePoint(uint k, vec2 u, GiSurface s, GiBsdf b, vec3 V, out GiShadowRay ray, out vec3 L, out float dist2,
                      out float cosLight, out float area) {
+  area = 0.0;
   GpuEmissiveTriangle e = sceneEmissiveTriangle(k);
   uvec3 tri = sceneTriangle(e.geometry, e.triangle);
   float su = sqrt(u.x);
@@ -240,10 +241,12 @@ bool giPreparePunctual(uint i, GiSurface s, GiBsdf b, vec3 V, out GiShadowRay ra
 
 // A reservoir's light (a punctual light, or an emissive triangle's sample point): its shadow ray and, in
 // ray.contribution, the light it sends towards V unshadowed, per the measure the reservoirs sample it in:
-// f·I/d² for a punctual light, f·Le·cos θ_y / d² per unit of emitter area for a triangle's point. False
+// f·I/d² for a punctual light, f·Le·cos θ_y / d² per unit of emitter area for a triangle's point (`area`:
+// the triangle's, m², which turns a pick's chance into the point's density; 0 for a punctual light). False
 // when it cannot light s, or it is not one of the lights the reservoirs hold now.
-bool giPrepareReservoirLight(uint id, GiSurface s, GiBsdf b, vec3 V, out GiShadowRay ray) {
+bool giPrepareReservoirLight(uint id, GiSurface s, GiBsdf b, vec3 V, out GiShadowRay ray, out float area) {
   const GpuSceneConstants c = sceneConstants();
+  area = 0.0;
   if ((id & GI_RESERVOIR_EMISSIVE) == 0u) {
     // Directional lights are NEE's at every vertex; an index past the table is last frame's after
     // gi::updateLights shrank it.
@@ -253,7 +256,7 @@ bool giPrepareReservoirLight(uint id, GiSurface s, GiBsdf b, vec3 V, out GiShado
   const uint k = giEmissiveSampleTriangle(id);
   if (!GI_SCENE_HAS_EMISSIVE || !giReservoirsHoldEmissive() || k >= c.emissiveTriangleCount) return false;
   vec3 L;
-  float dist2, cosLight, area;
+  float dist2, cosLight;
   if (!giEmissivePoint(k, giEmissiveSampleUv(id), s, b, V, ray, L, dist2, cosLight, area)) return false;
   ray.contribution *= cosLight / dist2;
   return true;
@@ -377,7 +380,9 @@ bool giNeeNextRay(inout GiNee nee, GiSurface s, GiBsdf b, vec3 V, bool withMis, 
     // The reservoir's light, weighed by its W: its shadow ray was traced by the reservoir pass (W = 0
     // where it is occluded), so it brings its light without one.
     const float W = uintBitsToFloat(nee.reservoir.y);
-    if (nee.reservoir.x != GI_RESERVOIR_EMPTY && W > 0.0 && giPrepareReservoirLight(nee.reservoir.x, s, b, V, shadow))
+    float area;
+    if (nee.reservoir.x != GI_RESERVOIR_EMPTY && W > 0.0 &&
+        giPrepareReservoirLight(nee.reservoir.x, s, b, V, shadow, area))
       nee.light += shadow.contribution * W;
     return false;
   } else if (i < turns && lightSampler == LIGHT_SAMPLER_POWER) {

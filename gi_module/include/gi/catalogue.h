@@ -42,6 +42,10 @@ std::span<const SettingInfo> settingCatalogue();
 const SettingInfo* findSetting(std::string_view key);  // null for an unknown key
 // The valid range as errors, help texts and tooltips print it: "[1, 64]", "(0, 10000]".
 std::string rangeText(const SettingInfo& setting);
+// Whether `value` lies in the setting's range (NaN never does), and the error that says it does not:
+// "settings.raw.samplesPerPixel = 0 is outside [1, 64]" (floats: %g).
+bool inRange(const SettingInfo& setting, double value);
+std::string outOfRangeText(const SettingInfo& setting, double value);
 
 struct MethodInfo {
   Method method;
