@@ -32,9 +32,11 @@ engine::FloatImage directAfter(const engine::Context& ctx, LoadedScene& s, const
 }  // namespace
 
 // 64 lights and the block (lightField), 64 frames of resampled direct light, averaged, with the defaults
-// (temporal and spatial reuse, the balance heuristic) and with temporal reuse alone: the exact sum's image
+// (temporal and spatial reuse, pairwise MIS), with the balance heuristic's spatial weights instead and with
+// temporal reuse alone: the exact sum's image
 // in mean (within 1%) and, averaged over 8 seeds, in every 8×8 block (within 4%; measured 2.2% and 2.8%);
-// one frame after 15 under 0.4× the tree's error with one pick a vertex (measured 0.31× and 0.27×); and no
+// one frame after 15 under 0.4× the tree's error with one pick a vertex (measured 0.31× and 0.27× before
+// pairwise MIS); and no
 // pixel of any frame brighter than 4× the exact image's brightest (the biased 1/M spatial weights made
 // fireflies on Conference). The seeds, not more frames: a run's frames share their reservoirs' samples
 // through the temporal reuse, so one run's worst block stays 5–6.5% off however long it runs (64 and 128
@@ -56,10 +58,14 @@ TEST_F(ReservoirTest, ResampledDirectLightKeepsTheExactSumsExpectation) {
 
   gi::Settings defaults = base;
   defaults.reservoirs.enabled = true;
+  gi::Settings balance = defaults;
+  balance.reservoirs.pairwise = false;
   gi::Settings temporal = defaults;
   temporal.reservoirs.neighbours = 0;
-  for (const gi::Settings* s : {&defaults, &temporal}) {
-    const char* name = s == &temporal ? "temporal reuse" : "temporal and spatial reuse";
+  for (const gi::Settings* s : {&defaults, &balance, &temporal}) {
+    const char* name = s == &temporal  ? "temporal reuse"
+                       : s == &balance ? "temporal and spatial reuse, the balance heuristic"
+                                       : "temporal and spatial reuse, pairwise MIS";
     constexpr uint32_t kSeeds = 8;
     engine::FloatImage mean = directAfter(ctx, picked, *s, 64, true);
     const double oneRun = worstBlockDifference(mean, truth, kSize);

@@ -445,6 +445,27 @@ def emissive_reservoirs(prefix, default_min=16):
               goal_cells(at, base, methods) + " |")
 
 
+def goal_sweep(key, pass_prefix, pairs):
+    """A setting swept on many-light scenes beside their 4-light run (args: KEY PREFIX BASE_NAME BASE_DIR NAME DIR
+    ...; the first pair the base, run with the defaults): per scene and value, the ms per frame of the passes
+    whose names start with PREFIX, and per method GPU ms per frame, final MSE and both over the base's (issue
+    31's goal columns)."""
+    methods = ["raw", "svgf", "hpsf"]
+    (base_name, base_dir), *runs = named(pairs)
+    base = {r["method"]: r for r in rows(f"{base_dir}/results.csv")}
+    print(f"| scene | {key} | {methods[0]}'s {pass_prefix}* ms | " +
+          " | ".join(f"{m} ms | {m} MSE | {m} against {base_name.replace('_', ' ')}" for m in methods) + " |")
+    print("|---|---|---|" + "---|" * (3 * len(methods)))
+    for name, directory in [(base_name, base_dir)] + runs:
+        by_value = {}
+        for r in rows(f"{directory}/results.csv"):
+            value = r["label"].split(f"{key}=")[1].split()[0] if f"{key}=" in r["label"] else "–"
+            by_value.setdefault(value, {})[r["method"]] = r
+        for value, at in by_value.items():
+            ms = sum(float(x.split(":")[1]) for x in at[methods[0]]["pass_ms"].split(";") if x.startswith(pass_prefix))
+            print(f"| {name.replace('_', ' ')} | {value} | {ms:.1f} | " + goal_cells(at, base, methods) + " |")
+
+
 def per_frame(path, key):
     """GPU ms per frame against one column of a per-run CSV (scripts/bench sky: KEY = sky): rows the
     column's values, columns the methods."""
@@ -935,6 +956,7 @@ KINDS = {
     "hpsf_frames": hpsf_frames,
     "sweep": lambda a: sweep(a[0], a[1:]),
     "sweep_passes": lambda a: sweep_passes(a[0], a[1], a[2:]),
+    "goal_sweep": lambda a: goal_sweep(a[0], a[1], a[2:]),
     "coldstart": lambda a: coldstart(a[0], a[1]),
     "programs": programs,
     "switch": lambda a: switch(a[0]),

@@ -167,6 +167,9 @@ const SettingInfo kSettings[] = {
                "last frame's reservoir counts at most this many times the candidates", Float, 1, 1000, false, kEvery),
     GI_BOOL("reservoirs.unbiased", reservoirs.unbiased,
             "spatial weights by the balance heuristic over the neighbours' surfaces (else the biased 1/M)", kEvery),
+    GI_BOOL("reservoirs.pairwise", reservoirs.pairwise,
+            "with unbiased: pairwise MIS against the pixel's own surface (3N+1 target evaluations, not (N+1)^2)",
+            kEvery),
 
     GI_SETTING("svgf.spp", svgf.samplesPerPixel, "paths per pixel", "paths traced per pixel per frame", Uint, 1, 64,
                false, kSvgf),

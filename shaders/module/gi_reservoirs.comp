@@ -129,9 +129,40 @@ uvec4 giTemporalReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float 
 // shadow ray. Reservoir i (0 = the pixel's own) came from surface i, whose target p̂_i differs from this
 // pixel's p̂: with `unbiased` each is weighed by the balance heuristic over the surfaces,
 // m_i(y) = M_i·p̂_i(y) / Σ_j M_j·p̂_j(y) (generalised RIS, Lin et al. 2022; the ReSTIR paper's MIS form),
-// so a light that is bright here and dim where it was drawn cannot become a firefly; else by M_i / Σ M_j
-// (the paper's biased 1/M).
+// so a light that is bright here and dim where it was drawn cannot become a firefly ((N+1)² target
+// evaluations for N neighbours), or with `pairwise` by pairwise MIS (giPairwiseShares, 3N+1); else by
+// M_i / Σ M_j (the paper's biased 1/M).
 #define GI_SPATIAL_MAX 9u
+
+// Pairwise MIS (Lin et al. 2022, §7.1; Bitterli's thesis): the pixel's own reservoir c is the canonical
+// technique, and each of the N neighbours i is weighed against it alone, with c's confidence split over the
+// N pairs: m_i(y) = M_i·p̂_i(y) / (M_i·p̂_i(y) + M_c/N·p̂_c(y)) / N, and c's weight the mean of its N pair
+// weights, so the weights of every y sum to one as the balance heuristic's do, and equal them where the
+// surfaces agree. Two target evaluations a neighbour (p̂_i of its own sample, p̂_i of the pixel's), not
+// count of them.
+void giPairwiseShares(uvec4 found[GI_SPATIAL_MAX], ivec2 at[GI_SPATIAL_MAX], uint count,
+                      float here[GI_SPATIAL_MAX], GiSurface s, GiBsdf b, vec3 V, inout float share[GI_SPATIAL_MAX]) {
+  if (count < 2u) {
+    share[0] = 1.0;
+    return;
+  }
+  const float N = float(count - 1u);
+  const float canonicalM = giStoredM(found[0]) / N;
+  float canonical = 0.0;
+  for (uint i = 1u; i < count; ++i) {
+    vec3 Vi;
+    const GiSurface si = giGbSurface(at[i], Vi);
+    const GiBsdf bi = giMakeBsdf(si.material.baseColor, si.material.metallic, si.material.roughness, si.material.flags);
+    const float Mi = giStoredM(found[i]);
+    const float drawn = here[i] > 0.0 ? Mi * giReservoirTarget(found[i].x, si, bi, Vi) : 0.0;
+    const float mine = canonicalM * here[i];
+    share[i] = drawn > 0.0 ? drawn / ((drawn + mine) * N) : 0.0;
+    const float theirs = here[0] > 0.0 ? Mi * giReservoirTarget(found[0].x, si, bi, Vi) : 0.0;
+    const float own = canonicalM * here[0];
+    canonical += own > 0.0 ? own / (own + theirs) : 0.0;
+  }
+  share[0] = canonical / N;
+}
 uvec4 giSpatialReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float depth, inout GiRng rng) {
   uvec4 found[GI_SPATIAL_MAX];
   ivec2 at[GI_SPATIAL_MAX];
@@ -158,7 +189,9 @@ uvec4 giSpatialReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float d
     share[i] = giStoredM(found[i]);
     sum[i] = 0.0;
   }
-  if (pc.unbiased != 0u) {
+  if (pc.unbiased != 0u && pc.pairwise != 0u) {
+    giPairwiseShares(found, at, count, here, s, b, V, share);
+  } else if (pc.unbiased != 0u) {
     for (uint j = 0u; j < count; ++j) {
       vec3 Vj = V;
       GiSurface sj = s;

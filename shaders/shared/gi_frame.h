@@ -173,7 +173,8 @@ struct GiReservoirPush {
   float depthTolerance; // the reprojection and neighbour tests (TemporalSettings)
   float cosNormalLimit;
   uint readSet;         // 0: last frame's temporal reservoirs are in A, this frame's go to B; 1: the reverse
-  uint pad0;
+  uint pairwise;        // spatial, with `unbiased`: pairwise MIS against the pixel's own reservoir, else the
+                        // balance heuristic over every surface
 };
 GPU_ASSERT_SIZE(GiReservoirPush, 48);
 
