@@ -170,6 +170,9 @@ const SettingInfo kSettings[] = {
     GI_BOOL("reservoirs.pairwise", reservoirs.pairwise,
             "with unbiased: pairwise MIS against the pixel's own surface (3N+1 target evaluations, not (N+1)^2)",
             kEvery),
+    GI_SETTING("reservoirs.boiling_filter", reservoirs.boilingFilter, "x the group's mean",
+               "a temporal reservoir this many times its 8x8 group's others' mean estimate is dropped (0 = off)", Float,
+               0, 1000, false, kEvery),
 
     GI_SETTING("svgf.spp", svgf.samplesPerPixel, "paths per pixel", "paths traced per pixel per frame", Uint, 1, 64,
                false, kSvgf),

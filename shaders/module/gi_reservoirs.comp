@@ -12,7 +12,8 @@
 //     sampler (the tree's importance or power) are resampled by p̂ / pdf;
 //     last frame's temporal reservoir at the pixel's reprojection is merged
 //     in (its M capped at maxHistory × candidates), where its guide says it
-//     saw this surface. Last frame's set → this frame's (A and B alternate: GiReservoirPush::readSet).
+//     saw this surface; a reservoir far above its group's others is then dropped (giBoilingFilter). Last
+//     frame's set → this frame's (A and B alternate: GiReservoirPush::readSet).
 //   GI_RESERVOIR_SPATIAL: the pixel's temporal reservoir and `neighbours`
 //     others from a disc of `radius` pixels, those whose surface agrees in
 //     depth and normal, are merged by p̂ at this pixel (giSpatialReservoir
@@ -101,8 +102,10 @@ uvec4 giLoadReservoir(ivec2 p, bool current) {
   return (pc.readSet == 0u) == current ? imageLoad(giReservoirsB, p) : imageLoad(giReservoirsA, p);
 }
 
-// GI_RESERVOIR_TEMPORAL at a covered pixel: candidates and last frame's reservoir.
-uvec4 giTemporalReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float depth, uint guide, inout GiRng rng) {
+// GI_RESERVOIR_TEMPORAL at a covered pixel: candidates and last frame's reservoir, and the kept light's
+// estimate of the pixel's unshadowed light, p̂·W (luminance), for the boiling filter.
+uvec4 giTemporalReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float depth, uint guide, inout GiRng rng,
+                          out float estimate) {
   GiReservoir r = giEmptyReservoir();
   for (uint i = 0u; i < pc.candidates; ++i) {
     float chance, area = 0.0;
@@ -122,7 +125,39 @@ uvec4 giTemporalReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float 
       giReservoirMerge(r, previous.x, target, target * giStoredW(previous) * M, M, giRandom(rng));
     }
   }
-  return giStoredReservoir(r, r.target > 0.0 ? r.weightSum / (r.M * r.target) : 0.0, guide);
+  const float W = r.target > 0.0 ? r.weightSum / (r.M * r.target) : 0.0;
+  estimate = r.target * W;
+  return giStoredReservoir(r, W, guide);
+}
+
+// RTXDI's boiling filter over the 8×8 group: a temporal reservoir whose estimate is above
+// pc.boilingFilter times the mean of the group's other non-zero estimates is dropped (its guide kept). A
+// light drawn with a density far below its share of the target has a weight the temporal merge keeps for
+// frames and the spatial pass hands to the neighbours: a blotch that outlives its one frame. The group's
+// sums are its subgroups' (one shared word each), so each invocation reads gl_NumSubgroups of them. Every
+// invocation of the group calls it (a barrier).
+shared float giSubgroupEstimates[GI_GROUP_SIZE * GI_GROUP_SIZE];
+shared uint giSubgroupCounts[GI_GROUP_SIZE * GI_GROUP_SIZE];
+uvec4 giBoilingFilter(uvec4 stored, float estimate) {
+  const float subgroupSum = subgroupAdd(estimate);  // estimates are ≥ 0: the zeros add nothing
+  const uint subgroupCount = subgroupAdd(estimate > 0.0 ? 1u : 0u);
+  if (subgroupElect()) {
+    giSubgroupEstimates[gl_SubgroupID] = subgroupSum;
+    giSubgroupCounts[gl_SubgroupID] = subgroupCount;
+  }
+  barrier();
+  float sum = 0.0;
+  uint count = 0u;
+  for (uint i = 0u; i < gl_NumSubgroups; ++i) {
+    sum += giSubgroupEstimates[i];
+    count += giSubgroupCounts[i];
+  }
+  if (estimate > 0.0) {
+    sum -= estimate;
+    count--;
+  }
+  return count > 0u && estimate > pc.boilingFilter * sum / float(count) ? uvec4(GI_RESERVOIR_EMPTY, 0u, 0u, stored.w)
+                                                                        : stored;
 }
 
 // GI_RESERVOIR_SPATIAL at a covered pixel: its reservoir and its neighbours' merged, then the survivor's
@@ -223,8 +258,9 @@ uvec4 giSpatialReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float d
 void main() {
   const ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   const bool inside = giInFrame(gl_GlobalInvocationID.xy);
+  uvec4 stored = uvec4(GI_RESERVOIR_EMPTY, 0u, 0u, 0u);
+  float estimate = 0.0;
   if (inside) {
-    uvec4 stored = uvec4(GI_RESERVOIR_EMPTY, 0u, 0u, 0u);
     if (giGbCovered(p)) {
       vec3 V;
       const GiSurface s = giGbSurface(p, V);
@@ -233,9 +269,12 @@ void main() {
       const float depth = giGbViewDepth(p);
       const uint guide = giPackGuide(n, depth / giFrame.depthScale);
       GiRng rng = giRngCreate(uvec2(p), giFrame.frameIndex * 2u + pc.mode, pc.seed, GI_STREAM_RESERVOIRS);
-      stored = pc.mode == GI_RESERVOIR_TEMPORAL ? giTemporalReservoir(p, s, b, V, n, depth, guide, rng)
+      stored = pc.mode == GI_RESERVOIR_TEMPORAL ? giTemporalReservoir(p, s, b, V, n, depth, guide, rng, estimate)
                                                 : giSpatialReservoir(p, s, b, V, n, depth, rng);
     }
+  }
+  if (pc.mode == GI_RESERVOIR_TEMPORAL && pc.boilingFilter > 0.0) stored = giBoilingFilter(stored, estimate);
+  if (inside) {
     if (pc.mode == GI_RESERVOIR_SPATIAL) imageStore(giReservoirPick, p, stored);
     else if (pc.readSet == 0u) imageStore(giReservoirsB, p, stored);
     else imageStore(giReservoirsA, p, stored);

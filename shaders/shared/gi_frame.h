@@ -175,8 +175,11 @@ struct GiReservoirPush {
   uint readSet;         // 0: last frame's temporal reservoirs are in A, this frame's go to B; 1: the reverse
   uint pairwise;        // spatial, with `unbiased`: pairwise MIS against the pixel's own reservoir, else the
                         // balance heuristic over every surface
+  float boilingFilter;  // temporal: a reservoir whose estimate is above this many times its group's others'
+                        // mean is dropped (0: off)
+  uint pad0, pad1, pad2;
 };
-GPU_ASSERT_SIZE(GiReservoirPush, 48);
+GPU_ASSERT_SIZE(GiReservoirPush, 64);
 
 struct GiRawPush {
   uint seed;

@@ -232,30 +232,35 @@ struct HpsfSettings {
 // no emitter, and its area-light ray goes to the sky alone); with neither nothing runs. Vertices after the
 // primary hit keep the light samplers.
 struct ReservoirSettings {
-  bool enabled = true;        // on: measured better for raw, svgf and hpsf from 64 lights on (RESULTS, "Reservoirs")
-  uint32_t candidates = 8;    // [1, 64]: lights drawn per pixel and frame
-  bool temporal = true;       // merge last frame's reservoir (TemporalSettings' depth and normal tests), for the
-                              // methods without a temporal pass (raw, aaf): one that averages the direct light
-                              // over frames averages more noise away from fresh picks (docs/RESULTS.md)
-  uint32_t neighbours = 5;    // [0, 8]: reservoirs merged from around the pixel for its pick (0 = no spatial
-                              // reuse); the next frame reuses the pixel's own. More lower every method's
-                              // error from 64 lights on and cost the spatial pass more: 5 is where hpsf
-                              // meets 1.5x its 4-light error at 1024 lights (docs/RESULTS.md, "Reservoirs")
-  float radius = 4.0f;        // pixels, [1, 64]: the disc the neighbours come from
-  float maxHistory = 20.0f;   // [1, 1000]: last frame's reservoir counts at most this many times `candidates`
-  uint32_t emissiveMin = 16;  // [0, 2^22]: the emissive triangles are resampled where a scene has more than
-                              // this many: on the light hall 4 panels' 8 gained nothing for the two passes
-                              // (error 0.91–0.99×, time 1.5–2.1× at 160×90 on lavapipe), 16 panels' 32 did
-                              // (0.44–0.81×; docs/RESULTS.md, "Emissive triangles in the reservoirs")
-  bool unbiased = true;       // spatial weights: the balance heuristic over the reservoirs' surfaces' targets
-                              // (no fireflies where a light is bright here and dim where it was drawn);
-                              // off, the biased 1/M. Neither traces a shadow ray per neighbour
-  bool pairwise = true;       // with `unbiased`: pairwise MIS (each neighbour's sample weighed against the
-                              // pixel's own surface alone: 3N+1 target evaluations for N neighbours) instead
-                              // of the balance heuristic over every surface ((N+1)^2). Measured: the same
-                              // error for 0.84-0.94x the frame where the reservoirs hold emissive triangles,
-                              // 1.00-1.07x the error for 0.90-0.99x the frame with point lights
-                              // (docs/RESULTS.md, "Pairwise MIS")
+  bool enabled = true;          // on: measured better for raw, svgf and hpsf from 64 lights on (RESULTS, "Reservoirs")
+  uint32_t candidates = 8;      // [1, 64]: lights drawn per pixel and frame
+  bool temporal = true;         // merge last frame's reservoir (TemporalSettings' depth and normal tests), for the
+                                // methods without a temporal pass (raw, aaf): one that averages the direct light
+                                // over frames averages more noise away from fresh picks (docs/RESULTS.md)
+  uint32_t neighbours = 5;      // [0, 8]: reservoirs merged from around the pixel for its pick (0 = no spatial
+                                // reuse); the next frame reuses the pixel's own. More lower every method's
+                                // error from 64 lights on and cost the spatial pass more: 5 is where hpsf
+                                // meets 1.5x its 4-light error at 1024 lights (docs/RESULTS.md, "Reservoirs")
+  float radius = 4.0f;          // pixels, [1, 64]: the disc the neighbours come from
+  float maxHistory = 20.0f;     // [1, 1000]: last frame's reservoir counts at most this many times `candidates`
+  uint32_t emissiveMin = 16;    // [0, 2^22]: the emissive triangles are resampled where a scene has more than
+                                // this many: on the light hall 4 panels' 8 gained nothing for the two passes
+                                // (error 0.91–0.99×, time 1.5–2.1× at 160×90 on lavapipe), 16 panels' 32 did
+                                // (0.44–0.81×; docs/RESULTS.md, "Emissive triangles in the reservoirs")
+  bool unbiased = true;         // spatial weights: the balance heuristic over the reservoirs' surfaces' targets
+                                // (no fireflies where a light is bright here and dim where it was drawn);
+                                // off, the biased 1/M. Neither traces a shadow ray per neighbour
+  bool pairwise = true;         // with `unbiased`: pairwise MIS (each neighbour's sample weighed against the
+                                // pixel's own surface alone: 3N+1 target evaluations for N neighbours) instead
+                                // of the balance heuristic over every surface ((N+1)^2). Measured: the same
+                                // error for 0.84-0.94x the frame where the reservoirs hold emissive triangles,
+                                // 1.00-1.07x the error for 0.90-0.99x the frame with point lights
+                                // (docs/RESULTS.md, "Pairwise MIS")
+  float boilingFilter = 40.0f;  // [0, 1000], 0 = off: a temporal reservoir whose estimate of the pixel's
+                                // unshadowed light is above this many times the mean of its 8x8 group's
+                                // others is dropped, not kept nor reused (RTXDI's boiling filter: a sample
+                                // whose weight is an outlier would otherwise be kept and spread for frames;
+                                // biased: it darkens where it drops)
 };
 
 // The light sampler of next-event estimation in the module's passes (shaders/module/lights.glsl): the scene's
