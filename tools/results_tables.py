@@ -228,22 +228,29 @@ def dynamic_resolution(path):
               f" | {int(r['memory_first_frame']) / 1e6:.2f} / {int(r['memory_last_frame']) / 1e6:.2f} |")
 
 
-def ab(prefix, a_name, b_name, scenes):
+def ab(prefix, a_name, b_name, scenes, over_settings=False):
     """Two runs of the same configurations against the same reference (args: PREFIX A B SCENE ...; the runs
     are PREFIX_<scene>_A and PREFIX_<scene>_B): each method's final and indirect MSE, the means over the
-    runs' frames, and the change from A to B. A method run with several settings has a row for each."""
+    runs' frames, and the change from A to B. A method run with several settings has a row for each, or
+    with `over_settings` (ab_mean) one row of their mean (seeds, say)."""
     print(f"| scene | method | final MSE, {a_name} | {b_name} | change | indirect MSE, {a_name} | {b_name} | change |")
     print("|---|---|---|---|---|---|---|---|")
     for scene in scenes:
         def configuration(r):
-            return f'{r["method"]} ({r["settings"]})' if r["settings"] else r["method"]
-        single = {configuration(r): r for r in rows(f"{prefix}_{scene.lower()}_{a_name}/results.csv")}
-        half = {configuration(r): r for r in rows(f"{prefix}_{scene.lower()}_{b_name}/results.csv")}
+            return f'{r["method"]} ({r["settings"]})' if r["settings"] and not over_settings else r["method"]
+
+        def means(run):
+            grouped = {}
+            for r in rows(f"{prefix}_{scene.lower()}_{run}/results.csv"):
+                grouped.setdefault(configuration(r), []).append(r)
+            return {k: {c: sum(float(r[c]) for r in v) / len(v) for c in ("mse", "mse_indirect")}
+                    for k, v in grouped.items()}
+        single, half = means(a_name), means(b_name)
         for method, s in single.items():
             h = half[method]
             cells = []
             for column in ("mse", "mse_indirect"):
-                a, b = float(s[column]), float(h[column])
+                a, b = s[column], h[column]
                 cells.append(f"{a:.4e} | {b:.4e} | {100 * (b - a) / a:+.2f}%")
             print(f"| {scene} | {method} | " + " | ".join(cells) + " |")
 
@@ -950,6 +957,7 @@ KINDS = {
     "configurations": lambda a: configurations(a),
     "pass_times": lambda a: pass_times(a),
     "ab": lambda a: ab(a[0], a[1], a[2], a[3:]),
+    "ab_mean": lambda a: ab(a[0], a[1], a[2], a[3:], over_settings=True),
     "moving": lambda a: moving(a[0], int(a[1]), a[2:]),
     "rays": lambda a: rays(a[0]),
     "error_at_frames": error_at_frames,

@@ -71,21 +71,21 @@ void giReservoirMerge(inout GiReservoir r, uint light, float target, float weigh
 // A candidate from the scene's samplers and the chance of its pick (0: none can light x): a punctual
 // light, or an emissive triangle's sample point (whose density is that chance over the triangle's area,
 // which its target brings: giReservoirTarget). Where the reservoirs hold both, each is drawn half of the time.
-uint giReservoirCandidate(GiSurface s, inout GiRng rng, out float chance) {
+// `u` picks the light (the caller stratifies it over the candidates).
+uint giReservoirCandidate(GiSurface s, float u, inout GiRng rng, out float chance) {
   const float emissiveShare = giReservoirsHoldEmissive() ? (giReservoirsHoldPunctual() ? 0.5 : 1.0) : 0.0;
   if (emissiveShare >= 1.0 || (emissiveShare > 0.0 && giRandom(rng) < emissiveShare)) {
     const bool tree = giEmissiveTree();
     float pick = 1.0;
-    const uint k = tree ? giPickFromTree(true, 0u, s.position, s.geometricNormal, giRandom(rng), pick)
-                        : giPickEmissiveTriangle(giRandom(rng));
+    const uint k = tree ? giPickFromTree(true, 0u, s.position, s.geometricNormal, u, pick) : giPickEmissiveTriangle(u);
     if (!tree) pick = giEmissiveTriangleChance(k);
     chance = emissiveShare * pick;
     return giPackEmissiveSample(k, giRandom2(rng));
   }
   uint light;
   if (giLightSampler() == LIGHT_SAMPLER_TREE)
-    light = giPickFromTree(false, 0u, s.position, s.geometricNormal, giRandom(rng), chance);
-  else light = giPickPunctual(giRandom(rng), chance);
+    light = giPickFromTree(false, 0u, s.position, s.geometricNormal, u, chance);
+  else light = giPickPunctual(u, chance);
   chance *= 1.0 - emissiveShare;
   return light;
 }
@@ -107,9 +107,14 @@ uvec4 giLoadReservoir(ivec2 p, bool current) {
 uvec4 giTemporalReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float depth, uint guide, inout GiRng rng,
                           out float estimate) {
   GiReservoir r = giEmptyReservoir();
+  // The candidates' picks are stratified: one random offset, then equal steps, so each u is uniform (each
+  // candidate keeps the sampler's density, as RIS asks) and together they cover [0, 1) evenly, which spreads
+  // them over the tree's leaves instead of letting them crowd.
+  const float offset = giRandom(rng);
   for (uint i = 0u; i < pc.candidates; ++i) {
     float chance, area = 0.0;
-    const uint light = giReservoirCandidate(s, rng, chance);
+    const float u = fract(offset + float(i) / float(pc.candidates));
+    const uint light = giReservoirCandidate(s, u, rng, chance);
     const float target = chance > 0.0 ? giReservoirTarget(light, s, b, V, area) : 0.0;
     const float density = area > 0.0 ? chance / area : chance;  // a triangle's point: per unit of its area
     giReservoirMerge(r, light, target, target / max(density, 1e-30), 1.0, giRandom(rng));
