@@ -178,8 +178,8 @@ uvec4 giBoilingFilter(uvec4 stored, float estimate) {
 // technique, and each of the N neighbours i is weighed against it alone, with c's confidence split over the
 // N pairs: m_i(y) = M_i·p̂_i(y) / (M_i·p̂_i(y) + M_c/N·p̂_c(y)) / N, and c's weight the mean of its N pair
 // weights, so the weights of every y sum to one as the balance heuristic's do, and equal them where the
-// surfaces agree. Two target evaluations a neighbour (p̂_i of its own sample, p̂_i of the pixel's), not
-// count of them.
+// surfaces agree. Two target evaluations a neighbour (p̂_i of its own sample, p̂_i of the pixel's), where
+// the balance heuristic makes one a neighbour for every merged light.
 void giPairwiseShares(uvec4 found[GI_SPATIAL_MAX], ivec2 at[GI_SPATIAL_MAX], uint count,
                       float here[GI_SPATIAL_MAX], GiSurface s, GiBsdf b, vec3 V, inout float share[GI_SPATIAL_MAX]) {
   if (count < 2u) {
