@@ -253,8 +253,7 @@ uvec4 giSpatialReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float d
   // The survivor's shadow ray: an occluded light brings nothing this frame (the reservoirs that are
   // reused keep estimating the unshadowed light, whose visibility the pixel that picks it tests).
   GiShadowRay shadow;
-  float area;
-  if (W > 0.0 && giPrepareReservoirLight(r.light, s, b, V, shadow, area) &&
+  if (W > 0.0 && giPrepareReservoirLight(r.light, s, b, V, shadow) &&
       !giTraceVisible(shadow.origin, shadow.direction, 0.0, shadow.tMax))
     W = 0.0;
   return uvec4(r.light, floatBitsToUint(W), 0u, 0u);

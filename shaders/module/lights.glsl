@@ -87,22 +87,24 @@ GpuLightNode giTreeNode(bool emissive, uint index) { return emissive ? sceneEmis
 // chance of that pick within the node (0: none of its emitters can light the surface).
 uint giPickFromTree(bool emissive, uint index, vec3 x, vec3 ng, float u, out float chance) {
   chance = 1.0;
+  // The node the walk stands on is the child it loaded one level up: each level fetches two nodes, not three.
+  GpuLightNode n = giTreeNode(emissive, index);
   for (uint depth = 0u; depth < 64u; ++depth) {
-    const GpuLightNode n = giTreeNode(emissive, index);
     if ((n.child & LIGHT_NODE_LEAF) != 0u) return n.child & ~LIGHT_NODE_LEAF;
-    const float a = lightNodeImportance(giTreeNode(emissive, n.child), x, ng);
-    const float b = lightNodeImportance(giTreeNode(emissive, n.child + 1u), x, ng);
+    const GpuLightNode left = giTreeNode(emissive, n.child), right = giTreeNode(emissive, n.child + 1u);
+    const float a = lightNodeImportance(left, x, ng);
+    const float b = lightNodeImportance(right, x, ng);
     if (!(a + b > 0.0)) break;
     const float p = a / (a + b);
     // One random number serves every level: the part of [0, 1) the choice leaves is stretched back to it.
     if (u < p) {
       u /= p;
       chance *= p;
-      index = n.child;
+      n = left;
     } else {
       u = (u - p) / (1.0 - p);
       chance *= 1.0 - p;
-      index = n.child + 1u;
+      n = right;
     }
     u = min(u, 0.99999994);
   }
@@ -111,18 +113,23 @@ uint giPickFromTree(bool emissive, uint index, vec3 x, vec3 ng, float u, out flo
 }
 
 // The chance giPickFromTree(emissive, 0, x, ng, ·) picks node `leaf`: its choices walked up from the leaf.
+// Each level fetches the parent and the sibling; the node itself is the parent of the level below.
 float giTreeLeafChance(bool emissive, uint leaf, vec3 x, vec3 ng) {
   float chance = 1.0;
   uint node = leaf;
+  GpuLightNode here = giTreeNode(emissive, leaf);
   for (uint depth = 0u; depth < 64u && node != 0u; ++depth) {
-    const uint parent = giTreeNode(emissive, node).parent;
-    const uint first = giTreeNode(emissive, parent).child;
-    const float a = lightNodeImportance(giTreeNode(emissive, first), x, ng);
-    const float b = lightNodeImportance(giTreeNode(emissive, first + 1u), x, ng);
+    const uint parent = here.parent;
+    const GpuLightNode up = giTreeNode(emissive, parent);
+    const bool first = node == up.child;
+    const GpuLightNode sibling = giTreeNode(emissive, first ? up.child + 1u : up.child);
+    const float mine = lightNodeImportance(here, x, ng), other = lightNodeImportance(sibling, x, ng);
+    const float a = first ? mine : other, b = first ? other : mine;
     if (!(a + b > 0.0)) return 0.0;
     const float p = a / (a + b);
-    chance *= node == first ? p : 1.0 - p;
+    chance *= first ? p : 1.0 - p;
     node = parent;
+    here = up;
   }
   return chance;
 }
@@ -261,6 +268,11 @@ bool giPrepareReservoirLight(uint id, GiSurface s, GiBsdf b, vec3 V, out GiShado
   ray.contribution *= cosLight / dist2;
   return true;
 }
+// The same where the caller needs no area (the shading turn, the spatial pass's shadow ray).
+bool giPrepareReservoirLight(uint id, GiSurface s, GiBsdf b, vec3 V, out GiShadowRay ray) {
+  float area;
+  return giPrepareReservoirLight(id, s, b, V, ray, area);
+}
 
 // Probability that the area-light shadow ray from x (geometric normal ng) goes to the sky, where emissive
 // triangles (unless a reservoir holds them: `withTriangles` false) and a sampled sky share it: where the triangles are picked down their tree (giEmissiveTree)
@@ -380,9 +392,7 @@ bool giNeeNextRay(inout GiNee nee, GiSurface s, GiBsdf b, vec3 V, bool withMis, 
     // The reservoir's light, weighed by its W: its shadow ray was traced by the reservoir pass (W = 0
     // where it is occluded), so it brings its light without one.
     const float W = uintBitsToFloat(nee.reservoir.y);
-    float area;
-    if (nee.reservoir.x != GI_RESERVOIR_EMPTY && W > 0.0 &&
-        giPrepareReservoirLight(nee.reservoir.x, s, b, V, shadow, area))
+    if (nee.reservoir.x != GI_RESERVOIR_EMPTY && W > 0.0 && giPrepareReservoirLight(nee.reservoir.x, s, b, V, shadow))
       nee.light += shadow.contribution * W;
     return false;
   } else if (i < turns && lightSampler == LIGHT_SAMPLER_POWER) {
