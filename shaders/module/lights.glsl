@@ -112,6 +112,73 @@ uint giPickFromTree(bool emissive, uint index, vec3 x, vec3 ng, float u, out flo
   return 0u;
 }
 
+// giPickFromTree(emissive, 0, x, ng, u[i], chance[i]) for every i < count at once, the same leaves and
+// chances bit for bit: the numbers sorted once, a node sends those below its left child's share left and
+// the rest right, stretched as giPickFromTree stretches them (which keeps their order, so each side stays
+// a run of the sorted list). A node is weighed once for every number that passes it, not once each:
+// stratified numbers pass the top of the tree together and part only where the importance spreads.
+void giPickManyFromTree(bool emissive, vec3 x, vec3 ng, uint count, float u[GI_RESERVOIR_MAX_CANDIDATES],
+                        out uint leaf[GI_RESERVOIR_MAX_CANDIDATES], out float chance[GI_RESERVOIR_MAX_CANDIDATES]) {
+  uint order[GI_RESERVOIR_MAX_CANDIDATES];
+  for (uint i = 0u; i < count; ++i) {  // insertion sort: a handful of numbers, nearly sorted
+    uint j = i;
+    for (; j > 0u && u[order[j - 1u]] > u[i]; --j) order[j] = order[j - 1u];
+    order[j] = i;
+    leaf[i] = 0u;
+    chance[i] = 0.0;
+  }
+  // The walk's stack: a node, the run [first, end) of `order` that reached it, the chance of reaching it
+  // and its depth (giPickFromTree gives up below 64 levels). Depth first, the left child on top: at most
+  // one entry a level waits.
+  uint stackNode[66], stackRun[66], stackDepth[66];
+  float stackChance[66];
+  uint top = 1u;
+  stackNode[0] = 0u;
+  stackRun[0] = count;  // first 0 (bits 16–31), end `count` (bits 0–15)
+  stackDepth[0] = 0u;
+  stackChance[0] = 1.0;
+  while (top > 0u) {
+    --top;
+    const uint first = stackRun[top] >> 16u, end = stackRun[top] & 0xffffu, depth = stackDepth[top];
+    const float reached = stackChance[top];
+    const GpuLightNode n = giTreeNode(emissive, stackNode[top]);
+    if ((n.child & LIGHT_NODE_LEAF) != 0u) {
+      for (uint j = first; j < end; ++j) {
+        leaf[order[j]] = n.child & ~LIGHT_NODE_LEAF;
+        chance[order[j]] = reached;
+      }
+      continue;
+    }
+    const float a = lightNodeImportance(giTreeNode(emissive, n.child), x, ng);
+    const float b = lightNodeImportance(giTreeNode(emissive, n.child + 1u), x, ng);
+    if (!(a + b > 0.0) || depth + 1u >= 64u) continue;  // chance 0, as giPickFromTree
+    const float p = a / (a + b);
+    uint middle = first;
+    for (uint j = first; j < end; ++j) {
+      const uint i = order[j];
+      if (u[i] < p) {
+        u[i] /= p;
+        middle = j + 1u;
+      } else {
+        u[i] = (u[i] - p) / (1.0 - p);
+      }
+      u[i] = min(u[i], 0.99999994);
+    }
+    if (middle < end) {
+      stackNode[top] = n.child + 1u;
+      stackRun[top] = middle << 16u | end;
+      stackDepth[top] = depth + 1u;
+      stackChance[top++] = reached * (1.0 - p);
+    }
+    if (first < middle) {
+      stackNode[top] = n.child;
+      stackRun[top] = first << 16u | middle;
+      stackDepth[top] = depth + 1u;
+      stackChance[top++] = reached * p;
+    }
+  }
+}
+
 // The chance giPickFromTree(emissive, 0, x, ng, ·) picks node `leaf`: its choices walked up from the leaf.
 // Each level fetches the parent and the sibling; the node itself is the parent of the level below.
 float giTreeLeafChance(bool emissive, uint leaf, vec3 x, vec3 ng) {
