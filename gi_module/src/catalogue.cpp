@@ -6,7 +6,6 @@
 #include <cstdio>
 
 #include "shared/gi_filters.h"
-#include "shared/gi_frame.h"
 #include "shared/hash_grid.h"
 
 namespace gi {
@@ -155,7 +154,7 @@ const SettingInfo kSettings[] = {
                                "resample the emissive triangles where the scene has more than this many", Uint, 0,
                                1 << 22, false, kEvery)),
     GI_SETTING("reservoirs.candidates", reservoirs.candidates, "lights", "lights drawn per pixel and frame", Uint, 1,
-               gpu::GI_RESERVOIR_MAX_CANDIDATES, false, kEvery),
+               64, false, kEvery),
     GI_BOOL("reservoirs.temporal", reservoirs.temporal,
             "merge last frame's reservoir through the motion vectors (where no temporal pass averages the direct "
             "light: raw, aaf)",

@@ -111,27 +111,10 @@ uvec4 giTemporalReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float 
   // candidate keeps the sampler's density, as RIS asks) and together they cover [0, 1) evenly, which spreads
   // them over the tree's leaves instead of letting them crowd.
   const float offset = giRandom(rng);
-  // Where the reservoirs hold one kind of light, picked down its tree, the candidates walk it together
-  // (giPickManyFromTree: the same picks as one walk each); the random numbers are drawn in the same order.
-  const bool emissive = giReservoirsHoldEmissive();
-  const bool together = emissive != giReservoirsHoldPunctual() &&
-                        (emissive ? giEmissiveTree() : giLightSampler() == LIGHT_SAMPLER_TREE);
-  float numbers[GI_RESERVOIR_MAX_CANDIDATES], chances[GI_RESERVOIR_MAX_CANDIDATES];
-  uint leaves[GI_RESERVOIR_MAX_CANDIDATES];
-  if (together) {
-    for (uint i = 0u; i < pc.candidates; ++i) numbers[i] = fract(offset + float(i) / float(pc.candidates));
-    giPickManyFromTree(emissive, s.position, s.geometricNormal, pc.candidates, numbers, leaves, chances);
-  }
   for (uint i = 0u; i < pc.candidates; ++i) {
     float chance, area = 0.0;
     const float u = fract(offset + float(i) / float(pc.candidates));
-    uint light;
-    if (together) {
-      chance = chances[i];
-      light = emissive ? giPackEmissiveSample(leaves[i], giRandom2(rng)) : leaves[i];
-    } else {
-      light = giReservoirCandidate(s, u, rng, chance);
-    }
+    const uint light = giReservoirCandidate(s, u, rng, chance);
     const float target = chance > 0.0 ? giReservoirTarget(light, s, b, V, area) : 0.0;
     const float density = area > 0.0 ? chance / area : chance;  // a triangle's point: per unit of its area
     giReservoirMerge(r, light, target, target / max(density, 1e-30), 1.0, giRandom(rng));

@@ -159,14 +159,12 @@ GPU_ASSERT_SIZE(GiCounters, 32 + 4 * 64);
 // The reservoir passes (gi_reservoirs.comp): GI_RESERVOIR_TEMPORAL draws the candidates and merges last
 // frame's reservoir through the motion vectors (last frame's set → this frame's); GI_RESERVOIR_SPATIAL
 // merges neighbours' and tests the survivor's visibility (this frame's set → the pick).
-// The most candidates a pixel draws (ReservoirSettings::candidates' range): the batched tree walk's arrays.
-GPU_CONST GI_RESERVOIR_MAX_CANDIDATES = 64u;
 GPU_CONST GI_RESERVOIR_TEMPORAL = 0u;
 GPU_CONST GI_RESERVOIR_SPATIAL = 1u;
 struct GiReservoirPush {
   uint mode;            // GI_RESERVOIR_*
   uint seed;
-  uint candidates;      // lights drawn per pixel (ReservoirSettings::candidates), ≤ GI_RESERVOIR_MAX_CANDIDATES
+  uint candidates;      // lights drawn per pixel (ReservoirSettings::candidates)
   uint temporal;        // 1: merge last frame's reservoir (0 on the first frame of a history)
   uint neighbours;      // spatial: reservoirs merged from around the pixel
   float radius;         // spatial: pixels
