@@ -45,6 +45,7 @@ import io
 import json
 import os
 import re
+import statistics
 import csv
 import sys
 
@@ -656,7 +657,7 @@ def pass_times(pairs):
                     label, ms = item.split(":")
                     passes.setdefault(label, {}).setdefault(name, []).append(float(ms))
         for label, times in passes.items():
-            cells = " | ".join(f"{sorted(times[name])[len(times[name]) // 2]:.1f}" if name in times else "–"
+            cells = " | ".join(f"{statistics.median_high(times[name]):.1f}" if name in times else "–"
                                for name, _ in runs)
             print(f"| {method} | {label} | {cells} |")
 
