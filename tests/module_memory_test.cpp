@@ -73,6 +73,9 @@ TEST_F(ModuleMemoryTest, EveryMethodAt1080pHoldsWhatTheMemoryTableSays) {
     std::printf("%-9s held %.1f MB (table %.1f), used %.1f (%.1f), transient %.1f (%.1f)\n", info.name, held * 1e-6,
                 row.held * 1e-6, used * 1e-6, row.used * 1e-6, transient * 1e-6, row.transient * 1e-6);
     EXPECT_NEAR(double(held), double(row.held), double(kSlack));
+    // Issue 30's goal (the table's goal column, tools/results_tables.py's MEMORY_GOAL_MB): NRD's class.
+    const bool tighter = info.method == gi::Method::Hpsf || info.method == gi::Method::Svgf;
+    EXPECT_LE(held, tighter ? 150'000'000u : 200'000'000u) << "over issue 30's goal at 1080p";
     EXPECT_NEAR(double(used), double(row.used), double(kSlack));
     EXPECT_EQ(transient, row.transient);
     gi::destroy(m);

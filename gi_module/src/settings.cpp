@@ -4,6 +4,7 @@
 
 #include "gi/catalogue.h"
 #include "gi/gi.h"
+#include "shared/hash_grid.h"
 
 namespace gi {
 
@@ -52,9 +53,14 @@ double nMethodCells(const Settings& s, uint32_t width, uint32_t height) {
 
 bool nMethod(Method m) { return m == Method::Nhpsf || m == Method::Anhpsf; }
 
-// The n-methods' map grows to what their vertices need up to 2^19 cells (77.6 MB, what the quarter cell a
+// The n-methods' map grows to what their vertices need up to 2^19 cells (73.4 MB, what the quarter cell a
 // pixel gives at 1920×1080: issue 30's memory); beyond, their later cells widen instead.
 constexpr double kNMethodCellsCap = double(1u << 19);
+
+// The largest map (the catalogue's hpsf.capacity range ends here too): anhpsf's walks keep the fed cell's
+// index hash mod 2^HG_WALK_INDEX_BITS, all the probes read of it up to this capacity.
+constexpr uint32_t kMaxHashCapacity = 1u << 21;
+static_assert(kMaxHashCapacity <= (1u << gpu::HG_WALK_INDEX_BITS), "a walk's index bits cover the map");
 
 }  // namespace
 
@@ -65,7 +71,7 @@ uint32_t hashCapacity(const Settings& s, uint32_t width, uint32_t height) {
   double want = double(width) * height / 4.0;
   if (nMethod(s.method)) want = std::max(want, std::min(nMethodCells(s, width, height), kNMethodCellsCap));
   uint32_t c = 1u << 10;
-  while (c < want && c < (1u << 21)) c <<= 1;
+  while (c < want && c < kMaxHashCapacity) c <<= 1;
   return c;
 }
 

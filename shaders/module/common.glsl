@@ -12,27 +12,34 @@ float giLuminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
 float giMaxComponent(vec3 c) { return max(c.x, max(c.y, c.z)); }
 bool giIsFinite(vec3 v) { return !any(isnan(v)) && !any(isinf(v)); }
 
-// RGB9E5 (the EXT_texture_shared_exponent encoding, rounded to nearest): three values ≥ 0 with 9 bits
-// of mantissa each under one exponent, up to 65408 (the packed history's direct light, a continued
-// path's throughput).
-uint giPackRgb9e5(vec3 rgb) {
-  const vec3 c = clamp(rgb, vec3(0.0), vec3(65408.0));
+// Shared-exponent RGB: three values ≥ 0 with `bits` of mantissa each under one 5-bit exponent above
+// them, up to 65536 · (1 − 2^-bits). Each mantissa is floor(value / step + dither): a dither of 0.5
+// rounds to nearest; one uniform in [0,1) a channel rounds stochastically, which keeps a running mean
+// stored this way unbiased (a step smaller than its rounding would never land). 9 bits: RGB9E5
+// (EXT_texture_shared_exponent's; the packed history's direct light, a hash cell's recent mean);
+// 7 bits: RGB7E5 in 26 bits (a continued path's throughput).
+uint giPackRgbShared(vec3 rgb, uint bits, vec3 dither) {
+  const float steps = float(1u << bits);
+  const vec3 c = clamp(rgb, vec3(0.0), vec3(65536.0 * (steps - 1.0) / steps));
   const float largest = max(c.r, max(c.g, c.b));
   if (!(largest > 0.0)) return 0u;
   int e;
   frexp(largest, e);                     // largest = m · 2^e, m in [0.5, 1): floor(log2) = e − 1
   int exponent = max(e - 1, -16) + 16;   // biased exponent (bias 15) of the largest channel, + 1
-  float unit = exp2(float(exponent - 24));  // the value of one mantissa step
-  if (floor(largest / unit + 0.5) >= 512.0) {
+  float unit = exp2(float(exponent - 15 - int(bits)));  // the value of one mantissa step
+  if (floor(largest / unit + giMaxComponent(dither)) >= steps) {
     exponent += 1;
     unit *= 2.0;
   }
-  const uvec3 m = uvec3(min(floor(c / unit + 0.5), vec3(511.0)));
-  return m.r | (m.g << 9u) | (m.b << 18u) | (uint(exponent) << 27u);
+  const uvec3 m = uvec3(min(floor(c / unit + dither), vec3(steps - 1.0)));
+  return m.r | (m.g << bits) | (m.b << (2u * bits)) | (uint(exponent) << (3u * bits));
 }
-vec3 giUnpackRgb9e5(uint v) {
-  return vec3(uvec3(v, v >> 9u, v >> 18u) & 511u) * exp2(float(int(v >> 27u) - 24));
+vec3 giUnpackRgbShared(uint v, uint bits) {
+  const uint mask = (1u << bits) - 1u;
+  return vec3(uvec3(v, v >> bits, v >> (2u * bits)) & mask) * exp2(float(int((v >> (3u * bits)) & 31u) - 15 - int(bits)));
 }
+uint giPackRgb9e5(vec3 rgb) { return giPackRgbShared(rgb, 9u, vec3(0.5)); }
+vec3 giUnpackRgb9e5(uint v) { return giUnpackRgbShared(v, 9u); }
 
 // Octahedral unit vectors: the engine's G-buffer normals, the packed history's
 // normals and the hash map's directions.

@@ -33,15 +33,35 @@ uint hgWalkSegments(HgWalk w) { return max(hgWalkDepth(w), 1u) - 1u; }
 bool hgWalkContinues(HgWalk w) { return (w.state & 0x10000u) != 0u; }
 int hgWalkLod(HgWalk w) { return int(w.state >> 24u) - 128; }
 
+// HgWalkRecord's fields (shared/hash_grid.h).
+uint hgPackSnorm13x2(vec2 v) {
+  const uvec2 q = uvec2(ivec2(round(clamp(v, -1.0, 1.0) * 4095.0)) & 0x1fff);
+  return q.x | (q.y << 13u);
+}
+vec2 hgUnpackSnorm13x2(uint v) {
+  const ivec2 q = (ivec2(uvec2(v, v >> 13u) & 0x1fffu) << 19) >> 19;  // sign-extended
+  return max(vec2(q) / 4095.0, -1.0);
+}
+uint hgPackUfloat11(float x) {  // an unsigned half float to 6 mantissa bits, rounded to nearest
+  return min((packHalf2x16(vec2(clamp(x, 0.0, 65024.0), 0.0)) + 0x8u) >> 4u, 0x7bfu);
+}
+float hgUnpackUfloat11(uint v) { return unpackHalf2x16((v & 0x7ffu) << 4u).x; }
+
 HgWalkRecord hgPackWalk(HgWalk w) {
-  const uint state = min(w.state & 0xffffu, 0x7fu) << 16u | ((w.state >> 16u) & 1u) << 23u | (w.state >> 24u) << 24u;
-  return HgWalkRecord(w.origin, w.index, w.key, w.direction, giPackRgb9e5(w.throughput),
-                      (packHalf2x16(vec2(min(w.travel, 65504.0), 0.0)) & 0xffffu) | state);
+  const uint direction = hgPackSnorm13x2(unpackSnorm2x16(w.direction));
+  const uint lod = uint(clamp(hgWalkLod(w) + 32, 0, 63));
+  const uint state = min(hgWalkDepth(w), 31u) << 26u | (hgWalkContinues(w) ? 1u << 31u : 0u);
+  const uint index = w.index & ((1u << HG_WALK_INDEX_BITS) - 1u);
+  return HgWalkRecord(w.origin, w.key, direction | lod << 26u, giPackRgbShared(w.throughput, 7u, vec3(0.5)) | state,
+                      index | hgPackUfloat11(w.travel) << HG_WALK_INDEX_BITS);
 }
 HgWalk hgUnpackWalk(HgWalkRecord r) {
-  const uint state = ((r.travelState >> 16u) & 0x7fu) | ((r.travelState >> 23u) & 1u) << 16u | (r.travelState >> 24u) << 24u;
-  return HgWalk(r.origin, r.index, giUnpackRgb9e5(r.throughput), r.key, r.direction,
-                unpackHalf2x16(r.travelState & 0xffffu).x, state, 0u);
+  const uint direction = packSnorm2x16(hgUnpackSnorm13x2(r.directionLod));
+  const uint state = hgWalkState((r.throughputState >> 26u) & 31u, (r.throughputState >> 31u) != 0u,
+                                 int(r.directionLod >> 26u) - 32);
+  return HgWalk(r.origin, r.indexTravel & ((1u << HG_WALK_INDEX_BITS) - 1u),
+                giUnpackRgbShared(r.throughputState & 0x3ffffffu, 7u), r.key, direction,
+                hgUnpackUfloat11(r.indexTravel >> HG_WALK_INDEX_BITS), state, 0u);
 }
 
 // The global slot holding `key` in the table starting at `table`, or -1.
@@ -132,7 +152,7 @@ HgCell hgEmptyCell() {
   empty.lumMoment2 = 0.0;
   empty.tail = vec3(0.0);
   empty.frames = 0.0;
-  empty.recent = vec3(0.0);
+  empty.recent = 0u;
   empty.lastSeen = 0u;
   empty.sentinelOrigin = vec3(0.0);
   empty.sentinelDistance = 0.0;
@@ -208,6 +228,16 @@ vec3 hgUnpackDirection(uint packed) {
   vec3 d = vec3(o, 1.0 - abs(o.x) - abs(o.y));
   if (d.z < 0.0) d.xy = (1.0 - abs(d.yx)) * vec2(d.x >= 0.0 ? 1.0 : -1.0, d.y >= 0.0 ? 1.0 : -1.0);
   return normalize(d);
+}
+
+// A cell's recent mean (HgCell::recent): RGB9E5 of radiance · radianceScale (a constant of the module),
+// rounded stochastically with a dither of its key and frame (not its slot, which the order of the inserts
+// may change), so the running mean it is blends nothing away (shared/hash_grid.h).
+vec3 hgCellRecent(HgCell c, float radianceScale) { return giUnpackRgb9e5(c.recent) / radianceScale; }
+uint hgPackRecent(vec3 recent, float radianceScale, uint key, uint frameIndex) {
+  const uint h = hgHashPcg(key ^ hgHashPcg(frameIndex)), h2 = hgHashPcg(h);  // 16 bits a channel: a frame that
+  const vec3 dither = (vec3(uvec3(h, h >> 16u, h2) & 0xffffu) + 0.5) / 65536.0;  // moves it 1/65536 step counts
+  return giPackRgbShared(recent * radianceScale, 9u, dither);
 }
 
 // A cell's radiance: the mean of its clamped samples plus the clamp's tail.

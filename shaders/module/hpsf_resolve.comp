@@ -12,6 +12,23 @@
 layout(local_size_x = 64) in;
 layout(push_constant, scalar) uniform Push { HgPush pc; };
 
+// This frame's mean of the clamped samples.
+vec3 frameMean(HgAccum a) {
+  return vec3(hgFromFixed(a.r, a.count), hgFromFixed(a.g, a.count), hgFromFixed(a.b, a.count)) / pc.radianceScale;
+}
+
+// The recent mean's window in frames: historySamples samples at this frame's count (nhpsf and anhpsf pass it
+// on; see resolveAging), at most the mean's own window `cap`.
+float recentWindow(uint count, float cap) {
+  return pc.historySamples > 0u && count > 0u ? clamp(float(pc.historySamples) / float(count), 1.0, cap) : cap;
+}
+// The recent mean after this frame's samples `a` (a.count > 0) join the one `frames` frames hold.
+uint blendRecent(HgCell c, float frames, HgAccum a, float window, uint key) {
+  const float w = 1.0 / (min(frames, window - 1.0) + 1.0);
+  return hgPackRecent(frames > 0.0 ? mix(hgCellRecent(c, pc.radianceScale), frameMean(a), w) : frameMean(a),
+                      pc.radianceScale, key, pc.frameIndex);
+}
+
 // Strict eviction (Meijer §4.2.2): the cell's sums are this frame's samples
 // plus everything its key held in the last frame's table, written back so
 // that the next frame finds them there in turn: a cell touched every frame
@@ -23,9 +40,17 @@ void resolveStrict(uint i, inout uint live, inout uint evicted) {
   if (HG_AT(hgKeys, slot) != HG_EMPTY_KEY) {
     HgAccum a = HG_AT(hgAccum, slot);
     HgCell c = HG_AT(hgCells, slot);
-    c.frames = 1.0;
+    const uint key = HG_AT(hgKeys, slot);
+    // What nhpsf's vertices read: the whole history's mean would lag behind light that builds up over
+    // frames, so, as with aging, a recent mean over historySamples samples, carried from the last table.
     const uint previous = hgCellPrevious(c.previousLod);
-    if (previous > 0u && pc.forgetLight == 0u) {
+    const bool carried = previous > 0u && pc.forgetLight == 0u;
+    HgCell last = hgEmptyCell();
+    if (carried) last = HG_AT(hgCells, previous - 1u);  // (a ?: of the buffer's and a local struct is bad SPIR-V)
+    const float window = recentWindow(a.count, float(pc.historyCap));
+    c.recent = a.count > 0u ? blendRecent(last, carried ? last.frames : 0.0, a, window, key) : last.recent;
+    c.frames = 1.0;
+    if (carried) {
       HgAccum b = HG_AT(hgAccum, previous - 1u);
       a.r += b.r;
       a.g += b.g;
@@ -35,7 +60,7 @@ void resolveStrict(uint i, inout uint live, inout uint evicted) {
       a.tb += b.tb;
       a.lum2 += b.lum2;
       a.count += b.count;
-      c.frames = HG_AT(hgCells, previous - 1u).frames + 1.0;
+      c.frames = last.frames + 1.0;
     }
     if (a.count >= HG_STRICT_MAX_COUNT) {
       a.r /= 2ul;
@@ -48,7 +73,7 @@ void resolveStrict(uint i, inout uint live, inout uint evicted) {
       a.count /= 2u;
     }
     HG_AT(hgAccum, slot) = a;
-    c.mean = vec3(hgFromFixed(a.r, a.count), hgFromFixed(a.g, a.count), hgFromFixed(a.b, a.count)) / pc.radianceScale;
+    c.mean = frameMean(a);  // the whole history's
     c.tail = vec3(hgFromFixed(a.tr, a.count), hgFromFixed(a.tg, a.count), hgFromFixed(a.tb, a.count)) / pc.radianceScale;
     c.lumMoment2 = hgFromFixed(a.lum2, a.count) / (pc.radianceScale * pc.radianceScale);
     c.samples = a.count;
@@ -60,23 +85,17 @@ void resolveStrict(uint i, inout uint live, inout uint evicted) {
   if (HG_AT(hgKeys, previous) != HG_EMPTY_KEY && HG_AT(hgCells, previous).lastSeen != pc.frameIndex) evicted = 1u;
 }
 
-// This frame's mean of the clamped samples.
-vec3 frameMean(HgAccum a) {
-  return vec3(hgFromFixed(a.r, a.count), hgFromFixed(a.g, a.count), hgFromFixed(a.b, a.count)) / pc.radianceScale;
-}
-
 // This frame's samples (a.count > 0) into the aging cell's running means: the mean and the luminance moment
 // over up to `cap` frames, the recent mean (what the map passes on) over `recentCap`, the clamp's tail over
 // HG_TAIL_HISTORY times as many; and the samples behind the mean.
-void blendFrameIntoCell(inout HgCell c, HgAccum a, float cap, float recentCap) {
+void blendFrameIntoCell(inout HgCell c, HgAccum a, float cap, float recentCap, uint key) {
   vec3 frameMean = frameMean(a);
   vec3 frameTail = vec3(hgFromFixed(a.tr, a.count), hgFromFixed(a.tg, a.count), hgFromFixed(a.tb, a.count)) / pc.radianceScale;
   float frameM2 = hgFromFixed(a.lum2, a.count) / (pc.radianceScale * pc.radianceScale);
   float w = 1.0 / (min(c.frames, cap - 1.0) + 1.0);
   float wTail = 1.0 / (min(c.frames, cap * HG_TAIL_HISTORY - 1.0) + 1.0);
-  float wRecent = 1.0 / (min(c.frames, recentCap - 1.0) + 1.0);
   c.mean = c.frames > 0.0 ? mix(c.mean, frameMean, w) : frameMean;
-  c.recent = c.frames > 0.0 ? mix(c.recent, frameMean, wRecent) : frameMean;
+  c.recent = blendRecent(c, c.frames, a, recentCap, key);
   c.tail = c.frames > 0.0 ? mix(c.tail, frameTail, wTail) : frameTail;
   c.lumMoment2 = c.frames > 0.0 ? mix(c.lumMoment2, frameM2, w) : frameM2;
   c.frames = min(c.frames + 1.0, float(pc.historyCap) * HG_TAIL_HISTORY);
@@ -111,8 +130,7 @@ void resolveAging(uint slot, inout uint live, inout uint evicted) {
   // that followed the cell's own σ/μ would stretch after every bright sample
   // and keep it longer (measured: +7% light on Sponza with hpsf).
   float cap = float(pc.historyCap);
-  float recentCap = cap;
-  if (pc.historySamples > 0u && a.count > 0u) recentCap = clamp(float(pc.historySamples) / float(a.count), 1.0, cap);
+  float recentCap = recentWindow(a.count, cap);
   // Stale radiance: hpsf_validate.comp, before this pass, cut histories the sentinels found stale.
   if (pc.forgetLight != 0u) {
     // The engine says the lights changed: the history goes (hpsf_validate.comp
@@ -123,7 +141,7 @@ void resolveAging(uint slot, inout uint live, inout uint evicted) {
     HG_AT(hgCells, slot) = c;
   }
   if (a.count > 0u) {
-    blendFrameIntoCell(c, a, cap, recentCap);
+    blendFrameIntoCell(c, a, cap, recentCap, key);
     c.lastSeen = pc.frameIndex;
     HG_AT(hgCells, slot) = c;
     hgClearAccum(slot);

@@ -152,7 +152,7 @@ bool hgReadCell(uint index, uint key, out vec3 mean) {
   if (slot < 0) return false;
   HgCell c = HG_AT(hgCells, slot);
   if (c.samples < pc.minSamples || c.frames == 0.0) return false;
-  mean = c.recent + c.tail;
+  mean = hgCellRecent(c, pc.radianceScale) + c.tail;
   return true;
 }
 

@@ -64,8 +64,12 @@ struct HgCell {
   vec3 tail;          // resolved mean of what the clamp took off (HG_TAIL_HISTORY): the cell's radiance
                       // is mean + tail
   float frames;       // frames of history behind the mean (capped)
-  vec3 recent;        // nhpsf/anhpsf: the mean over the last historySamples samples only; what the
-                      // map passes on to the vertices before this one (recent + tail)
+  uint recent;        // nhpsf/anhpsf: the mean over the last historySamples samples only; what the
+                      // map passes on to the vertices before this one (recent + tail). RGB9E5 of
+                      // radiance · radianceScale, rounded stochastically (hpsf.glsl's hgPackRecent): each
+                      // store within a step (0.4% of its largest channel) and right on average, so frames
+                      // that move it less than a step still move it; 8 bytes fewer a cell than three floats
+                      // (4.2 MB at 2^19 cells)
   uint lastSeen;      // frame index of the last update
   // Aging: the sentinel that detects stale radiance. A ray from the cell's first
   // vertex; re-traced with the same random numbers it gives the same hit
@@ -78,7 +82,7 @@ struct HgCell {
   uint previousLod;     // bits 0–23, strict: global slot + 1 of the same key in the previous frame's
                         // table, 0 = none; bits 24–31: the cell's level of detail + 128 (hgPackPreviousLod)
 };
-GPU_ASSERT_SIZE(HgCell, 80);
+GPU_ASSERT_SIZE(HgCell, 72);
 
 // HgCell::previousLod. Slots stay below 2^23 (two tables of at most 2^21 cells).
 GPU_FN uint hgPackPreviousLod(uint previous, int lod) {
@@ -126,19 +130,23 @@ struct HgWalk {
 };
 GPU_ASSERT_SIZE(HgWalk, 48);
 
-// A walk as anhpsf keeps it between frames, one per pixel (hpsf.glsl's hgPackWalk, hgUnpackWalk):
-// the origin, the fed cell and the direction as they are, the throughput in RGB9E5 (9-bit mantissas
-// under a shared exponent: within 0.2% of its largest channel), the travel as a half float and the
-// state in 16 bits (vertices reached in 7, the continue flag, the level of detail + 128 in 8).
+// A walk as anhpsf keeps it between frames, one per pixel (hpsf.glsl's hgPackWalk, hgUnpackWalk), in
+// 28 bytes (issue 30's memory: 58.1 MB at 1920×1080): the origin and the fed cell's key as they are; the
+// fed cell's index hash only to the map's largest capacity (the probes read index mod capacity, a power of
+// two up to 2^21, so these bits are all of it); the direction octahedral in 2 × 13-bit snorm (within
+// 0.03°); the throughput (1 after a diffuse vertex, a BSDF weight after glossy ones) in 7-bit mantissas
+// under a shared 5-bit exponent (within 0.8% of its largest channel, 1 exactly); the travel, which only
+// the travel-based secondary LODs read, an unsigned 11-bit float (B10G11R11's: within 0.9%); the state
+// (vertices reached ≤ 31, the continue flag, the fed cell's level of detail in [-32, 31]).
+GPU_CONST HG_WALK_INDEX_BITS = 21u;
 struct HgWalkRecord {
   vec3 origin;
-  uint index;
   uint key;
-  uint direction;
-  uint throughput;   // RGB9E5
-  uint travelState;  // bits 0–15: the travel (half float); 16–22: vertices reached; 23: continues; 24–31: LOD + 128
+  uint directionLod;      // bits 0–25: the direction, 2 × 13-bit snorm; 26–31: LOD + 32
+  uint throughputState;   // bits 0–25: the throughput, RGB7E5; 26–30: vertices reached; 31: continues
+  uint indexTravel;       // bits 0–20: the index hash mod 2^21; 21–31: the travel (unsigned 11-bit float)
 };
-GPU_ASSERT_SIZE(HgWalkRecord, 32);
+GPU_ASSERT_SIZE(HgWalkRecord, 28);
 
 GPU_FN uint hgHashPcg(uint v) {
   uint state = v * 747796405u + 2891336453u;
