@@ -454,21 +454,48 @@ def emissive_reservoirs(prefix, default_min=16):
               goal_cells(at, base, methods) + " |")
 
 
+def median_runs(directory):
+    """The rows of a run, or of several runs of the same configurations (DIR, comma-separated: rounds that
+    alternated with others on one machine), keyed by method and settings: each round's times replaced by
+    their median (total and every pass), the rest (the errors, the same every round) the first round's."""
+    merged = {}
+    for d in directory.split(","):
+        for r in rows(f"{d}/results.csv"):
+            merged.setdefault((r["method"], r["settings"]), []).append(r)
+    out = {}
+    for k, rounds in merged.items():
+        row = dict(rounds[0])
+        row["total_ms"] = str(statistics.median_high(float(r["total_ms"]) for r in rounds))
+        passes = {}
+        for r in rounds:
+            for item in r["pass_ms"].split(";"):
+                label, ms = item.split(":")
+                passes.setdefault(label, []).append(float(ms))
+        row["pass_ms"] = ";".join(f"{label}:{statistics.median_high(v)}" for label, v in passes.items())
+        out[k] = row
+    return out
+
+
 def goal_sweep(key, pass_prefix, pairs):
     """A setting swept on many-light scenes beside their 4-light run (args: KEY PREFIX BASE_NAME BASE_DIR NAME DIR
     ...; the first pair the base, run with the defaults): per scene and value, the ms per frame of the passes
     whose names start with PREFIX, and per method GPU ms per frame, final MSE and both over the base's (issue
-    31's goal columns)."""
-    methods = ["raw", "svgf", "hpsf"]
+    31's goal columns). KEY `settings`: a row per run of several settings swept together, named by all of
+    them; the methods those of raw, svgf and hpsf the base ran. A DIR may be rounds, comma-separated
+    (median_runs)."""
     (base_name, base_dir), *runs = named(pairs)
-    base = {r["method"]: r for r in rows(f"{base_dir}/results.csv")}
+    base = {method: r for (method, _), r in median_runs(base_dir).items()}
+    methods = [m for m in ["raw", "svgf", "hpsf"] if m in base]
     print(f"| scene | {key} | {methods[0]}'s {pass_prefix}* ms | " +
           " | ".join(f"{m} ms | {m} MSE | {m} against {base_name.replace('_', ' ')}" for m in methods) + " |")
     print("|---|---|---|" + "---|" * (3 * len(methods)))
     for name, directory in [(base_name, base_dir)] + runs:
         by_value = {}
-        for r in rows(f"{directory}/results.csv"):
-            value = r["label"].split(f"{key}=")[1].split()[0] if f"{key}=" in r["label"] else "–"
+        for r in median_runs(directory).values():
+            if key == "settings":
+                value = r["settings"].replace("reservoirs.", "") or "–"
+            else:
+                value = r["label"].split(f"{key}=")[1].split()[0] if f"{key}=" in r["label"] else "–"
             by_value.setdefault(value, {})[r["method"]] = r
         for value, at in by_value.items():
             ms = sum(float(x.split(":")[1]) for x in at[methods[0]]["pass_ms"].split(";") if x.startswith(pass_prefix))
