@@ -66,10 +66,10 @@ struct HgCell {
   float frames;       // frames of history behind the mean (capped)
   uint recent;        // nhpsf/anhpsf: the mean over the last historySamples samples only; what the
                       // map passes on to the vertices before this one (recent + tail). RGB9E5 of
-                      // radiance · radianceScale, rounded stochastically (hpsf.glsl's hgPackRecent): each
-                      // store within a step (0.4% of its largest channel) and right on average, so frames
-                      // that move it less than a step still move it; 8 bytes fewer a cell than three floats
-                      // (4.2 MB at 2^19 cells)
+                      // radiance · radianceScale (up to 65408 × SceneDesc::typicalRadiance), rounded
+                      // stochastically (hpsf.glsl's hgPackRecent): each store within a step (0.4% of its
+                      // largest channel) and right on average, so frames that move it less than a step
+                      // still move it; 8 bytes fewer a cell than three floats (4.2 MB at 2^19 cells)
   uint lastSeen;      // frame index of the last update
   // Aging: the sentinel that detects stale radiance. A ray from the cell's first
   // vertex; re-traced with the same random numbers it gives the same hit
