@@ -672,21 +672,19 @@ def refit(path):
 def pass_times(pairs):
     """Each method's passes, ms a frame, per configuration (args: NAME DIR ...; underscores in names are spaces).
     DIR may be several runs of one configuration, comma-separated: each pass's median over them."""
-    runs = [(name.replace("_", " "), [{r["method"]: r for r in rows(f"{d}/results.csv")} for d in directory.split(",")])
+    runs = [(name.replace("_", " "), {method: r for (method, _), r in median_runs(directory).items()})
             for name, directory in named(pairs)]
     print("| method | pass | " + " | ".join(name for name, _ in runs) + " |")
     print("|---|---|" + "---|" * len(runs))
-    methods = list(dict.fromkeys(m for _, repeats in runs for byMethod in repeats for m in byMethod))
+    methods = list(dict.fromkeys(m for _, byMethod in runs for m in byMethod))
     for method in methods:
         passes = {}
-        for name, repeats in runs:
-            for byMethod in repeats:
-                for item in byMethod[method]["pass_ms"].split(";") if method in byMethod else []:
-                    label, ms = item.split(":")
-                    passes.setdefault(label, {}).setdefault(name, []).append(float(ms))
+        for name, byMethod in runs:
+            for item in byMethod[method]["pass_ms"].split(";") if method in byMethod else []:
+                label, ms = item.split(":")
+                passes.setdefault(label, {})[name] = float(ms)
         for label, times in passes.items():
-            cells = " | ".join(f"{statistics.median_high(times[name]):.1f}" if name in times else "–"
-                               for name, _ in runs)
+            cells = " | ".join(f"{times[name]:.1f}" if name in times else "–" for name, _ in runs)
             print(f"| {method} | {label} | {cells} |")
 
 

@@ -194,7 +194,7 @@ const SettingInfo kSettings[] = {
                false, kHash),
     GI_SETTING("hpsf.capacity", hpsf.capacity, "cells",
                "hash map size, a power of two >= 1024 (0 = from the render size; nhpsf, anhpsf: and their segments)",
-               Uint, 0, 1 << 21, false, kHash),
+               Uint, 0, kMaxHashCapacity, false, kHash),
     GI_SETTING("hpsf.probe_window", hpsf.probeWindow, "slots", "linear-probing limit", Uint, 1, 64, false, kHash),
     GI_SETTING("hpsf.width", hpsf.filterWidth, "pixels", "filter width: cell size = width x pixel footprint x distance",
                Float, 0.5, 256, false, kHash),

@@ -29,8 +29,8 @@ Error validate(const Settings& s) {
     return {ErrorCode::NotPowerOfTwo,
             "settings.hpsf.capacity = " + std::to_string(h.capacity) + " is not a power of two"};
   if (h.capacity != 0 && h.capacity < (1u << 10))
-    return {ErrorCode::OutOfRange,
-            "settings.hpsf.capacity = " + std::to_string(h.capacity) + " is neither 0 nor in [1024, 2097152]"};
+    return {ErrorCode::OutOfRange, "settings.hpsf.capacity = " + std::to_string(h.capacity) +
+                                       " is neither 0 nor in [1024, " + std::to_string(kMaxHashCapacity) + "]"};
   if (s.method == Method::Anhpsf && h.eviction == EvictionPolicy::Strict)
     return {ErrorCode::OutOfRange,
             "settings.hpsf.eviction = strict keeps cells for two frames, too short for anhpsf's transport over frames; "
@@ -57,9 +57,8 @@ bool nMethod(Method m) { return m == Method::Nhpsf || m == Method::Anhpsf; }
 // pixel gives at 1920×1080: issue 30's memory); beyond, their later cells widen instead.
 constexpr double kNMethodCellsCap = double(1u << 19);
 
-// The largest map (the catalogue's hpsf.capacity range ends here too): anhpsf's walks keep the fed cell's
-// index hash mod 2^HG_WALK_INDEX_BITS, all the probes read of it up to this capacity.
-constexpr uint32_t kMaxHashCapacity = 1u << 21;
+// anhpsf's walks keep the fed cell's index hash mod 2^HG_WALK_INDEX_BITS: all the probes read of it up to
+// the largest map.
 static_assert(kMaxHashCapacity <= (1u << gpu::HG_WALK_INDEX_BITS), "a walk's index bits cover the map");
 
 }  // namespace

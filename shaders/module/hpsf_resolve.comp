@@ -12,10 +12,14 @@
 layout(local_size_x = 64) in;
 layout(push_constant, scalar) uniform Push { HgPush pc; };
 
-// This frame's mean of the clamped samples.
+// The sums' means: of the clamped samples, of what the clamp took off, of luminance².
 vec3 frameMean(HgAccum a) {
   return vec3(hgFromFixed(a.r, a.count), hgFromFixed(a.g, a.count), hgFromFixed(a.b, a.count)) / pc.radianceScale;
 }
+vec3 frameTail(HgAccum a) {
+  return vec3(hgFromFixed(a.tr, a.count), hgFromFixed(a.tg, a.count), hgFromFixed(a.tb, a.count)) / pc.radianceScale;
+}
+float frameMoment2(HgAccum a) { return hgFromFixed(a.lum2, a.count) / (pc.radianceScale * pc.radianceScale); }
 
 // The recent mean's window in frames: historySamples samples at this frame's count (nhpsf and anhpsf pass it
 // on; see resolveAging), at most the mean's own window `cap`.
@@ -74,8 +78,8 @@ void resolveStrict(uint i, inout uint live, inout uint evicted) {
     }
     HG_AT(hgAccum, slot) = a;
     c.mean = frameMean(a);  // the whole history's
-    c.tail = vec3(hgFromFixed(a.tr, a.count), hgFromFixed(a.tg, a.count), hgFromFixed(a.tb, a.count)) / pc.radianceScale;
-    c.lumMoment2 = hgFromFixed(a.lum2, a.count) / (pc.radianceScale * pc.radianceScale);
+    c.tail = frameTail(a);
+    c.lumMoment2 = frameMoment2(a);
     c.samples = a.count;
     c.lastSeen = pc.frameIndex;
     HG_AT(hgCells, slot) = c;
@@ -90,8 +94,8 @@ void resolveStrict(uint i, inout uint live, inout uint evicted) {
 // HG_TAIL_HISTORY times as many; and the samples behind the mean.
 void blendFrameIntoCell(inout HgCell c, HgAccum a, float cap, float recentCap, uint key) {
   vec3 frameMean = frameMean(a);
-  vec3 frameTail = vec3(hgFromFixed(a.tr, a.count), hgFromFixed(a.tg, a.count), hgFromFixed(a.tb, a.count)) / pc.radianceScale;
-  float frameM2 = hgFromFixed(a.lum2, a.count) / (pc.radianceScale * pc.radianceScale);
+  vec3 frameTail = frameTail(a);
+  float frameM2 = frameMoment2(a);
   float w = 1.0 / (min(c.frames, cap - 1.0) + 1.0);
   float wTail = 1.0 / (min(c.frames, cap * HG_TAIL_HISTORY - 1.0) + 1.0);
   c.mean = c.frames > 0.0 ? mix(c.mean, frameMean, w) : frameMean;

@@ -175,9 +175,13 @@ enum class SecondaryLod : uint32_t {
   Camera,       // the vertex's L∞ distance from the camera, as if it were primary
 };
 
+// The largest hash map, cells (HpsfSettings::capacity's range; anhpsf's continued paths keep the index hash
+// of the cell they feed to this many values).
+inline constexpr uint32_t kMaxHashCapacity = 1u << 21;
+
 struct HpsfSettings {
   uint32_t samplesPerPixel = 1;  // [1, 64]
-  uint32_t capacity = 0;         // cells, a power of two in [2^10, 2^21]; 0 = gi::hashCapacity's default
+  uint32_t capacity = 0;         // cells, a power of two in [2^10, kMaxHashCapacity]; 0 = gi::hashCapacity's default
   uint32_t probeWindow = 16;     // linear-probing limit in slots, [1, 64]
   float filterWidth = 16.0f;  // pixels, [0.5, 256]: cell size = width × pixel footprint × distance, to a power of two
   float jitter = 0.3f;        // tangent-plane jitter, ± cells (Meijer Alg. 3's δ ∈ [−1, 1]³), [0, 2]; 0 = off.
