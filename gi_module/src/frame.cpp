@@ -257,9 +257,12 @@ void recordFilterPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const gpu
   // Passes: the chosen filter, noisy indirect → indirect.
   PassHooks hooks = passHooks(m, slot);
   const vk::Device& g = m.gpu;
-  // The filters work in the noisy image's units (radiance × noisyScale) and land in the indirect
+  // The filters work in their input's units (radiance × noisyScale, or × historyScale where they read the
+  // indirect history the temporal pass wrote this frame: set 0 A, set 1 B) and land in the indirect
   // output: pre-exposed, within its format. Their positions are metres over the scene extent.
-  const gpu::FilterOutputEncoding toIndirect{frame.outputScale / frame.noisyScale, frame.outputMax};
+  f.inputSet = m.plan.filtersReadHistory ? m.temporalFrames & 1u : 0u;  // counted past this frame's pass
+  const float inputScale = m.plan.filtersReadHistory ? frame.historyScale : frame.noisyScale;
+  const gpu::FilterOutputEncoding toIndirect{frame.outputScale / inputScale, frame.outputMax};
   const float positionScale = frame.depthScale;
   if (s.method == Method::Sspsf) {
     const SspsfSettings& ss = s.sspsf;
@@ -292,9 +295,8 @@ void recordFilterPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const gpu
     recordBilateral(g, cmd, f, {b.radius, b.sigmaSpatial, b.sigmaNormal, b.sigmaDepth, toIndirect}, hooks);
   } else {
     const AtrousSettings& a = s.atrous;
-    // Its colour edge stop compares the noisy image's values: σ in the same units.
-    recordAtrous(g, cmd, f, toIndirect, a.iterations, a.sigmaColor * frame.noisyScale, a.sigmaNormal, a.sigmaPosition,
-                 hooks);
+    // Its colour edge stop compares its input's values: σ in the same units.
+    recordAtrous(g, cmd, f, toIndirect, a.iterations, a.sigmaColor * inputScale, a.sigmaNormal, a.sigmaPosition, hooks);
   }
 }
 
@@ -494,6 +496,7 @@ void recordCompositePasses(Module& m, VkCommandBuffer cmd, const FrameSetup& set
   if (m.plan.temporalPass &&
       (s.method == Method::Sspsf || m.plan.clampsHashIndirect))  // they filter filter vertices only
     clampLight = gpu::GI_CLAMP_INDIRECT | gpu::GI_CLAMP_FILTER_VERTICES;
+  if (clampLight && m.plan.filtersReadHistory) clampLight |= gpu::GI_CLAMP_FROM_HISTORY;
   if (s.method == Method::Svgf && s.svgf.iterations > 0)
     clampLight = gpu::GI_CLAMP_INDIRECT | gpu::GI_CLAMP_FROM_MOMENTS |
                  (m.plan.noisyDirect && s.svgf.filterDirect ? gpu::GI_CLAMP_DIRECT : 0u);

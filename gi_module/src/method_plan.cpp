@@ -20,6 +20,7 @@ MethodPlan planMethod(const SceneDesc& scene, const Settings& s) {
   p.packedHistory = p.temporalPass && p.hashGrid && !p.clampsHashIndirect;
   p.temporalGradients = s.temporal.gradients && p.temporalPass && !p.hashGrid && !p.aaf;
   p.historyClamp = s.temporal.historyClamp > 0.0f && p.temporalPass;
+  p.filtersReadHistory = p.screenFilters && p.temporalPass && s.debugView != DebugView::FilterInOut;
   const bool resamples = s.reservoirs.enabled && !s.indirectOnly;
   p.reservoirPunctual = resamples && p.picksPunctualLights;
   p.reservoirEmissive =

@@ -39,7 +39,13 @@ struct MethodPlan {
   // start there (not the hash methods, not AAF).
   bool temporalGradients = false;
   bool historyClamp = false;  // the temporal pass clamps the history to this frame's samples
-  bool reservoirs = false;    // the reservoir passes: reservoirPunctual or reservoirEmissive
+  // The screen filters read the indirect history the temporal pass wrote this frame, not a noisy image of
+  // their own: the noisy indirect is then traced into the indirect output, which the temporal pass reads
+  // pixel by pixel before the filter overwrites it (one image less). Not with the filter in | out view,
+  // which shows the noisy image beside the output: the temporal pass then hands the filters its result
+  // in the noisy image, as before.
+  bool filtersReadHistory = false;
+  bool reservoirs = false;  // the reservoir passes: reservoirPunctual or reservoirEmissive
   // The reservoirs resample the point and spot lights where NEE would pick among them, and the emissive
   // triangles where there are more than ReservoirSettings::emissiveMin of them (and at most 2^22: the
   // reservoir's word keeps 8 bits for the sample point); the rest stays NEE's.

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <cstring>
 #include <string>
+#include <vector>
 
 #include "aaf_filter.comp.h"
 #include "atrous.comp.h"
@@ -35,7 +36,7 @@ void passOn(const vk::Device& d, VkCommandBuffer cmd, VkDescriptorSet set, const
 template <typename Push>
 void pass(const vk::Device& d, VkCommandBuffer cmd, const ScreenFilters& f, const PassHooks& hooks, Pass name,
           const vk::ComputeProgram& program, glm::uvec2 threads, const Push& push) {
-  passOn(d, cmd, f.set[0], f, hooks, name, program, threads, push);
+  passOn(d, cmd, f.set[f.inputSet], f, hooks, name, program, threads, push);
 }
 
 }  // namespace
@@ -128,14 +129,14 @@ vk::Status createFilterSets(const vk::Device& d, const FilterPrograms& programs,
 }
 
 vk::Status createScreenFilters(vk::Device& d, const FilterPrograms& programs, uint32_t width, uint32_t height,
-                               const FilterTargets& t, ScreenFilters& out) {
+                               std::span<const FilterTargets> t, ScreenFilters& out) {
   ScreenFilters f;
   f.programs = &programs;
   f.width = f.imageWidth = width;
   f.height = f.imageHeight = height;
-  FilterTargets targets = t;
+  std::vector<FilterTargets> targets(t.begin(), t.end());
   // (A prediction's buffers have no handles; the module always names its counters.)
-  if (!targets.counters && !d.memory.simulate) {
+  if (!targets[0].counters && !d.memory.simulate) {
     if (vk::Status s =
             vk::createBuffer(d, sizeof(gpu::GiCounters), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, f.ownCounters)) {
       destroyScreenFilters(d, f);
@@ -143,9 +144,9 @@ vk::Status createScreenFilters(vk::Device& d, const FilterPrograms& programs, ui
     }
     if (f.ownCounters.memory.mapped)
       std::memset(f.ownCounters.memory.mapped, 0, sizeof(gpu::GiCounters));  // null: a prediction
-    targets.counters = f.ownCounters.buffer;
+    for (FilterTargets& target : targets) target.counters = f.ownCounters.buffer;
   }
-  if (vk::Status s = createFilterSets(d, programs, std::span(&targets, 1), f.set)) {
+  if (vk::Status s = createFilterSets(d, programs, targets, f.set)) {
     destroyScreenFilters(d, f);
     return s;
   }
@@ -163,12 +164,12 @@ vk::Status ensureGuidedStack(vk::Device& d, ScreenFilters& f, uint32_t subsample
       for (vk::Image& made : f.a) vk::destroyImage(d, made);
       return s;
     }
-  vk::DescriptorWriter w(f.set[0]);
-  for (uint32_t i = 0; i < FILTER_STACK; ++i) {
-    f.memoryBytes += f.a[i].memory.size;
-    w.storageImage(gpu::FILTER_BINDING_A, f.a[i].view, i);
+  for (const vk::Image& img : f.a) f.memoryBytes += img.memory.size;
+  for (VkDescriptorSet set : f.set.sets) {
+    vk::DescriptorWriter w(set);
+    for (uint32_t i = 0; i < FILTER_STACK; ++i) w.storageImage(gpu::FILTER_BINDING_A, f.a[i].view, i);
+    w.write(d);
   }
-  w.write(d);
   return {};
 }
 

@@ -55,7 +55,8 @@ struct ScreenFilters {
   const FilterPrograms* programs = nullptr;
   vk::Image a[FILTER_STACK];                 // the guided filter's window statistics (created on its first use)
   uint32_t guidedSubsample = 1;              // their resolution: one pixel per s×s pixels (ensureGuidedStack)
-  vk::DescriptorSets set;                    // one set over the module's targets
+  vk::DescriptorSets set;                    // a set per target (one, or one per history set the input can be)
+  uint32_t inputSet = 0;                     // the set the passes use this frame
   vk::DescriptorSets aafGlossySets;          // two: AAF's specular terms filtered in place (glossy scenes)
   vk::Buffer ownCounters;                    // where the targets named no counters (the filters on their own, in tests)
   uint32_t imageWidth = 0, imageHeight = 0;  // the images' size (the largest render size)
@@ -76,8 +77,14 @@ struct GuidedFilterParams {
 // then filter other images (AAF's glossy terms).
 vk::Status createFilterSets(const vk::Device& device, const FilterPrograms& programs,
                             std::span<const FilterTargets> targets, vk::DescriptorSets& out);
+// One set per target, all over the same width × height (the module's: its noisy image, or its two
+// indirect histories, the passes choosing one a frame through ScreenFilters::inputSet).
 vk::Status createScreenFilters(vk::Device& device, const FilterPrograms& programs, uint32_t width, uint32_t height,
-                               const FilterTargets& targets, ScreenFilters& out);
+                               std::span<const FilterTargets> targets, ScreenFilters& out);
+inline vk::Status createScreenFilters(vk::Device& device, const FilterPrograms& programs, uint32_t width,
+                                      uint32_t height, const FilterTargets& targets, ScreenFilters& out) {
+  return createScreenFilters(device, programs, width, height, std::span(&targets, 1), out);
+}
 // Allocates the guided filter's FILTER_STACK statistics images (rgba32f, ⌈width/s⌉ × ⌈height/s⌉ of the
 // largest render size) once; `subsample` is gif.subsample (sized resources are remade when it changes), and
 // the guided filter runs at the resolution the stack was made for.

@@ -79,13 +79,16 @@ static_assert(std::size(kSizedImages) <= 26, "the image bits stay below the flag
 constexpr uint32_t kHalfFilterTemp = 1u << 26, kFullPrecisionHistory = 1u << 27;
 constexpr uint32_t kNeedsFilters = 1u << 28, kNeedsGuidedStack = 1u << 29, kNeedsGlossySets = 1u << 30;
 // The noisy indirect goes straight into the indirect output where no pass reads it once the output is
-// written: the hash methods' lookup overwrites it pixel by pixel, and svgf's temporal pass reads it
-// pixel by pixel before its à-trous iterations use the output as scratch. Set 1's noisy-indirect
+// written: the hash methods' lookup overwrites it pixel by pixel, svgf's temporal pass reads it pixel by
+// pixel before its à-trous iterations use the output as scratch, and so does the screen filters' before
+// they filter the history it wrote (MethodPlan::filtersReadHistory). Set 1's noisy-indirect
 // binding then names the indirect image, and no separate image is held (except for the filter
 // in | out view, which shows both).
 constexpr uint32_t kNoisyIsIndirect = 1u << 31;
 // Bits 32–35: the guided filter's gif.subsample, which sizes its statistics images.
 constexpr uint32_t kGuidedSubsampleShift = 32;
+// Bit 36: the filters read the indirect history (two filter sets, one per history set).
+constexpr uint64_t kFiltersReadHistory = 1ull << 36;
 uint32_t guidedSubsample(uint64_t needs) { return uint32_t(needs >> kGuidedSubsampleShift) & 0xfu; }
 static_assert(GIF_MAX_SUBSAMPLE <= 0xfu, "gif.subsample fits its four bits");
 
@@ -128,7 +131,7 @@ std::span<const vk::Binding> frameBindings() { return kFrameBindings; }
 uint64_t sizedResourcesNeeded(const MethodPlan& plan, const Settings& s) {
   uint64_t need = 0;
   const bool noisyReadAfterOutput = s.debugView == DebugView::FilterInOut;
-  if (!noisyReadAfterOutput && ((plan.hashGrid && !plan.clampsHashIndirect) || plan.svgf))
+  if (!noisyReadAfterOutput && ((plan.hashGrid && !plan.clampsHashIndirect) || plan.svgf || plan.filtersReadHistory))
     need |= kNoisyIsIndirect;
   else
     need |= bit(&SizedResources::noisyIndirect);
@@ -181,6 +184,7 @@ uint64_t sizedResourcesNeeded(const MethodPlan& plan, const Settings& s) {
     default: break;
   }
   if (plan.screenFilters) need |= kNeedsFilters;
+  if (plan.filtersReadHistory) need |= kFiltersReadHistory;
   if (s.method == Method::Gif) need |= kNeedsGuidedStack | uint64_t(s.gif.subsample) << kGuidedSubsampleShift;
   if (plan.aafSpecular) need |= kNeedsGlossySets;
   return need;
@@ -209,9 +213,15 @@ const vk::Image& workingIndirect(const OutputImages& outputs, const SizedResourc
 // The screen filters over the images of `r`, with the parts `r.needs` asks for.
 vk::Status createFilters(Module& m, const OutputImages& outputs, SizedResources& r) {
   if (!(r.needs & kNeedsFilters)) return {};
+  const FilterTargets noisy{r.guidance.view, r.position.view,  r.noisyIndirect.view, workingIndirect(outputs, r).view,
+                            r.debug.view,    r.aafParams.view, m.counters.buffer};
+  // Reading the history: set 0 filters the A set the temporal pass wrote, set 1 the B set.
+  FilterTargets history[2] = {noisy, noisy};
+  history[0].input = r.historyIndirectA.view;
+  history[1].input = r.historyIndirectB.view;
   GI_TRY(createScreenFilters(m.gpu, m.filterPrograms, r.width, r.height,
-                             {r.guidance.view, r.position.view, r.noisyIndirect.view, workingIndirect(outputs, r).view,
-                              r.debug.view, r.aafParams.view, m.counters.buffer},
+                             r.needs & kFiltersReadHistory ? std::span<const FilterTargets>(history)
+                                                           : std::span<const FilterTargets>(&noisy, 1),
                              r.filters));
   if (r.needs & kNeedsGlossySets) {
     // The glossy terms are filtered in place: β in their alpha, the filter's temp image shared.

@@ -37,6 +37,13 @@ void storePackedHistory(ivec2 p, vec3 direct, float historyFrames) {
   giStoreDirect(p, direct);
 }
 
+// The image the filter read at p: the noisy indirect, or the indirect history written this frame (its alpha
+// the filter-vertex flag either way).
+vec4 filterInput(ivec2 p) {
+  if ((pc.clampLight & GI_CLAMP_FROM_HISTORY) == 0u) return imageLoad(giNoisyIndirect, p);
+  return pc.temporalWritten == 0u ? imageLoad(giHistoryIndirectA, p) : imageLoad(giHistoryIndirectB, p);
+}
+
 // The filter clamp (TemporalSettings::filterClamp) on what the method filtered, against svgf's first
 // luminance moments (the set written this frame) or the noisy image the filter read. Only where the
 // history is long enough to speak for itself (a few samples' spread says little: nine 1-spp samples that
@@ -44,11 +51,13 @@ void storePackedHistory(ivec2 p, vec3 direct, float historyFrames) {
 void applyFilterClamp(ivec2 p, float historyFrames, bool indirectOnly, inout vec3 direct, inout vec3 indirect) {
   const bool clamped = pc.filterClamp > 0.0 && pc.clampLight != 0u && giHistoryTrusted(historyFrames) &&
                        giGbCovered(p) &&
-                       ((pc.clampLight & GI_CLAMP_FILTER_VERTICES) == 0u || imageLoad(giNoisyIndirect, p).a > 0.5);
+                       ((pc.clampLight & GI_CLAMP_FILTER_VERTICES) == 0u || filterInput(p).a > 0.5);
   if (!clamped) return;
   GiLuminanceSpread indirectSpread, directSpread;
-  giNeighbourhoodSpread(p, (pc.clampLight & GI_CLAMP_FROM_MOMENTS) != 0u ? GI_SPREAD_MOMENTS : GI_SPREAD_NOISY,
-                        pc.temporalWritten, directSpread, indirectSpread);
+  uint source = GI_SPREAD_NOISY;
+  if ((pc.clampLight & GI_CLAMP_FROM_MOMENTS) != 0u) source = GI_SPREAD_MOMENTS;
+  if ((pc.clampLight & GI_CLAMP_FROM_HISTORY) != 0u) source = GI_SPREAD_HISTORY;
+  giNeighbourhoodSpread(p, source, pc.temporalWritten, directSpread, indirectSpread);
   if ((pc.clampLight & GI_CLAMP_INDIRECT) != 0u) {
     indirect = giClampLuminance(indirect, indirectSpread, pc.filterClamp);
     giStoreIndirect(p, indirect);

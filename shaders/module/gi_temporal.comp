@@ -50,9 +50,12 @@ vec4 readIndirect(ivec2 q) { return pc.readSet == 0u ? giLoadHistoryIndirectA(q)
 // and its moments image the variances and the frames (gi_frame.glsl's giLoadMoments). With directOnly
 // the packed history is written by the composite pass, once every neighbour has read it: this pass
 // hands the frames on in the direct output's alpha.
-void write(ivec2 p, vec3 direct, vec3 indirect, float frames, vec3 n, float depth, GiMoments moments) {
+// The indirect history's alpha carries the noisy image's (sspsf's filter-vertex flag), for the screen
+// filters that read it (MethodPlan::filtersReadHistory).
+void write(ivec2 p, vec3 direct, vec3 indirect, float frames, vec3 n, float depth, GiMoments moments,
+           float noisyAlpha) {
   if (pc.directOnly != 0u) return;
-  const vec2 alphas = pc.moments != 0u ? giSvgfMeanAlphas(moments) : vec2(frames, 1.0);
+  const vec2 alphas = pc.moments != 0u ? giSvgfMeanAlphas(moments) : vec2(frames, noisyAlpha);
   if (pc.moments != 0u) giStoreSvgfState(1u - pc.readSet, p, moments, frames);
   if (pc.readSet == 0u) {
     giStoreHistoryDirectB(p, direct, alphas.x);
@@ -119,8 +122,9 @@ void countHistory(ivec2 p, float frames) {
 void main() {
   const ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   if (!giInFrame(gl_GlobalInvocationID.xy)) return;
+  const float noisyAlpha = imageLoad(giNoisyIndirect, p).a;  // sspsf's filter-vertex flag, kept
   if (!giGbCovered(p)) {
-    write(p, vec3(0.0), vec3(0.0), 0.0, vec3(0.0), 0.0, GiMoments(vec2(0.0), vec2(0.0)));
+    write(p, vec3(0.0), vec3(0.0), 0.0, vec3(0.0), 0.0, GiMoments(vec2(0.0), vec2(0.0)), noisyAlpha);
     return;
   }
   vec3 dir;
@@ -137,7 +141,6 @@ void main() {
   const vec3 albedo = giDirectAlbedo(p);
   vec3 direct, indirect;
   giNewFrameLight(p, direct, indirect);
-  const float noisyAlpha = imageLoad(giNoisyIndirect, p).a;  // sspsf's filter-vertex flag, kept
   History h = reproject(p, n, depth, world);
   if (pc.historyClamp > 0.0 && h.frames > 0.0) {
     // The history clamp: what this frame's samples around the pixel cannot have come from is scaled back.
@@ -152,7 +155,7 @@ void main() {
   const vec2 luminance = vec2(lumDirect, lumIndirect);
   if (h.frames == 0.0) {  // no history: this frame's light stands as the trace wrote it
     countHistory(p, 1.0);
-    write(p, direct, indirect, 1.0, n, depth, GiMoments(luminance, vec2(0.0)));
+    write(p, direct, indirect, 1.0, n, depth, GiMoments(luminance, vec2(0.0)), noisyAlpha);
     return;
   }
   float frames = h.frames + 1.0;
@@ -169,7 +172,7 @@ void main() {
   const vec2 variance = max(vec2(0.0), h.square - h.mean * h.mean), deviation = luminance - h.mean;
   const GiMoments moments = GiMoments(mix(h.mean, luminance, momentsBlends),
                                       (1.0 - momentsBlends) * (variance + momentsBlends * deviation * deviation));
-  write(p, outDirect, outIndirect, min(frames, 65536.0), n, depth, moments);
+  write(p, outDirect, outIndirect, min(frames, 65536.0), n, depth, moments, noisyAlpha);
   countHistory(p, frames);
   if (pc.directOnly != 0u) giStoreDirectAndFrames(p, emission + albedo * outDirect, min(frames, 63.0));
   else if (pc.direct != 0u) giStoreDirect(p, emission + albedo * outDirect);

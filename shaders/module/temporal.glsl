@@ -158,6 +158,7 @@ GiLuminanceSpread giSpread(float sum, float squares, float count) {
 #define GI_SPREAD_NEW_FRAME 0u
 #define GI_SPREAD_MOMENTS 1u
 #define GI_SPREAD_NOISY 2u
+#define GI_SPREAD_HISTORY 3u  // the indirect history of `set` (the screen filters' input)
 void giNeighbourhoodSpread(ivec2 p, uint source, uint set, out GiLuminanceSpread direct,
                            out GiLuminanceSpread indirect) {
   vec2 sum = vec2(0.0), squares = vec2(0.0);  // direct, indirect
@@ -173,6 +174,8 @@ void giNeighbourhoodSpread(ivec2 p, uint source, uint set, out GiLuminanceSpread
         l = vec2(giLuminance(d), giLuminance(ind));
       } else if (source == GI_SPREAD_MOMENTS) {
         l = giLoadMoments(set, q).mean;
+      } else if (source == GI_SPREAD_HISTORY) {
+        l = vec2(0.0, giLuminance((set == 0u ? giLoadHistoryIndirectA(q) : giLoadHistoryIndirectB(q)).rgb));
       } else {
         l = vec2(0.0, giLuminance(giLoadNoisy(q)));
       }

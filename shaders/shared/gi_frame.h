@@ -241,6 +241,8 @@ GPU_CONST GI_CLAMP_FROM_MOMENTS = 4;  // against svgf's first luminance moments 
                                       // filter's feedback); otherwise against the noisy image (indirect only)
 GPU_CONST GI_CLAMP_FILTER_VERTICES = 8;  // only where the noisy image's alpha marks a filter vertex (sspsf, the hash
                                          // methods: the other pixels keep their own samples, untouched)
+GPU_CONST GI_CLAMP_FROM_HISTORY = 16;  // the noisy image the filter read is the indirect history written this
+                                       // frame (MethodPlan::filtersReadHistory): spread and flag from there
 
 struct GiCompositePush {
   uint debugView;      // GI_DEBUG_*
