@@ -107,14 +107,16 @@ class GuidedFilterTest : public ScreenFilterTest<W, H> {
     ASSERT_NO_FATAL_FAILURE(ScreenFilterTest::SetUp());
     ASSERT_FALSE(gi::ensureGuidedStack(dev, filters, subsample()));
   }
-  // `covered`: 1 per covered pixel, 0 for background (the position image's
-  // view depth); empty = every pixel covered.
+  // `covered`: 1 per covered pixel, 0 for background, whose guidance depth (w) is then 0, as the module's
+  // guidance pass writes it (the filter's coverage); empty = every pixel covered (`guidance` has no depth 0).
   std::vector<float> run(const Rgba& guidance, const Rgba& input, const gi::GuidedFilterParams& params,
                          const std::vector<float>& covered = {}) {
-    Rgba position(size_t(W) * H * 4, 0.0f);
-    for (size_t p = 0; p < size_t(W) * H; ++p) position[4 * p + 3] = covered.empty() ? 1.0f : covered[p];
-    upload(kPosition, position);
-    upload(kGuidance, guidance);
+    Rgba guide = guidance;
+    for (size_t p = 0; p < size_t(W) * H; ++p) {
+      if (!covered.empty() && covered[p] == 0.0f) guide[4 * p + 3] = 0.0f;
+      EXPECT_TRUE(!covered.empty() || guide[4 * p + 3] > 0.0f) << "pixel " << p << " would be background";
+    }
+    upload(kGuidance, guide);
     upload(kInput, input);
     return filterOutput([&](VkCommandBuffer cmd) { gi::recordGuidedFilter(dev, cmd, filters, params, {}); }, 3);
   }

@@ -253,7 +253,8 @@ void recordFilterPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const gpu
   ScreenFilters& f = m.sized.filters;
   VkDescriptorSet sets[] = {m.desc.scene.set, m.sized.frameSets[slot]};
   // Pass: the filters' guidance (normal, scaled depth) and world positions from the G-buffer.
-  runPass(m, cmd, slot, Pass::Guidance, m.guidancePass, sets, {m.width, m.height});
+  runPass(m, cmd, slot, Pass::Guidance, m.guidancePass, sets, {m.width, m.height},
+          gpu::GiGuidancePush{m.plan.filterPositions ? 1u : 0u});
   // Passes: the chosen filter, noisy indirect → indirect.
   PassHooks hooks = passHooks(m, slot);
   const vk::Device& g = m.gpu;

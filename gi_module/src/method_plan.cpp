@@ -1,5 +1,7 @@
 #include "method_plan.h"
 
+#include "screen_filters.h"
+
 namespace gi {
 
 MethodPlan planMethod(const SceneDesc& scene, const Settings& s) {
@@ -7,6 +9,7 @@ MethodPlan planMethod(const SceneDesc& scene, const Settings& s) {
   p.method = s.method;
   p.hashGrid = usesHashGrid(s.method);
   p.screenFilters = usesScreenFilters(s.method);
+  p.filterPositions = filtersReadPositions(s.method);
   p.aaf = isAaf(s.method);
   p.aafSpecular = s.method == Method::Aaf && scene.hasGlossyMaterials;
   p.svgf = s.method == Method::Svgf;

@@ -14,8 +14,11 @@ namespace gi {
 
 struct MethodPlan {
   Method method = Method::Raw;
-  bool hashGrid = false;             // the persistent world-space hash map's passes (hpsf, nhpsf, anhpsf)
-  bool screenFilters = false;        // a screen-space filter after the trace (gif, bilateral, à-trous, aaf, sspsf)
+  bool hashGrid = false;       // the persistent world-space hash map's passes (hpsf, nhpsf, anhpsf)
+  bool screenFilters = false;  // a screen-space filter after the trace (gif, bilateral, à-trous, aaf, sspsf)
+  // Its programs read the position image (à-trous, AAF, sspsf); gif's and bilateral's take coverage from
+  // the guidance's depth, and the guidance pass writes no positions for them.
+  bool filterPositions = false;
   bool aaf = false;                  // AAF's adaptive sample passes (aaf, aaf_ao)
   bool aafSpecular = false;          // AAF with glossy receivers in the scene: their specular terms filtered apart
   bool svgf = false;                 // svgf's variance and à-trous passes

@@ -45,23 +45,6 @@ namespace {
 
 constexpr glm::uvec2 kTile{GI_GROUP_SIZE, GI_GROUP_SIZE};
 
-// The screen filters' programs a method runs.
-std::span<const FilterProgram> filterProgramsOf(Method method) {
-  static constexpr FilterProgram gif[] = {FilterProgram::GifMoments, FilterProgram::GifBox,
-                                          FilterProgram::GifCoefficients, FilterProgram::GifOutput};
-  static constexpr FilterProgram bilateral[] = {FilterProgram::Bilateral}, atrous[] = {FilterProgram::Atrous},
-                                 aaf[] = {FilterProgram::Aaf}, sspsf[] = {FilterProgram::Sspsf};
-  switch (method) {
-    case Method::Gif: return gif;
-    case Method::Bilateral: return bilateral;
-    case Method::Atrous: return atrous;
-    case Method::Aaf:
-    case Method::AafAo: return aaf;
-    case Method::Sspsf: return sspsf;
-    default: return {};
-  }
-}
-
 // Creates what `list` holds that does not exist yet; the caller holds m.programsMutex.
 vk::Status createMissing(Module& m, std::span<const ProgramUse> list) {
   const auto spec = moduleSpecialization(m);
@@ -158,7 +141,7 @@ std::vector<ProgramUse> programsFor(Module& m, const Settings& s) {
     add("svgf_atrous", m.svgfAtrous, GI_SCENE_SPIRV(t, svgf_atrous_comp), sizeof(gpu::GiSvgfPush));
   }
   if (plan.screenFilters) {
-    add("gi_guidance", m.guidancePass, GI_SCENE_SPIRV(t, gi_guidance_comp), 0);
+    add("gi_guidance", m.guidancePass, GI_SCENE_SPIRV(t, gi_guidance_comp), sizeof(gpu::GiGuidancePush));
     for (FilterProgram f : filterProgramsOf(s.method)) {
       const FilterProgramInfo& info = filterProgramCatalogue()[size_t(f)];
       add(info.name, m.filterPrograms.*info.program, info.spirv, info.pushSize, ProgramSets::Filter, info.group);

@@ -63,19 +63,42 @@ const vk::Binding kFilterBindings[] = {
 
 constexpr glm::uvec2 kTile{FILTER_GROUP_SIZE, FILTER_GROUP_SIZE}, kLine{FILTER_LINE_GROUP, 1};
 const FilterProgramInfo kFilterPrograms[] = {
-    {&FilterPrograms::moments, "gif_moments", spv_gif_moments_comp, sizeof(gpu::GuidedMomentsPush), kTile},
-    {&FilterPrograms::box, "gif_box", spv_gif_box_comp, sizeof(gpu::BoxPush), kLine},
+    {&FilterPrograms::moments, "gif_moments", spv_gif_moments_comp, sizeof(gpu::GuidedMomentsPush), kTile, false},
+    {&FilterPrograms::box, "gif_box", spv_gif_box_comp, sizeof(gpu::BoxPush), kLine, false},
     {&FilterPrograms::coefficients, "gif_coefficients", spv_gif_coefficients_comp, sizeof(gpu::GuidedCoefficientsPush),
-     kTile},
-    {&FilterPrograms::output, "gif_output", spv_gif_output_comp, sizeof(gpu::GuidedMomentsPush), kTile},
-    {&FilterPrograms::bilateral, "bilateral", spv_bilateral_comp, sizeof(gpu::BilateralPush), kTile},
-    {&FilterPrograms::atrous, "atrous", spv_atrous_comp, sizeof(gpu::AtrousPush), kTile},
-    {&FilterPrograms::aaf, "aaf_filter", spv_aaf_filter_comp, sizeof(gpu::AafFilterPush), kTile},
-    {&FilterPrograms::sspsf, "sspsf", spv_sspsf_comp, sizeof(gpu::SspsfPush), kTile},
+     kTile, false},
+    {&FilterPrograms::output, "gif_output", spv_gif_output_comp, sizeof(gpu::GuidedMomentsPush), kTile, false},
+    {&FilterPrograms::bilateral, "bilateral", spv_bilateral_comp, sizeof(gpu::BilateralPush), kTile, false},
+    {&FilterPrograms::atrous, "atrous", spv_atrous_comp, sizeof(gpu::AtrousPush), kTile, true},
+    {&FilterPrograms::aaf, "aaf_filter", spv_aaf_filter_comp, sizeof(gpu::AafFilterPush), kTile, true},
+    {&FilterPrograms::sspsf, "sspsf", spv_sspsf_comp, sizeof(gpu::SspsfPush), kTile, true},
 };
 static_assert(std::size(kFilterPrograms) == size_t(FilterProgram::Sspsf) + 1);
 
 std::span<const FilterProgramInfo> filterProgramCatalogue() { return kFilterPrograms; }
+
+// The screen filters' programs a method runs.
+std::span<const FilterProgram> filterProgramsOf(Method method) {
+  static constexpr FilterProgram gif[] = {FilterProgram::GifMoments, FilterProgram::GifBox,
+                                          FilterProgram::GifCoefficients, FilterProgram::GifOutput};
+  static constexpr FilterProgram bilateral[] = {FilterProgram::Bilateral}, atrous[] = {FilterProgram::Atrous},
+                                 aaf[] = {FilterProgram::Aaf}, sspsf[] = {FilterProgram::Sspsf};
+  switch (method) {
+    case Method::Gif: return gif;
+    case Method::Bilateral: return bilateral;
+    case Method::Atrous: return atrous;
+    case Method::Aaf:
+    case Method::AafAo: return aaf;
+    case Method::Sspsf: return sspsf;
+    default: return {};
+  }
+}
+
+bool filtersReadPositions(Method method) {
+  for (FilterProgram f : filterProgramsOf(method))
+    if (kFilterPrograms[size_t(f)].readsPositions) return true;
+  return false;
+}
 
 vk::Status createFilterLayout(const vk::Device& d, FilterPrograms& f) {
   if (!f.layout) GI_TRY(vk::createDescriptorLayout(d, kFilterBindings, f.layout));

@@ -40,10 +40,17 @@ struct FilterProgramInfo {
   std::span<const uint32_t> spirv;
   uint32_t pushSize;
   glm::uvec2 group;
+  // It reads the position image (FILTER_BINDING_POSITION); the others take coverage from the guidance's
+  // depth, and a method whose programs all do holds no position image.
+  bool readsPositions;
 };
 // gif's four, then bilateral, atrous, aaf_filter, sspsf.
 std::span<const FilterProgramInfo> filterProgramCatalogue();
 enum class FilterProgram : uint32_t { GifMoments, GifBox, GifCoefficients, GifOutput, Bilateral, Atrous, Aaf, Sspsf };
+// The screen filters' programs a method runs (none for a method without screen filters).
+std::span<const FilterProgram> filterProgramsOf(Method method);
+// Whether any of them reads the position image.
+bool filtersReadPositions(Method method);
 // The layout alone (programs are then made one by one: createFilterProgram).
 vk::Status createFilterLayout(const vk::Device& device, FilterPrograms& programs);
 vk::Status createFilterProgram(const vk::Device& device, FilterPrograms& programs, const FilterProgramInfo& info);

@@ -146,7 +146,8 @@ uint64_t sizedResourcesNeeded(const MethodPlan& plan, const Settings& s) {
     if (!plan.hashGrid || plan.clampsHashIndirect)
       need |= bit(&SizedResources::historyIndirectA) | bit(&SizedResources::historyIndirectB);
   }
-  if (plan.screenFilters) need |= bit(&SizedResources::guidance) | bit(&SizedResources::position);
+  if (plan.screenFilters) need |= bit(&SizedResources::guidance);
+  if (plan.filterPositions) need |= bit(&SizedResources::position);
   // The filters' temp image (set 1's debug image): à-trous ping-pongs through it and AAF's row pass writes
   // it; gif writes it only for its coefficient view, bilateral and sspsf never.
   if (s.method == Method::Atrous || plan.aaf) need |= bit(&SizedResources::debug) | kHalfFilterTemp;

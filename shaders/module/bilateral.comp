@@ -13,7 +13,7 @@ void main() {
   ivec2 size = filterSize();
   if (any(greaterThanEqual(p, size))) return;
   vec4 gc = imageLoad(filterGuidance, p);
-  if (imageLoad(filterPosition, p).w <= 0.0) {  // background: nothing to filter
+  if (gc.w <= 0.0) {  // background (depth 0): nothing to filter
     filterStoreOutput(p, imageLoad(filterInput, p).rgb, pc.encoding);
     return;
   }
@@ -28,8 +28,8 @@ void main() {
     for (int dx = -r; dx <= r; ++dx) {
       ivec2 q = p + ivec2(dx, dy);
       if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) continue;
-      if (imageLoad(filterPosition, q).w <= 0.0) continue;
-      vec4 g = imageLoad(filterGuidance, q);
+      const vec4 g = imageLoad(filterGuidance, q);
+      if (g.w <= 0.0) continue;  // background
       vec3 dn = g.xyz - gc.xyz;
       float dz = g.w - gc.w;
       float w = exp(-float(dx * dx + dy * dy) * invSpatial - dot(dn, dn) * invNormal - dz * dz * invDepth);

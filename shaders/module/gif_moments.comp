@@ -28,7 +28,7 @@ void main() {
       ivec2 p = cell * s + ivec2(bx, by);
       if (any(greaterThanEqual(p, filterSize()))) continue;
       ++pixels;
-      float w = imageLoad(filterPosition, p).w > 0.0 ? 1.0 : 0.0;
+      float w = imageLoad(filterGuidance, p).w > 0.0 ? 1.0 : 0.0;
       vec4 I = gifGuidance(p, pc.guidanceDimensions) * w;
       vec3 q = imageLoad(filterInput, p).rgb * w;
       for (int i = 0; i < 4; ++i) m[GIF_CH_I + i] += I[i];

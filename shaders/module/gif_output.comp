@@ -32,7 +32,7 @@ void main() {
     coeff[4 * img + 3] = v.w;
   }
   float weight = coeff[GIF_COEFF_WEIGHT];
-  bool covered = imageLoad(filterPosition, p).w > 0.0 && weight > 0.0;
+  bool covered = imageLoad(filterGuidance, p).w > 0.0 && weight > 0.0;
   for (int i = 0; i < GIF_COEFF_WEIGHT; ++i) coeff[i] = covered ? coeff[i] / weight : 0.0;
   vec3 q = imageLoad(filterInput, p).rgb;
   if (covered) {

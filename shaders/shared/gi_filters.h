@@ -7,9 +7,11 @@
 
 GPU_NAMESPACE_BEGIN
 
-GPU_CONST FILTER_BINDING_GUIDANCE = 0;  // xyz: normal·0.5+0.5 in [0,1]; w: view depth / depth scale
+GPU_CONST FILTER_BINDING_GUIDANCE = 0;  // xyz: normal·0.5+0.5 in [0,1]; w: view depth / depth scale, 0 for
+                                        // background (gif's and bilateral's coverage)
 GPU_CONST FILTER_BINDING_POSITION = 1;  // xyz: position relative to the camera; w: view depth, 0 for background;
-                                        // both in one unit (the module's: the scene extent; AafFilterPush says)
+                                        // both in one unit (the module's: the scene extent; AafFilterPush says).
+                                        // Read by à-trous, AAF and sspsf only (FilterProgramInfo::readsPositions)
 GPU_CONST FILTER_BINDING_INPUT = 2;     // rgb: the noisy image
 GPU_CONST FILTER_BINDING_OUTPUT = 3;    // rgb: the filtered image; formatless: the module's indirect output
                                         // (half or single floats, FilterOutputEncoding) or an rgba32f image

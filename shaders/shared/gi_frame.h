@@ -263,6 +263,11 @@ struct GiCompositePush {
   float packedMax;     // the packed format's largest finite value
 };
 
+struct GiGuidancePush {
+  uint positions;  // 1: the position image is held (MethodPlan::filterPositions) and written too
+};
+GPU_ASSERT_SIZE(GiGuidancePush, 4);
+
 struct GiSupersamplePush {
   uint seed;
   uint supersamples;  // extra eye rays per pixel
