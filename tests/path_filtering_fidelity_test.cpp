@@ -2,6 +2,9 @@
 // the filter vertex (the first vertex with a diffuse lobe) for hpsf and sspsf
 // alike, anhpsf's continuation depth counted in segments, and nhpsf/anhpsf's
 // direct light averaged over every sample.
+#include <algorithm>
+#include <cmath>
+
 #include "gpu_test.h"
 #include "metrics.h"
 #include "module_test_helpers.h"
@@ -63,7 +66,7 @@ TEST_F(PathFilteringFidelityTest, HpsfFiltersAtTheFirstVertexWithADiffuseLobe) {
 }
 
 // sspsf follows the same rule: metal pixels keep their own sample (the same
-// paths raw traces, bit for bit), plastic pixels are filtered.
+// paths raw traces, within the half floats' rounding), plastic pixels are filtered.
 TEST_F(PathFilteringFidelityTest, SspsfFollowsTheSameFilterVertexRule) {
   LoadedScene s;
   plasticAndMetal(s);
@@ -81,8 +84,14 @@ TEST_F(PathFilteringFidelityTest, SspsfFollowsTheSameFilterVertexRule) {
   size_t metal = 0, metalKept = 0, plastic = 0, plasticChanged = 0;
   for (uint32_t y = 0; y < H; ++y)
     for (uint32_t x = 0; x < W; ++x) {
+      // Raw's sample reaches sspsf's output through the indirect history it filters, rounded to half floats
+      // at the history's scale there and back (at most 2 steps of 2^-11 of the value); a filtered pixel
+      // moves by its noise.
       bool same = true;
-      for (int c = 0; c < 3; ++c) same &= images[0].indirect.at(x, y, c) == images[1].indirect.at(x, y, c);
+      for (int c = 0; c < 3; ++c) {
+        const float a = images[0].indirect.at(x, y, c), b = images[1].indirect.at(x, y, c);
+        same &= std::abs(a - b) <= std::max(std::abs(a), std::abs(b)) / 512.0f;
+      }
       if (isMetal(images[1], x, y)) metal++, metalKept += same;
       if (isPlastic(images[1], x, y)) plastic++, plasticChanged += !same;
     }
