@@ -478,7 +478,8 @@ void recordTemporalPasses(Module& m, VkCommandBuffer cmd, const FrameSetup& setu
                                      .gradients = setup.gradientsTraced ? 1u : 0u,
                                      .indirectOutput = m.plan.hashGrid ? 0u : 1u,
                                      .historyClamp = m.plan.historyClamp ? t.historyClamp : 0.0f,
-                                     .historyScale = radianceScale(m)};
+                                     .historyScale = radianceScale(m),
+                                     .noisyOutput = m.plan.filtersReadHistory ? 0u : 1u};
   const glm::uvec2 size{m.width, m.height};
   // Pass: this frame's samples' spread around each pixel, which the history is clamped to.
   if (m.plan.historyClamp && m.temporalFrames > 0)

@@ -41,7 +41,7 @@ void storePackedHistory(ivec2 p, vec3 direct, float historyFrames) {
 // the filter-vertex flag either way).
 vec4 filterInput(ivec2 p) {
   if ((pc.clampLight & GI_CLAMP_FROM_HISTORY) == 0u) return imageLoad(giNoisyIndirect, p);
-  return pc.temporalWritten == 0u ? imageLoad(giHistoryIndirectA, p) : imageLoad(giHistoryIndirectB, p);
+  return giLoadHistoryIndirect(pc.temporalWritten, p);
 }
 
 // The filter clamp (TemporalSettings::filterClamp) on what the method filtered, against svgf's first

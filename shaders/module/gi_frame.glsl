@@ -108,6 +108,10 @@ GI_HISTORY_ACCESS(HistoryDirectA, giHistoryDirectA)
 GI_HISTORY_ACCESS(HistoryIndirectA, giHistoryIndirectA)
 GI_HISTORY_ACCESS(HistoryDirectB, giHistoryDirectB)
 GI_HISTORY_ACCESS(HistoryIndirectB, giHistoryIndirectB)
+// The indirect history of a set (0 = A, 1 = B).
+vec4 giLoadHistoryIndirect(uint set, ivec2 p) {
+  return set == 0u ? giLoadHistoryIndirectA(p) : giLoadHistoryIndirectB(p);
+}
 
 // svgf's luminance moments of direct (x) and indirect (y) light: their mean and their variance about
 // it, not the mean square, in the histories' units (× historyScale, variance × historyScale²); a mean

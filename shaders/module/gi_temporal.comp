@@ -43,7 +43,7 @@ HistoryTexel readTexel(ivec2 q) {
   if (pc.moments != 0u) direct.a = giLoadSvgfFrames(pc.readSet, q);  // svgf's alpha holds its direct mean
   return HistoryTexel(giPreviousGuide(q, pc.readSet), direct);
 }
-vec4 readIndirect(ivec2 q) { return pc.readSet == 0u ? giLoadHistoryIndirectA(q) : giLoadHistoryIndirectB(q); }
+vec4 readIndirect(ivec2 q) { return giLoadHistoryIndirect(pc.readSet, q); }
 // The guide keeps view depth over the scene extent: half floats then hold it
 // at any scene scale (metres would overflow past 65504).
 // The history frames ride in the direct image's alpha; svgf's alphas hold its luminance means instead,
@@ -178,5 +178,5 @@ void main() {
   else if (pc.direct != 0u) giStoreDirect(p, emission + albedo * outDirect);
   if (pc.directOnly != 0u) return;
   if (pc.indirectOutput != 0u) giStoreIndirect(p, outIndirect);  // raw's result; a filter that follows overwrites it
-  giStoreNoisy(p, outIndirect, noisyAlpha);
+  if (pc.noisyOutput != 0u) giStoreNoisy(p, outIndirect, noisyAlpha);
 }

@@ -18,7 +18,7 @@ void main() {
   const ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   if (!giInFrame(gl_GlobalInvocationID.xy)) return;
   const vec4 direct = pc.writtenSet == 0u ? giLoadHistoryDirectA(p) : giLoadHistoryDirectB(p);
-  const vec3 indirect = (pc.writtenSet == 0u ? giLoadHistoryIndirectA(p) : giLoadHistoryIndirectB(p)).rgb;
+  const vec3 indirect = giLoadHistoryIndirect(pc.writtenSet, p).rgb;
   const float frames = giLoadSvgfFrames(pc.writtenSet, p);
   const vec4 guide = svgfGuide(p, pc.writtenSet);
   vec2 variance = vec2(0.0);

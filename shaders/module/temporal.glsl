@@ -175,7 +175,7 @@ void giNeighbourhoodSpread(ivec2 p, uint source, uint set, out GiLuminanceSpread
       } else if (source == GI_SPREAD_MOMENTS) {
         l = giLoadMoments(set, q).mean;
       } else if (source == GI_SPREAD_HISTORY) {
-        l = vec2(0.0, giLuminance((set == 0u ? giLoadHistoryIndirectA(q) : giLoadHistoryIndirectB(q)).rgb));
+        l = vec2(0.0, giLuminance(giLoadHistoryIndirect(set, q).rgb));
       } else {
         l = vec2(0.0, giLuminance(giLoadNoisy(q)));
       }

@@ -219,8 +219,11 @@ struct GiTemporalPush {
                         // hash methods' filter clamp): it goes to the noisy image only, the map's light stays
   float historyClamp;   // γ_h: history held within γ_h σ of this frame's 3×3 samples (the spread image); 0 = off
   float historyScale;   // packed history: radiance × this (1 / the scene's typical radiance) is stored
+  uint noisyOutput;     // 1: the accumulated indirect also replaces the noisy image, which the filter or the
+                        // filter clamp reads next; 0 where nothing does (MethodPlan::filtersReadHistory: the
+                        // filters read the indirect history, and the noisy image is the output they overwrite)
 };
-GPU_ASSERT_SIZE(GiTemporalPush, 52);
+GPU_ASSERT_SIZE(GiTemporalPush, 56);
 
 // svgf_variance.comp and svgf_atrous.comp.
 struct GiSvgfPush {
