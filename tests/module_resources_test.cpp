@@ -230,10 +230,10 @@ TEST_F(ModuleResourcesTest, OnlyTheActiveMethodsMemoryIsHeld) {
   tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, 1);
   const uint64_t gifBytes = gi::stats(session.module).memoryUsedBytes;
   // gif's statistics images (1/s² of an image each), its guidance, its temporal reprojection's two sets of
-  // direct and indirect history (half floats) and two guides (a word a pixel); raw's noisy indirect (half
+  // direct and indirect history (half floats) and one guide (a word a pixel); raw's noisy indirect (half
   // floats) it does not hold: it traces into the indirect output and filters the history.
   const uint64_t perStatistic = uint64_t(gif.gif.subsample) * gif.gif.subsample;
-  EXPECT_GE(gifBytes, rawBytes - image / 2 + FILTER_STACK * image / perStatistic + image / 2 + 2 * image + image / 2)
+  EXPECT_GE(gifBytes, rawBytes - image / 2 + FILTER_STACK * image / perStatistic + image / 2 + 2 * image + image / 4)
       << gifBytes;
   ASSERT_FALSE(gi::setSettings(session.module, raw));
   // The gif images stay until the frames that read them have completed

@@ -517,7 +517,8 @@ void recordCompositePasses(Module& m, VkCommandBuffer cmd, const FrameSetup& set
       .historyScale = radianceScale(m),
       .svgfFrames = s.method == Method::Svgf ? 1u : 0u,
       .packedOutputs = outputsPacked(m.desc) ? 1u : 0u,
-      .packedMax = largestFinite(m.desc.outputFormat)};
+      .packedMax = largestFinite(m.desc.outputFormat),
+      .writesGuide = m.plan.historyGuide && !m.plan.svgf ? 1u : 0u};
   const glm::uvec2 size{m.width, m.height};
   runPass(m, cmd, setup.slot, Pass::Composite, m.composite, setup.sets, size, composite);
   if (s.method == Method::Gif && s.gif.supersamples > 0 && s.debugView == DebugView::None) {

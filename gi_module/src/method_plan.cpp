@@ -21,6 +21,7 @@ MethodPlan planMethod(const SceneDesc& scene, const Settings& s) {
       p.hashGrid && s.hpsf.temporalDirect && s.hpsf.temporalIndirect && s.temporal.filterClamp > 0.0f;
   p.temporalPass = usesTemporalReprojection(s) && (p.noisyDirect || !p.hashGrid || p.clampsHashIndirect);
   p.packedHistory = p.temporalPass && p.hashGrid && !p.clampsHashIndirect;
+  p.historyGuide = p.temporalPass && !p.packedHistory;
   p.temporalGradients = s.temporal.gradients && p.temporalPass && !p.hashGrid && !p.aaf;
   p.historyClamp = s.temporal.historyClamp > 0.0f && p.temporalPass;
   p.filtersReadHistory = p.screenFilters && p.temporalPass && s.debugView != DebugView::FilterInOut;

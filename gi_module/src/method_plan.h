@@ -38,6 +38,10 @@ struct MethodPlan {
   // The hash methods' direct light alone is reprojected: its history is one packed image
   // (GI_BINDING_HISTORY_PACKED) that the composite pass writes.
   bool packedHistory = false;
+  // Otherwise the temporal pass reads last frame's normal and depth from one history guide
+  // (GI_BINDING_HISTORY_GUIDE), which a later pass replaces with this frame's: svgf's variance pass (its
+  // à-trous iterations read it), else the composite pass.
+  bool historyGuide = false;
   // Temporal gradients are traced (raw's trace pass) when the temporal pass runs for a method whose paths
   // start there (not the hash methods, not AAF).
   bool temporalGradients = false;

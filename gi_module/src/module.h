@@ -42,7 +42,7 @@ struct SizedResources {
   uint64_t frameBytes = 0;                       // the bytes of frameImages(), counted once they exist
   vk::Image historyDirectA, historyIndirectA;    // raw's still-camera mean; temporal reprojection's set A
   vk::Image historyDirectB, historyIndirectB;    // temporal reprojection's set B
-  vk::Image historyGuideA, historyGuideB;        // temporal reprojection: each frame's normal and view depth
+  vk::Image historyGuide;                        // temporal reprojection: last frame's normal and view depth
   vk::Image svgfStateA, svgfStateB;              // svgf: its variances and history frames (sets A and B)
   vk::Image gradientSamplesA, gradientSamplesB;  // temporal gradients: each pixel's first sample (sets A and B)
   vk::Image temporalGradient;                    // temporal gradients: one texel per tile

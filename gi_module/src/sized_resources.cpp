@@ -61,8 +61,7 @@ constexpr SizedImage kSizedImages[] = {
     {&SizedResources::aafGlossyEdge, gpu::GI_BINDING_AAF_GLOSSY_EDGE, kFrame},
     {&SizedResources::historyDirectB, gpu::GI_BINDING_HISTORY_DIRECT_B, kHistory, kRadianceHistory},
     {&SizedResources::historyIndirectB, gpu::GI_BINDING_HISTORY_INDIRECT_B, kHistory, kRadianceHistory},
-    {&SizedResources::historyGuideA, gpu::GI_BINDING_HISTORY_GUIDE_A, kHistory, kGuideFormat},
-    {&SizedResources::historyGuideB, gpu::GI_BINDING_HISTORY_GUIDE_B, kHistory, kGuideFormat},
+    {&SizedResources::historyGuide, gpu::GI_BINDING_HISTORY_GUIDE, kHistory, kGuideFormat},
     {&SizedResources::svgfStateA, gpu::GI_BINDING_SVGF_STATE_A, kHistory, kSvgfStateFormat},
     {&SizedResources::svgfStateB, gpu::GI_BINDING_SVGF_STATE_B, kHistory, kSvgfStateFormat},
     {&SizedResources::gradientSamplesA, gpu::GI_BINDING_GRADIENT_SAMPLES_A, kHistory, VK_FORMAT_R32G32B32A32_UINT},
@@ -140,12 +139,12 @@ uint64_t sizedResourcesNeeded(const MethodPlan& plan, const Settings& s) {
   if (plan.packedHistory) {
     need |= bit(&SizedResources::historyPacked);
   } else if (plan.temporalPass) {
-    need |= bit(&SizedResources::historyDirectA) | bit(&SizedResources::historyDirectB) |
-            bit(&SizedResources::historyGuideA) | bit(&SizedResources::historyGuideB);
+    need |= bit(&SizedResources::historyDirectA) | bit(&SizedResources::historyDirectB);
     // The hash methods reproject their direct light only, and with the filter clamp accumulate their samples.
     if (!plan.hashGrid || plan.clampsHashIndirect)
       need |= bit(&SizedResources::historyIndirectA) | bit(&SizedResources::historyIndirectB);
   }
+  if (plan.historyGuide) need |= bit(&SizedResources::historyGuide);
   if (plan.screenFilters) need |= bit(&SizedResources::guidance);
   if (plan.filterPositions) need |= bit(&SizedResources::position);
   // The filters' temp image (set 1's debug image): à-trous ping-pongs through it and AAF's row pass writes

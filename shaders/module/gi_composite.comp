@@ -4,7 +4,8 @@
 // view the settings pick. AAF adds its glossy receivers' specular term. In the
 // indirect-only mode (gi::Settings::indirectOnly) the direct output is 0.
 // The hash methods' packed direct history is also stored here
-// (storePackedHistory: the first pass after the temporal pass has read it).
+// (storePackedHistory: the first pass after the temporal pass has read it),
+// and the other methods' history guide (GiCompositePush::writesGuide).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #include "lights.glsl"
@@ -136,6 +137,7 @@ void main() {
   vec3 indirect = giLoadIndirect(p);
   const float historyFrames = historyFramesAt(p);
   if (pc.packedHistory != 0u) storePackedHistory(p, direct, historyFrames);
+  if (pc.writesGuide != 0u) imageStore(giHistoryGuide, p, uvec4(giCurrentGuide(p)));
   const bool indirectOnly = giFrame.primaryDirect == GI_PRIMARY_DIRECT_NONE;  // the engine lights the primary hits
   if (indirectOnly) {
     direct = vec3(0.0);

@@ -42,8 +42,7 @@ layout(set = 1, binding = GI_BINDING_AAF_GLOSSY, rgba32f) uniform image2D giAafG
 layout(set = 1, binding = GI_BINDING_AAF_GLOSSY_EDGE, rgba32f) uniform image2D giAafGlossyEdge;
 layout(set = 1, binding = GI_BINDING_HISTORY_DIRECT_B) uniform image2D giHistoryDirectB;
 layout(set = 1, binding = GI_BINDING_HISTORY_INDIRECT_B) uniform image2D giHistoryIndirectB;
-layout(set = 1, binding = GI_BINDING_HISTORY_GUIDE_A, r32ui) uniform uimage2D giHistoryGuideA;  // temporal.glsl's giPackGuide
-layout(set = 1, binding = GI_BINDING_HISTORY_GUIDE_B, r32ui) uniform uimage2D giHistoryGuideB;
+layout(set = 1, binding = GI_BINDING_HISTORY_GUIDE, r32ui) uniform uimage2D giHistoryGuide;  // temporal.glsl's giPackGuide
 // svgf's variances and history frames (giPackSvgfState): r32ui or rgba32ui, so no format qualifier.
 layout(set = 1, binding = GI_BINDING_SVGF_STATE_A) uniform uimage2D giSvgfStateA;
 layout(set = 1, binding = GI_BINDING_SVGF_STATE_B) uniform uimage2D giSvgfStateB;

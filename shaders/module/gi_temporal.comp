@@ -41,7 +41,7 @@ HistoryTexel readTexel(ivec2 q) {
   }
   vec4 direct = pc.readSet == 0u ? giLoadHistoryDirectA(q) : giLoadHistoryDirectB(q);
   if (pc.moments != 0u) direct.a = giLoadSvgfFrames(pc.readSet, q);  // svgf's alpha holds its direct mean
-  return HistoryTexel(giPreviousGuide(q, pc.readSet), direct);
+  return HistoryTexel(giPreviousGuide(q), direct);
 }
 vec4 readIndirect(ivec2 q) { return giLoadHistoryIndirect(pc.readSet, q); }
 // The guide keeps view depth over the scene extent: half floats then hold it
@@ -52,19 +52,18 @@ vec4 readIndirect(ivec2 q) { return giLoadHistoryIndirect(pc.readSet, q); }
 // hands the frames on in the direct output's alpha.
 // The indirect history's alpha carries the noisy image's (sspsf's filter-vertex flag), for the screen
 // filters that read it (MethodPlan::filtersReadHistory).
-void write(ivec2 p, vec3 direct, vec3 indirect, float frames, vec3 n, float depth, GiMoments moments,
-           float noisyAlpha) {
+// This frame's guide is stored later (GiCompositePush::writesGuide, svgf's variance pass): neighbours
+// read last frame's here.
+void write(ivec2 p, vec3 direct, vec3 indirect, float frames, GiMoments moments, float noisyAlpha) {
   if (pc.directOnly != 0u) return;
   const vec2 alphas = pc.moments != 0u ? giSvgfMeanAlphas(moments) : vec2(frames, noisyAlpha);
   if (pc.moments != 0u) giStoreSvgfState(1u - pc.readSet, p, moments, frames);
   if (pc.readSet == 0u) {
     giStoreHistoryDirectB(p, direct, alphas.x);
     giStoreHistoryIndirectB(p, indirect, alphas.y);
-    imageStore(giHistoryGuideB, p, uvec4(giPackGuide(n, depth / giFrame.depthScale)));
   } else {
     giStoreHistoryDirectA(p, direct, alphas.x);
     giStoreHistoryIndirectA(p, indirect, alphas.y);
-    imageStore(giHistoryGuideA, p, uvec4(giPackGuide(n, depth / giFrame.depthScale)));
   }
 }
 
@@ -124,7 +123,7 @@ void main() {
   if (!giInFrame(gl_GlobalInvocationID.xy)) return;
   const float noisyAlpha = imageLoad(giNoisyIndirect, p).a;  // sspsf's filter-vertex flag, kept
   if (!giGbCovered(p)) {
-    write(p, vec3(0.0), vec3(0.0), 0.0, vec3(0.0), 0.0, GiMoments(vec2(0.0), vec2(0.0)), noisyAlpha);
+    write(p, vec3(0.0), vec3(0.0), 0.0, GiMoments(vec2(0.0), vec2(0.0)), noisyAlpha);
     return;
   }
   vec3 dir;
@@ -155,7 +154,7 @@ void main() {
   const vec2 luminance = vec2(lumDirect, lumIndirect);
   if (h.frames == 0.0) {  // no history: this frame's light stands as the trace wrote it
     countHistory(p, 1.0);
-    write(p, direct, indirect, 1.0, n, depth, GiMoments(luminance, vec2(0.0)), noisyAlpha);
+    write(p, direct, indirect, 1.0, GiMoments(luminance, vec2(0.0)), noisyAlpha);
     return;
   }
   float frames = h.frames + 1.0;
@@ -172,7 +171,7 @@ void main() {
   const vec2 variance = max(vec2(0.0), h.square - h.mean * h.mean), deviation = luminance - h.mean;
   const GiMoments moments = GiMoments(mix(h.mean, luminance, momentsBlends),
                                       (1.0 - momentsBlends) * (variance + momentsBlends * deviation * deviation));
-  write(p, outDirect, outIndirect, min(frames, 65536.0), n, depth, moments, noisyAlpha);
+  write(p, outDirect, outIndirect, min(frames, 65536.0), moments, noisyAlpha);
   countHistory(p, frames);
   if (pc.directOnly != 0u) giStoreDirectAndFrames(p, emission + albedo * outDirect, min(frames, 63.0));
   else if (pc.direct != 0u) giStoreDirect(p, emission + albedo * outDirect);

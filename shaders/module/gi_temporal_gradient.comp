@@ -21,7 +21,7 @@ void main() {
     const ivec2 p = giGradientPixel(tile, giFrame.frameIndex, pc.seed);
     vec4 gradient = vec4(0.0);
     ivec2 q;
-    if (giGbCovered(p) && giGradientSource(p, pc.readSet, pc.depthTolerance, pc.cosNormalLimit, q)) {
+    if (giGbCovered(p) && giGradientSource(p, pc.depthTolerance, pc.cosNormalLimit, q)) {
       const uvec4 source = pc.readSet == 0u ? imageLoad(giGradientSamplesA, q) : imageLoad(giGradientSamplesB, q);
       vec3 V;
       const GiSurface s = giGbSurface(p, V);

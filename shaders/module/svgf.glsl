@@ -3,7 +3,9 @@
 //
 // The guide of a tap is this frame's history guide (temporal.glsl's
 // giPackGuide: the unit normal octahedral in 2 × 8 bits, view depth over the
-// scene extent as a half float), one 32-bit load. Measured against the
+// scene extent as a half float), one 32-bit load. The variance pass stores it
+// (the temporal pass has read last frame's by then) and so packs its own taps
+// from the G-buffer, the same values; the à-trous iterations load it. Measured against the
 // G-buffer's normal and depth at full precision (three loads and the depth's
 // decode per tap): the same error on Sponza, +0.14% on Cornell, and the
 // à-trous iterations a quarter faster (RESULTS, "svgf in its own outputs").
@@ -23,20 +25,21 @@
 bool svgfInside(ivec2 q) { return all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, ivec2(giFrame.size))); }
 
 // Normal (xyz) and view depth / depthScale (w; 0 outside the image or where there is no surface) of
-// this frame's pixel q; `writtenSet` is the history set the temporal pass wrote this frame. The weights
-// compare depths by their ratios: the scale does not matter.
-vec4 svgfGuide(ivec2 q, uint writtenSet) {
+// this frame's pixel q: from the history guide once `stored` (the à-trous iterations), else packed from
+// the G-buffer (the variance pass, which stores it). The weights compare depths by their ratios: the
+// scale does not matter.
+vec4 svgfGuide(ivec2 q, bool stored) {
   if (!svgfInside(q)) return vec4(0.0);
-  return giUnpackGuide(writtenSet == 0u ? imageLoad(giHistoryGuideA, q).x : imageLoad(giHistoryGuideB, q).x);
+  return giUnpackGuide(stored ? imageLoad(giHistoryGuide, q).x : giCurrentGuide(q));
 }
 
 // The view depth's screen-space gradient at p (per pixel) from the depths
 // around it: central differences, one-sided beside an edge of the surface.
-vec2 svgfDepthGradient(ivec2 p, float z, uint writtenSet) {
+vec2 svgfDepthGradient(ivec2 p, float z, bool stored) {
   vec2 g;
   for (int axis = 0; axis < 2; ++axis) {
     const ivec2 d = axis == 0 ? ivec2(1, 0) : ivec2(0, 1);
-    const float a = svgfGuide(p + d, writtenSet).w, b = svgfGuide(p - d, writtenSet).w;
+    const float a = svgfGuide(p + d, stored).w, b = svgfGuide(p - d, stored).w;
     g[axis] = a > 0.0 && b > 0.0 ? 0.5 * (a - b) : a > 0.0 ? a - z : b > 0.0 ? z - b : 0.0;
   }
   return g;

@@ -25,7 +25,7 @@ vec2 blurredVariance(ivec2 p) {
   for (int j = -1; j <= 1; ++j)
     for (int i = -1; i <= 1; ++i) {
       const ivec2 q = p + ivec2(i, j);
-      if (svgfGuide(q, pc.writtenSet).w <= 0.0) continue;
+      if (svgfGuide(q, true).w <= 0.0) continue;
       const float w = k[abs(i)] * k[abs(j)];
       const SvgfTexel t = load(q);
       sum += w * vec2(t.direct.a, t.indirect.a);
@@ -37,11 +37,11 @@ vec2 blurredVariance(ivec2 p) {
 void main() {
   const ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   if (!giInFrame(gl_GlobalInvocationID.xy)) return;
-  const vec4 guide = svgfGuide(p, pc.writtenSet);
+  const vec4 guide = svgfGuide(p, true);
   const float z = guide.w;
   if (z <= 0.0) return;  // no surface: the outputs keep what the trace wrote, and no tap reads it
   const SvgfTexel centre = load(p);
-  const vec2 gradient = svgfDepthGradient(p, z, pc.writtenSet);
+  const vec2 gradient = svgfDepthGradient(p, z, true);
   const vec2 sigma = pc.sigmaLuminance * sqrt(blurredVariance(p)) + 1e-10;
   const float lDirect = giLuminance(centre.direct.rgb), lIndirect = giLuminance(centre.indirect.rgb);
   const float kernel[3] = float[3](3.0 / 8.0, 1.0 / 4.0, 1.0 / 16.0);
@@ -51,7 +51,7 @@ void main() {
   for (int j = -2; j <= 2; ++j)
     for (int i = -2; i <= 2; ++i) {
       const ivec2 q = p + step * ivec2(i, j);
-      const vec4 tap = svgfGuide(q, pc.writtenSet);
+      const vec4 tap = svgfGuide(q, true);
       if (tap.w <= 0.0) continue;
       const SvgfTexel t = load(q);
       const float h = kernel[abs(i)] * kernel[abs(j)];

@@ -4,8 +4,9 @@
 // temporally integrated moments, σ² = E[l²] − E[l]²; while a pixel has fewer
 // than GI_TRUSTED_HISTORY (4) frames of history, from the moments of its 7×7 neighbourhood
 // instead, weighted by depth and normal. Writes the pair of images (light,
-// σ²) the first à-trous iteration reads (svgf.glsl), and for the svgf
-// variance view the debug image (σ² direct, σ² indirect, frames).
+// σ²) the first à-trous iteration reads (svgf.glsl), this frame's history
+// guide (read by the iterations and next frame's temporal pass), and for the
+// svgf variance view the debug image (σ² direct, σ² indirect, frames).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #include "svgf.glsl"
@@ -20,16 +21,19 @@ void main() {
   const vec4 direct = pc.writtenSet == 0u ? giLoadHistoryDirectA(p) : giLoadHistoryDirectB(p);
   const vec3 indirect = giLoadHistoryIndirect(pc.writtenSet, p).rgb;
   const float frames = giLoadSvgfFrames(pc.writtenSet, p);
-  const vec4 guide = svgfGuide(p, pc.writtenSet);
+  // This frame's guide, stored for the à-trous iterations and next frame's temporal pass.
+  const uint packedGuide = giCurrentGuide(p);
+  imageStore(giHistoryGuide, p, uvec4(packedGuide));
+  const vec4 guide = giUnpackGuide(packedGuide);
   vec2 variance = vec2(0.0);
   if (guide.w > 0.0 && !giHistoryTrusted(frames)) {
-    const vec2 gradient = svgfDepthGradient(p, guide.w, pc.writtenSet);
+    const vec2 gradient = svgfDepthGradient(p, guide.w, false);
     vec2 mean = vec2(0.0), square = vec2(0.0);
     float weights = 0.0;
     for (int j = -3; j <= 3; ++j)
       for (int i = -3; i <= 3; ++i) {
         const ivec2 q = p + ivec2(i, j);
-        const vec4 tap = svgfGuide(q, pc.writtenSet);
+        const vec4 tap = svgfGuide(q, false);
         if (tap.w <= 0.0) continue;
         const float w = i == 0 && j == 0 ? 1.0 : svgfGeometryWeight(guide, gradient, tap, vec2(i, j), pc.sigmaDepth, pc.sigmaNormal);
         const GiMoments m = giLoadMoments(pc.writtenSet, q);

@@ -32,7 +32,7 @@ bool giDepthAgrees(float stored, float expected, float tolerance) {
   return stored > 0.0 && abs(stored - expected) <= tolerance * expected;
 }
 
-// Last frame's guide (unit normal, view depth / depthScale) in the set the temporal pass reads (`readSet`: 0 = A).
+// Last frame's guide (unit normal, view depth / depthScale), GI_BINDING_HISTORY_GUIDE.
 // A history guide texel (r32ui): the unit normal octahedral in 2 × 8 bits
 // (about half a degree) and view depth / depthScale as a half float, what a
 // comparison to a tolerance of several per cent needs. Background: 0.
@@ -46,8 +46,10 @@ vec4 giUnpackGuide(uint v) {
   const vec2 e = vec2(uvec2(v >> 16u, v >> 24u) & 255u) / 255.0 * 2.0 - 1.0;
   return vec4(normalize(giOctahedralDecode(e)), unpackHalf2x16(v).x);
 }
-vec4 giPreviousGuide(ivec2 q, uint readSet) {
-  return giUnpackGuide(readSet == 0u ? imageLoad(giHistoryGuideA, q).x : imageLoad(giHistoryGuideB, q).x);
+vec4 giPreviousGuide(ivec2 q) { return giUnpackGuide(imageLoad(giHistoryGuide, q).x); }
+// This frame's guide at q, from the G-buffer: what the history guide holds once this frame's is stored.
+uint giCurrentGuide(ivec2 q) {
+  return giGbCovered(q) ? giPackGuide(giGbNormal(q), giGbViewDepth(q) / giFrame.depthScale) : 0u;
 }
 
 // Whether last frame's texel q saw this pixel's surface: its normal within
@@ -100,12 +102,12 @@ ivec2 giGradientPixel(ivec2 tile, uint frameIndex, uint seed) {
 
 // Where the gradient pixel p was last frame: the nearest texel to its
 // reprojected centre, if that texel saw the same surface.
-bool giGradientSource(ivec2 p, uint readSet, float tolerance, float cosNormalLimit, out ivec2 q) {
+bool giGradientSource(ivec2 p, float tolerance, float cosNormalLimit, out ivec2 q) {
   q = ivec2(floor(giPreviousPosition(p)));
   if (!giInPreviousFrame(q)) return false;
   vec3 dir;
   const vec3 world = giGbPosition(p, dir);
-  return giHistoryTexelAgrees(giPreviousGuide(q, readSet), giGbNormal(p), giPreviousViewDepth(world), giGbViewDepth(p),
+  return giHistoryTexelAgrees(giPreviousGuide(q), giGbNormal(p), giPreviousViewDepth(world), giGbViewDepth(p),
                               tolerance, cosNormalLimit);
 }
 

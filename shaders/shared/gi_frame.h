@@ -44,43 +44,45 @@ GPU_CONST GI_BINDING_AAF_GLOSSY_EDGE = 20; // rgba32f: the same for lobe·s·L (
 // (GiTemporalPush::readSet); set A's radiance images are above.
 GPU_CONST GI_BINDING_HISTORY_DIRECT_B = 21;   // accumulated direct over the base colour (rgb), history frames (a)
 GPU_CONST GI_BINDING_HISTORY_INDIRECT_B = 22; // accumulated demodulated indirect (rgb)
-GPU_CONST GI_BINDING_HISTORY_GUIDE_A = 23;    // r32ui: the frame's normal and view depth (temporal.glsl's giPackGuide)
-GPU_CONST GI_BINDING_HISTORY_GUIDE_B = 24;
+// r32ui: last frame's normal and view depth (temporal.glsl's giPackGuide), which the temporal pass and the
+// temporal gradients read; one image, not a set each: this frame's replaces it once they have read it (the
+// composite pass, or svgf's variance pass, whose à-trous iterations read it).
+GPU_CONST GI_BINDING_HISTORY_GUIDE = 23;
 // SVGF (svgf_variance.comp, svgf_atrous.comp): the luminance moments' history, read and written with the
 // colour's (sets A and B alternate: GiSvgfPush::writtenSet). Its à-trous iterations hold no images of their own: they ping-pong
-// between the outputs and the history set last frame wrote (svgf.glsl), and read the normal from this
-// frame's history guide and the depth from the G-buffer.
-GPU_CONST GI_BINDING_SVGF_STATE_A = 25;     // svgf's luminance variances and frames (gi_frame.glsl's giPackSvgfState)
-GPU_CONST GI_BINDING_SVGF_STATE_B = 26;
+// between the outputs and the history set last frame wrote (svgf.glsl), and read their taps' normal and depth
+// from the history guide, which the variance pass writes (from the G-buffer) once the temporal pass has read it.
+GPU_CONST GI_BINDING_SVGF_STATE_A = 24;     // svgf's luminance variances and frames (gi_frame.glsl's giPackSvgfState)
+GPU_CONST GI_BINDING_SVGF_STATE_B = 25;
 // Temporal gradients (TemporalSettings::gradients, A-SVGF, Schied et al. 2018): one pixel per
 // GI_GRADIENT_TILE² tile traces with the random numbers its reprojected pixel used last frame.
-GPU_CONST GI_BINDING_GRADIENT_SAMPLES_A = 27; // rgba32ui: the pixel's first sample, luminance of direct over base colour
-GPU_CONST GI_BINDING_GRADIENT_SAMPLES_B = 28; //   and of demodulated indirect as two half floats (x), its random state (y)
+GPU_CONST GI_BINDING_GRADIENT_SAMPLES_A = 26; // rgba32ui: the pixel's first sample, luminance of direct over base colour
+GPU_CONST GI_BINDING_GRADIENT_SAMPLES_B = 27; //   and of demodulated indirect as two half floats (x), its random state (y)
                                               //   and with reservoirs its light pick, the light and W's bits (zw)
-GPU_CONST GI_BINDING_TEMPORAL_GRADIENT = 29;  // rgba32f, one texel per tile: direct's change and max(then, now) (xy), indirect's (zw)
-GPU_CONST GI_BINDING_TEMPORAL_SPREAD = 30;    // rgba32f: this frame's samples around the pixel (3×3): luminance mean
+GPU_CONST GI_BINDING_TEMPORAL_GRADIENT = 28;  // rgba32f, one texel per tile: direct's change and max(then, now) (xy), indirect's (zw)
+GPU_CONST GI_BINDING_TEMPORAL_SPREAD = 29;    // rgba32f: this frame's samples around the pixel (3×3): luminance mean
                                               //   and σ of direct over base colour (xy) and of demodulated indirect (zw)
 // The hash methods' direct light history (hpsf.temporal), one texel per pixel in 8 bytes
 // (temporal.glsl, giPackHistory): the reflected direct light over the base colour, relative to the
 // scene's typical radiance, as RGB9E5 (x); view depth / depthScale as a half float, the octahedral
 // normal in 2 × 5 bits and the frames of history (to 63) (y). Written by the composite pass, once the
 // temporal pass has read every neighbour's texel: one image, not two.
-GPU_CONST GI_BINDING_HISTORY_PACKED = 31;
+GPU_CONST GI_BINDING_HISTORY_PACKED = 30;
 // Reservoir resampling of the primary hits' point and spot lights (ReservoirSettings, gi_reservoirs.comp).
 // A and B, rgba32ui, the temporal pass's reservoirs, one set written a frame (GiReservoirPush::readSet) and
 // read by the next: the chosen light (x; GI_RESERVOIR_EMPTY = none), its weight W (y, float bits), the
 // samples behind it M (z, float bits), the pixel's guide (w, giPackGuide). The pick, rg32ui, the spatial
 // pass's result the tracing passes take (giPrimaryReservoir): the light and its W (float bits), 0 where
 // the pixel does not see it.
-GPU_CONST GI_BINDING_RESERVOIRS_A = 32;
-GPU_CONST GI_BINDING_RESERVOIRS_B = 33;
-GPU_CONST GI_BINDING_RESERVOIR_PICK = 34;
+GPU_CONST GI_BINDING_RESERVOIRS_A = 31;
+GPU_CONST GI_BINDING_RESERVOIRS_B = 32;
+GPU_CONST GI_BINDING_RESERVOIR_PICK = 33;
 // The engine's direct and indirect outputs where ModuleDesc::outputFormat is packed (B10G11R11: no sign,
 // no alpha), written by the composite pass alone from OUT_DIRECT and OUT_INDIRECT (GiCompositePush::
 // packedOutputs); otherwise the same images as those, and not written.
-GPU_CONST GI_BINDING_PACKED_DIRECT = 35;
-GPU_CONST GI_BINDING_PACKED_INDIRECT = 36;
-GPU_CONST GI_BINDING_COUNT = 37;
+GPU_CONST GI_BINDING_PACKED_DIRECT = 34;
+GPU_CONST GI_BINDING_PACKED_INDIRECT = 35;
+GPU_CONST GI_BINDING_COUNT = 36;
 #define GI_GRADIENT_TILE 3u              // pixels per side of a gradient tile (A-SVGF's strata)
 #define GI_TRUSTED_HISTORY 4.0           // frames of history from which a pixel's accumulated light speaks for
                                          // itself: SVGF's temporal variance (spatial before), the filter clamp
@@ -264,6 +266,8 @@ struct GiCompositePush {
   uint svgfFrames;     // 1: the frames are in svgf's state image of the set written (gi_frame.glsl's giLoadSvgfFrames)
   uint packedOutputs;  // 1: copy the direct and indirect light into GI_BINDING_PACKED_* (clamped to [0, packedMax])
   float packedMax;     // the packed format's largest finite value
+  uint writesGuide;    // 1: store this frame's history guide (GI_BINDING_HISTORY_GUIDE), which the temporal pass
+                       // has read; 0: no temporal pass reads one (or svgf's variance pass stored it)
 };
 
 struct GiGuidancePush {
@@ -276,7 +280,7 @@ struct GiSupersamplePush {
   uint supersamples;  // extra eye rays per pixel
 };
 GPU_ASSERT_SIZE(GiSupersamplePush, 8);
-GPU_ASSERT_SIZE(GiCompositePush, 60);
+GPU_ASSERT_SIZE(GiCompositePush, 64);
 
 GPU_NAMESPACE_END
 #endif
