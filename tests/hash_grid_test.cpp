@@ -56,22 +56,27 @@ class HashGridTest : public GpuTest {
       gi::recordHashGridTelemetryCopy(dev, cmd, grid, 0);
     });
   }
-  // The keys and sums as the GPU holds them.
-  void read(std::vector<uint32_t>& keys, std::vector<gpu::HgAccum>& accum) {
+  // The keys, sums and sample counts as the GPU holds them.
+  void read(std::vector<uint32_t>& keys, std::vector<gpu::HgAccum>& accum, std::vector<uint32_t>& samples) {
     std::string error;
+    const VkDeviceSize bytes = grid.keys.size + grid.accum.size + grid.counts.size;
     engine::Buffer staging =
-        engine::createBuffer(ctx, grid.keys.size + grid.accum.size, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                             engine::MemoryKind::HostVisible, error);
+        engine::createBuffer(ctx, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, engine::MemoryKind::HostVisible, error);
     ASSERT_EQ(error, "");
     submitOrFail(ctx, [&](VkCommandBuffer cmd) {
-      VkBufferCopy a{0, 0, grid.keys.size}, b{0, grid.keys.size, grid.accum.size};
+      VkBufferCopy a{0, 0, grid.keys.size}, b{0, grid.keys.size, grid.accum.size},
+          c{0, grid.keys.size + grid.accum.size, grid.counts.size};
       vkCmdCopyBuffer(cmd, grid.keys.buffer, staging.buffer, 1, &a);
       vkCmdCopyBuffer(cmd, grid.accum.buffer, staging.buffer, 1, &b);
+      vkCmdCopyBuffer(cmd, grid.counts.buffer, staging.buffer, 1, &c);
     });
     keys.assign(grid.capacity, 0);
     accum.assign(grid.capacity, {});
-    std::memcpy(keys.data(), staging.mapped, grid.keys.size);
-    std::memcpy(accum.data(), static_cast<const std::byte*>(staging.mapped) + grid.keys.size, grid.accum.size);
+    samples.assign(grid.capacity, 0);
+    const std::byte* mapped = static_cast<const std::byte*>(staging.mapped);
+    std::memcpy(keys.data(), mapped, grid.keys.size);
+    std::memcpy(accum.data(), mapped + grid.keys.size, grid.accum.size);
+    std::memcpy(samples.data(), mapped + grid.keys.size + grid.accum.size, grid.counts.size);
     engine::destroyBuffer(ctx, staging);
   }
   static uint32_t keyOf(uint32_t k) { return gpu::hgVerificationKey(gpu::HgDescriptor{int(k), 1, -1, 0, 0}); }
@@ -88,15 +93,16 @@ TEST_F(HashGridTest, InsertAndFindUnderLoadLoseNothingBelowCapacity) {
     gpu::HgTelemetry t = gi::readHashGridTelemetry(grid, 0);
     std::vector<uint32_t> k;
     std::vector<gpu::HgAccum> acc;
-    read(k, acc);
+    std::vector<uint32_t> samples;
+    read(k, acc, samples);
     std::map<uint32_t, uint32_t> counts;
     uint32_t occupied = 0;
     for (uint32_t s = 0; s < capacity; ++s) {
       if (k[s] == gpu::HG_EMPTY_KEY) continue;
       ++occupied;
       EXPECT_EQ(counts.count(k[s]), 0u) << "a key stored twice";
-      counts[k[s]] = acc[s].count;
-      EXPECT_EQ(acc[s].count, repeats) << "load " << load << ": a lost or extra update";
+      counts[k[s]] = samples[s];
+      EXPECT_EQ(samples[s], repeats) << "load " << load << ": a lost or extra update";
       EXPECT_EQ(acc[s].r, repeats * gpu::hgToFixed(1.0f));
       EXPECT_EQ(acc[s].g, repeats * gpu::hgToFixed(2.0f));
     }
@@ -126,7 +132,8 @@ TEST_F(HashGridTest, DeferredClaimsGiveAFullWindowToTheLargestKeysInAnyOrder) {
   EXPECT_EQ(gi::readHashGridTelemetry(grid, 0).failedInserts, (keys - window) * repeats);
   std::vector<uint32_t> k;
   std::vector<gpu::HgAccum> acc;
-  read(k, acc);
+  std::vector<uint32_t> samples;
+  read(k, acc, samples);
   for (uint32_t s = 0; s < capacity; ++s) {
     if (s >= window) {
       EXPECT_EQ(acc[s].lum2, 0u) << "slot " << s << ": a bid left behind";
@@ -134,7 +141,7 @@ TEST_F(HashGridTest, DeferredClaimsGiveAFullWindowToTheLargestKeysInAnyOrder) {
       continue;
     }
     EXPECT_EQ(k[s], largest[s]) << "slot " << s;
-    EXPECT_EQ(acc[s].count, repeats * (window - s)) << "slot " << s << ": the samples since its claim";
+    EXPECT_EQ(samples[s], repeats * (window - s)) << "slot " << s << ": the samples since its claim";
   }
 }
 
@@ -151,25 +158,26 @@ TEST_F(HashGridTest, EvictingFromTheMiddleOfAChainKeepsTheLaterKeysReachable) {
   run({capacity, 16, 1, 1, kEvict, 3, 1, 0, 0});                                        // key 3 goes
   std::vector<uint32_t> keys;
   std::vector<gpu::HgAccum> accum;
-  read(keys, accum);
+  std::vector<uint32_t> samples;
+  read(keys, accum, samples);
   EXPECT_EQ(keys[3], gpu::HG_TOMBSTONE_KEY) << "the evicted slot still carries the chain";
-  EXPECT_EQ(accum[3].count, 0u);
+  EXPECT_EQ(samples[3], 0u);
   for (uint32_t k : {0u, 1u, 2u, 4u, 5u, 6u, 7u}) run({capacity, 16, 1, 1, kInsert, k, 1, 1, 0});
-  read(keys, accum);
+  read(keys, accum, samples);
   std::map<uint32_t, int> seen;
   for (uint32_t s = 0; s < capacity; ++s)
     if (keys[s] != gpu::HG_EMPTY_KEY && keys[s] != gpu::HG_TOMBSTONE_KEY) ++seen[keys[s]];
   for (uint32_t k : {0u, 1u, 2u, 4u, 5u, 6u, 7u}) {
     EXPECT_EQ(seen[keyOf(k)], 1) << "key " << k << " stored " << seen[keyOf(k)] << " times";
     EXPECT_EQ(keys[k], keyOf(k));
-    EXPECT_EQ(accum[k].count, 2u) << "key " << k << " did not find its own cell";
+    EXPECT_EQ(samples[k], 2u) << "key " << k << " did not find its own cell";
   }
   EXPECT_EQ(seen.count(keyOf(3)), 0u);
   // A new key reclaims the tombstone (the first free slot of its chain).
   run({capacity, 16, 1, 1, kInsert, 100, 1, 1, 0});
-  read(keys, accum);
+  read(keys, accum, samples);
   EXPECT_EQ(keys[3], keyOf(100));
-  EXPECT_EQ(accum[3].count, 1u);
+  EXPECT_EQ(samples[3], 1u);
 }
 
 // An evicted cell's sums go with it: the next key to claim its slot starts
@@ -186,29 +194,30 @@ TEST_F(HashGridTest, EvictionLeavesNoLightBehindAndContinuedLightMakesNoCell) {
   run({capacity, 16, 1, 1, kEvict, 1, 1, 0, 0});   // key 1 goes, with its sums
   std::vector<uint32_t> keys;
   std::vector<gpu::HgAccum> accum;
-  read(keys, accum);
+  std::vector<uint32_t> samples;
+  read(keys, accum, samples);
   EXPECT_EQ(keys[1], gpu::HG_EMPTY_KEY) << "the end of a chain needs no tombstone";
   EXPECT_EQ(accum[1].r, 0u);
-  EXPECT_EQ(accum[1].count, 0u);
+  EXPECT_EQ(samples[1], 0u);
   // Continued light for a key that has no cell: dropped, nothing created.
   run({capacity, 16, 1, 1, kInsert, 2, 1, 0, 0});
-  read(keys, accum);
+  read(keys, accum, samples);
   EXPECT_EQ(keys[1], gpu::HG_EMPTY_KEY) << "count-0 light made a cell";
   EXPECT_EQ(gi::readHashGridTelemetry(grid, 0).failedInserts, 1u);
   // A new sample claims slot 1 and holds exactly its own light.
   run({capacity, 16, 1, 1, kInsert, 2, 1, 1, 0});
-  read(keys, accum);
+  read(keys, accum, samples);
   EXPECT_EQ(keys[1], keyOf(2));
-  EXPECT_EQ(accum[1].count, 1u);
+  EXPECT_EQ(samples[1], 1u);
   EXPECT_EQ(accum[1].r, gpu::hgToFixed(1.0f));
   // Evicting slot 0 while slot 1 is full leaves a tombstone; once slot 1 is
   // gone too, tidying turns it empty.
   run({capacity, 16, 1, 1, kEvict, 0, 1, 0, 0});
   run({capacity, 16, 1, 1, kEvict, 2, 1, 0, 0});
-  read(keys, accum);
+  read(keys, accum, samples);
   EXPECT_EQ(keys[0], gpu::HG_TOMBSTONE_KEY);
   EXPECT_EQ(keys[1], gpu::HG_EMPTY_KEY);
   run({capacity, 16, 0, 1, kTidy, 0, 1, 0, 0});
-  read(keys, accum);
+  read(keys, accum, samples);
   EXPECT_EQ(keys[0], gpu::HG_EMPTY_KEY);
 }

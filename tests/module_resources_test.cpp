@@ -188,14 +188,14 @@ TEST_F(ModuleResourcesTest, HpsfAt1080pHoldsAtMost150MB) {
   EXPECT_TRUE(m->plan.packedHistory) << "the default hpsf reprojects its direct light: its history counts";
   EXPECT_LE(m->gpu.memory.held, VkDeviceSize(150'000'000)) << m->gpu.memory.held << " bytes";
   std::printf("hpsf at 1080p: %.1f MB held, %.1f MB used\n", m->gpu.memory.held * 1e-6, m->gpu.memory.used * 1e-6);
-  // What it holds is what it needs: three half-float outputs, the map (2^19 cells: keys, sums and
-  // cells) and the packed direct history (8 bytes a pixel), with under 2 MB of anything else (lavapipe:
+  // What it holds is what it needs: three half-float outputs, the map (2^19 cells: keys, sums, counts
+  // and cells) and the packed direct history (8 bytes a pixel), with under 2 MB of anything else (lavapipe:
   // 0.04 MB) and under 1% of the blocks unused. The driver may pad each 1080p image (an NVIDIA H200 pads
   // an 8-byte one by 1.1 MB, its rows to a multiple of its tiles): that padding is the driver's, asked
   // for the four screen images here, not the module's.
   const VkDeviceSize pixels = 1920 * 1080, cells = VkDeviceSize(1) << 19;
   const VkDeviceSize needed =
-      3 * 8 * pixels + cells * (sizeof(uint32_t) + sizeof(gpu::HgAccum) + sizeof(gpu::HgCell)) + 8 * pixels;
+      3 * 8 * pixels + cells * (2 * sizeof(uint32_t) + sizeof(gpu::HgAccum) + sizeof(gpu::HgCell)) + 8 * pixels;
   const VkDeviceSize padding = 4 * (driverImageBytes(ctx, {1920, 1080}, VK_FORMAT_R16G16B16A16_SFLOAT) - 8 * pixels);
   std::printf("the driver pads an 8-byte 1080p image by %.2f MB\n", (padding / 4) * 1e-6);
   EXPECT_GE(m->gpu.memory.used, needed);

@@ -13,6 +13,7 @@ const vk::Binding kHashGridBindings[] = {
     {gpu::HG_BINDING_ACCUM, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
     {gpu::HG_BINDING_CELLS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
     {gpu::HG_BINDING_TELEMETRY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+    {gpu::HG_BINDING_COUNTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
     {gpu::HG_BINDING_CONTINUATION, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
 };
 }  // namespace
@@ -34,6 +35,7 @@ vk::Status createHashGrid(vk::Device& d, VkDescriptorSetLayout layout, uint32_t 
   auto build = [&]() -> vk::Status {
     GI_TRY(vk::createBuffer(d, sizeof(uint32_t) * n, usage, false, g.keys));
     GI_TRY(vk::createBuffer(d, sizeof(gpu::HgAccum) * n, usage, false, g.accum));
+    GI_TRY(vk::createBuffer(d, sizeof(uint32_t) * n, usage, false, g.counts));
     GI_TRY(vk::createBuffer(d, sizeof(gpu::HgCell) * n, usage, false, g.cells));
     GI_TRY(vk::createBuffer(d, sizeof(gpu::HgTelemetry) * (1 + slots), usage, true, g.telemetry));
     if (g.telemetry.memory.mapped) std::memset(g.telemetry.memory.mapped, 0, g.telemetry.size);  // null: a prediction
@@ -45,13 +47,14 @@ vk::Status createHashGrid(vk::Device& d, VkDescriptorSetLayout layout, uint32_t 
     destroyHashGrid(d, g);
     return s;
   }
-  g.memoryBytes =
-      g.keys.memory.size + g.accum.memory.size + g.cells.memory.size + g.telemetry.memory.size + g.walks.memory.size;
+  g.memoryBytes = g.keys.memory.size + g.accum.memory.size + g.counts.memory.size + g.cells.memory.size +
+                  g.telemetry.memory.size + g.walks.memory.size;
   vk::DescriptorWriter(g.set[0])
       .buffer(gpu::HG_BINDING_KEYS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.keys.buffer)
       .buffer(gpu::HG_BINDING_ACCUM, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.accum.buffer)
       .buffer(gpu::HG_BINDING_CELLS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.cells.buffer)
       .buffer(gpu::HG_BINDING_TELEMETRY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.telemetry.buffer)
+      .buffer(gpu::HG_BINDING_COUNTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.counts.buffer)
       .buffer(gpu::HG_BINDING_CONTINUATION, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.walks.buffer)
       .write(d);
   out = std::move(g);
@@ -60,7 +63,7 @@ vk::Status createHashGrid(vk::Device& d, VkDescriptorSetLayout layout, uint32_t 
 
 void destroyHashGrid(vk::Device& d, HashGrid& g) {
   vk::destroyDescriptorSets(d, g.set);
-  for (vk::Buffer* b : {&g.keys, &g.accum, &g.cells, &g.telemetry, &g.walks}) vk::destroyBuffer(d, *b);
+  for (vk::Buffer* b : {&g.keys, &g.accum, &g.counts, &g.cells, &g.telemetry, &g.walks}) vk::destroyBuffer(d, *b);
   g = HashGrid{};
 }
 
@@ -74,11 +77,13 @@ void recordHashGridFrameStart(const vk::Device& d, VkCommandBuffer cmd, HashGrid
     VkDeviceSize base = hashTableBase(g, frameIndex);
     d.fn.vkCmdFillBuffer(cmd, g.keys.buffer, base * sizeof(uint32_t), g.capacity * sizeof(uint32_t), 0);
     d.fn.vkCmdFillBuffer(cmd, g.accum.buffer, base * sizeof(gpu::HgAccum), g.capacity * sizeof(gpu::HgAccum), 0);
+    d.fn.vkCmdFillBuffer(cmd, g.counts.buffer, base * sizeof(uint32_t), g.capacity * sizeof(uint32_t), 0);
     d.fn.vkCmdFillBuffer(cmd, g.cells.buffer, base * sizeof(gpu::HgCell), g.capacity * sizeof(gpu::HgCell), 0);
   }
   if (!g.cleared) {
     d.fn.vkCmdFillBuffer(cmd, g.keys.buffer, 0, VK_WHOLE_SIZE, 0);
     d.fn.vkCmdFillBuffer(cmd, g.accum.buffer, 0, VK_WHOLE_SIZE, 0);
+    d.fn.vkCmdFillBuffer(cmd, g.counts.buffer, 0, VK_WHOLE_SIZE, 0);
     d.fn.vkCmdFillBuffer(cmd, g.cells.buffer, 0, VK_WHOLE_SIZE, 0);
     g.cleared = true;
     g.walksCleared = false;

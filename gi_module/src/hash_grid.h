@@ -11,10 +11,10 @@
 namespace gi {
 
 struct HashGrid {
-  uint32_t capacity = 0;  // slots per table
-  uint32_t tables = 1;    // 2 for strict eviction (swapped every frame), 1 for aging
-  vk::Buffer keys, accum, cells;
-  vk::Buffer telemetry;     // host-visible HgTelemetry[1 + slots]: [0] is live, the rest per-frame copies
+  uint32_t capacity = 0;                  // slots per table
+  uint32_t tables = 1;                    // 2 for strict eviction (swapped every frame), 1 for aging
+  vk::Buffer keys, accum, counts, cells;  // HG_BINDING_KEYS, _ACCUM, _COUNTS, _CELLS
+  vk::Buffer telemetry;                   // host-visible HgTelemetry[1 + slots]: [0] is live, the rest per-frame copies
   vk::Buffer walks;         // HgWalkRecord per pixel of the largest render size (anhpsf), else one placeholder
   uint32_t walkPixels = 0;  // pixels with a walk slot (0: the placeholder)
   vk::DescriptorSets set;   // one set, of the module's set-2 layout

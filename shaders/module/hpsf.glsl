@@ -10,6 +10,7 @@ layout(set = 2, binding = HG_BINDING_KEYS, scalar) buffer HgKeys { uint hgKeys[]
 layout(set = 2, binding = HG_BINDING_ACCUM, scalar) buffer HgAccums { HgAccum hgAccum[]; };
 layout(set = 2, binding = HG_BINDING_CELLS, scalar) buffer HgCells { HgCell hgCells[]; };
 layout(set = 2, binding = HG_BINDING_TELEMETRY, scalar) buffer HgTelemetryBlock { HgTelemetry hgTelemetry; };
+layout(set = 2, binding = HG_BINDING_COUNTS, scalar) buffer HgCounts { uint hgCounts[]; };
 layout(set = 2, binding = HG_BINDING_CONTINUATION, scalar) buffer HgWalks { HgWalkRecord hgWalks[]; };
 
 // Element i of one of the arrays above; with ModuleDesc::checkBounds, an i outside it is counted and
@@ -136,13 +137,22 @@ int hgFind(uint table, uint index, uint key, uint capacity, uint window) {
   return -1;
 }
 
+// A slot's frame sums with the samples behind them (two arrays: HG_BINDING_ACCUM, HG_BINDING_COUNTS).
+struct HgFrameSums {
+  HgAccum sums;
+  uint count;
+};
+HgFrameSums hgLoadFrameSums(uint slot) { return HgFrameSums(HG_AT(hgAccum, slot), HG_AT(hgCounts, slot)); }
+void hgStoreFrameSums(uint slot, HgFrameSums f) {
+  HG_AT(hgAccum, slot) = f.sums;
+  HG_AT(hgCounts, slot) = f.count;
+}
+
 // Zeroes a slot's frame sums.
 void hgClearAccum(uint slot) {
   HgAccum zero;
   zero.r = zero.g = zero.b = zero.tr = zero.tg = zero.tb = zero.lum2 = 0ul;
-  zero.count = 0u;
-  zero.pad0 = 0u;
-  HG_AT(hgAccum, slot) = zero;
+  hgStoreFrameSums(slot, HgFrameSums(zero, 0u));
 }
 
 // A cell with no history and no sentinel.
@@ -218,7 +228,7 @@ uint hgAccumulate(int slot, vec3 radiance, vec3 tail, float momentLuminance, uin
   }
   if (count == 0u) return 0xffffffffu;
   atomicAdd(HG_AT(hgAccum, slot).lum2, hgToFixed(min(momentLuminance * momentLuminance, float(HG_MAX_SAMPLE))));
-  return atomicAdd(HG_AT(hgAccum, slot).count, count);
+  return atomicAdd(HG_AT(hgCounts, slot), count);
 }
 
 // Walk directions are stored octahedral in 2 × 16 bits (HgWalk::direction, HgCell::sentinelDirection).

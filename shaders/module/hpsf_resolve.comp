@@ -13,13 +13,13 @@ layout(local_size_x = 64) in;
 layout(push_constant, scalar) uniform Push { HgPush pc; };
 
 // The sums' means: of the clamped samples, of what the clamp took off, of luminance².
-vec3 frameMean(HgAccum a) {
-  return vec3(hgFromFixed(a.r, a.count), hgFromFixed(a.g, a.count), hgFromFixed(a.b, a.count)) / pc.radianceScale;
+vec3 frameMean(HgFrameSums a) {
+  return vec3(hgFromFixed(a.sums.r, a.count), hgFromFixed(a.sums.g, a.count), hgFromFixed(a.sums.b, a.count)) / pc.radianceScale;
 }
-vec3 frameTail(HgAccum a) {
-  return vec3(hgFromFixed(a.tr, a.count), hgFromFixed(a.tg, a.count), hgFromFixed(a.tb, a.count)) / pc.radianceScale;
+vec3 frameTail(HgFrameSums a) {
+  return vec3(hgFromFixed(a.sums.tr, a.count), hgFromFixed(a.sums.tg, a.count), hgFromFixed(a.sums.tb, a.count)) / pc.radianceScale;
 }
-float frameMoment2(HgAccum a) { return hgFromFixed(a.lum2, a.count) / (pc.radianceScale * pc.radianceScale); }
+float frameMoment2(HgFrameSums a) { return hgFromFixed(a.sums.lum2, a.count) / (pc.radianceScale * pc.radianceScale); }
 
 // The recent mean's window in frames: historySamples samples at this frame's count (nhpsf and anhpsf pass it
 // on; see resolveAging), at most the mean's own window `cap`.
@@ -27,7 +27,7 @@ float recentWindow(uint count, float cap) {
   return pc.historySamples > 0u && count > 0u ? clamp(float(pc.historySamples) / float(count), 1.0, cap) : cap;
 }
 // The recent mean after this frame's samples `a` (a.count > 0) join the one `frames` frames hold.
-uint blendRecent(HgCell c, float frames, HgAccum a, float window, uint key) {
+uint blendRecent(HgCell c, float frames, HgFrameSums a, float window, uint key) {
   const float w = 1.0 / (min(frames, window - 1.0) + 1.0);
   return hgPackRecent(frames > 0.0 ? mix(hgCellRecent(c, pc.radianceScale), frameMean(a), w) : frameMean(a),
                       pc.radianceScale, key, pc.frameIndex);
@@ -42,7 +42,7 @@ uint blendRecent(HgCell c, float frames, HgAccum a, float window, uint key) {
 void resolveStrict(uint i, inout uint live, inout uint evicted) {
   uint slot = pc.table + i;
   if (HG_AT(hgKeys, slot) != HG_EMPTY_KEY) {
-    HgAccum a = HG_AT(hgAccum, slot);
+    HgFrameSums a = hgLoadFrameSums(slot);
     HgCell c = HG_AT(hgCells, slot);
     const uint key = HG_AT(hgKeys, slot);
     // What nhpsf's vertices read: the whole history's mean would lag behind light that builds up over
@@ -55,28 +55,28 @@ void resolveStrict(uint i, inout uint live, inout uint evicted) {
     c.recent = a.count > 0u ? blendRecent(last, carried ? last.frames : 0.0, a, window, key) : last.recent;
     c.frames = 1.0;
     if (carried) {
-      HgAccum b = HG_AT(hgAccum, previous - 1u);
-      a.r += b.r;
-      a.g += b.g;
-      a.b += b.b;
-      a.tr += b.tr;
-      a.tg += b.tg;
-      a.tb += b.tb;
-      a.lum2 += b.lum2;
+      HgFrameSums b = hgLoadFrameSums(previous - 1u);
+      a.sums.r += b.sums.r;
+      a.sums.g += b.sums.g;
+      a.sums.b += b.sums.b;
+      a.sums.tr += b.sums.tr;
+      a.sums.tg += b.sums.tg;
+      a.sums.tb += b.sums.tb;
+      a.sums.lum2 += b.sums.lum2;
       a.count += b.count;
       c.frames = last.frames + 1.0;
     }
     if (a.count >= HG_STRICT_MAX_COUNT) {
-      a.r /= 2ul;
-      a.g /= 2ul;
-      a.b /= 2ul;
-      a.tr /= 2ul;
-      a.tg /= 2ul;
-      a.tb /= 2ul;
-      a.lum2 /= 2ul;
+      a.sums.r /= 2ul;
+      a.sums.g /= 2ul;
+      a.sums.b /= 2ul;
+      a.sums.tr /= 2ul;
+      a.sums.tg /= 2ul;
+      a.sums.tb /= 2ul;
+      a.sums.lum2 /= 2ul;
       a.count /= 2u;
     }
-    HG_AT(hgAccum, slot) = a;
+    hgStoreFrameSums(slot, a);
     c.mean = frameMean(a);  // the whole history's
     c.tail = frameTail(a);
     c.lumMoment2 = frameMoment2(a);
@@ -92,7 +92,7 @@ void resolveStrict(uint i, inout uint live, inout uint evicted) {
 // This frame's samples (a.count > 0) into the aging cell's running means: the mean and the luminance moment
 // over up to `cap` frames, the recent mean (what the map passes on) over `recentCap`, the clamp's tail over
 // HG_TAIL_HISTORY times as many; and the samples behind the mean.
-void blendFrameIntoCell(inout HgCell c, HgAccum a, float cap, float recentCap, uint key) {
+void blendFrameIntoCell(inout HgCell c, HgFrameSums a, float cap, float recentCap, uint key) {
   vec3 frameMean = frameMean(a);
   vec3 frameTail = frameTail(a);
   float frameM2 = frameMoment2(a);
@@ -127,7 +127,7 @@ void resolveAging(uint slot, inout uint live, inout uint evicted) {
     hgTidyTombstone(pc.table, slot, pc.capacity);
     return;
   }
-  HgAccum a = HG_AT(hgAccum, slot);
+  HgFrameSums a = hgLoadFrameSums(slot);
   HgCell c = HG_AT(hgCells, slot);
   // The windows in frames (c.frames counts on, for the tail's longer one).
   // They depend on the sample count only, never on the radiance: a window

@@ -25,6 +25,8 @@ GPU_CONST HG_BINDING_KEYS = 0;       // uint[tables·capacity]: verification key
 GPU_CONST HG_BINDING_ACCUM = 1;      // HgAccum[tables·capacity]: a frame's sums (atomics); aging clears them in resolve
 GPU_CONST HG_BINDING_CELLS = 2;      // HgCell[tables·capacity]: resolved means
 GPU_CONST HG_BINDING_TELEMETRY = 3;  // HgTelemetry: counters of the current frame
+GPU_CONST HG_BINDING_COUNTS = 4;     // uint[tables·capacity]: the samples HgAccum sums (atomics), apart from the
+                                     // sums: beside them a count took 8 bytes a cell (the sums' alignment)
 GPU_CONST HG_BINDING_CONTINUATION = 5; // HgWalk[pixels]: anhpsf's paths continued over frames
 
 GPU_CONST HG_MODE_HPSF = 0u;         // full paths from the primary hit; the primary cell filters
@@ -42,10 +44,9 @@ struct HgAccum {
   uint64_t lum2;      // Σ (unclamped luminance · radianceScale)² · HG_FIXED_POINT_SCALE (the clamp's σ).
                       // A free slot sums nothing: with deferred claims (HgPush::deferredClaims) it holds the
                       // largest bid for the slot this frame, priority << 32 | key (0 = none; hgInsertOrFind)
-  uint count;         // samples this frame
-  uint pad0;
+  // The samples they sum are in HG_BINDING_COUNTS.
 };
-GPU_ASSERT_SIZE(HgAccum, 64);
+GPU_ASSERT_SIZE(HgAccum, 56);
 
 // The outlier clamp keeps the light it takes: the tail is averaged over this
 // many times the mean's history, so a firefly's energy arrives spread thinly
