@@ -1,6 +1,7 @@
 #include "hash_grid.h"
 
 #include <algorithm>
+#include <array>
 #include <cstring>
 
 #include "shared/gi_frame.h"
@@ -8,14 +9,29 @@
 namespace gi {
 
 namespace {
-const vk::Binding kHashGridBindings[] = {
-    {gpu::HG_BINDING_KEYS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-    {gpu::HG_BINDING_ACCUM, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-    {gpu::HG_BINDING_CELLS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-    {gpu::HG_BINDING_TELEMETRY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-    {gpu::HG_BINDING_COUNTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-    {gpu::HG_BINDING_CONTINUATION, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+// The arrays with one element per slot of every table: created, cleared (whole, or the strict policy's
+// table of the frame), bound and destroyed together.
+struct SlotArray {
+  vk::Buffer HashGrid::*buffer;
+  uint32_t binding;
+  VkDeviceSize elementBytes;
 };
+constexpr SlotArray kSlotArrays[] = {
+    {&HashGrid::keys, gpu::HG_BINDING_KEYS, sizeof(uint32_t)},
+    {&HashGrid::accum, gpu::HG_BINDING_ACCUM, sizeof(gpu::HgAccum)},
+    {&HashGrid::counts, gpu::HG_BINDING_COUNTS, sizeof(uint32_t)},
+    {&HashGrid::cells, gpu::HG_BINDING_CELLS, sizeof(gpu::HgCell)},
+};
+// Set 2: the slot arrays' bindings (derived, so an array and its binding are declared once), then the
+// telemetry and anhpsf's continued paths.
+constexpr auto kHashGridBindings = [] {
+  std::array<vk::Binding, std::size(kSlotArrays) + 2> all{};
+  size_t n = 0;
+  for (const SlotArray& a : kSlotArrays) all[n++] = {a.binding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
+  all[n++] = {gpu::HG_BINDING_TELEMETRY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
+  all[n++] = {gpu::HG_BINDING_CONTINUATION, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
+  return all;
+}();
 }  // namespace
 
 vk::Status createHashGridLayout(const vk::Device& d, VkDescriptorSetLayout& out) {
@@ -33,10 +49,7 @@ vk::Status createHashGrid(vk::Device& d, VkDescriptorSetLayout layout, uint32_t 
       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
   g.walkPixels = walks ? width * height : 0;
   auto build = [&]() -> vk::Status {
-    GI_TRY(vk::createBuffer(d, sizeof(uint32_t) * n, usage, false, g.keys));
-    GI_TRY(vk::createBuffer(d, sizeof(gpu::HgAccum) * n, usage, false, g.accum));
-    GI_TRY(vk::createBuffer(d, sizeof(uint32_t) * n, usage, false, g.counts));
-    GI_TRY(vk::createBuffer(d, sizeof(gpu::HgCell) * n, usage, false, g.cells));
+    for (const SlotArray& a : kSlotArrays) GI_TRY(vk::createBuffer(d, a.elementBytes * n, usage, false, g.*a.buffer));
     GI_TRY(vk::createBuffer(d, sizeof(gpu::HgTelemetry) * (1 + slots), usage, true, g.telemetry));
     if (g.telemetry.memory.mapped) std::memset(g.telemetry.memory.mapped, 0, g.telemetry.size);  // null: a prediction
     GI_TRY(vk::createBuffer(d, sizeof(gpu::HgWalkRecord) * std::max(g.walkPixels, 1u), usage, false, g.walks));
@@ -47,14 +60,13 @@ vk::Status createHashGrid(vk::Device& d, VkDescriptorSetLayout layout, uint32_t 
     destroyHashGrid(d, g);
     return s;
   }
-  g.memoryBytes = g.keys.memory.size + g.accum.memory.size + g.counts.memory.size + g.cells.memory.size +
-                  g.telemetry.memory.size + g.walks.memory.size;
-  vk::DescriptorWriter(g.set[0])
-      .buffer(gpu::HG_BINDING_KEYS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.keys.buffer)
-      .buffer(gpu::HG_BINDING_ACCUM, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.accum.buffer)
-      .buffer(gpu::HG_BINDING_CELLS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.cells.buffer)
-      .buffer(gpu::HG_BINDING_TELEMETRY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.telemetry.buffer)
-      .buffer(gpu::HG_BINDING_COUNTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.counts.buffer)
+  vk::DescriptorWriter writer(g.set[0]);
+  g.memoryBytes = g.telemetry.memory.size + g.walks.memory.size;
+  for (const SlotArray& a : kSlotArrays) {
+    g.memoryBytes += (g.*a.buffer).memory.size;
+    writer.buffer(a.binding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, (g.*a.buffer).buffer);
+  }
+  writer.buffer(gpu::HG_BINDING_TELEMETRY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.telemetry.buffer)
       .buffer(gpu::HG_BINDING_CONTINUATION, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.walks.buffer)
       .write(d);
   out = std::move(g);
@@ -63,7 +75,8 @@ vk::Status createHashGrid(vk::Device& d, VkDescriptorSetLayout layout, uint32_t 
 
 void destroyHashGrid(vk::Device& d, HashGrid& g) {
   vk::destroyDescriptorSets(d, g.set);
-  for (vk::Buffer* b : {&g.keys, &g.accum, &g.counts, &g.cells, &g.telemetry, &g.walks}) vk::destroyBuffer(d, *b);
+  for (const SlotArray& a : kSlotArrays) vk::destroyBuffer(d, g.*a.buffer);
+  for (vk::Buffer* b : {&g.telemetry, &g.walks}) vk::destroyBuffer(d, *b);
   g = HashGrid{};
 }
 
@@ -74,17 +87,12 @@ uint32_t previousHashTableBase(const HashGrid& g, uint32_t frameIndex) {
 
 void recordHashGridFrameStart(const vk::Device& d, VkCommandBuffer cmd, HashGrid& g, uint32_t frameIndex) {
   if (g.cleared && g.tables == 2) {  // strict: the table written this frame starts empty
-    VkDeviceSize base = hashTableBase(g, frameIndex);
-    d.fn.vkCmdFillBuffer(cmd, g.keys.buffer, base * sizeof(uint32_t), g.capacity * sizeof(uint32_t), 0);
-    d.fn.vkCmdFillBuffer(cmd, g.accum.buffer, base * sizeof(gpu::HgAccum), g.capacity * sizeof(gpu::HgAccum), 0);
-    d.fn.vkCmdFillBuffer(cmd, g.counts.buffer, base * sizeof(uint32_t), g.capacity * sizeof(uint32_t), 0);
-    d.fn.vkCmdFillBuffer(cmd, g.cells.buffer, base * sizeof(gpu::HgCell), g.capacity * sizeof(gpu::HgCell), 0);
+    const VkDeviceSize base = hashTableBase(g, frameIndex);
+    for (const SlotArray& a : kSlotArrays)
+      d.fn.vkCmdFillBuffer(cmd, (g.*a.buffer).buffer, base * a.elementBytes, g.capacity * a.elementBytes, 0);
   }
   if (!g.cleared) {
-    d.fn.vkCmdFillBuffer(cmd, g.keys.buffer, 0, VK_WHOLE_SIZE, 0);
-    d.fn.vkCmdFillBuffer(cmd, g.accum.buffer, 0, VK_WHOLE_SIZE, 0);
-    d.fn.vkCmdFillBuffer(cmd, g.counts.buffer, 0, VK_WHOLE_SIZE, 0);
-    d.fn.vkCmdFillBuffer(cmd, g.cells.buffer, 0, VK_WHOLE_SIZE, 0);
+    for (const SlotArray& a : kSlotArrays) d.fn.vkCmdFillBuffer(cmd, (g.*a.buffer).buffer, 0, VK_WHOLE_SIZE, 0);
     g.cleared = true;
     g.walksCleared = false;
   }
