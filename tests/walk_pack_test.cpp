@@ -1,6 +1,6 @@
-// The hash map's packed records (issue 30's memory): anhpsf's continued path in 28 bytes and a cell's
-// recent mean in one word lose no more than shared/hash_grid.h says, and the recent mean, rounded
-// stochastically, still follows frames that move it by less than a step.
+// The hash map's packed records (issue 30's memory): anhpsf's continued path in 28 bytes, a cell's recent
+// mean in one word and what its sentinel saw in another lose no more than shared/hash_grid.h and hpsf.glsl
+// say, and the recent mean, rounded stochastically, still follows frames that move it by less than a step.
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -33,42 +33,58 @@ std::array<double, 3> decodeDirection(uint32_t packed) {
 
 class WalkPackTest : public GpuTest {
  protected:
-  // Runs walk_pack.comp over `walks` and `means` (the same count), in place.
-  void run(std::vector<gpu::HgWalk>& walks, std::vector<gpu::WpMean>& means, uint32_t frames, float radianceScale) {
+  // Runs walk_pack.comp over `walks` and `means` (the same count) and `sentinels`, in place.
+  void run(std::vector<gpu::HgWalk>& walks, std::vector<gpu::WpMean>& means, uint32_t frames, float radianceScale,
+           std::vector<gpu::WpSentinel>& sentinels) {
     ASSERT_EQ(walks.size(), means.size());
     const engine::Binding bindings[] = {{gpu::WP_BINDING_WALKS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-                                        {gpu::WP_BINDING_MEANS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}};
+                                        {gpu::WP_BINDING_MEANS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+                                        {gpu::WP_BINDING_SENTINELS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}};
     std::string error;
     engine::DescriptorSet set = engine::createDescriptorSet(ctx, bindings, error);
     const size_t walkBytes = walks.size() * sizeof(gpu::HgWalk), meanBytes = means.size() * sizeof(gpu::WpMean);
-    engine::Buffer walkBuffer = engine::createBuffer(ctx, walkBytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                                                     engine::MemoryKind::HostVisible, error);
-    engine::Buffer meanBuffer = engine::createBuffer(ctx, meanBytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                                                     engine::MemoryKind::HostVisible, error);
+    const size_t sentinelBytes = sentinels.size() * sizeof(gpu::WpSentinel);
+    engine::Buffer walkBuffer =
+        engine::createBuffer(ctx, std::max<size_t>(walkBytes, 4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                             engine::MemoryKind::HostVisible, error);
+    engine::Buffer meanBuffer =
+        engine::createBuffer(ctx, std::max<size_t>(meanBytes, 4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                             engine::MemoryKind::HostVisible, error);
+    engine::Buffer sentinelBuffer =
+        engine::createBuffer(ctx, std::max<size_t>(sentinelBytes, 4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                             engine::MemoryKind::HostVisible, error);
     ASSERT_EQ(error, "");
     std::memcpy(walkBuffer.mapped, walks.data(), walkBytes);
     std::memcpy(meanBuffer.mapped, means.data(), meanBytes);
+    std::memcpy(sentinelBuffer.mapped, sentinels.data(), sentinelBytes);
     engine::DescriptorWriter(set.set)
         .buffer(gpu::WP_BINDING_WALKS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, walkBuffer.buffer)
         .buffer(gpu::WP_BINDING_MEANS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, meanBuffer.buffer)
+        .buffer(gpu::WP_BINDING_SENTINELS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, sentinelBuffer.buffer)
         .write(ctx.vk);
     VkDescriptorSetLayout layouts[] = {set.layout};
     engine::ComputeProgram program =
         engine::createComputeProgram(ctx, spv_walk_pack_comp, layouts, sizeof(gpu::WpPush), {64, 1}, error);
     ASSERT_EQ(error, "");
-    const uint32_t count = uint32_t(walks.size());
+    const uint32_t count = uint32_t(walks.size()), sentinelCount = uint32_t(sentinels.size());
     submitOrFail(ctx, [&](VkCommandBuffer cmd) {
-      engine::dispatch(ctx, cmd, program, std::span(&set.set, 1), {count, 1},
-                       gpu::WpPush{count, frames, radianceScale, 0});
+      engine::dispatch(ctx, cmd, program, std::span(&set.set, 1), {std::max(count, sentinelCount), 1},
+                       gpu::WpPush{count, frames, radianceScale, sentinelCount});
       engine::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                             VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
     });
     std::memcpy(walks.data(), walkBuffer.mapped, walkBytes);
     std::memcpy(means.data(), meanBuffer.mapped, meanBytes);
+    std::memcpy(sentinels.data(), sentinelBuffer.mapped, sentinelBytes);
     engine::destroyComputeProgram(ctx, program);
+    engine::destroyBuffer(ctx, sentinelBuffer);
     engine::destroyBuffer(ctx, meanBuffer);
     engine::destroyBuffer(ctx, walkBuffer);
     engine::destroyDescriptorSet(ctx, set);
+  }
+  void run(std::vector<gpu::HgWalk>& walks, std::vector<gpu::WpMean>& means, uint32_t frames, float radianceScale) {
+    std::vector<gpu::WpSentinel> none;
+    run(walks, means, frames, radianceScale, none);
   }
 };
 
@@ -162,4 +178,48 @@ TEST_F(WalkPackTest, ARecentMeanMovedByLessThanAStepStillReachesItsTarget) {
     EXPECT_NEAR(mean, target, 3e-5 * means[0].target.x) << "channel " << c;
   }
   EXPECT_LE(worst, 1.0 / 256) << "each cell within a step of its largest channel";
+}
+
+// What a sentinel saw, as a cell keeps it (two half floats): a static scene's re-trace, which finds the same
+// floats, reads as no change; a hit that moved by 0.1% of its distance or more, or a ray that hit and now
+// misses, is another hit (the change at least the cell's mean); a light that changed is its change within a
+// half's step, in the cell's units; light beyond a half's range is held at its largest, not infinity; and
+// only no sentinel at all packs to 0.
+TEST_F(WalkPackTest, ASentinelsAnswersComeBackAsHalfFloatsAndCompareAsTheCheckAsks) {
+  const float scale = 0.25f;  // radiance 4 is 1 in the map's units
+  const float mean = 0.7f;
+  struct Case {
+    float dThen, lThen, dNow, lNow;
+    float expected;   // the change hgSentinelChange should give
+    float tolerance;  // absolute: a half's step of the lights (at most 2^-10 of each), 0 = exact
+  };
+  const Case cases[] = {
+      {3.7f, 0.42f, 3.7f, 0.42f, 0.0f, 0.0f},                    // static: the same floats
+      {-1.0f, 0.0f, -1.0f, 0.0f, 0.0f, 0.0f},                    // missed both times
+      {3.7f, 0.42f, 3.7f * 1.001f, 0.42f, mean, 0.0f},           // moved by 0.1%: another hit
+      {37.0f, 2.0f, 37.0f * 0.998f, 2.0f, mean, 0.0f},           // 0.2% closer, farther away
+      {3.7f, 0.42f, -1.0f, 0.0f, mean, 0.0f},                    // hit, then missed: at least the mean
+      {3.7f, 0.42f, 3.7f, 0.42f * 1.1f, 0.042f, 0.462f / 1024},  // the light 10% brighter
+      {3.7f, 2.0f, 3.7f * 1.01f, 1.0f, 1.0f, 2.0f / 1024},       // another hit whose light fell by more than the mean
+      {3.7f, 1e9f, 3.7f, 1e9f, 0.0f, 0.0f},                      // beyond a half's range, unchanged
+  };
+  std::vector<gpu::WpSentinel> sentinels;
+  for (const Case& c : cases) sentinels.push_back({c.dThen, c.lThen, c.dNow, c.lNow, mean, 0u, -1.0f, 0u});
+  sentinels.push_back({0.0f, 0.0f, 0.0f, 0.0f, mean, 0u, -1.0f, 0u});    // no sentinel
+  sentinels.push_back({1e-3f, 0.0f, 1e-3f, 0.0f, mean, 0u, -1.0f, 0u});  // a hit at 1 mm that sees no light
+  std::vector<gpu::HgWalk> walks;
+  std::vector<gpu::WpMean> means;
+  run(walks, means, 0, scale, sentinels);
+  for (size_t i = 0; i < std::size(cases); ++i) {
+    SCOPED_TRACE(i);
+    EXPECT_TRUE(std::isfinite(sentinels[i].change));
+    if (cases[i].tolerance == 0.0f) {
+      EXPECT_EQ(sentinels[i].change, cases[i].expected);
+    } else {
+      EXPECT_NEAR(sentinels[i].change, cases[i].expected, cases[i].tolerance);
+    }
+  }
+  EXPECT_EQ(sentinels[std::size(cases)].seenThen, 0u) << "no sentinel packs to 0";
+  EXPECT_NE(sentinels[std::size(cases) + 1].seenThen, 0u) << "a real hit does not read as no sentinel";
+  EXPECT_EQ(sentinels[7].seenThen >> 16, 0x7bffu) << "light beyond a half's range is held at 65504, not infinity";
 }

@@ -53,8 +53,8 @@ double nMethodCells(const Settings& s, uint32_t width, uint32_t height) {
 
 bool nMethod(Method m) { return m == Method::Nhpsf || m == Method::Anhpsf; }
 
-// The n-methods' map grows to what their vertices need up to 2^19 cells (73.4 MB, what the quarter cell a
-// pixel gives at 1920×1080: issue 30's memory); beyond, their later cells widen instead.
+// The n-methods' map grows to what their vertices need up to 2^19 cells (what the quarter cell a pixel gives
+// at 1920×1080: issue 30's memory, docs/RESULTS.md's memory table); beyond, their later cells widen instead.
 constexpr double kNMethodCellsCap = double(1u << 19);
 
 // anhpsf's walks keep the fed cell's index hash mod 2^HG_WALK_INDEX_BITS: all the probes read of it up to

@@ -165,8 +165,7 @@ HgCell hgEmptyCell() {
   empty.recent = 0u;
   empty.lastSeen = 0u;
   empty.sentinelOrigin = vec3(0.0);
-  empty.sentinelDistance = 0.0;
-  empty.sentinelLight = 0.0;
+  empty.sentinelSeen = 0u;
   empty.sentinelDirection = 0u;
   empty.samples = 0u;
   empty.previousLod = 0u;
@@ -238,6 +237,32 @@ vec3 hgUnpackDirection(uint packed) {
   vec3 d = vec3(o, 1.0 - abs(o.x) - abs(o.y));
   if (d.z < 0.0) d.xy = (1.0 - abs(d.yx)) * vec2(d.x >= 0.0 ? 1.0 : -1.0, d.y >= 0.0 ? 1.0 : -1.0);
   return normalize(d);
+}
+
+// What a sentinel saw as its cell keeps it (HgCell::sentinelSeen): half floats, the hit distance in
+// metres (< 0: missed) and the NEE luminance at the hit · radianceScale (the map's units, so that a
+// half's range, up to 65504 times SceneDesc::typicalRadiance, holds it), each clamped to a half's
+// largest. A re-trace that finds the same float finds the same half: a static scene still answers
+// exactly as before. 0 is no sentinel (a hit at 0 m that sees no light).
+uint hgPackSentinelSeen(float distance_, float light, float radianceScale) {
+  return packHalf2x16(vec2(min(distance_, 65504.0), min(light * radianceScale, 65504.0)));
+}
+
+// How far the cell's mean has moved, as far as the sentinel can tell (luminance,
+// the cell's units), from what it saw then and sees now (hgPackSentinelSeen). The
+// sentinel is one sample of the cell's own estimator (a cosine ray and NEE at its
+// hit), re-traced with the same random numbers, so the difference of its two
+// answers is a one-sample estimate of the change of the cell's mean; 0 when the
+// scene answers the same up to float noise (a light within 0.1%). A different hit
+// (another half float of distance, which a move by more than 0.1% of it always
+// gives and a smaller one may not; a ray that hit misses, or the reverse) changes the light from beyond it, which NEE
+// cannot see: then the change is taken to be at least the cell's mean.
+float hgSentinelChange(uint then, uint now, float cellMean, float radianceScale) {
+  const bool sameHit = (then & 0xffffu) == (now & 0xffffu);
+  const float lightThen = unpackHalf2x16(then).y / radianceScale, lightNow = unpackHalf2x16(now).y / radianceScale;
+  float change = abs(lightNow - lightThen);
+  if (change <= 1e-3 * max(lightThen, 1e-6)) change = 0.0;
+  return sameHit ? change : max(change, cellMean);
 }
 
 // A cell's recent mean (HgCell::recent): RGB9E5 of radiance · radianceScale (a constant of the module),

@@ -1,6 +1,7 @@
 // Stale radiance: each cell keeps one sentinel ray (from the vertex that made
-// it) and what it saw: the hit distance and the light NEE finds at the hit,
-// with random numbers seeded by the cell's key. Re-tracing it later gives
+// it) and what it saw: the hit distance and the light NEE finds at the hit
+// (two half floats, hpsf.glsl's hgPackSentinelSeen), with random numbers
+// seeded by the cell's key. Re-tracing it later gives
 // exactly the same two numbers unless geometry or lights moved (Meijer 2019
 // §7 suggests re-tracing stored rays), so a static scene never touches a
 // cell's history. When they differ, resolve weighs the change against the
@@ -68,20 +69,6 @@ void hgSentinelTakeHit(inout HgSentinel p, GiHit hit, GiSurface w) {
 void hgSentinelTakeNee(inout HgSentinel p, vec3 light) {
   p.light = giLuminance(light);
   p.phase = HG_SENTINEL_DONE;
-}
-
-// How far the cell's mean has moved, as far as the sentinel can tell (luminance,
-// the cell's units). The sentinel is one sample of the cell's own estimator (a
-// cosine ray and NEE at its hit), re-traced with the same random numbers, so
-// the difference of its two answers is a one-sample estimate of the change of
-// the cell's mean; 0 when the scene answers the same up to float noise. A
-// different hit also changes the light from beyond it, which NEE cannot see:
-// then the change is taken to be at least the cell's mean.
-float hgSentinelChange(float distanceThen, float lightThen, float distanceNow, float lightNow, float cellMean) {
-  bool sameHit = (distanceThen < 0.0) == (distanceNow < 0.0) && abs(distanceNow - distanceThen) <= 1e-4 * max(distanceThen, 1e-3);
-  float change = abs(lightNow - lightThen);
-  if (change <= 1e-3 * max(lightThen, 1e-6)) change = 0.0;
-  return sameHit ? change : max(change, cellMean);
 }
 
 #endif

@@ -32,12 +32,12 @@ void giTaskTakeHit(inout GiTask task, GiHit hit, GiSurface s) { hgSentinelTakeHi
 void giTaskTakeNee(inout GiTask task, vec3 light, GiRng rng) { hgSentinelTakeNee(task.sentinel, light); }
 #include "ray_loop.glsl"
 
-// What the cell's sentinel sees now: its hit distance and NEE light. Called at one place.
-void hgRetraceSentinel(HgCell c, uint key, out float distance_, out float light) {
+// What the cell's sentinel sees now: its hit distance and NEE light, packed as the cell keeps them. Called
+// at one place.
+uint hgRetraceSentinel(HgCell c, uint key) {
   GiTask task = GiTask(hgSentinelStart(c.sentinelOrigin, hgUnpackDirection(c.sentinelDirection), key));
   giRunTask(task);
-  distance_ = task.sentinel.distance_;
-  light = task.sentinel.light;
+  return hgPackSentinelSeen(task.sentinel.distance_, task.sentinel.light, pc.radianceScale);
 }
 
 // Returns 1 when the cell's history was cut.
@@ -45,20 +45,18 @@ uint validate(uint slot) {
   uint key = HG_AT(hgKeys, slot);
   if (key == HG_EMPTY_KEY || key == HG_TOMBSTONE_KEY) return 0u;
   HgCell c = HG_AT(hgCells, slot);
-  bool hasSentinel = c.sentinelDistance != 0.0 || c.sentinelLight != 0.0;
+  bool hasSentinel = c.sentinelSeen != 0u;
   bool due = hasSentinel && c.frames > 0.0 && (slot + pc.frameIndex) % pc.validationInterval == 0u;
   if (!(pc.forgetLight != 0u ? hasSentinel : due)) return 0u;
-  float distance_, light;
-  hgRetraceSentinel(c, key, distance_, light);
+  const uint seen = hgRetraceSentinel(c, key);
   if (pc.forgetLight != 0u) {
     // The engine says the lights changed (resolve drops the history): every
     // sentinel learns the new light now, so that its next check does not cut again.
-    HG_AT(hgCells, slot).sentinelDistance = distance_;
-    HG_AT(hgCells, slot).sentinelLight = light;
+    HG_AT(hgCells, slot).sentinelSeen = seen;
     return 0u;
   }
   float mean = giLuminance(c.mean);
-  float change = hgSentinelChange(c.sentinelDistance, c.sentinelLight, distance_, light, mean);
+  float change = hgSentinelChange(c.sentinelSeen, seen, mean, pc.radianceScale);
   if (change <= 0.0) return 0u;
   uint reset = 0u;
   float window = min(c.frames, float(pc.historyCap));
@@ -70,8 +68,7 @@ uint validate(uint slot) {
     HG_AT(hgCells, slot).frames = kept;
     reset = 1u;
   }
-  HG_AT(hgCells, slot).sentinelDistance = distance_;
-  HG_AT(hgCells, slot).sentinelLight = light;
+  HG_AT(hgCells, slot).sentinelSeen = seen;
   return reset;
 }
 

@@ -123,8 +123,7 @@ int hgInsertSample(uint index, uint key, vec3 radiance, uint count, int lod, out
       hgAccumulate(slot, sample_ * pc.radianceScale, tail * pc.radianceScale, lum * pc.radianceScale, count, overflowed);
   if (overflowed) hgOverflowCount++;
   // A cell made by a deferred claim has no sentinel yet: the frame's first sample there traces it.
-  const bool unwatched = pc.deferredClaims != 0u && before == 0u && history.sentinelDistance == 0.0 &&
-                         history.sentinelLight == 0.0;
+  const bool unwatched = pc.deferredClaims != 0u && before == 0u && history.sentinelSeen == 0u;
   needsSentinel = (created || unwatched) && pc.validationInterval > 0u;
   HG_AT(hgCells, slot).previousLod = hgPackPreviousLod(linked, lod);  // every writer of this key writes the same value
   hgInsertedCount++;
@@ -140,8 +139,7 @@ HgSentinel hgNewCellSentinel(vec3 origin, vec3 direction, uint key) {
 void hgStoreSentinel(int slot, HgSentinel sentinel) {
   HG_AT(hgCells, slot).sentinelOrigin = sentinel.origin;
   HG_AT(hgCells, slot).sentinelDirection = hgPackDirection(sentinel.direction);
-  HG_AT(hgCells, slot).sentinelDistance = sentinel.distance_;
-  HG_AT(hgCells, slot).sentinelLight = sentinel.light;
+  HG_AT(hgCells, slot).sentinelSeen = hgPackSentinelSeen(sentinel.distance_, sentinel.light, pc.radianceScale);
 }
 
 // Last frame's radiance at (index, key) as the map passes it on (the cell's

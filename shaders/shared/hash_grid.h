@@ -76,14 +76,15 @@ struct HgCell {
   // vertex; re-traced with the same random numbers it gives the same hit
   // distance and the same light at the hit unless the scene moved.
   vec3 sentinelOrigin;
-  float sentinelDistance;  // metres; < 0: the ray missed; 0 with sentinelLight 0: no sentinel
-  float sentinelLight;     // luminance of the light (NEE) at the hit
+  uint sentinelSeen;       // what it saw (hpsf_sentinel.glsl's hgPackSentinelSeen), two half floats: the hit
+                           // distance in metres (< 0: the ray missed), and the luminance of the light (NEE) at
+                           // the hit · radianceScale; 0: no sentinel. 4 bytes fewer a cell than two floats
   uint sentinelDirection;  // octahedral, 2 × 16-bit snorm (hgPackDirection); traced as it unpacks, both times
   uint samples;         // samples behind the mean (capped with the history)
   uint previousLod;     // bits 0–23, strict: global slot + 1 of the same key in the previous frame's
                         // table, 0 = none; bits 24–31: the cell's level of detail + 128 (hgPackPreviousLod)
 };
-GPU_ASSERT_SIZE(HgCell, 72);
+GPU_ASSERT_SIZE(HgCell, 68);
 
 // HgCell::previousLod. Slots stay below 2^23 (two tables of at most 2^21 cells).
 GPU_FN uint hgPackPreviousLod(uint previous, int lod) {
