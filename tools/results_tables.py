@@ -188,9 +188,10 @@ MEMORY_GOAL_MB = {"hpsf": 150, "svgf": 150}
 MEMORY_GOAL_DEFAULT_MB = 200
 
 
-def memory(path, before_path):
+def memory(path, before_path, before_label="before"):
     """Device memory each method holds after one frame (scripts/bench memory), MB = 10^6 bytes: held at
-    720p and 1080p (and at 1080p in an earlier run), at 1080p what gi::predictMemory said before the
+    720p and 1080p (and at 1080p in another run: an earlier one, or another scene's, named by
+    `before_label`, underscores for spaces), at 1080p what gi::predictMemory said before the
     module existed ("=": to the byte), what is used, of that what lives within
     a frame (transient) and what carries over (histories, the hash map, the outputs), the blocks, and
     the goal."""
@@ -204,7 +205,7 @@ def memory(path, before_path):
         if not r.get("predicted_bytes"):
             return "–"
         return f"{int(r['predicted_bytes']) / 1e6:.1f}" + (" (=)" if r["predicted_bytes"] == r["held_bytes"] else " (≠)")
-    print("| method | 1280x720 held MB | 1920x1080 held MB | predicted MB | before | used MB | transient MB "
+    print(f"| method | 1280x720 held MB | 1920x1080 held MB | predicted MB | {before_label.replace('_', ' ')} | used MB | transient MB "
           "| persistent MB | blocks | goal MB | held / goal |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
     for method, at in by_method(path).items():
@@ -969,7 +970,7 @@ KINDS = {
     "spikes": lambda a: spikes(a[0], a[1], a[2:]),
     # A table a test wrote, committed as it came (tests/extremes_test.cpp: extremes.md).
     "file": lambda a: print(open(a[0], encoding="utf-8").read().strip()),
-    "memory": lambda a: memory(a[0], a[1]),
+    "memory": lambda a: memory(*a),
     "dynamic_resolution": lambda a: dynamic_resolution(a[0]),
     "gif_order": gif_order,
     "filter_cost": lambda a: filter_cost(a[0]),
