@@ -56,6 +56,41 @@ TEST_F(ModuleLifetimeTest, FrameImagesCanBeOverwrittenBetweenFramesInEveryMethod
   }
 }
 
+// The reservoirs (the Cornell box's ceiling light resampled: reservoirs.emissive_min = 0): raw, which has no
+// temporal pass, merges last frame's reservoirs, so both sets are history; svgf and hpsf keep one set, which
+// the temporal reservoir pass writes and the spatial one reads within the frame: a frame image, with the
+// pick. Filled with NaN after every frame, the same bits.
+TEST_F(ModuleLifetimeTest, ReservoirsWithoutTheirMergeLiveWithinTheFrame) {
+  LoadedScene s;
+  load(sharedScene("cornell-box-mcguire/CornellBox-Original.gltf"), s);
+  const engine::SceneAnimation animation = engine::makeSceneAnimation(s.scene);
+  for (gi::Method method : {gi::Method::Raw, gi::Method::Svgf, gi::Method::Hpsf}) {
+    SCOPED_TRACE(gi::methodName(method));
+    gi::Settings settings;
+    settings.method = method;
+    settings.reservoirs.emissiveMin = 0;
+    const bool moving = !gi::usesHashGrid(method);
+    bool resampled = false, setListed = false, pickListed = false;
+    const engine::ReferenceImages kept =
+        renderAnimatedFrames(ctx, s, animation, settings, kSize, kFrames, moving, [&](tools::ModuleSession& session) {
+          const gi::Module& m = *session.module;
+          const std::vector<const gi::vk::Image*> images = gi::frameImages(m.sized);
+          resampled = m.plan.reservoirs;
+          setListed = std::find(images.begin(), images.end(), &m.sized.reservoirsA) != images.end();
+          pickListed = std::find(images.begin(), images.end(), &m.sized.reservoirPick) != images.end();
+        });
+    const engine::ReferenceImages filled =
+        renderAnimatedFrames(ctx, s, animation, settings, kSize, kFrames, moving,
+                             [&](tools::ModuleSession& session) { fillFrameImagesWithNan(ctx, *session.module); });
+    ASSERT_TRUE(resampled) << "the reservoirs run";
+    EXPECT_EQ(setListed, method != gi::Method::Raw) << "one set lives within the frame; two sets are history";
+    EXPECT_TRUE(pickListed);
+    EXPECT_TRUE(sameBits(kept.direct, filled.direct)) << "direct read a frame image's last contents";
+    EXPECT_TRUE(sameBits(kept.indirect, filled.indirect)) << "indirect read a frame image's last contents";
+    EXPECT_TRUE(sameBits(kept.final, filled.final)) << "composite read a frame image's last contents";
+  }
+}
+
 // With packed outputs (B10G11R11) the passes' direct and indirect light is the module's own half-float
 // pair, listed as frame images with the rest: filled with NaN after every frame, the methods that use the
 // outputs as scratch (svgf's à-trous, the hash methods' samples, à-trous's ping-pong) and raw render the

@@ -97,6 +97,16 @@ constexpr uint32_t bit(vk::Image SizedResources::*image) {
   return 0;
 }
 
+// An image's lifetime under the images a plan needs: the temporal reservoirs are history where last frame's
+// set is merged (MethodPlan::reservoirTemporal: two sets, read the next frame), and otherwise live within the
+// frame (one set, which the temporal reservoir pass writes and the spatial one reads). Placeholders keep
+// the lifetime of their entry.
+Lifetime lifetimeOf(const SizedImage& image, uint64_t needs) {
+  const bool oneReservoirSet =
+      (needs & bit(&SizedResources::reservoirsA)) != 0 && (needs & bit(&SizedResources::reservoirsB)) == 0;
+  return image.image == &SizedResources::reservoirsA && oneReservoirSet ? Lifetime::Frame : image.lifetime;
+}
+
 // Set 1: the frame constants, the G-buffer, the outputs and the counters, then one storage image per
 // entry of kSizedImages (derived, so an image and its binding are declared once).
 constexpr vk::Binding kFixedFrameBindings[] = {
@@ -245,7 +255,7 @@ namespace {
 template <typename Visit>
 void forEachFrameImage(const SizedResources& r, Visit&& visit) {
   for (const SizedImage& image : kSizedImages)
-    if (image.lifetime == Lifetime::Frame) visit(r.*image.image);
+    if (lifetimeOf(image, r.needs) == Lifetime::Frame) visit(r.*image.image);
   for (const vk::Image& stack : r.filters.a)
     if (stack.memory.size) visit(stack);
   for (const vk::Image* work : {&r.workDirect, &r.workIndirect})
@@ -300,7 +310,7 @@ vk::Status createSizedResources(Module& m, const Settings& settings, uint32_t wi
       GI_TRY(vk::createImage(m.gpu, extent, imageFormat(m, kSizedImages[i], r.needs),
                              VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
                                  VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
-                             r.*kSizedImages[i].image, kSizedImages[i].lifetime == Lifetime::Frame));
+                             r.*kSizedImages[i].image, lifetimeOf(kSizedImages[i], r.needs) == Lifetime::Frame));
     }
     if (outputsPacked(m.desc))
       for (vk::Image* work : {&r.workDirect, &r.workIndirect})
