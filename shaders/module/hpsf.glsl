@@ -255,8 +255,9 @@ uint hgPackSentinelSeen(float distance_, float light, float radianceScale) {
 // answers is a one-sample estimate of the change of the cell's mean; 0 when the
 // scene answers the same up to float noise (a light within 0.1%). A different hit
 // (another half float of distance, which a move by more than 0.1% of it always
-// gives and a smaller one may not; a ray that hit misses, or the reverse) changes the light from beyond it, which NEE
-// cannot see: then the change is taken to be at least the cell's mean.
+// gives and a smaller one may not; a ray that hit misses, or the reverse) changes
+// the light from beyond it, which NEE cannot see: then the change is taken to be
+// at least the cell's mean.
 float hgSentinelChange(uint then, uint now, float cellMean, float radianceScale) {
   const bool sameHit = (then & 0xffffu) == (now & 0xffffu);
   const float lightThen = unpackHalf2x16(then).y / radianceScale, lightNow = unpackHalf2x16(now).y / radianceScale;

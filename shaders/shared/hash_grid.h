@@ -76,7 +76,7 @@ struct HgCell {
   // vertex; re-traced with the same random numbers it gives the same hit
   // distance and the same light at the hit unless the scene moved.
   vec3 sentinelOrigin;
-  uint sentinelSeen;       // what it saw (hpsf_sentinel.glsl's hgPackSentinelSeen), two half floats: the hit
+  uint sentinelSeen;       // what it saw (hpsf.glsl's hgPackSentinelSeen), two half floats: the hit
                            // distance in metres (< 0: the ray missed), and the luminance of the light (NEE) at
                            // the hit · radianceScale; 0: no sentinel. 4 bytes fewer a cell than two floats
   uint sentinelDirection;  // octahedral, 2 × 16-bit snorm (hgPackDirection); traced as it unpacks, both times
