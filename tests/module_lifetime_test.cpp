@@ -58,8 +58,8 @@ TEST_F(ModuleLifetimeTest, FrameImagesCanBeOverwrittenBetweenFramesInEveryMethod
 
 // The reservoirs (the Cornell box's ceiling light resampled: reservoirs.emissive_min = 0): raw, which has no
 // temporal pass, merges last frame's reservoirs, so both sets are history; svgf and hpsf keep one set, which
-// the temporal reservoir pass writes and the spatial one reads within the frame: a frame image, with the
-// pick. Filled with NaN after every frame, the same bits.
+// the temporal reservoir pass writes and the spatial one reads within the frame: a frame image
+// (frameReservoirs, neither A nor B held), with the pick. Filled with NaN after every frame, the same bits.
 TEST_F(ModuleLifetimeTest, ReservoirsWithoutTheirMergeLiveWithinTheFrame) {
   LoadedScene s;
   load(sharedScene("cornell-box-mcguire/CornellBox-Original.gltf"), s);
@@ -70,13 +70,16 @@ TEST_F(ModuleLifetimeTest, ReservoirsWithoutTheirMergeLiveWithinTheFrame) {
     settings.method = method;
     settings.reservoirs.emissiveMin = 0;
     const bool moving = !gi::usesHashGrid(method);
-    bool resampled = false, setListed = false, pickListed = false;
+    bool resampled = false, setListed = false, setsHeld = false, pickListed = false;
     const engine::ReferenceImages kept =
         renderAnimatedFrames(ctx, s, animation, settings, kSize, kFrames, moving, [&](tools::ModuleSession& session) {
           const gi::Module& m = *session.module;
           const std::vector<const gi::vk::Image*> images = gi::frameImages(m.sized);
           resampled = m.plan.reservoirs;
-          setListed = std::find(images.begin(), images.end(), &m.sized.reservoirsA) != images.end();
+          // Images a plan does not need are 1×1 placeholders.
+          setListed = std::find(images.begin(), images.end(), &m.sized.frameReservoirs) != images.end() &&
+                      m.sized.frameReservoirs.extent.width == kSize;
+          setsHeld = m.sized.reservoirsA.extent.width == kSize && m.sized.reservoirsB.extent.width == kSize;
           pickListed = std::find(images.begin(), images.end(), &m.sized.reservoirPick) != images.end();
         });
     const engine::ReferenceImages filled =
@@ -84,6 +87,7 @@ TEST_F(ModuleLifetimeTest, ReservoirsWithoutTheirMergeLiveWithinTheFrame) {
                              [&](tools::ModuleSession& session) { fillFrameImagesWithNan(ctx, *session.module); });
     ASSERT_TRUE(resampled) << "the reservoirs run";
     EXPECT_EQ(setListed, method != gi::Method::Raw) << "one set lives within the frame; two sets are history";
+    EXPECT_EQ(setsHeld, method == gi::Method::Raw) << "the two sets of history only where they are merged";
     EXPECT_TRUE(pickListed);
     EXPECT_TRUE(sameBits(kept.direct, filled.direct)) << "direct read a frame image's last contents";
     EXPECT_TRUE(sameBits(kept.indirect, filled.indirect)) << "indirect read a frame image's last contents";

@@ -214,10 +214,11 @@ void recordReservoirPasses(Module& m, VkCommandBuffer cmd, uint32_t slot) {
                             .unbiased = r.unbiased ? 1u : 0u,
                             .depthTolerance = s.temporal.depthTolerance,
                             .cosNormalLimit = cosDegrees(s.temporal.normalLimitDegrees),
-                            // Without the merge one set serves (A: written, then read by the spatial pass).
-                            .readSet = m.plan.reservoirTemporal ? m.reservoirFrames & 1u : 1u,
+                            .readSet = m.reservoirFrames & 1u,
                             .pairwise = r.pairwise ? 1u : 0u,
-                            .boilingFilter = r.boilingFilter};
+                            .boilingFilter = r.boilingFilter,
+                            // Without the merge the frame's one set serves, written then read by the spatial pass.
+                            .frameSet = m.plan.reservoirTemporal ? 0u : 1u};
   // Pass: candidates from the light sampler, last frame's reservoir, the survivor's shadow ray.
   runPass(m, cmd, slot, Pass::ReservoirTemporal, m.reservoirs, sets, {m.width, m.height}, push);
   // Pass: neighbours' reservoirs merged and the survivor's shadow ray: the pick the tracing passes take.

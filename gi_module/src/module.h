@@ -49,6 +49,7 @@ struct SizedResources {
   vk::Image temporalSpread;                      // history clamp: this frame's 3×3 luminance mean and σ
   vk::Image historyPacked;                       // the hash methods' direct history, 8 bytes a pixel
   vk::Image reservoirsA, reservoirsB;            // ReservoirSettings: the temporal pass's, one set a frame
+  vk::Image frameReservoirs;                     // ReservoirSettings without the merge: the temporal pass's
   vk::Image reservoirPick;                       // ReservoirSettings: the spatial pass's light and W a pixel
   vk::Image noisyIndirect;                       // demodulated indirect before filtering
   vk::Image guidance, position, debug;           // filter guidance, world position, filter debug/temp

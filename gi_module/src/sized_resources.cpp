@@ -72,6 +72,7 @@ constexpr SizedImage kSizedImages[] = {
     {&SizedResources::reservoirsA, gpu::GI_BINDING_RESERVOIRS_A, kHistory, VK_FORMAT_R32G32B32A32_UINT},
     {&SizedResources::reservoirsB, gpu::GI_BINDING_RESERVOIRS_B, kHistory, VK_FORMAT_R32G32B32A32_UINT},
     {&SizedResources::reservoirPick, gpu::GI_BINDING_RESERVOIR_PICK, kFrame, VK_FORMAT_R32G32_UINT},
+    {&SizedResources::frameReservoirs, gpu::GI_BINDING_FRAME_RESERVOIRS, kFrame, VK_FORMAT_R32G32_UINT},
 };
 // Beyond the image bits: which screen filters exist.
 static_assert(std::size(kSizedImages) <= 26, "the image bits stay below the flags");
@@ -95,16 +96,6 @@ constexpr uint32_t bit(vk::Image SizedResources::*image) {
   for (uint32_t i = 0; i < std::size(kSizedImages); ++i)
     if (kSizedImages[i].image == image) return 1u << i;
   return 0;
-}
-
-// An image's lifetime under the images a plan needs: the temporal reservoirs are history where last frame's
-// set is merged (MethodPlan::reservoirTemporal: two sets, read the next frame), and otherwise live within the
-// frame (one set, which the temporal reservoir pass writes and the spatial one reads). Placeholders keep
-// the lifetime of their entry.
-Lifetime lifetimeOf(const SizedImage& image, uint64_t needs) {
-  const bool oneReservoirSet =
-      (needs & bit(&SizedResources::reservoirsA)) != 0 && (needs & bit(&SizedResources::reservoirsB)) == 0;
-  return image.image == &SizedResources::reservoirsA && oneReservoirSet ? Lifetime::Frame : image.lifetime;
 }
 
 // Set 1: the frame constants, the G-buffer, the outputs and the counters, then one storage image per
@@ -168,8 +159,13 @@ uint64_t sizedResourcesNeeded(const MethodPlan& plan, const Settings& s) {
             bit(&SizedResources::temporalGradient);
   if (plan.historyClamp) need |= bit(&SizedResources::temporalSpread);
   if (plan.aaf) need |= bit(&SizedResources::aafParams) | bit(&SizedResources::aafSum);
-  if (plan.reservoirs) need |= bit(&SizedResources::reservoirsA) | bit(&SizedResources::reservoirPick);
-  if (plan.reservoirTemporal) need |= bit(&SizedResources::reservoirsB);  // last frame's set
+  // The temporal reservoirs: two sets of history where last frame's are merged, else one set of the frame's
+  // in half the bytes (GI_BINDING_FRAME_RESERVOIRS).
+  if (plan.reservoirs) need |= bit(&SizedResources::reservoirPick);
+  if (plan.reservoirTemporal)
+    need |= bit(&SizedResources::reservoirsA) | bit(&SizedResources::reservoirsB);
+  else if (plan.reservoirs)
+    need |= bit(&SizedResources::frameReservoirs);
   if (plan.aafSpecular) need |= bit(&SizedResources::aafGlossy) | bit(&SizedResources::aafGlossyEdge);
   // Debug views read their source at full size whatever the method (zero where it does not write).
   switch (s.debugView) {
@@ -255,7 +251,7 @@ namespace {
 template <typename Visit>
 void forEachFrameImage(const SizedResources& r, Visit&& visit) {
   for (const SizedImage& image : kSizedImages)
-    if (lifetimeOf(image, r.needs) == Lifetime::Frame) visit(r.*image.image);
+    if (image.lifetime == Lifetime::Frame) visit(r.*image.image);
   for (const vk::Image& stack : r.filters.a)
     if (stack.memory.size) visit(stack);
   for (const vk::Image* work : {&r.workDirect, &r.workIndirect})
@@ -310,7 +306,7 @@ vk::Status createSizedResources(Module& m, const Settings& settings, uint32_t wi
       GI_TRY(vk::createImage(m.gpu, extent, imageFormat(m, kSizedImages[i], r.needs),
                              VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
                                  VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
-                             r.*kSizedImages[i].image, lifetimeOf(kSizedImages[i], r.needs) == Lifetime::Frame));
+                             r.*kSizedImages[i].image, kSizedImages[i].lifetime == Lifetime::Frame));
     }
     if (outputsPacked(m.desc))
       for (vk::Image* work : {&r.workDirect, &r.workIndirect})

@@ -53,6 +53,7 @@ layout(set = 1, binding = GI_BINDING_TEMPORAL_SPREAD, rgba32f) uniform image2D g
 layout(set = 1, binding = GI_BINDING_HISTORY_PACKED, rg32ui) uniform uimage2D giHistoryPacked;
 layout(set = 1, binding = GI_BINDING_RESERVOIRS_A, rgba32ui) uniform uimage2D giReservoirsA;
 layout(set = 1, binding = GI_BINDING_RESERVOIRS_B, rgba32ui) uniform uimage2D giReservoirsB;
+layout(set = 1, binding = GI_BINDING_FRAME_RESERVOIRS, rg32ui) uniform uimage2D giFrameReservoirs;
 layout(set = 1, binding = GI_BINDING_RESERVOIR_PICK, rg32ui) uniform uimage2D giReservoirPick;
 
 // With ModuleDesc::checkBounds a coordinate outside its image, or an index outside one of the scene's

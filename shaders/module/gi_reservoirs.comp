@@ -13,7 +13,8 @@
 //     last frame's temporal reservoir at the pixel's reprojection is merged
 //     in (its M capped at maxHistory × candidates), where its guide says it
 //     saw this surface; a reservoir far above its group's others is then dropped (giBoilingFilter). Last
-//     frame's set → this frame's (A and B alternate: GiReservoirPush::readSet).
+//     frame's set → this frame's (A and B alternate: GiReservoirPush::readSet). Without the merge
+//     the frame's one set, half the bytes (GiReservoirPush::frameSet, giLoadReservoir).
 //   GI_RESERVOIR_SPATIAL: the pixel's temporal reservoir and `neighbours`
 //     others from a disc of `radius` pixels, those whose surface agrees in
 //     depth and normal, are merged by p̂ at this pixel (giSpatialReservoir
@@ -97,9 +98,27 @@ uvec4 giStoredReservoir(GiReservoir r, float W, uint guide) {
 float giStoredW(uvec4 v) { return uintBitsToFloat(v.y); }
 float giStoredM(uvec4 v) { return uintBitsToFloat(v.z); }
 
-// The two sets of temporal reservoirs: this frame's and last frame's.
+// The temporal reservoirs, this frame's and last frame's, as giStoredReservoir wrote them. With
+// pc.frameSet (no merge) only this frame's, as its light and W (giStoreReservoir): its M is the
+// candidates' count, or 0 where the boiling filter dropped it (W's sign bit), and its guide is packed from
+// the G-buffer as the temporal pass packed it, the same bits.
+#define GI_RESERVOIR_DROPPED 0x80000000u
 uvec4 giLoadReservoir(ivec2 p, bool current) {
-  return (pc.readSet == 0u) == current ? imageLoad(giReservoirsB, p) : imageLoad(giReservoirsA, p);
+  if (pc.frameSet == 0u)
+    return (pc.readSet == 0u) == current ? imageLoad(giReservoirsB, p) : imageLoad(giReservoirsA, p);
+  if (!giGbCovered(p)) return uvec4(GI_RESERVOIR_EMPTY, 0u, 0u, 0u);
+  const uvec2 v = imageLoad(giFrameReservoirs, p).xy;
+  const float M = (v.y & GI_RESERVOIR_DROPPED) != 0u ? 0.0 : float(pc.candidates);
+  return uvec4(v.x, v.y & ~GI_RESERVOIR_DROPPED, floatBitsToUint(M),
+               giPackGuide(giGbNormal(p), giGbViewDepth(p) / giFrame.depthScale));
+}
+
+// The temporal pass's reservoir at p: this frame's set (A or B), or with pc.frameSet the frame's.
+void giStoreReservoir(ivec2 p, uvec4 stored) {
+  if (pc.frameSet != 0u)
+    imageStore(giFrameReservoirs, p, uvec4(stored.x, stored.y | (stored.z == 0u ? GI_RESERVOIR_DROPPED : 0u), 0u, 0u));
+  else if (pc.readSet == 0u) imageStore(giReservoirsB, p, stored);
+  else imageStore(giReservoirsA, p, stored);
 }
 
 // GI_RESERVOIR_TEMPORAL at a covered pixel: candidates and last frame's reservoir, and the kept light's
@@ -280,8 +299,7 @@ void main() {
   if (pc.mode == GI_RESERVOIR_TEMPORAL && pc.boilingFilter > 0.0) stored = giBoilingFilter(stored, estimate);
   if (inside) {
     if (pc.mode == GI_RESERVOIR_SPATIAL) imageStore(giReservoirPick, p, stored);
-    else if (pc.readSet == 0u) imageStore(giReservoirsB, p, stored);
-    else imageStore(giReservoirsA, p, stored);
+    else giStoreReservoir(p, stored);
   }
   giCountRays(inside);
 }

@@ -69,11 +69,14 @@ GPU_CONST GI_BINDING_TEMPORAL_SPREAD = 29;    // rgba32f: this frame's samples a
 // temporal pass has read every neighbour's texel: one image, not two.
 GPU_CONST GI_BINDING_HISTORY_PACKED = 30;
 // Reservoir resampling of the primary hits' point and spot lights (ReservoirSettings, gi_reservoirs.comp).
-// A and B, rgba32ui, the temporal pass's reservoirs, one set written a frame (GiReservoirPush::readSet) and
-// read by the next: the chosen light (x; GI_RESERVOIR_EMPTY = none), its weight W (y, float bits), the
-// samples behind it M (z, float bits), the pixel's guide (w, giPackGuide). The pick, rg32ui, the spatial
-// pass's result the tracing passes take (giPrimaryReservoir): the light and its W (float bits), 0 where
-// the pixel does not see it.
+// A and B, rgba32ui, the temporal pass's reservoirs where last frame's are merged, one set written a
+// frame (GiReservoirPush::readSet) and read by the next: the chosen light (x; GI_RESERVOIR_EMPTY = none),
+// its weight W (y, float bits), the samples behind it M (z, float bits), the pixel's guide (w,
+// giPackGuide). Where they are not merged, FRAME_RESERVOIRS instead, rg32ui, written and read within
+// the frame: the light (x) and W (y) alone, since M is then the candidates' count (0 where the boiling
+// filter dropped the reservoir: W's sign bit) and the guide the G-buffer's (giLoadReservoir). The pick,
+// rg32ui, the spatial pass's result the tracing passes take (giPrimaryReservoir): the light and its W
+// (float bits), 0 where the pixel does not see it.
 GPU_CONST GI_BINDING_RESERVOIRS_A = 31;
 GPU_CONST GI_BINDING_RESERVOIRS_B = 32;
 GPU_CONST GI_BINDING_RESERVOIR_PICK = 33;
@@ -82,7 +85,8 @@ GPU_CONST GI_BINDING_RESERVOIR_PICK = 33;
 // packedOutputs); otherwise the same images as those, and not written.
 GPU_CONST GI_BINDING_PACKED_DIRECT = 34;
 GPU_CONST GI_BINDING_PACKED_INDIRECT = 35;
-GPU_CONST GI_BINDING_COUNT = 36;
+GPU_CONST GI_BINDING_FRAME_RESERVOIRS = 36;  // the reservoirs within one frame (with A and B above)
+GPU_CONST GI_BINDING_COUNT = 37;
 #define GI_GRADIENT_TILE 3u              // pixels per side of a gradient tile (A-SVGF's strata)
 #define GI_TRUSTED_HISTORY 4.0           // frames of history from which a pixel's accumulated light speaks for
                                          // itself: SVGF's temporal variance (spatial before), the filter clamp
@@ -179,7 +183,9 @@ struct GiReservoirPush {
                         // balance heuristic over every surface
   float boilingFilter;  // temporal: a reservoir whose estimate is above this many times its group's others'
                         // mean is dropped (0: off)
-  uint pad0, pad1, pad2;
+  uint frameSet;        // 1: last frame's reservoirs are not merged: this frame's are FRAME_RESERVOIRS
+                        // (readSet unused), 0: sets A and B
+  uint pad1, pad2;
 };
 GPU_ASSERT_SIZE(GiReservoirPush, 64);
 
