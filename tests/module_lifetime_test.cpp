@@ -15,7 +15,20 @@ namespace {
 
 constexpr uint32_t kSize = 32, kFrames = 5;
 
-// Every frame-lifetime image of the module filled with NaN.
+// The images the next frame writes before it reads them: the frame-lifetime images, and where the frame's
+// reservoirs borrow it (gi::reservoirsInHistory) the history set the next frame's temporal pass overwrites
+// (it reads set temporalFrames & 1 and writes the other), which holds the light of the frame before last.
+std::vector<const gi::vk::Image*> imagesTheNextFrameWritesFirst(const gi::Module& m) {
+  std::vector<const gi::vk::Image*> images = gi::frameImages(m.sized);
+  if (gi::reservoirsInHistory(m.sized)) {
+    const bool nextWritesB = (m.temporalFrames & 1u) == 0u;
+    images.push_back(nextWritesB ? &m.sized.historyDirectB : &m.sized.historyDirectA);
+    images.push_back(nextWritesB ? &m.sized.historyIndirectB : &m.sized.historyIndirectA);
+  }
+  return images;
+}
+
+// Those images filled with NaN.
 void fillFrameImagesWithNan(const engine::Context& ctx, const gi::Module& m) {
   submitOrFail(ctx, [&](VkCommandBuffer cmd) {
     engine::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
@@ -23,7 +36,7 @@ void fillFrameImagesWithNan(const engine::Context& ctx, const gi::Module& m) {
                           VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
     const VkClearColorValue nan{{std::nanf(""), std::nanf(""), std::nanf(""), std::nanf("")}};
     const VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-    for (const gi::vk::Image* image : gi::frameImages(m.sized))
+    for (const gi::vk::Image* image : imagesTheNextFrameWritesFirst(m))
       vkCmdClearColorImage(cmd, image->image, VK_IMAGE_LAYOUT_GENERAL, &nan, 1, &range);
     engine::memoryBarrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                           VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
@@ -58,8 +71,10 @@ TEST_F(ModuleLifetimeTest, FrameImagesCanBeOverwrittenBetweenFramesInEveryMethod
 
 // The reservoirs (the Cornell box's ceiling light resampled: reservoirs.emissive_min = 0): raw, which has no
 // temporal pass, merges last frame's reservoirs, so both sets are history; svgf and hpsf keep one set, which
-// the temporal reservoir pass writes and the spatial one reads within the frame: a frame image
-// (frameReservoirs, neither A nor B held), with the pick. Filled with NaN after every frame, the same bits.
+// the temporal reservoir pass writes and the spatial one reads within the frame (neither A nor B held):
+// hpsf, whose direct history is one packed image, in a frame image of its own (frameReservoirs), with the
+// pick; svgf in the history set its temporal pass overwrites later in the frame, as does the pick (no image
+// of their own held). Filled with NaN after every frame (svgf: that history set too), the same bits.
 TEST_F(ModuleLifetimeTest, ReservoirsWithoutTheirMergeLiveWithinTheFrame) {
   LoadedScene s;
   load(sharedScene("cornell-box-mcguire/CornellBox-Original.gltf"), s);
@@ -70,7 +85,7 @@ TEST_F(ModuleLifetimeTest, ReservoirsWithoutTheirMergeLiveWithinTheFrame) {
     settings.method = method;
     settings.reservoirs.emissiveMin = 0;
     const bool moving = !gi::usesHashGrid(method);
-    bool resampled = false, setListed = false, setsHeld = false, pickListed = false;
+    bool resampled = false, setListed = false, setsHeld = false, pickListed = false, borrowed = false;
     const engine::ReferenceImages kept =
         renderAnimatedFrames(ctx, s, animation, settings, kSize, kFrames, moving, [&](tools::ModuleSession& session) {
           const gi::Module& m = *session.module;
@@ -80,15 +95,18 @@ TEST_F(ModuleLifetimeTest, ReservoirsWithoutTheirMergeLiveWithinTheFrame) {
           setListed = std::find(images.begin(), images.end(), &m.sized.frameReservoirs) != images.end() &&
                       m.sized.frameReservoirs.extent.width == kSize;
           setsHeld = m.sized.reservoirsA.extent.width == kSize && m.sized.reservoirsB.extent.width == kSize;
-          pickListed = std::find(images.begin(), images.end(), &m.sized.reservoirPick) != images.end();
+          pickListed = std::find(images.begin(), images.end(), &m.sized.reservoirPick) != images.end() &&
+                       m.sized.reservoirPick.extent.width == kSize;
+          borrowed = gi::reservoirsInHistory(m.sized) && m.sized.historyDirectA.alsoView != VK_NULL_HANDLE;
         });
     const engine::ReferenceImages filled =
         renderAnimatedFrames(ctx, s, animation, settings, kSize, kFrames, moving,
                              [&](tools::ModuleSession& session) { fillFrameImagesWithNan(ctx, *session.module); });
     ASSERT_TRUE(resampled) << "the reservoirs run";
-    EXPECT_EQ(setListed, method != gi::Method::Raw) << "one set lives within the frame; two sets are history";
+    EXPECT_EQ(setListed, method == gi::Method::Hpsf) << "one set of its own within the frame";
     EXPECT_EQ(setsHeld, method == gi::Method::Raw) << "the two sets of history only where they are merged";
-    EXPECT_TRUE(pickListed);
+    EXPECT_EQ(pickListed, method != gi::Method::Svgf) << "the pick in an image of its own";
+    EXPECT_EQ(borrowed, method == gi::Method::Svgf) << "the set and the pick in the history set to be overwritten";
     EXPECT_TRUE(sameBits(kept.direct, filled.direct)) << "direct read a frame image's last contents";
     EXPECT_TRUE(sameBits(kept.indirect, filled.indirect)) << "indirect read a frame image's last contents";
     EXPECT_TRUE(sameBits(kept.final, filled.final)) << "composite read a frame image's last contents";

@@ -97,16 +97,17 @@ void beginFrame(Module& m, VkCommandBuffer cmd, uint32_t slot, const FrameInputs
   SizedResources& r = m.sized;
   if (!sameViews(in.gbuffer, r.bound[slot])) {
     const VkImageLayout color = m.desc.gbuffer.colorLayout;
-    vk::DescriptorWriter(r.frameSets[slot])
-        .texture(gpu::GI_BINDING_GB_NORMAL, in.gbuffer.normal, color)
-        .texture(gpu::GI_BINDING_GB_ALBEDO, in.gbuffer.albedo, color)
-        .texture(gpu::GI_BINDING_GB_MATERIAL, in.gbuffer.material, color)
-        // Without an emission view another view fills the binding; the shaders never read it then.
-        .texture(gpu::GI_BINDING_GB_EMISSION, m.desc.gbuffer.hasEmission ? in.gbuffer.emission : in.gbuffer.albedo,
-                 color)
-        .texture(gpu::GI_BINDING_GB_MOTION, in.gbuffer.motion, color)
-        .texture(gpu::GI_BINDING_GB_DEPTH, in.gbuffer.depth, m.desc.gbuffer.depthLayout)
-        .write(g);
+    for (uint32_t written : {0u, 1u})
+      vk::DescriptorWriter(frameSet(r, slot, written))
+          .texture(gpu::GI_BINDING_GB_NORMAL, in.gbuffer.normal, color)
+          .texture(gpu::GI_BINDING_GB_ALBEDO, in.gbuffer.albedo, color)
+          .texture(gpu::GI_BINDING_GB_MATERIAL, in.gbuffer.material, color)
+          // Without an emission view another view fills the binding; the shaders never read it then.
+          .texture(gpu::GI_BINDING_GB_EMISSION, m.desc.gbuffer.hasEmission ? in.gbuffer.emission : in.gbuffer.albedo,
+                   color)
+          .texture(gpu::GI_BINDING_GB_MOTION, in.gbuffer.motion, color)
+          .texture(gpu::GI_BINDING_GB_DEPTH, in.gbuffer.depth, m.desc.gbuffer.depthLayout)
+          .write(g);
     r.bound[slot] = in.gbuffer;
   }
   vk::memoryBarrier(g, cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_TRANSFER_BIT,
@@ -173,7 +174,7 @@ void recordHashPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const gpu::
                          .historySamples = s.method == Method::Hpsf ? 0u : h.historySamples,
                          .deferredClaims = m.plan.defersHashClaims ? 1u : 0u};
   m.hash.forgetLight = false;
-  VkDescriptorSet sets[] = {m.desc.scene.set, m.sized.frameSets[slot], m.hash.set[0]};
+  VkDescriptorSet sets[] = {m.desc.scene.set, frameSet(m.sized, slot, m.writtenSet), m.hash.set[0]};
   recordHashGridFrameStart(m.gpu, cmd, m.hash, frame.frameIndex);
   if (s.method == Method::Hpsf) {
     // Pass: paths from the G-buffer; their indirect radiance goes into the filter vertex's cell.
@@ -203,7 +204,7 @@ void recordHashPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const gpu::
 void recordReservoirPasses(Module& m, VkCommandBuffer cmd, uint32_t slot) {
   const Settings& s = m.settings;
   const ReservoirSettings& r = s.reservoirs;
-  VkDescriptorSet sets[] = {m.desc.scene.set, m.sized.frameSets[slot]};
+  VkDescriptorSet sets[] = {m.desc.scene.set, frameSet(m.sized, slot, m.writtenSet)};
   gpu::GiReservoirPush push{.mode = gpu::GI_RESERVOIR_TEMPORAL,
                             .seed = s.seed,
                             .candidates = r.candidates,
@@ -230,7 +231,7 @@ void recordReservoirPasses(Module& m, VkCommandBuffer cmd, uint32_t slot) {
 // SVGF after its temporal accumulation (which wrote set B on odd counts).
 void recordSvgfPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, bool filterDirect) {
   const SvgfSettings& v = m.settings.svgf;
-  VkDescriptorSet sets[] = {m.desc.scene.set, m.sized.frameSets[slot]};
+  VkDescriptorSet sets[] = {m.desc.scene.set, frameSet(m.sized, slot, m.writtenSet)};
   const glm::uvec2 size{m.width, m.height};
   gpu::GiSvgfPush push{.writtenSet = m.temporalFrames & 1u,
                        .iteration = 0,
@@ -252,7 +253,7 @@ void recordSvgfPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, bool filter
 void recordFilterPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const gpu::GiFrameConstants& frame) {
   const Settings& s = m.settings;
   ScreenFilters& f = m.sized.filters;
-  VkDescriptorSet sets[] = {m.desc.scene.set, m.sized.frameSets[slot]};
+  VkDescriptorSet sets[] = {m.desc.scene.set, frameSet(m.sized, slot, m.writtenSet)};
   // Pass: the filters' guidance (normal, scaled depth) and world positions from the G-buffer.
   runPass(m, cmd, slot, Pass::Guidance, m.guidancePass, sets, {m.width, m.height},
           gpu::GiGuidancePush{m.plan.filterPositions ? 1u : 0u});
@@ -574,7 +575,9 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
   setup.accumulate = s.method == Method::Raw && s.raw.temporalAccumulation;
   setup.gradientsTraced = m.plan.temporalGradients && m.temporalFrames > 0;
   setup.hashSecondaryWidth = m.plan.hashGrid ? hashSecondaryWidth(s, m.desc.maxWidth, m.desc.maxHeight) : 1.0f;
-  setup.sets = {m.desc.scene.set, m.sized.frameSets[setup.slot]};
+  // The temporal pass reads set readSet = temporalFrames & 1 and writes the other (GiTemporalPush).
+  m.writtenSet = 1u - (m.temporalFrames & 1u);
+  setup.sets = {m.desc.scene.set, frameSet(m.sized, setup.slot, m.writtenSet)};
   m.slots[setup.slot].passes.clear();
 
   const gpu::GiFrameConstants frame = frameConstants(m, in, camera);

@@ -488,7 +488,7 @@ Error setSettings(Module* m, const Settings& settings) {
   if (vk::Status s = createPrograms(*m, settings)) return vulkanError("gi::setSettings", s);
   SizedResources sized;
   const MethodPlan plan = planMethod(m->desc.scene, settings);
-  bool newSized = sizedResourcesNeeded(plan, settings) != m->sized.needs;
+  bool newSized = sizedResourcesNeeded(plan, settings, m->desc) != m->sized.needs;
   if (newSized)
     if (vk::Status s = createSizedResources(*m, settings, m->desc.maxWidth, m->desc.maxHeight, m->outputs, sized))
       return vulkanError("gi::setSettings", s);
@@ -531,7 +531,7 @@ Error setScene(Module* m, const SceneDesc& scene) {
   vk::Status s = createPrograms(*m, m->settings);
   SizedResources sized;                                            // the glossy images follow the scene's materials
   const MethodPlan plan = planMethod(m->desc.scene, m->settings);  // the scene's facts are part of it
-  const bool newSized = sizedResourcesNeeded(plan, m->settings) != m->sized.needs;
+  const bool newSized = sizedResourcesNeeded(plan, m->settings, m->desc) != m->sized.needs;
   if (!s && newSized) s = createSizedResources(*m, m->settings, m->desc.maxWidth, m->desc.maxHeight, m->outputs, sized);
   if (s) {
     destroySizedResources(m->gpu, sized);

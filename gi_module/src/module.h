@@ -59,7 +59,7 @@ struct SizedResources {
   // the composite pass copies into the engine's outputs; written and read within a frame.
   vk::Image workDirect, workIndirect;
   ScreenFilters filters;                     // methods with a screen-space filter
-  vk::DescriptorSets frameSets;              // set 1, one per frame slot
+  vk::DescriptorSets frameSets;              // set 1, two per frame slot (frameSet)
   GBufferViews bound[kMaxFramesInFlight]{};  // G-buffer views written into each slot's set
   bool initialised = false;                  // images moved to GENERAL layout
 };
@@ -127,6 +127,7 @@ struct Module {
   uint32_t historyLength = 0;      // frames in the history images (raw.accumulate)
   uint32_t reservoirFrames = 0;    // frames the reservoirs have been resampled since they started
   uint32_t temporalFrames = 0;     // frames the temporal reprojection has run since its history started
+  uint32_t writtenSet = 0;         // the history set this frame's temporal pass writes (0: A, 1: B): frameSet's
   gpu::GpuCamera historyCamera{};  // camera the history was gathered with
   FrameStats lastStats;
 };
@@ -135,7 +136,12 @@ struct Module {
 // the images at full size and the filters the settings use.
 // Set 1 of every pass: frame constants, G-buffer, the module images, counters.
 std::span<const vk::Binding> frameBindings();
-uint64_t sizedResourcesNeeded(const MethodPlan& plan, const Settings& settings);
+uint64_t sizedResourcesNeeded(const MethodPlan& plan, const Settings& settings, const ModuleDesc& desc);
+// Set 1 for a frame of `slot` whose temporal pass writes history set `writtenSet` (0: A, 1: B): where the
+// frame's reservoirs and pick borrow that set's images (reservoirsInHistory) the two differ in those two
+// bindings, and are the same otherwise.
+VkDescriptorSet frameSet(const SizedResources& r, uint32_t slot, uint32_t writtenSet);
+bool reservoirsInHistory(const SizedResources& r);
 vk::Status createSizedResources(Module& m, const Settings& settings, uint32_t width, uint32_t height,
                                 const OutputImages& outputs, SizedResources& out);
 void destroySizedResources(vk::Device& gpu, SizedResources& r);

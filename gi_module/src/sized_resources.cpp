@@ -1,6 +1,7 @@
 // The module's per-size images and what binds them, built for the method the
 // settings choose; and the retire list that releases replaced resources once
 // no frame in flight can read them.
+#include <algorithm>
 #include <array>
 #include <iterator>
 
@@ -89,6 +90,9 @@ constexpr uint32_t kNoisyIsIndirect = 1u << 31;
 constexpr uint32_t kGuidedSubsampleShift = 32;
 // Bit 36: the filters read the indirect history (two filter sets, one per history set).
 constexpr uint64_t kFiltersReadHistory = 1ull << 36;
+// Bit 37: the frame's reservoirs and the pick borrow the history set this frame's temporal pass is about
+// to overwrite (reservoirsInHistory).
+constexpr uint64_t kReservoirsInHistory = 1ull << 37;
 uint32_t guidedSubsample(uint64_t needs) { return uint32_t(needs >> kGuidedSubsampleShift) & 0xfu; }
 static_assert(GIF_MAX_SUBSAMPLE <= 0xfu, "gif.subsample fits its four bits");
 
@@ -96,6 +100,14 @@ constexpr uint32_t bit(vk::Image SizedResources::*image) {
   for (uint32_t i = 0; i < std::size(kSizedImages); ++i)
     if (kSizedImages[i].image == image) return 1u << i;
   return 0;
+}
+
+// The history images the frame's reservoirs and pick borrow (kReservoirsInHistory): viewed as rg32ui too.
+bool lendsToReservoirs(const SizedImage& image, uint64_t needs) {
+  const vk::Image SizedResources::*lenders[] = {&SizedResources::historyDirectA, &SizedResources::historyDirectB,
+                                                &SizedResources::historyIndirectA, &SizedResources::historyIndirectB};
+  return (needs & kReservoirsInHistory) &&
+         std::find(std::begin(lenders), std::end(lenders), image.image) != std::end(lenders);
 }
 
 // Set 1: the frame constants, the G-buffer, the outputs and the counters, then one storage image per
@@ -128,7 +140,7 @@ static_assert(std::size(kFrameBindings) == gpu::GI_BINDING_COUNT, "every binding
 
 std::span<const vk::Binding> frameBindings() { return kFrameBindings; }
 
-uint64_t sizedResourcesNeeded(const MethodPlan& plan, const Settings& s) {
+uint64_t sizedResourcesNeeded(const MethodPlan& plan, const Settings& s, const ModuleDesc& desc) {
   uint64_t need = 0;
   const bool noisyReadAfterOutput = s.debugView == DebugView::FilterInOut;
   if (!noisyReadAfterOutput && ((plan.hashGrid && !plan.clampsHashIndirect) || plan.svgf || plan.filtersReadHistory))
@@ -160,12 +172,15 @@ uint64_t sizedResourcesNeeded(const MethodPlan& plan, const Settings& s) {
   if (plan.historyClamp) need |= bit(&SizedResources::temporalSpread);
   if (plan.aaf) need |= bit(&SizedResources::aafParams) | bit(&SizedResources::aafSum);
   // The temporal reservoirs: two sets of history where last frame's are merged, else one set of the frame's
-  // in half the bytes (GI_BINDING_FRAME_RESERVOIRS).
-  if (plan.reservoirs) need |= bit(&SizedResources::reservoirPick);
-  if (plan.reservoirTemporal)
-    need |= bit(&SizedResources::reservoirsA) | bit(&SizedResources::reservoirsB);
+  // in half the bytes (GI_BINDING_FRAME_RESERVOIRS), which with the pick borrows the temporal pass's
+  // history set where there is one (half floats: the same eight bytes a texel as their rg32ui).
+  const bool borrow = plan.reservoirs && !plan.reservoirTemporal && plan.temporalPass && !plan.packedHistory &&
+                      desc.historyFormat == VK_FORMAT_R16G16B16A16_SFLOAT;
+  if (plan.reservoirTemporal) need |= bit(&SizedResources::reservoirsA) | bit(&SizedResources::reservoirsB);
+  if (borrow)
+    need |= kReservoirsInHistory;
   else if (plan.reservoirs)
-    need |= bit(&SizedResources::frameReservoirs);
+    need |= bit(&SizedResources::reservoirPick) | (plan.reservoirTemporal ? 0 : bit(&SizedResources::frameReservoirs));
   if (plan.aafSpecular) need |= bit(&SizedResources::aafGlossy) | bit(&SizedResources::aafGlossyEdge);
   // Debug views read their source at full size whatever the method (zero where it does not write).
   switch (s.debugView) {
@@ -245,6 +260,12 @@ vk::Status createFilters(Module& m, const OutputImages& outputs, SizedResources&
 
 bool noisyAliasesIndirect(const SizedResources& r) { return (r.needs & kNoisyIsIndirect) != 0; }
 
+bool reservoirsInHistory(const SizedResources& r) { return (r.needs & kReservoirsInHistory) != 0; }
+
+VkDescriptorSet frameSet(const SizedResources& r, uint32_t slot, uint32_t writtenSet) {
+  return r.frameSets[slot * 2 + writtenSet];
+}
+
 namespace {
 // Calls `visit` for each image whose contents live within one frame: the sized images of frame lifetime,
 // then the guided filter's stack where it exists (a prediction's images have memory and no handle).
@@ -297,16 +318,18 @@ vk::Status createSizedResources(Module& m, const Settings& settings, uint32_t wi
   SizedResources r;
   r.width = width;
   r.height = height;
-  r.needs = sizedResourcesNeeded(planMethod(m.desc.scene, settings), settings);
+  r.needs = sizedResourcesNeeded(planMethod(m.desc.scene, settings), settings, m.desc);
   auto build = [&]() -> vk::Status {
     for (uint32_t i = 0; i < std::size(kSizedImages); ++i) {
       const uint32_t tile = kSizedImages[i].tile;
       VkExtent2D extent =
           (r.needs >> i) & 1u ? VkExtent2D{(width + tile - 1) / tile, (height + tile - 1) / tile} : VkExtent2D{1, 1};
-      GI_TRY(vk::createImage(m.gpu, extent, imageFormat(m, kSizedImages[i], r.needs),
-                             VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
-                                 VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
-                             r.*kSizedImages[i].image, kSizedImages[i].lifetime == Lifetime::Frame));
+      GI_TRY(
+          vk::createImage(m.gpu, extent, imageFormat(m, kSizedImages[i], r.needs),
+                          VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
+                              VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+                          r.*kSizedImages[i].image, kSizedImages[i].lifetime == Lifetime::Frame,
+                          lendsToReservoirs(kSizedImages[i], r.needs) ? VK_FORMAT_R32G32_UINT : VK_FORMAT_UNDEFINED));
     }
     if (outputsPacked(m.desc))
       for (vk::Image* work : {&r.workDirect, &r.workIndirect})
@@ -314,9 +337,10 @@ vk::Status createSizedResources(Module& m, const Settings& settings, uint32_t wi
             m.gpu, {width, height}, VK_FORMAT_R16G16B16A16_SFLOAT,
             VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT, *work,
             true));
-    GI_TRY(vk::createDescriptorSets(m.gpu, kFrameBindings, m.desc.framesInFlight, r.frameSets, m.frameLayout));
-    for (uint32_t slot = 0; slot < m.desc.framesInFlight; ++slot) {
-      vk::DescriptorWriter w(r.frameSets[slot]);
+    GI_TRY(vk::createDescriptorSets(m.gpu, kFrameBindings, m.desc.framesInFlight * 2, r.frameSets, m.frameLayout));
+    for (uint32_t index = 0; index < m.desc.framesInFlight * 2; ++index) {
+      const uint32_t slot = index / 2, written = index % 2;
+      vk::DescriptorWriter w(r.frameSets[index]);
       w.buffer(gpu::GI_BINDING_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, m.frameConstants.buffer,
                slot * m.frameConstantsStride, sizeof(gpu::GiFrameConstants));
       // The shaders' live counter is the first GiCounters; the others are per-slot copies for readback.
@@ -330,6 +354,12 @@ vk::Status createSizedResources(Module& m, const Settings& settings, uint32_t wi
       for (const SizedImage& image : kSizedImages) {
         const bool alias = image.image == &SizedResources::noisyIndirect && (r.needs & kNoisyIsIndirect);
         w.storageImage(image.binding, alias ? workingIndirect(outputs, r).view : (r.*image.image).view);
+      }
+      if (r.needs & kReservoirsInHistory) {
+        // The set the temporal pass writes this frame holds frame N − 2's light until then: the reservoirs'
+        // (direct's texels) and the pick (indirect's), both read before that pass.
+        w.storageImage(gpu::GI_BINDING_FRAME_RESERVOIRS, (written ? r.historyDirectB : r.historyDirectA).alsoView);
+        w.storageImage(gpu::GI_BINDING_RESERVOIR_PICK, (written ? r.historyIndirectB : r.historyIndirectA).alsoView);
       }
       w.write(m.gpu);
     }

@@ -76,7 +76,9 @@ GPU_CONST GI_BINDING_HISTORY_PACKED = 30;
 // the frame: the light (x) and W (y) alone, since M is then the candidates' count (0 where the boiling
 // filter dropped the reservoir: W's sign bit) and the guide the G-buffer's (giLoadReservoir). The pick,
 // rg32ui, the spatial pass's result the tracing passes take (giPrimaryReservoir): the light and its W
-// (float bits), 0 where the pixel does not see it.
+// (float bits), 0 where the pixel does not see it. Where a temporal pass keeps half-float histories,
+// FRAME_RESERVOIRS and the pick are rg32ui views of the direct and indirect history set that pass
+// overwrites later in the frame (the same 8 bytes a texel; frameSet in module.h), not images of their own.
 GPU_CONST GI_BINDING_RESERVOIRS_A = 31;
 GPU_CONST GI_BINDING_RESERVOIRS_B = 32;
 GPU_CONST GI_BINDING_RESERVOIR_PICK = 33;

@@ -39,7 +39,8 @@ void destroyBuffer(Device& d, Buffer& b) {
   b = Buffer{};
 }
 
-Status createImage(Device& d, VkExtent2D extent, VkFormat format, VkImageUsageFlags usage, Image& out, bool transient) {
+Status createImage(Device& d, VkExtent2D extent, VkFormat format, VkImageUsageFlags usage, Image& out, bool transient,
+                   VkFormat alsoViewedAs) {
   Image img;
   img.format = format;
   img.extent = extent;
@@ -53,6 +54,7 @@ Status createImage(Device& d, VkExtent2D extent, VkFormat format, VkImageUsageFl
   info.tiling = VK_IMAGE_TILING_OPTIMAL;
   info.usage = usage;
   info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  if (alsoViewedAs != VK_FORMAT_UNDEFINED) info.flags = VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT;
   auto build = [&]() -> Status {
     if (d.memory.simulate) {
       const VkDeviceImageMemoryRequirements query{VK_STRUCTURE_TYPE_DEVICE_IMAGE_MEMORY_REQUIREMENTS, nullptr, &info,
@@ -72,6 +74,10 @@ Status createImage(Device& d, VkExtent2D extent, VkFormat format, VkImageUsageFl
     view.format = format;
     view.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
     GI_VK(d.fn.vkCreateImageView(d.device, &view, d.allocator, &img.view));
+    if (alsoViewedAs != VK_FORMAT_UNDEFINED) {
+      view.format = alsoViewedAs;
+      GI_VK(d.fn.vkCreateImageView(d.device, &view, d.allocator, &img.alsoView));
+    }
     return {};
   };
   if (Status s = build()) {
@@ -84,6 +90,7 @@ Status createImage(Device& d, VkExtent2D extent, VkFormat format, VkImageUsageFl
 
 void destroyImage(Device& d, Image& img) {
   if (img.view) d.fn.vkDestroyImageView(d.device, img.view, d.allocator);
+  if (img.alsoView) d.fn.vkDestroyImageView(d.device, img.alsoView, d.allocator);
   if (img.image) d.fn.vkDestroyImage(d.device, img.image, d.allocator);
   release(d, img.memory);
   img = Image{};

@@ -18,6 +18,7 @@ struct Image {
   Allocation memory;
   VkFormat format = VK_FORMAT_UNDEFINED;
   VkExtent2D extent{};
+  VkImageView alsoView = VK_NULL_HANDLE;  // the texels as createImage's `alsoViewedAs` (none without it)
 };
 
 // On a simulated arena (MemoryArena::simulate) these create no object: they take the memory the
@@ -25,8 +26,10 @@ struct Image {
 Status createBuffer(Device& device, VkDeviceSize size, VkBufferUsageFlags usage, bool hostVisible, Buffer& out);
 void destroyBuffer(Device& device, Buffer& buffer);
 // A 2D colour image with one mip and a view of it. `transient`: its contents live within a frame.
+// `alsoViewedAs`, a format of the same texel size: a second view (Image::alsoView) that reads and writes the
+// same bits as that format (the image is then created mutable-format).
 Status createImage(Device& device, VkExtent2D extent, VkFormat format, VkImageUsageFlags usage, Image& out,
-                   bool transient = false);
+                   bool transient = false, VkFormat alsoViewedAs = VK_FORMAT_UNDEFINED);
 void destroyImage(Device& device, Image& image);
 
 // Barriers (synchronization2): the structs, and one recording function that
