@@ -291,9 +291,10 @@ bool meshEmits(const PackedScene& packed, uint32_t mesh) {
 std::vector<uint32_t> emissiveTableWords(const EmissiveTable& t) {
   const size_t n = t.pickable();
   std::vector<uint32_t> words(emissiveTableCapacityWords(n));
+  if (n == 0) return words;  // no triangle to pick (memcpy from an empty vector's null data is undefined)
   std::memcpy(words.data(), t.triangles.data(), n * sizeof(gpu::GpuEmissiveTriangle));
   const size_t leafWord = (n * sizeof(gpu::GpuEmissiveTriangle) + t.nodes.size() * sizeof(gpu::GpuLightNode)) / 4;
-  if (n) std::memcpy(words.data() + n * 4, t.nodes.data(), t.nodes.size() * sizeof(gpu::GpuLightNode));
+  std::memcpy(words.data() + n * 4, t.nodes.data(), t.nodes.size() * sizeof(gpu::GpuLightNode));
   for (uint32_t i = 0; i < t.nodes.size(); ++i)
     if (t.nodes[i].child & gpu::LIGHT_NODE_LEAF) words[leafWord + (t.nodes[i].child & ~gpu::LIGHT_NODE_LEAF)] = i;
   return words;
