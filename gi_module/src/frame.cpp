@@ -136,9 +136,22 @@ uint32_t primaryDirect(const MethodPlan& plan, const Settings& s) {
          (plan.reservoirEmissive ? gpu::GI_PRIMARY_DIRECT_EMISSIVE : 0u);
 }
 
-// `secondaryWidth`: how much wider the cells after the first vertex are (gi::hashSecondaryWidth).
-void recordHashPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const gpu::GiFrameConstants& frame, uint32_t spp,
-                      float secondaryWidth) {
+// This frame's own facts beside the method's plan (Module::plan), decided once before its passes.
+struct FrameSetup {
+  uint32_t slot = 0;
+  uint32_t spp = 0;                 // paths per pixel within the ray budget (0 for AAF, which adapts its own)
+  uint32_t aafBudget = 0;           // AAF's samples within the ray budget (0: none)
+  bool accumulate = false;          // raw's running mean
+  bool gradientsTraced = false;     // temporal gradients, which need last frame's samples
+  float hashSecondaryWidth = 1.0f;  // the hash methods' later cells' width (gi::hashSecondaryWidth)
+  // Scene, frame (set 1 in the variant for the history set this frame's temporal pass writes: frameSet's;
+  // taken before that pass advances Module::temporalFrames, so passes after it bind the same set).
+  std::array<VkDescriptorSet, 2> sets{};
+};
+
+void recordHashPasses(Module& m, VkCommandBuffer cmd, const FrameSetup& setup, const gpu::GiFrameConstants& frame) {
+  const uint32_t slot = setup.slot, spp = setup.spp;
+  const float secondaryWidth = setup.hashSecondaryWidth;  // the later cells' width (gi::hashSecondaryWidth)
   const Settings& s = m.settings;
   const HpsfSettings& h = s.hpsf;
   const bool strict = h.eviction == EvictionPolicy::Strict;
@@ -174,7 +187,7 @@ void recordHashPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const gpu::
                          .historySamples = s.method == Method::Hpsf ? 0u : h.historySamples,
                          .deferredClaims = m.plan.defersHashClaims ? 1u : 0u};
   m.hash.forgetLight = false;
-  VkDescriptorSet sets[] = {m.desc.scene.set, frameSet(m.sized, slot, m.writtenSet), m.hash.set[0]};
+  VkDescriptorSet sets[] = {setup.sets[0], setup.sets[1], m.hash.set[0]};
   recordHashGridFrameStart(m.gpu, cmd, m.hash, frame.frameIndex);
   if (s.method == Method::Hpsf) {
     // Pass: paths from the G-buffer; their indirect radiance goes into the filter vertex's cell.
@@ -201,10 +214,11 @@ void recordHashPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const gpu::
 }
 
 // The primary hits' reservoirs (ReservoirSettings), before any pass that traces from the G-buffer.
-void recordReservoirPasses(Module& m, VkCommandBuffer cmd, uint32_t slot) {
+void recordReservoirPasses(Module& m, VkCommandBuffer cmd, const FrameSetup& setup) {
   const Settings& s = m.settings;
   const ReservoirSettings& r = s.reservoirs;
-  VkDescriptorSet sets[] = {m.desc.scene.set, frameSet(m.sized, slot, m.writtenSet)};
+  const uint32_t slot = setup.slot;
+  const auto& sets = setup.sets;
   gpu::GiReservoirPush push{.mode = gpu::GI_RESERVOIR_TEMPORAL,
                             .seed = s.seed,
                             .candidates = r.candidates,
@@ -229,9 +243,10 @@ void recordReservoirPasses(Module& m, VkCommandBuffer cmd, uint32_t slot) {
 }
 
 // SVGF after its temporal accumulation (which wrote set B on odd counts).
-void recordSvgfPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, bool filterDirect) {
+void recordSvgfPasses(Module& m, VkCommandBuffer cmd, const FrameSetup& setup, bool filterDirect) {
   const SvgfSettings& v = m.settings.svgf;
-  VkDescriptorSet sets[] = {m.desc.scene.set, frameSet(m.sized, slot, m.writtenSet)};
+  const uint32_t slot = setup.slot;
+  const auto& sets = setup.sets;
   const glm::uvec2 size{m.width, m.height};
   gpu::GiSvgfPush push{.writtenSet = m.temporalFrames & 1u,
                        .iteration = 0,
@@ -250,10 +265,11 @@ void recordSvgfPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, bool filter
   }
 }
 
-void recordFilterPasses(Module& m, VkCommandBuffer cmd, uint32_t slot, const gpu::GiFrameConstants& frame) {
+void recordFilterPasses(Module& m, VkCommandBuffer cmd, const FrameSetup& setup, const gpu::GiFrameConstants& frame) {
   const Settings& s = m.settings;
   ScreenFilters& f = m.sized.filters;
-  VkDescriptorSet sets[] = {m.desc.scene.set, frameSet(m.sized, slot, m.writtenSet)};
+  const uint32_t slot = setup.slot;
+  const auto& sets = setup.sets;
   // Pass: the filters' guidance (normal, scaled depth) and world positions from the G-buffer.
   runPass(m, cmd, slot, Pass::Guidance, m.guidancePass, sets, {m.width, m.height},
           gpu::GiGuidancePush{m.plan.filterPositions ? 1u : 0u});
@@ -409,17 +425,6 @@ gpu::GiFrameConstants frameConstants(const Module& m, const FrameInputs& in, con
           m.sized.svgfStateA.format == VK_FORMAT_R32G32B32A32_UINT ? 1u : 0u};
 }
 
-// This frame's own facts beside the method's plan (Module::plan), decided once before its passes.
-struct FrameSetup {
-  uint32_t slot = 0;
-  uint32_t spp = 0;                       // paths per pixel within the ray budget (0 for AAF, which adapts its own)
-  uint32_t aafBudget = 0;                 // AAF's samples within the ray budget (0: none)
-  bool accumulate = false;                // raw's running mean
-  bool gradientsTraced = false;           // temporal gradients, which need last frame's samples
-  float hashSecondaryWidth = 1.0f;        // the hash methods' later cells' width (gi::hashSecondaryWidth)
-  std::array<VkDescriptorSet, 2> sets{};  // scene, frame
-};
-
 // Passes: the light the method starts from (AAF's samples, the hash map's paths, or raw paths).
 void recordTracePasses(Module& m, VkCommandBuffer cmd, const FrameSetup& setup, const gpu::GiFrameConstants& frame) {
   const Settings& s = m.settings;
@@ -440,7 +445,7 @@ void recordTracePasses(Module& m, VkCommandBuffer cmd, const FrameSetup& setup, 
     runPass(m, cmd, setup.slot, Pass::AafAdaptive, m.aafAdaptive, setup.sets, size, aaf);
     return;
   }
-  if (m.plan.hashGrid) return recordHashPasses(m, cmd, setup.slot, frame, setup.spp, setup.hashSecondaryWidth);
+  if (m.plan.hashGrid) return recordHashPasses(m, cmd, setup, frame);
   // Pass: trace paths from the G-buffer (direct + demodulated indirect, optional temporal mean).
   const gpu::GiRawPush raw{.seed = s.seed,
                            .samplesPerPixel = setup.spp,
@@ -576,8 +581,7 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
   setup.gradientsTraced = m.plan.temporalGradients && m.temporalFrames > 0;
   setup.hashSecondaryWidth = m.plan.hashGrid ? hashSecondaryWidth(s, m.desc.maxWidth, m.desc.maxHeight) : 1.0f;
   // The temporal pass reads set readSet = temporalFrames & 1 and writes the other (GiTemporalPush).
-  m.writtenSet = 1u - (m.temporalFrames & 1u);
-  setup.sets = {m.desc.scene.set, frameSet(m.sized, setup.slot, m.writtenSet)};
+  setup.sets = {m.desc.scene.set, frameSet(m.sized, setup.slot, 1u - (m.temporalFrames & 1u))};
   m.slots[setup.slot].passes.clear();
 
   const gpu::GiFrameConstants frame = frameConstants(m, in, camera);
@@ -590,11 +594,11 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
   m.sized.filters.width = m.width;  // the filters' rectangle within their images (dynamic resolution)
   m.sized.filters.height = m.height;
 
-  if (m.plan.reservoirs) recordReservoirPasses(m, cmd, setup.slot);
+  if (m.plan.reservoirs) recordReservoirPasses(m, cmd, setup);
   recordTracePasses(m, cmd, setup, frame);
   if (m.plan.temporalPass) recordTemporalPasses(m, cmd, setup);
-  if (s.method == Method::Svgf) recordSvgfPasses(m, cmd, setup.slot, m.plan.noisyDirect && s.svgf.filterDirect);
-  if (m.plan.screenFilters) recordFilterPasses(m, cmd, setup.slot, frame);
+  if (s.method == Method::Svgf) recordSvgfPasses(m, cmd, setup, m.plan.noisyDirect && s.svgf.filterDirect);
+  if (m.plan.screenFilters) recordFilterPasses(m, cmd, setup, frame);
   recordCompositePasses(m, cmd, setup, camera);
   endFrame(m, cmd, setup, in);
   return {};

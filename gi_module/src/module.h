@@ -127,7 +127,6 @@ struct Module {
   uint32_t historyLength = 0;      // frames in the history images (raw.accumulate)
   uint32_t reservoirFrames = 0;    // frames the reservoirs have been resampled since they started
   uint32_t temporalFrames = 0;     // frames the temporal reprojection has run since its history started
-  uint32_t writtenSet = 0;         // the history set this frame's temporal pass writes (0: A, 1: B): frameSet's
   gpu::GpuCamera historyCamera{};  // camera the history was gathered with
   FrameStats lastStats;
 };
