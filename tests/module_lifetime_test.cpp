@@ -72,9 +72,10 @@ TEST_F(ModuleLifetimeTest, FrameImagesCanBeOverwrittenBetweenFramesInEveryMethod
 // The reservoirs (the Cornell box's ceiling light resampled: reservoirs.emissive_min = 0): raw, which has no
 // temporal pass, merges last frame's reservoirs, so both sets are history; svgf and hpsf keep one set, which
 // the temporal reservoir pass writes and the spatial one reads within the frame (neither A nor B held):
-// hpsf, whose direct history is one packed image, in a frame image of its own (frameReservoirs), with the
-// pick; svgf in the history set its temporal pass overwrites later in the frame, as does the pick (no image
-// of their own held). Filled with NaN after every frame (svgf: that history set too), the same bits.
+// svgf in the history set its temporal pass overwrites later in the frame, as does the pick; hpsf, whose
+// direct history is one packed image, in the direct output, and the pick in the composite (no image of
+// their own held by either), where raw's pick lives too. Filled with NaN after every frame (svgf: that history set too), the same bits;
+// the outputs, which the engine reads, are shown apart (ReservoirsInTheOutputs…).
 TEST_F(ModuleLifetimeTest, ReservoirsWithoutTheirMergeLiveWithinTheFrame) {
   LoadedScene s;
   load(sharedScene("cornell-box-mcguire/CornellBox-Original.gltf"), s);
@@ -85,7 +86,8 @@ TEST_F(ModuleLifetimeTest, ReservoirsWithoutTheirMergeLiveWithinTheFrame) {
     settings.method = method;
     settings.reservoirs.emissiveMin = 0;
     const bool moving = !gi::usesHashGrid(method);
-    bool resampled = false, setListed = false, setsHeld = false, pickListed = false, borrowed = false;
+    bool resampled = false, setListed = false, setsHeld = false, pickListed = false, borrowed = false,
+         inOutputs = false;
     const engine::ReferenceImages kept =
         renderAnimatedFrames(ctx, s, animation, settings, kSize, kFrames, moving, [&](tools::ModuleSession& session) {
           const gi::Module& m = *session.module;
@@ -98,18 +100,60 @@ TEST_F(ModuleLifetimeTest, ReservoirsWithoutTheirMergeLiveWithinTheFrame) {
           pickListed = std::find(images.begin(), images.end(), &m.sized.reservoirPick) != images.end() &&
                        m.sized.reservoirPick.extent.width == kSize;
           borrowed = gi::reservoirsInHistory(m.sized) && m.sized.historyDirectA.alsoView != VK_NULL_HANDLE;
+          inOutputs = gi::reservoirsInOutputs(m.sized) && m.outputs.direct.alsoView != VK_NULL_HANDLE &&
+                      m.outputs.composite.alsoView != VK_NULL_HANDLE;
         });
     const engine::ReferenceImages filled =
         renderAnimatedFrames(ctx, s, animation, settings, kSize, kFrames, moving,
                              [&](tools::ModuleSession& session) { fillFrameImagesWithNan(ctx, *session.module); });
     ASSERT_TRUE(resampled) << "the reservoirs run";
-    EXPECT_EQ(setListed, method == gi::Method::Hpsf) << "one set of its own within the frame";
+    EXPECT_FALSE(setListed) << "no set of its own within the frame";
     EXPECT_EQ(setsHeld, method == gi::Method::Raw) << "the two sets of history only where they are merged";
-    EXPECT_EQ(pickListed, method != gi::Method::Svgf) << "the pick in an image of its own";
+    EXPECT_FALSE(pickListed) << "no pick of its own";
     EXPECT_EQ(borrowed, method == gi::Method::Svgf) << "the set and the pick in the history set to be overwritten";
+    EXPECT_EQ(inOutputs, method != gi::Method::Svgf) << "the set and the pick (raw: the pick) in the outputs";
     EXPECT_TRUE(sameBits(kept.direct, filled.direct)) << "direct read a frame image's last contents";
     EXPECT_TRUE(sameBits(kept.indirect, filled.indirect)) << "indirect read a frame image's last contents";
     EXPECT_TRUE(sameBits(kept.final, filled.final)) << "composite read a frame image's last contents";
+  }
+}
+
+// The reservoirs and pick in the direct output and the composite where no history set lends them (the
+// hash methods' one packed history; svgf's with single-float histories), and the pick alone where the
+// sets are merged (raw, AAF): the direct and indirect outputs are the same bits as where the composite
+// cannot lend (single floats: sixteen bytes a texel), where the set and the pick are images of their own. A pass that read the direct output or the composite
+// before writing it, or wrote them while the set or the pick was still to be read, would tell them apart.
+TEST_F(ModuleLifetimeTest, ReservoirsInTheOutputsGiveTheSameLightAsImagesOfTheirOwn) {
+  LoadedScene s;
+  load(sharedScene("cornell-box-mcguire/CornellBox-Original.gltf"), s);
+  const engine::SceneAnimation animation = engine::makeSceneAnimation(s.scene);
+  gi::ModuleDesc lending = tools::moduleDesc(ctx, s.gpu, {kSize, kSize});
+  lending.historyFormat = VK_FORMAT_R32G32B32A32_SFLOAT;  // svgf has no half-float set to lend then
+  gi::ModuleDesc ownImages = lending;
+  ownImages.compositeFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
+  for (gi::Method method : {gi::Method::Hpsf, gi::Method::Anhpsf, gi::Method::Svgf, gi::Method::Raw, gi::Method::Aaf}) {
+    SCOPED_TRACE(gi::methodName(method));
+    gi::Settings settings;
+    settings.method = method;
+    settings.reservoirs.emissiveMin = 0;
+    bool lent = false, own = false;
+    const engine::ReferenceImages inOutputs = renderAnimatedFrames(
+        ctx, s, animation, settings, kSize, kFrames, false,
+        [&](tools::ModuleSession& session) { lent = gi::reservoirsInOutputs(session.module->sized); }, &lending);
+    const engine::ReferenceImages apart = renderAnimatedFrames(
+        ctx, s, animation, settings, kSize, kFrames, false,
+        [&](tools::ModuleSession& session) {
+          const gi::SizedResources& r = session.module->sized;
+          const bool merged = r.reservoirsA.extent.width == kSize;
+          own = !gi::reservoirsInOutputs(r) && (merged || r.frameReservoirs.extent.width == kSize) &&
+                r.reservoirPick.extent.width == kSize;
+        },
+        &ownImages);
+    ASSERT_FALSE(inOutputs.final.pixels.empty());
+    EXPECT_TRUE(lent) << "the outputs hold the set and the pick";
+    EXPECT_TRUE(own) << "single-float composite: images of their own";
+    EXPECT_TRUE(sameBits(inOutputs.direct, apart.direct)) << "direct";
+    EXPECT_TRUE(sameBits(inOutputs.indirect, apart.indirect)) << "indirect";
   }
 }
 

@@ -141,6 +141,11 @@ uint64_t sizedResourcesNeeded(const MethodPlan& plan, const Settings& settings, 
 // bindings, and are the same otherwise.
 VkDescriptorSet frameSet(const SizedResources& r, uint32_t slot, uint32_t writtenSet);
 bool reservoirsInHistory(const SizedResources& r);
+// Without a history set to borrow (the hash methods' packed history, single-float histories), the frame's
+// reservoirs live in the direct output and the pick in the composite, where outputsLendToReservoirs; where
+// last frame's are merged (raw, AAF: their sets are history), the pick alone.
+bool reservoirsInOutputs(const SizedResources& r);
+bool outputsLendToReservoirs(const ModuleDesc& desc);
 vk::Status createSizedResources(Module& m, const Settings& settings, uint32_t width, uint32_t height,
                                 const OutputImages& outputs, SizedResources& out);
 void destroySizedResources(vk::Device& gpu, SizedResources& r);

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <iterator>
+#include <tuple>
 
 #include "module.h"
 
@@ -93,6 +94,9 @@ constexpr uint64_t kFiltersReadHistory = 1ull << 36;
 // Bit 37: the frame's reservoirs and the pick borrow the history set this frame's temporal pass is about
 // to overwrite (reservoirsInHistory).
 constexpr uint64_t kReservoirsInHistory = 1ull << 37;
+// Bit 38: where there is no such history set, the frame's reservoirs borrow the direct output and the pick
+// the composite (reservoirsInOutputs); where the sets are merged (history), the pick alone.
+constexpr uint64_t kReservoirsInOutputs = 1ull << 38;
 uint32_t guidedSubsample(uint64_t needs) { return uint32_t(needs >> kGuidedSubsampleShift) & 0xfu; }
 static_assert(GIF_MAX_SUBSAMPLE <= 0xfu, "gif.subsample fits its four bits");
 
@@ -173,12 +177,16 @@ uint64_t sizedResourcesNeeded(const MethodPlan& plan, const Settings& s, const M
   if (plan.aaf) need |= bit(&SizedResources::aafParams) | bit(&SizedResources::aafSum);
   // The temporal reservoirs: two sets of history where last frame's are merged, else one set of the frame's
   // in half the bytes (GI_BINDING_FRAME_RESERVOIRS), which with the pick borrows the temporal pass's
-  // history set where there is one (half floats: the same eight bytes a texel as their rg32ui).
-  const bool borrow = plan.reservoirs && !plan.reservoirTemporal && plan.temporalPass && !plan.packedHistory &&
-                      desc.historyFormat == VK_FORMAT_R16G16B16A16_SFLOAT;
+  // history set where there is one (half floats: the same eight bytes a texel as their rg32ui), else the
+  // direct output, and the pick the composite (where the sets are merged, the pick alone).
+  const bool frameSet = plan.reservoirs && !plan.reservoirTemporal;
+  const bool borrowHistory =
+      frameSet && plan.temporalPass && !plan.packedHistory && desc.historyFormat == VK_FORMAT_R16G16B16A16_SFLOAT;
   if (plan.reservoirTemporal) need |= bit(&SizedResources::reservoirsA) | bit(&SizedResources::reservoirsB);
-  if (borrow)
+  if (borrowHistory)
     need |= kReservoirsInHistory;
+  else if (plan.reservoirs && outputsLendToReservoirs(desc))
+    need |= kReservoirsInOutputs;
   else if (plan.reservoirs)
     need |= bit(&SizedResources::reservoirPick) | (plan.reservoirTemporal ? 0 : bit(&SizedResources::frameReservoirs));
   if (plan.aafSpecular) need |= bit(&SizedResources::aafGlossy) | bit(&SizedResources::aafGlossyEdge);
@@ -261,6 +269,15 @@ vk::Status createFilters(Module& m, const OutputImages& outputs, SizedResources&
 bool noisyAliasesIndirect(const SizedResources& r) { return (r.needs & kNoisyIsIndirect) != 0; }
 
 bool reservoirsInHistory(const SizedResources& r) { return (r.needs & kReservoirsInHistory) != 0; }
+bool reservoirsInOutputs(const SizedResources& r) { return (r.needs & kReservoirsInOutputs) != 0; }
+
+// The direct output is first written by the tracing passes, after the spatial reservoir pass read the
+// frame's reservoirs for the last time; the composite by the composite pass, after the last pass that takes
+// the pick. Both are half-float outputs there, eight bytes a texel as an rg32ui reservoir (packed outputs
+// have the module's working pair instead, and a packed composite holds four bytes).
+bool outputsLendToReservoirs(const ModuleDesc& desc) {
+  return desc.outputFormat == VK_FORMAT_R16G16B16A16_SFLOAT && compositeFormat(desc) == VK_FORMAT_R16G16B16A16_SFLOAT;
+}
 
 VkDescriptorSet frameSet(const SizedResources& r, uint32_t slot, uint32_t writtenSet) {
   return r.frameSets[slot * 2 + writtenSet];
@@ -297,10 +314,14 @@ vk::Status createOutputImages(vk::Device& gpu, uint32_t width, uint32_t height, 
   OutputImages o;
   const VkImageUsageFlags usage =
       VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
-  const std::pair<vk::Image*, VkFormat> images[] = {
-      {&o.direct, desc.outputFormat}, {&o.indirect, desc.outputFormat}, {&o.composite, compositeFormat(desc)}};
-  for (const auto& [img, format] : images)
-    if (vk::Status s = vk::createImage(gpu, {width, height}, format, usage, *img)) {
+  // The direct output and the composite also viewed as rg32ui where they may hold the frame's reservoirs and
+  // pick (outputsLendToReservoirs): created so whatever method the settings pick later.
+  const VkFormat lent = outputsLendToReservoirs(desc) ? VK_FORMAT_R32G32_UINT : VK_FORMAT_UNDEFINED;
+  const std::tuple<vk::Image*, VkFormat, VkFormat> images[] = {{&o.direct, desc.outputFormat, lent},
+                                                               {&o.indirect, desc.outputFormat, VK_FORMAT_UNDEFINED},
+                                                               {&o.composite, compositeFormat(desc), lent}};
+  for (const auto& [img, format, alsoViewedAs] : images)
+    if (vk::Status s = vk::createImage(gpu, {width, height}, format, usage, *img, false, alsoViewedAs)) {
       destroyOutputImages(gpu, o);
       return s;
     }
@@ -360,6 +381,13 @@ vk::Status createSizedResources(Module& m, const Settings& settings, uint32_t wi
         // (direct's texels) and the pick (indirect's), both read before that pass.
         w.storageImage(gpu::GI_BINDING_FRAME_RESERVOIRS, (written ? r.historyDirectB : r.historyDirectA).alsoView);
         w.storageImage(gpu::GI_BINDING_RESERVOIR_PICK, (written ? r.historyIndirectB : r.historyIndirectA).alsoView);
+      }
+      if (r.needs & kReservoirsInOutputs) {
+        // The frame's set (where the sets are not merged) is read for the last time by the spatial pass, before
+        // the tracing passes write the direct output; the pick by the tracing passes, before the composite.
+        if (!(r.needs & bit(&SizedResources::reservoirsA)))
+          w.storageImage(gpu::GI_BINDING_FRAME_RESERVOIRS, outputs.direct.alsoView);
+        w.storageImage(gpu::GI_BINDING_RESERVOIR_PICK, outputs.composite.alsoView);
       }
       w.write(m.gpu);
     }
