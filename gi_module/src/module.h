@@ -53,7 +53,7 @@ struct SizedResources {
   vk::Image reservoirPick;                       // ReservoirSettings: the spatial pass's light and W a pixel
   vk::Image noisyIndirect;                       // demodulated indirect before filtering
   vk::Image guidance, position, debug;           // filter guidance, world position, filter debug/temp
-  vk::Image aafParams, aafSum;                   // AAF per-pixel z_min, z_max, samples, β; sample sums
+  vk::Image aafParams;                           // AAF per-pixel z_min, z_max (metres), samples, β (metres)
   vk::Image aafGlossy, aafGlossyEdge;            // AAF specular terms
   // Packed outputs (outputsPacked): the passes' direct and indirect light, half floats with an alpha, which
   // the composite pass copies into the engine's outputs; written and read within a frame.

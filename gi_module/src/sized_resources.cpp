@@ -37,7 +37,9 @@ constexpr VkFormat kGuideFormat = VK_FORMAT_R32_UINT;
 // single floats for the views (hash keys, counts). Resolved by imageFormat(); a marker, not a format.
 constexpr VkFormat kFilterTempFormat = VK_FORMAT_MAX_ENUM;
 // Half floats for the screen filters' guidance: its normal in [0,1] and depth over the scene extent,
-// positions relative to the camera over the scene extent (gi_guidance.comp).
+// positions relative to the camera over the scene extent (gi_guidance.comp); and for AAF's parameters:
+// distances and β in metres (a relative 2^-11 moves σ by 0.05%), and the sample count n ≤ 100·μ ≤ 1600, which
+// pass 1 asks for and pass 2 rounds anyway (to within 1/16 of a sample below 128, half a sample from 1024).
 constexpr VkFormat kHalf = VK_FORMAT_R16G16B16A16_SFLOAT;
 // The light the temporal passes blend and keep (their radiance histories, and the noisy indirect they
 // read and hand the filters): ModuleDesc::historyFormat (half floats by default, holding radiance over
@@ -57,8 +59,7 @@ constexpr SizedImage kSizedImages[] = {
     {&SizedResources::guidance, gpu::GI_BINDING_GUIDANCE, kFrame, kHalf},
     {&SizedResources::position, gpu::GI_BINDING_POSITION, kFrame, kHalf},
     {&SizedResources::debug, gpu::GI_BINDING_DEBUG, kFrame, kFilterTempFormat},
-    {&SizedResources::aafParams, gpu::GI_BINDING_AAF_PARAMS, kFrame},
-    {&SizedResources::aafSum, gpu::GI_BINDING_AAF_SUM, kFrame},
+    {&SizedResources::aafParams, gpu::GI_BINDING_AAF_PARAMS, kFrame, kHalf},
     {&SizedResources::aafGlossy, gpu::GI_BINDING_AAF_GLOSSY, kFrame},
     {&SizedResources::aafGlossyEdge, gpu::GI_BINDING_AAF_GLOSSY_EDGE, kFrame},
     {&SizedResources::historyDirectB, gpu::GI_BINDING_HISTORY_DIRECT_B, kHistory, kRadianceHistory},
@@ -174,7 +175,8 @@ uint64_t sizedResourcesNeeded(const MethodPlan& plan, const Settings& s, const M
     need |= bit(&SizedResources::gradientSamplesA) | bit(&SizedResources::gradientSamplesB) |
             bit(&SizedResources::temporalGradient);
   if (plan.historyClamp) need |= bit(&SizedResources::temporalSpread);
-  if (plan.aaf) need |= bit(&SizedResources::aafParams) | bit(&SizedResources::aafSum);
+  // AAF's pass 1 hands its sample sums to pass 2 in the noisy indirect (aaf.glsl's aafStorePartial).
+  if (plan.aaf) need |= bit(&SizedResources::aafParams);
   // The temporal reservoirs: two sets of history where last frame's are merged, else one set of the frame's
   // in half the bytes (GI_BINDING_FRAME_RESERVOIRS), which with the pick borrows the temporal pass's
   // history set where there is one (half floats: the same eight bytes a texel as their rg32ui), else the

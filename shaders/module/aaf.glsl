@@ -207,4 +207,13 @@ void giTaskTakeNee(inout GiTask t, vec3 light, GiRng rng) {
 
 #include "ray_loop.glsl"
 
+// Pass 1 hands pass 2 the mean of its samples (in the noisy indirect's units) and their count (alpha), in
+// the noisy indirect itself, which pass 2 overwrites with the mean of all: no image of its own. Loads give
+// back the sum (rgb) and the count (a; 0 where no surface was seen).
+void aafStorePartial(ivec2 p, vec3 sum, float count) { giStoreNoisy(p, count > 0.0 ? sum / count : vec3(0.0), count); }
+vec4 aafLoadPartial(ivec2 p) {
+  const float count = imageLoad(giNoisyIndirect, p).a;
+  return vec4(giLoadNoisy(p) * count, count);
+}
+
 #endif

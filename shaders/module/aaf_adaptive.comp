@@ -23,7 +23,7 @@ void main() {
   uint traced = 0u;
   if (inside) {
     vec4 params = imageLoad(giAafParams, p);
-    vec4 sum = imageLoad(giAafSum, p);
+    vec4 sum = aafLoadPartial(p);
     vec4 glossy = vec4(0.0), edge = vec4(0.0);
     if (pc.glossy != 0u) {
       glossy = imageLoad(giAafGlossy, p);

@@ -58,7 +58,7 @@ void main() {
     }
     giStoreDirect(p, direct);
     imageStore(giAafParams, p, params);
-    imageStore(giAafSum, p, sum);
+    aafStorePartial(p, sum.rgb, sum.a);
     if (pc.glossy != 0u) {
       imageStore(giAafGlossy, p, glossy);
       imageStore(giAafGlossyEdge, p, edge);

@@ -6,15 +6,15 @@
 #include "bounds.glsl"
 #include "shared/gi_filters.h"
 
-// Guidance, positions and input are formatless: the module's are half floats, AAF's glossy terms and
-// the tests' synthetic images single floats.
+// Guidance, positions, input and params are formatless: the module's are half floats, AAF's glossy terms
+// (which carry their β as params do) and the tests' synthetic images single floats.
 layout(set = 0, binding = FILTER_BINDING_GUIDANCE) uniform image2D filterGuidance;
 layout(set = 0, binding = FILTER_BINDING_POSITION) uniform image2D filterPosition;
 layout(set = 0, binding = FILTER_BINDING_INPUT) uniform image2D filterInput;
 layout(set = 0, binding = FILTER_BINDING_OUTPUT) uniform image2D filterOutput;  // formatless (FilterOutputEncoding)
 layout(set = 0, binding = FILTER_BINDING_A, rgba32f) uniform image2D filterA[FILTER_STACK];
 layout(set = 0, binding = FILTER_BINDING_TEMP) uniform image2D filterTemp;  // formatless: half or single floats
-layout(set = 0, binding = FILTER_BINDING_PARAMS, rgba32f) uniform image2D filterParams;
+layout(set = 0, binding = FILTER_BINDING_PARAMS) uniform image2D filterParams;
 layout(set = 0, binding = FILTER_BINDING_COUNTERS, scalar) buffer FilterCountersBlock { GiCounters filterCounters; };
 
 // With ModuleDesc::checkBounds a coordinate outside its image is counted here (bounds.glsl).

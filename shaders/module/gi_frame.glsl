@@ -36,8 +36,7 @@ layout(set = 1, binding = GI_BINDING_NOISY_INDIRECT) uniform image2D giNoisyIndi
 layout(set = 1, binding = GI_BINDING_GUIDANCE, rgba16f) uniform image2D giGuidance;
 layout(set = 1, binding = GI_BINDING_POSITION, rgba16f) uniform image2D giPosition;
 layout(set = 1, binding = GI_BINDING_DEBUG) uniform image2D giDebug;  // formatless: half floats as à-trous's and AAF's temporary
-layout(set = 1, binding = GI_BINDING_AAF_PARAMS, rgba32f) uniform image2D giAafParams;
-layout(set = 1, binding = GI_BINDING_AAF_SUM, rgba32f) uniform image2D giAafSum;
+layout(set = 1, binding = GI_BINDING_AAF_PARAMS, rgba16f) uniform image2D giAafParams;
 layout(set = 1, binding = GI_BINDING_AAF_GLOSSY, rgba32f) uniform image2D giAafGlossy;
 layout(set = 1, binding = GI_BINDING_AAF_GLOSSY_EDGE, rgba32f) uniform image2D giAafGlossyEdge;
 layout(set = 1, binding = GI_BINDING_HISTORY_DIRECT_B) uniform image2D giHistoryDirectB;

@@ -18,7 +18,8 @@ GPU_CONST FILTER_BINDING_OUTPUT = 3;    // rgb: the filtered image; formatless: 
 GPU_CONST FILTER_BINDING_A = 4;         // FILTER_STACK images at 1/gif.subsample resolution: window statistics, then
                                         // coefficients, box-filtered in place
 GPU_CONST FILTER_BINDING_TEMP = 5;      // ping-pong image for à-trous and AAF; the guided filter's coefficient view
-GPU_CONST FILTER_BINDING_PARAMS = 6;    // AAF: z_min, z_max (metres), samples, β (metres)
+GPU_CONST FILTER_BINDING_PARAMS = 6;    // AAF: z_min, z_max (metres), samples, β (metres); formatless (half floats,
+                                        // or single floats for the glossy terms, which carry their β in .a)
 GPU_CONST FILTER_BINDING_COUNTERS = 7;  // storage buffer: GiCounters (the module's), where the bounds-checked
                                         // variant counts coordinates outside an image (shaders/module/bounds.glsl)
 #define FILTER_STACK 8u                 // 32 channels: the 29 window moments of 4-D guidance and RGB input

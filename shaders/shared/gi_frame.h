@@ -36,38 +36,37 @@ GPU_CONST GI_BINDING_NOISY_INDIRECT = 13;// rgba32f: demodulated indirect before
 GPU_CONST GI_BINDING_GUIDANCE = 14;      // rgba32f: filter guidance (shared/gi_filters.h contract)
 GPU_CONST GI_BINDING_POSITION = 15;      // rgba32f: world position (xyz), view depth (w; 0 = background)
 GPU_CONST GI_BINDING_DEBUG = 16;         // rgba32f: a filter's debug output (the filters' temp image)
-GPU_CONST GI_BINDING_AAF_PARAMS = 17;    // rgba32f: AAF z_min, z_max, samples, β (metres)
-GPU_CONST GI_BINDING_AAF_SUM = 18;       // rgba32f: AAF Σ demodulated indirect samples (rgb), count (a)
-GPU_CONST GI_BINDING_AAF_GLOSSY = 19;    // rgba32f: AAF glossy receivers: Σ, then mean, of lobe·(1 − s)·L (rgb); β_glossy (a)
-GPU_CONST GI_BINDING_AAF_GLOSSY_EDGE = 20; // rgba32f: the same for lobe·s·L (Schlick's s); specular = f0·glossy + edge
+GPU_CONST GI_BINDING_AAF_PARAMS = 17;    // rgba16f: AAF z_min, z_max, samples, β (metres)
+GPU_CONST GI_BINDING_AAF_GLOSSY = 18;    // rgba32f: AAF glossy receivers: Σ, then mean, of lobe·(1 − s)·L (rgb); β_glossy (a)
+GPU_CONST GI_BINDING_AAF_GLOSSY_EDGE = 19; // rgba32f: the same for lobe·s·L (Schlick's s); specular = f0·glossy + edge
 // Temporal reprojection (gi_temporal.comp): two sets of history, read one, write the other
 // (GiTemporalPush::readSet); set A's radiance images are above.
-GPU_CONST GI_BINDING_HISTORY_DIRECT_B = 21;   // accumulated direct over the base colour (rgb), history frames (a)
-GPU_CONST GI_BINDING_HISTORY_INDIRECT_B = 22; // accumulated demodulated indirect (rgb)
+GPU_CONST GI_BINDING_HISTORY_DIRECT_B = 20;   // accumulated direct over the base colour (rgb), history frames (a)
+GPU_CONST GI_BINDING_HISTORY_INDIRECT_B = 21; // accumulated demodulated indirect (rgb)
 // r32ui: last frame's normal and view depth (temporal.glsl's giPackGuide), which the temporal pass and the
 // temporal gradients read; one image, not a set each: this frame's replaces it once they have read it (the
 // composite pass, or svgf's variance pass, whose à-trous iterations read it).
-GPU_CONST GI_BINDING_HISTORY_GUIDE = 23;
+GPU_CONST GI_BINDING_HISTORY_GUIDE = 22;
 // SVGF (svgf_variance.comp, svgf_atrous.comp): the luminance moments' history, read and written with the
 // colour's (sets A and B alternate: GiSvgfPush::writtenSet). Its à-trous iterations hold no images of their own: they ping-pong
 // between the outputs and the history set last frame wrote (svgf.glsl), and read their taps' normal and depth
 // from the history guide, which the variance pass writes (from the G-buffer) once the temporal pass has read it.
-GPU_CONST GI_BINDING_SVGF_STATE_A = 24;     // svgf's luminance variances and frames (gi_frame.glsl's giPackSvgfState)
-GPU_CONST GI_BINDING_SVGF_STATE_B = 25;
+GPU_CONST GI_BINDING_SVGF_STATE_A = 23;     // svgf's luminance variances and frames (gi_frame.glsl's giPackSvgfState)
+GPU_CONST GI_BINDING_SVGF_STATE_B = 24;
 // Temporal gradients (TemporalSettings::gradients, A-SVGF, Schied et al. 2018): one pixel per
 // GI_GRADIENT_TILE² tile traces with the random numbers its reprojected pixel used last frame.
-GPU_CONST GI_BINDING_GRADIENT_SAMPLES_A = 26; // rgba32ui: the pixel's first sample, luminance of direct over base colour
-GPU_CONST GI_BINDING_GRADIENT_SAMPLES_B = 27; //   and of demodulated indirect as two half floats (x), its random state (y)
+GPU_CONST GI_BINDING_GRADIENT_SAMPLES_A = 25; // rgba32ui: the pixel's first sample, luminance of direct over base colour
+GPU_CONST GI_BINDING_GRADIENT_SAMPLES_B = 26; //   and of demodulated indirect as two half floats (x), its random state (y)
                                               //   and with reservoirs its light pick, the light and W's bits (zw)
-GPU_CONST GI_BINDING_TEMPORAL_GRADIENT = 28;  // rgba32f, one texel per tile: direct's change and max(then, now) (xy), indirect's (zw)
-GPU_CONST GI_BINDING_TEMPORAL_SPREAD = 29;    // rgba32f: this frame's samples around the pixel (3×3): luminance mean
+GPU_CONST GI_BINDING_TEMPORAL_GRADIENT = 27;  // rgba32f, one texel per tile: direct's change and max(then, now) (xy), indirect's (zw)
+GPU_CONST GI_BINDING_TEMPORAL_SPREAD = 28;    // rgba32f: this frame's samples around the pixel (3×3): luminance mean
                                               //   and σ of direct over base colour (xy) and of demodulated indirect (zw)
 // The hash methods' direct light history (hpsf.temporal), one texel per pixel in 8 bytes
 // (temporal.glsl, giPackHistory): the reflected direct light over the base colour, relative to the
 // scene's typical radiance, as RGB9E5 (x); view depth / depthScale as a half float, the octahedral
 // normal in 2 × 5 bits and the frames of history (to 63) (y). Written by the composite pass, once the
 // temporal pass has read every neighbour's texel: one image, not two.
-GPU_CONST GI_BINDING_HISTORY_PACKED = 30;
+GPU_CONST GI_BINDING_HISTORY_PACKED = 29;
 // Reservoir resampling of the primary hits' point and spot lights (ReservoirSettings, gi_reservoirs.comp).
 // A and B, rgba32ui, the temporal pass's reservoirs where last frame's are merged, one set written a
 // frame (GiReservoirPush::readSet) and read by the next: the chosen light (x; GI_RESERVOIR_EMPTY = none),
@@ -82,16 +81,16 @@ GPU_CONST GI_BINDING_HISTORY_PACKED = 30;
 // without such a set (the hash methods) rg32ui views of the half-float direct output, first written by the
 // tracing passes, and of the composite, written by the last pass (reservoirsInOutputs in module.h); where
 // A and B are merged, the pick alone in the composite.
-GPU_CONST GI_BINDING_RESERVOIRS_A = 31;
-GPU_CONST GI_BINDING_RESERVOIRS_B = 32;
-GPU_CONST GI_BINDING_RESERVOIR_PICK = 33;
+GPU_CONST GI_BINDING_RESERVOIRS_A = 30;
+GPU_CONST GI_BINDING_RESERVOIRS_B = 31;
+GPU_CONST GI_BINDING_RESERVOIR_PICK = 32;
 // The engine's direct and indirect outputs where ModuleDesc::outputFormat is packed (B10G11R11: no sign,
 // no alpha), written by the composite pass alone from OUT_DIRECT and OUT_INDIRECT (GiCompositePush::
 // packedOutputs); otherwise the same images as those, and not written.
-GPU_CONST GI_BINDING_PACKED_DIRECT = 34;
-GPU_CONST GI_BINDING_PACKED_INDIRECT = 35;
-GPU_CONST GI_BINDING_FRAME_RESERVOIRS = 36;  // the reservoirs within one frame (with A and B above)
-GPU_CONST GI_BINDING_COUNT = 37;
+GPU_CONST GI_BINDING_PACKED_DIRECT = 33;
+GPU_CONST GI_BINDING_PACKED_INDIRECT = 34;
+GPU_CONST GI_BINDING_FRAME_RESERVOIRS = 35;  // the reservoirs within one frame (with A and B above)
+GPU_CONST GI_BINDING_COUNT = 36;
 #define GI_GRADIENT_TILE 3u              // pixels per side of a gradient tile (A-SVGF's strata)
 #define GI_TRUSTED_HISTORY 4.0           // frames of history from which a pixel's accumulated light speaks for
                                          // itself: SVGF's temporal variance (spatial before), the filter clamp
