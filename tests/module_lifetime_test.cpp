@@ -16,15 +16,16 @@ namespace {
 constexpr uint32_t kSize = 32, kFrames = 5;
 
 // The images the next frame writes before it reads them: the frame-lifetime images, and where the frame's
-// reservoirs borrow it (gi::reservoirsInHistory) the history set the next frame's temporal pass overwrites
+// reservoirs borrow it (gi::reservoirHomes) the history set the next frame's temporal pass overwrites
 // (it reads set temporalFrames & 1 and writes the other), which holds the light of the frame before last.
+// Not the outputs, which the engine reads between frames.
 std::vector<const gi::vk::Image*> imagesTheNextFrameWritesFirst(const gi::Module& m) {
   std::vector<const gi::vk::Image*> images = gi::frameImages(m.sized);
-  if (gi::reservoirsInHistory(m.sized)) {
-    const bool nextWritesB = (m.temporalFrames & 1u) == 0u;
-    images.push_back(nextWritesB ? &m.sized.historyDirectB : &m.sized.historyDirectA);
-    images.push_back(nextWritesB ? &m.sized.historyIndirectB : &m.sized.historyIndirectA);
-  }
+  const gi::ReservoirHomes homes = gi::reservoirHomes(m.sized, m.outputs, (m.temporalFrames & 1u) == 0u ? 1u : 0u);
+  for (const gi::vk::Image* home : {homes.set, homes.pick})
+    if (home != &m.outputs.direct && home != &m.outputs.composite &&
+        std::find(images.begin(), images.end(), home) == images.end())
+      images.push_back(home);
   return images;
 }
 
@@ -99,9 +100,12 @@ TEST_F(ModuleLifetimeTest, ReservoirsWithoutTheirMergeLiveWithinTheFrame) {
           setsHeld = m.sized.reservoirsA.extent.width == kSize && m.sized.reservoirsB.extent.width == kSize;
           pickListed = std::find(images.begin(), images.end(), &m.sized.reservoirPick) != images.end() &&
                        m.sized.reservoirPick.extent.width == kSize;
-          borrowed = gi::reservoirsInHistory(m.sized) && m.sized.historyDirectA.alsoView != VK_NULL_HANDLE;
-          inOutputs = gi::reservoirsInOutputs(m.sized) && m.outputs.direct.alsoView != VK_NULL_HANDLE &&
-                      m.outputs.composite.alsoView != VK_NULL_HANDLE;
+          const gi::ReservoirHomes homes = gi::reservoirHomes(m.sized, m.outputs, 0);
+          borrowed = homes.set == &m.sized.historyDirectA && homes.pick == &m.sized.historyIndirectA &&
+                     m.sized.historyDirectA.alsoView != VK_NULL_HANDLE;
+          // Where the sets are merged the frame's set is unused (its 1×1 placeholder).
+          inOutputs = (homes.set == &m.outputs.direct || setsHeld) && homes.pick == &m.outputs.composite &&
+                      m.outputs.direct.alsoView != VK_NULL_HANDLE && m.outputs.composite.alsoView != VK_NULL_HANDLE;
         });
     const engine::ReferenceImages filled =
         renderAnimatedFrames(ctx, s, animation, settings, kSize, kFrames, moving,
@@ -139,14 +143,21 @@ TEST_F(ModuleLifetimeTest, ReservoirsInTheOutputsGiveTheSameLightAsImagesOfTheir
     bool lent = false, own = false;
     const engine::ReferenceImages inOutputs = renderAnimatedFrames(
         ctx, s, animation, settings, kSize, kFrames, false,
-        [&](tools::ModuleSession& session) { lent = gi::reservoirsInOutputs(session.module->sized); }, &lending);
+        [&](tools::ModuleSession& session) {
+          const gi::Module& m = *session.module;
+          const gi::ReservoirHomes homes = gi::reservoirHomes(m.sized, m.outputs, 0);
+          const bool merged = m.sized.reservoirsA.extent.width == kSize;
+          lent = homes.pick == &m.outputs.composite && (merged || homes.set == &m.outputs.direct);
+        },
+        &lending);
     const engine::ReferenceImages apart = renderAnimatedFrames(
         ctx, s, animation, settings, kSize, kFrames, false,
         [&](tools::ModuleSession& session) {
           const gi::SizedResources& r = session.module->sized;
+          const gi::ReservoirHomes homes = gi::reservoirHomes(r, session.module->outputs, 0);
           const bool merged = r.reservoirsA.extent.width == kSize;
-          own = !gi::reservoirsInOutputs(r) && (merged || r.frameReservoirs.extent.width == kSize) &&
-                r.reservoirPick.extent.width == kSize;
+          own = homes.set == &r.frameReservoirs && homes.pick == &r.reservoirPick &&
+                (merged || r.frameReservoirs.extent.width == kSize) && r.reservoirPick.extent.width == kSize;
         },
         &ownImages);
     ASSERT_FALSE(inOutputs.final.pixels.empty());

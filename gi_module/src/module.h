@@ -137,14 +137,23 @@ struct Module {
 std::span<const vk::Binding> frameBindings();
 uint64_t sizedResourcesNeeded(const MethodPlan& plan, const Settings& settings, const ModuleDesc& desc);
 // Set 1 for a frame of `slot` whose temporal pass writes history set `writtenSet` (0: A, 1: B): where the
-// frame's reservoirs and pick borrow that set's images (reservoirsInHistory) the two differ in those two
+// frame's reservoirs and pick borrow that set's images (reservoirHomes) the two differ in those two
 // bindings, and are the same otherwise.
 VkDescriptorSet frameSet(const SizedResources& r, uint32_t slot, uint32_t writtenSet);
-bool reservoirsInHistory(const SizedResources& r);
-// Without a history set to borrow (the hash methods' packed history, single-float histories), the frame's
-// reservoirs live in the direct output and the pick in the composite, where outputsLendToReservoirs; where
-// last frame's are merged (raw, AAF: their sets are history), the pick alone.
-bool reservoirsInOutputs(const SizedResources& r);
+// Where the frame's reservoir set (GI_BINDING_FRAME_RESERVOIRS) and the spatial pass's pick
+// (GI_BINDING_RESERVOIR_PICK) live in a frame whose temporal pass writes history set `writtenSet`; set 1
+// binds each through its rg32ui view where it has one (a lender's), else its own view. Lent:
+// - the history set that temporal pass overwrites later in the frame, which holds the light of the frame
+//   before last until then (half-float histories: the set in direct's texels, the pick in indirect's);
+// - without such a set (the hash methods' packed history, single-float histories) the direct output, which
+//   the tracing passes write first, and the composite, written last, where outputsLendToReservoirs;
+// - where last frame's sets are merged (raw, AAF: A and B, history), the pick alone, in the composite.
+// Otherwise frameReservoirs and reservoirPick, images of their own (1×1 where unused).
+struct ReservoirHomes {
+  const vk::Image* set;
+  const vk::Image* pick;
+};
+ReservoirHomes reservoirHomes(const SizedResources& r, const OutputImages& outputs, uint32_t writtenSet);
 bool outputsLendToReservoirs(const ModuleDesc& desc);
 vk::Status createSizedResources(Module& m, const Settings& settings, uint32_t width, uint32_t height,
                                 const OutputImages& outputs, SizedResources& out);

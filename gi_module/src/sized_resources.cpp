@@ -5,6 +5,7 @@
 #include <array>
 #include <iterator>
 #include <tuple>
+#include <utility>
 
 #include "module.h"
 
@@ -93,10 +94,10 @@ constexpr uint32_t kGuidedSubsampleShift = 32;
 // Bit 36: the filters read the indirect history (two filter sets, one per history set).
 constexpr uint64_t kFiltersReadHistory = 1ull << 36;
 // Bit 37: the frame's reservoirs and the pick borrow the history set this frame's temporal pass is about
-// to overwrite (reservoirsInHistory).
+// to overwrite (reservoirHomes).
 constexpr uint64_t kReservoirsInHistory = 1ull << 37;
 // Bit 38: where there is no such history set, the frame's reservoirs borrow the direct output and the pick
-// the composite (reservoirsInOutputs); where the sets are merged (history), the pick alone.
+// the composite (reservoirHomes); where the sets are merged (history), the pick alone.
 constexpr uint64_t kReservoirsInOutputs = 1ull << 38;
 uint32_t guidedSubsample(uint64_t needs) { return uint32_t(needs >> kGuidedSubsampleShift) & 0xfu; }
 static_assert(GIF_MAX_SUBSAMPLE <= 0xfu, "gif.subsample fits its four bits");
@@ -270,8 +271,13 @@ vk::Status createFilters(Module& m, const OutputImages& outputs, SizedResources&
 
 bool noisyAliasesIndirect(const SizedResources& r) { return (r.needs & kNoisyIsIndirect) != 0; }
 
-bool reservoirsInHistory(const SizedResources& r) { return (r.needs & kReservoirsInHistory) != 0; }
-bool reservoirsInOutputs(const SizedResources& r) { return (r.needs & kReservoirsInOutputs) != 0; }
+ReservoirHomes reservoirHomes(const SizedResources& r, const OutputImages& outputs, uint32_t writtenSet) {
+  if (r.needs & kReservoirsInHistory)
+    return {writtenSet ? &r.historyDirectB : &r.historyDirectA, writtenSet ? &r.historyIndirectB : &r.historyIndirectA};
+  const bool merged = (r.needs & bit(&SizedResources::reservoirsA)) != 0;
+  if (r.needs & kReservoirsInOutputs) return {merged ? &r.frameReservoirs : &outputs.direct, &outputs.composite};
+  return {&r.frameReservoirs, &r.reservoirPick};
+}
 
 // The direct output is first written by the tracing passes, after the spatial reservoir pass read the
 // frame's reservoirs for the last time; the composite by the composite pass, after the last pass that takes
@@ -374,22 +380,15 @@ vk::Status createSizedResources(Module& m, const Settings& settings, uint32_t wi
       w.storageImage(gpu::GI_BINDING_OUT_COMPOSITE, outputs.composite.view);
       w.storageImage(gpu::GI_BINDING_PACKED_DIRECT, outputs.direct.view);
       w.storageImage(gpu::GI_BINDING_PACKED_INDIRECT, outputs.indirect.view);
+      const ReservoirHomes homes = reservoirHomes(r, outputs, written);
+      const std::pair<const vk::Image*, const vk::Image*> homeOf[] = {{&r.frameReservoirs, homes.set},
+                                                                      {&r.reservoirPick, homes.pick}};
       for (const SizedImage& image : kSizedImages) {
         const bool alias = image.image == &SizedResources::noisyIndirect && (r.needs & kNoisyIsIndirect);
-        w.storageImage(image.binding, alias ? workingIndirect(outputs, r).view : (r.*image.image).view);
-      }
-      if (r.needs & kReservoirsInHistory) {
-        // The set the temporal pass writes this frame holds frame N − 2's light until then: the reservoirs'
-        // (direct's texels) and the pick (indirect's), both read before that pass.
-        w.storageImage(gpu::GI_BINDING_FRAME_RESERVOIRS, (written ? r.historyDirectB : r.historyDirectA).alsoView);
-        w.storageImage(gpu::GI_BINDING_RESERVOIR_PICK, (written ? r.historyIndirectB : r.historyIndirectA).alsoView);
-      }
-      if (r.needs & kReservoirsInOutputs) {
-        // The frame's set (where the sets are not merged) is read for the last time by the spatial pass, before
-        // the tracing passes write the direct output; the pick by the tracing passes, before the composite.
-        if (!(r.needs & bit(&SizedResources::reservoirsA)))
-          w.storageImage(gpu::GI_BINDING_FRAME_RESERVOIRS, outputs.direct.alsoView);
-        w.storageImage(gpu::GI_BINDING_RESERVOIR_PICK, outputs.composite.alsoView);
+        VkImageView view = alias ? workingIndirect(outputs, r).view : (r.*image.image).view;
+        for (const auto& [own, home] : homeOf)  // a lender through its rg32ui view
+          if (&(r.*image.image) == own) view = home->alsoView != VK_NULL_HANDLE ? home->alsoView : home->view;
+        w.storageImage(image.binding, view);
       }
       w.write(m.gpu);
     }

@@ -79,7 +79,7 @@ GPU_CONST GI_BINDING_HISTORY_PACKED = 29;
 // FRAME_RESERVOIRS and the pick are rg32ui views of the direct and indirect history set that pass
 // overwrites later in the frame (the same 8 bytes a texel; frameSet in module.h), not images of their own;
 // without such a set (the hash methods) rg32ui views of the half-float direct output, first written by the
-// tracing passes, and of the composite, written by the last pass (reservoirsInOutputs in module.h); where
+// tracing passes, and of the composite, written by the last pass (reservoirHomes in module.h); where
 // A and B are merged, the pick alone in the composite.
 GPU_CONST GI_BINDING_RESERVOIRS_A = 30;
 GPU_CONST GI_BINDING_RESERVOIRS_B = 31;
