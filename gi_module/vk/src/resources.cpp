@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <iterator>
 
 namespace gi::vk {
 
@@ -54,7 +55,15 @@ Status createImage(Device& d, VkExtent2D extent, VkFormat format, VkImageUsageFl
   info.tiling = VK_IMAGE_TILING_OPTIMAL;
   info.usage = usage;
   info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-  if (alsoViewedAs != VK_FORMAT_UNDEFINED) info.flags = VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT;
+  // A second view's format is named in a format list, not left open: a driver that compresses images (DCC)
+  // may keep compressing one whose formats it can list, where a bare MUTABLE_FORMAT image loses it.
+  const VkFormat viewFormats[] = {format, alsoViewedAs};
+  const VkImageFormatListCreateInfo formatList{VK_STRUCTURE_TYPE_IMAGE_FORMAT_LIST_CREATE_INFO, nullptr,
+                                               uint32_t(std::size(viewFormats)), viewFormats};
+  if (alsoViewedAs != VK_FORMAT_UNDEFINED) {
+    info.flags = VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT;
+    info.pNext = &formatList;
+  }
   auto build = [&]() -> Status {
     if (d.memory.simulate) {
       const VkDeviceImageMemoryRequirements query{VK_STRUCTURE_TYPE_DEVICE_IMAGE_MEMORY_REQUIREMENTS, nullptr, &info,
