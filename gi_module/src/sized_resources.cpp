@@ -5,7 +5,6 @@
 #include <array>
 #include <iterator>
 #include <tuple>
-#include <utility>
 
 #include "module.h"
 
@@ -271,6 +270,11 @@ vk::Status createFilters(Module& m, const OutputImages& outputs, SizedResources&
 
 bool noisyAliasesIndirect(const SizedResources& r) { return (r.needs & kNoisyIsIndirect) != 0; }
 
+namespace {
+// A reservoir binding's view of its home: a lender's rg32ui view, or an image of their own's view.
+VkImageView reservoirView(const vk::Image& home) { return home.alsoView != VK_NULL_HANDLE ? home.alsoView : home.view; }
+}  // namespace
+
 ReservoirHomes reservoirHomes(const SizedResources& r, const OutputImages& outputs, uint32_t writtenSet) {
   if (r.needs & kReservoirsInHistory)
     return {writtenSet ? &r.historyDirectB : &r.historyDirectA, writtenSet ? &r.historyIndirectB : &r.historyIndirectA};
@@ -381,13 +385,11 @@ vk::Status createSizedResources(Module& m, const Settings& settings, uint32_t wi
       w.storageImage(gpu::GI_BINDING_PACKED_DIRECT, outputs.direct.view);
       w.storageImage(gpu::GI_BINDING_PACKED_INDIRECT, outputs.indirect.view);
       const ReservoirHomes homes = reservoirHomes(r, outputs, written);
-      const std::pair<const vk::Image*, const vk::Image*> homeOf[] = {{&r.frameReservoirs, homes.set},
-                                                                      {&r.reservoirPick, homes.pick}};
       for (const SizedImage& image : kSizedImages) {
         const bool alias = image.image == &SizedResources::noisyIndirect && (r.needs & kNoisyIsIndirect);
         VkImageView view = alias ? workingIndirect(outputs, r).view : (r.*image.image).view;
-        for (const auto& [own, home] : homeOf)  // a lender through its rg32ui view
-          if (&(r.*image.image) == own) view = home->alsoView != VK_NULL_HANDLE ? home->alsoView : home->view;
+        if (image.image == &SizedResources::frameReservoirs) view = reservoirView(*homes.set);
+        if (image.image == &SizedResources::reservoirPick) view = reservoirView(*homes.pick);
         w.storageImage(image.binding, view);
       }
       w.write(m.gpu);

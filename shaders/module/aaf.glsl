@@ -212,8 +212,8 @@ void giTaskTakeNee(inout GiTask t, vec3 light, GiRng rng) {
 // back the sum (rgb) and the count (a; 0 where no surface was seen).
 void aafStorePartial(ivec2 p, vec3 sum, float count) { giStoreNoisy(p, count > 0.0 ? sum / count : vec3(0.0), count); }
 vec4 aafLoadPartial(ivec2 p) {
-  const float count = imageLoad(giNoisyIndirect, p).a;
-  return vec4(giLoadNoisy(p) * count, count);
+  const vec4 partial = giLoadNoisyAndAlpha(p);  // one load: the mean and the count
+  return vec4(partial.rgb * partial.a, partial.a);
 }
 
 #endif

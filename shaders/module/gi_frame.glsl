@@ -91,7 +91,12 @@ GI_OUTPUT_ACCESS(Composite, giOutComposite, giFrame.compositeMax)
 void giStoreNoisy(ivec2 p, vec3 radiance, float alpha) {
   imageStore(giNoisyIndirect, p, vec4(giOutputEncode(radiance, giFrame.noisyScale, giFrame.noisyMax), alpha));
 }
-vec3 giLoadNoisy(ivec2 p) { return imageLoad(giNoisyIndirect, p).rgb / giFrame.noisyScale; }
+// With its alpha as stored (AAF's pass 1 keeps its sample count there: aaf.glsl's aafStorePartial).
+vec4 giLoadNoisyAndAlpha(ivec2 p) {
+  const vec4 v = imageLoad(giNoisyIndirect, p);
+  return vec4(v.rgb / giFrame.noisyScale, v.a);
+}
+vec3 giLoadNoisy(ivec2 p) { return giLoadNoisyAndAlpha(p).rgb; }
 
 // The radiance histories hold radiance × historyScale, clamped to their format's range; their alpha
 // (the direct history's frames) as is. Loads give radiance back.
