@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <cstring>
 #include <ostream>
-#include <vector>
 
 #include "gi/catalogue.h"
 #include "gpu_test.h"
@@ -25,30 +24,20 @@ class ModuleBoundsTest : public GpuTest {};
 // One test a method of the catalogue, each under ctest's time limit of its own (900 s): in one test, the
 // checked variants of every method's programs took 378 s on a cold shader cache (stop 60; the longest
 // method alone, aaf, 102 s).
-class ModuleBoundsMethodTest : public GpuTest, public ::testing::WithParamInterface<gi::Method> {};
+class ModuleBoundsMethodTest : public GpuTest, public ::testing::WithParamInterface<gi::MethodInfo> {};
 
 namespace gi {
 // The test's name in ctest: EveryMethod/ModuleBoundsMethodTest.….../<method>.
-void PrintTo(Method method, std::ostream* out) { *out << methodName(method); }
+void PrintTo(const MethodInfo& info, std::ostream* out) { *out << info.name; }
 }  // namespace gi
-
-namespace {
-
-std::vector<gi::Method> everyMethod() {
-  std::vector<gi::Method> methods;
-  for (const gi::MethodInfo& info : gi::methodCatalogue()) methods.push_back(info.method);
-  return methods;
-}
-
-}  // namespace
 
 // The method with its defaults, 8 frames of the Cornell box's light circling
 // and a block turning while the camera pans, at 98×66; the hash methods' map at its smallest (1,024
 // cells) under cells of half a pixel: full from the first frame, a probe window that finds no slot on
 // every frame.
 TEST_P(ModuleBoundsMethodTest, OnAFullMapAndAMovingSceneStaysInBounds) {
-  const gi::Method method = GetParam();
-  const char* name = gi::methodName(method);
+  const gi::Method method = GetParam().method;
+  const char* name = GetParam().name;
   LoadedScene s;
   ASSERT_NO_FATAL_FAILURE(load(sharedScene("cornell-box-mcguire/CornellBox-Original.gltf"), s));
   const engine::SceneAnimation animation = engine::makeSceneAnimation(s.scene);
@@ -85,7 +74,8 @@ TEST_P(ModuleBoundsMethodTest, OnAFullMapAndAMovingSceneStaysInBounds) {
   }
   jumpOrFail(ctx, animation, 0.0f, s.scene, s.gpu);
 }
-INSTANTIATE_TEST_SUITE_P(EveryMethod, ModuleBoundsMethodTest, ::testing::ValuesIn(everyMethod()));
+INSTANTIATE_TEST_SUITE_P(EveryMethod, ModuleBoundsMethodTest,
+                         ::testing::ValuesIn(gi::methodCatalogue().begin(), gi::methodCatalogue().end()));
 
 using StressPush = gpu::HgStressPush;  // hash_stress.comp's push constants
 
