@@ -168,7 +168,7 @@ const SettingInfo kSettings[] = {
     GI_BOOL("reservoirs.unbiased", reservoirs.unbiased,
             "spatial weights by the balance heuristic over the neighbours' surfaces (else the biased 1/M)", kEvery),
     GI_BOOL("reservoirs.pairwise", reservoirs.pairwise,
-            "with unbiased: pairwise MIS against the pixel's own surface (3N+1 target evaluations, not (N+1)^2)",
+            "with unbiased: pairwise MIS against the pixel's own surface (2N+1 target evaluations, not (N+1)^2)",
             kEvery),
     GI_SETTING("reservoirs.boiling_filter", reservoirs.boilingFilter, "x the group's mean",
                "a temporal reservoir this many times its 8x8 group's others' mean estimate is dropped (0 = off)", Float,

@@ -255,7 +255,7 @@ struct ReservoirSettings {
                                 // (no fireflies where a light is bright here and dim where it was drawn);
                                 // off, the biased 1/M. Neither traces a shadow ray per neighbour
   bool pairwise = true;         // with `unbiased`: pairwise MIS (each neighbour's sample weighed against the
-                                // pixel's own surface alone: 3N+1 target evaluations for N neighbours) instead
+                                // pixel's own surface alone: 2N+1 target evaluations for N neighbours) instead
                                 // of the balance heuristic over every surface ((N+1)^2). Measured: the same
                                 // error for 0.84-0.94x the frame where the reservoirs hold emissive triangles,
                                 // 1.00-1.07x the error for 0.90-0.99x the frame with point lights
