@@ -91,11 +91,13 @@ uint giReservoirCandidate(GiSurface s, float u, inout GiRng rng, out float chanc
   return light;
 }
 
-// A target evaluated at a neighbour's surface, cut to a bfloat16's 8 bits of mantissa (0.4% at most): the
-// temporal pass stores each reservoir's own target p̂_i(y_i) so cut, beside its M, and the spatial pass
+// A target evaluated at a neighbour's surface, cut to a float's upper 12 bits (3 bits of mantissa: 12% at
+// most): the temporal pass stores each reservoir's own target p̂_i(y_i) so cut, and the spatial pass
 // evaluates every other light at a neighbour's surface through the same cut, so the MIS weights of one y
-// still sum to one exactly, and pairwise MIS evaluates no neighbour's own light again.
-float giNeighbourTarget(float target) { return uintBitsToFloat(floatBitsToUint(target) & 0xffff0000u); }
+// still sum to one exactly (the cut changes the weights, which any consistent choice keeps unbiased, not the
+// light), and pairwise MIS evaluates no neighbour's own light again.
+#define GI_TARGET_BITS 0xfff00000u
+float giNeighbourTarget(float target) { return uintBitsToFloat(floatBitsToUint(target) & GI_TARGET_BITS); }
 
 // z: M as a half float (at most 1000 × 64 = 64,000 by the settings' ranges: under the half's 65,504) in
 // the low 16 bits, giNeighbourTarget of p̂ at the reservoir's own pixel in the high 16.
@@ -108,22 +110,23 @@ uvec4 giStoredReservoir(GiReservoir r, float W, uint guide) {
 
 float giStoredW(uvec4 v) { return uintBitsToFloat(v.y); }
 float giStoredM(uvec4 v) { return unpackHalf2x16(v.z & 0xffffu).x; }
-// p̂ of the reservoir's light at its own pixel (giNeighbourTarget), or -1 where the frame's set does not keep
-// it (pc.frameSet: 8 bytes a texel, the light and W alone).
-float giStoredTarget(uvec4 v) { return pc.frameSet != 0u ? -1.0 : uintBitsToFloat(v.z & 0xffff0000u); }
+// p̂ of the reservoir's light at its own pixel, as giNeighbourTarget cut it.
+float giStoredTarget(uvec4 v) { return uintBitsToFloat(v.z & GI_TARGET_BITS); }
 
 // The temporal reservoirs, this frame's and last frame's, as giStoredReservoir wrote them. With
-// pc.frameSet (no merge) only this frame's, as its light and W (giStoreReservoir): its M is the
-// candidates' count, or 0 where the boiling filter dropped it (W's sign bit), and its guide is packed from
-// the G-buffer as the temporal pass packed it, the same bits.
+// pc.frameSet (no merge) only this frame's, as its light (x) and in y, W's bits rounded to its upper 20
+// (11 bits of mantissa: 0.025% at most) with the stored target's 12 in their place (giStoreReservoir): its
+// M is the candidates' count, or 0 where the boiling filter dropped it (W's sign bit), and its guide is
+// packed from the G-buffer as the temporal pass packed it, the same bits.
 #define GI_RESERVOIR_DROPPED 0x80000000u
+#define GI_FRAME_SET_W_BITS 0x7ffff000u
 uvec4 giLoadReservoir(ivec2 p, bool current) {
   if (pc.frameSet == 0u)
     return (pc.readSet == 0u) == current ? imageLoad(giReservoirsB, p) : imageLoad(giReservoirsA, p);
   if (!giGbCovered(p)) return uvec4(GI_RESERVOIR_EMPTY, 0u, 0u, 0u);
   const uvec2 v = imageLoad(giFrameReservoirs, p).xy;
   const float M = (v.y & GI_RESERVOIR_DROPPED) != 0u ? 0.0 : float(pc.candidates);
-  return uvec4(v.x, v.y & ~GI_RESERVOIR_DROPPED, giPackConfidence(M, 0.0),
+  return uvec4(v.x, v.y & GI_FRAME_SET_W_BITS, giPackConfidence(M, uintBitsToFloat(v.y << 20u)),
                giPackGuide(giGbNormal(p), giGbViewDepth(p) / giFrame.depthScale));
 }
 
@@ -131,7 +134,8 @@ uvec4 giLoadReservoir(ivec2 p, bool current) {
 void giStoreReservoir(ivec2 p, uvec4 stored) {
   if (pc.frameSet != 0u) {
     const uint dropped = giStoredM(stored) == 0.0 ? GI_RESERVOIR_DROPPED : 0u;
-    imageStore(giFrameReservoirs, p, uvec4(stored.x, stored.y | dropped, 0u, 0u));
+    const uint W = min(stored.y + 0x800u, 0x7f800000u) & GI_FRAME_SET_W_BITS;  // rounded (W ≥ 0), Inf at most
+    imageStore(giFrameReservoirs, p, uvec4(stored.x, dropped | W | (stored.z >> 20u), 0u, 0u));
   }
   else if (pc.readSet == 0u) imageStore(giReservoirsB, p, stored);
   else imageStore(giReservoirsA, p, stored);
@@ -205,8 +209,7 @@ uvec4 giBoilingFilter(uvec4 stored, float estimate) {
 // pixel's p̂: with `unbiased` each is weighed by the balance heuristic over the surfaces,
 // m_i(y) = M_i·p̂_i(y) / Σ_j M_j·p̂_j(y) (generalised RIS, Lin et al. 2022; the ReSTIR paper's MIS form),
 // so a light that is bright here and dim where it was drawn cannot become a firefly ((N+1)² target
-// evaluations for N neighbours), or with `pairwise` by pairwise MIS (giPairwiseShares, 2N+1, or 3N+1
-// without the stored targets); else by
+// evaluations for N neighbours), or with `pairwise` by pairwise MIS (giPairwiseShares, 2N+1); else by
 // M_i / Σ M_j (the paper's biased 1/M).
 #define GI_SPATIAL_MAX 9u
 
@@ -215,9 +218,8 @@ uvec4 giBoilingFilter(uvec4 stored, float estimate) {
 // N pairs: m_i(y) = M_i·p̂_i(y) / (M_i·p̂_i(y) + M_c/N·p̂_c(y)) / N, and c's weight the mean of its N pair
 // weights, so the weights of every y sum to one as the balance heuristic's do, and equal them where the
 // surfaces agree. Per neighbour the target of its light here and of the pixel's light at the neighbour,
-// p̂_i(y_c); its own light's p̂_i(y_i) is the one the temporal pass stored (giStoredTarget; evaluated again
-// only where the frame's set does not keep it), where the balance heuristic makes one a neighbour for every
-// merged light.
+// p̂_i(y_c); its own light's p̂_i(y_i) is the one the temporal pass stored (giStoredTarget), where the
+// balance heuristic makes one a neighbour for every merged light.
 void giPairwiseShares(uvec4 found[GI_SPATIAL_MAX], ivec2 at[GI_SPATIAL_MAX], uint count,
                       float here[GI_SPATIAL_MAX], GiSurface s, GiBsdf b, vec3 V, inout float share[GI_SPATIAL_MAX]) {
   if (count < 2u) {
@@ -232,9 +234,7 @@ void giPairwiseShares(uvec4 found[GI_SPATIAL_MAX], ivec2 at[GI_SPATIAL_MAX], uin
     const GiSurface si = giGbSurface(at[i], Vi);
     const GiBsdf bi = giMakeBsdf(si.material.baseColor, si.material.metallic, si.material.roughness, si.material.flags);
     const float Mi = giStoredM(found[i]);
-    float own = giStoredTarget(found[i]);
-    if (own < 0.0 && here[i] > 0.0) own = giNeighbourTarget(giReservoirTarget(found[i].x, si, bi, Vi));
-    const float drawn = here[i] > 0.0 ? Mi * own : 0.0;
+    const float drawn = here[i] > 0.0 ? Mi * giStoredTarget(found[i]) : 0.0;
     const float mine = canonicalM * here[i];
     share[i] = drawn > 0.0 ? drawn / ((drawn + mine) * N) : 0.0;
     const float theirs = here[0] > 0.0 ? Mi * giNeighbourTarget(giReservoirTarget(found[0].x, si, bi, Vi)) : 0.0;
@@ -279,9 +279,8 @@ uvec4 giSpatialReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float d
       const GiBsdf bj = giMakeBsdf(sj.material.baseColor, sj.material.metallic, sj.material.roughness, sj.material.flags);
       const float Mj = giStoredM(found[j]);
       for (uint i = 0u; i < count; ++i) {
-        const float stored = i == j ? giStoredTarget(found[i]) : -1.0;
         const float pj = j == 0u || !(here[i] > 0.0) ? here[i]
-                         : stored >= 0.0            ? stored
+                         : i == j                   ? giStoredTarget(found[i])
                                                     : giNeighbourTarget(giReservoirTarget(found[i].x, sj, bj, Vj));
         sum[i] += Mj * pj;
         if (i == j) share[i] = Mj * pj;

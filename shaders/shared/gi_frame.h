@@ -71,10 +71,11 @@ GPU_CONST GI_BINDING_HISTORY_PACKED = 29;
 // A and B, rgba32ui, the temporal pass's reservoirs where last frame's are merged, one set written a
 // frame (GiReservoirPush::readSet) and read by the next: the chosen light (x; GI_RESERVOIR_EMPTY = none),
 // its weight W (y, float bits), the samples behind it M (z's low 16 bits, a half float) and the light's
-// target at the pixel (z's high 16, a float's upper half: giPackConfidence), the pixel's guide (w,
+// target at the pixel (z's high 16, a float's upper 12 bits: giPackConfidence), the pixel's guide (w,
 // giPackGuide). Where they are not merged, FRAME_RESERVOIRS instead, rg32ui, written and read within
-// the frame: the light (x) and W (y) alone, since M is then the candidates' count (0 where the boiling
-// filter dropped the reservoir: W's sign bit) and the guide the G-buffer's (giLoadReservoir). The pick,
+// the frame: the light (x), and W's upper 20 bits with the target's 12 (y), since M is then the
+// candidates' count (0 where the boiling filter dropped the reservoir: W's sign bit) and the guide the
+// G-buffer's (giLoadReservoir). The pick,
 // rg32ui, the spatial pass's result the tracing passes take (giPrimaryReservoir): the light and its W
 // (float bits), 0 where the pixel does not see it. Where a temporal pass keeps half-float histories,
 // FRAME_RESERVOIRS and the pick are rg32ui views of the direct and indirect history set that pass
