@@ -100,7 +100,7 @@ uint giReservoirCandidate(GiSurface s, float u, inout GiRng rng, out float chanc
 float giNeighbourTarget(float target) { return uintBitsToFloat(floatBitsToUint(target) & GI_TARGET_BITS); }
 
 // z: M as a half float (at most 1000 × 64 = 64,000 by the settings' ranges: under the half's 65,504) in
-// the low 16 bits, giNeighbourTarget of p̂ at the reservoir's own pixel in the high 16.
+// the low 16 bits, giNeighbourTarget of p̂ at the reservoir's own pixel in the high 12 (bits 16–19 zero).
 uint giPackConfidence(float M, float target) {
   return floatBitsToUint(giNeighbourTarget(target)) | (packHalf2x16(vec2(M, 0.0)) & 0xffffu);
 }
