@@ -96,7 +96,8 @@ uint giReservoirCandidate(GiSurface s, float u, inout GiRng rng, out float chanc
 // evaluates every other light at a neighbour's surface through the same cut, so the MIS weights of one y
 // still sum to one exactly (the cut changes the weights, which any consistent choice keeps unbiased, not the
 // light), and pairwise MIS evaluates no neighbour's own light again.
-#define GI_TARGET_BITS 0xfff00000u
+#define GI_TARGET_SHIFT 20u  // the target keeps a float's upper 32 − 20 = 12 bits
+#define GI_TARGET_BITS (0xffffffffu << GI_TARGET_SHIFT)
 float giNeighbourTarget(float target) { return uintBitsToFloat(floatBitsToUint(target) & GI_TARGET_BITS); }
 
 // z: M as a half float (at most 1000 × 64 = 64,000 by the settings' ranges: under the half's 65,504) in
@@ -119,14 +120,15 @@ float giStoredTarget(uvec4 v) { return uintBitsToFloat(v.z & GI_TARGET_BITS); }
 // M is the candidates' count, or 0 where the boiling filter dropped it (W's sign bit), and its guide is
 // packed from the G-buffer as the temporal pass packed it, the same bits.
 #define GI_RESERVOIR_DROPPED 0x80000000u
-#define GI_FRAME_SET_W_BITS 0x7ffff000u
+#define GI_FRAME_SET_TARGET_BITS ((1u << (32u - GI_TARGET_SHIFT)) - 1u)  // y's low 12: the target's
+#define GI_FRAME_SET_W_BITS (~(GI_RESERVOIR_DROPPED | GI_FRAME_SET_TARGET_BITS))
 uvec4 giLoadReservoir(ivec2 p, bool current) {
   if (pc.frameSet == 0u)
     return (pc.readSet == 0u) == current ? imageLoad(giReservoirsB, p) : imageLoad(giReservoirsA, p);
   if (!giGbCovered(p)) return uvec4(GI_RESERVOIR_EMPTY, 0u, 0u, 0u);
   const uvec2 v = imageLoad(giFrameReservoirs, p).xy;
   const float M = (v.y & GI_RESERVOIR_DROPPED) != 0u ? 0.0 : float(pc.candidates);
-  return uvec4(v.x, v.y & GI_FRAME_SET_W_BITS, giPackConfidence(M, uintBitsToFloat(v.y << 20u)),
+  return uvec4(v.x, v.y & GI_FRAME_SET_W_BITS, giPackConfidence(M, uintBitsToFloat(v.y << GI_TARGET_SHIFT)),
                giPackGuide(giGbNormal(p), giGbViewDepth(p) / giFrame.depthScale));
 }
 
@@ -134,8 +136,9 @@ uvec4 giLoadReservoir(ivec2 p, bool current) {
 void giStoreReservoir(ivec2 p, uvec4 stored) {
   if (pc.frameSet != 0u) {
     const uint dropped = giStoredM(stored) == 0.0 ? GI_RESERVOIR_DROPPED : 0u;
-    const uint W = min(stored.y + 0x800u, 0x7f800000u) & GI_FRAME_SET_W_BITS;  // rounded (W ≥ 0), Inf at most
-    imageStore(giFrameReservoirs, p, uvec4(stored.x, dropped | W | (stored.z >> 20u), 0u, 0u));
+    const uint toNearest = (GI_FRAME_SET_TARGET_BITS + 1u) / 2u;  // W rounded to its upper 20 bits (W ≥ 0)
+    const uint W = min(stored.y + toNearest, 0x7f800000u) & GI_FRAME_SET_W_BITS;
+    imageStore(giFrameReservoirs, p, uvec4(stored.x, dropped | W | (stored.z >> GI_TARGET_SHIFT), 0u, 0u));
   }
   else if (pc.readSet == 0u) imageStore(giReservoirsB, p, stored);
   else imageStore(giReservoirsA, p, stored);
