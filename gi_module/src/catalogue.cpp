@@ -173,6 +173,8 @@ const SettingInfo kSettings[] = {
     GI_SETTING("reservoirs.boiling_filter", reservoirs.boilingFilter, "x the group's mean",
                "a temporal reservoir this many times its 8x8 group's others' mean estimate is dropped (0 = off)", Float,
                0, 1000, false, kEvery),
+    GI_BOOL("reservoirs.sky", reservoirs.sky,
+            "where the reservoirs run, resample a sky map's light too (weighed against BSDF sampling)", kEvery),
 
     GI_SETTING("svgf.spp", svgf.samplesPerPixel, "paths per pixel", "paths traced per pixel per frame", Uint, 1, 64,
                false, kSvgf),

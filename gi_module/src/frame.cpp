@@ -133,7 +133,8 @@ void beginFrame(Module& m, VkCommandBuffer cmd, uint32_t slot, const FrameInputs
 uint32_t primaryDirect(const MethodPlan& plan, const Settings& s) {
   if (s.indirectOnly) return gpu::GI_PRIMARY_DIRECT_NONE;
   return (plan.reservoirPunctual ? gpu::GI_PRIMARY_DIRECT_RESERVOIRS : gpu::GI_PRIMARY_DIRECT_NEE) |
-         (plan.reservoirEmissive ? gpu::GI_PRIMARY_DIRECT_EMISSIVE : 0u);
+         (plan.reservoirEmissive ? gpu::GI_PRIMARY_DIRECT_EMISSIVE : 0u) |
+         (plan.reservoirSky ? gpu::GI_PRIMARY_DIRECT_SKY : 0u);
 }
 
 // This frame's own facts beside the method's plan (Module::plan), decided once before its passes.

@@ -30,6 +30,7 @@ MethodPlan planMethod(const SceneDesc& scene, const Settings& s) {
   p.reservoirEmissive =
       resamples && scene.emissiveTriangles > s.reservoirs.emissiveMin && scene.emissiveTriangles <= (1u << 22);
   p.reservoirs = p.reservoirPunctual || p.reservoirEmissive;
+  p.reservoirSky = p.reservoirs && scene.hasSky && s.reservoirs.sky;
   p.reservoirTemporal = p.reservoirs && s.reservoirs.temporal && !p.temporalPass;
   p.validatesHashCells = p.hashGrid && s.hpsf.eviction == EvictionPolicy::Aging && s.hpsf.validationInterval > 0;
   p.defersHashClaims = p.hashGrid && s.hpsf.eviction == EvictionPolicy::Aging && s.hpsf.deferredClaims;

@@ -58,6 +58,9 @@ struct MethodPlan {
   // reservoir's word keeps 8 bits for the sample point); the rest stays NEE's.
   bool reservoirPunctual = false;
   bool reservoirEmissive = false;
+  // Where the reservoir passes run anyway, they resample the sky too where it has a map
+  // (ReservoirSettings::sky); a sky alone adds no reservoir pass: its NEE stays the vertex's.
+  bool reservoirSky = false;
   // Last frame's reservoir is merged (ReservoirSettings::temporal) only where no temporal pass averages the
   // direct light over frames: the reuse makes a pixel's successive picks alike, and a history of alike
   // samples averages less noise away than one of fresh picks (docs/RESULTS.md, "Reservoirs").

@@ -73,6 +73,7 @@ GI_BOUNDS_UNCHECKED
 uint giLightSampler() { return sceneConstants().lightSampler; }  // the reference follows the scene
 bool giReservoirsHoldPunctual() { return false; }                // and has no reservoirs
 bool giReservoirsHoldEmissive() { return false; }
+bool giReservoirsHoldSky() { return false; }
 
 PathResult tracePath(uvec2 pixel, uint sampleIndex) {
   GiTask task;

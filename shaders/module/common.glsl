@@ -61,8 +61,11 @@ vec3 giOctahedralDecode(vec2 e) {  // e in [-1,1]²; not normalised
 const uvec2 GI_NO_RESERVOIR = uvec2(0xffffffffu, 0u);
 const uint GI_RESERVOIR_EMPTY = 0xfffffffeu;
 // A reservoir's light with this bit is an emissive triangle's sample point (lights.glsl's
-// giPackEmissiveSample); without it, a punctual light's index.
+// giPackEmissiveSample); without it (and without GI_RESERVOIR_SKY), a punctual light's index.
 const uint GI_RESERVOIR_EMISSIVE = 0x80000000u;
+// Bit 30 with bit 31 clear: a direction to the sky (lights.glsl's giPackSkySample). Punctual indices stay
+// below it, and the emissive samples and the markers above have bit 31.
+const uint GI_RESERVOIR_SKY = 0x40000000u;
 const uvec2 GI_NO_NEE = uvec2(0xfffffffdu, 0u);
 bool giUsesReservoir(uvec2 reservoir) { return reservoir.x != GI_NO_RESERVOIR.x && reservoir.x != GI_NO_NEE.x; }
 

@@ -63,6 +63,7 @@ GI_COUNT_TEXELS_OUTSIDE_INTO(giCounters.boundsViolations)
 uint giLightSampler() { return giFrame.lightSampler; }
 bool giReservoirsHoldPunctual() { return (giFrame.primaryDirect & GI_PRIMARY_DIRECT_RESERVOIRS) != 0u; }
 bool giReservoirsHoldEmissive() { return (giFrame.primaryDirect & GI_PRIMARY_DIRECT_EMISSIVE) != 0u; }
+bool giReservoirsHoldSky() { return (giFrame.primaryDirect & GI_PRIMARY_DIRECT_SKY) != 0u; }
 // The frame's primary hits take their reservoir's light (gi_reservoirs.comp).
 bool giFrameHasReservoirs() { return giReservoirsHoldPunctual() || giReservoirsHoldEmissive(); }
 

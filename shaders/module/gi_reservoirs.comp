@@ -5,9 +5,10 @@
 // and its weight W, an estimate of 1 / p(y) for the target p̂ = the luminance
 // of the light's unshadowed reflected light f·Le·G: the pixel's direct light
 // from the lights the reservoirs hold is then f·Le·G·V(y)·W, one shadow ray.
-// y is a punctual light (p̂ and p counted per light) or a point of an
-// emissive triangle (per unit of area: lights.glsl's giPackEmissiveSample),
-// as GiFrameConstants::primaryDirect says the frame's reservoirs hold them.
+// y is a punctual light (p̂ and p counted per light), a point of an
+// emissive triangle (per unit of area: lights.glsl's giPackEmissiveSample)
+// or a direction to the sky (per steradian: giPackSkySample), as
+// GiFrameConstants::primaryDirect says the frame's reservoirs hold them.
 //   GI_RESERVOIR_TEMPORAL: `candidates` lights drawn from the scene's light
 //     sampler (the tree's importance or power) are resampled by p̂ / pdf;
 //     last frame's temporal reservoir at the pixel's reprojection is merged
@@ -25,7 +26,10 @@
 //     not a mix of its neighbours' (measured: fed back, in a room of a
 //     thousand lamps whose best lights change from pixel to pixel, the
 //     neighbours' samples diluted each pixel's own history).
-// Directional lights and the sky are NEE's at every vertex as before: p̂ = 0 here.
+// Where they run, the reservoirs hold the sky's map too (GI_PRIMARY_DIRECT_SKY): a share of the candidates
+// are directions drawn from it, their target the sky's light weighed against BSDF sampling (lights.glsl's
+// giReservoirSkyPdf), and a BSDF-sampled ray that leaves the scene from the primary hit takes the rest.
+// Directional lights and a constant sky are NEE's (and BSDF sampling's) at every vertex as before: p̂ = 0.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #include "gi_frame.glsl"
@@ -46,16 +50,20 @@ GiReservoir giEmptyReservoir() { return GiReservoir(GI_RESERVOIR_EMPTY, 0.0, 0.0
 
 // p̂: the luminance of the light's unshadowed reflected light at s (0 for directional lights, none, and
 // lights the frame's reservoirs do not hold), and for a triangle's point the triangle's area
-// (giPrepareReservoirLight).
-float giReservoirTarget(uint light, GiSurface s, GiBsdf b, vec3 V, out float area) {
+// (giPrepareReservoirLight; skyShare: giReservoirSkyShare at s).
+float giReservoirTarget(uint light, GiSurface s, GiBsdf b, vec3 V, float skyShare, out float area) {
   area = 0.0;
   if (light == GI_RESERVOIR_EMPTY) return 0.0;
   GiShadowRay ray;
-  return giPrepareReservoirLight(light, s, b, V, ray, area) ? giLuminance(ray.contribution) : 0.0;
+  return giPrepareReservoirLight(light, s, b, V, skyShare, ray, area) ? giLuminance(ray.contribution) : 0.0;
 }
-float giReservoirTarget(uint light, GiSurface s, GiBsdf b, vec3 V) {
+float giReservoirTarget(uint light, GiSurface s, GiBsdf b, vec3 V, float skyShare) {
   float area;
-  return giReservoirTarget(light, s, b, V, area);
+  return giReservoirTarget(light, s, b, V, skyShare, area);
+}
+// At a neighbour's surface, one light there: its sky share only where the light is the sky.
+float giReservoirTarget(uint light, GiSurface s, GiBsdf b, vec3 V) {
+  return giReservoirTarget(light, s, b, V, giIsSkySample(light) ? giReservoirSkyShare(s.position, s.geometricNormal) : 0.0);
 }
 
 // Streams in a sample of weight w (p̂/pdf for a candidate, p̂·W·M for a reservoir) standing for M samples.
@@ -70,24 +78,32 @@ void giReservoirMerge(inout GiReservoir r, uint light, float target, float weigh
 }
 
 // A candidate from the scene's samplers and the chance of its pick (0: none can light x): a punctual
-// light, or an emissive triangle's sample point (whose density is that chance over the triangle's area,
-// which its target brings: giReservoirTarget). Where the reservoirs hold both, each is drawn half of the time.
-// `u` picks the light (the caller stratifies it over the candidates).
-uint giReservoirCandidate(GiSurface s, float u, inout GiRng rng, out float chance) {
+// light, an emissive triangle's sample point (whose density is that chance over the triangle's area,
+// which its target brings: giReservoirTarget), or a direction from the sky's map (a density per steradian:
+// giReservoirSkyPdf). The sky takes giReservoirSkyShare of the candidates; where the reservoirs hold both
+// kinds of lights, each is drawn half of the rest. `u` picks the light (the caller stratifies it over the
+// candidates; skyShare is giReservoirSkyShare at s).
+uint giReservoirCandidate(GiSurface s, float u, float skyShare, inout GiRng rng, out float chance) {
+  if (skyShare >= 1.0 || (skyShare > 0.0 && giRandom(rng) < skyShare)) {
+    float pdf;
+    const uint direction = giPackSkySample(giSampleSkyMap(giRandom2(rng), pdf));
+    chance = skyShare * giSkyLightPdf(giSkySampleDirection(direction));  // the density where the packed one points
+    return direction;
+  }
   const float emissiveShare = giReservoirsHoldEmissive() ? (giReservoirsHoldPunctual() ? 0.5 : 1.0) : 0.0;
   if (emissiveShare >= 1.0 || (emissiveShare > 0.0 && giRandom(rng) < emissiveShare)) {
     const bool tree = giEmissiveTree();
     float pick = 1.0;
     const uint k = tree ? giPickFromTree(true, 0u, s.position, s.geometricNormal, u, pick) : giPickEmissiveTriangle(u);
     if (!tree) pick = giEmissiveTriangleChance(k);
-    chance = emissiveShare * pick;
+    chance = (1.0 - skyShare) * emissiveShare * pick;
     return giPackEmissiveSample(k, giRandom2(rng));
   }
   uint light;
   if (giLightSampler() == LIGHT_SAMPLER_TREE)
     light = giPickFromTree(false, 0u, s.position, s.geometricNormal, u, chance);
   else light = giPickPunctual(u, chance);
-  chance *= 1.0 - emissiveShare;
+  chance *= (1.0 - skyShare) * (1.0 - emissiveShare);
   return light;
 }
 
@@ -149,6 +165,7 @@ void giStoreReservoir(ivec2 p, uvec4 stored) {
 uvec4 giTemporalReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float depth, uint guide, inout GiRng rng,
                           out float estimate) {
   GiReservoir r = giEmptyReservoir();
+  const float skyShare = giReservoirSkyShare(s.position, s.geometricNormal);
   // The candidates' picks are stratified: one random offset, then equal steps, so each u is uniform (each
   // candidate keeps the sampler's density, as RIS asks) and together they cover [0, 1) evenly, which spreads
   // them over the tree's leaves instead of letting them crowd.
@@ -156,8 +173,8 @@ uvec4 giTemporalReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float 
   for (uint i = 0u; i < pc.candidates; ++i) {
     float chance, area = 0.0;
     const float u = fract(offset + float(i) / float(pc.candidates));
-    const uint light = giReservoirCandidate(s, u, rng, chance);
-    const float target = chance > 0.0 ? giReservoirTarget(light, s, b, V, area) : 0.0;
+    const uint light = giReservoirCandidate(s, u, skyShare, rng, chance);
+    const float target = chance > 0.0 ? giReservoirTarget(light, s, b, V, skyShare, area) : 0.0;
     const float density = area > 0.0 ? chance / area : chance;  // a triangle's point: per unit of its area
     giReservoirMerge(r, light, target, target / max(density, 1e-30), 1.0, giRandom(rng));
   }
@@ -168,7 +185,7 @@ uvec4 giTemporalReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float 
         giHistoryTexelAgrees(giUnpackGuide(previous.w), n, giPreviousViewDepth(s.position), depth, pc.depthTolerance,
                              pc.cosNormalLimit)) {
       const float M = min(giStoredM(previous), pc.maxHistory * float(pc.candidates));
-      const float target = giReservoirTarget(previous.x, s, b, V);
+      const float target = giReservoirTarget(previous.x, s, b, V, skyShare);
       giReservoirMerge(r, previous.x, target, target * giStoredW(previous) * M, M, giRandom(rng));
     }
   }
@@ -267,8 +284,9 @@ uvec4 giSpatialReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float d
   // Each light's target here, and its share: M_i, or with `unbiased` the balance heuristic, whose sums read
   // each surface once.
   float here[GI_SPATIAL_MAX], share[GI_SPATIAL_MAX], sum[GI_SPATIAL_MAX];
+  const float skyShare = giReservoirSkyShare(s.position, s.geometricNormal);
   for (uint i = 0u; i < count; ++i) {
-    here[i] = giReservoirTarget(found[i].x, s, b, V);
+    here[i] = giReservoirTarget(found[i].x, s, b, V, skyShare);
     share[i] = giStoredM(found[i]);
     sum[i] = 0.0;
   }
@@ -298,7 +316,8 @@ uvec4 giSpatialReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float d
   // The survivor's shadow ray: an occluded light brings nothing this frame (the reservoirs that are
   // reused keep estimating the unshadowed light, whose visibility the pixel that picks it tests).
   GiShadowRay shadow;
-  if (W > 0.0 && giPrepareReservoirLight(r.light, s, b, V, shadow) &&
+  float area;
+  if (W > 0.0 && giPrepareReservoirLight(r.light, s, b, V, skyShare, shadow, area) &&
       !giTraceVisible(shadow.origin, shadow.direction, 0.0, shadow.tMax))
     W = 0.0;
   return uvec4(r.light, floatBitsToUint(W), 0u, 0u);

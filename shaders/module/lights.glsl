@@ -31,10 +31,12 @@ struct GiShadowRay {
 // frame constants (gi::LightSettings, gi_frame.glsl), the reference path tracer the scene's.
 uint giLightSampler();
 // What a primary hit's reservoir (gi_reservoirs.comp) stands for, where NEE is handed one: the point and
-// spot lights, the emissive triangles, or both (GiFrameConstants::primaryDirect); the others are NEE's own.
-// The reference path tracer has no reservoirs.
+// spot lights, the emissive triangles, or both, and with either the sky where it has a map
+// (GiFrameConstants::primaryDirect; giReservoirsSampleSky); the others are NEE's own. The reference path
+// tracer has no reservoirs.
 bool giReservoirsHoldPunctual();
 bool giReservoirsHoldEmissive();
+bool giReservoirsHoldSky();
 
 
 uint giPickEmissiveTriangle(float u) {
@@ -246,14 +248,102 @@ bool giPreparePunctual(uint i, GiSurface s, GiBsdf b, vec3 V, out GiShadowRay ra
   return true;
 }
 
+
+// How much a tree's lights may bring to x (geometric normal ng): its root's children's importance (the
+// root's own bounds every light at once, far looser).
+float giTreeImportance(bool emissive, vec3 x, vec3 ng) {
+  const GpuLightNode root = giTreeNode(emissive, 0u);
+  if ((root.child & LIGHT_NODE_LEAF) != 0u) return lightNodeImportance(root, x, ng);
+  return lightNodeImportance(giTreeNode(emissive, root.child), x, ng) +
+         lightNodeImportance(giTreeNode(emissive, root.child + 1u), x, ng);
+}
+
+// The sky's share beside `others`, the importance of the lights it shares a pick with: its irradiance
+// against theirs (1/2 where neither can light the vertex).
+float giSkyShare(float others) {
+  const float skyImportance = sceneConstants().skyIrradiance;
+  const float total = skyImportance + others;
+  return total > 0.0 ? skyImportance / total : 0.5;
+}
+
+// Probability that the area-light shadow ray from x (geometric normal ng) goes to the sky, where emissive
+// triangles (unless a reservoir holds them: `withTriangles` false) and a sampled sky (unless a reservoir holds
+// it: `withSky` false) share it: where the triangles are picked down their tree (giEmissiveTree) the sky is
+// one more node beside it, chosen by its irradiance against the root's importance at x (all of it where no
+// triangle can light x); else 1/2. All or nothing where only one of them is there. With MIS a constant sky
+// is not sampled (BSDF sampling finds it), so it takes no share.
+float giSkySelection(bool withMis, bool withTriangles, bool withSky, vec3 x, vec3 ng) {
+  bool emissive = withTriangles && GI_SCENE_HAS_EMISSIVE && sceneConstants().emissiveTriangleCount > 0u;
+  bool sky = withSky && GI_SCENE_HAS_SKY && (giSkyHasMap() || !withMis) && giMaxComponent(sceneConstants().skyRadiance) > 0.0;
+  if (!sky) return 0.0;
+  if (!emissive) return 1.0;
+  if (!giEmissiveTree()) return 0.5;
+  return giSkyShare(giTreeImportance(true, x, ng));
+}
+
+// Whether a primary hit's reservoir holds the sky: the frame's reservoirs take it and it has a map (a
+// constant sky has no light pdf to resample with: BSDF sampling finds it, as at every other vertex).
+bool giReservoirsSampleSky() {
+  return GI_SCENE_HAS_SKY && giReservoirsHoldSky() && giSkyHasMap() && giMaxComponent(sceneConstants().skyRadiance) > 0.0;
+}
+
+// The chance that a reservoir's candidate at x (geometric normal ng) is a sky direction: its irradiance
+// against the importance of the lights the reservoirs hold beside it, down their trees (giSkySelection's
+// rule); without the trees one equal share per kind of light. 0 where the reservoirs do not hold the sky.
+float giReservoirSkyShare(vec3 x, vec3 ng) {
+  if (!giReservoirsSampleSky()) return 0.0;
+  const bool punctual = giReservoirsHoldPunctual() && GI_SCENE_HAS_PUNCTUAL;
+  const bool emissive = giReservoirsHoldEmissive() && GI_SCENE_HAS_EMISSIVE && sceneConstants().emissiveTriangleCount > 0u;
+  if (!punctual && !emissive) return 1.0;
+  if (giLightSampler() != LIGHT_SAMPLER_TREE || (emissive && !giEmissiveTree()))
+    return punctual && emissive ? 1.0 / 3.0 : 0.5;
+  return giSkyShare((punctual ? giTreeImportance(false, x, ng) : 0.0) + (emissive ? giTreeImportance(true, x, ng) : 0.0));
+}
+
+// The solid-angle density of a reservoir's sky candidates in direction `dir` at surface `s`: the sky's
+// share times the map's density. The reservoirs resample the sky's light weighed by the power heuristic of
+// this density against the BSDF's (giPrepareReservoirLight); a BSDF-sampled ray from the primary hit that
+// leaves the scene takes the rest (path.glsl), so together they count the sky's light once.
+float giReservoirSkyPdf(vec3 dir, GiSurface s) {
+  return giReservoirSkyShare(s.position, s.geometricNormal) * giSkyLightPdf(dir);
+}
+
+// A reservoir's sky sample: GI_RESERVOIR_SKY and the direction, octahedral, 15 bits a coordinate (about
+// 1e-4 rad apart: far finer than any map's texels, over which its density is constant).
+uint giPackSkySample(vec3 dir) {
+  const uvec2 q = uvec2(round((giOctahedralEncode(dir) * 0.5 + 0.5) * 32767.0));
+  return GI_RESERVOIR_SKY | (q.y << 15u) | q.x;
+}
+bool giIsSkySample(uint id) { return (id & (GI_RESERVOIR_EMISSIVE | GI_RESERVOIR_SKY)) == GI_RESERVOIR_SKY; }
+vec3 giSkySampleDirection(uint id) {
+  const vec2 e = vec2(uvec2(id, id >> 15u) & 0x7fffu) / 32767.0 * 2.0 - 1.0;
+  return normalize(giOctahedralDecode(e));
+}
+
 // A reservoir's light (a punctual light, or an emissive triangle's sample point): its shadow ray and, in
 // ray.contribution, the light it sends towards V unshadowed, per the measure the reservoirs sample it in:
-// f·I/d² for a punctual light, f·Le·cos θ_y / d² per unit of emitter area for a triangle's point (`area`:
+// f·I/d² for a punctual light, f·L·w per steradian for a sky direction (w its MIS weight), f·Le·cos θ_y / d²
+// per unit of emitter area for a triangle's point (`area`:
 // the triangle's, m², which turns a pick's chance into the point's density; 0 for a punctual light). False
-// when it cannot light s, or it is not one of the lights the reservoirs hold now.
-bool giPrepareReservoirLight(uint id, GiSurface s, GiBsdf b, vec3 V, out GiShadowRay ray, out float area) {
+// when it cannot light s, or it is not one of the lights the reservoirs hold now. `skyShare`:
+// giReservoirSkyShare at s, which a pass evaluating many lights at one surface finds once.
+bool giPrepareReservoirLight(uint id, GiSurface s, GiBsdf b, vec3 V, float skyShare, out GiShadowRay ray,
+                             out float area) {
   const GpuSceneConstants c = sceneConstants();
   area = 0.0;
+  if (giIsSkySample(id)) {
+    // The sky's light towards V weighed against BSDF sampling (giReservoirSkyPdf says why).
+    if (!giReservoirsSampleSky()) return false;
+    const vec3 L = giSkySampleDirection(id);
+    if (dot(s.geometricNormal, L) <= 0.0) return false;
+    const vec3 f = giBsdfEval(b, s.normal, V, L);
+    const float w = giPowerHeuristic(skyShare * giSkyLightPdf(L), giBsdfPdf(b, s.normal, V, L));
+    ray.origin = giOffsetRay(s.position, s.geometricNormal);
+    ray.direction = L;
+    ray.tMax = GI_FLT_MAX;
+    ray.contribution = f * giSkyRadiance(L) * w;
+    return giMaxComponent(ray.contribution) > 0.0;
+  }
   if ((id & GI_RESERVOIR_EMISSIVE) == 0u) {
     // Directional lights are NEE's at every vertex; an index past the table is last frame's after
     // gi::updateLights shrank it.
@@ -268,39 +358,19 @@ bool giPrepareReservoirLight(uint id, GiSurface s, GiBsdf b, vec3 V, out GiShado
   ray.contribution *= cosLight / dist2;
   return true;
 }
-// The same where the caller needs no area (the shading turn, the spatial pass's shadow ray).
+// The same where the caller needs no area and evaluates one light at s (the shading turn).
 bool giPrepareReservoirLight(uint id, GiSurface s, GiBsdf b, vec3 V, out GiShadowRay ray) {
   float area;
-  return giPrepareReservoirLight(id, s, b, V, ray, area);
-}
-
-// Probability that the area-light shadow ray from x (geometric normal ng) goes to the sky, where emissive
-// triangles (unless a reservoir holds them: `withTriangles` false) and a sampled sky share it: where the triangles are picked down their tree (giEmissiveTree)
-// the sky is one more node beside it, chosen by its irradiance against the root's importance at x (all of it where
-// no triangle can light x); else 1/2. All or nothing where only one of them is there. With MIS a constant
-// sky is not sampled (BSDF sampling finds it), so it takes no share.
-float giSkySelection(bool withMis, bool withTriangles, vec3 x, vec3 ng) {
-  bool emissive = withTriangles && GI_SCENE_HAS_EMISSIVE && sceneConstants().emissiveTriangleCount > 0u;
-  bool sky = GI_SCENE_HAS_SKY && (giSkyHasMap() || !withMis) && giMaxComponent(sceneConstants().skyRadiance) > 0.0;
-  if (!sky) return 0.0;
-  if (!emissive) return 1.0;
-  if (!giEmissiveTree()) return 0.5;
-  // The root's children's importance: the root's own bounds every triangle at once, far looser.
-  const GpuLightNode root = sceneEmissiveNode(0u);
-  const bool leaf = (root.child & LIGHT_NODE_LEAF) != 0u;
-  const float triangles = leaf ? lightNodeImportance(root, x, ng)
-                               : lightNodeImportance(sceneEmissiveNode(root.child), x, ng) +
-                                     lightNodeImportance(sceneEmissiveNode(root.child + 1u), x, ng);
-  const float skyImportance = sceneConstants().skyIrradiance;
-  const float total = skyImportance + triangles;
-  return total > 0.0 ? skyImportance / total : 0.5;
+  const float skyShare = giIsSkySample(id) ? giReservoirSkyShare(s.position, s.geometricNormal) : 0.0;
+  return giPrepareReservoirLight(id, s, b, V, skyShare, ray, area);
 }
 
 // Solid-angle densities with which NEE (with MIS) picks an emitter's point or
 // a sky direction, for BSDF-sampled hits to weigh themselves against: the emissive point `s` of `hit`
 // (s.frontFace holds) seen from `origin`, the ray's origin off the surface `from` (the NEE there picked
-// its triangle at from.position, facing from.geometricNormal).
-float giEmissiveNeePdf(GiSurface s, GiHit hit, vec3 origin, GiSurface from) {
+// its triangle at from.position, facing from.geometricNormal; `withSky` false where a reservoir holds the
+// sky there, which then takes no share of that NEE's ray).
+float giEmissiveNeePdf(GiSurface s, GiHit hit, vec3 origin, GiSurface from, bool withSky) {
   if (!GI_SCENE_HAS_EMISSIVE || sceneConstants().emissiveTriangleCount == 0u) return 0.0;
   vec3 d = s.position - origin;
   float dist2 = dot(d, d);
@@ -314,18 +384,20 @@ float giEmissiveNeePdf(GiSurface s, GiHit hit, vec3 origin, GiSurface from) {
   const float area = giTriangleArea(p0, p1, p2);
   if (!(area > 0.0)) return 0.0;
   const float areaPdf = chance / area;
-  return (1.0 - giSkySelection(true, true, from.position, from.geometricNormal)) * areaPdf * dist2 / max(cosLight, 1e-8);
+  return (1.0 - giSkySelection(true, true, withSky, from.position, from.geometricNormal)) * areaPdf * dist2 /
+         max(cosLight, 1e-8);
 }
 float giSkyNeePdf(vec3 dir, GiSurface from, bool triangles) {
-  return giSkySelection(true, triangles, from.position, from.geometricNormal) * giSkyLightPdf(dir);
+  return giSkySelection(true, triangles, true, from.position, from.geometricNormal) * giSkyLightPdf(dir);
 }
 
 // The area lights' one shadow ray (giSkySelection shares it between the sky
-// and the emissive triangles, unless a reservoir holds those: `triangles` false); false when there is none
-// or it cannot light s.
-bool giPrepareArea(GiSurface s, GiBsdf b, vec3 V, bool withMis, bool triangles, inout GiRng rng, out GiShadowRay ray) {
+// and the emissive triangles, unless a reservoir holds those: `triangles` false, or the sky: `sky` false);
+// false when there is none or it cannot light s.
+bool giPrepareArea(GiSurface s, GiBsdf b, vec3 V, bool withMis, bool triangles, bool sky, inout GiRng rng,
+                   out GiShadowRay ray) {
   bool emissive = triangles && GI_SCENE_HAS_EMISSIVE && sceneConstants().emissiveTriangleCount > 0u;
-  float skyChance = giSkySelection(withMis, triangles, s.position, s.geometricNormal);
+  float skyChance = giSkySelection(withMis, triangles, sky, s.position, s.geometricNormal);
   if (!emissive && !(skyChance > 0.0)) return false;
   // Scenes without a sky draw no extra random number: their paths are as before.
   bool pickSky = skyChance >= 1.0 || (skyChance > 0.0 && giRandom(rng) < skyChance);
@@ -412,7 +484,9 @@ bool giNeeNextRay(inout GiNee nee, GiSurface s, GiBsdf b, vec3 V, bool withMis, 
   } else if (i < turns) {
     ready = giPreparePunctual(i, s, b, V, shadow);
   } else {
-    ready = giPrepareArea(s, b, V, withMis, !(giUsesReservoir(nee.reservoir) && giReservoirsHoldEmissive()), rng, shadow);
+    const bool reservoir = giUsesReservoir(nee.reservoir);
+    ready = giPrepareArea(s, b, V, withMis, !(reservoir && giReservoirsHoldEmissive()),
+                          !(reservoir && giReservoirsSampleSky()), rng, shadow);
   }
   if (!ready) return false;
   nee.pending = shadow.contribution;

@@ -112,17 +112,20 @@ void giPathTakeHit(inout GiPath p, GiHit hit, GiSurface s) {
   p.depth++;
   p.phase = GI_PATH_DONE;
   // From vertex 0, whose reservoir holds the emissive triangles (its NEE samples only the sky), an emitter
-  // found by BSDF sampling is the reservoir's light: not counted again.
-  const bool triangles = !(p.depth == 1u && giUsesReservoir(p.reservoir) && giReservoirsHoldEmissive());
-  if (hit.t < 0.0) {  // the sky, weighed against its NEE (giPrepareSky)
-    if (GI_SCENE_HAS_SKY)
-      giPathAdd(p,
-                giSkyRadiance(p.direction) * giPowerHeuristic(p.previousBsdfPdf, giSkyNeePdf(p.direction, p.s, triangles)),
-                p.depth == 1u);
+  // found by BSDF sampling is the reservoir's light: not counted again. Where it holds the sky, the sky found
+  // so takes the part of its light the reservoir's MIS weight leaves (giReservoirSkyPdf).
+  const bool reservoirVertex = p.depth == 1u && giUsesReservoir(p.reservoir);
+  const bool triangles = !(reservoirVertex && giReservoirsHoldEmissive());
+  const bool sky = !(reservoirVertex && giReservoirsSampleSky());
+  if (hit.t < 0.0) {  // the sky, weighed against its NEE (giPrepareSky) or the reservoir's share of it
+    if (GI_SCENE_HAS_SKY) {
+      const float lightPdf = sky ? giSkyNeePdf(p.direction, p.s, triangles) : giReservoirSkyPdf(p.direction, p.s);
+      giPathAdd(p, giSkyRadiance(p.direction) * giPowerHeuristic(p.previousBsdfPdf, lightPdf), p.depth == 1u);
+    }
     return;
   }
   if (triangles && s.frontFace && giMaxComponent(s.material.emission) > 0.0) {
-    float w = GI_SCENE_HAS_EMISSIVE ? giPowerHeuristic(p.previousBsdfPdf, giEmissiveNeePdf(s, hit, p.origin, p.s)) : 1.0;
+    float w = GI_SCENE_HAS_EMISSIVE ? giPowerHeuristic(p.previousBsdfPdf, giEmissiveNeePdf(s, hit, p.origin, p.s, sky)) : 1.0;
     giPathAdd(p, s.material.emission * w, p.depth == 1u);
   }
   p.s = s;

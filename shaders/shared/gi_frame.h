@@ -122,6 +122,8 @@ GPU_CONST GI_PRIMARY_DIRECT_RESERVOIRS = 1u;  // the point and spot lights from 
 GPU_CONST GI_PRIMARY_DIRECT_NONE = 2u;        // none: the engine lights them (Settings::indirectOnly)
 GPU_CONST GI_PRIMARY_DIRECT_EMISSIVE = 4u;    // with NEE or RESERVOIRS: the emissive triangles from the reservoirs'
                                               // pick too (a bit: NEE | EMISSIVE keeps NEE's exact punctual sum)
+GPU_CONST GI_PRIMARY_DIRECT_SKY = 8u;         // with RESERVOIRS or EMISSIVE: a sky map's share too, weighed
+                                              // against BSDF sampling (lights.glsl's giReservoirsSampleSky)
 
 struct GiFrameConstants {
   GpuCamera camera;

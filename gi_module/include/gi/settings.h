@@ -233,8 +233,8 @@ struct HpsfSettings {
 // under the sampler in use; with no more than the cut has subtrees NEE's sum is exact), the emissive
 // triangles where there are more than `emissiveMin` (a triangle's sample is a fixed
 // point of it, which the neighbours and the next frame reuse; the primary hit's BSDF-sampled rays then count
-// no emitter, and its area-light ray goes to the sky alone); with neither nothing runs. Vertices after the
-// primary hit keep the light samplers.
+// no emitter, and its area-light ray goes to the sky alone); with neither nothing runs. Where they run, a
+// sky map is resampled too (`sky`). Vertices after the primary hit keep the light samplers.
 struct ReservoirSettings {
   bool enabled = true;          // on: measured better for raw, svgf and hpsf from 64 lights on (RESULTS, "Reservoirs")
   uint32_t candidates = 8;      // [1, 64]: lights drawn per pixel and frame
@@ -265,6 +265,14 @@ struct ReservoirSettings {
                                 // others is dropped, not kept nor reused (RTXDI's boiling filter: a sample
                                 // whose weight is an outlier would otherwise be kept and spread for frames;
                                 // biased: it darkens where it drops)
+  bool sky = false;             // where the reservoirs run for the lights above, a sky map's light too: a share of
+                                // the candidates (its irradiance against the trees' importance) are directions
+                                // from the map, resampled by their light weighed against BSDF sampling, whose
+                                // rays from the primary hit take the rest (no share of its area-light ray; a
+                                // constant sky has no light pdf: BSDF sampling finds it, as without). Off: the
+                                // reservoirs resample unshadowed light, and a sun the scene shadows where the
+                                // camera looks keeps being picked and found occluded; where it lights what the
+                                // camera sees, on lowers the error (docs/RESULTS.md, "The sky in the reservoirs")
 };
 
 // The light sampler of next-event estimation in the module's passes (shaders/module/lights.glsl): the scene's
