@@ -791,6 +791,32 @@ def sweep_passes(key, prefix, pairs):
                   f"{indirect / base[1]:.2f}× | {flicker} | {ms:.2f} |")
 
 
+def seed_means(key, prefix, pairs):
+    """A setting swept over several seeds (args: KEY PREFIX NAME DIR ...; runs swept with seed=... and KEY=...):
+    per scene, method and value, the final MSE's mean over the seeds (each run's the mean over its frames), its
+    smallest and largest, the mean against the first value's, and the ms per frame and of the passes whose names
+    start with PREFIX, the seeds' medians."""
+    print(f"| scene | method | {key} | MSE (final), mean | seeds' range | against the first | ms/frame | "
+          f"{prefix}* ms |")
+    print("|---|---|---|---|---|---|---|---|")
+    for name, directory in named(pairs):
+        grouped = {}
+        for r in rows(f"{directory}/results.csv"):
+            value = r["label"].split(f"{key}=")[1].split()[0]
+            grouped.setdefault(r["method"], {}).setdefault(value, []).append(r)
+        for method, by_value in grouped.items():
+            first = None
+            for value, runs in by_value.items():
+                mse = [float(r["mse"]) for r in runs]
+                mean = sum(mse) / len(mse)
+                first = first or mean
+                ms = statistics.median_high(float(r["total_ms"]) for r in runs)
+                passes = statistics.median_high(
+                    sum(float(x.split(":")[1]) for x in r["pass_ms"].split(";") if x.startswith(prefix)) for r in runs)
+                print(f"| {name.replace('_', ' ')} | {method} | {value} | {mean:.3e} | {min(mse):.3e}–{max(mse):.3e} | "
+                      f"{mean / first:.2f}× | {ms:.2f} | {passes:.2f} |")
+
+
 def configurations(pairs):
     """Runs of one scene in several configurations against the same references (args: NAME DIR ...): per
     run and method, GPU ms per frame, final MSE, indirect MSE and flicker against the first run's."""
@@ -995,6 +1021,7 @@ KINDS = {
     "hpsf_frames": hpsf_frames,
     "sweep": lambda a: sweep(a[0], a[1:]),
     "sweep_passes": lambda a: sweep_passes(a[0], a[1], a[2:]),
+    "seed_means": lambda a: seed_means(a[0], a[1], a[2:]),
     "goal_sweep": lambda a: goal_sweep(a[0], a[1], a[2:]),
     "coldstart": lambda a: coldstart(a[0], a[1]),
     "programs": programs,

@@ -26,7 +26,7 @@
 //     not a mix of its neighbours' (measured: fed back, in a room of a
 //     thousand lamps whose best lights change from pixel to pixel, the
 //     neighbours' samples diluted each pixel's own history).
-// Where they run, the reservoirs hold the sky's map too (GI_PRIMARY_DIRECT_SKY): a share of the candidates
+// With ReservoirSettings::sky they hold the sky's map too (GI_PRIMARY_DIRECT_SKY): a share of the candidates
 // are directions drawn from it, their target the sky's light weighed against BSDF sampling (lights.glsl's
 // giReservoirSkyPdf), and a BSDF-sampled ray that leaves the scene from the primary hit takes the rest.
 // Directional lights and a constant sky are NEE's (and BSDF sampling's) at every vertex as before: p̂ = 0.

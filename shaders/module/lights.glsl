@@ -248,7 +248,6 @@ bool giPreparePunctual(uint i, GiSurface s, GiBsdf b, vec3 V, out GiShadowRay ra
   return true;
 }
 
-
 // How much a tree's lights may bring to x (geometric normal ng): its root's children's importance (the
 // root's own bounds every light at once, far looser).
 float giTreeImportance(bool emissive, vec3 x, vec3 ng) {
@@ -320,13 +319,13 @@ vec3 giSkySampleDirection(uint id) {
   return normalize(giOctahedralDecode(e));
 }
 
-// A reservoir's light (a punctual light, or an emissive triangle's sample point): its shadow ray and, in
-// ray.contribution, the light it sends towards V unshadowed, per the measure the reservoirs sample it in:
-// f·I/d² for a punctual light, f·L·w per steradian for a sky direction (w its MIS weight), f·Le·cos θ_y / d²
-// per unit of emitter area for a triangle's point (`area`:
-// the triangle's, m², which turns a pick's chance into the point's density; 0 for a punctual light). False
-// when it cannot light s, or it is not one of the lights the reservoirs hold now. `skyShare`:
-// giReservoirSkyShare at s, which a pass evaluating many lights at one surface finds once.
+// A reservoir's light (a punctual light, an emissive triangle's sample point or a sky direction): its shadow
+// ray and, in ray.contribution, the light it sends towards V unshadowed, per the measure the reservoirs
+// sample it in: f·I/d² for a punctual light, f·L·w per steradian for a sky direction (w its MIS weight),
+// f·Le·cos θ_y / d² per unit of emitter area for a triangle's point (`area`: the triangle's, m², which turns
+// a pick's chance into the point's density; 0 for the others). False when it cannot light s, or it is not
+// one of the lights the reservoirs hold now. `skyShare`: giReservoirSkyShare at s, which a pass evaluating
+// many lights at one surface finds once.
 bool giPrepareReservoirLight(uint id, GiSurface s, GiBsdf b, vec3 V, float skyShare, out GiShadowRay ray,
                              out float area) {
   const GpuSceneConstants c = sceneConstants();
