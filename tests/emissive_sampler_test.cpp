@@ -201,9 +201,9 @@ TEST_F(EmissiveSamplerTest, TheSkyAsANodeBesideTheTreeKeepsTheExpectation) {
 // area-light ray no longer goes to the sky). Under the sunny map, its sun lighting the floor the camera sees,
 // raw's direct light (64 frames accumulated, 8 seeds) with the reservoirs holding the sky has NEE's
 // expectation without reservoirs: the image within 1.5%, every 8x8 block within 5%; and frame 16, alone and
-// accumulated, has less error than with the sky left to NEE. (With the sun behind the wall, shadowing that
-// floor, the reservoirs keep resampling its unshadowed light and the error grows instead: why `sky` is off by
-// default.)
+// accumulated, has less error than with the sky left to NEE; under the power sampler (an equal share of the
+// candidates for the sky) the same expectation. (With the sun behind the wall, shadowing that floor, the
+// reservoirs keep resampling its unshadowed light and the error grows instead: why `sky` is off by default.)
 TEST_F(EmissiveSamplerTest, ReservoirsResampleTheSkyMapWithItsExpectation) {
   LoadedScene s;
   ASSERT_NO_FATAL_FAILURE(loadUnderSky(emissiveField(), gpu::LIGHT_SAMPLER_TREE, sunnySky(28), s));
@@ -232,6 +232,16 @@ TEST_F(EmissiveSamplerTest, ReservoirsResampleTheSkyMapWithItsExpectation) {
   EXPECT_LT(worst, 0.05);
   EXPECT_LT(error[0][1], 0.5 * error[0][0]) << "measured 0.33x";
   EXPECT_LT(error[1][1], 0.85 * error[1][0]) << "measured 0.70x";
+  // Under power, without the trees, the sky takes an equal share of the candidates beside the triangles:
+  // the same expectation.
+  LoadedScene power;
+  ASSERT_NO_FATAL_FAILURE(loadUnderSky(emissiveField(), gpu::LIGHT_SAMPLER_POWER, sunnySky(28), power));
+  const engine::FloatImage powerMean = meanOverSeeds(ctx, power, withSky, 64, 8);
+  const double powerRelative = meanOf(powerMean) / meanOf(truth) - 1.0;
+  const double powerWorst = worstBlockDifference(powerMean, truth, kSize);
+  std::printf("under power: mean %+.2f%%, worst 8x8 block %.2f%%\n", 100.0 * powerRelative, 100.0 * powerWorst);
+  EXPECT_LT(std::abs(powerRelative), 0.015);
+  EXPECT_LT(powerWorst, 0.05);
 }
 
 // The emissive triangles' tree follows gi::updateInstances: the squares moved (turned and shifted) through
