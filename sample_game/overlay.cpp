@@ -120,6 +120,9 @@ bool buildOverlay(OverlayState& state, gi::Settings& settings, const gi::FrameSt
                 state.cpuFrameMs);
     ImGui::Text("rays %.3g   spp %u   sanitized %u   memory %.1f MiB", double(stats.raysTraced), stats.samplesPerPixel,
                 stats.sanitized, double(stats.memoryBytes) / 1048576.0);
+    if (settings.reservoirs.sky)
+      ImGui::Text("sky picks %u, %u saw the sky; its share and target x %.3f", stats.skyPicks.tested,
+                  stats.skyPicks.visible, double(stats.skyPicks.visibility));
     std::vector<float> history(state.totalMsHistory.begin(), state.totalMsHistory.end());
     if (!history.empty())
       ImGui::PlotLines("module ms", history.data(), int(history.size()), 0, nullptr, 0.0f,

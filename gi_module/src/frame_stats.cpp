@@ -47,6 +47,7 @@ bool readFrameStats(Module& m, uint32_t slot, FrameStats& st) {
   st.raysTraced = c.raysTraced;
   st.sanitized = c.sanitized;
   st.boundsViolations = c.boundsViolations;
+  st.skyPicks = {c.skyPicksTested, c.skyPicksVisible, fs.skyVisibility};
   st.accumulatedFrames = std::max(fs.history, medianHistoryFrames(c));
   st.samplesPerPixel = fs.spp;
   const uint32_t pixels = m.width * m.height;

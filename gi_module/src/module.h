@@ -90,6 +90,14 @@ struct FrameSlot {
   uint32_t history = 0, spp = 0;
   Method method = Method::Raw;
   float hashSecondaryWidth = 1.0f;  // the hash methods' later cells' width (gi::hashSecondaryWidth)
+  float skyVisibility = 1.0f;       // GiFrameConstants::skyVisibility the frame used
+};
+
+// The sky's visibility from the reservoirs' sky picks (reservoirs.sky; frame.cpp's updateSkyVisibility):
+// picks and hits counted over completed frames until there are enough for a ratio.
+struct SkyVisibility {
+  uint64_t tested = 0, visible = 0;  // picks counted since the ratio was last taken, and those that saw the sky
+  float ratio = 1.0f;                // GiFrameConstants::skyVisibility: 1 until measured
 };
 
 struct Module {
@@ -128,6 +136,7 @@ struct Module {
   uint32_t reservoirFrames = 0;    // frames the reservoirs have been resampled since they started
   uint32_t temporalFrames = 0;     // frames the temporal reprojection has run since its history started
   gpu::GpuCamera historyCamera{};  // camera the history was gathered with
+  SkyVisibility skyVisibility;     // measured by the reservoirs' sky picks; starts over with the history
   FrameStats lastStats;
 };
 
@@ -197,6 +206,7 @@ inline void dropHistory(Module& m) {
   m.historyLength = 0;
   m.temporalFrames = 0;
   m.reservoirFrames = 0;
+  m.skyVisibility = {};
 }
 uint32_t hashMode(Method method);
 

@@ -74,6 +74,7 @@ uint giLightSampler() { return sceneConstants().lightSampler; }  // the referenc
 bool giReservoirsHoldPunctual() { return false; }                // and has no reservoirs
 bool giReservoirsHoldEmissive() { return false; }
 bool giReservoirsHoldSky() { return false; }
+float giReservoirsSkyVisibility() { return 1.0; }
 
 PathResult tracePath(uvec2 pixel, uint sampleIndex) {
   GiTask task;

@@ -64,6 +64,7 @@ uint giLightSampler() { return giFrame.lightSampler; }
 bool giReservoirsHoldPunctual() { return (giFrame.primaryDirect & GI_PRIMARY_DIRECT_RESERVOIRS) != 0u; }
 bool giReservoirsHoldEmissive() { return (giFrame.primaryDirect & GI_PRIMARY_DIRECT_EMISSIVE) != 0u; }
 bool giReservoirsHoldSky() { return (giFrame.primaryDirect & GI_PRIMARY_DIRECT_SKY) != 0u; }
+float giReservoirsSkyVisibility() { return giFrame.skyVisibility; }
 // The frame's primary hits take their reservoir's light (gi_reservoirs.comp).
 bool giFrameHasReservoirs() { return giReservoirsHoldPunctual() || giReservoirsHoldEmissive(); }
 

@@ -50,12 +50,16 @@ GiReservoir giEmptyReservoir() { return GiReservoir(GI_RESERVOIR_EMPTY, 0.0, 0.0
 
 // p̂: the luminance of the light's unshadowed reflected light at s (0 for directional lights, none, and
 // lights the frame's reservoirs do not hold), and for a triangle's point the triangle's area
-// (giPrepareReservoirLight; skyShare: giReservoirSkyShare at s).
+// (giPrepareReservoirLight; skyShare: giReservoirSkyShare at s). A sky direction's is scaled by the sky's
+// measured visibility (giReservoirsSkyVisibility), one factor over the frame: any positive target keeps the
+// estimate f·V·W unbiased, and this one stops an occluded sky from winning reservoirs by its unshadowed light
+// whose shadow rays then fail.
 float giReservoirTarget(uint light, GiSurface s, GiBsdf b, vec3 V, float skyShare, out float area) {
   area = 0.0;
   if (light == GI_RESERVOIR_EMPTY) return 0.0;
   GiShadowRay ray;
-  return giPrepareReservoirLight(light, s, b, V, skyShare, ray, area) ? giLuminance(ray.contribution) : 0.0;
+  if (!giPrepareReservoirLight(light, s, b, V, skyShare, ray, area)) return 0.0;
+  return giLuminance(ray.contribution) * (giIsSkySample(light) ? giReservoirsSkyVisibility() : 1.0);
 }
 float giReservoirTarget(uint light, GiSurface s, GiBsdf b, vec3 V, float skyShare) {
   float area;
@@ -63,7 +67,7 @@ float giReservoirTarget(uint light, GiSurface s, GiBsdf b, vec3 V, float skyShar
 }
 // At a neighbour's surface, one light there: its sky share only where the light is the sky.
 float giReservoirTarget(uint light, GiSurface s, GiBsdf b, vec3 V) {
-  return giReservoirTarget(light, s, b, V, giIsSkySample(light) ? giReservoirSkyShare(s.position, s.geometricNormal) : 0.0);
+  return giReservoirTarget(light, s, b, V, giReservoirSkyShareOf(light, s));
 }
 
 // Streams in a sample of weight w (p̂/pdf for a candidate, p̂·W·M for a reservoir) standing for M samples.
@@ -263,6 +267,7 @@ void giPairwiseShares(uvec4 found[GI_SPATIAL_MAX], ivec2 at[GI_SPATIAL_MAX], uin
   }
   share[0] = canonical / N;
 }
+uint giSkyPickTested = 0u, giSkyPickVisible = 0u;  // this pixel's pick is a sky direction; its ray saw the sky
 uvec4 giSpatialReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float depth, inout GiRng rng) {
   uvec4 found[GI_SPATIAL_MAX];
   ivec2 at[GI_SPATIAL_MAX];
@@ -314,13 +319,29 @@ uvec4 giSpatialReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float d
     giReservoirMerge(r, found[i].x, here[i], here[i] * giStoredW(found[i]) * share[i], giStoredM(found[i]), giRandom(rng));
   float W = r.target > 0.0 ? r.weightSum / (r.target * (pc.unbiased != 0u ? 1.0 : r.M)) : 0.0;
   // The survivor's shadow ray: an occluded light brings nothing this frame (the reservoirs that are
-  // reused keep estimating the unshadowed light, whose visibility the pixel that picks it tests).
+  // reused keep estimating the unshadowed light, whose visibility the pixel that picks it tests). A sky
+  // direction's outcome is counted (giCountSkyPicks).
   GiShadowRay shadow;
   float area;
-  if (W > 0.0 && giPrepareReservoirLight(r.light, s, b, V, skyShare, shadow, area) &&
-      !giTraceVisible(shadow.origin, shadow.direction, 0.0, shadow.tMax))
-    W = 0.0;
+  if (W > 0.0 && giPrepareReservoirLight(r.light, s, b, V, skyShare, shadow, area)) {
+    const bool visible = giTraceVisible(shadow.origin, shadow.direction, 0.0, shadow.tMax);
+    if (giIsSkySample(r.light)) {
+      giSkyPickTested = 1u;
+      giSkyPickVisible = visible ? 1u : 0u;
+    }
+    if (!visible) W = 0.0;
+  }
   return uvec4(r.light, floatBitsToUint(W), 0u, 0u);
+}
+
+// The frame's sky picks and those that saw the sky, into GiCounters (one atomic pair per subgroup): the host
+// turns recent frames' ratio into GiFrameConstants::skyVisibility (frame.cpp's updateSkyVisibility).
+void giCountSkyPicks() {
+  const uint tested = subgroupAdd(giSkyPickTested), visible = subgroupAdd(giSkyPickVisible);
+  if (subgroupElect() && tested > 0u) {
+    atomicAdd(giCounters.skyPicksTested, tested);
+    atomicAdd(giCounters.skyPicksVisible, visible);
+  }
 }
 
 void main() {
@@ -346,5 +367,6 @@ void main() {
     if (pc.mode == GI_RESERVOIR_SPATIAL) imageStore(giReservoirPick, p, stored);
     else giStoreReservoir(p, stored);
   }
+  if (pc.mode == GI_RESERVOIR_SPATIAL && giReservoirsSampleSky()) giCountSkyPicks();
   giCountRays(inside);
 }

@@ -37,6 +37,9 @@ uint giLightSampler();
 bool giReservoirsHoldPunctual();
 bool giReservoirsHoldEmissive();
 bool giReservoirsHoldSky();
+// Where they hold the sky, the share of recent sky picks whose shadow ray saw it (GiFrameConstants::
+// skyVisibility; 1 in the reference path tracer).
+float giReservoirsSkyVisibility();
 
 
 uint giPickEmissiveTriangle(float u) {
@@ -288,15 +291,18 @@ bool giReservoirsSampleSky() {
 
 // The chance that a reservoir's candidate at x (geometric normal ng) is a sky direction: its irradiance
 // against the importance of the lights the reservoirs hold beside it, down their trees (giSkySelection's
-// rule); without the trees one equal share per kind of light. 0 where the reservoirs do not hold the sky.
+// rule), without the trees one equal share per kind of light; either times the sky's measured visibility
+// (giReservoirsSkyVisibility: an occluded sky draws few candidates, and BSDF sampling takes its light). 0
+// where the reservoirs do not hold the sky.
 float giReservoirSkyShare(vec3 x, vec3 ng) {
   if (!giReservoirsSampleSky()) return 0.0;
   const bool punctual = giReservoirsHoldPunctual() && GI_SCENE_HAS_PUNCTUAL;
   const bool emissive = giReservoirsHoldEmissive() && GI_SCENE_HAS_EMISSIVE && sceneConstants().emissiveTriangleCount > 0u;
   if (!punctual && !emissive) return 1.0;
   if (giLightSampler() != LIGHT_SAMPLER_TREE || (emissive && !giEmissiveTree()))
-    return punctual && emissive ? 1.0 / 3.0 : 0.5;
-  return giSkyShare((punctual ? giTreeImportance(false, x, ng) : 0.0) + (emissive ? giTreeImportance(true, x, ng) : 0.0));
+    return (punctual && emissive ? 1.0 / 3.0 : 0.5) * giReservoirsSkyVisibility();
+  const float importance = (punctual ? giTreeImportance(false, x, ng) : 0.0) + (emissive ? giTreeImportance(true, x, ng) : 0.0);
+  return giSkyShare(importance) * giReservoirsSkyVisibility();
 }
 
 // The solid-angle density of a reservoir's sky candidates in direction `dir` at surface `s`: the sky's
@@ -317,6 +323,11 @@ bool giIsSkySample(uint id) { return (id & (GI_RESERVOIR_EMISSIVE | GI_RESERVOIR
 vec3 giSkySampleDirection(uint id) {
   const vec2 e = vec2(uvec2(id, id >> 15u) & 0x7fffu) / 32767.0 * 2.0 - 1.0;
   return normalize(giOctahedralDecode(e));
+}
+// giReservoirSkyShare for one reservoir's light at s: the share where the light is a sky direction, else 0 (what
+// giPrepareReservoirLight takes where it evaluates one light).
+float giReservoirSkyShareOf(uint id, GiSurface s) {
+  return giIsSkySample(id) ? giReservoirSkyShare(s.position, s.geometricNormal) : 0.0;
 }
 
 // A reservoir's light (a punctual light, an emissive triangle's sample point or a sky direction): its shadow
@@ -360,8 +371,7 @@ bool giPrepareReservoirLight(uint id, GiSurface s, GiBsdf b, vec3 V, float skySh
 // The same where the caller needs no area and evaluates one light at s (the shading turn).
 bool giPrepareReservoirLight(uint id, GiSurface s, GiBsdf b, vec3 V, out GiShadowRay ray) {
   float area;
-  const float skyShare = giIsSkySample(id) ? giReservoirSkyShare(s.position, s.geometricNormal) : 0.0;
-  return giPrepareReservoirLight(id, s, b, V, skyShare, ray, area);
+  return giPrepareReservoirLight(id, s, b, V, giReservoirSkyShareOf(id, s), ray, area);
 }
 
 // Solid-angle densities with which NEE (with MIS) picks an emitter's point or

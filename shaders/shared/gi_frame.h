@@ -146,8 +146,14 @@ struct GiFrameConstants {
   float compositeMax; // largest finite value of the composite's format (ModuleDesc::compositeFormat)
   uint svgfWideState; // 1: svgf's state image holds its variances and frames as single floats (with single-float
                       // histories); 0: packed in one word (gi_frame.glsl's giPackSvgfState)
+  float skyVisibility; // GI_PRIMARY_DIRECT_SKY: the share of recent frames' sky picks that saw the sky, in
+                       // [GI_SKY_VISIBILITY_MIN, 1]; the sky's share of the reservoirs' candidates and its target
+                       // are scaled by it (lights.glsl's giReservoirSkyShare, gi_reservoirs.comp's giReservoirTarget)
 };
-GPU_ASSERT_SIZE(GiFrameConstants, 744);
+GPU_ASSERT_SIZE(GiFrameConstants, 748);
+// The least GiFrameConstants::skyVisibility: an occluded sky keeps a few candidates, which find it again
+// when the camera walks out under it.
+#define GI_SKY_VISIBILITY_MIN (1.0f / 256.0f)
 
 // The temporal pass's history lengths (frames behind a pixel, this one included) are counted in this
 // many bins, the last holding every length from GI_HISTORY_BINS − 1 up: FrameStats::accumulatedFrames is
@@ -164,8 +170,8 @@ struct GiCounters {
   uint sanitized;         // non-finite G-buffer pixels and path samples dropped at the module boundary
   uint coveredPixels;     // AAF pass 1: pixels with geometry (each takes the 16 initial samples)
   uint boundsViolations;  // ModuleDesc::checkBounds: image coordinates outside their image (bounds.glsl)
-  uint pad1;
-  uint pad2;
+  uint skyPicksTested;    // reservoir spatial pass: pixels whose pick is a sky direction, its shadow ray traced
+  uint skyPicksVisible;   // of those, the rays that left the scene (GiFrameConstants::skyVisibility)
   uint historyFrames[GI_HISTORY_BINS];  // gi_temporal.comp: covered pixels of the counted rows by history length
 };
 GPU_ASSERT_SIZE(GiCounters, 32 + 4 * 64);

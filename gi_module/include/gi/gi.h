@@ -321,12 +321,18 @@ struct FrameStats {
   std::vector<PassTiming> passes;  // GPU time per pass, in recording order
   double totalMs = 0.0;
   uint64_t raysTraced = 0;
-  uint32_t accumulatedFrames = 0;     // frames of history behind the median pixel, this one included: raw's running
-                                      // mean, or the temporal passes' per-pixel history (63 reads "63 or more"); 0
-                                      // where the method keeps none (aaf, a hash method's indirect light)
-  uint32_t samplesPerPixel = 0;       // paths per pixel actually traced (after the ray budget; AAF: the mean)
-  uint32_t sanitized = 0;             // non-finite G-buffer pixels and path samples dropped (treated as background)
-  uint32_t boundsViolations = 0;      // ModuleDesc::checkBounds: accesses outside a buffer or image (0 unless a bug)
+  uint32_t accumulatedFrames = 0;  // frames of history behind the median pixel, this one included: raw's running
+                                   // mean, or the temporal passes' per-pixel history (63 reads "63 or more"); 0
+                                   // where the method keeps none (aaf, a hash method's indirect light)
+  uint32_t samplesPerPixel = 0;    // paths per pixel actually traced (after the ray budget; AAF: the mean)
+  uint32_t sanitized = 0;          // non-finite G-buffer pixels and path samples dropped (treated as background)
+  uint32_t boundsViolations = 0;   // ModuleDesc::checkBounds: accesses outside a buffer or image (0 unless a bug)
+  struct SkyPicks {                // reservoirs.sky: the pixels whose reservoir picked a sky direction
+    uint32_t tested = 0;           // their shadow rays traced this frame
+    uint32_t visible = 0;          // of those, rays that saw the sky
+    float visibility = 1.0f;       // the sky's measured visibility this frame weighed its share and target by:
+                                   // recent frames' visible / tested, in [1/256, 1]; 1 until measured
+  } skyPicks;
   uint64_t memoryBytes = 0;           // device memory the module holds (its blocks), bytes
   uint64_t memoryUsedBytes = 0;       // of that, bytes its buffers and images occupy
   uint64_t memoryTransientBytes = 0;  // of those, images whose contents live within one frame (NRD's transient

@@ -269,9 +269,12 @@ struct ReservoirSettings {
                                 // the candidates (its irradiance against the trees' importance) are directions
                                 // from the map, resampled by their light weighed against BSDF sampling, whose
                                 // rays from the primary hit take the rest (no share of its area-light ray; a
-                                // constant sky has no light pdf: BSDF sampling finds it, as without). Off: the
-                                // reservoirs resample unshadowed light, and a sun the scene shadows where the
-                                // camera looks keeps being picked and found occluded; where it lights what the
+                                // constant sky has no light pdf: BSDF sampling finds it, as without). The sky's
+                                // share and target are scaled by its measured visibility (the share of recent
+                                // sky picks whose shadow ray saw it, FrameStats::skyPicks), so a sky the scene
+                                // hides everywhere costs nothing; one factor per frame cannot tell shadowed
+                                // pixels from lit ones, and where the sun is hidden from about half the picks
+                                // the error still grows. Off by default for that; where the sky lights what the
                                 // camera sees, on lowers the error (docs/RESULTS.md, "The sky in the reservoirs")
 };
 
