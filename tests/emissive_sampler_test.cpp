@@ -239,8 +239,8 @@ TEST_F(EmissiveSamplerTest, ReservoirsResampleTheSkyMapWithItsExpectation) {
       error[1][1] / error[1][0]);
   EXPECT_LT(std::abs(relative), 0.015);
   EXPECT_LT(worst, 0.05);
-  EXPECT_LT(error[0][1], 0.5 * error[0][0]) << "measured 0.33x";
-  EXPECT_LT(error[1][1], 0.85 * error[1][0]) << "measured 0.71x";
+  EXPECT_LT(error[0][1], 0.5 * error[0][0]) << "measured 0.32x";
+  EXPECT_LT(error[1][1], 0.85 * error[1][0]) << "measured 0.70x";
   // Under power, without the trees, the sky takes an equal share of the candidates beside the triangles:
   // the same expectation.
   LoadedScene power;
@@ -253,15 +253,43 @@ TEST_F(EmissiveSamplerTest, ReservoirsResampleTheSkyMapWithItsExpectation) {
   EXPECT_LT(powerWorst, 0.05);
 }
 
-// The sky's measured visibility (FrameStats::skyPicks: recent frames' sky picks that saw the sky, the
-// factor the sky's share of the candidates and its target take): above 0.7 with the sun behind the camera
-// lighting the floor, under 0.6 with it behind the wall that shadows that floor, and at its least (1/256)
-// in a closed room under the same map, where every pick fails. In that room the sky in the reservoirs
-// then costs the lamps' light nothing: raw's direct light has NEE's expectation (image within 1.5%, blocks
-// within 5%), and frame 16, alone and after 64 accumulated frames, at most 1.12x the error with the sky
-// left to NEE (4 seeds). (Without the measure, the sky's unshadowed light won reservoirs whose shadow rays
-// failed.) With the sun behind the wall, half of the picks failing, one factor for the frame cannot tell the shadowed
-// pixels from the lit: there the sky in the reservoirs is still worse (why `sky` stays off by default).
+namespace {
+
+// Raw's direct light against `truth` under `settings` and `reference` (the sky left to NEE): frame 16
+// alone and 64 frames accumulated, each MSE averaged over seeds 1 to 4 (one seed's ratio spreads 0.8x to
+// 1.3x either way): error[accumulated][0: reference, 1: settings].
+struct SkyErrors {
+  double error[2][2] = {};
+  double ratio(bool accumulated) const { return error[accumulated][1] / error[accumulated][0]; }
+};
+SkyErrors skyErrorsOverSeeds(const engine::Context& ctx, LoadedScene& s, const gi::Settings& reference,
+                             const gi::Settings& settings, const engine::FloatImage& truth) {
+  SkyErrors e;
+  for (uint32_t seed = 1; seed <= 4; ++seed)
+    for (bool accumulate : {false, true})
+      for (bool tried : {false, true}) {
+        gi::Settings run = tried ? settings : reference;
+        run.seed = seed;
+        const engine::FloatImage image = rawDirectAfter(ctx, s, run, kSize, accumulate ? 64 : 16, accumulate);
+        e.error[accumulate][tried] += metrics::mse(image, truth) / 4.0;
+      }
+  return e;
+}
+
+}  // namespace
+
+// The sky in the reservoirs where the scene hides it (ReservoirSettings::sky). Its measured visibility
+// (FrameStats::skyPicks: recent frames' sky picks that saw the sky, the factor the sky's share of the
+// candidates and its target take): above 0.9 with the sun behind the camera lighting the floor, under 0.85
+// with it behind the wall that shadows that floor, and at its least (1/256) in a closed room under the same
+// map, where every pick fails. Against raw's direct light without reservoirs (8 seeds × 64 frames) both
+// scenes keep NEE's expectation (image within 1.5%, 8x8 blocks within 5%), and against the sky left to NEE
+// (the reservoirs holding the rest; errors over 4 seeds): in the closed room at most 1.12x its error at
+// frame 16 and over 64 accumulated frames (measured with the factor held at 1: 30x and 12x, seed 1; without
+// the reservoirs' restart when it moves: 1.19x and 1.46x); with the sun behind the wall, the visibility
+// reuse (a pixel's last-frame reservoir whose sky direction failed there is merged with weight 0) takes
+// frame 16 under 0.85x (measured 0.74x; without it 1.00x) and 64 accumulated frames under 1.75x (1.58x;
+// without it 2.07x): still worse than NEE there, why `sky` stays off by default.
 TEST_F(EmissiveSamplerTest, ReservoirsWeighTheSkyByItsMeasuredVisibility) {
   LoadedScene shadowed, sunlit, room;
   ASSERT_NO_FATAL_FAILURE(loadUnderSky(emissiveField(), gpu::LIGHT_SAMPLER_TREE, sunnySky(12), shadowed));
@@ -288,38 +316,27 @@ TEST_F(EmissiveSamplerTest, ReservoirsWeighTheSkyByItsMeasuredVisibility) {
     EXPECT_GT(tested, 64u) << name << ": enough picks for a ratio";
     return picks.visibility;
   };
-  EXPECT_GT(skyVisibility(sunlit, "sun behind the camera"), 0.7f);
-  EXPECT_LT(skyVisibility(shadowed, "sun behind the wall"), 0.6f);
+  EXPECT_GT(skyVisibility(sunlit, "sun behind the camera"), 0.9f);
+  EXPECT_LT(skyVisibility(shadowed, "sun behind the wall"), 0.85f);
   EXPECT_EQ(skyVisibility(room, "closed room"), GI_SKY_VISIBILITY_MIN);
 
-  const engine::FloatImage truth = meanOverSeeds(ctx, room, nee, 64, 8);
-  const engine::FloatImage mean = meanOverSeeds(ctx, room, withSky, 64, 8);
-  const double relative = meanOf(mean) / meanOf(truth) - 1.0;
-  const double worst = worstBlockDifference(mean, truth, kSize);
-  // Frame 16 alone and 64 frames accumulated, their MSE averaged over seeds 1 to 4 (one seed's ratio
-  // spreads 0.8x to 1.3x either way).
-  double error[2][2] = {};
-  for (uint32_t seed = 1; seed <= 4; ++seed)
-    for (bool accumulate : {false, true}) {
-      const uint32_t frames = accumulate ? 64 : 16;
-      for (bool sky : {false, true}) {
-        gi::Settings settings = sky ? withSky : withoutSky;
-        settings.seed = seed;
-        error[accumulate][sky] +=
-            metrics::mse(rawDirectAfter(ctx, room, settings, kSize, frames, accumulate), truth) / 4.0;
-      }
-    }
-  std::printf(
-      "closed room: mean %+.2f%% of NEE's, worst 8x8 block %.2f%%; MSE against the sky left to NEE (4 seeds): frame "
-      "16 %.3e against %.3e (%.2fx), 64 frames accumulated %.3e against %.3e (%.2fx)\n",
-      100.0 * relative, 100.0 * worst, error[0][1], error[0][0], error[0][1] / error[0][0], error[1][1], error[1][0],
-      error[1][1] / error[1][0]);
-  EXPECT_LT(std::abs(relative), 0.015);
-  EXPECT_LT(worst, 0.05);
-  // Measured without the measure (the factor held at 1): 30x and 12x (seed 1); with it but without the
-  // restart of the reservoirs' history when it moves (updateSkyVisibility): 1.19x and 1.46x.
-  EXPECT_LE(error[0][1], 1.12 * error[0][0]);
-  EXPECT_LE(error[1][1], 1.12 * error[1][0]);
+  for (LoadedScene* s : {&room, &shadowed}) {
+    const char* name = s == &room ? "closed room" : "sun behind the wall";
+    const engine::FloatImage truth = meanOverSeeds(ctx, *s, nee, 64, 8);
+    const engine::FloatImage mean = meanOverSeeds(ctx, *s, withSky, 64, 8);
+    const double relative = meanOf(mean) / meanOf(truth) - 1.0;
+    const double worst = worstBlockDifference(mean, truth, kSize);
+    const SkyErrors e = skyErrorsOverSeeds(ctx, *s, withoutSky, withSky, truth);
+    std::printf(
+        "%s: mean %+.2f%% of NEE's, worst 8x8 block %.2f%%; MSE against the sky left to NEE (4 seeds): frame 16 "
+        "%.3e against %.3e (%.2fx), 64 frames accumulated %.3e against %.3e (%.2fx)\n",
+        name, 100.0 * relative, 100.0 * worst, e.error[0][1], e.error[0][0], e.ratio(false), e.error[1][1],
+        e.error[1][0], e.ratio(true));
+    EXPECT_LT(std::abs(relative), 0.015) << name;
+    EXPECT_LT(worst, 0.05) << name;
+    EXPECT_LE(e.ratio(false), s == &room ? 1.12 : 0.85) << name;
+    EXPECT_LE(e.ratio(true), s == &room ? 1.12 : 1.75) << name;
+  }
 }
 
 // The emissive triangles' tree follows gi::updateInstances: the squares moved (turned and shifted) through

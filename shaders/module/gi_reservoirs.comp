@@ -28,7 +28,9 @@
 //     neighbours' samples diluted each pixel's own history).
 // With ReservoirSettings::sky they hold the sky's map too (GI_PRIMARY_DIRECT_SKY): a share of the candidates
 // are directions drawn from it, their target the sky's light weighed against BSDF sampling (lights.glsl's
-// giReservoirSkyPdf), and a BSDF-sampled ray that leaves the scene from the primary hit takes the rest.
+// giReservoirSkyPdf), and a BSDF-sampled ray that leaves the scene from the primary hit takes the rest; the
+// sky's share and target are scaled by its measured visibility (giCountSkyPicks), and a sky direction whose
+// shadow ray failed at a pixel is not merged into its reservoir again (giStoreFailedSky).
 // Directional lights and a constant sky are NEE's (and BSDF sampling's) at every vertex as before: p̂ = 0.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
@@ -164,6 +166,19 @@ void giStoreReservoir(ivec2 p, uvec4 stored) {
   else imageStore(giReservoirsA, p, stored);
 }
 
+// Visibility reuse for the sky (RTXDI's, for sky directions only): with the merged sets the spatial pass
+// leaves at p the sky direction whose shadow ray failed there (GI_RESERVOIR_EMPTY: none) in the set this
+// frame's temporal pass read, which no pass reads again until the next frame's temporal pass at p takes it
+// before it overwrites it: a last-frame reservoir holding that direction is then not merged. Unshadowed
+// targets otherwise keep a hidden sun in a pixel's reservoir for as many frames as its M holds, every one of
+// them dark. Biased (samples the pixel found occluded leave its history early), and measured.
+void giStoreFailedSky(ivec2 p, uint light) {
+  if (pc.readSet == 0u) imageStore(giReservoirsA, p, uvec4(light, 0u, 0u, 0u));
+  else imageStore(giReservoirsB, p, uvec4(light, 0u, 0u, 0u));
+}
+uint giFailedSky(ivec2 p) { return (pc.readSet == 0u ? imageLoad(giReservoirsB, p) : imageLoad(giReservoirsA, p)).x; }
+bool giReusesSkyVisibility() { return pc.frameSet == 0u && giReservoirsSampleSky(); }
+
 // GI_RESERVOIR_TEMPORAL at a covered pixel: candidates and last frame's reservoir, and the kept light's
 // estimate of the pixel's unshadowed light, p̂·W (luminance), for the boiling filter.
 uvec4 giTemporalReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float depth, uint guide, inout GiRng rng,
@@ -185,11 +200,12 @@ uvec4 giTemporalReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float 
   const ivec2 q = ivec2(floor(giPreviousPosition(p)));
   if (pc.temporal != 0u && giInPreviousFrame(q)) {
     const uvec4 previous = giLoadReservoir(q, false);
+    const uint failed = giReusesSkyVisibility() ? giFailedSky(p) : GI_RESERVOIR_EMPTY;
     if (previous.x != GI_RESERVOIR_EMPTY &&
         giHistoryTexelAgrees(giUnpackGuide(previous.w), n, giPreviousViewDepth(s.position), depth, pc.depthTolerance,
                              pc.cosNormalLimit)) {
       const float M = min(giStoredM(previous), pc.maxHistory * float(pc.candidates));
-      const float target = giReservoirTarget(previous.x, s, b, V, skyShare);
+      const float target = previous.x == failed ? 0.0 : giReservoirTarget(previous.x, s, b, V, skyShare);
       giReservoirMerge(r, previous.x, target, target * giStoredW(previous) * M, M, giRandom(rng));
     }
   }
@@ -366,6 +382,8 @@ void main() {
   if (inside) {
     if (pc.mode == GI_RESERVOIR_SPATIAL) imageStore(giReservoirPick, p, stored);
     else giStoreReservoir(p, stored);
+    if (pc.mode == GI_RESERVOIR_SPATIAL && giReusesSkyVisibility())
+      giStoreFailedSky(p, giSkyPickTested != 0u && giSkyPickVisible == 0u ? stored.x : GI_RESERVOIR_EMPTY);
   }
   if (pc.mode == GI_RESERVOIR_SPATIAL && giReservoirsSampleSky()) giCountSkyPicks();
   giCountRays(inside);

@@ -272,9 +272,10 @@ struct ReservoirSettings {
                                 // constant sky has no light pdf: BSDF sampling finds it, as without). The sky's
                                 // share and target are scaled by its measured visibility (the share of recent
                                 // sky picks whose shadow ray saw it, FrameStats::skyPicks), so a sky the scene
-                                // hides everywhere costs nothing; one factor per frame cannot tell shadowed
-                                // pixels from lit ones, and where the sun is hidden from about half the picks
-                                // the error still grows. Off by default for that; where the sky lights what the
+                                // hides everywhere is soon left alone, and a sky direction whose shadow ray
+                                // failed at a pixel leaves its reservoir (visibility reuse: biased, about -1%).
+                                // Where the sun is hidden from part of the view the frames gain but their
+                                // accumulation loses: off by default for that; where the sky lights what the
                                 // camera sees, on lowers the error (docs/RESULTS.md, "The sky in the reservoirs")
 };
 
