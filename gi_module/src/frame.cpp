@@ -25,11 +25,10 @@ float pixelScale(const gpu::GpuCamera& c) { return 2.0f * c.tanHalfFovY / c.imag
 
 // The ray budget: paths per pixel such that pixels × spp × (rays per path, as
 // measured on the newest completed frame, the one that last used `slot`)
-// stays within settings.rayBudget.
-uint32_t samplesWithinBudget(const Module& m, uint32_t requested, uint32_t slot) {
+// stays within settings.rayBudget. `c`: that frame's counters (slotCounters).
+uint32_t samplesWithinBudget(const Module& m, uint32_t requested, uint32_t slot, const gpu::GiCounters& c) {
   const FrameSlot& done = m.slots[slot];
   if (m.settings.rayBudget == 0 || !done.recorded || done.spp == 0) return requested;
-  gpu::GiCounters c = slotCounters(m, slot);
   const double pixels = double(m.width) * m.height;
   double raysPerPath = c.raysTraced > 0 ? double(c.raysTraced) / (pixels * done.spp) : 1.0;
   double affordable = double(m.settings.rayBudget) / (pixels * raysPerPath);
@@ -37,9 +36,8 @@ uint32_t samplesWithinBudget(const Module& m, uint32_t requested, uint32_t slot)
 }
 
 // AAF's budget in samples: rayBudget over the rays per sample of the newest completed frame.
-uint32_t aafSampleBudget(const Module& m, uint32_t slot) {
+uint32_t aafSampleBudget(const Module& m, uint32_t slot, const gpu::GiCounters& c) {
   if (m.settings.rayBudget == 0 || !m.slots[slot].recorded) return 0;
-  gpu::GiCounters c = slotCounters(m, slot);
   double raysPerSample = c.tracedSamples > 0 ? double(c.raysTraced) / double(c.tracedSamples) : 4.0;
   double budget = double(m.settings.rayBudget) / raysPerSample;
   return uint32_t(std::clamp(budget, 1.0, 4.0e9));
@@ -52,9 +50,8 @@ uint32_t aafSampleBudget(const Module& m, uint32_t slot) {
 // the sky the reservoirs pick is seen, so a closed hall under a sunny map stops trading its lamps' light for
 // failed shadow rays.
 constexpr uint64_t kSkyPicksPerRatio = 64;
-void updateSkyVisibility(Module& m, uint32_t slot) {
+void updateSkyVisibility(Module& m, uint32_t slot, const gpu::GiCounters& c) {
   if (!m.plan.reservoirSky || !m.slots[slot].recorded) return;
-  const gpu::GiCounters c = slotCounters(m, slot);
   SkyVisibility& v = m.skyVisibility;
   v.tested += c.skyPicksTested;
   v.visible += std::min(c.skyPicksVisible, c.skyPicksTested);
@@ -601,10 +598,12 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
   const Settings& s = m.settings;
   FrameSetup setup;
   setup.slot = uint32_t(m.recordedFrames % m.desc.framesInFlight);
-  // Budgets read the counters this slot holds (its last frame has completed) before they are overwritten.
-  setup.spp = m.plan.aaf ? 0u : samplesWithinBudget(m, tracedSamplesPerPixel(s), setup.slot);
-  setup.aafBudget = aafSampleBudget(m, setup.slot);
-  updateSkyVisibility(m, setup.slot);
+  // Budgets read the counters this slot holds (its last frame has completed) before they are overwritten:
+  // one copy out of the mapped buffer serves all three.
+  const gpu::GiCounters done = slotCounters(m, setup.slot);
+  setup.spp = m.plan.aaf ? 0u : samplesWithinBudget(m, tracedSamplesPerPixel(s), setup.slot, done);
+  setup.aafBudget = aafSampleBudget(m, setup.slot, done);
+  updateSkyVisibility(m, setup.slot, done);
   setup.accumulate = s.method == Method::Raw && s.raw.temporalAccumulation;
   setup.gradientsTraced = m.plan.temporalGradients && m.temporalFrames > 0;
   setup.hashSecondaryWidth = m.plan.hashGrid ? hashSecondaryWidth(s, m.desc.maxWidth, m.desc.maxHeight) : 1.0f;
