@@ -41,7 +41,8 @@ void SoakTest::soak(gi::Method method) {
   uint64_t hostAtSteady = 0, deviceAtSteady = 0;
   uint32_t steadyOccupancy = 0;
   // A one-off std::bad_alloc has ended this test now and then (issue 30, unexplained, with GBs of memory
-  // free): name the frame, the step and the resident memory where one is thrown, still failing the test.
+  // free): name the frame, the step and the resident memory where one is thrown, still failing the test
+  // (crash_report.cpp has written the stack of the allocation that failed just before).
   const char* step = "";
   auto failOnBadAlloc = [&](uint32_t f, auto&& run) {
     try {
