@@ -40,8 +40,7 @@ void onFatalSignal(int signal) {
              : signal == SIGSEGV ? "crash_report: SIGSEGV at:\n"
              : signal == SIGBUS  ? "crash_report: SIGBUS at:\n"
                                  : "crash_report: SIGFPE at:\n");
-  std::signal(signal, SIG_DFL);  // then die of it as before (SA_RESETHAND has already reset it)
-  std::raise(signal);
+  std::raise(signal);  // then die of it as before (SA_RESETHAND has already restored the default action)
 }
 
 struct CrashReport {

@@ -599,8 +599,10 @@ Error recordFrame(Module* mp, VkCommandBuffer cmd, const FrameInputs& in) {
   FrameSetup setup;
   setup.slot = uint32_t(m.recordedFrames % m.desc.framesInFlight);
   // Budgets read the counters this slot holds (its last frame has completed) before they are overwritten:
-  // one copy out of the mapped buffer serves all three.
-  const gpu::GiCounters done = slotCounters(m, setup.slot);
+  // one copy out of the mapped buffer serves all three, made only where one of them reads it (with the
+  // defaults, no ray budget and no sky in the reservoirs, none does).
+  const bool countersRead = m.slots[setup.slot].recorded && (s.rayBudget > 0 || m.plan.reservoirSky);
+  const gpu::GiCounters done = countersRead ? slotCounters(m, setup.slot) : gpu::GiCounters{};
   setup.spp = m.plan.aaf ? 0u : samplesWithinBudget(m, tracedSamplesPerPixel(s), setup.slot, done);
   setup.aafBudget = aafSampleBudget(m, setup.slot, done);
   updateSkyVisibility(m, setup.slot, done);
