@@ -401,13 +401,21 @@ bool createContext(const ContextDesc& desc, Context& ctx, std::string& error) {
         std::string("vkCreateCommandPool failed on '") + ctx.properties.deviceName + "' (" + vkResultName(made) + ").";
     return false;
   }
-  return true;
+  VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+  alloc.commandPool = ctx.commandPool;
+  alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  alloc.commandBufferCount = 1;
+  const VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+  return VK_SUCCEEDED(error, "the one-shot command buffer",
+                      vkAllocateCommandBuffers(ctx.device, &alloc, &ctx.oneShot)) &&
+         VK_SUCCEEDED(error, "the one-shot fence", vkCreateFence(ctx.device, &fenceInfo, nullptr, &ctx.oneShotFence));
 }
 
 void destroyContext(Context& ctx) {
   if (ctx.device) {
     vkDeviceWaitIdle(ctx.device);
-    vkDestroyCommandPool(ctx.device, ctx.commandPool, nullptr);
+    if (ctx.oneShotFence) vkDestroyFence(ctx.device, ctx.oneShotFence, nullptr);
+    vkDestroyCommandPool(ctx.device, ctx.commandPool, nullptr);  // and ctx.oneShot with it
     vkDestroyDevice(ctx.device, nullptr);
   }
   if (ctx.messenger) vkDestroyDebugUtilsMessengerEXT(ctx.instance, ctx.messenger, nullptr);
@@ -415,39 +423,53 @@ void destroyContext(Context& ctx) {
   ctx.device = VK_NULL_HANDLE;
   ctx.messenger = VK_NULL_HANDLE;
   ctx.instance = VK_NULL_HANDLE;
+  ctx.oneShot = VK_NULL_HANDLE;
+  ctx.oneShotFence = VK_NULL_HANDLE;
 }
 
 VkCommandBuffer beginOneShot(const Context& ctx, std::string& error) {
   if (!error.empty()) return VK_NULL_HANDLE;
-  VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-  alloc.commandPool = ctx.commandPool;
-  alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-  alloc.commandBufferCount = 1;
   VkCommandBuffer cmd = VK_NULL_HANDLE;
-  if (!VK_SUCCEEDED(error, "one-shot commands", vkAllocateCommandBuffers(ctx.device, &alloc, &cmd)))
-    return VK_NULL_HANDLE;
+  const bool reused = ctx.oneShot && !ctx.oneShotOpen;
+  if (reused) {
+    cmd = ctx.oneShot;  // vkBeginCommandBuffer resets it (the pool allows it)
+  } else {
+    VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+    alloc.commandPool = ctx.commandPool;
+    alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+    alloc.commandBufferCount = 1;
+    if (!VK_SUCCEEDED(error, "one-shot commands", vkAllocateCommandBuffers(ctx.device, &alloc, &cmd)))
+      return VK_NULL_HANDLE;
+  }
   VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
   begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   if (!VK_SUCCEEDED(error, "one-shot commands", vkBeginCommandBuffer(cmd, &begin))) {
-    vkFreeCommandBuffers(ctx.device, ctx.commandPool, 1, &cmd);
+    if (!reused) vkFreeCommandBuffers(ctx.device, ctx.commandPool, 1, &cmd);
     return VK_NULL_HANDLE;
   }
+  if (reused) ctx.oneShotOpen = true;
   return cmd;
 }
 
 bool endOneShotAndWait(const Context& ctx, VkCommandBuffer cmd, std::string& error) {
   const char* what = "one-shot commands";
-  VkFence fence = VK_NULL_HANDLE;
+  const bool reused = cmd == ctx.oneShot;
+  VkFence fence = reused ? ctx.oneShotFence : VK_NULL_HANDLE;
   VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
   VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
   submit.commandBufferCount = 1;
   submit.pCommandBuffers = &cmd;
   const bool done = VK_SUCCEEDED(error, what, vkEndCommandBuffer(cmd)) &&
-                    VK_SUCCEEDED(error, what, vkCreateFence(ctx.device, &fenceInfo, nullptr, &fence)) &&
+                    (reused ? VK_SUCCEEDED(error, what, vkResetFences(ctx.device, 1, &fence))
+                            : VK_SUCCEEDED(error, what, vkCreateFence(ctx.device, &fenceInfo, nullptr, &fence))) &&
                     VK_SUCCEEDED(error, what, vkQueueSubmit(ctx.queue, 1, &submit, fence)) &&
                     VK_SUCCEEDED(error, what, vkWaitForFences(ctx.device, 1, &fence, VK_TRUE, UINT64_MAX));
   // A submission that failed after it was queued (a lost device) still holds the buffer: wait out the queue.
   if (!done) vkQueueWaitIdle(ctx.queue);
+  if (reused) {
+    ctx.oneShotOpen = false;
+    return done;
+  }
   if (fence) vkDestroyFence(ctx.device, fence, nullptr);
   vkFreeCommandBuffers(ctx.device, ctx.commandPool, 1, &cmd);
   return done;

@@ -51,6 +51,14 @@ struct Context {
   uint32_t queueFamily = 0;
   VkQueue queue = VK_NULL_HANDLE;
   VkCommandPool commandPool = VK_NULL_HANDLE;
+  // submitAndWait's command buffer and fence, made with the context and reset for each submission rather
+  // than allocated and freed each time: Debian 12's validation layer (1.3.239) corrupts the heap when
+  // command buffers that carry debug labels are freed and allocated again at frame rate (issue 30;
+  // tests/label_stress.cpp reproduces it in seconds; docs/RESULTS.md, "Extremes"). A submission recorded
+  // while this one is open (inside another's `record`) gets a command buffer of its own as before.
+  VkCommandBuffer oneShot = VK_NULL_HANDLE;
+  VkFence oneShotFence = VK_NULL_HANDLE;
+  mutable bool oneShotOpen = false;
   VkPhysicalDeviceProperties properties{};
   VkPhysicalDeviceMemoryProperties memoryProperties{};
   VkPhysicalDeviceAccelerationStructurePropertiesKHR accelerationProperties{};

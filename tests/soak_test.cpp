@@ -40,9 +40,10 @@ void SoakTest::soak(gi::Method method) {
   const uint32_t kFrames = 10000, kSteadyFrom = 1000, kSteadyTo = 2000;
   uint64_t hostAtSteady = 0, deviceAtSteady = 0;
   uint32_t steadyOccupancy = 0;
-  // A one-off std::bad_alloc has ended this test now and then (issue 30, unexplained, with GBs of memory
-  // free): name the frame, the step and the resident memory where one is thrown, still failing the test
-  // (crash_report.cpp has written the stack of the allocation that failed just before).
+  // A one-off std::bad_alloc ended this test now and then (issue 30, with GBs of memory free: the
+  // validation layer's heap corruption under command buffers freed each frame, which submitAndWait no
+  // longer does): name the frame, the step and the resident memory where one is thrown, still failing the
+  // test (crash_report.cpp has written the stack of the allocation that failed just before).
   const char* step = "";
   auto failOnBadAlloc = [&](uint32_t f, auto&& run) {
     try {
