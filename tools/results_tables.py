@@ -26,6 +26,7 @@
   tools/results_tables.py hash_map NAME DIR ...  the map's occupancy, failed inserts, memory and error per run
   tools/results_tables.py hash_live SEGMENTS JSON ...  live cells a pixel and a vertex (gi-render --stats)
   tools/results_tables.py gtest_logs LOG...  GoogleTest logs: tests run, passed, skipped, failed by name
+  tools/results_tables.py label_stress DIR   tests/label_stress.cpp's runs: submissions made and how each ended
   tools/results_tables.py check FILE...      every generated block of the markdown FILEs against its data
   tools/results_tables.py write FILE...      rewrites those blocks from their data
 
@@ -657,6 +658,32 @@ def gtest_logs(paths):
         print(f"| `{os.path.basename(path)}` | {ran} | {passed} | {skipped} | {', '.join(failed) if failed else '–'} |")
 
 
+def label_stress(directory):
+    """tests/label_stress.cpp's runs (logs named PATTERN_labelsL_syncS_rR_P.log: pattern, labels a
+    submission, the validation layer's synchronization checks, round, process): the submissions each made
+    (its last progress line, or all), its seconds, and how it ended (glibc's heap message, an uncaught
+    std::bad_alloc, or the signal)."""
+    name = re.compile(r"(\w+?)_labels(\d+)_sync(\d)_r(\d+)_(\d+)\.log$")
+    print("| pattern | labels a submission | synchronization checks | run | submissions | s | outcome |")
+    print("|---|---|---|---|---|---|---|")
+    for path in sorted(os.listdir(directory)):
+        m = name.match(path)
+        if not m:
+            continue
+        text = open(os.path.join(directory, path), encoding="utf-8").read()
+        done = max([int(n) for n in re.findall(r"^(\d+) submissions$", text, re.M)] or [0])
+        seconds = re.findall(r"^([\d.]+) s$", text, re.M)
+        rc = int(re.findall(r"^rc=(\d+)$", text, re.M)[-1])
+        heap = re.findall(r"^(malloc\S*\(\): .*|free\(\): .*|double free.*|corrupted .*)$", text, re.M) + [
+            f"{m} thrown" for m in re.findall(r"^  what\(\):\s+(std::bad_alloc)$", text, re.M)]
+        signal = {134: "SIGABRT", 139: "SIGSEGV"}.get(rc, f"exit {rc}")
+        outcome = "clean (0 validation messages)" if rc == 0 and "all submitted, 0 validation" in text else (
+            f"{signal}: {heap[0]}" if heap else signal)
+        reached = f"{done:,}" if rc == 0 else f"{done:,}–{done + 10000:,}"
+        print(f"| {m[1]} | {m[2]} | {'on' if m[3] == '1' else 'off'} | {m[4]}.{m[5]} | {reached} | "
+              f"{float(seconds[-1]):.0f} | {outcome} |")
+
+
 def refit(path):
     """A deforming mesh's cost a frame (gi-bench --refit): the device refit against creating the scene anew."""
     names = {"rayquery": "ray queries (+ compute BVH)", "compute": "compute"}
@@ -991,6 +1018,7 @@ KINDS = {
     "hash_map": hash_map,
     "hash_live": lambda a: hash_live(a[0], a[1:]),
     "gtest_logs": gtest_logs,
+    "label_stress": lambda a: label_stress(a[0]),
     "walk_best": walk_best,
     "hashdirect": hashdirect,
     "spikes": lambda a: spikes(a[0], a[1], a[2:]),
