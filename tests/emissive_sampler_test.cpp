@@ -142,11 +142,14 @@ TEST_F(EmissiveSamplerTest, TheTreesPicksKeepPowersExpectationWithLessNoise) {
 
 // Reservoirs over the emissive triangles (gi_reservoirs.comp: a triangle's sample point resampled by its
 // unshadowed light, reused over the frames and the neighbours; the primary hit's NEE then samples only the
-// sky, and its BSDF-sampled hits of the triangles count nothing). Raw's direct light, 64 frames
-// accumulated and averaged over 8 seeds, with the reservoirs and without (NEE down the triangles' tree with
-// MIS): the same image in mean (within 1.5%) and in every 8×8 block (within 5%); a frame after 15 with
-// reservoirs under 0.7× the error of one without; no pixel of a frame brighter than 4× the brightest of
-// the image without.
+// sky, and its BSDF-sampled hits of the triangles count nothing), their candidates walked down the tree by
+// each pixel, or drawn once for each 8x8 group (ReservoirSettings::groupCandidates: the tree at the group's
+// surface mixed with power, its density the mixture's) with the default share of power and with power
+// alone. Raw's direct light, 64 frames accumulated and averaged over 8 seeds, with the reservoirs and
+// without (NEE down the triangles' tree with MIS): the same image in mean (within 1.5%) and in every 8x8
+// block (within 5%); a frame after 15 with reservoirs under 0.7x the error of one without; no pixel of a
+// frame brighter than 4x the brightest of the image without. A group draw weighed by the tree's chance
+// alone (the mixture's density wrong by its power share) is off in mean by several times the bound.
 TEST_F(EmissiveSamplerTest, ReservoirsResampleTheTrianglesWithTheirExpectation) {
   LoadedScene s;
   ASSERT_NO_FATAL_FAILURE(loadWith(emissiveField(), gpu::LIGHT_SAMPLER_TREE, s));
@@ -155,23 +158,35 @@ TEST_F(EmissiveSamplerTest, ReservoirsResampleTheTrianglesWithTheirExpectation) 
   off.reservoirs.enabled = false;
   ASSERT_TRUE(on.reservoirs.enabled);
   ASSERT_GT(gi::sceneInfo(s.gpu.scene).emissiveTriangles, on.reservoirs.emissiveMin);
-  const engine::FloatImage mean[2] = {meanOverSeeds(ctx, s, off, 64, 8), meanOverSeeds(ctx, s, on, 64, 8)};
-  const engine::FloatImage& truth = mean[0];
+  gi::Settings perPixel = on, group = on, groupByPower = on;
+  perPixel.reservoirs.groupCandidates = false;
+  group.reservoirs.groupCandidates = groupByPower.reservoirs.groupCandidates = true;
+  groupByPower.reservoirs.groupPowerShare = 1.0f;
+  ASSERT_LT(group.reservoirs.groupPowerShare, 1.0f);
+  const engine::FloatImage truth = meanOverSeeds(ctx, s, off, 64, 8);
   const float brightest = *std::max_element(truth.pixels.begin(), truth.pixels.end());
-  const double relative = meanOf(mean[1]) / meanOf(truth) - 1.0;
-  const double worst = worstBlockDifference(mean[1], truth, kSize);
   const engine::FloatImage frameOff = rawDirectAfter(ctx, s, off, kSize, 16, false);
-  const engine::FloatImage frameOn = rawDirectAfter(ctx, s, on, kSize, 16, false);
-  const double error[2] = {metrics::mse(frameOff, truth), metrics::mse(frameOn, truth)};
-  const float peak = *std::max_element(frameOn.pixels.begin(), frameOn.pixels.end());
-  std::printf(
-      "emissive reservoirs: mean %+.2f%% of NEE's, worst 8x8 block %.2f%%; a frame's MSE %.3e against NEE's "
-      "%.3e (%.2fx); its brightest pixel %.2f of the image's\n",
-      100.0 * relative, 100.0 * worst, error[1], error[0], error[1] / error[0], peak / brightest);
-  EXPECT_LT(std::abs(relative), 0.015);
-  EXPECT_LT(worst, 0.05);
-  EXPECT_LT(error[1], 0.7 * error[0]);
-  EXPECT_LT(peak, 4.0f * brightest);
+  const double errorOff = metrics::mse(frameOff, truth);
+  const struct {
+    const char* name;
+    const gi::Settings& settings;
+  } runs[] = {{"per pixel", perPixel}, {"the group's", group}, {"the group's by power", groupByPower}};
+  for (const auto& run : runs) {
+    const engine::FloatImage mean = meanOverSeeds(ctx, s, run.settings, 64, 8);
+    const double relative = meanOf(mean) / meanOf(truth) - 1.0;
+    const double worst = worstBlockDifference(mean, truth, kSize);
+    const engine::FloatImage frameOn = rawDirectAfter(ctx, s, run.settings, kSize, 16, false);
+    const double error = metrics::mse(frameOn, truth);
+    const float peak = *std::max_element(frameOn.pixels.begin(), frameOn.pixels.end());
+    std::printf(
+        "emissive reservoirs, %s candidates: mean %+.2f%% of NEE's, worst 8x8 block %.2f%%; a frame's MSE %.3e "
+        "against NEE's %.3e (%.2fx); its brightest pixel %.2f of the image's\n",
+        run.name, 100.0 * relative, 100.0 * worst, error, errorOff, error / errorOff, peak / brightest);
+    EXPECT_LT(std::abs(relative), 0.015) << run.name;
+    EXPECT_LT(worst, 0.05) << run.name;
+    EXPECT_LT(error, 0.7 * errorOff) << run.name;
+    EXPECT_LT(peak, 4.0f * brightest) << run.name;
+  }
 }
 
 // The sky as one node beside the emissive triangles' tree (giSkySelection): the area lights' shadow ray

@@ -10,7 +10,8 @@
 // or a direction to the sky (per steradian: giPackSkySample), as
 // GiFrameConstants::primaryDirect says the frame's reservoirs hold them.
 //   GI_RESERVOIR_TEMPORAL: `candidates` lights drawn from the scene's light
-//     sampler (the tree's importance or power) are resampled by p̂ / pdf;
+//     sampler (the tree's importance or power; with groupCandidates the emissive
+//     triangles from the 8×8 group's shared draws, giDrawGroupCandidates) are resampled by p̂ / pdf;
 //     last frame's temporal reservoir at the pixel's reprojection is merged
 //     in (its M capped at maxHistory × candidates), where its guide says it
 //     saw this surface; a reservoir far above its group's others is then dropped (giBoilingFilter). Last
@@ -83,13 +84,76 @@ void giReservoirMerge(inout GiReservoir r, uint light, float target, float weigh
   }
 }
 
+// The 8×8 group's shared candidates for the emissive triangles (pc.groupCandidates, where they are walked down
+// their tree): each invocation draws one, down the tree at the group's surface (the covered pixel nearest the
+// group's centre) or, with pc.groupPowerShare, by power, so that a triangle a pixel sees and the group's
+// surface does not keeps a density above 0. Its chance is the mixture's, powerShare·power + (1 −
+// powerShare)·tree, the same for every pixel of the group: each pixel's RIS over the draws it takes stays
+// unbiased (a candidate's weight needs only its own density; draws shared between pixels correlate them, as
+// RTXDI's presampled light tiles do). A pixel's `candidates` walks fall to the one its invocation draws. The
+// draws are stratified over [0, 1) like a pixel's own picks, and a pixel takes every stride-th from a random
+// start (giGroupSlot), so its candidates spread over the tree too.
+#define GI_GROUP_DRAWS (GI_GROUP_SIZE * GI_GROUP_SIZE)
+shared uint giGroupDraws[GI_GROUP_DRAWS];         // an emissive triangle's entry, or GI_RESERVOIR_EMPTY
+shared float giGroupDrawChances[GI_GROUP_DRAWS];  // the chance of its pick under the mixture
+shared uint giGroupSurfaceRank;                   // the lending pixel: its squared distance to the centre, index
+shared vec3 giGroupPosition, giGroupNormal;       // its surface (world; geometric normal)
+
+// Whether the temporal pass takes its emissive candidates from the group's draws (uniform over the dispatch).
+bool giSharesGroupDraws() {
+  return pc.mode == GI_RESERVOIR_TEMPORAL && pc.groupCandidates != 0u && giReservoirsHoldEmissive() &&
+         giEmissiveTree();
+}
+
+// Every invocation of the group calls it (barriers); covered: its pixel has a surface at x (geometric normal ng).
+void giDrawGroupCandidates(bool covered, vec3 x, vec3 ng, inout GiRng rng) {
+  const uint index = gl_LocalInvocationIndex;
+  if (index == 0u) giGroupSurfaceRank = 0xffffffffu;
+  barrier();
+  const ivec2 fromCentre = 2 * ivec2(gl_LocalInvocationID.xy) - ivec2(GI_GROUP_SIZE - 1u);  // in half pixels
+  const uint rank = (uint(dot(fromCentre, fromCentre)) << 8u) | index;
+  if (covered) atomicMin(giGroupSurfaceRank, rank);
+  barrier();
+  if (covered && giGroupSurfaceRank == rank) {
+    giGroupPosition = x;
+    giGroupNormal = ng;
+  }
+  barrier();
+  uint k = GI_RESERVOIR_EMPTY;
+  float chance = 0.0;
+  if (giGroupSurfaceRank != 0xffffffffu) {  // else no pixel of the group takes a candidate
+    GiRng group = giRngCreate(gl_WorkGroupID.xy, giFrame.frameIndex, pc.seed, GI_STREAM_RESERVOIR_GROUPS);
+    const float u = fract(giRandom(group) + float(index) / float(GI_GROUP_DRAWS));
+    const float powerShare = pc.groupPowerShare;
+    float tree = 0.0;
+    if (giRandom(rng) < powerShare) {
+      k = giPickEmissiveTriangle(u);
+      tree = giTreeLeafChance(true, sceneEmissiveLeaf(k), giGroupPosition, giGroupNormal);
+    } else {
+      k = giPickFromTree(true, 0u, giGroupPosition, giGroupNormal, u, tree);
+      if (!(tree > 0.0)) k = GI_RESERVOIR_EMPTY;  // no triangle can light the group's surface: this draw is none
+    }
+    if (k != GI_RESERVOIR_EMPTY) chance = powerShare * giEmissiveTriangleChance(k) + (1.0 - powerShare) * tree;
+  }
+  giGroupDraws[index] = k;
+  giGroupDrawChances[index] = chance;
+  barrier();
+}
+
+// The group draw a pixel's candidate i takes: every stride-th from `start` (a random one of the draws).
+uint giGroupSlot(uint start, uint i) {
+  const uint stride = max(1u, GI_GROUP_DRAWS / max(pc.candidates, 1u));
+  return (start + i * stride) % GI_GROUP_DRAWS;
+}
+
 // A candidate from the scene's samplers and the chance of its pick (0: none can light x): a punctual
 // light, an emissive triangle's sample point (whose density is that chance over the triangle's area,
 // which its target brings: giReservoirTarget), or a direction from the sky's map (a density per steradian:
 // giReservoirSkyPdf). The sky takes giReservoirSkyShare of the candidates; where the reservoirs hold both
 // kinds of lights, each is drawn half of the rest. `u` picks the light (the caller stratifies it over the
-// candidates; skyShare is giReservoirSkyShare at s).
-uint giReservoirCandidate(GiSurface s, float u, float skyShare, inout GiRng rng, out float chance) {
+// candidates; skyShare is giReservoirSkyShare at s); with giSharesGroupDraws an emissive triangle is the
+// group's draw in `slot` instead.
+uint giReservoirCandidate(GiSurface s, float u, uint slot, float skyShare, inout GiRng rng, out float chance) {
   if (skyShare >= 1.0 || (skyShare > 0.0 && giRandom(rng) < skyShare)) {
     float pdf;
     const uint direction = giPackSkySample(giSampleSkyMap(giRandom2(rng), pdf));
@@ -98,6 +162,11 @@ uint giReservoirCandidate(GiSurface s, float u, float skyShare, inout GiRng rng,
   }
   const float emissiveShare = giReservoirsHoldEmissive() ? (giReservoirsHoldPunctual() ? 0.5 : 1.0) : 0.0;
   if (emissiveShare >= 1.0 || (emissiveShare > 0.0 && giRandom(rng) < emissiveShare)) {
+    if (giSharesGroupDraws()) {
+      const uint k = giGroupDraws[slot];
+      chance = (1.0 - skyShare) * emissiveShare * giGroupDrawChances[slot];
+      return k == GI_RESERVOIR_EMPTY ? GI_RESERVOIR_EMPTY : giPackEmissiveSample(k, giRandom2(rng));
+    }
     const bool tree = giEmissiveTree();
     float pick = 1.0;
     const uint k = tree ? giPickFromTree(true, 0u, s.position, s.geometricNormal, u, pick) : giPickEmissiveTriangle(u);
@@ -191,10 +260,11 @@ uvec4 giTemporalReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float 
   // candidate keeps the sampler's density, as RIS asks) and together they cover [0, 1) evenly, which spreads
   // them over the tree's leaves instead of letting them crowd.
   const float offset = giRandom(rng);
+  const uint start = giSharesGroupDraws() ? min(uint(giRandom(rng) * float(GI_GROUP_DRAWS)), GI_GROUP_DRAWS - 1u) : 0u;
   for (uint i = 0u; i < pc.candidates; ++i) {
     float chance, area = 0.0;
     const float u = fract(offset + float(i) / float(pc.candidates));
-    const uint light = giReservoirCandidate(s, u, skyShare, rng, chance);
+    const uint light = giReservoirCandidate(s, u, giGroupSlot(start, i), skyShare, rng, chance);
     const float target = chance > 0.0 ? giReservoirTarget(light, s, b, V, skyShare, area) : 0.0;
     const float density = area > 0.0 ? chance / area : chance;  // a triangle's point: per unit of its area
     giReservoirMerge(r, light, target, target / max(density, 1e-30), 1.0, giRandom(rng));
@@ -367,18 +437,20 @@ void main() {
   const bool inside = giInFrame(gl_GlobalInvocationID.xy);
   uvec4 stored = uvec4(GI_RESERVOIR_EMPTY, 0u, 0u, 0u);
   float estimate = 0.0;
-  if (inside) {
-    if (giGbCovered(p)) {
-      vec3 V;
-      const GiSurface s = giGbSurface(p, V);
-      const GiBsdf b = giMakeBsdf(s.material.baseColor, s.material.metallic, s.material.roughness, s.material.flags);
-      const vec3 n = giGbNormal(p);
-      const float depth = giGbViewDepth(p);
-      const uint guide = giPackGuide(n, depth / giFrame.depthScale);
-      GiRng rng = giRngCreate(uvec2(p), giFrame.frameIndex * 2u + pc.mode, pc.seed, GI_STREAM_RESERVOIRS);
-      stored = pc.mode == GI_RESERVOIR_TEMPORAL ? giTemporalReservoir(p, s, b, V, n, depth, guide, rng, estimate)
-                                                : giSpatialReservoir(p, s, b, V, n, depth, rng);
-    }
+  const bool covered = inside && giGbCovered(p);
+  GiRng rng = giRngCreate(uvec2(p), giFrame.frameIndex * 2u + pc.mode, pc.seed, GI_STREAM_RESERVOIRS);
+  vec3 V = vec3(0.0);
+  GiSurface s;
+  if (covered) s = giGbSurface(p, V);
+  if (giSharesGroupDraws())
+    giDrawGroupCandidates(covered, covered ? s.position : vec3(0.0), covered ? s.geometricNormal : vec3(0.0), rng);
+  if (covered) {
+    const GiBsdf b = giMakeBsdf(s.material.baseColor, s.material.metallic, s.material.roughness, s.material.flags);
+    const vec3 n = giGbNormal(p);
+    const float depth = giGbViewDepth(p);
+    const uint guide = giPackGuide(n, depth / giFrame.depthScale);
+    stored = pc.mode == GI_RESERVOIR_TEMPORAL ? giTemporalReservoir(p, s, b, V, n, depth, guide, rng, estimate)
+                                              : giSpatialReservoir(p, s, b, V, n, depth, rng);
   }
   if (pc.mode == GI_RESERVOIR_TEMPORAL && pc.boilingFilter > 0.0) stored = giBoilingFilter(stored, estimate);
   if (inside) {

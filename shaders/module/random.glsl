@@ -21,6 +21,7 @@ struct GiRng {
 #define GI_STREAM_AAF 3u
 #define GI_STREAM_HASH 4u
 #define GI_STREAM_RESERVOIRS 5u
+#define GI_STREAM_RESERVOIR_GROUPS 6u  // the 8×8 groups' shared candidates (gi_reservoirs.comp)
 
 GiRng giRngCreate(uvec2 pixel, uint sampleIndex, uint seed, uint stream) {
   GiRng rng;

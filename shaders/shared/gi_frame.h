@@ -199,7 +199,9 @@ struct GiReservoirPush {
                         // mean is dropped (0: off)
   uint frameSet;        // 1: last frame's reservoirs are not merged: this frame's are FRAME_RESERVOIRS
                         // (readSet unused), 0: sets A and B
-  uint pad1, pad2;
+  uint groupCandidates;   // temporal: 1 = the emissive triangles' candidates come from the 8×8 group's shared
+                          // draws (ReservoirSettings::groupCandidates), where they are walked down their tree
+  float groupPowerShare;  // (0, 1]: the share of those draws picked by power
 };
 GPU_ASSERT_SIZE(GiReservoirPush, 64);
 

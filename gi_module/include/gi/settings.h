@@ -265,6 +265,14 @@ struct ReservoirSettings {
                                 // others is dropped, not kept nor reused (RTXDI's boiling filter: a sample
                                 // whose weight is an outlier would otherwise be kept and spread for frames;
                                 // biased: it darkens where it drops)
+  bool groupCandidates = false; // the emissive triangles' candidates drawn once for each 8x8 group of pixels
+                                // (one walk down their tree a pixel, from the surface nearest the group's
+                                // centre, not `candidates` walks), mixed with picks by power so that no
+                                // triangle a pixel sees has density 0; each pixel resamples `candidates` of
+                                // the group's 64 by its own target. Unbiased: the density of every pick is the
+                                // group's mixture, the same for each pixel
+  float groupPowerShare = 0.25f;  // (0, 1]: with groupCandidates, the share of the group's candidates drawn by
+                                  // power (the rest down the tree at the group's surface)
   bool sky = false;             // where the reservoirs run for the lights above, a sky map's light too: a share of
                                 // the candidates (its irradiance against the trees' importance) are directions
                                 // from the map, resampled by their light weighed against BSDF sampling, whose
