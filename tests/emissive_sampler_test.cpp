@@ -143,9 +143,9 @@ TEST_F(EmissiveSamplerTest, TheTreesPicksKeepPowersExpectationWithLessNoise) {
 // Reservoirs over the emissive triangles (gi_reservoirs.comp: a triangle's sample point resampled by its
 // unshadowed light, reused over the frames and the neighbours; the primary hit's NEE then samples only the
 // sky, and its BSDF-sampled hits of the triangles count nothing), their candidates walked down the tree by
-// each pixel, or drawn once for each 8x8 group (ReservoirSettings::groupCandidates: the tree at the group's
-// surface mixed with power, its density the mixture's) with the default share of power and with power
-// alone. Raw's direct light, 64 frames accumulated and averaged over 8 seeds, with the reservoirs and
+// each pixel, or drawn for each 8x8 group and shared (ReservoirSettings::groupCandidates: the tree at the
+// group's surface mixed with power, its density the mixture's), two a pixel with the default share of power
+// and one a pixel by power alone. Raw's direct light, 64 frames accumulated and averaged over 8 seeds, with the reservoirs and
 // without (NEE down the triangles' tree with MIS): the same image in mean (within 1.5%) and in every 8x8
 // block (within 5%); a frame after 15 with reservoirs under 0.7x the error of one without; no pixel of a
 // frame brighter than 4x the brightest of the image without. A group draw weighed by the tree's chance
@@ -159,8 +159,9 @@ TEST_F(EmissiveSamplerTest, ReservoirsResampleTheTrianglesWithTheirExpectation) 
   ASSERT_TRUE(on.reservoirs.enabled);
   ASSERT_GT(gi::sceneInfo(s.gpu.scene).emissiveTriangles, on.reservoirs.emissiveMin);
   gi::Settings perPixel = on, group = on, groupByPower = on;
-  perPixel.reservoirs.groupCandidates = false;
-  group.reservoirs.groupCandidates = groupByPower.reservoirs.groupCandidates = true;
+  perPixel.reservoirs.groupCandidates = 0;
+  group.reservoirs.groupCandidates = 2;
+  groupByPower.reservoirs.groupCandidates = 1;
   groupByPower.reservoirs.groupPowerShare = 1.0f;
   ASSERT_LT(group.reservoirs.groupPowerShare, 1.0f);
   const engine::FloatImage truth = meanOverSeeds(ctx, s, off, 64, 8);

@@ -173,10 +173,10 @@ const SettingInfo kSettings[] = {
     GI_SETTING("reservoirs.boiling_filter", reservoirs.boilingFilter, "x the group's mean",
                "a temporal reservoir this many times its 8x8 group's others' mean estimate is dropped (0 = off)", Float,
                0, 1000, false, kEvery),
-    GI_BOOL("reservoirs.group_candidates", reservoirs.groupCandidates,
-            "the emissive triangles' candidates drawn once per 8x8 group (one tree walk a pixel), each pixel "
-            "resampling its share by its own target",
-            kEvery),
+    GI_SETTING("reservoirs.group_candidates", reservoirs.groupCandidates, "draws per pixel",
+               "the emissive triangles' candidates drawn for each 8x8 group, this many by each pixel, and shared: "
+               "each pixel resamples its candidates from the group's (0 = each pixel draws its own)",
+               Uint, 0, 8, false, kEvery),
     GI_SETTING("reservoirs.group_power_share", reservoirs.groupPowerShare, "",
                "with group_candidates: the share of the group's candidates drawn by power (the rest down the tree)",
                Float, 0, 1, true, kEvery),

@@ -256,7 +256,7 @@ void recordReservoirPasses(Module& m, VkCommandBuffer cmd, const FrameSetup& set
                             .boilingFilter = r.boilingFilter,
                             // Without the merge the frame's one set serves, written then read by the spatial pass.
                             .frameSet = m.plan.reservoirTemporal ? 0u : 1u,
-                            .groupCandidates = r.groupCandidates ? 1u : 0u,
+                            .groupCandidates = r.groupCandidates,
                             .groupPowerShare = r.groupPowerShare};
   // Pass: candidates from the light sampler, last frame's reservoir, the survivor's shadow ray.
   runPass(m, cmd, slot, Pass::ReservoirTemporal, m.reservoirs, sets, {m.width, m.height}, push);

@@ -85,25 +85,28 @@ void giReservoirMerge(inout GiReservoir r, uint light, float target, float weigh
 }
 
 // The 8×8 group's shared candidates for the emissive triangles (pc.groupCandidates, where they are walked down
-// their tree): each invocation draws one, down the tree at the group's surface (the covered pixel nearest the
-// group's centre) or, with pc.groupPowerShare, by power, so that a triangle a pixel sees and the group's
-// surface does not keeps a density above 0. Its chance is the mixture's, powerShare·power + (1 −
-// powerShare)·tree, the same for every pixel of the group: each pixel's RIS over the draws it takes stays
-// unbiased (a candidate's weight needs only its own density; draws shared between pixels correlate them, as
-// RTXDI's presampled light tiles do). A pixel's `candidates` walks fall to the one its invocation draws. The
-// draws are stratified over [0, 1) like a pixel's own picks, and a pixel takes every stride-th from a random
-// start (giGroupSlot), so its candidates spread over the tree too.
-#define GI_GROUP_DRAWS (GI_GROUP_SIZE * GI_GROUP_SIZE)
-shared uint giGroupDraws[GI_GROUP_DRAWS];         // an emissive triangle's entry, or GI_RESERVOIR_EMPTY
-shared float giGroupDrawChances[GI_GROUP_DRAWS];  // the chance of its pick under the mixture
-shared uint giGroupSurfaceRank;                   // the lending pixel: its squared distance to the centre, index
-shared vec3 giGroupPosition, giGroupNormal;       // its surface (world; geometric normal)
+// their tree): each invocation draws pc.groupCandidates of them, down the tree at the group's surface (the
+// covered pixel nearest the group's centre) or, with pc.groupPowerShare, by power, so that a triangle a pixel
+// sees and the group's surface does not keeps a density above 0. A draw's chance is the mixture's,
+// powerShare·power + (1 − powerShare)·tree, the same for every pixel of the group: each pixel's RIS over the
+// draws it takes stays unbiased (a candidate's weight needs only its own density; draws shared between pixels
+// correlate them, as RTXDI's presampled light tiles do). A pixel's `candidates` walks fall to the
+// pc.groupCandidates its invocation makes. The draws are stratified over [0, 1) like a pixel's own picks, and a
+// pixel takes every stride-th (a stride coprime to their count, so that the starts give as many different
+// sets as there are draws) from a random start (giGroupSlot): its candidates spread over the tree too.
+#define GI_GROUP_PIXELS (GI_GROUP_SIZE * GI_GROUP_SIZE)
+#define GI_GROUP_DRAWS_MAX (8u * GI_GROUP_PIXELS)      // ReservoirSettings::groupCandidates ≤ 8
+shared uint giGroupDraws[GI_GROUP_DRAWS_MAX];         // an emissive triangle's entry, or GI_RESERVOIR_EMPTY
+shared float giGroupDrawChances[GI_GROUP_DRAWS_MAX];  // the chance of its pick under the mixture
+shared uint giGroupSurfaceRank;                       // the lending pixel: its squared distance to the centre, index
+shared vec3 giGroupPosition, giGroupNormal;           // its surface (world; geometric normal)
 
 // Whether the temporal pass takes its emissive candidates from the group's draws (uniform over the dispatch).
 bool giSharesGroupDraws() {
   return pc.mode == GI_RESERVOIR_TEMPORAL && pc.groupCandidates != 0u && giReservoirsHoldEmissive() &&
          giEmissiveTree();
 }
+uint giGroupDrawCount() { return min(pc.groupCandidates, 8u) * GI_GROUP_PIXELS; }
 
 // Every invocation of the group calls it (barriers); covered: its pixel has a surface at x (geometric normal ng).
 void giDrawGroupCandidates(bool covered, vec3 x, vec3 ng, inout GiRng rng) {
@@ -119,31 +122,47 @@ void giDrawGroupCandidates(bool covered, vec3 x, vec3 ng, inout GiRng rng) {
     giGroupNormal = ng;
   }
   barrier();
-  uint k = GI_RESERVOIR_EMPTY;
-  float chance = 0.0;
-  if (giGroupSurfaceRank != 0xffffffffu) {  // else no pixel of the group takes a candidate
-    GiRng group = giRngCreate(gl_WorkGroupID.xy, giFrame.frameIndex, pc.seed, GI_STREAM_RESERVOIR_GROUPS);
-    const float u = fract(giRandom(group) + float(index) / float(GI_GROUP_DRAWS));
-    const float powerShare = pc.groupPowerShare;
-    float tree = 0.0;
-    if (giRandom(rng) < powerShare) {
-      k = giPickEmissiveTriangle(u);
-      tree = giTreeLeafChance(true, sceneEmissiveLeaf(k), giGroupPosition, giGroupNormal);
-    } else {
-      k = giPickFromTree(true, 0u, giGroupPosition, giGroupNormal, u, tree);
-      if (!(tree > 0.0)) k = GI_RESERVOIR_EMPTY;  // no triangle can light the group's surface: this draw is none
+  const uint draws = giGroupDrawCount();
+  const bool lit = giGroupSurfaceRank != 0xffffffffu;  // else no pixel of the group takes a candidate
+  GiRng group = giRngCreate(gl_WorkGroupID.xy, giFrame.frameIndex, pc.seed, GI_STREAM_RESERVOIR_GROUPS);
+  const float offset = giRandom(group);
+  const float powerShare = pc.groupPowerShare;
+  for (uint slot = index; slot < draws; slot += GI_GROUP_PIXELS) {
+    uint k = GI_RESERVOIR_EMPTY;
+    float chance = 0.0;
+    if (lit) {
+      const float u = fract(offset + float(slot) / float(draws));
+      float tree = 0.0;
+      if (giRandom(rng) < powerShare) {
+        k = giPickEmissiveTriangle(u);
+        tree = giTreeLeafChance(true, sceneEmissiveLeaf(k), giGroupPosition, giGroupNormal);
+      } else {
+        k = giPickFromTree(true, 0u, giGroupPosition, giGroupNormal, u, tree);
+        if (!(tree > 0.0)) k = GI_RESERVOIR_EMPTY;  // no triangle can light the group's surface: this draw is none
+      }
+      if (k != GI_RESERVOIR_EMPTY) chance = powerShare * giEmissiveTriangleChance(k) + (1.0 - powerShare) * tree;
     }
-    if (k != GI_RESERVOIR_EMPTY) chance = powerShare * giEmissiveTriangleChance(k) + (1.0 - powerShare) * tree;
+    giGroupDraws[slot] = k;
+    giGroupDrawChances[slot] = chance;
   }
-  giGroupDraws[index] = k;
-  giGroupDrawChances[index] = chance;
   barrier();
 }
 
-// The group draw a pixel's candidate i takes: every stride-th from `start` (a random one of the draws).
+uint giGcd(uint a, uint b) {
+  while (b != 0u) {
+    const uint r = a % b;
+    a = b;
+    b = r;
+  }
+  return a;
+}
+// The group draw a pixel's candidate i takes: every stride-th from `start` (a random one of the draws), the
+// stride the first at or above draws / candidates that is coprime to the draws' count.
 uint giGroupSlot(uint start, uint i) {
-  const uint stride = max(1u, GI_GROUP_DRAWS / max(pc.candidates, 1u));
-  return (start + i * stride) % GI_GROUP_DRAWS;
+  const uint draws = giGroupDrawCount();
+  uint stride = max(1u, draws / max(pc.candidates, 1u));
+  while (giGcd(stride, draws) != 1u) stride++;
+  return (start + i * stride) % draws;
 }
 
 // A candidate from the scene's samplers and the chance of its pick (0: none can light x): a punctual
@@ -260,11 +279,12 @@ uvec4 giTemporalReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float 
   // candidate keeps the sampler's density, as RIS asks) and together they cover [0, 1) evenly, which spreads
   // them over the tree's leaves instead of letting them crowd.
   const float offset = giRandom(rng);
-  const uint start = giSharesGroupDraws() ? min(uint(giRandom(rng) * float(GI_GROUP_DRAWS)), GI_GROUP_DRAWS - 1u) : 0u;
+  const uint draws = giSharesGroupDraws() ? giGroupDrawCount() : 0u;
+  const uint start = draws > 0u ? min(uint(giRandom(rng) * float(draws)), draws - 1u) : 0u;
   for (uint i = 0u; i < pc.candidates; ++i) {
     float chance, area = 0.0;
     const float u = fract(offset + float(i) / float(pc.candidates));
-    const uint light = giReservoirCandidate(s, u, giGroupSlot(start, i), skyShare, rng, chance);
+    const uint light = giReservoirCandidate(s, u, draws > 0u ? giGroupSlot(start, i) : 0u, skyShare, rng, chance);
     const float target = chance > 0.0 ? giReservoirTarget(light, s, b, V, skyShare, area) : 0.0;
     const float density = area > 0.0 ? chance / area : chance;  // a triangle's point: per unit of its area
     giReservoirMerge(r, light, target, target / max(density, 1e-30), 1.0, giRandom(rng));

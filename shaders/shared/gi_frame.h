@@ -199,8 +199,9 @@ struct GiReservoirPush {
                         // mean is dropped (0: off)
   uint frameSet;        // 1: last frame's reservoirs are not merged: this frame's are FRAME_RESERVOIRS
                         // (readSet unused), 0: sets A and B
-  uint groupCandidates;   // temporal: 1 = the emissive triangles' candidates come from the 8×8 group's shared
-                          // draws (ReservoirSettings::groupCandidates), where they are walked down their tree
+  uint groupCandidates;   // temporal, [0, 8]: the emissive triangles' candidates come from the 8×8 group's
+                          // shared draws, this many by each invocation (ReservoirSettings::groupCandidates),
+                          // where they are walked down their tree; 0: each pixel draws its own
   float groupPowerShare;  // (0, 1]: the share of those draws picked by power
 };
 GPU_ASSERT_SIZE(GiReservoirPush, 64);

@@ -265,12 +265,14 @@ struct ReservoirSettings {
                                 // others is dropped, not kept nor reused (RTXDI's boiling filter: a sample
                                 // whose weight is an outlier would otherwise be kept and spread for frames;
                                 // biased: it darkens where it drops)
-  bool groupCandidates = false; // the emissive triangles' candidates drawn once for each 8x8 group of pixels
-                                // (one walk down their tree a pixel, from the surface nearest the group's
-                                // centre, not `candidates` walks), mixed with picks by power so that no
-                                // triangle a pixel sees has density 0; each pixel resamples `candidates` of
-                                // the group's 64 by its own target. Unbiased: the density of every pick is the
-                                // group's mixture, the same for each pixel
+  uint32_t groupCandidates = 0; // [0, 8]: the emissive triangles' candidates drawn for each 8x8 group of pixels,
+                                // this many by each of its 64 pixels (walks down their tree from the surface
+                                // nearest the group's centre, mixed with picks by power so that no triangle a
+                                // pixel sees has density 0), each pixel resampling `candidates` of the group's
+                                // by its own target: this many walks a pixel, not `candidates`. Unbiased (each
+                                // draw's density is the group's mixture, the same for every pixel), but the
+                                // pixels of a group share their draws, and their noise (docs/RESULTS.md, "The
+                                // group's candidates"). 0: each pixel draws its own
   float groupPowerShare = 0.25f;  // (0, 1]: with groupCandidates, the share of the group's candidates drawn by
                                   // power (the rest down the tree at the group's surface)
   bool sky = false;             // where the reservoirs run for the lights above, a sky map's light too: a share of
