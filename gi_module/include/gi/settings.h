@@ -236,57 +236,57 @@ struct HpsfSettings {
 // no emitter, and its area-light ray goes to the sky alone); with neither nothing runs. Where they run, a
 // sky map is resampled too (`sky`). Vertices after the primary hit keep the light samplers.
 struct ReservoirSettings {
-  bool enabled = true;          // on: measured better for raw, svgf and hpsf from 64 lights on (RESULTS, "Reservoirs")
-  uint32_t candidates = 8;      // [1, 64]: lights drawn per pixel and frame
-  bool temporal = true;         // merge last frame's reservoir (TemporalSettings' depth and normal tests), for the
-                                // methods without a temporal pass (raw, aaf): one that averages the direct light
-                                // over frames averages more noise away from fresh picks (docs/RESULTS.md)
-  uint32_t neighbours = 5;      // [0, 8]: reservoirs merged from around the pixel for its pick (0 = no spatial
-                                // reuse); the next frame reuses the pixel's own. More lower every method's
-                                // error from 64 lights on and cost the spatial pass more: 5 is where hpsf
-                                // meets 1.5x its 4-light error at 1024 lights (docs/RESULTS.md, "Reservoirs")
-  float radius = 4.0f;          // pixels, [1, 64]: the disc the neighbours come from
-  float maxHistory = 20.0f;     // [1, 1000]: last frame's reservoir counts at most this many times `candidates`
-  uint32_t emissiveMin = 16;    // [0, 2^22]: the emissive triangles are resampled where a scene has more than
-                                // this many: on the light hall 4 panels' 8 gained nothing for the two passes
-                                // (error 0.91–0.99×, time 1.5–2.1× at 160×90 on lavapipe), 16 panels' 32 did
-                                // (0.44–0.81×; docs/RESULTS.md, "Emissive triangles in the reservoirs")
-  bool unbiased = true;         // spatial weights: the balance heuristic over the reservoirs' surfaces' targets
-                                // (no fireflies where a light is bright here and dim where it was drawn);
-                                // off, the biased 1/M. Neither traces a shadow ray per neighbour
-  bool pairwise = true;         // with `unbiased`: pairwise MIS (each neighbour's sample weighed against the
-                                // pixel's own surface alone: 2N+1 target evaluations for N neighbours) instead
-                                // of the balance heuristic over every surface ((N+1)^2). Measured: the same
-                                // error for 0.84-0.94x the frame where the reservoirs hold emissive triangles,
-                                // 1.00-1.07x the error for 0.90-0.99x the frame with point lights
-                                // (docs/RESULTS.md, "Pairwise MIS")
-  float boilingFilter = 40.0f;  // [0, 1000], 0 = off: a temporal reservoir whose estimate of the pixel's
-                                // unshadowed light is above this many times the mean of its 8x8 group's
-                                // others is dropped, not kept nor reused (RTXDI's boiling filter: a sample
-                                // whose weight is an outlier would otherwise be kept and spread for frames;
-                                // biased: it darkens where it drops)
-  uint32_t groupCandidates = 0; // [0, 8]: the emissive triangles' candidates drawn for each 8x8 group of pixels,
-                                // this many by each of its 64 pixels (walks down their tree from the surface
-                                // nearest the group's centre, mixed with picks by power so that no triangle a
-                                // pixel sees has density 0), each pixel resampling `candidates` of the group's
-                                // by its own target: this many walks a pixel, not `candidates`. Unbiased (each
-                                // draw's density is the group's mixture, the same for every pixel), but the
-                                // pixels of a group share their draws, and their noise (docs/RESULTS.md, "The
-                                // group's candidates"). 0: each pixel draws its own
+  bool enabled = true;           // on: measured better for raw, svgf and hpsf from 64 lights on (RESULTS, "Reservoirs")
+  uint32_t candidates = 8;       // [1, 64]: lights drawn per pixel and frame
+  bool temporal = true;          // merge last frame's reservoir (TemporalSettings' depth and normal tests), for the
+                                 // methods without a temporal pass (raw, aaf): one that averages the direct light
+                                 // over frames averages more noise away from fresh picks (docs/RESULTS.md)
+  uint32_t neighbours = 5;       // [0, 8]: reservoirs merged from around the pixel for its pick (0 = no spatial
+                                 // reuse); the next frame reuses the pixel's own. More lower every method's
+                                 // error from 64 lights on and cost the spatial pass more: 5 is where hpsf
+                                 // meets 1.5x its 4-light error at 1024 lights (docs/RESULTS.md, "Reservoirs")
+  float radius = 4.0f;           // pixels, [1, 64]: the disc the neighbours come from
+  float maxHistory = 20.0f;      // [1, 1000]: last frame's reservoir counts at most this many times `candidates`
+  uint32_t emissiveMin = 16;     // [0, 2^22]: the emissive triangles are resampled where a scene has more than
+                                 // this many: on the light hall 4 panels' 8 gained nothing for the two passes
+                                 // (error 0.91–0.99×, time 1.5–2.1× at 160×90 on lavapipe), 16 panels' 32 did
+                                 // (0.44–0.81×; docs/RESULTS.md, "Emissive triangles in the reservoirs")
+  bool unbiased = true;          // spatial weights: the balance heuristic over the reservoirs' surfaces' targets
+                                 // (no fireflies where a light is bright here and dim where it was drawn);
+                                 // off, the biased 1/M. Neither traces a shadow ray per neighbour
+  bool pairwise = true;          // with `unbiased`: pairwise MIS (each neighbour's sample weighed against the
+                                 // pixel's own surface alone: 2N+1 target evaluations for N neighbours) instead
+                                 // of the balance heuristic over every surface ((N+1)^2). Measured: the same
+                                 // error for 0.84-0.94x the frame where the reservoirs hold emissive triangles,
+                                 // 1.00-1.07x the error for 0.90-0.99x the frame with point lights
+                                 // (docs/RESULTS.md, "Pairwise MIS")
+  float boilingFilter = 40.0f;   // [0, 1000], 0 = off: a temporal reservoir whose estimate of the pixel's
+                                 // unshadowed light is above this many times the mean of its 8x8 group's
+                                 // others is dropped, not kept nor reused (RTXDI's boiling filter: a sample
+                                 // whose weight is an outlier would otherwise be kept and spread for frames;
+                                 // biased: it darkens where it drops)
+  uint32_t groupCandidates = 0;  // [0, 8]: the emissive triangles' candidates drawn for each 8x8 group of pixels,
+                                 // this many by each of its 64 pixels (walks down their tree from the surface
+                                 // nearest the group's centre, mixed with picks by power so that no triangle a
+                                 // pixel sees has density 0), each pixel resampling `candidates` of the group's
+                                 // by its own target: this many walks a pixel, not `candidates`. Unbiased (each
+                                 // draw's density is the group's mixture, the same for every pixel), but the
+                                 // pixels of a group share their draws, and their noise (docs/RESULTS.md, "The
+                                 // group's candidates"). 0: each pixel draws its own
   float groupPowerShare = 0.25f;  // (0, 1]: with groupCandidates, the share of the group's candidates drawn by
                                   // power (the rest down the tree at the group's surface)
-  bool sky = false;             // where the reservoirs run for the lights above, a sky map's light too: a share of
-                                // the candidates (its irradiance against the trees' importance) are directions
-                                // from the map, resampled by their light weighed against BSDF sampling, whose
-                                // rays from the primary hit take the rest (no share of its area-light ray; a
-                                // constant sky has no light pdf: BSDF sampling finds it, as without). The sky's
-                                // share and target are scaled by its measured visibility (the share of recent
-                                // sky picks whose shadow ray saw it, FrameStats::skyPicks), so a sky the scene
-                                // hides everywhere is soon left alone, and a sky direction whose shadow ray
-                                // failed at a pixel leaves its reservoir (visibility reuse: biased, about -1%).
-                                // Where the sun is hidden from part of the view the frames gain but their
-                                // accumulation loses: off by default for that; where the sky lights what the
-                                // camera sees, on lowers the error (docs/RESULTS.md, "The sky in the reservoirs")
+  bool sky = false;               // where the reservoirs run for the lights above, a sky map's light too: a share of
+                                  // the candidates (its irradiance against the trees' importance) are directions
+                                  // from the map, resampled by their light weighed against BSDF sampling, whose
+                                  // rays from the primary hit take the rest (no share of its area-light ray; a
+                                  // constant sky has no light pdf: BSDF sampling finds it, as without). The sky's
+                                  // share and target are scaled by its measured visibility (the share of recent
+                                  // sky picks whose shadow ray saw it, FrameStats::skyPicks), so a sky the scene
+                                  // hides everywhere is soon left alone, and a sky direction whose shadow ray
+                                  // failed at a pixel leaves its reservoir (visibility reuse: biased, about -1%).
+                                  // Where the sun is hidden from part of the view the frames gain but their
+                                  // accumulation loses: off by default for that; where the sky lights what the
+                                  // camera sees, on lowers the error (docs/RESULTS.md, "The sky in the reservoirs")
 };
 
 // The light sampler of next-event estimation in the module's passes (shaders/module/lights.glsl): the scene's
