@@ -93,7 +93,7 @@ void giReservoirMerge(inout GiReservoir r, uint light, float target, float weigh
 // correlate them, as RTXDI's presampled light tiles do). A pixel's `candidates` walks fall to the
 // pc.groupCandidates its invocation makes. The draws are stratified over [0, 1) like a pixel's own picks, and a
 // pixel takes every stride-th (a stride coprime to their count, so that the starts give as many different
-// sets as there are draws) from a random start (giGroupSlot): its candidates spread over the tree too.
+// sets as there are draws) from a random start (giGroupStride): its candidates spread over the tree too.
 #define GI_GROUP_PIXELS (GI_GROUP_SIZE * GI_GROUP_SIZE)
 #define GI_GROUP_DRAWS_MAX (8u * GI_GROUP_PIXELS)      // ReservoirSettings::groupCandidates ≤ 8
 shared uint giGroupDraws[GI_GROUP_DRAWS_MAX];         // an emissive triangle's entry, or GI_RESERVOIR_EMPTY
@@ -156,13 +156,12 @@ uint giGcd(uint a, uint b) {
   }
   return a;
 }
-// The group draw a pixel's candidate i takes: every stride-th from `start` (a random one of the draws), the
-// stride the first at or above draws / candidates that is coprime to the draws' count.
-uint giGroupSlot(uint start, uint i) {
-  const uint draws = giGroupDrawCount();
+// The step between the group draws a pixel's candidates take (giTemporalReservoir: from a random start):
+// the first at or above draws / candidates that is coprime to the draws' count.
+uint giGroupStride(uint draws) {
   uint stride = max(1u, draws / max(pc.candidates, 1u));
   while (giGcd(stride, draws) != 1u) stride++;
-  return (start + i * stride) % draws;
+  return stride;
 }
 
 // A candidate from the scene's samplers and the chance of its pick (0: none can light x): a punctual
@@ -281,10 +280,11 @@ uvec4 giTemporalReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float 
   const float offset = giRandom(rng);
   const uint draws = giSharesGroupDraws() ? giGroupDrawCount() : 0u;
   const uint start = draws > 0u ? min(uint(giRandom(rng) * float(draws)), draws - 1u) : 0u;
+  const uint stride = draws > 0u ? giGroupStride(draws) : 0u;
   for (uint i = 0u; i < pc.candidates; ++i) {
     float chance, area = 0.0;
     const float u = fract(offset + float(i) / float(pc.candidates));
-    const uint light = giReservoirCandidate(s, u, draws > 0u ? giGroupSlot(start, i) : 0u, skyShare, rng, chance);
+    const uint light = giReservoirCandidate(s, u, draws > 0u ? (start + i * stride) % draws : 0u, skyShare, rng, chance);
     const float target = chance > 0.0 ? giReservoirTarget(light, s, b, V, skyShare, area) : 0.0;
     const float density = area > 0.0 ? chance / area : chance;  // a triangle's point: per unit of its area
     giReservoirMerge(r, light, target, target / max(density, 1e-30), 1.0, giRandom(rng));
