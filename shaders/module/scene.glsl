@@ -114,50 +114,39 @@ GpuPunctualLight scenePunctualLight(uint index) {
 // The chance of picking a punctual light up to `index` (LIGHT_SAMPLER_POWER), one texel read.
 float scenePunctualLightCdf(uint index) { return uintBitsToFloat(GI_FETCH(scenePunctualRows, int(index) * 4 + 3).y); }
 
-// A GpuLightNode from its stored form's two rows (GpuStoredLightNode) and its parent.
-GpuLightNode sceneNodeFromRows(uvec4 a, uvec4 b, uint parent) {
-  return lightNodeFromStored(GpuStoredLightNode(uintBitsToFloat(a.xyz), uintBitsToFloat(a.w), b.x, b.y,
-                                                uintBitsToFloat(b.z), b.w),
-                             parent);
+// A GpuLightNode from its three rows.
+GpuLightNode sceneNodeFromRows(uvec4 a, uvec4 b, uvec4 c) {
+  return GpuLightNode(uintBitsToFloat(a.xyz), uintBitsToFloat(a.w), uintBitsToFloat(b.xyz), uintBitsToFloat(b.w),
+                      uintBitsToFloat(c.x), c.y, uintBitsToFloat(c.z), c.w);
 }
-// Word `word` of a buffer of 16-byte texels.
-uint sceneWord(utextureBuffer rows, uint word) { return GI_FETCH(rows, int(word / 4u))[word % 4u]; }
 
-// The punctual lights' buffer: the lights (4 texels each), the tree's 2n − 1 nodes for its n point and spot
-// lights (2 texels each), the cut (a word each), then each node's parent (a word each).
-uint scenePunctualNodeCount() {
-  const GpuSceneConstants c = sceneConstants();
-  return 2u * (c.punctualLightCount - c.directionalLightCount) - 1u;
-}
-// LIGHT_SAMPLER_TREE's node i (GpuLightNode), after the light table. A walk down reads no parent: the
-// compiler drops its fetch.
+// LIGHT_SAMPLER_TREE's node i (GpuLightNode), after the light table.
 GpuLightNode sceneLightNode(uint index) {
-  const GpuSceneConstants c = sceneConstants();
-  const int row = int(c.punctualLightCount) * 4 + int(index) * 2;
-  const uint parent = sceneWord(scenePunctualRows, c.punctualLightCount * 16u + scenePunctualNodeCount() * 8u +
-                                                       c.lightCutSize + index);
-  return sceneNodeFromRows(GI_FETCH(scenePunctualRows, row), GI_FETCH(scenePunctualRows, row + 1), parent);
+  const int row = int(sceneConstants().punctualLightCount) * 4 + int(index) * 3;
+  return sceneNodeFromRows(GI_FETCH(scenePunctualRows, row), GI_FETCH(scenePunctualRows, row + 1),
+                           GI_FETCH(scenePunctualRows, row + 2));
 }
 
-// The emissive triangles' buffer: the n triangles (a texel each), their tree's 2n − 1 nodes (2 texels each),
-// each triangle's leaf node, then each node's parent (a word each).
-// The tree's node i (GpuLightNode).
+// The emissive triangles' tree's node i (GpuLightNode), after the triangles in their buffer.
 GpuLightNode sceneEmissiveNode(uint index) {
-  const uint n = sceneConstants().emissiveTriangleCount;
-  const int row = int(n) + int(index) * 2;
-  const uint parent = sceneWord(sceneEmissiveRows, n * 4u + (2u * n - 1u) * 8u + n + index);
-  return sceneNodeFromRows(GI_FETCH(sceneEmissiveRows, row), GI_FETCH(sceneEmissiveRows, row + 1), parent);
+  const int row = int(sceneConstants().emissiveTriangleCount) + int(index) * 3;
+  return sceneNodeFromRows(GI_FETCH(sceneEmissiveRows, row), GI_FETCH(sceneEmissiveRows, row + 1),
+                           GI_FETCH(sceneEmissiveRows, row + 2));
 }
 
 // The leaf node of emissive triangle k (after the tree's 2n − 1 nodes).
 uint sceneEmissiveLeaf(uint k) {
   const uint n = sceneConstants().emissiveTriangleCount;
-  return sceneWord(sceneEmissiveRows, n * 4u + (2u * n - 1u) * 8u + k);
+  const uint word = n * 4u + (2u * n - 1u) * 12u + k;
+  return GI_FETCH(sceneEmissiveRows, int(word / 4u))[word % 4u];
 }
 
 // LIGHT_SAMPLER_TREE's cut entry k: a node whose subtree one light is taken from (after the 2n − 1 nodes).
 uint sceneLightCutNode(uint k) {
-  return sceneWord(scenePunctualRows, sceneConstants().punctualLightCount * 16u + scenePunctualNodeCount() * 8u + k);
+  const GpuSceneConstants c = sceneConstants();
+  const uint nodes = 2u * (c.punctualLightCount - c.directionalLightCount) - 1u;
+  const uint word = c.punctualLightCount * 16u + nodes * 12u + k;
+  return GI_FETCH(scenePunctualRows, int(word / 4u))[word % 4u];
 }
 
 // Absolute vertex indices of one triangle.

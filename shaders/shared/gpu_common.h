@@ -8,7 +8,6 @@
 #ifdef __cplusplus
 #include <cstdint>
 #include <glm/glm.hpp>
-#include <glm/gtc/packing.hpp>
 namespace gpu {
 using uint = uint32_t;
 using vec2 = glm::vec2;
@@ -22,13 +21,6 @@ using mat4 = glm::mat4;
 #include <algorithm>
 #include <cmath>
 namespace gpu {
-using glm::cross;
-using glm::dot;
-using glm::normalize;
-using glm::packHalf2x16;
-using glm::packSnorm2x16;
-using glm::unpackHalf2x16;
-using glm::unpackSnorm2x16;
 using std::abs;
 using std::acos;
 using std::ceil;
@@ -41,6 +33,9 @@ using std::min;
 using std::pow;
 using std::sqrt;
 using std::uint64_t;
+using glm::cross;
+using glm::dot;
+using glm::normalize;
 }  // namespace gpu
 #endif
 

@@ -9,11 +9,11 @@
 
 GPU_NAMESPACE_BEGIN
 
-// A node of the binary tree over the point and spot lights, or over the emissive triangles, as the walk
-// reads it (from its stored form, GpuStoredLightNode: lightNodeFromStored). The root is node 0, and there are
-// 2n − 1 nodes for n lights. After the light table's nodes, the cut: lightCutSize node indices (uint) whose
-// subtrees hold every light once. A vertex takes one light from each, walking down from the cut's node and
-// choosing a child by lightNodeImportance.
+// A node of the binary tree over the point and spot lights, stored after the light table in the same
+// buffer (node i at byte 64·punctualLightCount + 48·i; the root is node 0, and there are 2n − 1 nodes
+// for n lights). After the nodes, the cut: lightCutSize node indices (uint) whose subtrees hold every
+// light once. A vertex takes one light from each, walking down from the cut's node and choosing a child
+// by lightNodeImportance.
 struct GpuLightNode {
   vec3 centre;       // world, metres: a sphere holding the positions of the lights below
   float radius;      // metres: 0 for a leaf
@@ -27,46 +27,6 @@ struct GpuLightNode {
   uint parent;       // the node whose child this is (the root's: 0): a leaf's chance is walked up from it
 };
 GPU_ASSERT_SIZE(GpuLightNode, 48);
-
-// A node as its buffer holds it: two 16-byte texels, so a walk fetches two a node, not three (the parents,
-// which only the walk up reads, are a word each after the nodes). The axis is octahedral in 2 × 16-bit snorm
-// and the two cosines half floats; the tree's build rounds each node to what this form holds, widening its
-// cone by the axis's turn and rounding the cosines down (light_tree.cpp), so the nodes the CPU keeps are
-// the ones the shaders read and still bound every light below.
-struct GpuStoredLightNode {
-  vec3 centre;
-  float radius;
-  uint axis;     // octahedral: lightNodeAxis
-  uint cosines;  // cosAim (low half) and cosFalloff (high half), half floats
-  float power;
-  uint child;
-};
-GPU_ASSERT_SIZE(GpuStoredLightNode, 32);
-
-// The unit axis of its octahedral code (2 × 16-bit snorm).
-GPU_FN vec3 lightNodeAxis(uint code) {
-  const vec2 e = unpackSnorm2x16(code);
-  vec3 n = vec3(e.x, e.y, 1.0f - abs(e.x) - abs(e.y));
-  const float t = max(-n.z, 0.0f);
-  n.x += n.x >= 0.0f ? -t : t;
-  n.y += n.y >= 0.0f ? -t : t;
-  return normalize(n);
-}
-
-GPU_FN GpuLightNode lightNodeFromStored(GpuStoredLightNode s, uint parent) {
-  const vec2 cosines = unpackHalf2x16(s.cosines);
-  GpuLightNode n;
-  n.centre = s.centre;
-  n.radius = s.radius;
-  n.axis = lightNodeAxis(s.axis);
-  n.cosAim = cosines.x;
-  n.power = s.power;
-  n.child = s.child;
-  n.cosFalloff = cosines.y;
-  n.parent = parent;
-  return n;
-}
-
 GPU_CONST LIGHT_NODE_LEAF = 0x80000000u;
 // LIGHT_SAMPLER_TREE walks the emissive triangles' tree only with more triangles than this: one quad lamp's
 // two are picked as well by power, and the walk and the search a BSDF-sampled hit needs for MIS only cost

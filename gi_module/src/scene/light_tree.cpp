@@ -9,49 +9,7 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// The angle between two directions (radians), 0 for the same one: acos of their dot is not (a unit vector's
-// dot with itself can be 1 − 2⁻⁵³, whose acos is 1.5e-8).
-double angleBetween(glm::dvec3 a, glm::dvec3 b) { return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b)); }
-
-// The octahedral code (2 × 16-bit snorm) of a unit vector: lightNodeAxis's inverse, to the nearest code.
-uint32_t octahedralCode(glm::dvec3 n) {
-  n /= std::abs(n.x) + std::abs(n.y) + std::abs(n.z);
-  glm::dvec2 e(n.x, n.y);
-  if (n.z < 0.0)
-    e = (1.0 - glm::abs(glm::dvec2(n.y, n.x))) * glm::dvec2(n.x >= 0.0 ? 1.0 : -1.0, n.y >= 0.0 ? 1.0 : -1.0);
-  return gpu::packSnorm2x16(glm::vec2(e));
-}
-
-// The largest half float at most v (its bits): a cosine rounded down widens the angle it bounds.
-uint32_t halfAtMost(float v) {
-  uint32_t h = gpu::packHalf2x16(glm::vec2(v, 0.0f)) & 0xffffu;
-  const float back = gpu::unpackHalf2x16(h).x;
-  if (back > v) h = back == 0.0f ? 0x8001u : back > 0.0f ? h - 1u : h + 1u;  // one step towards −∞
-  return h;
-}
-
-// The node's aim cone (axis, half-angle in radians) as GpuStoredLightNode holds it: the axis through its
-// octahedral code (a code that codes itself again, so storing it loses nothing more), the half-angle widened
-// by the angle between that axis and the cone's own, plus 1e-5 for the shaders' normalize, and cosAim and
-// cosFalloff rounded down to half floats: the cone holds every direction the exact one held. Returns that
-// cone, which the parent's then holds.
-DirectionCone roundToStored(const DirectionCone& cone, gpu::GpuLightNode& node) {
-  uint32_t code = octahedralCode(cone.axis);
-  for (int i = 0; i < 4; ++i) {
-    const uint32_t again = octahedralCode(glm::dvec3(gpu::lightNodeAxis(code)));
-    if (again == code) break;
-    code = again;
-  }
-  node.axis = gpu::lightNodeAxis(code);
-  const double turn = angleBetween(glm::dvec3(node.axis), cone.axis);
-  const double angle = cone.angle >= kPi ? kPi : std::min(cone.angle + turn + 1e-5, kPi);
-  node.cosAim = gpu::unpackHalf2x16(halfAtMost(float(std::cos(angle)))).x;
-  node.cosFalloff = gpu::unpackHalf2x16(halfAtMost(node.cosFalloff)).x;
-  return {glm::normalize(glm::dvec3(node.axis)), std::acos(std::clamp(double(node.cosAim), -1.0, 1.0))};
-}
-
-// Fills nodes[at] with the node over order[first, last) and appends its children. Returns its cone as
-// stored (roundToStored).
+// Fills nodes[at] with the node over order[first, last) and appends its children. Returns its cone.
 DirectionCone buildNode(std::span<const EmitterBounds> emitters, std::vector<uint32_t>& order, size_t first,
                         size_t last, size_t at, uint32_t parent, std::vector<gpu::GpuLightNode>& nodes) {
   glm::vec3 low(std::numeric_limits<float>::max()), high(-std::numeric_limits<float>::max());
@@ -89,36 +47,24 @@ DirectionCone buildNode(std::span<const EmitterBounds> emitters, std::vector<uin
                      });
     node.child = uint32_t(nodes.size());
     nodes.resize(nodes.size() + 2);
-    const DirectionCone a = buildNode(emitters, order, first, middle, node.child, uint32_t(at), nodes);
-    const DirectionCone b = buildNode(emitters, order, middle, last, node.child + 1, uint32_t(at), nodes);
-    cone = coneUnion(a, b);
-    // A child's stored cone that holds the other's is the node's as it is: rounded again it would widen by
-    // a half float's step a level (a hall of panels that all face down).
-    for (const auto& [childCone, child] : {std::pair(a, node.child), std::pair(b, node.child + 1)})
-      if (cone.axis == childCone.axis && cone.angle == childCone.angle) {
-        node.axis = nodes[child].axis;
-        node.cosAim = nodes[child].cosAim;
-        node.cosFalloff = gpu::unpackHalf2x16(halfAtMost(node.cosFalloff)).x;
-        nodes[at] = node;
-        return cone;
-      }
+    cone = coneUnion(buildNode(emitters, order, first, middle, node.child, uint32_t(at), nodes),
+                     buildNode(emitters, order, middle, last, node.child + 1, uint32_t(at), nodes));
   }
-  const DirectionCone stored = roundToStored(cone, node);
+  node.axis = glm::vec3(cone.axis);
+  node.cosAim = float(std::cos(cone.angle));
   nodes[at] = node;
-  return stored;
+  return cone;
 }
 
 }  // namespace
 
 DirectionCone coneUnion(const DirectionCone& a, const DirectionCone& b) {
-  const double between = angleBetween(a.axis, b.axis);
+  const double between = std::acos(std::clamp(glm::dot(a.axis, b.axis), -1.0, 1.0));
   if (std::min(between + b.angle, kPi) <= a.angle) return a;
   if (std::min(between + a.angle, kPi) <= b.angle) return b;
   const double angle = 0.5 * (a.angle + between + b.angle);
   const glm::dvec3 normal = glm::cross(a.axis, b.axis);
-  if (angle >= kPi) return {a.axis, kPi};
-  if (glm::dot(normal, normal) < 1e-24)  // (anti)parallel axes: no plane to turn in; a's axis, widened to hold b
-    return {a.axis, between < 0.5 * kPi ? std::min(std::max(a.angle, b.angle) + between + 1e-6, kPi) : kPi};
+  if (angle >= kPi || glm::dot(normal, normal) < 1e-24) return {a.axis, kPi};
   // Turn a's axis towards b's by the part of the new half-angle a does not cover.
   const double turn = angle - a.angle;
   const glm::dvec3 axis = a.axis * std::cos(turn) + glm::cross(glm::normalize(normal), a.axis) * std::sin(turn);
@@ -131,11 +77,6 @@ std::vector<gpu::GpuLightNode> buildLightTree(std::span<const EmitterBounds> emi
   nodes.resize(1);
   buildNode(emitters, order, 0, order.size(), 0, 0u, nodes);
   return nodes;
-}
-
-gpu::GpuStoredLightNode storedLightNode(const gpu::GpuLightNode& n) {
-  const uint32_t cosines = halfAtMost(n.cosAim) | halfAtMost(n.cosFalloff) << 16;
-  return {n.centre, n.radius, octahedralCode(glm::dvec3(n.axis)), cosines, n.power, n.child};
 }
 
 std::vector<uint32_t> treeCut(const std::vector<gpu::GpuLightNode>& nodes, uint32_t size) {

@@ -32,13 +32,8 @@ struct EmitterBounds {
 
 // The tree over emitters[order[i]] (every entry once): median splits of the longest axis of their boxes'
 // centres, two children adjacent, node 0 the root; a leaf's child is LIGHT_NODE_LEAF | its emitter's index,
-// each node's parent its parent's index (the root's 0). 2n − 1 nodes for n emitters; none for none. Each
-// node is as its stored form holds it (GpuStoredLightNode: the cone widened to its rounded axis and cosines),
-// so that storedLightNode loses nothing and the CPU's nodes are the shaders'.
+// each node's parent its parent's index (the root's 0). 2n − 1 nodes for n emitters; none for none.
 std::vector<gpu::GpuLightNode> buildLightTree(std::span<const EmitterBounds> emitters, std::vector<uint32_t> order);
-
-// The node's stored form; lightNodeFromStored reads back the node buildLightTree made, bit for bit.
-gpu::GpuStoredLightNode storedLightNode(const gpu::GpuLightNode& node);
 
 // The cut of at most `size` nodes whose subtrees hold every leaf of the tree once: from the root, the
 // node with the most power is split into its children until there are `size` (or only leaves).

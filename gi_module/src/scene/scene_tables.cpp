@@ -288,29 +288,13 @@ bool meshEmits(const PackedScene& packed, uint32_t mesh) {
   return false;
 }
 
-namespace {
-
-// The nodes as their buffer holds them (GpuStoredLightNode, 8 words each) from `at`, then from `parentsAt`
-// each node's parent (a word each).
-void storeNodes(const std::vector<gpu::GpuLightNode>& nodes, std::vector<uint32_t>& words, size_t at,
-                size_t parentsAt) {
-  for (size_t i = 0; i < nodes.size(); ++i) {
-    const gpu::GpuStoredLightNode stored = storedLightNode(nodes[i]);
-    std::memcpy(words.data() + at + i * sizeof(stored) / 4, &stored, sizeof(stored));
-    words[parentsAt + i] = nodes[i].parent;
-  }
-}
-
-}  // namespace
-
 std::vector<uint32_t> emissiveTableWords(const EmissiveTable& t) {
   const size_t n = t.pickable();
   std::vector<uint32_t> words(emissiveTableCapacityWords(n));
   if (n == 0) return words;  // no triangle to pick (memcpy from an empty vector's null data is undefined)
   std::memcpy(words.data(), t.triangles.data(), n * sizeof(gpu::GpuEmissiveTriangle));
-  const size_t nodesAt = n * sizeof(gpu::GpuEmissiveTriangle) / 4;
-  const size_t leafWord = nodesAt + t.nodes.size() * sizeof(gpu::GpuStoredLightNode) / 4;
-  storeNodes(t.nodes, words, nodesAt, leafWord + n);
+  const size_t leafWord = (n * sizeof(gpu::GpuEmissiveTriangle) + t.nodes.size() * sizeof(gpu::GpuLightNode)) / 4;
+  std::memcpy(words.data() + n * 4, t.nodes.data(), t.nodes.size() * sizeof(gpu::GpuLightNode));
   for (uint32_t i = 0; i < t.nodes.size(); ++i)
     if (t.nodes[i].child & gpu::LIGHT_NODE_LEAF) words[leafWord + (t.nodes[i].child & ~gpu::LIGHT_NODE_LEAF)] = i;
   return words;
@@ -411,10 +395,10 @@ void setLightFacts(const gpu::GpuSceneConstants& c, SceneDesc& facts) {
 
 std::vector<uint32_t> lightTableWords(const LightTable& t) {
   const size_t lightWords = t.lights.size() * sizeof(gpu::GpuPunctualLight) / 4;
-  const size_t nodeWords = t.nodes.size() * sizeof(gpu::GpuStoredLightNode) / 4;
-  std::vector<uint32_t> words((lightWords + nodeWords + t.cut.size() + t.nodes.size() + 3) / 4 * 4);  // whole texels
+  const size_t nodeWords = t.nodes.size() * sizeof(gpu::GpuLightNode) / 4;
+  std::vector<uint32_t> words((lightWords + nodeWords + t.cut.size() + 3) / 4 * 4);  // whole texels
   if (!t.lights.empty()) std::memcpy(words.data(), t.lights.data(), lightWords * 4);
-  storeNodes(t.nodes, words, lightWords, lightWords + nodeWords + t.cut.size());
+  if (!t.nodes.empty()) std::memcpy(words.data() + lightWords, t.nodes.data(), nodeWords * 4);
   std::copy(t.cut.begin(), t.cut.end(), words.begin() + ptrdiff_t(lightWords + nodeWords));
   return words;
 }

@@ -55,13 +55,14 @@ struct EmissiveTable {
 EmissiveTable emissiveTable(const PackedScene& packed, std::span<const InstanceDesc> instances);
 // Whether some primitive of `mesh` emits light (its instances and vertices are in the emissive table).
 bool meshEmits(const PackedScene& packed, uint32_t mesh);
-// The scene's emission buffer (16-byte texels): the n triangles, their tree's nodes (GpuStoredLightNode: 2
-// texels each), each triangle's leaf node (a word each), then each node's parent (a word each).
+// The scene's emission buffer (16-byte texels): the n triangles, their tree's nodes (3 texels each), then
+// each triangle's leaf node (a word each).
 std::vector<uint32_t> emissiveTableWords(const EmissiveTable& table);
 inline size_t emissiveTableCapacityWords(size_t triangles) {
-  const size_t nodes = triangles ? 2 * triangles - 1 : 0;
   const size_t words =
-      (triangles * sizeof(gpu::GpuEmissiveTriangle) + nodes * sizeof(gpu::GpuStoredLightNode)) / 4 + triangles + nodes;
+      (triangles * sizeof(gpu::GpuEmissiveTriangle) + (triangles ? 2 * triangles - 1 : 0) * sizeof(gpu::GpuLightNode)) /
+          4 +
+      triangles;
   return std::max<size_t>((words + 3) / 4 * 4, 4);  // whole texels, at least one (a buffer is never empty)
 }
 // The punctual lights as the shaders read them: the directional ones first, each light's chance of being
@@ -80,15 +81,13 @@ LightTable lightTable(std::span<const LightDesc> lights, float sceneExtent, uint
 bool picksPunctualLights(const gpu::GpuSceneConstants& c);
 // The light facts of gi::SceneDesc from the scene's constants: its sampler, and whether NEE picks under each.
 void setLightFacts(const gpu::GpuSceneConstants& c, SceneDesc& facts);
-// The lights, the nodes (GpuStoredLightNode), the cut, then each node's parent (a word each): the scene's
-// punctual-light buffer.
+// The lights, then the nodes: the scene's punctual-light buffer.
 std::vector<uint32_t> lightTableWords(const LightTable& table);
 // The words that buffer needs for `lights` lights of any types (their tree and cut are largest when none
 // is directional), in whole 16-byte texels: the shaders read the cut's words four at a time.
 inline size_t lightTableCapacityWords(size_t lights) {
-  const size_t nodes = lights ? 2 * lights - 1 : 0;
   const size_t words =
-      (lights * sizeof(gpu::GpuPunctualLight) + nodes * sizeof(gpu::GpuStoredLightNode)) / 4 + lights + nodes;
+      (lights * sizeof(gpu::GpuPunctualLight) + (lights ? 2 * lights - 1 : 0) * sizeof(gpu::GpuLightNode)) / 4 + lights;
   return (words + 3) / 4 * 4;
 }
 std::vector<gpu::GpuInstance> gpuInstances(const PackedScene& packed, std::span<const InstanceDesc> instances,
