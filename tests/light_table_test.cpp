@@ -7,6 +7,7 @@
 #include <random>
 #include <vector>
 
+#include "scene/light_tree.h"
 #include "scene/scene_tables.h"
 
 namespace {
@@ -219,4 +220,19 @@ TEST(LightTable, TheImportanceKeepsEveryLightThatCanLightASurfaceAndDropsSpotsAi
   EXPECT_GT(gpu::lightNodeImportance(row.nodes[0], glm::vec3(7.5f, 0.0f, 0.0f), glm::vec3(0.0f, 1.0f, 0.0f)), 0.0f);
   EXPECT_EQ(gpu::lightNodeImportance(row.nodes[0], glm::vec3(7.5f, 13.0f, 0.0f), glm::vec3(0.0f, -1.0f, 0.0f)), 0.0f);
   EXPECT_EQ(gpu::lightNodeImportance(row.nodes[0], glm::vec3(7.5f, 3.0f, 10.0f), glm::vec3(0.0f, 0.0f, -1.0f)), 0.0f);
+}
+
+// The union of a cone with itself is that cone, for any axis: acos of a unit vector's dot with itself
+// (1 − 2⁻⁵³ for a third of these axes) once made it a full sphere, the union's fallback for axes without a
+// plane between them. And a cone holding another is the union as it is.
+TEST(LightTable, AConesUnionWithItselfOrOneItHoldsIsItself) {
+  for (int i = 0; i < 1000; ++i) {
+    const glm::dvec3 axis = glm::normalize(glm::dvec3(std::sin(i * 1.3), std::cos(i * 0.7), std::sin(i * 0.11) + 0.2));
+    const gi::DirectionCone cone{axis, 0.01 + 0.002 * (i % 100)};
+    const gi::DirectionCone same = gi::coneUnion(cone, cone);
+    ASSERT_EQ(same.axis, cone.axis) << i;
+    ASSERT_EQ(same.angle, cone.angle) << i;
+    const gi::DirectionCone wider{axis, cone.angle + 0.1};
+    ASSERT_EQ(gi::coneUnion(cone, wider).angle, wider.angle) << i;
+  }
 }

@@ -9,6 +9,10 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
+// The angle between two unit directions (radians), 0 for the same one: acos of their dot is not (a unit
+// vector's dot with itself can be 1 − 2⁻⁵³, whose acos is 1.5e-8).
+double angleBetween(glm::dvec3 a, glm::dvec3 b) { return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b)); }
+
 // Fills nodes[at] with the node over order[first, last) and appends its children. Returns its cone.
 DirectionCone buildNode(std::span<const EmitterBounds> emitters, std::vector<uint32_t>& order, size_t first,
                         size_t last, size_t at, uint32_t parent, std::vector<gpu::GpuLightNode>& nodes) {
@@ -59,12 +63,14 @@ DirectionCone buildNode(std::span<const EmitterBounds> emitters, std::vector<uin
 }  // namespace
 
 DirectionCone coneUnion(const DirectionCone& a, const DirectionCone& b) {
-  const double between = std::acos(std::clamp(glm::dot(a.axis, b.axis), -1.0, 1.0));
+  const double between = angleBetween(a.axis, b.axis);
   if (std::min(between + b.angle, kPi) <= a.angle) return a;
   if (std::min(between + a.angle, kPi) <= b.angle) return b;
   const double angle = 0.5 * (a.angle + between + b.angle);
   const glm::dvec3 normal = glm::cross(a.axis, b.axis);
-  if (angle >= kPi || glm::dot(normal, normal) < 1e-24) return {a.axis, kPi};
+  if (angle >= kPi) return {a.axis, kPi};
+  if (glm::dot(normal, normal) < 1e-24)  // (anti)parallel axes: no plane to turn in; a's axis, widened to hold b
+    return {a.axis, between < 0.5 * kPi ? std::min(std::max(a.angle, b.angle) + between + 1e-6, kPi) : kPi};
   // Turn a's axis towards b's by the part of the new half-angle a does not cover.
   const double turn = angle - a.angle;
   const glm::dvec3 axis = a.axis * std::cos(turn) + glm::cross(glm::normalize(normal), a.axis) * std::sin(turn);
