@@ -236,3 +236,54 @@ TEST(LightTable, AConesUnionWithItselfOrOneItHoldsIsItself) {
     ASSERT_EQ(gi::coneUnion(cone, wider).angle, wider.angle) << i;
   }
 }
+
+namespace {
+// Whether every direction on `inner`'s rim (and its axis) lies within `outer` (radians; a rounding's slack).
+bool coneHolds(const gi::DirectionCone& outer, const gi::DirectionCone& inner) {
+  const glm::dvec3 side = std::abs(inner.axis.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+  const glm::dvec3 u = glm::normalize(glm::cross(inner.axis, side)), v = glm::cross(inner.axis, u);
+  for (int k = 0; k <= 64; ++k) {
+    const double phi = 2.0 * 3.141592653589793 * k / 64.0;
+    const glm::dvec3 d =
+        k == 64 ? inner.axis
+                : inner.axis * std::cos(inner.angle) + (u * std::cos(phi) + v * std::sin(phi)) * std::sin(inner.angle);
+    if (std::atan2(glm::length(glm::cross(outer.axis, d)), glm::dot(outer.axis, d)) > outer.angle + 1e-14) return false;
+  }
+  return true;
+}
+}  // namespace
+
+// The union holds both cones and is no wider than the smallest cone round them (half the sum of a's angle, the
+// angle between the axes and b's angle) plus its 1e-6 of rounding: for axes in general position, for axes
+// 5e-13 rad apart (no plane to turn in: the branch that widens a's axis by the angle between them) and for
+// opposite axes (the full sphere, which holds them, wider than the tightest).
+TEST(LightTable, AConesUnionHoldsBothAndIsTheTightestRoundThem) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0), angle(0.0, 1.5);
+  auto randomAxis = [&] {
+    glm::dvec3 d;
+    do d = glm::dvec3(unit(rng), unit(rng), unit(rng));
+    while (glm::dot(d, d) > 1.0 || glm::dot(d, d) < 1e-6);
+    return glm::normalize(d);
+  };
+  for (int i = 0; i < 3000; ++i) {
+    const gi::DirectionCone a{randomAxis(), angle(rng)};
+    gi::DirectionCone b{randomAxis(), angle(rng)};
+    const int kind = i % 3;  // 0: general, 1: nearly parallel, 2: opposite
+    if (kind == 1) {
+      const glm::dvec3 side = std::abs(a.axis.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+      b.axis = glm::normalize(a.axis + 5e-13 * glm::normalize(glm::cross(a.axis, side)));
+      b.angle = a.angle + 5e-14;  // neither holds the other
+    }
+    if (kind == 2) b.axis = -a.axis;
+    const gi::DirectionCone u = gi::coneUnion(a, b);
+    ASSERT_TRUE(coneHolds(u, a)) << i;
+    ASSERT_TRUE(coneHolds(u, b)) << i;
+    ASSERT_LE(u.angle, 3.141592653589793) << i;
+    const double between = std::atan2(glm::length(glm::cross(a.axis, b.axis)), glm::dot(a.axis, b.axis));
+    const double tightest = std::max({a.angle, b.angle, 0.5 * (a.angle + between + b.angle)});
+    if (kind != 2) {
+      ASSERT_LE(u.angle, std::min(tightest, 3.141592653589793) + 2e-6) << i;
+    }
+  }
+}
