@@ -43,7 +43,7 @@ VkCommandBuffer beginSecond(const SecondDevice& d) {
   if (d.vkAllocateCommandBuffers(d.device, &alloc, &cmd) != VK_SUCCESS) return VK_NULL_HANDLE;
   VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
   begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-  d.vkBeginCommandBuffer(cmd, &begin);
+  if (d.vkBeginCommandBuffer(cmd, &begin) != VK_SUCCESS) return VK_NULL_HANDLE;  // freed with the pool
   return cmd;
 }
 

@@ -37,7 +37,7 @@ struct SecondDevice {
 // False with one sentence in `error` when the device cannot be made.
 bool createSecondDevice(const Context& ctx, SecondDevice& out, std::string& error);
 void destroySecondDevice(SecondDevice& device);
-// Begins a one-shot command buffer; submitAndWaitSecond ends, submits and waits for it.
+// Begins a one-shot command buffer (null where it cannot); submitAndWaitSecond ends, submits and waits for it.
 VkCommandBuffer beginSecond(const SecondDevice& device);
 VkResult submitAndWaitSecond(const SecondDevice& device, VkCommandBuffer cmd);
 

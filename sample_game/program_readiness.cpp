@@ -47,7 +47,9 @@ std::string warmOnSecondDevice(const engine::Context& ctx, const gi::ModuleDesc&
     engine::destroySecondDevice(dev);
     return what;
   };
+  const char* const notBegun = "the second device's command buffer could not be begun";
   VkCommandBuffer cmd = engine::beginSecond(dev);
+  if (!cmd) return fail(notBegun);
   if (gi::Error e = gi::createScene(sceneDesc, contents, cmd, scene)) return fail(e.message);
   if (engine::submitAndWaitSecond(dev, cmd) != VK_SUCCESS) return fail("the stand-in scene's upload failed");
   if (gi::Error e = gi::finishSceneUpload(scene)) return fail(e.message);
@@ -67,6 +69,7 @@ std::string warmOnSecondDevice(const engine::Context& ctx, const gi::ModuleDesc&
   standIn.scene.hasComputeBvh = own.hasComputeBvh;
   if (gi::Error e = gi::create(standIn, target, module)) return fail(e.message);
   cmd = engine::beginSecond(dev);
+  if (!cmd) return fail(notBegun);
   if (gi::Error e = gi::recordProgramWarmup(module, target, cmd)) return fail(e.message);
   if (engine::submitAndWaitSecond(dev, cmd) != VK_SUCCESS) return fail("the warm-up's submission failed");
   gi::finishProgramWarmup(module);
