@@ -238,16 +238,24 @@ TEST(LightTable, AConesUnionWithItselfOrOneItHoldsIsItself) {
 }
 
 namespace {
+constexpr double kPi = 3.14159265358979323846;
+// Radians between two directions, computed here apart from the module's union.
+double angleBetween(const glm::dvec3& a, const glm::dvec3& b) {
+  return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b));
+}
+// A unit direction perpendicular to the unit `axis`.
+glm::dvec3 perpendicular(const glm::dvec3& axis) {
+  return glm::normalize(glm::cross(axis, std::abs(axis.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0)));
+}
 // Whether every direction on `inner`'s rim (and its axis) lies within `outer` (radians; a rounding's slack).
 bool coneHolds(const gi::DirectionCone& outer, const gi::DirectionCone& inner) {
-  const glm::dvec3 side = std::abs(inner.axis.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
-  const glm::dvec3 u = glm::normalize(glm::cross(inner.axis, side)), v = glm::cross(inner.axis, u);
+  const glm::dvec3 u = perpendicular(inner.axis), v = glm::cross(inner.axis, u);
   for (int k = 0; k <= 64; ++k) {
-    const double phi = 2.0 * 3.141592653589793 * k / 64.0;
+    const double phi = 2.0 * kPi * k / 64.0;
     const glm::dvec3 d =
         k == 64 ? inner.axis
                 : inner.axis * std::cos(inner.angle) + (u * std::cos(phi) + v * std::sin(phi)) * std::sin(inner.angle);
-    if (std::atan2(glm::length(glm::cross(outer.axis, d)), glm::dot(outer.axis, d)) > outer.angle + 1e-14) return false;
+    if (angleBetween(outer.axis, d) > outer.angle + 1e-14) return false;
   }
   return true;
 }
@@ -271,19 +279,17 @@ TEST(LightTable, AConesUnionHoldsBothAndIsTheTightestRoundThem) {
     gi::DirectionCone b{randomAxis(), angle(rng)};
     const int kind = i % 3;  // 0: general, 1: nearly parallel, 2: opposite
     if (kind == 1) {
-      const glm::dvec3 side = std::abs(a.axis.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
-      b.axis = glm::normalize(a.axis + 5e-13 * glm::normalize(glm::cross(a.axis, side)));
+      b.axis = glm::normalize(a.axis + 5e-13 * perpendicular(a.axis));
       b.angle = a.angle + 5e-14;  // neither holds the other
     }
     if (kind == 2) b.axis = -a.axis;
     const gi::DirectionCone u = gi::coneUnion(a, b);
     ASSERT_TRUE(coneHolds(u, a)) << i;
     ASSERT_TRUE(coneHolds(u, b)) << i;
-    ASSERT_LE(u.angle, 3.141592653589793) << i;
-    const double between = std::atan2(glm::length(glm::cross(a.axis, b.axis)), glm::dot(a.axis, b.axis));
-    const double tightest = std::max({a.angle, b.angle, 0.5 * (a.angle + between + b.angle)});
+    ASSERT_LE(u.angle, kPi) << i;
+    const double tightest = std::max({a.angle, b.angle, 0.5 * (a.angle + angleBetween(a.axis, b.axis) + b.angle)});
     if (kind != 2) {
-      ASSERT_LE(u.angle, std::min(tightest, 3.141592653589793) + 2e-6) << i;
+      ASSERT_LE(u.angle, std::min(tightest, kPi) + 2e-6) << i;
     }
   }
 }
