@@ -2,9 +2,10 @@
 // its writes, between a debug label and a timestamp pair.
 #include <algorithm>
 #include <array>
-#include <cmath>
 #include <cfloat>
+#include <cmath>
 #include <cstring>
+#include <numbers>
 #include <string_view>
 
 #include "module.h"
@@ -18,7 +19,7 @@ bool sameCamera(const gpu::GpuCamera& a, const gpu::GpuCamera& b) {
   return a.clipFromWorld == b.clipFromWorld && a.imageSize == b.imageSize;
 }
 
-float cosDegrees(float degrees) { return std::cos(degrees * 3.14159265f / 180.0f); }
+float cosDegrees(float degrees) { return std::cos(degrees * std::numbers::pi_v<float> / 180.0f); }
 
 // World size of a pixel per metre of view depth.
 float pixelScale(const gpu::GpuCamera& c) { return 2.0f * c.tanHalfFovY / c.imageSize.y; }

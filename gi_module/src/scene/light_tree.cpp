@@ -3,11 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 namespace gi {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // The angle between two unit directions (radians), 0 for the same one: acos of their dot is not (a unit
 // vector's dot with itself can be 1 − 2⁻⁵³, whose acos is 1.5e-8).
@@ -64,17 +63,19 @@ DirectionCone buildNode(std::span<const EmitterBounds> emitters, std::vector<uin
 
 DirectionCone coneUnion(const DirectionCone& a, const DirectionCone& b) {
   const double between = angleBetween(a.axis, b.axis);
-  if (std::min(between + b.angle, kPi) <= a.angle) return a;
-  if (std::min(between + a.angle, kPi) <= b.angle) return b;
+  if (std::min(between + b.angle, std::numbers::pi) <= a.angle) return a;
+  if (std::min(between + a.angle, std::numbers::pi) <= b.angle) return b;
   const double angle = 0.5 * (a.angle + between + b.angle);
   const glm::dvec3 normal = glm::cross(a.axis, b.axis);
-  if (angle >= kPi) return {a.axis, kPi};
+  if (angle >= std::numbers::pi) return {a.axis, std::numbers::pi};
   if (glm::dot(normal, normal) < 1e-24)  // (anti)parallel axes: no plane to turn in; a's axis, widened to hold b
-    return {a.axis, between < 0.5 * kPi ? std::min(std::max(a.angle, b.angle) + between + 1e-6, kPi) : kPi};
+    return {a.axis, between < 0.5 * std::numbers::pi
+                        ? std::min(std::max(a.angle, b.angle) + between + 1e-6, std::numbers::pi)
+                        : std::numbers::pi};
   // Turn a's axis towards b's by the part of the new half-angle a does not cover.
   const double turn = angle - a.angle;
   const glm::dvec3 axis = a.axis * std::cos(turn) + glm::cross(glm::normalize(normal), a.axis) * std::sin(turn);
-  return {glm::normalize(axis), std::min(angle + 1e-6, kPi)};  // 1e-6: the rounding of the turn
+  return {glm::normalize(axis), std::min(angle + 1e-6, std::numbers::pi)};  // 1e-6: the rounding of the turn
 }
 
 std::vector<gpu::GpuLightNode> buildLightTree(std::span<const EmitterBounds> emitters, std::vector<uint32_t> order) {

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <memory>
 #include <new>
+#include <numbers>
 #include <stdexcept>
 #include <type_traits>
 
@@ -232,7 +233,7 @@ vk::Status uploadSky(Scene& s, VkCommandBuffer cmd, const SkyDesc& sky, uint32_t
   c.skyRadiance = s.facts.hasSky ? radiance : glm::vec3(0.0f);
   // A quarter of the light arriving from every direction (πL under a constant sky L): the irradiance of a
   // surface facing a uniform sky; a map's integral from its sampling tables' Σ luminance × sin θ.
-  const double pi = 3.14159265358979323846;
+  const double pi = std::numbers::pi;
   const double integral =
       sky.map ? double(c.skyDistributionSum) * (pi / sky.height) * (2.0 * pi / sky.width) : 4.0 * pi;
   c.skyIrradiance = float(0.25 * integral * luminance(c.skyRadiance.x, c.skyRadiance.y, c.skyRadiance.z));

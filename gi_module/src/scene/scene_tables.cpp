@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <numbers>
 
 #include "scene/light_tree.h"
 #include "scene/morton_order.h"
@@ -218,9 +219,8 @@ namespace {
 // are on (giTriangleNormals turns it to the shading normal's); every direction where they disagree or it
 // has no area. One-sided emission: a cosine emitter (cosFalloff 0).
 DirectionCone triangleCone(const glm::vec3 (&v)[3], const glm::vec3 (&n)[3]) {
-  constexpr double kPi = 3.14159265358979323846;
   const glm::dvec3 g = glm::cross(glm::dvec3(v[1] - v[0]), glm::dvec3(v[2] - v[0]));
-  if (!(glm::dot(g, g) > 0.0)) return {glm::dvec3(0.0, 0.0, 1.0), kPi};
+  if (!(glm::dot(g, g) > 0.0)) return {glm::dvec3(0.0, 0.0, 1.0), std::numbers::pi};
   int front = 0, back = 0;
   for (const glm::vec3& normal : n) {
     const double d = glm::dot(g, glm::dvec3(normal));
@@ -229,7 +229,7 @@ DirectionCone triangleCone(const glm::vec3 (&v)[3], const glm::vec3 (&n)[3]) {
   }
   if (front == 3) return {glm::normalize(g), 1e-3};  // 1e-3 rad: as a spot's margin, for float rounding
   if (back == 3) return {-glm::normalize(g), 1e-3};
-  return {glm::normalize(g), kPi};
+  return {glm::normalize(g), std::numbers::pi};
 }
 
 }  // namespace
@@ -306,12 +306,14 @@ namespace {
 // expectation; power gives the bright ones their share of the rays): intensity over the sphere (point)
 // or the cone (spot), irradiance over the disc of the scene's radius (directional).
 double samplingPower(const LightDesc& l, float sceneExtent) {
-  constexpr double kPi = 3.14159265358979323846;
   const double brightness = double(luminance(glm::vec3(l.intensity[0], l.intensity[1], l.intensity[2])));
   switch (l.type) {
-    case LightType::Spot: return 2.0 * kPi * (1.0 - std::cos(std::min(double(l.outerConeAngle), kPi))) * brightness;
-    case LightType::Directional: return kPi * 0.25 * double(sceneExtent) * double(sceneExtent) * brightness;
-    default: return 4.0 * kPi * brightness;
+    case LightType::Spot:
+      return 2.0 * std::numbers::pi * (1.0 - std::cos(std::min(double(l.outerConeAngle), std::numbers::pi))) *
+             brightness;
+    case LightType::Directional:
+      return std::numbers::pi * 0.25 * double(sceneExtent) * double(sceneExtent) * brightness;
+    default: return 4.0 * std::numbers::pi * brightness;
   }
 }
 
@@ -345,10 +347,9 @@ constexpr double kLightConeMargin = 1e-3;
 
 // The directions a light sends light in: a spot's outer cone (widened), every direction for a point light.
 DirectionCone lightCone(const gpu::GpuPunctualLight& l) {
-  constexpr double kPi = 3.14159265358979323846;
-  if (l.type != gpu::PUNCTUAL_SPOT) return {glm::dvec3(0.0, 0.0, 1.0), kPi};
+  if (l.type != gpu::PUNCTUAL_SPOT) return {glm::dvec3(0.0, 0.0, 1.0), std::numbers::pi};
   const double outer = std::acos(std::clamp(double(l.cosOuter), -1.0, 1.0));
-  return {glm::normalize(glm::dvec3(l.direction)), std::min(outer + kLightConeMargin, kPi)};
+  return {glm::normalize(glm::dvec3(l.direction)), std::min(outer + kLightConeMargin, std::numbers::pi)};
 }
 
 }  // namespace
@@ -463,7 +464,7 @@ float typicalRadiance(const PackedScene& packed, std::span<const LightDesc> ligh
   const float quarter = 0.25f * extent;
   for (const LightDesc& l : lights)
     typical = std::max(typical, gi::luminance(l.intensity[0], l.intensity[1], l.intensity[2]) / (quarter * quarter) *
-                                    0.5f / 3.14159265f);
+                                    0.5f / std::numbers::pi_v<float>);
   for (const glm::vec3& e : packed.materialEmission) typical = std::max(typical, 0.1f * luminance(e));
   typical = std::max(typical,
                      0.5f * gi::luminance(sky.radiance[0], sky.radiance[1], sky.radiance[2]) * packed.skyMeanLuminance);

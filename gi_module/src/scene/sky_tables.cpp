@@ -1,6 +1,7 @@
 #include "scene/sky_tables.h"
 
 #include <cmath>
+#include <numbers>
 
 namespace gi {
 namespace {
@@ -17,7 +18,7 @@ std::vector<float> skyDistribution(const float* texels, uint32_t w, uint32_t h, 
   std::vector<double> rowSums(h, 0.0);
   double total = 0.0;
   for (uint32_t y = 0; y < h; ++y) {
-    const double sinTheta = std::sin(3.14159265358979 * (y + 0.5) / h);
+    const double sinTheta = std::sin(std::numbers::pi * (y + 0.5) / h);
     float* row = &tables[h + size_t(y) * w];
     double running = 0.0;
     for (uint32_t x = 0; x < w; ++x) {
