@@ -1,6 +1,7 @@
 // AAF's separable screen-space Gaussian against a brute-force 2-D Gaussian,
 // and its normal rejection, on synthetic images.
 #include <cstring>
+#include <numbers>
 #include <random>
 
 #include "screen_filter_fixture.h"
@@ -71,7 +72,7 @@ TEST_F(AafFilterTest, SeparableMatchesBruteForceWhereBetaIsConstant) {
   std::vector<float> input(size_t(W) * H * 4);
   for (float& v : input) v = u(rng);
   upload(kInput, input);
-  EXPECT_LT(bruteForceWorst(input, filter(std::cos(10.0f * 3.14159265f / 180.0f)), beta, 9), 1e-4);
+  EXPECT_LT(bruteForceWorst(input, filter(std::cos(10.0f * std::numbers::pi_v<float> / 180.0f)), beta, 9), 1e-4);
 }
 
 // A wide filter reaches its 3σ however many pixels that is (the paper has no
@@ -85,7 +86,7 @@ TEST_F(AafFilterTest, WideFiltersReachThreeSigma) {
   std::vector<float> input(size_t(W) * H * 4);
   for (float& v : input) v = u(rng);
   upload(kInput, input);
-  const float cosLimit = std::cos(10.0f * 3.14159265f / 180.0f);
+  const float cosLimit = std::cos(10.0f * std::numbers::pi_v<float> / 180.0f);
   EXPECT_LT(bruteForceWorst(input, filter(cosLimit), beta, 42), 1e-4);
   EXPECT_GT(bruteForceWorst(input, filter(cosLimit), beta, 32), 1e-4)
       << "the 3σ and the 32-pixel filter should differ here";
@@ -103,7 +104,7 @@ TEST_F(AafFilterTest, NormalThresholdStopsFilteringAcrossARightAngle) {
     }
   plane(6.0f * kPixel, normals);
   upload(kInput, input);
-  std::vector<float> out = filter(std::cos(10.0f * 3.14159265f / 180.0f));
+  std::vector<float> out = filter(std::cos(10.0f * std::numbers::pi_v<float> / 180.0f));
   for (uint32_t y = 0; y < H; ++y) {
     EXPECT_EQ(out[size_t(y) * W + W / 2 - 1], 0.0f) << "row " << y;  // nothing leaks from the other face
     // The other face's ones, averaged: 1 to a rounding of the weights' sum (on an NVIDIA H200 it was not exactly 1).

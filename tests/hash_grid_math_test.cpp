@@ -1,6 +1,7 @@
 // The hash map's CPU-visible pieces (shared/hash_grid.h, the same code the
 // shaders run): hashing, descriptors, jitter, LOD and fixed point.
 #include <gtest/gtest.h>
+#include <numbers>
 
 #include <algorithm>
 #include <random>
@@ -89,7 +90,7 @@ TEST(HashGridMath, NormalBitsGiveTwoToTheBBinsAndWallsSitInsideThem) {
   const int rings = 200;
   for (int i = 0; i < rings; ++i)
     for (int k = 0; k < 2 * rings; ++k) {
-      float theta = 3.14159265f * (i + 0.5f) / rings, phi = 3.14159265f * k / rings;
+      float theta = std::numbers::pi_v<float> * (i + 0.5f) / rings, phi = std::numbers::pi_v<float> * k / rings;
       sphere.push_back({std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)});
     }
   const glm::vec3 axes[] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
@@ -100,11 +101,11 @@ TEST(HashGridMath, NormalBitsGiveTwoToTheBBinsAndWallsSitInsideThem) {
     EXPECT_EQ(bins.size(), size_t(1) << b) << b << " bits";
     for (glm::vec3 a : axes) {
       // Tilting the normal by a tenth of a bin's angular width √(4π/2^b) in any direction keeps its bin.
-      float tilt = 0.1f * std::sqrt(4.0f * 3.14159265f / float(1u << b));
+      float tilt = 0.1f * std::sqrt(4.0f * std::numbers::pi_v<float> / float(1u << b));
       glm::vec3 t, bt;
       gpu::hgTangents(a, t, bt);
       for (int k = 0; k < 16; ++k) {
-        float phi = 2.0f * 3.14159265f * k / 16.0f;
+        float phi = 2.0f * std::numbers::pi_v<float> * k / 16.0f;
         glm::vec3 tilted = glm::normalize(a + std::tan(tilt) * (std::cos(phi) * t + std::sin(phi) * bt));
         EXPECT_EQ(gpu::hgNormalBits(tilted, b), gpu::hgNormalBits(a, b)) << b << " bits, axis " << a.x << a.y << a.z;
       }

@@ -1,6 +1,7 @@
 // The punctual-light table the shaders read (scene_tables.cpp's lightTable): directional lights first,
 // each light's power cdf, and LIGHT_SAMPLER_TREE's tree over the point and spot lights, on the CPU.
 #include <gtest/gtest.h>
+#include <numbers>
 
 #include <algorithm>
 #include <cmath>
@@ -107,7 +108,8 @@ TEST(LightTable, TheTreeHoldsEveryPointAndSpotLightOnceWithBoundsAndPowerOfItsCh
     for (const gpu::GpuLightNode* c : {&a, &b}) {
       // A child's cone inside its parent's (the spheres: the importance test below).
       const float between = std::acos(std::clamp(glm::dot(n.axis, c->axis), -1.0f, 1.0f));
-      EXPECT_LE(std::min(between + std::acos(c->cosAim), 3.14159265f), std::acos(n.cosAim) + 1e-3f) << "node " << i;
+      EXPECT_LE(std::min(between + std::acos(c->cosAim), std::numbers::pi_v<float>), std::acos(n.cosAim) + 1e-3f)
+          << "node " << i;
       EXPECT_LE(n.cosFalloff, c->cosFalloff) << "node " << i;
     }
     EXPECT_NEAR(n.power, a.power + b.power, 1e-4f * n.power) << "node " << i;
@@ -238,7 +240,6 @@ TEST(LightTable, AConesUnionWithItselfOrOneItHoldsIsItself) {
 }
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 // Radians between two directions, computed here apart from the module's union.
 double angleBetween(const glm::dvec3& a, const glm::dvec3& b) {
   return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b));
@@ -251,7 +252,7 @@ glm::dvec3 perpendicular(const glm::dvec3& axis) {
 bool coneHolds(const gi::DirectionCone& outer, const gi::DirectionCone& inner) {
   const glm::dvec3 u = perpendicular(inner.axis), v = glm::cross(inner.axis, u);
   for (int k = 0; k <= 64; ++k) {
-    const double phi = 2.0 * kPi * k / 64.0;
+    const double phi = 2.0 * std::numbers::pi * k / 64.0;
     const glm::dvec3 d =
         k == 64 ? inner.axis
                 : inner.axis * std::cos(inner.angle) + (u * std::cos(phi) + v * std::sin(phi)) * std::sin(inner.angle);
@@ -286,10 +287,10 @@ TEST(LightTable, AConesUnionHoldsBothAndIsTheTightestRoundThem) {
     const gi::DirectionCone u = gi::coneUnion(a, b);
     ASSERT_TRUE(coneHolds(u, a)) << i;
     ASSERT_TRUE(coneHolds(u, b)) << i;
-    ASSERT_LE(u.angle, kPi) << i;
+    ASSERT_LE(u.angle, std::numbers::pi) << i;
     const double tightest = std::max({a.angle, b.angle, 0.5 * (a.angle + angleBetween(a.axis, b.axis) + b.angle)});
     if (kind != 2) {
-      ASSERT_LE(u.angle, std::min(tightest, kPi) + 2e-6) << i;
+      ASSERT_LE(u.angle, std::min(tightest, std::numbers::pi) + 2e-6) << i;
     }
   }
 }

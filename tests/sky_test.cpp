@@ -2,6 +2,7 @@
 // the reference and every method; a constant colour and an equirectangular map.
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 
 #include "gi/catalogue.h"
 #include "metrics.h"
@@ -13,7 +14,6 @@ class SkyTest : public GpuTest {};
 namespace {
 
 constexpr uint32_t kSize = 32;
-constexpr double kPi = 3.14159265358979;
 const glm::vec3 kAlbedo{0.6f, 0.4f, 0.2f};
 
 // An open diffuse plane (y = 0, 200 m wide) seen from 1 m above it; the top
@@ -129,12 +129,13 @@ TEST_F(SkyTest, PlaneUnderASkyMapMatchesTheMapsIntegral) {
   sky.mapPath = "procedural";
   glm::dvec3 expected(0.0);
   for (uint32_t y = 0; y < h / 2; ++y) {
-    const double s0 = std::sin(kPi * y / h), s1 = std::sin(kPi * (y + 1) / h);
-    const double cosineSolidAngle = (2.0 * kPi / w) * (s1 * s1 - s0 * s0) / 2.0;  // ∫ cos θ dΩ over one texel
+    const double s0 = std::sin(std::numbers::pi * y / h), s1 = std::sin(std::numbers::pi * (y + 1) / h);
+    const double cosineSolidAngle =
+        (2.0 * std::numbers::pi / w) * (s1 * s1 - s0 * s0) / 2.0;  // ∫ cos θ dΩ over one texel
     for (uint32_t x = 0; x < w; ++x)
       for (uint32_t c = 0; c < 3; ++c) expected[c] += sky.map.at(x, y, c) * sky.radiance[c] * cosineSolidAngle;
   }
-  for (uint32_t c = 0; c < 3; ++c) expected[c] *= kAlbedo[c] / kPi;
+  for (uint32_t c = 0; c < 3; ++c) expected[c] *= kAlbedo[c] / std::numbers::pi;
 
   LoadedScene s;
   ASSERT_NO_FATAL_FAILURE(load(openPlane("sky_map_plane"), s, sky));

@@ -1,5 +1,6 @@
 // --sky values and the sky map's sampling tables, on the CPU.
 #include <gtest/gtest.h>
+#include <numbers>
 
 #include <cmath>
 #include <filesystem>
@@ -74,7 +75,7 @@ TEST(Sky, DistributionFollowsLuminanceTimesSinTheta) {
   double expectedSum = 0.0;
   std::vector<double> rows(h, 0.0);
   for (uint32_t y = 0; y < h; ++y) {
-    const double sinTheta = std::sin(3.14159265358979 * (y + 0.5) / h);
+    const double sinTheta = std::sin(std::numbers::pi * (y + 0.5) / h);
     for (uint32_t x = 0; x < w; ++x) rows[y] += (1 + x + 10 * y) * sinTheta;  // grey: luminance = the value
     expectedSum += rows[y];
   }
@@ -85,7 +86,7 @@ TEST(Sky, DistributionFollowsLuminanceTimesSinTheta) {
     previous = t[y];
     const float* row = &t[h + y * w];
     for (uint32_t x = 0; x < w; ++x) {
-      const double column = (1 + x + 10 * y) / (rows[y] / std::sin(3.14159265358979 * (y + 0.5) / h));
+      const double column = (1 + x + 10 * y) / (rows[y] / std::sin(std::numbers::pi * (y + 0.5) / h));
       EXPECT_NEAR(row[x] - (x ? row[x - 1] : 0.0f), column, 1e-5) << x << ", " << y;
     }
     EXPECT_EQ(row[w - 1], 1.0f);

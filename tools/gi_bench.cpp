@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <numbers>
 #include <optional>
 #include <set>
 
@@ -126,7 +127,7 @@ constexpr const char* kWalkKey = "_sway32";  // in the references' cache keys: c
 engine::Camera pathCamera(const engine::Camera& start, float sceneExtent, uint32_t k) {
   engine::Camera c = start;
   glm::vec3 right = glm::vec3(start.worldFromView[0]);
-  const float phase = std::sin(2.0f * 3.14159265f * float(k) / 32.0f);
+  const float phase = std::sin(2.0f * std::numbers::pi_v<float> * float(k) / 32.0f);
   float angle = glm::radians(3.0f) * phase;
   glm::mat4 yaw = glm::mat4(glm::mat3(glm::vec3(std::cos(angle), 0, -std::sin(angle)), glm::vec3(0, 1, 0),
                                       glm::vec3(std::sin(angle), 0, std::cos(angle))));
