@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>  // getpid
+
 namespace testscene {
 
 struct Quad {
@@ -139,8 +141,18 @@ inline std::string write(const Description& d, const std::string& name) {
     j["extensionsUsed"] = {"KHR_lights_punctual", "KHR_materials_emissive_strength"};
     j["extensions"] = {{"KHR_lights_punctual", {{"lights", lights}}}};
   }
-  std::filesystem::path path = std::filesystem::temp_directory_path() / (name + ".gltf");
-  std::ofstream(path) << j.dump(1);
+  // Written beside the path and renamed onto it (atomic on one file system): ctest runs tests in parallel
+  // processes, and two that write the same scene must never let a third read it half written (a load of
+  // an emptied file failed that way when two EmissiveSamplerTest cases started together).
+  const std::filesystem::path path = std::filesystem::temp_directory_path() / (name + ".gltf");
+  const std::filesystem::path written = path.string().append(".").append(std::to_string(getpid())).append(".part");
+  {
+    std::ofstream out(written);
+    out << j.dump(1);
+  }
+  std::error_code error;
+  std::filesystem::rename(written, path, error);  // on failure the load names the file and what is wrong
+  if (error) std::filesystem::remove(written, error);
   return path.string();
 }
 
