@@ -255,8 +255,8 @@ TEST_F(EmissiveSamplerTest, ReservoirsResampleTheSkyMapWithItsExpectation) {
       error[1][1] / error[1][0]);
   EXPECT_LT(std::abs(relative), 0.015);
   EXPECT_LT(worst, 0.05);
-  EXPECT_LT(error[0][1], 0.5 * error[0][0]) << "measured 0.32x";
-  EXPECT_LT(error[1][1], 0.85 * error[1][0]) << "measured 0.70x";
+  EXPECT_LT(error[0][1], 0.5 * error[0][0]) << "measured 0.33x";
+  EXPECT_LT(error[1][1], 0.85 * error[1][0]) << "measured 0.65x (0.70x with the cap at 20)";
   // Under power, without the trees, the sky takes an equal share of the candidates beside the triangles:
   // the same expectation.
   LoadedScene power;
@@ -303,9 +303,11 @@ SkyErrors skyErrorsOverSeeds(const engine::Context& ctx, LoadedScene& s, const g
 // (the reservoirs holding the rest; errors over 4 seeds): in the closed room at most 1.12x its error at
 // frame 16 and over 64 accumulated frames (measured with the factor held at 1: 30x and 12x, seed 1; without
 // the reservoirs' restart when it moves: 1.19x and 1.46x); with the sun behind the wall, the visibility
-// reuse (a pixel's last-frame reservoir whose sky direction failed there is merged with weight 0) takes
-// frame 16 under 0.85x (measured 0.74x; without it 1.00x) and 64 accumulated frames under 1.75x (1.58x;
-// without it 2.07x): still worse than NEE there, why `sky` stays off by default.
+// reuse (a pixel's last-frame reservoir whose sky direction failed there is merged with weight 0) and the
+// temporal merge's shorter cap while the sky is in the reservoirs (ReservoirSettings::skyMaxHistory, 4)
+// take frame 16 under 0.85x (measured 0.79x; without the reuse 1.00x; with the cap at 1 or 2, 0.98x and
+// 0.86x) and 64 accumulated frames under 1.2x (1.08x; with the cap at 8 or at max_history's 20, 1.24x
+// and 1.58x: the temporal reuse correlates a pixel's frames).
 TEST_F(EmissiveSamplerTest, ReservoirsWeighTheSkyByItsMeasuredVisibility) {
   LoadedScene shadowed, sunlit, room;
   ASSERT_NO_FATAL_FAILURE(loadUnderSky(emissiveField(), gpu::LIGHT_SAMPLER_TREE, sunnySky(12), shadowed));
@@ -351,7 +353,7 @@ TEST_F(EmissiveSamplerTest, ReservoirsWeighTheSkyByItsMeasuredVisibility) {
     EXPECT_LT(std::abs(relative), 0.015) << name;
     EXPECT_LT(worst, 0.05) << name;
     EXPECT_LE(e.ratio(false), s == &room ? 1.12 : 0.85) << name;
-    EXPECT_LE(e.ratio(true), s == &room ? 1.12 : 1.75) << name;
+    EXPECT_LE(e.ratio(true), s == &room ? 1.12 : 1.2) << name;
   }
 }
 

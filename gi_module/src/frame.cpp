@@ -236,6 +236,10 @@ void recordHashPasses(Module& m, VkCommandBuffer cmd, const FrameSetup& setup, c
   recordHashGridTelemetryCopy(m.gpu, cmd, m.hash, slot);
 }
 
+// Whether the reservoirs hold the sky's light this frame: a sky map resampled (reservoirs.sky) and seen by
+// some of its picks (a sky the scene hides everywhere is weighed by the least visibility and left alone).
+bool skyInReservoirs(const Module& m) { return m.plan.reservoirSky && m.skyVisibility.ratio > GI_SKY_VISIBILITY_MIN; }
+
 // The primary hits' reservoirs (ReservoirSettings), before any pass that traces from the G-buffer.
 void recordReservoirPasses(Module& m, VkCommandBuffer cmd, const FrameSetup& setup) {
   const Settings& s = m.settings;
@@ -248,7 +252,7 @@ void recordReservoirPasses(Module& m, VkCommandBuffer cmd, const FrameSetup& set
                             .temporal = m.plan.reservoirTemporal && m.reservoirFrames > 0 ? 1u : 0u,
                             .neighbours = r.neighbours,
                             .radius = r.radius,
-                            .maxHistory = r.maxHistory,
+                            .maxHistory = skyInReservoirs(m) ? std::min(r.maxHistory, r.skyMaxHistory) : r.maxHistory,
                             .unbiased = r.unbiased ? 1u : 0u,
                             .depthTolerance = s.temporal.depthTolerance,
                             .cosNormalLimit = cosDegrees(s.temporal.normalLimitDegrees),

@@ -247,6 +247,10 @@ struct ReservoirSettings {
                                  // meets 1.5x its 4-light error at 1024 lights (docs/RESULTS.md, "Reservoirs")
   float radius = 4.0f;           // pixels, [1, 64]: the disc the neighbours come from
   float maxHistory = 20.0f;      // [1, 1000]: last frame's reservoir counts at most this many times `candidates`
+  float skyMaxHistory = 4.0f;    // [1, 1000]: maxHistory while a sky map is in the reservoirs (`sky`, its measured
+                                 // visibility above its least): the temporal reuse correlates a pixel's frames,
+                                 // which the sun's few bright samples make costly where it is hidden from part
+                                 // of the view (docs/RESULTS.md, "The sky in the reservoirs")
   uint32_t emissiveMin = 16;     // [0, 2^22]: the emissive triangles are resampled where a scene has more than
                                  // this many: on the light hall 4 panels' 8 gained nothing for the two passes
                                  // (error 0.91–0.99×, time 1.5–2.1× at 160×90 on lavapipe), 16 panels' 32 did
@@ -283,10 +287,11 @@ struct ReservoirSettings {
                                   // share and target are scaled by its measured visibility (the share of recent
                                   // sky picks whose shadow ray saw it, FrameStats::skyPicks), so a sky the scene
                                   // hides everywhere is soon left alone, and a sky direction whose shadow ray
-                                  // failed at a pixel leaves its reservoir (visibility reuse: biased, about -1%).
-                                  // Where the sun is hidden from part of the view the frames gain but their
-                                  // accumulation loses: off by default for that; where the sky lights what the
-                                  // camera sees, on lowers the error (docs/RESULTS.md, "The sky in the reservoirs")
+                                  // failed at a pixel leaves its reservoir (visibility reuse: biased, under 1%),
+                                  // and raw's and aaf's merge keeps skyMaxHistory. Off by default: raw's error
+                                  // falls wherever the sky is seen, but svgf's and hpsf's grow by 11-12% where
+                                  // the sun shares the view with lamps as bright (one pick and shadow ray for
+                                  // both, not one each; docs/RESULTS.md, "The sky in the reservoirs")
 };
 
 // The light sampler of next-event estimation in the module's passes (shaders/module/lights.glsl): the scene's
