@@ -17,6 +17,9 @@ square a grid as N allows 0.4 m under the ceiling, 40 degree outer and 30 degree
 other row aimed straight down, the others 50 degrees towards the nearer side wall (wall washers); their
 total power the 256 lamps' (a spot of intensity I emits 2 pi (1 - cos outer) I): spot lights whose
 cones the light tree must bound.
+
+With --open (scripts/bench sky_reservoirs; not shipped): no ceiling, so that a sky lights the hall through
+its roof and the walls and pillars shadow part of it: a courtyard lit by the same lamps (or panels, spots).
 """
 import argparse
 import math
@@ -54,9 +57,12 @@ materials = {
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("--panels", type=int, default=0, help="emissive panels instead of the point lights")
 parser.add_argument("--spots", type=int, default=0, help="spot lights instead of the point lights")
+parser.add_argument("--open", action="store_true", help="no ceiling: the sky reaches in")
 parser.add_argument("--out", default=os.path.join(here, "light_hall"), help="output directory")
 args = parser.parse_args()
 
+if args.open:
+    del meshes["ceiling"]
 PANEL = 0.2
 if args.panels > 0:
     columns = max(1, round(math.sqrt(args.panels * WIDTH / LENGTH)))

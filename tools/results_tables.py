@@ -820,17 +820,19 @@ def sweep_passes(key, prefix, pairs):
 
 
 def seed_means(key, prefix, pairs):
-    """A setting swept over several seeds (args: KEY PREFIX NAME DIR ...; runs swept with seed=... and KEY=...):
-    per scene, method and value, the final MSE's mean over the seeds (each run's the mean over its frames), its
-    smallest and largest, the mean against the first value's, and the ms per frame and of the passes whose names
-    start with PREFIX, the seeds' medians."""
-    print(f"| scene | method | {key} | MSE (final), mean | seeds' range | against the first | ms/frame | "
+    """A setting swept over several seeds (args: KEY PREFIX NAME DIR ...; runs swept with seed=... and KEY=...;
+    KEY may name several settings joined by '+', each value then theirs joined by ', '): per scene, method and
+    value, the final MSE's mean over the seeds (each run's the mean over its frames), its smallest and largest,
+    the mean against the first value's, and the ms per frame and of the passes whose names start with PREFIX,
+    the seeds' medians."""
+    keys = key.split("+")
+    print(f"| scene | method | {', '.join(keys)} | MSE (final), mean | seeds' range | against the first | ms/frame | "
           f"{prefix}* ms |")
     print("|---|---|---|---|---|---|---|---|")
     for name, directory in named(pairs):
         grouped = {}
         for r in rows(f"{directory}/results.csv"):
-            value = r["label"].split(f"{key}=")[1].split()[0]
+            value = ", ".join(r["label"].split(f"{k}=")[1].split()[0] for k in keys)
             grouped.setdefault(r["method"], {}).setdefault(value, []).append(r)
         for method, by_value in grouped.items():
             first = None
@@ -843,6 +845,25 @@ def seed_means(key, prefix, pairs):
                     sum(float(x.split(":")[1]) for x in r["pass_ms"].split(";") if x.startswith(prefix)) for r in runs)
                 print(f"| {name.replace('_', ' ')} | {method} | {value} | {mean:.3e} | {min(mse):.3e}–{max(mse):.3e} | "
                       f"{mean / first:.2f}× | {ms:.2f} | {passes:.2f} |")
+
+
+def sky_cap(path):
+    """The sky tests' output (args: FILE: EmissiveSamplerTest.ReservoirsWeighTheSkyByItsMeasuredVisibility's
+    printed lines under '== cap N' headers, one run of the test with reservoirs.sky_max_history at N each):
+    per cap and scene, the mean against NEE's, the worst block, and the MSE against the sky left to NEE at
+    frame 16 and over 64 accumulated frames."""
+    print("| reservoirs.sky_max_history | scene | mean against NEE's | worst 8×8 block | frame 16 against the sky "
+          "left to NEE | 64 frames accumulated |")
+    print("|---|---|---|---|---|---|")
+    pattern = re.compile(r"^(.*): mean ([-+][0-9.]+)% of NEE's, worst 8x8 block ([0-9.]+)%.*frame 16 \S+ against "
+                         r"\S+ \(([0-9.]+)x\), 64 frames accumulated \S+ against \S+ \(([0-9.]+)x\)")
+    cap = None
+    for line in open(path):
+        if line.startswith("== cap "):
+            cap = line.split()[2]
+        elif match := pattern.match(line):
+            scene, mean, worst, frame, accumulated = match.groups()
+            print(f"| {cap} | {scene} | {mean}% | {worst}% | {frame}× | {accumulated}× |")
 
 
 def configurations(pairs):
@@ -1041,6 +1062,7 @@ KINDS = {
     "samplers": lambda a: samplers(a[0]),
     "emissive_reservoirs": lambda a: emissive_reservoirs(a[0]),
     "configurations": lambda a: configurations(a),
+    "sky_cap": lambda a: sky_cap(a[0]),
     "pass_times": lambda a: pass_times(a),
     "ab": lambda a: ab(a[0], a[1], a[2], a[3:]),
     "ab_mean": lambda a: ab(a[0], a[1], a[2], a[3:], over_settings=True),
