@@ -305,9 +305,9 @@ SkyErrors skyErrorsOverSeeds(const engine::Context& ctx, LoadedScene& s, const g
 // the reservoirs' restart when it moves: 1.19x and 1.46x); with the sun behind the wall, the visibility
 // reuse (a pixel's last-frame reservoir whose sky direction failed there is merged with weight 0) and the
 // temporal merge's shorter cap while the sky is in the reservoirs (ReservoirSettings::skyMaxHistory, 4)
-// take frame 16 under 0.85x (measured 0.79x; without the reuse 1.00x; with the cap at 1 or 2, 0.98x and
-// 0.86x) and 64 accumulated frames under 1.2x (1.08x; with the cap at 8 or at max_history's 20, 1.24x
-// and 1.58x: the temporal reuse correlates a pixel's frames).
+// take frame 16 under 0.85x (measured 0.79x; with the cap at 1 or 2, 0.98x and 0.86x; without the reuse,
+// at a cap of 20, 1.00x) and 64 accumulated frames under 1.2x (1.08x; with the cap at 8 or at
+// max_history's 20, 1.24x and 1.58x: the temporal reuse correlates a pixel's frames).
 TEST_F(EmissiveSamplerTest, ReservoirsWeighTheSkyByItsMeasuredVisibility) {
   LoadedScene shadowed, sunlit, room;
   ASSERT_NO_FATAL_FAILURE(loadUnderSky(emissiveField(), gpu::LIGHT_SAMPLER_TREE, sunnySky(12), shadowed));
