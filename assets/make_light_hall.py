@@ -12,6 +12,10 @@ emissive panels 0.2 m wide just under the ceiling, on as square a grid as N allo
 total power the 256 lamps' (4 pi W per cd; a one-sided Lambertian panel of area A and radiance L emits
 pi L A): the many-emissive-triangle scene of issue 31, two triangles a panel.
 
+With --lit K beside --panels N: the same N panels, of which only the K nearest to where a K-panel hall has
+its panels emit (their total power the same); the others are dark, black as every panel's base colour. The
+geometry of N panels with the light count of K: what more lights cost apart from more triangles.
+
 With --spots N --out DIR (scripts/bench spots; not shipped): N spot lights instead of the lamps, on as
 square a grid as N allows 0.4 m under the ceiling, 40 degree outer and 30 degree inner cones; every
 other row aimed straight down, the others 50 degrees towards the nearer side wall (wall washers); their
@@ -56,6 +60,7 @@ materials = {
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("--panels", type=int, default=0, help="emissive panels instead of the point lights")
+parser.add_argument("--lit", type=int, default=0, help="with --panels: only this many of them emit")
 parser.add_argument("--spots", type=int, default=0, help="spot lights instead of the point lights")
 parser.add_argument("--open", action="store_true", help="no ceiling: the sky reaches in")
 parser.add_argument("--out", default=os.path.join(here, "light_hall"), help="output directory")
@@ -64,21 +69,36 @@ args = parser.parse_args()
 if args.open:
     del meshes["ceiling"]
 PANEL = 0.2
+def panel_centres(n):  # n panels on as square a grid as n allows, (x, z) each
+    columns = max(1, round(math.sqrt(n * WIDTH / LENGTH)))
+    rows = math.ceil(n / columns)
+    return [(X0 + (k % columns + 0.5) * WIDTH / columns, Z0 + (k // columns + 0.5) * LENGTH / rows) for k in range(n)]
+
+
+if args.lit and not 0 < args.lit <= args.panels:
+    parser.error(f"--lit {args.lit}: needs --panels and at most that many (--panels {args.panels})")
 if args.panels > 0:
-    columns = max(1, round(math.sqrt(args.panels * WIDTH / LENGTH)))
-    rows = math.ceil(args.panels / columns)
+    centres = panel_centres(args.panels)
+    lit = set(range(args.panels))
+    if args.lit:  # each of a K-panel hall's centres takes the nearest panel not yet taken
+        lit = set()
+        for cx, cz in panel_centres(args.lit):
+            lit.add(min((k for k in range(args.panels) if k not in lit),
+                        key=lambda k: (centres[k][0] - cx) ** 2 + (centres[k][1] - cz) ** 2))
     power = 4 * math.pi * CANDELA * LIGHTS_X * LIGHTS_Z
-    radiance = power / (args.panels * math.pi * PANEL * PANEL)
+    radiance = power / (len(lit) * math.pi * PANEL * PANEL)
     materials["panel"] = {"pbrMetallicRoughness": {"baseColorFactor": [0, 0, 0, 1], "metallicFactor": 0},
                           "emissiveFactor": COLOUR,
                           "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": round(radiance, 4)}}}
-    parts = []
-    for k in range(args.panels):
-        x = X0 + (k % columns + 0.5) * WIDTH / columns
-        z = Z0 + (k // columns + 0.5) * LENGTH / rows
+    parts, dark = [], []
+    for k, (x, z) in enumerate(centres):
         y, h = HEIGHT - 0.01, PANEL / 2
-        parts.append(quad((x - h, y, z - h), (x + h, y, z - h), (x + h, y, z + h), (x - h, y, z + h)))
+        (parts if k in lit else dark).append(quad((x - h, y, z - h), (x + h, y, z - h), (x + h, y, z + h),
+                                                  (x - h, y, z + h)))
     meshes["panels"] = (merge(parts), "panel")
+    if dark:
+        materials["dark_panel"] = {"pbrMetallicRoughness": {"baseColorFactor": [0, 0, 0, 1], "metallicFactor": 0}}
+        meshes["dark_panels"] = (merge(dark), "dark_panel")
 
 extensions = ["KHR_materials_emissive_strength"] if args.panels > 0 else ["KHR_lights_punctual"]
 gltf = Gltf("assets/make_light_hall.py", extensions)
