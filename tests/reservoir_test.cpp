@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <string>
+#include <vector>
 
 #include "light_field.h"
 #include "module_test_helpers.h"
@@ -29,15 +31,37 @@ engine::FloatImage directAfter(const engine::Context& ctx, LoadedScene& s, const
   return rawDirectAfter(ctx, s, settings, kSize, frames, accumulate);
 }
 
+// One frame's reservoir passes, as FrameStats names them ("reservoir_temporal reservoir_spatial "), and the
+// programs the settings need.
+struct ReservoirRun {
+  std::string passes;
+  std::vector<std::string> programs;
+};
+ReservoirRun reservoirRun(const engine::Context& ctx, LoadedScene& s, const gi::Settings& settings) {
+  ScopedSession session(ctx);
+  ReservoirRun run;
+  EXPECT_NO_FATAL_FAILURE(openSession(ctx, s, {kSize, kSize}, settings, session));
+  if (!session.module) return run;
+  const gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], kSize, kSize, nullptr);
+  tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, 0);
+  gi::FrameStats stats;
+  EXPECT_TRUE(gi::frameStats(session.module, 0, stats));
+  for (const gi::PassTiming& pass : stats.passes)
+    if (std::string(pass.name).find("reservoir") != std::string::npos) run.passes += std::string(pass.name) + " ";
+  run.programs = gi::programNames(session.module, settings);
+  return run;
+}
+
 }  // namespace
 
 // 64 lights and the block (lightField), 64 frames of resampled direct light, averaged, with the defaults
-// (temporal and spatial reuse, pairwise MIS), with the balance heuristic's spatial weights instead, with
-// temporal reuse alone and with spatial reuse alone (the frame's set, whose y holds W and the stored target;
-// with that target 4× too large, +15% in mean): the exact sum's image
+// (raw's: temporal reuse of four candidates a frame, no neighbours), with temporal and spatial reuse (eight
+// candidates, five neighbours, pairwise MIS), with the balance heuristic's spatial weights instead, with
+// spatial reuse alone (the frame's set, whose y holds W and the stored target;
+// with that target 4× too large, +15% in mean), and with neither (the pick pass alone): the exact sum's image
 // in mean (within 1%) and, averaged over 8 seeds, in every 8×8 block (within 4%; measured 2.2% and 2.8%);
 // one frame after 15 under 0.4× the tree's error with one pick a vertex (measured 0.31× and 0.27× before
-// pairwise MIS); and no
+// pairwise MIS; 0.28× with the defaults, 0.31× with neither reuse); and no
 // pixel of any frame brighter than 4× the exact image's brightest (the biased 1/M spatial weights made
 // fireflies on Conference). The seeds, not more frames: a run's frames share their reservoirs' samples
 // through the temporal reuse, so one run's worst block stays 5–6.5% off however long it runs (64 and 128
@@ -57,17 +81,22 @@ TEST_F(ReservoirTest, ResampledDirectLightKeepsTheExactSumsExpectation) {
   ASSERT_GT(meanOf(truth), 0.0);
   const double treeError = mseOf(directAfter(ctx, picked, base, 16, false), truth);
 
-  gi::Settings defaults = base;
+  gi::Settings defaults = base;  // raw's: the merge, four candidates a frame and no neighbours (the pick pass)
   defaults.reservoirs.enabled = true;
-  gi::Settings balance = defaults;
+  ASSERT_EQ(defaults.reservoirs.mergeNeighbours, 0u);
+  gi::Settings both = defaults;  // eight candidates and five neighbours
+  both.reservoirs.mergeCandidates = 8;
+  both.reservoirs.mergeNeighbours = 5;
+  gi::Settings balance = both;
   balance.reservoirs.pairwise = false;
-  gi::Settings temporal = defaults;
-  temporal.reservoirs.neighbours = 0;
   gi::Settings spatial = defaults;  // the frame's set (8 bytes a texel: W and the stored target share y)
   spatial.reservoirs.temporal = false;
-  for (const gi::Settings* s : {&defaults, &balance, &temporal, &spatial}) {
-    const char* name = s == &temporal  ? "temporal reuse"
+  gi::Settings neither = spatial;  // the pick pass alone: the frame's candidates and their survivor's ray
+  neither.reservoirs.neighbours = 0;
+  for (const gi::Settings* s : {&defaults, &both, &balance, &spatial, &neither}) {
+    const char* name = s == &defaults  ? "temporal reuse, four candidates (the defaults)"
                        : s == &spatial ? "spatial reuse, pairwise MIS"
+                       : s == &neither ? "neither reuse"
                        : s == &balance ? "temporal and spatial reuse, the balance heuristic"
                                        : "temporal and spatial reuse, pairwise MIS";
     constexpr uint32_t kSeeds = 8;
@@ -110,15 +139,28 @@ TEST_F(ReservoirTest, AScenesExactSumRunsNoReservoirPass) {
   const engine::FloatImage without = directAfter(ctx, s, off, 2, false);
   const engine::FloatImage with = directAfter(ctx, s, on, 2, false);
   EXPECT_TRUE(sameBits(without, with));
-  ScopedSession session(ctx);
-  ASSERT_NO_FATAL_FAILURE(openSession(ctx, s, {kSize, kSize}, on, session));
-  const gpu::GpuCamera cam = engine::makeGpuCamera(s.scene.cameras[0], kSize, kSize, nullptr);
-  tools::renderModuleFrame(ctx, session, s.scene, s.gpu, cam, cam, 0);
-  gi::FrameStats stats;
-  ASSERT_TRUE(gi::frameStats(session.module, 0, stats));
-  for (const gi::PassTiming& pass : stats.passes)
-    EXPECT_EQ(std::string(pass.name).find("reservoir"), std::string::npos);
-  for (const std::string& program : gi::programNames(session.module, on)) EXPECT_NE(program, "gi_reservoirs");
+  const ReservoirRun run = reservoirRun(ctx, s, on);
+  EXPECT_EQ(run.passes, "");
+  for (const std::string& program : run.programs) EXPECT_NE(program, "gi_reservoirs");
+}
+
+// Without neighbours the spatial pass would keep each pixel's own reservoir: one pass, reservoir_pick, draws
+// the candidates, merges last frame's reservoir and traces the survivor's shadow ray (that it does is
+// ResampledDirectLightKeepsTheExactSumsExpectation's "temporal reuse" and "neither reuse": without the ray the
+// block's shadow would be lit); with neighbours the temporal and the spatial pass run.
+TEST_F(ReservoirTest, WithoutNeighboursOnePassPicks) {
+  LoadedScene s;
+  ASSERT_NO_FATAL_FAILURE(loadWith(lightField(64, "reservoir_field", true), gpu::LIGHT_SAMPLER_TREE, s));
+  for (const uint32_t neighbours : {0u, 1u}) {
+    for (const bool merge : {true, false}) {
+      gi::Settings settings;
+      settings.reservoirs.neighbours = settings.reservoirs.mergeNeighbours = neighbours;
+      settings.reservoirs.temporal = merge;
+      EXPECT_EQ(reservoirRun(ctx, s, settings).passes,
+                neighbours == 0 ? "reservoir_pick " : "reservoir_temporal reservoir_spatial ")
+          << neighbours << " neighbours, merge " << merge;
+    }
+  }
 }
 
 // Temporal gradients with reservoirs (temporal.glsl): the gradient sample keeps the

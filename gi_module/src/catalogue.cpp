@@ -153,14 +153,21 @@ const SettingInfo kSettings[] = {
     restartsHistory(GI_SETTING("reservoirs.emissive_min", reservoirs.emissiveMin, "triangles",
                                "resample the emissive triangles where the scene has more than this many", Uint, 0,
                                1 << 22, false, kEvery)),
-    GI_SETTING("reservoirs.candidates", reservoirs.candidates, "lights", "lights drawn per pixel and frame", Uint, 1,
-               64, false, kEvery),
+    GI_SETTING("reservoirs.candidates", reservoirs.candidates, "lights",
+               "lights drawn per pixel and frame where the temporal merge does not run", Uint, 1, 64, false, kEvery),
     GI_BOOL("reservoirs.temporal", reservoirs.temporal,
             "merge last frame's reservoir through the motion vectors (where no temporal pass averages the direct "
             "light: raw, aaf)",
             kRaw | kAaf),
-    GI_SETTING("reservoirs.neighbours", reservoirs.neighbours, "reservoirs", "neighbours merged (0 = no spatial reuse)",
-               Uint, 0, 8, false, kEvery),
+    GI_SETTING("reservoirs.neighbours", reservoirs.neighbours, "reservoirs",
+               "neighbours merged where the temporal merge does not run (0 = no spatial reuse)", Uint, 0, 8, false,
+               kEvery),
+    GI_SETTING("reservoirs.merge_candidates", reservoirs.mergeCandidates, "lights",
+               "lights drawn per pixel and frame where the temporal merge runs (no sky map among them)", Uint, 1, 64,
+               false, kRaw | kAaf),
+    GI_SETTING("reservoirs.merge_neighbours", reservoirs.mergeNeighbours, "reservoirs",
+               "neighbours merged where the temporal merge runs (no sky map among them; 0 = no spatial reuse)", Uint, 0,
+               8, false, kRaw | kAaf),
     GI_SETTING("reservoirs.radius", reservoirs.radius, "pixels", "the disc the neighbours come from", Float, 1, 64,
                false, kEvery),
     GI_SETTING("reservoirs.max_history", reservoirs.maxHistory, "x candidates",
@@ -318,6 +325,7 @@ static_assert(viewsInOrder(), "kViews follows gi::DebugView's order");
 constexpr PassInfo kPasses[] = {
     {Pass::ReservoirTemporal, "reservoir_temporal", false},
     {Pass::ReservoirSpatial, "reservoir_spatial", true},  // the survivor's shadow ray
+    {Pass::ReservoirPick, "reservoir_pick", true},        // the temporal pass and the survivor's shadow ray
     {Pass::RawTrace, "raw_trace", true},
     {Pass::AafSample, "aaf_sample", true},
     {Pass::AafAdaptive, "aaf_adaptive", true},

@@ -246,11 +246,16 @@ void recordReservoirPasses(Module& m, VkCommandBuffer cmd, const FrameSetup& set
   const ReservoirSettings& r = s.reservoirs;
   const uint32_t slot = setup.slot;
   const auto& sets = setup.sets;
+  // Where the merge runs it carries candidates over frames: fewer a frame, and neighbours, suffice; not with a
+  // sky map in the reservoirs (ReservoirSettings::mergeNeighbours says why).
+  const bool merges = m.plan.reservoirTemporal;
+  const bool mergeBudget = merges && !m.plan.reservoirSky;
+  const uint32_t neighbours = mergeBudget ? r.mergeNeighbours : r.neighbours;
   gpu::GiReservoirPush push{.mode = gpu::GI_RESERVOIR_TEMPORAL,
                             .seed = s.seed,
-                            .candidates = r.candidates,
-                            .temporal = m.plan.reservoirTemporal && m.reservoirFrames > 0 ? 1u : 0u,
-                            .neighbours = r.neighbours,
+                            .candidates = mergeBudget ? r.mergeCandidates : r.candidates,
+                            .temporal = merges && m.reservoirFrames > 0 ? 1u : 0u,
+                            .neighbours = neighbours,
                             .radius = r.radius,
                             .maxHistory = skyInReservoirs(m) ? std::min(r.maxHistory, r.skyMaxHistory) : r.maxHistory,
                             .unbiased = r.unbiased ? 1u : 0u,
@@ -260,14 +265,21 @@ void recordReservoirPasses(Module& m, VkCommandBuffer cmd, const FrameSetup& set
                             .pairwise = r.pairwise ? 1u : 0u,
                             .boilingFilter = r.boilingFilter,
                             // Without the merge the frame's one set serves, written then read by the spatial pass.
-                            .frameSet = m.plan.reservoirTemporal ? 0u : 1u,
+                            .frameSet = merges ? 0u : 1u,
                             .groupCandidates = r.groupCandidates,
                             .groupPowerShare = r.groupPowerShare};
-  // Pass: candidates from the light sampler, last frame's reservoir, the survivor's shadow ray.
-  runPass(m, cmd, slot, Pass::ReservoirTemporal, m.reservoirs, sets, {m.width, m.height}, push);
-  // Pass: neighbours' reservoirs merged and the survivor's shadow ray: the pick the tracing passes take.
-  push.mode = gpu::GI_RESERVOIR_SPATIAL;
-  runPass(m, cmd, slot, Pass::ReservoirSpatial, m.reservoirs, sets, {m.width, m.height}, push);
+  if (neighbours == 0 && !m.plan.reservoirSky) {
+    // Pass: candidates from the light sampler, last frame's reservoir and the survivor's shadow ray: the pick
+    // the tracing passes take (a spatial pass without neighbours would only keep the pixel's own).
+    push.mode = gpu::GI_RESERVOIR_PICK;
+    runPass(m, cmd, slot, Pass::ReservoirPick, m.reservoirs, sets, {m.width, m.height}, push);
+  } else {
+    // Pass: candidates from the light sampler, last frame's reservoir.
+    runPass(m, cmd, slot, Pass::ReservoirTemporal, m.reservoirs, sets, {m.width, m.height}, push);
+    // Pass: neighbours' reservoirs merged and the survivor's shadow ray: the pick the tracing passes take.
+    push.mode = gpu::GI_RESERVOIR_SPATIAL;
+    runPass(m, cmd, slot, Pass::ReservoirSpatial, m.reservoirs, sets, {m.width, m.height}, push);
+  }
   m.reservoirFrames++;
 }
 

@@ -27,6 +27,10 @@
 //     not a mix of its neighbours' (measured: fed back, in a room of a
 //     thousand lamps whose best lights change from pixel to pixel, the
 //     neighbours' samples diluted each pixel's own history).
+//   GI_RESERVOIR_PICK: without neighbours, the temporal pass and the survivor's shadow ray in one dispatch:
+//     the spatial pass would merge the pixel's reservoir alone and keep its W (one pass's G-buffer reads and
+//     target fewer). Not with the sky in the reservoirs, whose failed directions (giStoreFailedSky) go to the
+//     set this pass reads at other pixels' reprojections.
 // With ReservoirSettings::sky they hold the sky's map too (GI_PRIMARY_DIRECT_SKY): a share of the candidates
 // are directions drawn from it, their target the sky's light weighed against BSDF sampling (lights.glsl's
 // giReservoirSkyPdf), and a BSDF-sampled ray that leaves the scene from the primary hit takes the rest; the
@@ -101,9 +105,13 @@ shared float giGroupDrawChances[GI_GROUP_DRAWS_MAX];  // the chance of its pick 
 shared uint giGroupSurfaceRank;                       // the lending pixel: its squared distance to the centre, index
 shared vec3 giGroupPosition, giGroupNormal;           // its surface (world; geometric normal)
 
+// Whether this pass draws candidates and merges last frame's reservoir: the temporal pass, alone or with the
+// survivor's shadow ray (GI_RESERVOIR_PICK).
+bool giDrawsCandidates() { return pc.mode != GI_RESERVOIR_SPATIAL; }
+
 // Whether the temporal pass takes its emissive candidates from the group's draws (uniform over the dispatch).
 bool giSharesGroupDraws() {
-  return pc.mode == GI_RESERVOIR_TEMPORAL && pc.groupCandidates != 0u && giReservoirsHoldEmissive() &&
+  return giDrawsCandidates() && pc.groupCandidates != 0u && giReservoirsHoldEmissive() &&
          giEmissiveTree();
 }
 uint giGroupDrawCount() { return min(pc.groupCandidates, 8u) * GI_GROUP_PIXELS; }
@@ -376,6 +384,24 @@ void giPairwiseShares(uvec4 found[GI_SPATIAL_MAX], ivec2 at[GI_SPATIAL_MAX], uin
   share[0] = canonical / N;
 }
 uint giSkyPickTested = 0u, giSkyPickVisible = 0u;  // this pixel's pick is a sky direction; its ray saw the sky
+
+// The pick the tracing passes take (giPrimaryReservoir): the survivor's light and its W, 0 where its shadow ray
+// is blocked (an occluded light brings nothing this frame; the reservoirs that are reused keep estimating the
+// unshadowed light, whose visibility the pixel that picks it tests). A sky direction's outcome is counted
+// (giCountSkyPicks). skyShare: giReservoirSkyShare at s.
+uvec4 giVisiblePick(uint light, float W, GiSurface s, GiBsdf b, vec3 V, float skyShare) {
+  GiShadowRay shadow;
+  float area;
+  if (W > 0.0 && giPrepareReservoirLight(light, s, b, V, skyShare, shadow, area)) {
+    const bool visible = giTraceVisible(shadow.origin, shadow.direction, 0.0, shadow.tMax);
+    if (giIsSkySample(light)) {
+      giSkyPickTested = 1u;
+      giSkyPickVisible = visible ? 1u : 0u;
+    }
+    if (!visible) W = 0.0;
+  }
+  return uvec4(light, floatBitsToUint(W), 0u, 0u);
+}
 uvec4 giSpatialReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float depth, inout GiRng rng) {
   uvec4 found[GI_SPATIAL_MAX];
   ivec2 at[GI_SPATIAL_MAX];
@@ -425,21 +451,8 @@ uvec4 giSpatialReservoir(ivec2 p, GiSurface s, GiBsdf b, vec3 V, vec3 n, float d
   GiReservoir r = giEmptyReservoir();
   for (uint i = 0u; i < count; ++i)
     giReservoirMerge(r, found[i].x, here[i], here[i] * giStoredW(found[i]) * share[i], giStoredM(found[i]), giRandom(rng));
-  float W = r.target > 0.0 ? r.weightSum / (r.target * (pc.unbiased != 0u ? 1.0 : r.M)) : 0.0;
-  // The survivor's shadow ray: an occluded light brings nothing this frame (the reservoirs that are
-  // reused keep estimating the unshadowed light, whose visibility the pixel that picks it tests). A sky
-  // direction's outcome is counted (giCountSkyPicks).
-  GiShadowRay shadow;
-  float area;
-  if (W > 0.0 && giPrepareReservoirLight(r.light, s, b, V, skyShare, shadow, area)) {
-    const bool visible = giTraceVisible(shadow.origin, shadow.direction, 0.0, shadow.tMax);
-    if (giIsSkySample(r.light)) {
-      giSkyPickTested = 1u;
-      giSkyPickVisible = visible ? 1u : 0u;
-    }
-    if (!visible) W = 0.0;
-  }
-  return uvec4(r.light, floatBitsToUint(W), 0u, 0u);
+  const float W = r.target > 0.0 ? r.weightSum / (r.target * (pc.unbiased != 0u ? 1.0 : r.M)) : 0.0;
+  return giVisiblePick(r.light, W, s, b, V, skyShare);
 }
 
 // The frame's sky picks and those that saw the sky, into GiCounters (one atomic pair per subgroup): the host
@@ -458,27 +471,40 @@ void main() {
   uvec4 stored = uvec4(GI_RESERVOIR_EMPTY, 0u, 0u, 0u);
   float estimate = 0.0;
   const bool covered = inside && giGbCovered(p);
-  GiRng rng = giRngCreate(uvec2(p), giFrame.frameIndex * 2u + pc.mode, pc.seed, GI_STREAM_RESERVOIRS);
+  // Two streams a frame: the candidates' (the pick pass's too) and the spatial pass's.
+  const uint stream = giDrawsCandidates() ? 0u : 1u;
+  GiRng rng = giRngCreate(uvec2(p), giFrame.frameIndex * 2u + stream, pc.seed, GI_STREAM_RESERVOIRS);
   vec3 V = vec3(0.0);
   GiSurface s;
-  if (covered) s = giGbSurface(p, V);
+  GiBsdf b;
+  if (covered) {
+    s = giGbSurface(p, V);
+    b = giMakeBsdf(s.material.baseColor, s.material.metallic, s.material.roughness, s.material.flags);
+  }
   if (giSharesGroupDraws())
     giDrawGroupCandidates(covered, covered ? s.position : vec3(0.0), covered ? s.geometricNormal : vec3(0.0), rng);
   if (covered) {
-    const GiBsdf b = giMakeBsdf(s.material.baseColor, s.material.metallic, s.material.roughness, s.material.flags);
     const vec3 n = giGbNormal(p);
     const float depth = giGbViewDepth(p);
     const uint guide = giPackGuide(n, depth / giFrame.depthScale);
-    stored = pc.mode == GI_RESERVOIR_TEMPORAL ? giTemporalReservoir(p, s, b, V, n, depth, guide, rng, estimate)
-                                              : giSpatialReservoir(p, s, b, V, n, depth, rng);
+    stored = giDrawsCandidates() ? giTemporalReservoir(p, s, b, V, n, depth, guide, rng, estimate)
+                                 : giSpatialReservoir(p, s, b, V, n, depth, rng);
   }
-  if (pc.mode == GI_RESERVOIR_TEMPORAL && pc.boilingFilter > 0.0) stored = giBoilingFilter(stored, estimate);
+  if (giDrawsCandidates() && pc.boilingFilter > 0.0) stored = giBoilingFilter(stored, estimate);
   if (inside) {
-    if (pc.mode == GI_RESERVOIR_SPATIAL) imageStore(giReservoirPick, p, stored);
-    else giStoreReservoir(p, stored);
+    // The pick pass keeps its reservoir for the next frame's merge only (without it nothing reads the frame's set).
+    if (pc.mode == GI_RESERVOIR_TEMPORAL || (pc.mode == GI_RESERVOIR_PICK && pc.frameSet == 0u))
+      giStoreReservoir(p, stored);
+    if (pc.mode == GI_RESERVOIR_PICK) {
+      const bool lit = covered && stored.x != GI_RESERVOIR_EMPTY;
+      stored = lit ? giVisiblePick(stored.x, giStoredW(stored), s, b, V,
+                                   giReservoirSkyShare(s.position, s.geometricNormal))
+                   : uvec4(GI_RESERVOIR_EMPTY, 0u, 0u, 0u);
+    }
+    if (pc.mode != GI_RESERVOIR_TEMPORAL) imageStore(giReservoirPick, p, stored);
     if (pc.mode == GI_RESERVOIR_SPATIAL && giReusesSkyVisibility())
       giStoreFailedSky(p, giSkyPickTested != 0u && giSkyPickVisible == 0u ? stored.x : GI_RESERVOIR_EMPTY);
   }
-  if (pc.mode == GI_RESERVOIR_SPATIAL && giReservoirsSampleSky()) giCountSkyPicks();
+  if (pc.mode != GI_RESERVOIR_TEMPORAL && giReservoirsSampleSky()) giCountSkyPicks();
   giCountRays(inside);
 }

@@ -178,9 +178,11 @@ GPU_ASSERT_SIZE(GiCounters, 32 + 4 * 64);
 
 // The reservoir passes (gi_reservoirs.comp): GI_RESERVOIR_TEMPORAL draws the candidates and merges last
 // frame's reservoir through the motion vectors (last frame's set → this frame's); GI_RESERVOIR_SPATIAL
-// merges neighbours' and tests the survivor's visibility (this frame's set → the pick).
+// merges neighbours' and tests the survivor's visibility (this frame's set → the pick); GI_RESERVOIR_PICK,
+// where no neighbours are merged, is the temporal pass and the survivor's shadow ray in one.
 GPU_CONST GI_RESERVOIR_TEMPORAL = 0u;
 GPU_CONST GI_RESERVOIR_SPATIAL = 1u;
+GPU_CONST GI_RESERVOIR_PICK = 2u;
 struct GiReservoirPush {
   uint mode;            // GI_RESERVOIR_*
   uint seed;

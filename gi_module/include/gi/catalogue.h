@@ -67,6 +67,7 @@ std::span<const DebugViewInfo> debugViewCatalogue();  // in gi::DebugView's orde
 enum class Pass : uint32_t {
   ReservoirTemporal,
   ReservoirSpatial,
+  ReservoirPick,
   RawTrace,
   AafSample,
   AafAdaptive,
