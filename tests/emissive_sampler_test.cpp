@@ -222,12 +222,12 @@ TEST_F(EmissiveSamplerTest, TheSkyAsANodeBesideTheTreeKeepsTheExpectation) {
 }
 
 // The sky left to NEE at the budget the reservoirs take with a sky map among them (ReservoirSettings::
-// mergeNeighbours: raw's candidates and neighbours then, not the merge's), so that the sky alone differs.
+// rawNeighbours: `candidates` and `neighbours` then, not raw's own), so that the sky alone differs.
 namespace {
 gi::Settings skyLeftToNee() {
   gi::Settings s;
-  s.reservoirs.mergeCandidates = s.reservoirs.candidates;
-  s.reservoirs.mergeNeighbours = s.reservoirs.neighbours;
+  s.reservoirs.rawCandidates = s.reservoirs.candidates;
+  s.reservoirs.rawNeighbours = s.reservoirs.neighbours;
   return s;
 }
 }  // namespace

@@ -55,8 +55,8 @@ ReservoirRun reservoirRun(const engine::Context& ctx, LoadedScene& s, const gi::
 }  // namespace
 
 // 64 lights and the block (lightField), 64 frames of resampled direct light, averaged, with the defaults
-// (raw's: temporal reuse of four candidates a frame, no neighbours), with temporal and spatial reuse (eight
-// candidates, five neighbours, pairwise MIS), with the balance heuristic's spatial weights instead, with
+// of raw's frames seen alone (temporal reuse of four candidates a frame, no neighbours), with temporal and
+// spatial reuse (eight candidates, five neighbours, pairwise MIS: raw's accumulated frames' defaults), with the balance heuristic's spatial weights instead, with
 // spatial reuse alone (the frame's set, whose y holds W and the stored target;
 // with that target 4× too large, +15% in mean), and with neither (the pick pass alone): the exact sum's image
 // in mean (within 1%) and, averaged over 8 seeds, in every 8×8 block (within 4%; measured 2.2% and 2.8%);
@@ -81,20 +81,25 @@ TEST_F(ReservoirTest, ResampledDirectLightKeepsTheExactSumsExpectation) {
   ASSERT_GT(meanOf(truth), 0.0);
   const double treeError = mseOf(directAfter(ctx, picked, base, 16, false), truth);
 
-  gi::Settings defaults = base;  // raw's: the merge, four candidates a frame and no neighbours (the pick pass)
+  // raw's budget for frames seen alone (the merge, four candidates, no neighbours: the pick pass), here as the
+  // plain settings, which its accumulated frames (the mean below) take in its place.
+  gi::Settings defaults = base;
   defaults.reservoirs.enabled = true;
-  ASSERT_EQ(defaults.reservoirs.mergeNeighbours, 0u);
-  gi::Settings both = defaults;  // eight candidates and five neighbours
-  both.reservoirs.mergeCandidates = 8;
-  both.reservoirs.mergeNeighbours = 5;
+  ASSERT_EQ(defaults.reservoirs.rawNeighbours, 0u);
+  defaults.reservoirs.candidates = defaults.reservoirs.rawCandidates;
+  defaults.reservoirs.neighbours = defaults.reservoirs.rawNeighbours;
+  gi::Settings both = base;  // eight candidates and five neighbours, for frames alone too
+  both.reservoirs.enabled = true;
+  both.reservoirs.rawCandidates = both.reservoirs.candidates;
+  both.reservoirs.rawNeighbours = both.reservoirs.neighbours;
   gi::Settings balance = both;
   balance.reservoirs.pairwise = false;
-  gi::Settings spatial = defaults;  // the frame's set (8 bytes a texel: W and the stored target share y)
+  gi::Settings spatial = both;  // the frame's set (8 bytes a texel: W and the stored target share y)
   spatial.reservoirs.temporal = false;
   gi::Settings neither = spatial;  // the pick pass alone: the frame's candidates and their survivor's ray
   neither.reservoirs.neighbours = 0;
   for (const gi::Settings* s : {&defaults, &both, &balance, &spatial, &neither}) {
-    const char* name = s == &defaults  ? "temporal reuse, four candidates (the defaults)"
+    const char* name = s == &defaults  ? "temporal reuse, four candidates (raw's frames alone)"
                        : s == &spatial ? "spatial reuse, pairwise MIS"
                        : s == &neither ? "neither reuse"
                        : s == &balance ? "temporal and spatial reuse, the balance heuristic"
@@ -154,7 +159,7 @@ TEST_F(ReservoirTest, WithoutNeighboursOnePassPicks) {
   for (const uint32_t neighbours : {0u, 1u}) {
     for (const bool merge : {true, false}) {
       gi::Settings settings;
-      settings.reservoirs.neighbours = settings.reservoirs.mergeNeighbours = neighbours;
+      settings.reservoirs.neighbours = settings.reservoirs.rawNeighbours = neighbours;
       settings.reservoirs.temporal = merge;
       EXPECT_EQ(reservoirRun(ctx, s, settings).passes,
                 neighbours == 0 ? "reservoir_pick " : "reservoir_temporal reservoir_spatial ")

@@ -483,12 +483,12 @@ def goal_sweep(key, pass_prefix, pairs):
     ...; the first pair the base, run with the defaults): per scene and value, the ms per frame of the passes
     whose names start with PREFIX, and per method GPU ms per frame, final MSE and both over the base's (issue
     31's goal columns). KEY `settings`: a row per run of several settings swept together, named by all of
-    them; the methods those of raw, svgf and hpsf that the base and every run ran. A DIR may be rounds,
+    them; the methods those of raw, aaf, svgf and hpsf that the base and every run ran. A DIR may be rounds,
     comma-separated (median_runs)."""
     (base_name, base_dir), *runs = named(pairs)
     base = {method: r for (method, _), r in median_runs(base_dir).items()}
     ran = [{method for method, _ in median_runs(directory)} for _, directory in runs]
-    methods = [m for m in ["raw", "svgf", "hpsf"] if m in base and all(m in r for r in ran)]
+    methods = [m for m in ["raw", "aaf", "svgf", "hpsf"] if m in base and all(m in r for r in ran)]
     print(f"| scene | {key} | {methods[0]}'s {pass_prefix}* ms | " +
           " | ".join(f"{m} ms | {m} MSE | {m} against {base_name.replace('_', ' ')}" for m in methods) + " |")
     print("|---|---|---|" + "---|" * (3 * len(methods)))

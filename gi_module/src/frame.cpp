@@ -246,14 +246,15 @@ void recordReservoirPasses(Module& m, VkCommandBuffer cmd, const FrameSetup& set
   const ReservoirSettings& r = s.reservoirs;
   const uint32_t slot = setup.slot;
   const auto& sets = setup.sets;
-  // Where the merge runs it carries candidates over frames: fewer a frame, and neighbours, suffice; not with a
-  // sky map in the reservoirs (ReservoirSettings::mergeNeighbours says why).
+  // raw's merge carries candidates over frames: where each frame is seen alone fewer a frame, and no neighbours,
+  // suffice; not for aaf, raw's accumulated frames nor a sky map in the reservoirs (ReservoirSettings::
+  // rawNeighbours says why).
   const bool merges = m.plan.reservoirTemporal;
-  const bool mergeBudget = merges && !m.plan.reservoirSky;
-  const uint32_t neighbours = mergeBudget ? r.mergeNeighbours : r.neighbours;
+  const bool rawBudget = merges && s.method == Method::Raw && !s.raw.temporalAccumulation && !m.plan.reservoirSky;
+  const uint32_t neighbours = rawBudget ? r.rawNeighbours : r.neighbours;
   gpu::GiReservoirPush push{.mode = gpu::GI_RESERVOIR_TEMPORAL,
                             .seed = s.seed,
-                            .candidates = mergeBudget ? r.mergeCandidates : r.candidates,
+                            .candidates = rawBudget ? r.rawCandidates : r.candidates,
                             .temporal = merges && m.reservoirFrames > 0 ? 1u : 0u,
                             .neighbours = neighbours,
                             .radius = r.radius,

@@ -237,29 +237,30 @@ struct HpsfSettings {
 // sky map is resampled too (`sky`). Vertices after the primary hit keep the light samplers.
 struct ReservoirSettings {
   bool enabled = true;           // on: measured better for raw, svgf and hpsf from 64 lights on (RESULTS, "Reservoirs")
-  uint32_t candidates = 8;       // [1, 64]: lights drawn per pixel and frame where the temporal merge does not run
-                                 // (svgf, hpsf and the other methods with a temporal pass; raw and aaf with
-                                 // `temporal` off)
+  uint32_t candidates = 8;       // [1, 64]: lights drawn per pixel and frame (raw's: rawCandidates)
   bool temporal = true;          // merge last frame's reservoir (TemporalSettings' depth and normal tests), for the
                                  // methods without a temporal pass (raw, aaf): one that averages the direct light
                                  // over frames averages more noise away from fresh picks (docs/RESULTS.md)
   uint32_t neighbours = 5;       // [0, 8]: reservoirs merged from around the pixel for its pick (0 = no spatial
-                                 // reuse: one pass draws and picks), where the merge does not run; the next
-                                 // frame reuses the pixel's own. More lower every method's error from 64 lights
-                                 // on and cost the spatial pass more: 5 is where hpsf meets 1.5x its 4-light
+                                 // reuse: one pass draws and picks; raw's: rawNeighbours); the next frame
+                                 // reuses the pixel's own. More lower every method's error from 64 lights on
+                                 // and cost the spatial pass more: 5 is where hpsf meets 1.5x its 4-light
                                  // error at 1024 lights (docs/RESULTS.md, "Reservoirs")
-  uint32_t mergeCandidates = 4;  // [1, 64]: `candidates` where the merge runs (raw, aaf), which carries up to
-                                 // maxHistory times them over frames, so fewer a frame suffice
-  uint32_t mergeNeighbours = 0;  // [0, 8]: `neighbours` where the merge runs. Against 8 and 5, 4 and 0 cost raw
-                                 // 0.40x the reservoir passes for 1.03x the error at 1024 panels and 0.50x for
-                                 // 0.98x at 1024 point lights (docs/RESULTS.md, "The reservoirs' budget where
-                                 // the merge runs"). Not while a sky map is in them (`sky`), where
-                                 // `candidates` and `neighbours` serve: with 4 and 0 a sunlit floor's 16
-                                 // accumulated frames had 1.89x the error of the sky left to NEE, with 8 and 5
-                                 // 0.65x (EmissiveSamplerTest.ReservoirsResampleTheSkyMapWithItsExpectation)
+  uint32_t rawCandidates = 4;    // [1, 64]: `candidates` for raw where its reservoirs merge over frames (`temporal`,
+                                 // raw.temporal off) and each frame is seen alone (raw.accumulate off): the
+                                 // merge carries up to maxHistory times them, so fewer a frame suffice
+  uint32_t rawNeighbours = 0;    // [0, 8]: `neighbours` for raw where they merge. Against 8 and 5, 4 and 0 cost
+                                 // raw 0.40x the reservoir passes for 1.03x the error at 1024 panels and 0.50x
+                                 // for 0.98x at 1024 point lights; aaf, the other method with the merge, kept
+                                 // its time and had 1.17x the error, so it keeps `candidates` and `neighbours`
+                                 // (docs/RESULTS.md, "The reservoirs' budget where the merge runs"). Where
+                                 // frames are averaged the fewer, unshared picks correlate them, and
+                                 // `candidates` and `neighbours` serve: raw accumulating 10 frames there had
+                                 // 1.38x the error with 4 and 0; and while a sky map is in the reservoirs
+                                 // (`sky`), whose sun stop 70 measured with 8 and 5
   float radius = 4.0f;           // pixels, [1, 64]: the disc the neighbours come from
   float maxHistory = 20.0f;      // [1, 1000]: last frame's reservoir counts at most this many times the frame's
-                                 // candidates (`mergeCandidates`)
+                                 // candidates
   float skyMaxHistory = 4.0f;    // [1, 1000]: maxHistory while a sky map is in the reservoirs (`sky`, its measured
                                  // visibility above its least): the temporal reuse correlates a pixel's frames,
                                  // which the sun's few bright samples make costly where it is hidden from part
