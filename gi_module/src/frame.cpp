@@ -246,17 +246,12 @@ void recordReservoirPasses(Module& m, VkCommandBuffer cmd, const FrameSetup& set
   const ReservoirSettings& r = s.reservoirs;
   const uint32_t slot = setup.slot;
   const auto& sets = setup.sets;
-  // raw's merge carries candidates over frames: where each frame is seen alone fewer a frame, and no neighbours,
-  // suffice; not for aaf, raw's accumulated frames nor a sky map in the reservoirs (ReservoirSettings::
-  // rawNeighbours says why).
   const bool merges = m.plan.reservoirTemporal;
-  const bool rawBudget = merges && s.method == Method::Raw && !s.raw.temporalAccumulation && !m.plan.reservoirSky;
-  const uint32_t neighbours = rawBudget ? r.rawNeighbours : r.neighbours;
   gpu::GiReservoirPush push{.mode = gpu::GI_RESERVOIR_TEMPORAL,
                             .seed = s.seed,
-                            .candidates = rawBudget ? r.rawCandidates : r.candidates,
+                            .candidates = m.plan.reservoirCandidates,
                             .temporal = merges && m.reservoirFrames > 0 ? 1u : 0u,
-                            .neighbours = neighbours,
+                            .neighbours = m.plan.reservoirNeighbours,
                             .radius = r.radius,
                             .maxHistory = skyInReservoirs(m) ? std::min(r.maxHistory, r.skyMaxHistory) : r.maxHistory,
                             .unbiased = r.unbiased ? 1u : 0u,
@@ -269,7 +264,7 @@ void recordReservoirPasses(Module& m, VkCommandBuffer cmd, const FrameSetup& set
                             .frameSet = merges ? 0u : 1u,
                             .groupCandidates = r.groupCandidates,
                             .groupPowerShare = r.groupPowerShare};
-  if (neighbours == 0 && !m.plan.reservoirSky) {
+  if (m.plan.reservoirPickPass) {
     // Pass: candidates from the light sampler, last frame's reservoir and the survivor's shadow ray: the pick
     // the tracing passes take (a spatial pass without neighbours would only keep the pixel's own).
     push.mode = gpu::GI_RESERVOIR_PICK;

@@ -32,6 +32,11 @@ MethodPlan planMethod(const SceneDesc& scene, const Settings& s) {
   p.reservoirs = p.reservoirPunctual || p.reservoirEmissive;
   p.reservoirSky = p.reservoirs && scene.hasSky && s.reservoirs.sky;
   p.reservoirTemporal = p.reservoirs && s.reservoirs.temporal && !p.temporalPass;
+  const bool rawBudget =
+      p.reservoirTemporal && s.method == Method::Raw && !s.raw.temporalAccumulation && !p.reservoirSky;
+  p.reservoirCandidates = rawBudget ? s.reservoirs.rawCandidates : s.reservoirs.candidates;
+  p.reservoirNeighbours = rawBudget ? s.reservoirs.rawNeighbours : s.reservoirs.neighbours;
+  p.reservoirPickPass = p.reservoirs && p.reservoirNeighbours == 0 && !p.reservoirSky;
   p.validatesHashCells = p.hashGrid && s.hpsf.eviction == EvictionPolicy::Aging && s.hpsf.validationInterval > 0;
   p.defersHashClaims = p.hashGrid && s.hpsf.eviction == EvictionPolicy::Aging && s.hpsf.deferredClaims;
   return p;

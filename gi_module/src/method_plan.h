@@ -65,6 +65,14 @@ struct MethodPlan {
   // direct light over frames: the reuse makes a pixel's successive picks alike, and a history of alike
   // samples averages less noise away than one of fresh picks (docs/RESULTS.md, "Reservoirs").
   bool reservoirTemporal = false;
+  // The candidates and neighbours a frame's reservoirs take: raw's own (ReservoirSettings::rawCandidates,
+  // rawNeighbours) where its reservoirs merge, its frames are not accumulated and no sky map is among them;
+  // else ReservoirSettings::candidates and neighbours.
+  uint32_t reservoirCandidates = 0;
+  uint32_t reservoirNeighbours = 0;
+  // Without neighbours (and no sky map, whose failed directions the spatial pass writes where other pixels'
+  // reprojections read) one pass draws, merges and traces the survivor's shadow ray (GI_RESERVOIR_PICK).
+  bool reservoirPickPass = false;
   bool validatesHashCells = false;  // the hash map's sentinel rays are re-traced (aging with hpsf.validation > 0)
   bool defersHashClaims = false;    // new cells are made after the inserts (aging with hpsf.deferred_claims)
 };

@@ -495,12 +495,9 @@ void main() {
     // The pick pass keeps its reservoir for the next frame's merge only (without it nothing reads the frame's set).
     if (pc.mode == GI_RESERVOIR_TEMPORAL || (pc.mode == GI_RESERVOIR_PICK && pc.frameSet == 0u))
       giStoreReservoir(p, stored);
-    if (pc.mode == GI_RESERVOIR_PICK) {
-      const bool lit = covered && stored.x != GI_RESERVOIR_EMPTY;
-      stored = lit ? giVisiblePick(stored.x, giStoredW(stored), s, b, V,
-                                   giReservoirSkyShare(s.position, s.geometricNormal))
-                   : uvec4(GI_RESERVOIR_EMPTY, 0u, 0u, 0u);
-    }
+    // W is 0 where the pixel has no surface or its reservoir no light (nor after the boiling filter dropped it).
+    if (pc.mode == GI_RESERVOIR_PICK)
+      stored = giVisiblePick(stored.x, giStoredW(stored), s, b, V, giReservoirSkyShare(s.position, s.geometricNormal));
     if (pc.mode != GI_RESERVOIR_TEMPORAL) imageStore(giReservoirPick, p, stored);
     if (pc.mode == GI_RESERVOIR_SPATIAL && giReusesSkyVisibility())
       giStoreFailedSky(p, giSkyPickTested != 0u && giSkyPickVisible == 0u ? stored.x : GI_RESERVOIR_EMPTY);
